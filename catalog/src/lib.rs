@@ -1,0 +1,79 @@
+//! Target descriptions of GUTTA PLC types: `PlcType.xml`, `ManagerVar.xml` and
+//! `ManagerFun.xml` loaded into validated, typed tables.
+//!
+//! This crate is the only place in the workspace that reads XML. It does no file or
+//! network I/O itself: callers hand it bytes (see [`TargetSources`]); the stdlib
+//! targets are embedded at build time ([`stdlib`]). The compiler, the VM and the
+//! language server are all driven by the tables it returns.
+
+mod address;
+mod error;
+mod instructions;
+mod memory;
+pub mod modbus;
+mod plc_type;
+pub mod stdlib;
+mod text;
+mod types;
+mod xml_util;
+
+pub use address::{is_address_shaped, Address, AddressError};
+pub use error::{CatalogError, CatalogErrorCode};
+pub use instructions::{
+    BlockKind, Flow, InstrId, Instruction, InstructionSet, OperandKind, OperandSpec, Role,
+};
+pub use memory::{
+    Area, AreaKind, InterruptEvent, MemoryMap, ModbusMapping, ModbusTable, SystemBit,
+    TimerResolution,
+};
+pub use plc_type::{ExchSupport, PlcType};
+pub use text::decode_xml_text;
+pub use types::{DataType, Width};
+
+/// The three description files of one PLC type, as raw bytes (UTF-8 or UTF-16 with BOM).
+#[derive(Debug, Clone, Copy)]
+pub struct TargetSources<'a> {
+    pub plc_type: &'a [u8],
+    pub manager_var: &'a [u8],
+    pub manager_fun: &'a [u8],
+}
+
+/// A fully loaded and cross-checked PLC type.
+#[derive(Debug, Clone)]
+pub struct Target {
+    pub plc: PlcType,
+    pub memory: MemoryMap,
+    pub instructions: InstructionSet,
+}
+
+impl Target {
+    /// Parse and validate the three files; the files must agree on the PLC type's name.
+    pub fn load(sources: TargetSources<'_>) -> Result<Target, CatalogError> {
+        let plc = PlcType::parse(sources.plc_type)?;
+        let memory = MemoryMap::parse(sources.manager_var)?;
+        let instructions = InstructionSet::parse(sources.manager_fun)?;
+        if let Some(name) = &memory.plc_type {
+            if name != &plc.name {
+                return Err(CatalogError::new(
+                    CatalogErrorCode::Mismatch,
+                    "ManagerVar.xml",
+                    format!(
+                        "ManagerVar.xml describes PLC type `{name}` but PlcType.xml names `{}`",
+                        plc.name
+                    ),
+                ));
+            }
+        }
+        instructions.validate_against(&memory)?;
+        Ok(Target {
+            plc,
+            memory,
+            instructions,
+        })
+    }
+
+    /// The PLC type's identity (`PlcType.xml` `Name`).
+    pub fn name(&self) -> &str {
+        &self.plc.name
+    }
+}

@@ -1,0 +1,1 @@
+//! Modbus view of the memory map (filled in below).

@@ -1,0 +1,49 @@
+//! The stdlib target descriptions, embedded at build time so the compiler needs no
+//! files at run time. `stdlib/PlcType.xml`, `ManagerVar.xml`, `ManagerFun.xml` are the
+//! default target; `stdlib/targets/<Name>/` hold PlcType.xml and ManagerVar.xml of every
+//! PLC type and share the default ManagerFun.xml unless they carry their own.
+
+use crate::{CatalogError, CatalogErrorCode, Target, TargetSources};
+
+/// Name of the default PLC type.
+pub const DEFAULT: &str = "CPU-EC20";
+
+/// The shared instruction set.
+pub const MANAGER_FUN: &[u8] = include_bytes!("../../stdlib/ManagerFun.xml");
+
+/// (name, PlcType.xml, ManagerVar.xml) of every stdlib target.
+pub const TARGETS: &[(&str, &[u8], &[u8])] = &[(
+    "CPU-EC20",
+    include_bytes!("../../stdlib/targets/CPU-EC20/PlcType.xml"),
+    include_bytes!("../../stdlib/targets/CPU-EC20/ManagerVar.xml"),
+)];
+
+/// Names of all stdlib targets, default first.
+pub fn names() -> impl Iterator<Item = &'static str> {
+    TARGETS.iter().map(|(n, _, _)| *n)
+}
+
+/// Load a stdlib target by name (case-insensitive).
+pub fn load(name: &str) -> Result<Target, CatalogError> {
+    let (_, plc, var) = TARGETS
+        .iter()
+        .find(|(n, _, _)| n.eq_ignore_ascii_case(name))
+        .ok_or_else(|| {
+            let known: Vec<&str> = names().collect();
+            CatalogError::new(
+                CatalogErrorCode::NotFound,
+                name,
+                format!("no stdlib PLC type `{name}` (known: {})", known.join(", ")),
+            )
+        })?;
+    Target::load(TargetSources {
+        plc_type: plc,
+        manager_var: var,
+        manager_fun: MANAGER_FUN,
+    })
+}
+
+/// Load the default target.
+pub fn default_target() -> Result<Target, CatalogError> {
+    load(DEFAULT)
+}
