@@ -26,6 +26,7 @@ pub use memory::{
     Area, AreaKind, InterruptEvent, MemoryMap, ModbusMapping, ModbusTable, SystemBit,
     TimerResolution,
 };
+pub use modbus::{ModbusCell, ModbusLocation, ModbusPiece, ModbusSpan};
 pub use plc_type::{ExchSupport, PlcType};
 pub use text::decode_xml_text;
 pub use types::{DataType, Width};

@@ -472,6 +472,7 @@ impl MemoryMap {
                 ));
             }
         }
+        crate::modbus::check_layout(&areas, FILE)?;
         for kind in [
             AreaKind::Constant,
             AreaKind::Local,

@@ -1,7 +1,7 @@
 //! The stdlib target descriptions, embedded at build time so the compiler needs no
 //! files at run time. `stdlib/PlcType.xml`, `ManagerVar.xml`, `ManagerFun.xml` are the
 //! default target; `stdlib/targets/<Name>/` hold PlcType.xml and ManagerVar.xml of every
-//! PLC type and share the default ManagerFun.xml unless they carry their own.
+//! PLC type, all sharing the default ManagerFun.xml.
 
 use crate::{CatalogError, CatalogErrorCode, Target, TargetSources};
 
@@ -11,12 +11,27 @@ pub const DEFAULT: &str = "CPU-EC20";
 /// The shared instruction set.
 pub const MANAGER_FUN: &[u8] = include_bytes!("../../stdlib/ManagerFun.xml");
 
-/// (name, PlcType.xml, ManagerVar.xml) of every stdlib target.
-pub const TARGETS: &[(&str, &[u8], &[u8])] = &[(
-    "CPU-EC20",
-    include_bytes!("../../stdlib/targets/CPU-EC20/PlcType.xml"),
-    include_bytes!("../../stdlib/targets/CPU-EC20/ManagerVar.xml"),
-)];
+/// Embeds `stdlib/targets/<name>/PlcType.xml` and `ManagerVar.xml` as one `TARGETS` row.
+macro_rules! target {
+    ($name:literal) => {
+        (
+            $name,
+            include_bytes!(concat!("../../stdlib/targets/", $name, "/PlcType.xml")),
+            include_bytes!(concat!("../../stdlib/targets/", $name, "/ManagerVar.xml")),
+        )
+    };
+}
+
+/// (name, PlcType.xml, ManagerVar.xml) of every stdlib target, default first. The six
+/// PLC types of IN1001; docs/targets.md describes each.
+pub const TARGETS: &[(&str, &[u8], &[u8])] = &[
+    target!("CPU-EC20"),
+    target!("CPU-EC20-AVR"),
+    target!("CPU-EC20-M3"),
+    target!("EC30-EK51"),
+    target!("EC30-EKSTM32"),
+    target!("EC30-EKSTM32-XC"),
+];
 
 /// Names of all stdlib targets, default first.
 pub fn names() -> impl Iterator<Item = &'static str> {
