@@ -1,1 +1,125 @@
+//! The GUTTA compiler: .lad source to a checked program (and, later, the download
+//! image). [`check_source`] reads as the whole front-end pipeline. The library does
+//! no I/O: sources and targets come in as data; the `gutta-cc` binary does the I/O.
 
+pub mod analysis;
+pub mod check;
+pub mod diagnostics;
+pub mod source;
+pub mod syntax;
+
+use gutta_catalog::{stdlib, Target};
+
+use crate::check::CheckOutput;
+use crate::diagnostics::{Code, Diagnostic};
+use crate::source::{LineIndex, SourceFile};
+use crate::syntax::ast::Program;
+
+/// Where the target comes from when the command line chose one.
+#[derive(Debug, Clone)]
+pub struct ExplicitTarget {
+    pub target: Target,
+    /// `--plc NAME` or `--target DIR`, for the W0204 message.
+    pub origin: String,
+}
+
+/// The result of checking one file: its text, tree, the target used, and every
+/// diagnostic (parse and check), sorted by position.
+#[derive(Debug, Clone)]
+pub struct CheckedFile {
+    pub file: SourceFile,
+    pub index: LineIndex,
+    pub target: Target,
+    pub ast: Program,
+    pub output: CheckOutput,
+}
+
+impl CheckedFile {
+    pub fn diagnostics(&self) -> &[Diagnostic] {
+        &self.output.diagnostics
+    }
+
+    pub fn has_errors(&self) -> bool {
+        self.output.diagnostics.iter().any(Diagnostic::is_error)
+    }
+}
+
+/// Parse and check one source file. The target is the explicit one if given, else the
+/// file's `PLC_TYPE`, else the stdlib default.
+pub fn check_source(file: SourceFile, explicit: Option<&ExplicitTarget>) -> CheckedFile {
+    let parsed = syntax::parse(&file.text);
+    let mut diagnostics = parsed.diagnostics;
+    let target = resolve_target(&parsed.program, explicit, &mut diagnostics);
+    let mut output = check::check(&file.text, &parsed.program, &target);
+    diagnostics.append(&mut output.diagnostics);
+    diagnostics.sort_by_key(|d| (d.primary.span.start, d.primary.span.end));
+    if diagnostics.iter().any(Diagnostic::is_error) {
+        output.program = None;
+    }
+    output.diagnostics = diagnostics;
+    let index = LineIndex::new(&file.text);
+    CheckedFile {
+        file,
+        index,
+        target,
+        ast: parsed.program,
+        output,
+    }
+}
+
+fn resolve_target(
+    ast: &Program,
+    explicit: Option<&ExplicitTarget>,
+    diags: &mut Vec<Diagnostic>,
+) -> Target {
+    let written = ast.plc_type.as_ref();
+    if let Some(e) = explicit {
+        if let Some((name, span)) = written {
+            if !name.eq_ignore_ascii_case(e.target.name()) {
+                diags.push(
+                    Diagnostic::new(
+                        Code::PlcTypeOverridden,
+                        *span,
+                        format!(
+                            "the file names {name}; {} selects {}",
+                            e.origin,
+                            e.target.name()
+                        ),
+                    )
+                    .label("overridden by the command line"),
+                );
+            }
+        }
+        return e.target.clone();
+    }
+    if let Some((name, span)) = written {
+        match stdlib::load(name) {
+            Ok(t) => return t,
+            Err(_) => {
+                let names: Vec<&str> = stdlib::names().collect();
+                let hint = names
+                    .iter()
+                    .find(|n| {
+                        n.replace('-', "")
+                            .eq_ignore_ascii_case(&name.replace(['-', ' ', '(', ')', ','], ""))
+                    })
+                    .copied();
+                diags.push(
+                    Diagnostic::new(
+                        Code::BadPlcType,
+                        *span,
+                        format!("unknown PLC type `{name}`"),
+                    )
+                    .label("not a stdlib PLC type")
+                    .help(match hint {
+                        Some(h) => format!("did you mean `{h}`?"),
+                        None => format!("known types: {}; or pass --target DIR", names.join(", ")),
+                    }),
+                );
+            }
+        }
+    }
+    // The embedded default always loads (a test pins it); fall back to an empty
+    // error only if the build itself is broken.
+    stdlib::default_target().unwrap_or_else(|e| panic!("embedded default target is invalid: {e}"))
+}

@@ -1,1 +1,274 @@
-fn main() {}
+//! `gutta-cc`: the command line. All file I/O and process exit codes live here; the
+//! library does the work. Exit status: 0 clean (warnings allowed), 1 errors in the
+//! program, 2 usage or I/O errors.
+
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+use gutta_catalog::{stdlib, Target, TargetSources};
+use gutta_compiler::diagnostics::render::{render, RenderStyle};
+use gutta_compiler::diagnostics::{json, Code};
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{check_source, ExplicitTarget};
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "gutta-cc",
+    version,
+    about = "Compiler for GUTTA PLC ladder/STL programs",
+    args_conflicts_with_subcommands = true
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+    /// Source files (.lad) to check.
+    files: Vec<PathBuf>,
+    /// Check only (parse and check; write nothing).
+    #[arg(long)]
+    check: bool,
+    #[command(flatten)]
+    target: TargetArgs,
+    /// How to print diagnostics.
+    #[arg(long, value_enum, default_value_t = MessageFormat::Human)]
+    message_format: MessageFormat,
+    /// Colour in human diagnostics.
+    #[arg(long, value_enum, default_value_t = ColorChoice::Auto)]
+    color: ColorChoice,
+}
+
+#[derive(Debug, clap::Args)]
+struct TargetArgs {
+    /// PLC type from the stdlib (overrides PLC_TYPE in the file).
+    #[arg(long, global = true, value_name = "NAME")]
+    plc: Option<String>,
+    /// A target folder holding PlcType.xml, ManagerVar.xml and ManagerFun.xml.
+    #[arg(long, global = true, value_name = "DIR", conflicts_with = "plc")]
+    target: Option<PathBuf>,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Print the Modbus address of a variable (the vendor editor's Modbus query).
+    Modbus {
+        /// A direct address such as MW20, MB31, Q3.0, I0.4.
+        variable: String,
+    },
+    /// Explain a diagnostic code (E0302, W0201, ...).
+    Explain { code: String },
+    /// List the stdlib PLC types.
+    ListTargets,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum MessageFormat {
+    Human,
+    Json,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum ColorChoice {
+    Auto,
+    Always,
+    Never,
+}
+
+/// A usage or I/O failure: printed, exit 2.
+struct Fatal(String);
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(code) => code,
+        Err(Fatal(message)) => {
+            eprintln!("gutta-cc: error: {message}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<ExitCode, Fatal> {
+    match &cli.command {
+        Some(Command::Modbus { variable }) => return modbus(&cli.target, variable),
+        Some(Command::Explain { code }) => return explain(code),
+        Some(Command::ListTargets) => {
+            for name in stdlib::names() {
+                let t = stdlib::load(name).map_err(|e| Fatal(e.to_string()))?;
+                println!("{:<16} {}", name, t.plc.information);
+            }
+            return Ok(ExitCode::SUCCESS);
+        }
+        None => {}
+    }
+    if cli.files.is_empty() {
+        return Err(Fatal(
+            "no input files (try `gutta-cc --check main.lad`, or --help)".into(),
+        ));
+    }
+    let explicit = explicit_target(&cli.target)?;
+    let color = match cli.color {
+        ColorChoice::Always => true,
+        ColorChoice::Never => false,
+        ColorChoice::Auto => {
+            std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none()
+        }
+    };
+    let style = RenderStyle {
+        color,
+        unicode: color,
+    };
+    let mut any_errors = false;
+    let stdout = std::io::stdout();
+    for path in &cli.files {
+        let bytes = std::fs::read(path)
+            .map_err(|e| Fatal(format!("cannot read {}: {e}", path.display())))?;
+        let name = path.display().to_string();
+        let file = SourceFile::from_bytes(&name, bytes).map_err(|e| {
+            Fatal(format!(
+                "{name} is not UTF-8 text (invalid byte at offset {})",
+                e.offset
+            ))
+        })?;
+        let checked = check_source(file, explicit.as_ref());
+        any_errors |= checked.has_errors();
+        match cli.message_format {
+            MessageFormat::Json => {
+                let text =
+                    json::to_json_lines(&checked.file, &checked.index, checked.diagnostics());
+                let _ = stdout.lock().write_all(text.as_bytes());
+            }
+            MessageFormat::Human => {
+                eprint!("{}", render(&checked.file, checked.diagnostics(), style));
+                let errors = checked
+                    .diagnostics()
+                    .iter()
+                    .filter(|d| d.is_error())
+                    .count();
+                let warnings = checked.diagnostics().len() - errors;
+                if errors > 0 {
+                    eprintln!(
+                        "{name}: {errors} error{}, {warnings} warning{}",
+                        plural(errors),
+                        plural(warnings)
+                    );
+                } else if let Some(p) = &checked.output.program {
+                    let instructions: usize = p
+                        .units
+                        .iter()
+                        .flat_map(|u| &u.networks)
+                        .map(|n| n.instructions.len())
+                        .sum();
+                    eprintln!(
+                        "{name}: ok on {} ({} block{}, {instructions} instruction{}, {} data block{}{})",
+                        p.target_name,
+                        p.units.len(),
+                        plural(p.units.len()),
+                        plural(instructions),
+                        p.data_blocks.len(),
+                        plural(p.data_blocks.len()),
+                        if warnings > 0 { format!(", {warnings} warning{}", plural(warnings)) } else { String::new() }
+                    );
+                }
+            }
+        }
+    }
+    let _ = cli.check; // Only checking exists until the back end lands: the flag is accepted now.
+    Ok(if any_errors {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+fn plural(n: usize) -> &'static str {
+    if n == 1 {
+        ""
+    } else {
+        "s"
+    }
+}
+
+fn explicit_target(args: &TargetArgs) -> Result<Option<ExplicitTarget>, Fatal> {
+    if let Some(name) = &args.plc {
+        let target = stdlib::load(name).map_err(|e| Fatal(e.to_string()))?;
+        return Ok(Some(ExplicitTarget {
+            target,
+            origin: format!("--plc {name}"),
+        }));
+    }
+    if let Some(dir) = &args.target {
+        let target = load_target_dir(dir)?;
+        return Ok(Some(ExplicitTarget {
+            target,
+            origin: format!("--target {}", dir.display()),
+        }));
+    }
+    Ok(None)
+}
+
+/// Read a target folder. ManagerFun.xml may be absent: the stdlib one is used.
+fn load_target_dir(dir: &Path) -> Result<Target, Fatal> {
+    let read = |name: &str| std::fs::read(dir.join(name));
+    let missing = |name: &str, e: std::io::Error| {
+        Fatal(format!(
+            "[{}] cannot read {}: {e}",
+            gutta_catalog::CatalogErrorCode::NotFound.as_str(),
+            dir.join(name).display()
+        ))
+    };
+    let plc = read("PlcType.xml").map_err(|e| missing("PlcType.xml", e))?;
+    let var = read("ManagerVar.xml").map_err(|e| missing("ManagerVar.xml", e))?;
+    let fun = match read("ManagerFun.xml") {
+        Ok(b) => b,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => stdlib::MANAGER_FUN.to_vec(),
+        Err(e) => return Err(missing("ManagerFun.xml", e)),
+    };
+    Target::load(TargetSources {
+        plc_type: &plc,
+        manager_var: &var,
+        manager_fun: &fun,
+    })
+    .map_err(|e| Fatal(format!("target {}: {e}", dir.display())))
+}
+
+fn modbus(args: &TargetArgs, variable: &str) -> Result<ExitCode, Fatal> {
+    let target = match explicit_target(args)? {
+        Some(e) => e.target,
+        None => stdlib::default_target().map_err(|e| Fatal(e.to_string()))?,
+    };
+    let address = target
+        .memory
+        .parse_address(variable.trim())
+        .map_err(|e| Fatal(format!("`{variable}` on {}: {e}", target.name())))?;
+    match target.memory.modbus_location(&address) {
+        Some(loc) => {
+            println!("{loc}");
+            Ok(ExitCode::SUCCESS)
+        }
+        None => {
+            let area = target
+                .memory
+                .area_by_slot(address.slot)
+                .map(|a| a.name.clone())
+                .unwrap_or_default();
+            Err(Fatal(format!(
+                "`{variable}`: area {area} has no Modbus address on {}",
+                target.name()
+            )))
+        }
+    }
+}
+
+fn explain(code: &str) -> Result<ExitCode, Fatal> {
+    let c =
+        Code::from_str(code.trim()).ok_or_else(|| Fatal(format!("no diagnostic code `{code}`")))?;
+    println!(
+        "{} ({}): {}\n\n{}",
+        c.as_str(),
+        c.severity().as_str(),
+        c.title(),
+        c.explanation()
+    );
+    Ok(ExitCode::SUCCESS)
+}

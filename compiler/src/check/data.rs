@@ -1,0 +1,236 @@
+//! Data blocks: numbering (DATn), rows against their address and type, the areas a
+//! data block may initialise, overlaps, and the PlcType page limits.
+
+use std::collections::BTreeMap;
+
+use gutta_catalog::{AreaKind, DataType, Width};
+
+use super::{CheckedDataBlock, Checker, ConstValue, DataItem, DefKind};
+use crate::diagnostics::{Code, Diagnostic};
+use crate::source::Span;
+use crate::syntax::ast::{BlockPrefix, OperandKind};
+
+const INITIALISABLE: [AreaKind; 6] = [
+    AreaKind::Memory,
+    AreaKind::DigitalOutput,
+    AreaKind::AnalogOutput,
+    AreaKind::Timer,
+    AreaKind::Counter,
+    AreaKind::Flow,
+];
+
+impl Checker<'_> {
+    pub(super) fn data_blocks(&mut self) -> Vec<CheckedDataBlock> {
+        let ast = self.ast;
+        let plc = self.target.plc.clone();
+        let mut used: BTreeMap<u32, Span> = BTreeMap::new();
+        let mut numbers = Vec::new();
+        for d in &ast.data_blocks {
+            let n = match d.header.number {
+                Some((b, _)) if b.prefix == BlockPrefix::Dat => Some(b.number),
+                Some((b, span)) => {
+                    self.report(
+                        Diagnostic::new(
+                            Code::BadBlockHeader,
+                            span,
+                            format!(
+                                "`{}{}` does not fit a data block",
+                                b.prefix.as_str(),
+                                b.number
+                            ),
+                        )
+                        .help("data blocks are numbered DAT0, DAT1, ..."),
+                    );
+                    None
+                }
+                None => None,
+            };
+            numbers.push(n);
+        }
+        for i in 0..numbers.len() {
+            if numbers[i].is_none() {
+                numbers[i] = (0..).find(|n| !numbers.contains(&Some(*n)));
+            }
+        }
+        // Bytes already initialised: byte -> row span (bits by (byte, bit)).
+        let mut bytes: BTreeMap<(u8, u32, u8), Span> = BTreeMap::new();
+        let mut out = Vec::new();
+        for (d, number) in ast.data_blocks.iter().zip(numbers) {
+            let number = number.unwrap_or(0);
+            let name_text = self.slice(d.header.name);
+            let name = if name_text.is_empty() {
+                format!("DAT{number}")
+            } else {
+                name_text.to_string()
+            };
+            let span = if d.header.name.is_empty() {
+                d.header.span
+            } else {
+                d.header.name
+            };
+            if let Some(first) = used.get(&number) {
+                let first = *first;
+                self.report(
+                    Diagnostic::new(
+                        Code::DuplicateBlock,
+                        span,
+                        format!("DAT{number} is defined twice"),
+                    )
+                    .with_secondary(first, "first defined here"),
+                );
+            }
+            used.insert(number, span);
+            if number >= plc.data_block_page_size {
+                self.report(Diagnostic::new(Code::DataBlockTooLarge, span, format!("DAT{number} is out of range: {} allows {} data blocks, DAT0..DAT{} (DataBlockPageSize)", plc.name, plc.data_block_page_size, plc.data_block_page_size.saturating_sub(1))));
+            }
+            let def = self.define(
+                name.clone(),
+                DefKind::DataBlock,
+                span,
+                format!("DAT{number} {name}: {} rows", d.rows.len()),
+                None,
+            );
+            self.data_names.insert(name.to_ascii_uppercase(), def);
+            let mut items = Vec::new();
+            for (k, row) in d.rows.iter().enumerate() {
+                if k as u32 == plc.data_block_page_item_size {
+                    self.report(
+                        Diagnostic::new(
+                            Code::DataBlockTooLarge,
+                            row.span,
+                            format!(
+                                "a data block holds at most {} rows on {} (DataBlockPageItemSize)",
+                                plc.data_block_page_item_size, plc.name
+                            ),
+                        )
+                        .label("first row too many"),
+                    );
+                }
+                if let Some(item) = self.data_row(row) {
+                    let first_bit = if item.address.width == Width::Bit {
+                        item.address.bit
+                    } else {
+                        0
+                    };
+                    let cells: Vec<(u8, u32, u8)> = if item.address.width == Width::Bit {
+                        vec![(item.address.slot, item.address.offset, first_bit)]
+                    } else {
+                        (0..item.address.width.bytes())
+                            .flat_map(|b| {
+                                (0..8).map(move |bit| {
+                                    (item.address.slot, item.address.offset + b, bit)
+                                })
+                            })
+                            .collect()
+                    };
+                    if let Some(prev) = cells.iter().find_map(|c| bytes.get(c)).copied() {
+                        self.report(
+                            Diagnostic::new(
+                                Code::DataOverlap,
+                                row.address,
+                                "this row initialises memory another row already sets",
+                            )
+                            .with_secondary(prev, "first set here"),
+                        );
+                        continue;
+                    }
+                    for c in cells {
+                        bytes.insert(c, row.span);
+                    }
+                    items.push(item);
+                }
+            }
+            out.push(CheckedDataBlock {
+                number,
+                name,
+                items,
+            });
+        }
+        out.sort_by_key(|d| d.number);
+        out
+    }
+
+    fn data_row(&mut self, row: &crate::syntax::ast::DataRow) -> Option<DataItem> {
+        let address = self.direct_address(row.address, Some("a data row"))?;
+        let area = self.target.memory.area_by_slot(address.slot)?.clone();
+        if !INITIALISABLE.contains(&area.kind) {
+            self.report(
+                Diagnostic::new(
+                    Code::DataArea,
+                    row.address,
+                    format!("data blocks cannot initialise area {}", area.name),
+                )
+                .label(format!(
+                    "{} is {}",
+                    area.name,
+                    area.description.to_lowercase()
+                ))
+                .help("data blocks initialise M, V, Q, AQ, T, C and J"),
+            );
+            return None;
+        }
+        let ty = match row.ty {
+            Some(t) => {
+                let text = self.slice(t);
+                match text.parse::<DataType>() {
+                    Ok(ty) => ty,
+                    Err(()) => {
+                        self.report(Diagnostic::new(
+                            Code::UnknownDataType,
+                            t,
+                            format!("unknown data type `{text}`"),
+                        ));
+                        return None;
+                    }
+                }
+            }
+            None => match address.width {
+                Width::Bit => DataType::Bool,
+                Width::Byte => DataType::Byte,
+                Width::Word => DataType::Word,
+                Width::Dword => DataType::Dword,
+            },
+        };
+        if ty.width() != address.width {
+            self.report(
+                Diagnostic::new(Code::DataTypeWidth, row.ty.unwrap_or(row.address), format!("{ty} has {} bits; `{}` has {}", ty.width().bits(), self.slice(row.address), address.width.bits()))
+                    .help("the type must match the address width: B with BYTE/USINT/SINT, W with WORD/INT/UINT, D with DWORD/DINT/UDINT/REAL"),
+            );
+            return None;
+        }
+        let value = match (row.value.kind, ty) {
+            (OperandKind::Error, _) => return None,
+            (OperandKind::Real(v), DataType::Real) => ConstValue::Real(v as f32),
+            (OperandKind::Integer(v), DataType::Real) => ConstValue::Real(v as f32),
+            (OperandKind::Integer(v), _) => {
+                let (lo, hi) = ty.integer_range().unwrap_or((i64::MIN, i64::MAX));
+                if !(lo..=hi).contains(&v) {
+                    self.report(
+                        Diagnostic::new(
+                            Code::DataValueRange,
+                            row.value.span,
+                            format!("{v} does not fit {ty}"),
+                        )
+                        .label(format!("{ty} holds {lo}..{hi}")),
+                    );
+                    return None;
+                }
+                ConstValue::Integer(v)
+            }
+            _ => {
+                self.report(Diagnostic::new(
+                    Code::DataValueRange,
+                    row.value.span,
+                    format!("{ty} needs a whole number"),
+                ));
+                return None;
+            }
+        };
+        Some(DataItem {
+            address,
+            ty,
+            value,
+            span: row.span,
+        })
+    }
+}

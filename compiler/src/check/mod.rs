@@ -1,0 +1,198 @@
+//! The checker: syntax tree + target description -> checked program and diagnostics.
+//! It resolves every name and operand against the target's ManagerVar.xml and
+//! ManagerFun.xml, enforces the PlcType limits, and records definitions and references
+//! for the language server. It skips parser error nodes without reporting them again.
+
+mod code;
+mod data;
+mod operands;
+pub mod program;
+mod suggest;
+mod system;
+mod units;
+
+use std::collections::HashMap;
+
+use gutta_catalog::{Address, Target};
+
+use crate::diagnostics::{Code, Diagnostic};
+use crate::source::Span;
+use crate::syntax::ast::{Program, UnitKind};
+pub use program::*;
+
+/// What a definition is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum DefKind {
+    Symbol,
+    Local,
+    Unit,
+    DataBlock,
+    Label,
+}
+
+/// A named thing, for navigation and hover.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Definition {
+    pub name: String,
+    pub kind: DefKind,
+    /// The name's span at its definition.
+    pub span: Span,
+    /// One line for hover: `Start : I0.0 (push button)`, `#a : INT (VAR_INPUT, LW0)`.
+    pub detail: String,
+    /// The unit a local or label belongs to.
+    pub unit: Option<usize>,
+}
+
+/// A use of a definition.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Reference {
+    pub span: Span,
+    pub definition: usize,
+}
+
+/// Everything the checker learned about one file.
+#[derive(Debug, Clone, Default)]
+pub struct CheckOutput {
+    /// Set when there were no errors.
+    pub program: Option<CheckedProgram>,
+    pub diagnostics: Vec<Diagnostic>,
+    pub definitions: Vec<Definition>,
+    pub references: Vec<Reference>,
+    /// Resolved direct addresses in operands (for hover).
+    pub addresses: Vec<(Span, Address)>,
+    /// Mnemonic spans with their instruction (for hover).
+    pub mnemonics: Vec<(Span, gutta_catalog::InstrId)>,
+}
+
+/// Per-unit facts gathered before the code is checked.
+#[derive(Debug, Clone)]
+pub(crate) struct UnitInfo {
+    pub kind: UnitKind,
+    pub number: u32,
+    pub name: String,
+    /// Index into `ast.units`.
+    pub ast_index: usize,
+    pub locals: Vec<Local>,
+    /// Definition index of each local, parallel to `locals`.
+    pub local_defs: Vec<usize>,
+    pub definition: usize,
+}
+
+pub(crate) struct Checker<'a> {
+    pub text: &'a str,
+    pub target: &'a Target,
+    pub ast: &'a Program,
+    pub diags: Vec<Diagnostic>,
+    pub out: CheckOutput,
+    /// Upper-case symbol name -> (address, definition index).
+    pub symbols: HashMap<String, (Address, usize)>,
+    /// Upper-case unit name (symbolic and numbered) -> index into `units`.
+    pub unit_names: HashMap<String, usize>,
+    pub units: Vec<UnitInfo>,
+    /// Data block names, to explain "is a data block" in operands.
+    pub data_names: HashMap<String, usize>,
+}
+
+impl<'a> Checker<'a> {
+    pub fn slice(&self, s: Span) -> &'a str {
+        self.text.get(s.range()).unwrap_or("")
+    }
+
+    pub fn report(&mut self, d: Diagnostic) {
+        self.diags.push(d);
+    }
+
+    pub fn define(
+        &mut self,
+        name: String,
+        kind: DefKind,
+        span: Span,
+        detail: String,
+        unit: Option<usize>,
+    ) -> usize {
+        self.out.definitions.push(Definition {
+            name,
+            kind,
+            span,
+            detail,
+            unit,
+        });
+        self.out.definitions.len() - 1
+    }
+
+    pub fn reference(&mut self, span: Span, definition: usize) {
+        self.out.references.push(Reference { span, definition });
+    }
+}
+
+/// Check a parsed program against a target.
+pub fn check(text: &str, ast: &Program, target: &Target) -> CheckOutput {
+    let mut c = Checker {
+        text,
+        target,
+        ast,
+        diags: Vec::new(),
+        out: CheckOutput::default(),
+        symbols: HashMap::new(),
+        unit_names: HashMap::new(),
+        units: Vec::new(),
+        data_names: HashMap::new(),
+    };
+    c.symbols();
+    c.units();
+    let data_blocks = c.data_blocks();
+    let system = c.system_block();
+    let units = c.code();
+    let mut out = std::mem::take(&mut c.out);
+    let errors = c.diags.iter().any(|d| d.is_error());
+    out.diagnostics = c.diags;
+    if !errors {
+        out.program = Some(CheckedProgram {
+            target_name: target.name().to_string(),
+            units,
+            data_blocks,
+            system,
+        });
+    }
+    out
+}
+
+impl Checker<'_> {
+    fn symbols(&mut self) {
+        let ast = self.ast;
+        for decl in &ast.symbols {
+            let name = self.slice(decl.name);
+            let key = name.to_ascii_uppercase();
+            if gutta_catalog::is_address_shaped(name) || crate::syntax::is_reserved(name) {
+                self.report(
+                    Diagnostic::new(Code::BadSymbolName, decl.name, format!("symbol name `{name}` is not allowed"))
+                        .label(if gutta_catalog::is_address_shaped(name) { "has the shape of an address" } else { "reserved word" })
+                        .help("choose a name that starts with a letter and is not an address such as M0 or VB100"),
+                );
+                continue;
+            }
+            let Some(address) = self.direct_address(decl.address, None) else {
+                continue;
+            };
+            if let Some((_, first)) = self.symbols.get(&key) {
+                let first_span = self.out.definitions[*first].span;
+                self.report(
+                    Diagnostic::new(
+                        Code::DuplicateSymbol,
+                        decl.name,
+                        format!("symbol `{name}` is declared twice"),
+                    )
+                    .with_secondary(first_span, "first declared here"),
+                );
+                continue;
+            }
+            let text = self.target.memory.format_address(&address);
+            let detail = match decl.comment {
+                Some(c) if !c.is_empty() => format!("{name} : {text}  // {}", self.slice(c)),
+                _ => format!("{name} : {text}"),
+            };
+            let def = self.define(name.to_string(), DefKind::Symbol, decl.name, detail, None);
+            self.symbols.insert(key, (address, def));
+        }
+    }
+}

@@ -1,0 +1,211 @@
+//! The registry of diagnostic codes: every code the compiler can emit, with its
+//! severity, a title and an explanation. docs/diagnostics.md is generated from this
+//! table (a test keeps it in sync). Codes are never reused; call sites name variants,
+//! never strings.
+
+use crate::diagnostics::Severity;
+
+macro_rules! codes {
+    ($($code:ident $variant:ident $sev:ident $title:literal $explain:literal;)*) => {
+        /// A diagnostic code.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+        pub enum Code { $($variant,)* }
+
+        impl Code {
+            pub const ALL: &'static [Code] = &[$(Code::$variant,)*];
+
+            /// `E0101`, `W0204`, ...
+            pub fn as_str(self) -> &'static str {
+                match self { $(Code::$variant => stringify!($code),)* }
+            }
+
+            pub fn severity(self) -> Severity {
+                match self { $(Code::$variant => Severity::$sev,)* }
+            }
+
+            /// Short title for the docs index.
+            pub fn title(self) -> &'static str {
+                match self { $(Code::$variant => $title,)* }
+            }
+
+            /// What the code means and how to fix it.
+            pub fn explanation(self) -> &'static str {
+                match self { $(Code::$variant => $explain,)* }
+            }
+
+            pub fn from_str(s: &str) -> Option<Code> {
+                Code::ALL.iter().copied().find(|c| c.as_str().eq_ignore_ascii_case(s))
+            }
+        }
+    };
+}
+
+codes! {
+    // ---- E01xx: lexical and block structure --------------------------------------
+    E0101 InvalidCharacter Error "invalid character"
+        "A character that starts no token of the language, such as `?` or `$`. Remove it; comments start with `//`.";
+    E0102 Syntax Error "syntax error"
+        "The line does not have the shape its context expects: an instruction is `MNEMONIC operand, operand`, a symbol `Name : ADDRESS`, a local `name : TYPE;`, a data row `ADDRESS TYPE VALUE`, a system entry `KEY = VALUE`. The message says what was expected.";
+    E0103 UnterminatedString Error "unterminated string"
+        "A string has no closing `\"` on its line. Strings cannot span lines.";
+    E0104 MalformedNumber Error "malformed number"
+        "A number with a digit its base does not have (`2#102`), no digits after `#`, an unsupported base (bases are 2, 8, 10 and 16), or a value too large for 64 bits.";
+    E0105 UnterminatedBlock Error "unterminated block"
+        "A block (`ORGANIZATION_BLOCK`, `SUBROUTINE_BLOCK`, `INTERRUPT_BLOCK`, `DATA_BLOCK`, `SYSTEM_BLOCK`, `SYMBOLS`, a `VAR` section) was not closed by its `END_...` line before the next block or the end of the file. The block is still checked as far as it goes.";
+    E0106 MismatchedEnd Error "mismatched END"
+        "An `END_...` line does not match the open block, e.g. `END_SUBROUTINE_BLOCK` closing an `ORGANIZATION_BLOCK`, or there is no open block at all.";
+    E0107 OutsideBlock Error "text outside any block"
+        "Only `PLC_TYPE`, `SYMBOLS`, program blocks, data blocks and the system block may stand at the top level. Instructions belong between `BEGIN` and the block's `END_...` line, inside a `NETWORK`.";
+    E0108 NoNetwork Error "instruction before the first NETWORK"
+        "Code in a program block is divided into networks; each starts with `NETWORK n` (an optional `// title` follows). Breakpoints and the debugger name instructions by network and step, so an instruction outside a network cannot be placed.";
+    E0109 MisplacedSection Error "misplaced section"
+        "A block's parts come in order: header, `TITLE=`, `VAR_INPUT`/`VAR_IN_OUT`/`VAR_OUTPUT`/`VAR` sections, `BEGIN`, networks, `END_...`. A `VAR` section after `BEGIN`, a second `BEGIN`, a `TITLE=` inside code, or a VAR section in a data block is reported here.";
+    E0110 BadBlockHeader Error "malformed block header"
+        "A block header is `KEYWORD NAME:NUMBERED` (`SUBROUTINE_BLOCK ADD3:SBR0`), `KEYWORD NUMBERED` (`SUBROUTINE_BLOCK SBR0`) or `KEYWORD NAME` (numbered automatically). The numbered name's prefix must fit the block: OB1 or INT0 for MAIN, INTn for interrupt routines, SBRn for subroutines, DATn for data blocks.";
+    E0111 BadPlcType Error "bad PLC_TYPE line"
+        "`PLC_TYPE NAME` may appear once, before any block, and must name a known PLC type (see `gutta-cc --list-targets`) unless `--plc` or `--target` chooses the target.";
+
+    // ---- E02xx: names --------------------------------------------------------------
+    E0201 UnknownMnemonic Error "unknown mnemonic"
+        "The instruction is not in the target's ManagerFun.xml. The help line suggests the closest known mnemonic. Mnemonics are case-insensitive; compares are written as one word with their operator (`LDW>=`, `AB=`).";
+    E0202 UndefinedSymbol Error "undefined symbol"
+        "A name that is neither a direct address of the target, a symbol of the SYMBOLS section, nor a block name. Declare it in SYMBOLS (`Start : I0.0`) or fix the spelling; the help line suggests the closest symbol.";
+    E0203 DuplicateSymbol Error "duplicate symbol"
+        "A symbol is declared twice in SYMBOLS (names are case-insensitive).";
+    E0204 UndefinedLocal Error "undefined local variable"
+        "`#name` refers to a local that the enclosing block does not declare in its VAR sections.";
+    E0205 DuplicateLocal Error "duplicate local variable"
+        "A local variable name appears twice in a block's VAR sections (names are case-insensitive).";
+    E0206 UndefinedBlock Error "undefined block"
+        "`CALL`, `ATCH` or a data reference names a block that does not exist. Blocks are named by their symbolic name (`ADD3`) or numbered name (`SBR0`).";
+    E0207 DuplicateBlock Error "duplicate block"
+        "Two blocks share a symbolic name or a numbered name (`SBR0`, `INT1`, `DAT0`), or MAIN is defined twice.";
+    E0208 UndefinedLabel Error "undefined label"
+        "`JMP n` has no `LBL n` in the same block.";
+    E0209 DuplicateLabel Error "duplicate label"
+        "`LBL n` appears twice in one block; jump targets must be unique within a block.";
+    E0210 JumpAcrossBlocks Error "jump across blocks"
+        "`JMP n` names a label defined in another block. Jumps stay inside their block; use CALL for a subroutine.";
+    E0211 LocalOutsideBlock Error "local variable outside its block"
+        "`#name` is declared in another block. Locals live in L and belong to their block; pass the value as a CALL argument instead.";
+    E0212 BadSymbolName Error "symbol name not allowed"
+        "A symbol name has the shape of a direct address (`M0`, `VB100`) or is a reserved word, so uses of it would be ambiguous.";
+    E0213 UnknownDataType Error "unknown data type"
+        "Data types are BOOL, BYTE, WORD, DWORD, SINT, INT, DINT, USINT, UINT, UDINT and REAL.";
+
+    // ---- E03xx: operands -----------------------------------------------------------
+    E0301 OperandCount Error "wrong number of operands"
+        "The instruction takes a fixed number of operands (see docs/instructions.md); the message lists them.";
+    E0302 WidthMismatch Error "operand width not allowed"
+        "The operand's width does not fit the instruction: `MOVW` moves words, so `MOVW MB0, MW2` is wrong (use `MOVB` for bytes, or `MW0`). Widths: B = 8 bits, W = 16, D = 32.";
+    E0303 TypeMismatch Error "data type not allowed"
+        "A typed operand (a local variable or argument declared with a type) has a type the instruction does not accept, e.g. an INT local in `+R`.";
+    E0304 AreaNotAllowed Error "area not allowed"
+        "The memory area cannot be used this way: a bit of an area without bit access (`AI0.0`, `LD T4` where T holds only words: read a timer with a compare such as `LDW>= T4, 20`), or an area the operand excludes (EXCH tables live in M; TON takes a timer T).";
+    E0305 UseNotAllowed Error "address-of or pointer not allowed"
+        "`&` takes the address of a BYTE variable in an area that allows it (M, V, SM, L): `&MB24`, not `&MW24`. `*` reads through a pointer held in a DWORD of M, V or L: `*MD4`, not `*MW4`. Only some operands accept them: `&` only where an address is expected (`MOVD &MB24, MD4`).";
+    E0306 AddressOutOfTarget Error "address outside the target"
+        "The address does not exist on the selected PLC type: the area is too small (`MB200` on CPU-EC20, which has MB0..MB127) or the area is missing (`VB100` exists only on EC30-EKSTM32-XC). The message names the area's size; `--plc` selects another type.";
+    E0307 ConstantOutOfRange Error "constant out of range"
+        "A constant does not fit the width or type of its operand: `MOVB 300, MB1` (a byte holds 0..255, or -128..127), `+I 40000, MW0` (INT holds -32768..32767), or a literal outside the operand's documented range.";
+    E0308 WriteToReadOnly Error "write to a constant or read-only area"
+        "The operand is written by the instruction but is a constant, or lies in an area programs cannot write: K (constants), I and AI (inputs are refreshed from the terminals each scan).";
+    E0309 ConstantNotAllowed Error "constant not allowed"
+        "A constant stands where the instruction needs a variable (bit logic operands, outputs, EXCH tables), or a variable stands where only a literal number is allowed (`LDS n`, the port of EXCH, interrupt event numbers).";
+    E0310 WrongOperandKind Error "wrong kind of operand"
+        "The operand is of the wrong kind: a label number is expected (`JMP 3`), a subroutine (`CALL ADD3`), an interrupt routine (`ATCH TICK, 10`), or a variable where a block name was written.";
+    E0311 MalformedAddress Error "malformed address"
+        "An address has the wrong shape for its area: an area with several widths needs a width letter or a bit (`MB3`, `M3.0`), an area with one width takes none (`T5`, not `TW5`), bits are numbered 0..7.";
+    E0312 RealNotAllowed Error "REAL constant not allowed"
+        "A constant with a fraction or exponent (`1.5`) stands where an integer is expected. REAL constants go to REAL instructions (`MOVR`, `+R`, ...).";
+
+    // ---- E04xx: program structure and limits ---------------------------------------
+    E0401 ArgumentCount Error "wrong number of CALL arguments"
+        "`CALL` passes one argument for every VAR_INPUT, VAR_IN_OUT and VAR_OUTPUT of the subroutine, in that order.";
+    E0402 ArgumentMismatch Error "CALL argument does not fit its parameter"
+        "An argument's width or type differs from the parameter's, a constant is passed to a VAR_IN_OUT or VAR_OUTPUT parameter, or an output argument is not writable.";
+    E0403 TooManyInterrupts Error "too many interrupt routines"
+        "The PLC type allows `ProgramBlockPageIntSize` interrupt routines, MAIN (INT0) included, numbered INT0..INTn-1.";
+    E0404 TooManySubroutines Error "too many subroutines"
+        "The PLC type allows `ProgramBlockPageSbrSize` subroutines, numbered SBR0..SBRn-1.";
+    E0405 TooManyArguments Error "too many local variables"
+        "A subroutine may declare `ProgramBlockPageArgSbrSize` locals (arguments and temporaries) and an interrupt routine `ProgramBlockPageArgIntSize`.";
+    E0406 LocalsTooLarge Error "locals do not fit in L"
+        "A block's locals are laid out in the L area (BOOLs packed in bytes, other types byte-aligned, in the order VAR_INPUT, VAR_IN_OUT, VAR_OUTPUT, VAR); together they must fit the target's L size.";
+    E0407 InterruptArguments Error "interrupt routine with parameters"
+        "Nothing calls an interrupt routine with arguments, so it may declare only temporaries (`VAR`), not VAR_INPUT, VAR_IN_OUT or VAR_OUTPUT.";
+    E0408 MissingMain Error "no MAIN"
+        "A program needs its main routine: `ORGANIZATION_BLOCK MAIN:OB1` (or `INTERRUPT_BLOCK MAIN:INT0`).";
+    E0409 CallCycle Error "recursive call or call too deep"
+        "Subroutines may not call themselves, directly or through others (the PLC has no stack for it), and calls nest at most as deep as the target's CallDepth (8).";
+    E0410 StackUnderflow Error "no power flow for this instruction"
+        "The instruction needs values on the logic stack that are not there: a network must start with a load (`LD`, `LDN`, a compare such as `LDW>=`); `A`, `O`, `=`, and box instructions such as `MOVW` use the top of the stack; `ALD`/`OLD` need two levels. Start the network with `LD SM0.0` for an unconditional box.";
+    E0411 StackOverflow Error "logic stack too deep"
+        "More loads are pending than the logic stack holds (LogicStackDepth, 9 levels). Combine earlier branches with `ALD`/`OLD` first.";
+    E0412 ForNext Error "FOR without NEXT, or NEXT without FOR"
+        "Every `FOR` needs a `NEXT` later in the same block, and loops nest at most ForDepth (8) deep.";
+    E0413 BlockNumberRange Error "block number out of range"
+        "A numbered name exceeds what the PLC type allows: INT0..INTn-1 (ProgramBlockPageIntSize), SBR0..SBRn-1 (ProgramBlockPageSbrSize), DAT0..DATn-1 (DataBlockPageSize).";
+    E0414 NetworkOrder Error "network numbers out of order"
+        "Network numbers within a block must increase; a number used twice would make breakpoints ambiguous.";
+    E0415 EmptyNetwork Warning "empty network"
+        "A network without instructions. It is kept (so numbering stays), but does nothing.";
+
+    // ---- E05xx: data blocks --------------------------------------------------------
+    E0501 DataValueRange Error "data value does not fit its type"
+        "A data block row's initial value is outside its data type's range (`MB30 USINT 300`).";
+    E0502 DataTypeWidth Error "data type does not fit the address"
+        "A data row's type must have the width of its address: `MW22 UINT 6` (16 bits), `MB30 USINT 1` (8), `MD40 DINT -70000` (32), `M0.0 BOOL 1`.";
+    E0503 DataArea Error "area cannot be initialised"
+        "Data blocks initialise memory that persists across scans: M, V, Q, AQ, T and C. K is filled by the compiler, inputs come from the terminals, L exists only during a call.";
+    E0504 DataOverlap Error "overlapping data rows"
+        "Two rows initialise the same byte; the second would silently win on the PLC.";
+    E0505 DataBlockTooLarge Error "data block too large"
+        "A data block (one data page) holds at most `DataBlockPageItemSize` rows, and a program at most `DataBlockPageSize` data blocks (DAT0..DATn-1).";
+
+    // ---- E06xx: system block -------------------------------------------------------
+    E0601 UnknownSystemKey Error "unknown system block key"
+        "Keys are `PORTn.PROTOCOL`, `PORTn.ADDRESS`, `PORTn.BAUD`, `PORTn.DATA_BITS`, `PORTn.PARITY`, `PORTn.STOP_BITS`, `PORTn.TIMEOUT`, `PORTn.FRAME_GAP` and `PASSWORD`. The help line suggests the closest key.";
+    E0602 SystemValue Error "system block value not allowed"
+        "PROTOCOL is MODBUS; ADDRESS 0..255; BAUD 9600, 19200, 38400, 57600 or 115200; DATA_BITS 8 (RTU); PARITY NONE, EVEN or ODD; STOP_BITS 1 or 2; TIMEOUT 1..255 (x 100 ms); FRAME_GAP 1..255 (x 1 ms); PASSWORD a string of at most 16 ASCII characters.";
+    E0603 DuplicateSystemKey Error "system block key set twice"
+        "Each key may be set once; the second value would silently win.";
+    E0604 NoSuchPort Error "serial port not on this PLC type"
+        "The PLC type has fewer serial ports (CPU-EC20 has PORT0 only).";
+    E0605 DuplicateSystemBlock Error "more than one SYSTEM_BLOCK"
+        "A program has one system block; merge the entries.";
+
+    // ---- W02xx: warnings -------------------------------------------------------------
+    W0201 DoubleCoil Warning "output written by more than one `=`"
+        "The same bit is the target of `=` in two places; the last one in the scan wins, which is rarely intended. Use S/R, or combine the conditions.";
+    W0202 TimerReused Warning "timer or counter used by two instructions"
+        "Two timer (or counter) instructions drive the same T (or C) number; they overwrite each other's current value.";
+    W0203 UnusedSubroutine Warning "subroutine never called"
+        "No CALL reaches this subroutine; it is still downloaded.";
+    W0204 PlcTypeOverridden Warning "PLC_TYPE overridden"
+        "The file names one PLC type and the command line (`--plc` or `--target`) another; the command line wins.";
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeSet;
+
+    #[test]
+    fn codes_are_unique_well_formed_and_explained() {
+        let mut seen = BTreeSet::new();
+        for c in Code::ALL {
+            assert!(seen.insert(c.as_str()), "{} twice", c.as_str());
+            let s = c.as_str();
+            assert_eq!(s.len(), 5);
+            let want = if s.starts_with('W') {
+                Severity::Warning
+            } else {
+                c.severity()
+            };
+            assert_eq!(c.severity(), want);
+            assert!(c.explanation().len() > 40, "{s} needs an explanation");
+            assert_eq!(Code::from_str(s), Some(*c));
+        }
+    }
+}

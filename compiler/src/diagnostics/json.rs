@@ -1,0 +1,75 @@
+//! `--message-format json`: one JSON object per diagnostic, one per line, with
+//! 1-based lines and character columns.
+
+use serde::Serialize;
+
+use crate::diagnostics::Diagnostic;
+use crate::source::{LineIndex, SourceFile};
+
+#[derive(Debug, Serialize)]
+pub struct JsonDiagnostic<'a> {
+    pub code: &'static str,
+    pub severity: &'static str,
+    pub message: &'a str,
+    pub file: &'a str,
+    pub line: u32,
+    pub column: u32,
+    pub end_line: u32,
+    pub end_column: u32,
+    pub help: Option<&'a str>,
+    /// Byte offsets of the primary span.
+    pub start_offset: u32,
+    pub end_offset: u32,
+    pub labels: Vec<JsonLabel<'a>>,
+}
+
+#[derive(Debug, Serialize)]
+pub struct JsonLabel<'a> {
+    pub line: u32,
+    pub column: u32,
+    pub end_line: u32,
+    pub end_column: u32,
+    pub message: Option<&'a str>,
+}
+
+/// One line of JSON per diagnostic.
+pub fn to_json_lines(file: &SourceFile, index: &LineIndex, diagnostics: &[Diagnostic]) -> String {
+    let mut out = String::new();
+    for d in diagnostics {
+        let at = |off: u32| index.line_col(&file.text, off as usize);
+        let (s, e) = (at(d.primary.span.start), at(d.primary.span.end));
+        let labels = d
+            .secondary
+            .iter()
+            .map(|l| {
+                let (s, e) = (at(l.span.start), at(l.span.end));
+                JsonLabel {
+                    line: s.line,
+                    column: s.column,
+                    end_line: e.line,
+                    end_column: e.column,
+                    message: l.message.as_deref(),
+                }
+            })
+            .collect();
+        let j = JsonDiagnostic {
+            code: d.code.as_str(),
+            severity: d.severity.as_str(),
+            message: &d.message,
+            file: &file.name,
+            line: s.line,
+            column: s.column,
+            end_line: e.line,
+            end_column: e.column,
+            help: d.help.as_deref(),
+            start_offset: d.primary.span.start,
+            end_offset: d.primary.span.end,
+            labels,
+        };
+        if let Ok(line) = serde_json::to_string(&j) {
+            out.push_str(&line);
+            out.push('\n');
+        }
+    }
+    out
+}

@@ -1,0 +1,72 @@
+//! Human rendering of diagnostics with ariadne: the only module that knows ariadne.
+//! Colour is decided by the caller (off when stderr is not a terminal or NO_COLOR is
+//! set); the ASCII style is used for snapshots.
+
+use ariadne::{CharSet, Config, IndexType, Label, Report, ReportKind, Source};
+
+use crate::diagnostics::{Diagnostic, Severity};
+use crate::source::SourceFile;
+
+/// How to draw.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RenderStyle {
+    pub color: bool,
+    /// Box-drawing characters (true) or plain ASCII (false).
+    pub unicode: bool,
+}
+
+impl RenderStyle {
+    /// No colour, ASCII: stable text for tests and logs.
+    pub const PLAIN: RenderStyle = RenderStyle {
+        color: false,
+        unicode: false,
+    };
+}
+
+/// Render diagnostics of one file to a string.
+pub fn render(file: &SourceFile, diagnostics: &[Diagnostic], style: RenderStyle) -> String {
+    let mut out = Vec::new();
+    let name = file.name.as_str();
+    let source = Source::from(file.text.as_str());
+    let config = Config::default()
+        .with_color(style.color)
+        .with_char_set(if style.unicode {
+            CharSet::Unicode
+        } else {
+            CharSet::Ascii
+        })
+        .with_index_type(IndexType::Byte);
+    let clamp = |r: std::ops::Range<usize>| {
+        let end = r.end.min(file.text.len());
+        r.start.min(end)..end
+    };
+    for d in diagnostics {
+        let kind = match d.severity {
+            Severity::Error => ReportKind::Error,
+            Severity::Warning => ReportKind::Warning,
+        };
+        let primary = clamp(d.primary.span.range());
+        let mut report = Report::build(kind, (name, primary.clone()))
+            .with_config(config)
+            .with_code(d.code.as_str())
+            .with_message(&d.message);
+        let mut label = Label::new((name, primary));
+        if let Some(m) = &d.primary.message {
+            label = label.with_message(m);
+        }
+        report = report.with_label(label.with_order(0));
+        for (i, s) in d.secondary.iter().enumerate() {
+            let mut label = Label::new((name, clamp(s.span.range()))).with_order(i as i32 + 1);
+            if let Some(m) = &s.message {
+                label = label.with_message(m);
+            }
+            report = report.with_label(label);
+        }
+        if let Some(h) = &d.help {
+            report = report.with_help(h);
+        }
+        // Writing to a Vec cannot fail; a failure would only lose this report's text.
+        let _ = report.finish().write((name, &source), &mut out);
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}

@@ -1,0 +1,218 @@
+//! The syntax tree of a .lad file. Names and mnemonics are spans into the source (no
+//! copies); every node keeps its span. Nodes the parser could not read are `Error`
+//! nodes, already reported: later stages skip them silently.
+
+use crate::source::Span;
+
+/// A whole source file.
+#[derive(Debug, Clone, Default)]
+pub struct Program {
+    /// `PLC_TYPE CPU-EC20`: the name as written, and its span.
+    pub plc_type: Option<(String, Span)>,
+    pub symbols: Vec<SymbolDecl>,
+    pub units: Vec<Unit>,
+    pub data_blocks: Vec<DataBlock>,
+    pub system_blocks: Vec<SystemBlock>,
+}
+
+/// `Name : ADDRESS // comment` in a SYMBOLS section.
+#[derive(Debug, Clone)]
+pub struct SymbolDecl {
+    pub name: Span,
+    pub address: Span,
+    pub comment: Option<Span>,
+}
+
+/// Kind of program unit, as the header names it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum UnitKind {
+    /// `ORGANIZATION_BLOCK` or `INTERRUPT_BLOCK`: an interrupt routine (MAIN is INT0).
+    Interrupt,
+    /// `SUBROUTINE_BLOCK`.
+    Subroutine,
+}
+
+/// The `NAME:SBR0` part of a block header.
+#[derive(Debug, Clone)]
+pub struct BlockHeader {
+    /// The keyword line (`SUBROUTINE_BLOCK ...`) as a whole.
+    pub span: Span,
+    /// Symbolic name (`ADD3`); may equal the numbered name when only `SBR0` is written.
+    pub name: Span,
+    /// The numbered name (`SBR0`, `INT1`, `OB1`, `DAT0`) if written.
+    pub number: Option<(BlockNumber, Span)>,
+}
+
+/// A numbered block name: prefix and number.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BlockNumber {
+    pub prefix: BlockPrefix,
+    pub number: u32,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum BlockPrefix {
+    Ob,
+    Int,
+    Sbr,
+    Dat,
+}
+
+impl BlockPrefix {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            BlockPrefix::Ob => "OB",
+            BlockPrefix::Int => "INT",
+            BlockPrefix::Sbr => "SBR",
+            BlockPrefix::Dat => "DAT",
+        }
+    }
+}
+
+/// A program unit: MAIN, an interrupt routine or a subroutine.
+#[derive(Debug, Clone)]
+pub struct Unit {
+    pub kind: UnitKind,
+    pub header: BlockHeader,
+    pub title: Option<Span>,
+    pub vars: Vec<VarDecl>,
+    pub networks: Vec<Network>,
+    /// The `END_...` line, if there was one.
+    pub end: Option<Span>,
+}
+
+/// Which VAR section a local belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum VarSection {
+    Input,
+    InOut,
+    Output,
+    Temp,
+}
+
+impl VarSection {
+    pub fn keyword(self) -> &'static str {
+        match self {
+            VarSection::Input => "VAR_INPUT",
+            VarSection::InOut => "VAR_IN_OUT",
+            VarSection::Output => "VAR_OUTPUT",
+            VarSection::Temp => "VAR",
+        }
+    }
+}
+
+/// `name : TYPE;` in a VAR section.
+#[derive(Debug, Clone)]
+pub struct VarDecl {
+    pub section: VarSection,
+    pub name: Span,
+    pub ty: Span,
+    pub comment: Option<Span>,
+}
+
+/// `Network n // title` and its instructions.
+#[derive(Debug, Clone)]
+pub struct Network {
+    /// The network number as written (`None`: not written, or no NETWORK line at all).
+    pub number: Option<u32>,
+    /// The `NETWORK` line; `None` for instructions before any NETWORK line.
+    pub header: Option<Span>,
+    /// The header line, or the first instruction for an implicit network.
+    pub span: Span,
+    pub title: Option<Span>,
+    pub instructions: Vec<Instruction>,
+    /// Operands of all instructions, in order; instructions index into it.
+    pub operands: Vec<Operand>,
+}
+
+impl Network {
+    pub fn operands_of(&self, ins: &Instruction) -> &[Operand] {
+        &self.operands[ins.operands.0 as usize..ins.operands.1 as usize]
+    }
+}
+
+/// One STL instruction line.
+#[derive(Debug, Clone)]
+pub struct Instruction {
+    /// The mnemonic as written (may be several adjacent tokens: `LDW>=`, `+I`).
+    pub mnemonic: Span,
+    /// Range into `Network::operands`.
+    pub operands: (u32, u32),
+    /// Mnemonic through last operand.
+    pub span: Span,
+}
+
+/// An operand as written.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Operand {
+    pub span: Span,
+    pub kind: OperandKind,
+}
+
+/// `&` or `*` in front of a name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Prefix {
+    None,
+    /// `&MB24`
+    AddressOf,
+    /// `*MD4`
+    Pointer,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum OperandKind {
+    /// A direct address, a symbol or a block name (`MW10`, `Start`, `ADD3`), or with
+    /// `local` a `#name`. `name` spans the name without `#`, `&` or `*`.
+    Name {
+        prefix: Prefix,
+        local: bool,
+        name: Span,
+    },
+    Integer(i64),
+    Real(f64),
+    /// Already reported by the parser.
+    Error,
+}
+
+/// `DATA_BLOCK name:DATn` ... `END_DATA_BLOCK`.
+#[derive(Debug, Clone)]
+pub struct DataBlock {
+    pub header: BlockHeader,
+    pub rows: Vec<DataRow>,
+    pub end: Option<Span>,
+}
+
+/// `MW22 UINT 6 // comment`.
+#[derive(Debug, Clone)]
+pub struct DataRow {
+    pub span: Span,
+    pub address: Span,
+    pub ty: Option<Span>,
+    pub value: Operand,
+}
+
+/// `SYSTEM_BLOCK` ... `END_SYSTEM_BLOCK`.
+#[derive(Debug, Clone)]
+pub struct SystemBlock {
+    pub span: Span,
+    pub entries: Vec<SystemEntry>,
+    pub end: Option<Span>,
+}
+
+/// `PORT0.BAUD = 38400` or `PASSWORD = "1234"`.
+#[derive(Debug, Clone)]
+pub struct SystemEntry {
+    pub span: Span,
+    /// `PORT0.BAUD` as a whole (dots included).
+    pub key: Span,
+    pub value: SystemValue,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum SystemValue {
+    Integer(i64, Span),
+    Word(Span),
+    /// Span of the string including its quotes; text is the unescaped contents.
+    Str(String, Span),
+    Error,
+}
