@@ -1,20 +1,31 @@
 //! "Did you mean" suggestions: the closest candidate by edit distance.
 
-/// Levenshtein distance on ASCII-uppercased characters.
+/// Edit distance with adjacent transpositions (optimal string alignment), on
+/// ASCII-uppercased characters: `MOWV` is one edit from `MOVW`.
 fn distance(a: &str, b: &str) -> usize {
     let a: Vec<char> = a.chars().map(|c| c.to_ascii_uppercase()).collect();
     let b: Vec<char> = b.chars().map(|c| c.to_ascii_uppercase()).collect();
-    let mut prev: Vec<usize> = (0..=b.len()).collect();
-    let mut cur = vec![0; b.len() + 1];
+    let w = b.len() + 1;
+    let mut d = vec![0usize; (a.len() + 1) * w];
+    for i in 0..=a.len() {
+        d[i * w] = i;
+    }
+    for (j, cell) in d.iter_mut().enumerate().take(w) {
+        *cell = j;
+    }
     for i in 1..=a.len() {
-        cur[0] = i;
         for j in 1..=b.len() {
             let cost = usize::from(a[i - 1] != b[j - 1]);
-            cur[j] = (prev[j] + 1).min(cur[j - 1] + 1).min(prev[j - 1] + cost);
+            let mut v = (d[(i - 1) * w + j] + 1)
+                .min(d[i * w + j - 1] + 1)
+                .min(d[(i - 1) * w + j - 1] + cost);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                v = v.min(d[(i - 2) * w + j - 2] + 1);
+            }
+            d[i * w + j] = v;
         }
-        std::mem::swap(&mut prev, &mut cur);
     }
-    prev[b.len()]
+    d[a.len() * w + b.len()]
 }
 
 /// The closest candidate within a third of the word's length (at least 1, at most 3 edits).
@@ -35,6 +46,7 @@ mod tests {
         let c = ["MOVW", "MOVB", "MOVD", "LD", "LDN"];
         assert_eq!(super::closest("MOWV", c), Some("MOVW"));
         assert_eq!(super::closest("movx", c), Some("MOVB"));
+        assert_eq!(super::closest("LDD", c), Some("LD"));
         assert_eq!(super::closest("XYZZY", c), None);
     }
 }

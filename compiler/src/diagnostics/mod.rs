@@ -111,3 +111,46 @@ impl Diagnostics {
         self.items
     }
 }
+
+/// docs/diagnostics.md, generated from the code registry (a test keeps the file in sync).
+pub fn reference_markdown() -> String {
+    let mut out = String::from(
+        "# Diagnostic codes\n\n<!-- Generated from compiler/src/diagnostics/codes.rs by `UPDATE_DOCS=1 cargo test -p gutta-compiler --test docs`. Do not edit by hand. -->\n\n\
+         Every problem `gutta-cc` reports carries a stable code. `E` codes are errors (exit status 1), \
+         `W` codes warnings (the program still compiles). `gutta-cc explain CODE` prints an entry. \
+         With `--message-format json` each diagnostic is one JSON object per line on stdout with the fields \
+         `code`, `severity`, `message`, `file`, `line`, `column`, `end_line`, `end_column` (1-based, columns count characters), \
+         `help` (string or null), `start_offset`/`end_offset` (bytes) and `labels` (secondary spans).\n\n\
+         | code | severity | title |\n| --- | --- | --- |\n",
+    );
+    for c in Code::ALL {
+        out.push_str(&format!(
+            "| [{0}](#{1}) | {2} | {3} |\n",
+            c.as_str(),
+            c.as_str().to_ascii_lowercase(),
+            c.severity().as_str(),
+            c.title()
+        ));
+    }
+    for c in Code::ALL {
+        out.push_str(&format!(
+            "\n## {}\n\n**{}** ({})\n\n{}\n",
+            c.as_str(),
+            c.title(),
+            c.severity().as_str(),
+            c.explanation()
+        ));
+    }
+    out.push_str(
+        "\n## Target description errors (T codes)\n\n\
+         A malformed `--target` folder stops the compiler with exit status 2 and one of these codes:\n\n\
+         | code | meaning |\n| --- | --- |\n\
+         | T0001 | the file is not valid UTF-8 or UTF-16 text |\n\
+         | T0002 | the XML is malformed or lacks a required element or attribute |\n\
+         | T0003 | a value is out of range or malformed |\n\
+         | T0004 | two entries collide (slot, area, mnemonic, opcode, Modbus object) |\n\
+         | T0005 | the files disagree (PLC type names, areas an instruction names) |\n\
+         | T0006 | a target folder, file or stdlib PLC type cannot be found |\n",
+    );
+    out
+}

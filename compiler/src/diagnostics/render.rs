@@ -50,10 +50,9 @@ pub fn render(file: &SourceFile, diagnostics: &[Diagnostic], style: RenderStyle)
             .with_config(config)
             .with_code(d.code.as_str())
             .with_message(&d.message);
-        let mut label = Label::new((name, primary));
-        if let Some(m) = &d.primary.message {
-            label = label.with_message(m);
-        }
+        // ariadne underlines only labelled spans: every primary span gets a text.
+        let text = d.primary.message.as_deref().unwrap_or("here");
+        let label = Label::new((name, primary)).with_message(text);
         report = report.with_label(label.with_order(0));
         for (i, s) in d.secondary.iter().enumerate() {
             let mut label = Label::new((name, clamp(s.span.range()))).with_order(i as i32 + 1);

@@ -1,0 +1,173 @@
+//! The data-driven check corpus: every file in tests/data/check/ok must check without
+//! errors, every file in tests/data/check/err must give exactly the diagnostics its
+//! lines announce (`// error: E0302`, `// warning: W0201, W0203`), and every example
+//! must check clean. A first line `// plc: NAME` selects the PLC type.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use gutta_catalog::stdlib;
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{check_source, CheckedFile, ExplicitTarget};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn lad_files(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.expect("dir entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "lad"))
+        .collect();
+    files.sort();
+    files
+}
+
+fn check(path: &Path) -> CheckedFile {
+    let bytes = std::fs::read(path).expect("read test file");
+    let file =
+        SourceFile::from_bytes(path.display().to_string(), bytes).expect("test files are UTF-8");
+    let first = file.text.lines().next().unwrap_or("").trim().to_string();
+    let explicit = first.strip_prefix("// plc:").map(|name| {
+        let name = name.trim();
+        ExplicitTarget {
+            target: stdlib::load(name).unwrap_or_else(|e| panic!("{}: {e}", path.display())),
+            origin: format!("--plc {name}"),
+        }
+    });
+    check_source(file, explicit.as_ref())
+}
+
+/// (line, code) -> count, from the `// error:` / `// warning:` annotations.
+fn expected(text: &str) -> BTreeMap<(u32, String), usize> {
+    let mut map = BTreeMap::new();
+    for (i, line) in text.lines().enumerate() {
+        for tag in ["// error:", "// warning:"] {
+            if let Some(at) = line.find(tag) {
+                for code in line[at + tag.len()..].split(',') {
+                    let code = code
+                        .trim()
+                        .split_whitespace()
+                        .next()
+                        .unwrap_or("")
+                        .to_string();
+                    if !code.is_empty() {
+                        *map.entry((i as u32 + 1, code)).or_insert(0) += 1;
+                    }
+                }
+            }
+        }
+    }
+    map
+}
+
+fn actual(c: &CheckedFile) -> BTreeMap<(u32, String), usize> {
+    let mut map = BTreeMap::new();
+    for d in c.diagnostics() {
+        let line = c
+            .index
+            .line_col(&c.file.text, d.primary.span.start as usize)
+            .line;
+        *map.entry((line, d.code.as_str().to_string())).or_insert(0) += 1;
+    }
+    map
+}
+
+fn describe(c: &CheckedFile) -> String {
+    c.diagnostics()
+        .iter()
+        .map(|d| {
+            let lc = c
+                .index
+                .line_col(&c.file.text, d.primary.span.start as usize);
+            format!("  line {}: {} {}", lc.line, d.code.as_str(), d.message)
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[test]
+fn ok_programs_check_clean() {
+    let files = lad_files(&root().join("tests/data/check/ok"));
+    assert!(!files.is_empty(), "the ok corpus is empty");
+    let mut failures = Vec::new();
+    for path in files {
+        let c = check(&path);
+        if actual(&c) != expected(&c.file.text) {
+            failures.push(format!("{}:\n{}", path.display(), describe(&c)));
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "unexpected diagnostics:\n{}",
+        failures.join("\n")
+    );
+}
+
+#[test]
+fn err_programs_give_exactly_their_annotated_diagnostics() {
+    let files = lad_files(&root().join("tests/data/check/err"));
+    assert!(!files.is_empty(), "the err corpus is empty");
+    let mut failures = Vec::new();
+    for path in files {
+        let c = check(&path);
+        let (want, got) = (expected(&c.file.text), actual(&c));
+        assert!(
+            !want.is_empty(),
+            "{} announces no diagnostic",
+            path.display()
+        );
+        if want != got {
+            let missing: Vec<String> = want
+                .iter()
+                .filter(|(k, n)| got.get(*k) != Some(n))
+                .map(|((l, c), n)| format!("line {l} {c} x{n}"))
+                .collect();
+            let extra: Vec<String> = got
+                .iter()
+                .filter(|(k, n)| want.get(*k) != Some(n))
+                .map(|((l, c), n)| format!("line {l} {c} x{n}"))
+                .collect();
+            failures.push(format!("{}:\n  expected but not given: {missing:?}\n  given but not expected: {extra:?}\n{}", path.display(), describe(&c)));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn every_diagnostic_code_is_exercised_by_the_corpus() {
+    let mut seen = std::collections::BTreeSet::new();
+    for path in lad_files(&root().join("tests/data/check/err"))
+        .into_iter()
+        .chain(lad_files(&root().join("tests/data/check/ok")))
+    {
+        let text = std::fs::read_to_string(&path).expect("read");
+        seen.extend(expected(&text).into_keys().map(|(_, c)| c));
+    }
+    let missing: Vec<&str> = gutta_compiler::diagnostics::Code::ALL
+        .iter()
+        .map(|c| c.as_str())
+        .filter(|c| !seen.contains(*c))
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "codes without a corpus case: {missing:?}"
+    );
+}
+
+#[test]
+fn examples_check_clean() {
+    let files = lad_files(&root().join("examples"));
+    assert!(files.len() >= 6, "examples are missing");
+    for path in files {
+        let c = check(&path);
+        assert!(
+            c.diagnostics().is_empty(),
+            "{}:\n{}",
+            path.display(),
+            describe(&c)
+        );
+        assert!(c.output.program.is_some());
+    }
+}
