@@ -7,6 +7,7 @@
 //! language server are all driven by the tables it returns.
 
 mod address;
+pub mod docs;
 mod error;
 mod instructions;
 mod memory;

@@ -262,7 +262,7 @@ fn modbus(args: &TargetArgs, variable: &str) -> Result<ExitCode, Fatal> {
 
 fn explain(code: &str) -> Result<ExitCode, Fatal> {
     let c =
-        Code::from_str(code.trim()).ok_or_else(|| Fatal(format!("no diagnostic code `{code}`")))?;
+        Code::parse(code.trim()).ok_or_else(|| Fatal(format!("no diagnostic code `{code}`")))?;
     println!(
         "{} ({}): {}\n\n{}",
         c.as_str(),

@@ -33,7 +33,7 @@ macro_rules! codes {
                 match self { $(Code::$variant => $explain,)* }
             }
 
-            pub fn from_str(s: &str) -> Option<Code> {
+            pub fn parse(s: &str) -> Option<Code> {
                 Code::ALL.iter().copied().find(|c| c.as_str().eq_ignore_ascii_case(s))
             }
         }
@@ -205,7 +205,7 @@ mod tests {
             };
             assert_eq!(c.severity(), want);
             assert!(c.explanation().len() > 40, "{s} needs an explanation");
-            assert_eq!(Code::from_str(s), Some(*c));
+            assert_eq!(Code::parse(s), Some(*c));
         }
     }
 }
