@@ -47,7 +47,6 @@ fn expected(text: &str) -> BTreeMap<(u32, String), usize> {
             if let Some(at) = line.find(tag) {
                 for code in line[at + tag.len()..].split(',') {
                     let code = code
-                        .trim()
                         .split_whitespace()
                         .next()
                         .unwrap_or("")
