@@ -160,7 +160,12 @@ impl Checker<'_> {
                 let parse_error = ops.iter().any(|o| o.kind == OperandKind::Error);
                 // Logic stack.
                 if stack_ok {
-                    let needs = spec.stack_needs as i32;
+                    // `LDS n` copies level n to the top: it needs n + 1 levels.
+                    let lds_extra = match (spec.mnemonic.as_str(), ops.first().map(|o| o.kind)) {
+                        ("LDS", Some(OperandKind::Integer(n))) if (0..=31).contains(&n) => n as i32,
+                        _ => 0,
+                    };
+                    let needs = spec.stack_needs as i32 + lds_extra;
                     if depth < needs {
                         let msg = if depth == 0 {
                             format!(
@@ -177,7 +182,7 @@ impl Checker<'_> {
                         stack_ok = false;
                     } else {
                         depth += spec.stack_delta as i32;
-                        if spec.flow == Flow::Load && depth > max_stack {
+                        if spec.stack_delta > 0 && depth > max_stack {
                             self.report(Diagnostic::new(Code::StackOverflow, ins.mnemonic, format!("the logic stack holds {max_stack} levels; this load would make {depth}")).help("combine branches with ALD or OLD before loading more"));
                             stack_ok = false;
                         }

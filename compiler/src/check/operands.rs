@@ -228,7 +228,36 @@ impl Checker<'_> {
                 None
             }
             (SpecKind::Literal, OperandKind::Integer(n)) => {
-                let (lo, hi) = (spec.min.unwrap_or(i64::MIN), spec.max.unwrap_or(i64::MAX));
+                let (lo, mut hi) = (spec.min.unwrap_or(i64::MIN), spec.max.unwrap_or(i64::MAX));
+                // Literals the target narrows: serial ports it has, events it raises.
+                if spec.name == "PORT" {
+                    hi = hi.min(self.target.memory.serial_ports as i64 - 1);
+                }
+                if spec.name == "EVNT"
+                    && !self
+                        .target
+                        .memory
+                        .events
+                        .iter()
+                        .any(|e| e.number as i64 == n)
+                {
+                    let list: Vec<String> = self
+                        .target
+                        .memory
+                        .events
+                        .iter()
+                        .map(|e| format!("{} {}", e.number, e.name))
+                        .collect();
+                    self.report(
+                        Diagnostic::new(
+                            Code::ConstantOutOfRange,
+                            op.span,
+                            format!("{} raises no interrupt event {n}", self.target.name()),
+                        )
+                        .help(format!("events: {}", list.join(", "))),
+                    );
+                    return None;
+                }
                 if (lo..=hi).contains(&n) {
                     Some(CheckedOperand::Literal(n))
                 } else {
@@ -300,7 +329,23 @@ impl Checker<'_> {
         mnemonic: &str,
     ) -> Option<CheckedOperand> {
         let text = self.slice(name);
-        let Some(&u) = self.unit_names.get(&text.to_ascii_uppercase()) else {
+        let key = text.to_ascii_uppercase();
+        if !self.unit_names.contains_key(&key)
+            && (gutta_catalog::is_address_shaped(text) || self.symbols.contains_key(&key))
+        {
+            self.report(
+                Diagnostic::new(
+                    Code::WrongOperandKind,
+                    name,
+                    format!("{mnemonic} needs a block name; `{text}` is a variable"),
+                )
+                .help(format!(
+                    "for example `{mnemonic} ADD3` or `{mnemonic} SBR0`"
+                )),
+            );
+            return None;
+        }
+        let Some(&u) = self.unit_names.get(&key) else {
             let cands: Vec<String> = self.units.iter().map(|u| u.name.clone()).collect();
             let hint = super::suggest::closest(text, cands.iter().map(String::as_str))
                 .map(|s| format!("did you mean `{s}`?"));
