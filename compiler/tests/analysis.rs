@@ -9,7 +9,10 @@ ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNetwork 1\nLD Start\nCALL ADD3, MW10, MW12\n
 SUBROUTINE_BLOCK ADD3:SBR0\nVAR_INPUT\n  a : INT;\nEND_VAR\nVAR_OUTPUT\n  r : INT;\nEND_VAR\nBEGIN\nNetwork 1\nLD SM0.0\nMOVW #a, #r\nEND_SUBROUTINE_BLOCK\n";
 
 fn at(text: &str, needle: &str, nth: usize) -> usize {
-    text.match_indices(needle).nth(nth).map(|(i, _)| i).unwrap_or_else(|| panic!("no {needle} #{nth}"))
+    text.match_indices(needle)
+        .nth(nth)
+        .map(|(i, _)| i)
+        .unwrap_or_else(|| panic!("no {needle} #{nth}"))
 }
 
 #[test]
@@ -17,7 +20,11 @@ fn definitions_references_and_hover() {
     let a = Analysis::new("p.lad", PROGRAM, None);
     assert!(a.diagnostics().is_empty(), "{:?}", a.diagnostics());
     let kinds: Vec<DefKind> = a.definitions().iter().map(|d| d.kind).collect();
-    assert!(kinds.contains(&DefKind::Symbol) && kinds.contains(&DefKind::Unit) && kinds.contains(&DefKind::Local));
+    assert!(
+        kinds.contains(&DefKind::Symbol)
+            && kinds.contains(&DefKind::Unit)
+            && kinds.contains(&DefKind::Local)
+    );
 
     // A use of `Start` leads to its definition and to both uses.
     let use_at = at(PROGRAM, "Start", 1);
@@ -33,7 +40,11 @@ fn definitions_references_and_hover() {
     assert_eq!(a.definition_at(call).map(|d| d.kind), Some(DefKind::Unit));
     let local = at(PROGRAM, "#a", 0) + 1;
     let d = a.definition_at(local).expect("local");
-    assert!(d.detail.contains("INT") && d.detail.contains("LW0"), "{}", d.detail);
+    assert!(
+        d.detail.contains("INT") && d.detail.contains("LW0"),
+        "{}",
+        d.detail
+    );
 
     // Hover: an instruction's summary, an address with its Modbus reference, a symbol.
     let (_, text) = a.hover(at(PROGRAM, "MOVW", 0)).expect("hover on MOVW");

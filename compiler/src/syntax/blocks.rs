@@ -349,20 +349,8 @@ impl<'t> BlockParser<'t> {
         let open = match self.state {
             State::Top => None,
             State::Symbols { header } => Some((header, "SYMBOLS", "END_SYMBOLS")),
-            State::Vars {
-                section, header, ..
-            } => {
-                self.report(
-                    Diagnostic::new(
-                        Code::UnterminatedBlock,
-                        header,
-                        format!("{} section is not closed", section.keyword()),
-                    )
-                    .label("opened here")
-                    .with_secondary(at, why)
-                    .help("add `END_VAR` at the end of the section"),
-                );
-                self.state = State::UnitHead;
+            State::Vars { .. } => {
+                self.close_vars(at, why);
                 return self.close_open(at, why);
             }
             State::UnitHead | State::Body => self.program.units.last().map(|u| {
@@ -474,7 +462,7 @@ impl<'t> BlockParser<'t> {
             Kw::Begin => match self.state {
                 State::UnitHead => self.state = State::Body,
                 State::Vars { in_body: false, .. } => {
-                    self.close_vars(line_span);
+                    self.close_vars(line_span, "the section ends here without END_VAR");
                     self.state = State::Body;
                 }
                 State::Body | State::Vars { in_body: true, .. } => self.report(
@@ -495,7 +483,7 @@ impl<'t> BlockParser<'t> {
                     State::Body => {}
                     State::UnitHead | State::Vars { .. } => {
                         if let State::Vars { .. } = self.state {
-                            self.close_vars(line_span);
+                            self.close_vars(line_span, "the section ends here without END_VAR");
                         }
                         self.missing_begin(line_span);
                     }
@@ -518,7 +506,7 @@ impl<'t> BlockParser<'t> {
                     }
                 }
                 State::Vars { in_body, .. } => {
-                    self.close_vars(line_span);
+                    self.close_vars(line_span, "the section ends here without END_VAR");
                     self.state = State::Vars {
                         section,
                         header: line_span,
@@ -563,7 +551,7 @@ impl<'t> BlockParser<'t> {
         }
     }
 
-    fn close_vars(&mut self, at: Span) {
+    fn close_vars(&mut self, at: Span, why: &str) {
         if let State::Vars {
             section,
             header,
@@ -577,7 +565,7 @@ impl<'t> BlockParser<'t> {
                     format!("{} section is not closed", section.keyword()),
                 )
                 .label("opened here")
-                .with_secondary(at, "the section ends here without END_VAR")
+                .with_secondary(at, why)
                 .help("add `END_VAR` at the end of the section"),
             );
             self.state = if in_body {
@@ -649,7 +637,7 @@ impl<'t> BlockParser<'t> {
         }
         if let State::Vars { .. } = self.state {
             if kw != Kw::EndSymbols {
-                self.close_vars(line_span);
+                self.close_vars(line_span, "the section ends here without END_VAR");
             }
         }
         let matches = match (self.state, kw) {
