@@ -95,7 +95,10 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
         Some(Command::ListTargets) => {
             for name in stdlib::names() {
                 let t = stdlib::load(name).map_err(|e| Fatal(e.to_string()))?;
-                println!("{:<16} {}", name, t.plc.information);
+                // A closed pipe (`| head`) ends the listing quietly.
+                if writeln!(std::io::stdout(), "{:<16} {}", name, t.plc.information).is_err() {
+                    break;
+                }
             }
             return Ok(ExitCode::SUCCESS);
         }

@@ -124,9 +124,11 @@ impl Checker<'_> {
                 }
                 (Some(n), _) => n,
                 (None, Some((prev, _))) => prev + 1,
-                (None, None) => 1,
+                (None, None) => u32::from(net.header.is_some()),
             };
-            last_number = Some((number, net.header.unwrap_or(net.span)));
+            if net.header.is_some() {
+                last_number = Some((number, net.header.unwrap_or(net.span)));
+            }
             if net.instructions.is_empty() {
                 self.report(Diagnostic::new(
                     Code::EmptyNetwork,

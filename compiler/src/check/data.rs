@@ -10,13 +10,12 @@ use crate::diagnostics::{Code, Diagnostic};
 use crate::source::Span;
 use crate::syntax::ast::{BlockPrefix, OperandKind};
 
-const INITIALISABLE: [AreaKind; 6] = [
+const INITIALISABLE: [AreaKind; 5] = [
     AreaKind::Memory,
     AreaKind::DigitalOutput,
     AreaKind::AnalogOutput,
     AreaKind::Timer,
     AreaKind::Counter,
-    AreaKind::Flow,
 ];
 
 impl Checker<'_> {
@@ -81,7 +80,7 @@ impl Checker<'_> {
             }
             used.insert(number, span);
             if number >= plc.data_block_page_size {
-                self.report(Diagnostic::new(Code::DataBlockTooLarge, span, format!("DAT{number} is out of range: {} allows {} data blocks, DAT0..DAT{} (DataBlockPageSize)", plc.name, plc.data_block_page_size, plc.data_block_page_size.saturating_sub(1))));
+                self.report(Diagnostic::new(Code::BlockNumberRange, span, format!("DAT{number} is out of range: {} allows {} data blocks, DAT0..DAT{} (DataBlockPageSize)", plc.name, plc.data_block_page_size, plc.data_block_page_size.saturating_sub(1))));
             }
             let def = self.define(
                 name.clone(),
@@ -165,7 +164,7 @@ impl Checker<'_> {
                     area.name,
                     area.description.to_lowercase()
                 ))
-                .help("data blocks initialise M, V, Q, AQ, T, C and J"),
+                .help("data blocks initialise M, V, Q, AQ, T and C"),
             );
             return None;
         }

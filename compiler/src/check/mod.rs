@@ -158,15 +158,41 @@ pub fn check(text: &str, ast: &Program, target: &Target) -> CheckOutput {
 }
 
 impl Checker<'_> {
+    /// Whether a name reads as a direct address of this or any stdlib target: an area
+    /// name, an optional width letter, digits, an optional `.bit` (`M0`, `VB100`).
+    /// `Pump1` is a name, not an address.
+    pub(crate) fn looks_like_address(&self, name: &str) -> bool {
+        if !gutta_catalog::is_address_shaped(name) {
+            return false;
+        }
+        let letters = name
+            .chars()
+            .take_while(char::is_ascii_alphabetic)
+            .collect::<String>()
+            .to_ascii_uppercase();
+        let fits = |area: &str| {
+            letters == area
+                || (letters.len() == area.len() + 1
+                    && letters.starts_with(area)
+                    && letters.ends_with(['B', 'W', 'D']))
+        };
+        self.target.memory.areas.iter().any(|a| fits(&a.name))
+            || operands::stdlib_memory_maps()
+                .iter()
+                .flat_map(|(_, m)| m)
+                .any(|m| m.areas.iter().any(|a| fits(&a.name)))
+    }
+
     fn symbols(&mut self) {
         let ast = self.ast;
         for decl in &ast.symbols {
             let name = self.slice(decl.name);
             let key = name.to_ascii_uppercase();
-            if gutta_catalog::is_address_shaped(name) || crate::syntax::is_reserved(name) {
+            let address_like = self.looks_like_address(name);
+            if address_like || crate::syntax::is_reserved(name) {
                 self.report(
                     Diagnostic::new(Code::BadSymbolName, decl.name, format!("symbol name `{name}` is not allowed"))
-                        .label(if gutta_catalog::is_address_shaped(name) { "has the shape of an address" } else { "reserved word" })
+                        .label(if address_like { "has the shape of an address" } else { "reserved word" })
                         .help("choose a name that starts with a letter and is not an address such as M0 or VB100"),
                 );
                 continue;

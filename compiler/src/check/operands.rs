@@ -2,8 +2,10 @@
 //! locals, `&` and `*`, constants, labels, blocks and literals. Every rule comes from
 //! the target's description (area widths, permissions, operand types and areas).
 
+use std::sync::OnceLock;
+
 use gutta_catalog::{
-    stdlib, Address, AddressError, DataType, OperandKind as SpecKind, OperandSpec, Width,
+    stdlib, Address, AddressError, DataType, MemoryMap, OperandKind as SpecKind, OperandSpec, Width,
 };
 
 use super::{CheckedOperand, Checker, ConstValue, Use};
@@ -15,6 +17,18 @@ use crate::syntax::ast::{Operand, OperandKind, Prefix, UnitKind};
 struct Variable {
     address: Address,
     ty: Option<DataType>,
+}
+
+/// The memory map of every stdlib target (`None` if it does not load), in
+/// `stdlib::names()` order. Loaded once per process: loading them for every unknown-area
+/// error cost milliseconds per diagnostic.
+pub(super) fn stdlib_memory_maps() -> &'static [(&'static str, Option<MemoryMap>)] {
+    static MAPS: OnceLock<Vec<(&'static str, Option<MemoryMap>)>> = OnceLock::new();
+    MAPS.get_or_init(|| {
+        stdlib::names()
+            .map(|n| (n, stdlib::load(n).ok().map(|t| t.memory)))
+            .collect()
+    })
 }
 
 fn types_text(types: &[DataType]) -> String {
@@ -45,9 +59,11 @@ impl Checker<'_> {
             AddressError::NotAnAddress => Diagnostic::new(Code::MalformedAddress, span, format!("`{text}` is not an address"))
                 .help(context.map(|c| format!("{c} needs a direct address such as I0.0, MW10 or T5")).unwrap_or_default()),
             AddressError::UnknownArea { prefix } => {
-                let elsewhere: Vec<&str> = stdlib::names()
-                    .filter(|n| !n.eq_ignore_ascii_case(&plc))
-                    .filter(|n| stdlib::load(n).is_ok_and(|t| t.memory.area(prefix).is_some()))
+                let elsewhere: Vec<&str> = stdlib_memory_maps()
+                    .iter()
+                    .filter(|(n, _)| !n.eq_ignore_ascii_case(&plc))
+                    .filter(|(_, m)| m.as_ref().is_some_and(|m| m.area(prefix).is_some()))
+                    .map(|(n, _)| *n)
                     .collect();
                 let d = Diagnostic::new(Code::AddressOutOfTarget, span, format!("{plc} has no memory area {prefix}")).label("unknown area");
                 if elsewhere.is_empty() {
@@ -135,7 +151,7 @@ impl Checker<'_> {
             self.reference(name, def);
             return Some(Variable { address, ty: None });
         }
-        if gutta_catalog::is_address_shaped(text) {
+        if self.looks_like_address(text) {
             let a = self.direct_address(name, None)?;
             self.out.addresses.push((name, a));
             return Some(Variable {
@@ -331,7 +347,7 @@ impl Checker<'_> {
         let text = self.slice(name);
         let key = text.to_ascii_uppercase();
         if !self.unit_names.contains_key(&key)
-            && (gutta_catalog::is_address_shaped(text) || self.symbols.contains_key(&key))
+            && (self.looks_like_address(text) || self.symbols.contains_key(&key))
         {
             self.report(
                 Diagnostic::new(
@@ -628,7 +644,7 @@ impl Checker<'_> {
                     return None;
                 }
                 if let Some(ty) = var.ty {
-                    if !spec.types.contains(&ty) {
+                    if !type_compatible(ty, &spec.types) {
                         self.report(
                             Diagnostic::new(
                                 Code::TypeMismatch,
@@ -674,6 +690,19 @@ impl Checker<'_> {
             }
         }
     }
+}
+
+/// Whether a declared type may stand where `types` are accepted. Besides the listed
+/// types, a bit string (BYTE, WORD, DWORD) stands for any integer of its width and any
+/// integer for a bit string of its width, so `+D 4, #p` works on a DWORD pointer local;
+/// REAL never mixes with integers, nor signed with unsigned integers.
+fn type_compatible(ty: DataType, types: &[DataType]) -> bool {
+    let bits = |t: DataType| matches!(t, DataType::Byte | DataType::Word | DataType::Dword);
+    types.contains(&ty)
+        || (ty != DataType::Real
+            && types
+                .iter()
+                .any(|t| *t != DataType::Real && t.width() == ty.width() && (bits(ty) || bits(*t))))
 }
 
 fn want_text(w: Width, types: &[DataType]) -> String {

@@ -63,7 +63,7 @@ codes! {
     E0110 BadBlockHeader Error "malformed block header"
         "A block header is `KEYWORD NAME:NUMBERED` (`SUBROUTINE_BLOCK ADD3:SBR0`), `KEYWORD NUMBERED` (`SUBROUTINE_BLOCK SBR0`) or `KEYWORD NAME` (numbered automatically). The numbered name's prefix must fit the block: OB1 or INT0 for MAIN, INTn for interrupt routines, SBRn for subroutines, DATn for data blocks.";
     E0111 BadPlcType Error "bad PLC_TYPE line"
-        "`PLC_TYPE NAME` may appear once, before any block, and must name a known PLC type (see `gutta-cc --list-targets`) unless `--plc` or `--target` chooses the target.";
+        "`PLC_TYPE NAME` may appear once, before any block, and must name a known PLC type (see `gutta-cc list-targets`) unless `--plc` or `--target` chooses the target.";
 
     // ---- E02xx: names --------------------------------------------------------------
     E0201 UnknownMnemonic Error "unknown mnemonic"
@@ -161,7 +161,7 @@ codes! {
     E0504 DataOverlap Error "overlapping data rows"
         "Two rows initialise the same byte; the second would silently win on the PLC.";
     E0505 DataBlockTooLarge Error "data block too large"
-        "A data block (one data page) holds at most `DataBlockPageItemSize` rows, and a program at most `DataBlockPageSize` data blocks (DAT0..DATn-1).";
+        "A data block (one data page) holds at most `DataBlockPageItemSize` rows of 8 bytes. (Data block numbers beyond `DataBlockPageSize` are E0413.)";
 
     // ---- E06xx: system block -------------------------------------------------------
     E0601 UnknownSystemKey Error "unknown system block key"

@@ -408,6 +408,10 @@ impl<'t> BlockParser<'t> {
         toks: &[Spanned],
         comment: Option<Span>,
     ) {
+        if matches!(kw, Kw::Begin | Kw::Var(_) | Kw::EndVar) {
+            let word = self.slice(kw_span).to_ascii_uppercase();
+            self.expect_nothing_after(line_span, &word);
+        }
         match kw {
             Kw::PlcType => self.plc_type_line(kw_span, line_span, toks),
             Kw::Symbols => {
@@ -616,9 +620,8 @@ impl<'t> BlockParser<'t> {
 
     fn expect_nothing_after(&mut self, line_span: Span, kw: &str) {
         if self.chum.len() > 1 {
-            let at = sp(self.chum[1].1).to(line_span);
             let at = Span {
-                start: at.start,
+                start: sp(self.chum[1].1).start,
                 end: line_span.end,
             };
             self.report(
