@@ -46,11 +46,7 @@ fn expected(text: &str) -> BTreeMap<(u32, String), usize> {
         for tag in ["// error:", "// warning:"] {
             if let Some(at) = line.find(tag) {
                 for code in line[at + tag.len()..].split(',') {
-                    let code = code
-                        .split_whitespace()
-                        .next()
-                        .unwrap_or("")
-                        .to_string();
+                    let code = code.split_whitespace().next().unwrap_or("").to_string();
                     if !code.is_empty() {
                         *map.entry((i as u32 + 1, code)).or_insert(0) += 1;
                     }
