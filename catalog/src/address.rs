@@ -197,7 +197,8 @@ impl MemoryMap {
             }
             None => 0,
         };
-        if offset + width.bytes() as u64 > area.size as u64 {
+        // Saturating: a huge number saturates `offset` (parse_num) and must stay out of range.
+        if offset.saturating_add(width.bytes() as u64) > area.size as u64 {
             let last = self.format_address(&Address {
                 slot: area.slot,
                 width,

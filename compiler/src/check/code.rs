@@ -262,7 +262,9 @@ impl Checker<'_> {
         coils: &mut HashMap<(u8, u32, u8), Span>,
         timers: &mut HashMap<(u8, u32), Span>,
     ) -> Option<CheckedInstruction> {
-        let spec = self.target.instructions.get(id).clone();
+        // Borrowed from the target, not from `self` (no clone per instruction).
+        let target = self.target;
+        let spec = target.instructions.get(id);
         let m = spec.mnemonic.as_str();
         let fixed = spec.operands.len();
         let count_ok = if spec.call_arguments {

@@ -497,8 +497,9 @@ impl Checker<'_> {
         mnemonic: &str,
     ) -> Option<CheckedOperand> {
         let var = self.variable(unit, local, name)?;
-        let memory = &self.target.memory;
-        let area = memory.area_by_slot(var.address.slot)?.clone();
+        // Borrowed from the target, not from `self` (no clone per operand).
+        let target = self.target;
+        let area = target.memory.area_by_slot(var.address.slot)?;
         let want = spec
             .types
             .first()

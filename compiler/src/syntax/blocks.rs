@@ -1031,12 +1031,15 @@ impl<'t> BlockParser<'t> {
         let mnemonic = toks[0].1.to(toks[i - 1].1);
         let eoi = self.eoi(line_span);
         // Token index in the filtered chumsky buffer equals i (same filtering).
-        let raw = match run_grammar!(self.chum[i..], eoi, lines::operand_list()) {
-            Ok(ops) => Some(ops),
-            Err(e) => {
-                self.syntax_error(e, "operands");
-                None
-            }
+        let raw = match lines::simple_operand_list(&self.chum[i..]) {
+            Some(ops) => Some(ops),
+            None => match run_grammar!(self.chum[i..], eoi, lines::operand_list()) {
+                Ok(ops) => Some(ops),
+                Err(e) => {
+                    self.syntax_error(e, "operands");
+                    None
+                }
+            },
         };
         let operands: Vec<Operand> = match raw {
             Some(ops) => ops.into_iter().map(|o| self.convert_number(o)).collect(),

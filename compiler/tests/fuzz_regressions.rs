@@ -1,0 +1,172 @@
+//! Inputs the fuzzer (fuzz/fuzz_targets/front_end.rs) crashed on, replayed through the
+//! same steps: every file in tests/data/fuzz/ checks on the default target without a
+//! panic, with every span inside the text, and renders as text and JSON. Adding a
+//! regression means adding a file. Also keeps fuzz/front_end.dict in step with the
+//! instruction set. No fuzzing here: the fuzzer itself runs with `cargo fuzz`.
+
+use std::path::{Path, PathBuf};
+
+use gutta_catalog::stdlib;
+use gutta_compiler::diagnostics::json::to_json_lines;
+use gutta_compiler::diagnostics::render::{render, RenderStyle};
+use gutta_compiler::diagnostics::Code;
+use gutta_compiler::source::{SourceFile, Span};
+use gutta_compiler::{check_source, CheckedFile, ExplicitTarget};
+
+fn default_target() -> ExplicitTarget {
+    ExplicitTarget {
+        target: stdlib::default_target().expect("the embedded default target loads"),
+        origin: "the fuzzer".to_string(),
+    }
+}
+
+fn span_ok(text: &str, span: Span) -> bool {
+    let (start, end) = (span.start as usize, span.end as usize);
+    start <= end && end <= text.len() && text.is_char_boundary(start) && text.is_char_boundary(end)
+}
+
+/// What the fuzz target does with one input; panics where the fuzzer would crash.
+fn replay(name: &str, bytes: &[u8], target: &ExplicitTarget) -> CheckedFile {
+    let text = String::from_utf8_lossy(bytes).into_owned();
+    let checked = check_source(SourceFile::new(name, text), Some(target));
+    let text = checked.file.text.as_str();
+    for d in checked.diagnostics() {
+        assert!(
+            span_ok(text, d.primary.span),
+            "{name}: primary span of {d:?}"
+        );
+        for s in &d.secondary {
+            assert!(span_ok(text, s.span), "{name}: secondary span of {d:?}");
+        }
+    }
+    for def in &checked.output.definitions {
+        assert!(span_ok(text, def.span), "{name}: span of {def:?}");
+    }
+    for r in &checked.output.references {
+        assert!(span_ok(text, r.span), "{name}: span of {r:?}");
+    }
+    let rendered = render(&checked.file, checked.diagnostics(), RenderStyle::PLAIN);
+    assert_eq!(
+        checked.diagnostics().is_empty(),
+        rendered.is_empty(),
+        "{name}"
+    );
+    let json = to_json_lines(&checked.file, &checked.index, checked.diagnostics());
+    assert_eq!(json.lines().count(), checked.diagnostics().len(), "{name}");
+    checked
+}
+
+fn data_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fuzz")
+}
+
+#[test]
+fn fuzz_crashes_stay_fixed() {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(data_dir())
+        .expect("tests/data/fuzz exists")
+        .map(|e| e.expect("directory entry").path())
+        .filter(|p| p.is_file())
+        .collect();
+    files.sort();
+    assert!(!files.is_empty(), "no regression inputs in tests/data/fuzz");
+    let target = default_target();
+    for path in files {
+        let bytes = std::fs::read(&path).expect("readable regression input");
+        let name = path
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        replay(&name, &bytes, &target);
+    }
+}
+
+/// The first crash: `MB44444444444444444430` saturates the byte number, and the range
+/// check overflowed. Such addresses are simply outside the area.
+#[test]
+fn huge_address_numbers_are_outside_the_area() {
+    let target = default_target();
+    let name = "address_offset_overflow_operand.lad";
+    let bytes = std::fs::read(data_dir().join(name)).expect("regression input");
+    let checked = replay(name, &bytes, &target);
+    let outside: Vec<&str> = checked
+        .diagnostics()
+        .iter()
+        .filter(|d| d.code == Code::AddressOutOfTarget)
+        .map(|d| checked.file.slice(d.primary.span))
+        .collect();
+    assert_eq!(
+        outside,
+        ["M99999999999999999999.0", "MW444444444444444444444"]
+    );
+
+    let name = "address_offset_overflow_data_row.lad";
+    let bytes = std::fs::read(data_dir().join(name)).expect("regression input");
+    let checked = replay(name, &bytes, &target);
+    assert!(checked
+        .diagnostics()
+        .iter()
+        .any(|d| d.code == Code::AddressOutOfTarget
+            && checked.file.slice(d.primary.span) == "MB44444444444444444430"));
+}
+
+/// Entries of a libFuzzer dictionary: the quoted values, unescaped.
+fn dictionary_entries(text: &str) -> Vec<Vec<u8>> {
+    let mut out = Vec::new();
+    for line in text.lines().map(str::trim) {
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let Some(start) = line.find('"') else {
+            continue;
+        };
+        let quoted = &line.as_bytes()[start + 1..line.len() - 1];
+        let mut value = Vec::new();
+        let mut i = 0;
+        while i < quoted.len() {
+            match quoted[i] {
+                b'\\' if quoted.get(i + 1) == Some(&b'x') => {
+                    let hex = std::str::from_utf8(&quoted[i + 2..i + 4]).expect("hex escape");
+                    value.push(u8::from_str_radix(hex, 16).expect("hex escape"));
+                    i += 4;
+                }
+                b'\\' => {
+                    value.push(quoted[i + 1]);
+                    i += 2;
+                }
+                b => {
+                    value.push(b);
+                    i += 1;
+                }
+            }
+        }
+        out.push(value);
+    }
+    out
+}
+
+#[test]
+fn dictionary_lists_every_mnemonic_and_keyword() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz/front_end.dict");
+    let text = std::fs::read_to_string(&path).expect("fuzz/front_end.dict");
+    let entries = dictionary_entries(&text);
+    let has = |word: &str| entries.iter().any(|e| e.as_slice() == word.as_bytes());
+    let target = default_target().target;
+    let missing: Vec<&str> = target
+        .instructions
+        .names()
+        .map(|(name, _)| name)
+        .filter(|name| !has(name))
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "fuzz/front_end.dict lacks mnemonics {missing:?}"
+    );
+    let keywords = entries
+        .iter()
+        .filter_map(|e| std::str::from_utf8(e).ok())
+        .filter(|w| gutta_compiler::syntax::is_reserved(w))
+        .count();
+    assert!(
+        keywords >= 21,
+        "only {keywords} block keywords in the dictionary"
+    );
+}
