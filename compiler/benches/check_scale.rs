@@ -139,14 +139,16 @@ fn print_table(results: &[Figures]) {
     }
     if let (Some(first), Some(last)) = (results.first(), results.last()) {
         if results.len() > 1 {
-            let ns = |f: &Figures| f.median_ms * 1e6 / f.lines as f64;
+            let ns = |ms: f64, f: &Figures| ms * 1e6 / f.lines as f64;
+            let (med_first, med_last) = (ns(first.median_ms, first), ns(last.median_ms, last));
+            let (min_first, min_last) = (ns(first.min_ms, first), ns(last.min_ms, last));
             println!(
-                "time per line: {:.0} ns at {} lines, {:.0} ns at {} lines; ratio {:.2} (1.00 = linear)",
-                ns(first),
+                "time per line, {} vs {} lines: median {med_first:.0} vs {med_last:.0} ns (ratio {:.2}), \
+                 min {min_first:.0} vs {min_last:.0} ns (ratio {:.2}); 1.00 = linear",
                 first.lines,
-                ns(last),
                 last.lines,
-                ns(last) / ns(first)
+                med_last / med_first,
+                min_last / min_first
             );
         }
     }

@@ -30,9 +30,13 @@ fn distance(a: &str, b: &str) -> usize {
 
 /// The closest candidate within a third of the word's length (at least 1, at most 3 edits).
 pub fn closest<'a>(word: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
-    let limit = (word.chars().count() / 3).clamp(1, 3);
+    let len = word.chars().count();
+    let limit = (len / 3).clamp(1, 3);
     candidates
         .into_iter()
+        // The distance is at least the difference in length: skip those without the
+        // table (unknown mnemonics met ~200 full tables each).
+        .filter(|c| c.chars().count().abs_diff(len) <= limit)
         .map(|c| (distance(word, c), c))
         .filter(|(d, _)| *d <= limit)
         .min_by(|x, y| x.0.cmp(&y.0).then_with(|| x.1.cmp(y.1)))
@@ -48,5 +52,7 @@ mod tests {
         assert_eq!(super::closest("movx", c), Some("MOVB"));
         assert_eq!(super::closest("LDD", c), Some("LD"));
         assert_eq!(super::closest("XYZZY", c), None);
+        assert_eq!(super::closest("MOVWXYZ", c), None);
+        assert_eq!(super::closest("MOVWX", c), Some("MOVW"));
     }
 }
