@@ -120,6 +120,9 @@ fn write_instruction(out: &mut String, ins: &Instruction) {
         ins.stack_needs,
         signed(ins.stack_delta)
     );
+    if ins.units != crate::UnitScope::ALL {
+        let _ = writeln!(out, "\nOnly in: {}.", ins.units.describe());
+    }
     if !ins.aliases.is_empty() {
         let names: Vec<String> = ins.aliases.iter().map(|a| format!("`{a}`")).collect();
         let _ = writeln!(out, "\nAliases: {}", names.join(", "));

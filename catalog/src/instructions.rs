@@ -13,6 +13,57 @@ use crate::{CatalogError, CatalogErrorCode, DataType, MemoryMap};
 
 const FILE: &str = "ManagerFun.xml";
 
+/// Which kinds of program unit may contain an instruction (`Units` attribute).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct UnitScope {
+    /// MAIN (INT0).
+    pub main: bool,
+    /// Interrupt routines other than MAIN.
+    pub interrupt: bool,
+    pub subroutine: bool,
+}
+
+impl UnitScope {
+    pub const ALL: UnitScope = UnitScope {
+        main: true,
+        interrupt: true,
+        subroutine: true,
+    };
+
+    /// `MAIN`, `INT`, `SBR` separated by spaces.
+    fn parse(text: &str) -> Option<UnitScope> {
+        let mut scope = UnitScope {
+            main: false,
+            interrupt: false,
+            subroutine: false,
+        };
+        for word in text.split_whitespace() {
+            match word.to_ascii_uppercase().as_str() {
+                "MAIN" => scope.main = true,
+                "INT" => scope.interrupt = true,
+                "SBR" => scope.subroutine = true,
+                _ => return None,
+            }
+        }
+        (scope.main || scope.interrupt || scope.subroutine).then_some(scope)
+    }
+
+    /// The allowed kinds as words, for messages and docs.
+    pub fn describe(self) -> String {
+        let mut words = Vec::new();
+        if self.main {
+            words.push("MAIN");
+        }
+        if self.interrupt {
+            words.push("interrupt routines");
+        }
+        if self.subroutine {
+            words.push("subroutines");
+        }
+        words.join(", ")
+    }
+}
+
 /// Index of an instruction in its [`InstructionSet`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct InstrId(pub u16);
@@ -164,6 +215,8 @@ pub struct Instruction {
     pub stack_delta: i8,
     /// Further operands after the declared ones are call arguments (`CALL`).
     pub call_arguments: bool,
+    /// Kinds of unit the instruction may appear in.
+    pub units: UnitScope,
     pub operands: Vec<OperandSpec>,
     /// One line for hover and tables.
     pub summary: String,
@@ -217,6 +270,8 @@ struct RawInstruction {
     stack_delta: Option<String>,
     #[serde(rename = "@CallArguments")]
     call_arguments: Option<String>,
+    #[serde(rename = "@Units")]
+    units: Option<String>,
     #[serde(rename = "@Summary")]
     summary: String,
     #[serde(rename = "Operand", default)]
@@ -470,6 +525,15 @@ fn parse_instruction(raw: RawInstruction) -> Result<Instruction, CatalogError> {
                 .collect()
         })
         .unwrap_or_default();
+    let units = match raw.units.as_deref() {
+        None => UnitScope::ALL,
+        Some(text) => UnitScope::parse(text).ok_or_else(|| {
+            err(
+                CatalogErrorCode::Value,
+                format!("Units of {m} must list MAIN, INT or SBR, not `{text}`"),
+            )
+        })?,
+    };
     Ok(Instruction {
         aliases,
         opcode,
@@ -483,6 +547,7 @@ fn parse_instruction(raw: RawInstruction) -> Result<Instruction, CatalogError> {
             raw.call_arguments.as_deref(),
             false,
         )?,
+        units,
         operands,
         summary: raw.summary.trim().to_string(),
         description: dedent(raw.description),

@@ -22,6 +22,7 @@ pub use address::{is_address_shaped, Address, AddressError};
 pub use error::{CatalogError, CatalogErrorCode};
 pub use instructions::{
     BlockKind, Flow, InstrId, Instruction, InstructionSet, OperandKind, OperandSpec, Role,
+    UnitScope,
 };
 pub use memory::{
     Area, AreaKind, InterruptEvent, MemoryMap, ModbusMapping, ModbusTable, SystemBit,

@@ -3,6 +3,8 @@
 //! default target; `stdlib/targets/<Name>/` hold PlcType.xml and ManagerVar.xml of every
 //! PLC type, all sharing the default ManagerFun.xml.
 
+use std::sync::{Arc, OnceLock};
+
 use crate::{CatalogError, CatalogErrorCode, Target, TargetSources};
 
 /// Name of the default PLC type.
@@ -61,4 +63,16 @@ pub fn load(name: &str) -> Result<Target, CatalogError> {
 /// Load the default target.
 pub fn default_target() -> Result<Target, CatalogError> {
     load(DEFAULT)
+}
+
+/// A stdlib target, loaded once per process and shared: checking a file costs no XML
+/// parsing and no copy of the tables.
+pub fn shared(name: &str) -> Result<Arc<Target>, CatalogError> {
+    static CACHE: OnceLock<Vec<(&'static str, Result<Arc<Target>, CatalogError>)>> =
+        OnceLock::new();
+    let cache = CACHE.get_or_init(|| names().map(|n| (n, load(n).map(Arc::new))).collect());
+    match cache.iter().find(|(n, _)| n.eq_ignore_ascii_case(name)) {
+        Some((_, result)) => result.clone(),
+        None => load(name).map(Arc::new),
+    }
 }

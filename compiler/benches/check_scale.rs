@@ -166,7 +166,7 @@ fn bench_target() -> ExplicitTarget {
     })
     .unwrap_or_else(|e| panic!("bench target does not load: {e}"));
     ExplicitTarget {
-        target,
+        target: std::sync::Arc::new(target),
         origin: "--target compiler/benches/target".to_string(),
     }
 }

@@ -8,6 +8,8 @@ pub mod diagnostics;
 pub mod source;
 pub mod syntax;
 
+use std::sync::Arc;
+
 use gutta_catalog::{stdlib, Target};
 
 use crate::check::CheckOutput;
@@ -18,7 +20,7 @@ use crate::syntax::ast::Program;
 /// Where the target comes from when the command line chose one.
 #[derive(Debug, Clone)]
 pub struct ExplicitTarget {
-    pub target: Target,
+    pub target: Arc<Target>,
     /// `--plc NAME` or `--target DIR`, for the W0204 message.
     pub origin: String,
 }
@@ -29,7 +31,7 @@ pub struct ExplicitTarget {
 pub struct CheckedFile {
     pub file: SourceFile,
     pub index: LineIndex,
-    pub target: Target,
+    pub target: Arc<Target>,
     pub ast: Program,
     pub output: CheckOutput,
 }
@@ -71,7 +73,7 @@ fn resolve_target(
     ast: &Program,
     explicit: Option<&ExplicitTarget>,
     diags: &mut Vec<Diagnostic>,
-) -> Target {
+) -> Arc<Target> {
     let written = ast.plc_type.as_ref();
     if let Some(e) = explicit {
         if let Some((name, span)) = written {
@@ -93,7 +95,7 @@ fn resolve_target(
         return e.target.clone();
     }
     if let Some((name, span)) = written {
-        match stdlib::load(name) {
+        match stdlib::shared(name) {
             Ok(t) => return t,
             Err(_) => {
                 let names: Vec<&str> = stdlib::names().collect();
@@ -121,5 +123,6 @@ fn resolve_target(
     }
     // The embedded default always loads (a test pins it); fall back to an empty
     // error only if the build itself is broken.
-    stdlib::default_target().unwrap_or_else(|e| panic!("embedded default target is invalid: {e}"))
+    stdlib::shared(stdlib::DEFAULT)
+        .unwrap_or_else(|e| panic!("embedded default target is invalid: {e}"))
 }

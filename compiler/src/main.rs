@@ -194,14 +194,14 @@ fn plural(n: usize) -> &'static str {
 
 fn explicit_target(args: &TargetArgs) -> Result<Option<ExplicitTarget>, Fatal> {
     if let Some(name) = &args.plc {
-        let target = stdlib::load(name).map_err(|e| Fatal(e.to_string()))?;
+        let target = stdlib::shared(name).map_err(|e| Fatal(e.to_string()))?;
         return Ok(Some(ExplicitTarget {
             target,
             origin: format!("--plc {name}"),
         }));
     }
     if let Some(dir) = &args.target {
-        let target = load_target_dir(dir)?;
+        let target = std::sync::Arc::new(load_target_dir(dir)?);
         return Ok(Some(ExplicitTarget {
             target,
             origin: format!("--target {}", dir.display()),
@@ -238,7 +238,7 @@ fn load_target_dir(dir: &Path) -> Result<Target, Fatal> {
 fn modbus(args: &TargetArgs, variable: &str) -> Result<ExitCode, Fatal> {
     let target = match explicit_target(args)? {
         Some(e) => e.target,
-        None => stdlib::default_target().map_err(|e| Fatal(e.to_string()))?,
+        None => stdlib::shared(stdlib::DEFAULT).map_err(|e| Fatal(e.to_string()))?,
     };
     let address = target
         .memory

@@ -32,7 +32,7 @@ fn check(path: &Path) -> CheckedFile {
     let explicit = first.strip_prefix("// plc:").map(|name| {
         let name = name.trim();
         ExplicitTarget {
-            target: stdlib::load(name).unwrap_or_else(|e| panic!("{}: {e}", path.display())),
+            target: stdlib::shared(name).unwrap_or_else(|e| panic!("{}: {e}", path.display())),
             origin: format!("--plc {name}"),
         }
     });

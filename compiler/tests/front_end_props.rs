@@ -15,7 +15,7 @@ use proptest::sample::select;
 fn default_target() -> &'static ExplicitTarget {
     static TARGET: OnceLock<ExplicitTarget> = OnceLock::new();
     TARGET.get_or_init(|| ExplicitTarget {
-        target: stdlib::default_target().expect("the embedded default target loads"),
+        target: stdlib::shared(stdlib::DEFAULT).expect("the embedded default target loads"),
         origin: "the property test".to_string(),
     })
 }

@@ -15,7 +15,7 @@ use gutta_compiler::{check_source, CheckedFile, ExplicitTarget};
 
 fn default_target() -> ExplicitTarget {
     ExplicitTarget {
-        target: stdlib::default_target().expect("the embedded default target loads"),
+        target: stdlib::shared(stdlib::DEFAULT).expect("the embedded default target loads"),
         origin: "the fuzzer".to_string(),
     }
 }

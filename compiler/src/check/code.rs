@@ -142,6 +142,10 @@ impl Checker<'_> {
             for ins in &net.instructions {
                 let text = self.slice(ins.mnemonic);
                 let Some(id) = set.lookup(text) else {
+                    stack_ok = false;
+                    if ins.syntax_error {
+                        continue;
+                    }
                     let hint = super::suggest::closest(text, set.names().map(|(n, _)| n))
                         .map(|s| format!("did you mean `{s}`?"));
                     self.report(
@@ -192,6 +196,32 @@ impl Checker<'_> {
                 }
                 if parse_error {
                     continue;
+                }
+                // The kinds of block the instruction belongs to.
+                let scope = spec.units;
+                let allowed = match info.kind {
+                    UnitKind::Interrupt if info.number == 0 => scope.main,
+                    UnitKind::Interrupt => scope.interrupt,
+                    UnitKind::Subroutine => scope.subroutine,
+                };
+                if !allowed {
+                    self.report(
+                        Diagnostic::new(
+                            Code::WrongUnitKind,
+                            ins.mnemonic,
+                            format!("`{}` is not allowed in {}", spec.mnemonic, info.name),
+                        )
+                        .label(format!("only in {}", scope.describe()))
+                        .help(
+                            match (scope.main, scope.interrupt, scope.subroutine) {
+                                (false, false, true) => "a subroutine returns with RET or CRET",
+                                (false, true, false) => {
+                                    "an interrupt routine returns with RETI or CRETI"
+                                }
+                                _ => "END ends the scan in MAIN; other blocks return",
+                            },
+                        ),
+                    );
                 }
                 // FOR/NEXT pairing.
                 if Some(id) == for_id {

@@ -150,7 +150,15 @@ impl Checker<'_> {
     }
 
     fn data_row(&mut self, row: &crate::syntax::ast::DataRow) -> Option<DataItem> {
-        let address = self.direct_address(row.address, Some("a data row"))?;
+        // A row names its variable by address or by symbol.
+        let key = self.slice(row.address).to_ascii_uppercase();
+        let address = match self.symbols.get(&key) {
+            Some(&(address, def)) => {
+                self.reference(row.address, def);
+                address
+            }
+            None => self.direct_address(row.address, Some("a data row"))?,
+        };
         let area = self.target.memory.area_by_slot(address.slot)?.clone();
         if !INITIALISABLE.contains(&area.kind) {
             self.report(

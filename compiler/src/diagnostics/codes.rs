@@ -148,8 +148,8 @@ codes! {
         "A numbered name exceeds what the PLC type allows: INT0..INTn-1 (ProgramBlockPageIntSize), SBR0..SBRn-1 (ProgramBlockPageSbrSize), DAT0..DATn-1 (DataBlockPageSize).";
     E0414 NetworkOrder Error "network numbers out of order"
         "Network numbers within a block must increase; a number used twice would make breakpoints ambiguous.";
-    E0415 EmptyNetwork Warning "empty network"
-        "A network without instructions. It is kept (so numbering stays), but does nothing.";
+    E0416 WrongUnitKind Error "instruction not allowed in this block"
+        "Some instructions belong to one kind of block (the `Units` attribute in ManagerFun.xml): `RET` and `CRET` return from subroutines, `RETI` and `CRETI` from interrupt routines, and `END` ends the scan in MAIN.";
 
     // ---- E05xx: data blocks --------------------------------------------------------
     E0501 DataValueRange Error "data value does not fit its type"
@@ -184,6 +184,8 @@ codes! {
         "No CALL reaches this subroutine; it is still downloaded.";
     W0204 PlcTypeOverridden Warning "PLC_TYPE overridden"
         "The file names one PLC type and the command line (`--plc` or `--target`) another; the command line wins.";
+    W0205 EmptyNetwork Warning "empty network"
+        "A network without instructions. It is kept (so numbering stays), but does nothing.";
 }
 
 #[cfg(test)]
@@ -201,7 +203,7 @@ mod tests {
             let want = if s.starts_with('W') {
                 Severity::Warning
             } else {
-                c.severity()
+                Severity::Error
             };
             assert_eq!(c.severity(), want);
             assert!(c.explanation().len() > 40, "{s} needs an explanation");

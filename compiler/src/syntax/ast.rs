@@ -140,6 +140,9 @@ pub struct Instruction {
     pub operands: (u32, u32),
     /// Mnemonic through last operand.
     pub span: Span,
+    /// The operands did not parse (already reported): later stages report nothing
+    /// more about this line, not even an unknown mnemonic.
+    pub syntax_error: bool,
 }
 
 /// An operand as written.

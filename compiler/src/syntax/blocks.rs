@@ -1036,11 +1036,36 @@ impl<'t> BlockParser<'t> {
             None => match run_grammar!(self.chum[i..], eoi, lines::operand_list()) {
                 Ok(ops) => Some(ops),
                 Err(e) => {
-                    self.syntax_error(e, "operands");
+                    // `LDW >= T4, 2`: a compare mnemonic written with a space.
+                    let spaced_compare = i == 1
+                        && toks[0].0 == Tok::Word
+                        && toks
+                            .get(1)
+                            .is_some_and(|t| is_compare(t.0) && t.1.start > toks[0].1.end);
+                    if spaced_compare {
+                        let word = self.slice(toks[0].1).to_ascii_uppercase();
+                        let op = self.slice(toks[1].1);
+                        let at = toks[0].1.to(toks[1].1);
+                        if !self.line_reported {
+                            self.line_reported = true;
+                            self.report(
+                                Diagnostic::new(
+                                    Code::Syntax,
+                                    at,
+                                    format!("compare instructions are one word: `{word}{op}`"),
+                                )
+                                .label("space inside the mnemonic")
+                                .help(format!("write `{word}{op}` without the space")),
+                            );
+                        }
+                    } else {
+                        self.syntax_error(e, "operands");
+                    }
                     None
                 }
             },
         };
+        let raw_failed = raw.is_none();
         let operands: Vec<Operand> = match raw {
             Some(ops) => ops.into_iter().map(|o| self.convert_number(o)).collect(),
             None => vec![Operand {
@@ -1091,6 +1116,7 @@ impl<'t> BlockParser<'t> {
             mnemonic,
             operands: (start, end),
             span: line_span,
+            syntax_error: raw_failed,
         });
     }
 }
