@@ -68,8 +68,8 @@ pub fn default_target() -> Result<Target, CatalogError> {
 /// A stdlib target, loaded once per process and shared: checking a file costs no XML
 /// parsing and no copy of the tables.
 pub fn shared(name: &str) -> Result<Arc<Target>, CatalogError> {
-    static CACHE: OnceLock<Vec<(&'static str, Result<Arc<Target>, CatalogError>)>> =
-        OnceLock::new();
+    type Cache = Vec<(&'static str, Result<Arc<Target>, CatalogError>)>;
+    static CACHE: OnceLock<Cache> = OnceLock::new();
     let cache = CACHE.get_or_init(|| names().map(|n| (n, load(n).map(Arc::new))).collect());
     match cache.iter().find(|(n, _)| n.eq_ignore_ascii_case(name)) {
         Some((_, result)) => result.clone(),
