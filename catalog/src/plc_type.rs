@@ -143,7 +143,7 @@ impl PlcType {
             )
         })?;
         const BIG: u32 = 16 * 1024 * 1024;
-        Ok(PlcType {
+        let plc = PlcType {
             name: text_attr(raw.name, "Name", 16)?,
             information: text_attr(raw.information, "Information", 64)?,
             system_block_dll: text_attr(raw.system_block_dll, "SystemBlockDll", 260)?,
@@ -199,7 +199,17 @@ impl PlcType {
             )?,
             exch_pack_size: int_attr(raw.exch_pack_size, "ExchPackSize", 64, 1023)?,
             exch_support,
-        })
+        };
+        // Program pages are numbered INTn -> n, SBRn -> IntSize + n (docs/image-format.md).
+        let units = plc.program_block_page_int_size + plc.program_block_page_sbr_size;
+        if units > 256 {
+            return Err(CatalogError::new(
+                CatalogErrorCode::Value,
+                FILE,
+                format!("ProgramBlockPageIntSize + ProgramBlockPageSbrSize = {units}; program pages allow 256"),
+            ));
+        }
+        Ok(plc)
     }
 
     /// Bytes a data block may hold: pages x items x 8.
