@@ -8,7 +8,7 @@ mod operand;
 mod pages;
 
 pub use manifest::{crc16, Manifest, ManifestError, ManifestPage, FORMAT_VERSION};
-pub use operand::{PackedOperand, Use};
+pub use operand::{pointer_value, PackedOperand, Use};
 pub use pages::*;
 
 use std::collections::BTreeMap;
