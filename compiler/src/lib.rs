@@ -1,10 +1,12 @@
-//! The GUTTA compiler: .lad source to a checked program (and, later, the download
-//! image). [`check_source`] reads as the whole front-end pipeline. The library does
+//! The GUTTA compiler: .lad source to a checked program and the download image.
+//! [`check_source`] reads as the front-end pipeline, [`compile`] as the whole one. The library does
 //! no I/O: sources and targets come in as data; the `gutta-cc` binary does the I/O.
 
 pub mod analysis;
 pub mod check;
 pub mod diagnostics;
+pub mod encode;
+pub mod lower;
 pub mod source;
 pub mod syntax;
 
@@ -125,4 +127,44 @@ fn resolve_target(
     // error only if the build itself is broken.
     stdlib::shared(stdlib::DEFAULT)
         .unwrap_or_else(|e| panic!("embedded default target is invalid: {e}"))
+}
+
+/// A checked file and, when it has no errors, its image.
+#[derive(Debug, Clone)]
+pub struct Compiled {
+    pub checked: CheckedFile,
+    pub image: Option<gutta_format::Image>,
+}
+
+/// The whole pipeline: parse, check, lower, encode. Limit errors of the encoder join the
+/// file's diagnostics; `image` is set only when there are no errors at all.
+pub fn compile(
+    file: SourceFile,
+    explicit: Option<&ExplicitTarget>,
+    meta: &encode::ImageMeta,
+) -> Compiled {
+    let mut checked = check_source(file, explicit);
+    let Some(program) = checked.output.program.take() else {
+        return Compiled {
+            checked,
+            image: None,
+        };
+    };
+    let lowered = lower::lower(&program, &checked.target);
+    let main_span = program.units.first().map(|u| u.span).unwrap_or_default();
+    let image = match encode::encode(&lowered, &checked.target, meta, main_span) {
+        Ok(image) => Some(image),
+        Err(mut diags) => {
+            checked.output.diagnostics.append(&mut diags);
+            checked
+                .output
+                .diagnostics
+                .sort_by_key(|d| (d.primary.span.start, d.primary.span.end));
+            None
+        }
+    };
+    if image.is_some() {
+        checked.output.program = Some(program);
+    }
+    Compiled { checked, image }
 }

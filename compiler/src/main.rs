@@ -10,8 +10,11 @@ use clap::{Parser, Subcommand, ValueEnum};
 use gutta_catalog::{stdlib, Target, TargetSources};
 use gutta_compiler::diagnostics::render::{render, RenderStyle};
 use gutta_compiler::diagnostics::{json, Code};
+use gutta_compiler::encode::{summary, ImageMeta};
 use gutta_compiler::source::SourceFile;
-use gutta_compiler::{check_source, ExplicitTarget};
+use gutta_compiler::{check_source, compile, ExplicitTarget};
+
+mod image_dir;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -26,8 +29,11 @@ struct Cli {
     /// Source files (.lad) to check.
     files: Vec<PathBuf>,
     /// Check only (parse and check; write nothing).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "output")]
     check: bool,
+    /// Compile and write the download image into this directory (one source file).
+    #[arg(short, long, value_name = "DIR")]
+    output: Option<PathBuf>,
     #[command(flatten)]
     target: TargetArgs,
     /// How to print diagnostics.
@@ -106,7 +112,12 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
     }
     if cli.files.is_empty() {
         return Err(Fatal(
-            "no input files (try `gutta-cc --check main.lad`, or --help)".into(),
+            "no input files (try `gutta-cc main.lad -o image/`, `gutta-cc --check main.lad`, or --help)".into(),
+        ));
+    }
+    if cli.output.is_some() && cli.files.len() != 1 {
+        return Err(Fatal(
+            "-o writes one image: give exactly one source file".into(),
         ));
     }
     let explicit = explicit_target(&cli.target)?;
@@ -133,8 +144,20 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
                 e.offset
             ))
         })?;
-        let checked = check_source(file, explicit.as_ref());
+        let (checked, image) = if cli.output.is_some() {
+            let meta = ImageMeta {
+                source: name.clone(),
+                tool: format!("gutta-cc {}", env!("CARGO_PKG_VERSION")),
+            };
+            let compiled = compile(file, explicit.as_ref(), &meta);
+            (compiled.checked, compiled.image)
+        } else {
+            (check_source(file, explicit.as_ref()), None)
+        };
         any_errors |= checked.has_errors();
+        if let (Some(image), Some(dir)) = (&image, &cli.output) {
+            image_dir::write_image(dir, image).map_err(|e| Fatal(e.0))?;
+        }
         match cli.message_format {
             MessageFormat::Json => {
                 let text =
@@ -154,6 +177,13 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
                         "{name}: {errors} error{}, {warnings} warning{}",
                         plural(errors),
                         plural(warnings)
+                    );
+                } else if let (Some(image), Some(dir)) = (&image, &cli.output) {
+                    eprintln!(
+                        "{name}: wrote {} for {}: {}",
+                        dir.display(),
+                        image.plc_type,
+                        summary(image, &checked.target)
                     );
                 } else if let Some(p) = &checked.output.program {
                     let instructions: usize = p
@@ -176,7 +206,7 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
             }
         }
     }
-    let _ = cli.check; // Only checking exists until the back end lands: the flag is accepted now.
+    let _ = cli.check; // Without -o, checking is all there is to do.
     Ok(if any_errors {
         ExitCode::from(1)
     } else {

@@ -7,8 +7,9 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use gutta_catalog::stdlib;
+use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
-use gutta_compiler::{check_source, CheckedFile, ExplicitTarget};
+use gutta_compiler::{compile, CheckedFile, ExplicitTarget};
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
@@ -36,7 +37,19 @@ fn check(path: &Path) -> CheckedFile {
             origin: format!("--plc {name}"),
         }
     });
-    check_source(file, explicit.as_ref())
+    // The whole pipeline: clean programs must also encode within their target's limits.
+    let meta = ImageMeta {
+        source: path.display().to_string(),
+        tool: "test".into(),
+    };
+    let compiled = compile(file, explicit.as_ref(), &meta);
+    assert_eq!(
+        compiled.image.is_some(),
+        !compiled.checked.has_errors(),
+        "{}",
+        path.display()
+    );
+    compiled.checked
 }
 
 /// (line, code) -> count, from the `// error:` / `// warning:` annotations.
@@ -139,6 +152,15 @@ fn every_diagnostic_code_is_exercised_by_the_corpus() {
     {
         let text = std::fs::read_to_string(&path).expect("read");
         seen.extend(expected(&text).into_keys().map(|(_, c)| c));
+    }
+    // Image limits need programs too large for a corpus file: image_write.rs asserts them.
+    let image_tests =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/image_write.rs"))
+            .expect("read image_write.rs");
+    for code in gutta_compiler::diagnostics::Code::ALL {
+        if image_tests.contains(&format!("\"{}\"", code.as_str())) {
+            seen.insert(code.as_str().to_string());
+        }
     }
     let missing: Vec<&str> = gutta_compiler::diagnostics::Code::ALL
         .iter()

@@ -175,6 +175,14 @@ codes! {
     E0605 DuplicateSystemBlock Error "more than one SYSTEM_BLOCK"
         "A program has one system block; merge the entries.";
 
+    // ---- E07xx: image limits ---------------------------------------------------------
+    E0701 ConstPageTooLarge Error "constants do not fit the const page"
+        "All distinct constants of the program, packed as tightly as the format allows, must fit `ProgramBlockConstBinarySize` and the K area. Use fewer distinct constants, e.g. keep tables in a data block instead of immediates.";
+    E0702 InstructionsTooLarge Error "program too large"
+        "The instruction pages of all blocks together must fit `ProgramBlockInstructionBinarySize`. Each instruction takes 3 bytes plus 4 per operand, each network 4 bytes (docs/image-format.md).";
+    E0703 SystemPageTooLarge Error "system block too large"
+        "The system page (18 bytes + 8 per serial port) must fit `SystemBlockBinarySize`.";
+
     // ---- W02xx: warnings -------------------------------------------------------------
     W0201 DoubleCoil Warning "output written by more than one `=`"
         "The same bit is the target of `=` in two places; the last one in the scan wins, which is rarely intended. Use S/R, or combine the conditions.";

@@ -1,0 +1,116 @@
+//! Writing an image directory atomically (binary only; the library does no I/O).
+//! Pages and manifest go to a temporary sibling directory, are synced, and then
+//! replace the old image by rename: a failed or interrupted compile leaves the previous
+//! image as it was, never a half-written or mixed one. A directory that is not an
+//! image (no manifest.json, not empty) is never overwritten.
+
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use gutta_format::Image;
+
+fn sibling(dir: &Path, tag: &str) -> PathBuf {
+    let name = dir
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "image".into());
+    let parent = dir
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    parent.join(format!(".{name}.{tag}-{}", std::process::id()))
+}
+
+fn write_synced(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    if let Some(parent) = path.parent() {
+        fs::create_dir_all(parent)?;
+    }
+    let mut f = fs::File::create(path)?;
+    f.write_all(bytes)?;
+    f.sync_all()
+}
+
+fn sync_dir(path: &Path) {
+    // Directory fsync makes the renames durable; not every filesystem supports it.
+    if let Ok(d) = fs::File::open(path) {
+        let _ = d.sync_all();
+    }
+}
+
+/// Why an image could not be written (the old image, if any, is unchanged).
+#[derive(Debug)]
+pub struct WriteError(pub String);
+
+/// Write `image` to `dir`, replacing a previous image there.
+pub fn write_image(dir: &Path, image: &Image) -> Result<(), WriteError> {
+    let io = |what: &str, p: &Path, e: std::io::Error| {
+        WriteError(format!("{what} {}: {e}", p.display()))
+    };
+    if dir.exists() {
+        if !dir.is_dir() {
+            return Err(WriteError(format!(
+                "{} exists and is not a directory",
+                dir.display()
+            )));
+        }
+        let is_image = dir.join("manifest.json").is_file();
+        let empty = fs::read_dir(dir)
+            .map_err(|e| io("cannot read", dir, e))?
+            .next()
+            .is_none();
+        if !is_image && !empty {
+            return Err(WriteError(format!(
+                "refusing to overwrite {}: it is not an image directory (no manifest.json) and not empty",
+                dir.display()
+            )));
+        }
+    }
+    let parent = dir
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    fs::create_dir_all(parent).map_err(|e| io("cannot create", parent, e))?;
+    let tmp = sibling(dir, "tmp");
+    let _ = fs::remove_dir_all(&tmp);
+    let result = (|| {
+        fs::create_dir(&tmp).map_err(|e| io("cannot create", &tmp, e))?;
+        for (id, bytes) in &image.pages {
+            let path = tmp.join(id.file_name());
+            write_synced(&path, bytes).map_err(|e| io("cannot write", &path, e))?;
+        }
+        // The manifest last: a directory with a manifest is a complete image.
+        let manifest = tmp.join("manifest.json");
+        write_synced(&manifest, image.manifest().to_json().as_bytes())
+            .map_err(|e| io("cannot write", &manifest, e))?;
+        for sub in ["argument", "instruction", "data", "system"] {
+            sync_dir(&tmp.join(sub));
+        }
+        sync_dir(&tmp);
+        Ok(())
+    })();
+    if let Err(e) = result {
+        let _ = fs::remove_dir_all(&tmp);
+        return Err(e);
+    }
+    if dir.exists() {
+        let old = sibling(dir, "old");
+        let _ = fs::remove_dir_all(&old);
+        if let Err(e) = fs::rename(dir, &old) {
+            let _ = fs::remove_dir_all(&tmp);
+            return Err(io("cannot move aside", dir, e));
+        }
+        if let Err(e) = fs::rename(&tmp, dir) {
+            // Put the previous image back.
+            let _ = fs::rename(&old, dir);
+            let _ = fs::remove_dir_all(&tmp);
+            return Err(io("cannot move into place", dir, e));
+        }
+        let _ = fs::remove_dir_all(&old);
+    } else if let Err(e) = fs::rename(&tmp, dir) {
+        let _ = fs::remove_dir_all(&tmp);
+        return Err(io("cannot move into place", dir, e));
+    }
+    sync_dir(parent);
+    Ok(())
+}

@@ -1,0 +1,215 @@
+//! Lowering: a checked program to the image's structures, without bytes yet: the
+//! constant pool, each unit's page number, locals and records (networks and steps
+//! with packed operands), data items and the system page. Only `check` output comes
+//! in; no source text or tokens.
+
+pub mod consts;
+
+use gutta_catalog::{AreaKind, Target};
+use gutta_format::{
+    ArgumentPage, DataItem, LocalEntry, LocalSection, PackedOperand, PortEntry, Record, SystemPage,
+    Use as PackedUse,
+};
+
+use crate::check::{CheckedOperand, CheckedProgram, ConstValue, Parity, SystemConfig, Use};
+use crate::source::Span;
+use crate::syntax::ast::{UnitKind, VarSection};
+use consts::{const_bytes, ConstPool};
+
+/// One unit, ready to encode.
+#[derive(Debug, Clone)]
+pub struct LoweredUnit {
+    /// Function index = argument and instruction page number.
+    pub page: u32,
+    pub name: String,
+    pub arguments: ArgumentPage,
+    /// Records with the source span they come from (the unit header for networks).
+    pub records: Vec<(Record, Span)>,
+    /// The unit's header, for diagnostics.
+    pub span: Span,
+}
+
+/// A data block, ready to encode.
+#[derive(Debug, Clone)]
+pub struct LoweredData {
+    pub number: u32,
+    pub items: Vec<DataItem>,
+    pub span: Span,
+}
+
+/// The whole program in image structures.
+#[derive(Debug, Clone)]
+pub struct Lowered {
+    pub consts: ConstPool,
+    pub units: Vec<LoweredUnit>,
+    pub data: Vec<LoweredData>,
+    pub system: Option<SystemPage>,
+}
+
+/// Page number of a unit: INTn -> n, SBRn -> ProgramBlockPageIntSize + n.
+pub fn page_of(kind: UnitKind, number: u32, target: &Target) -> u32 {
+    match kind {
+        UnitKind::Interrupt => number,
+        UnitKind::Subroutine => target.plc.program_block_page_int_size + number,
+    }
+}
+
+fn packed_use(u: Use) -> PackedUse {
+    match u {
+        Use::Value => PackedUse::Value,
+        Use::AddressOf => PackedUse::AddressOf,
+        Use::Pointer => PackedUse::Pointer,
+    }
+}
+
+pub fn lower(program: &CheckedProgram, target: &Target) -> Lowered {
+    let k_slot = target
+        .memory
+        .area_of_kind(AreaKind::Constant)
+        .map(|a| a.slot)
+        .unwrap_or(0);
+    // Constants first: their place in K is part of every operand that uses them.
+    let all_consts = program
+        .units
+        .iter()
+        .flat_map(|u| &u.networks)
+        .flat_map(|n| &n.instructions)
+        .flat_map(|i| &i.operands)
+        .filter_map(|o| match o {
+            CheckedOperand::Constant { value, width } => Some(const_bytes(*value, *width)),
+            _ => None,
+        });
+    let consts = ConstPool::build(all_consts);
+    let operand = |o: &CheckedOperand| -> PackedOperand {
+        match *o {
+            CheckedOperand::Memory {
+                address,
+                use_,
+                width,
+            } => PackedOperand::memory(address, packed_use(use_), width),
+            CheckedOperand::Constant { value, width } => {
+                let offset = consts.offset(&const_bytes(value, width)).unwrap_or(0);
+                PackedOperand::memory(
+                    gutta_catalog::Address {
+                        slot: k_slot,
+                        width,
+                        offset,
+                        bit: 0,
+                    },
+                    PackedUse::Value,
+                    width,
+                )
+            }
+            CheckedOperand::Label(n) => PackedOperand::special(PackedUse::Label, 0, n),
+            CheckedOperand::Unit { kind, number } => PackedOperand::special(
+                PackedUse::Unit,
+                u8::from(kind == UnitKind::Subroutine),
+                number.min(u16::MAX as u32) as u16,
+            ),
+            CheckedOperand::Literal(v) => {
+                PackedOperand::special(PackedUse::Literal, 0, v.clamp(0, u16::MAX as i64) as u16)
+            }
+        }
+    };
+    let mut units = Vec::with_capacity(program.units.len());
+    for u in &program.units {
+        let locals = u
+            .locals
+            .iter()
+            .map(|l| LocalEntry {
+                operand: PackedOperand::memory(l.address, PackedUse::Value, l.address.width),
+                section: match l.section {
+                    VarSection::Input => LocalSection::Input,
+                    VarSection::InOut => LocalSection::InOut,
+                    VarSection::Output => LocalSection::Output,
+                    VarSection::Temp => LocalSection::Temp,
+                },
+                data_type: l.ty,
+            })
+            .collect();
+        let arguments = ArgumentPage {
+            subroutine: u.kind == UnitKind::Subroutine,
+            unit_number: u.number.min(255) as u8,
+            locals,
+        };
+        let mut records = Vec::new();
+        for n in &u.networks {
+            records.push((
+                Record::Network(n.number.min(u16::MAX as u32) as u16),
+                n.span,
+            ));
+            for i in &n.instructions {
+                let opcode = target.instructions.get(i.id).opcode;
+                records.push((
+                    Record::Instruction {
+                        opcode,
+                        operands: i.operands.iter().map(operand).collect(),
+                    },
+                    i.span,
+                ));
+            }
+        }
+        units.push(LoweredUnit {
+            page: page_of(u.kind, u.number, target),
+            name: u.numbered_name(),
+            arguments,
+            records,
+            span: u.span,
+        });
+    }
+    units.sort_by_key(|u| u.page);
+    let data = program
+        .data_blocks
+        .iter()
+        .map(|d| LoweredData {
+            number: d.number,
+            items: d
+                .items
+                .iter()
+                .map(|i| DataItem {
+                    operand: PackedOperand::memory(i.address, PackedUse::Value, i.address.width),
+                    value: match i.value {
+                        ConstValue::Integer(v) => v as u32,
+                        ConstValue::Real(r) => r.to_bits(),
+                    },
+                })
+                .collect(),
+            span: d.items.first().map(|i| i.span).unwrap_or_default(),
+        })
+        .collect();
+    Lowered {
+        consts,
+        units,
+        data,
+        system: program.system.as_ref().map(system_page),
+    }
+}
+
+fn system_page(s: &SystemConfig) -> SystemPage {
+    let ports = s
+        .ports
+        .iter()
+        .map(|p| PortEntry {
+            protocol: 0,
+            address: p.address,
+            baud: p.baud,
+            data_bits: p.data_bits,
+            parity: match p.parity {
+                Parity::None => 0,
+                Parity::Even => 1,
+                Parity::Odd => 2,
+            },
+            stop_bits: p.stop_bits,
+            timeout: p.timeout,
+            frame_gap: p.frame_gap,
+        })
+        .collect();
+    let mut password = [0xFFu8; 16];
+    if let Some(pw) = &s.password {
+        password = [0u8; 16];
+        for (d, b) in password.iter_mut().zip(pw.bytes()) {
+            *d = b;
+        }
+    }
+    SystemPage { ports, password }
+}
