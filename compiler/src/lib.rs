@@ -134,6 +134,8 @@ fn resolve_target(
 pub struct Compiled {
     pub checked: CheckedFile,
     pub image: Option<gutta_format::Image>,
+    /// The lowered program (for listings), when the program checked.
+    pub lowered: Option<lower::Lowered>,
 }
 
 /// The whole pipeline: parse, check, lower, encode. Limit errors of the encoder join the
@@ -148,6 +150,7 @@ pub fn compile(
         return Compiled {
             checked,
             image: None,
+            lowered: None,
         };
     };
     let lowered = lower::lower(&program, &checked.target);
@@ -166,5 +169,9 @@ pub fn compile(
     if image.is_some() {
         checked.output.program = Some(program);
     }
-    Compiled { checked, image }
+    Compiled {
+        checked,
+        image,
+        lowered: Some(lowered),
+    }
 }

@@ -10,7 +10,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use gutta_catalog::{stdlib, Target, TargetSources};
 use gutta_compiler::diagnostics::render::{render, RenderStyle};
 use gutta_compiler::diagnostics::{json, Code};
-use gutta_compiler::encode::{summary, ImageMeta};
+use gutta_compiler::encode::{listing, summary, ImageMeta};
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{check_source, compile, ExplicitTarget};
 
@@ -34,6 +34,9 @@ struct Cli {
     /// Compile and write the download image into this directory (one source file).
     #[arg(short, long, value_name = "DIR")]
     output: Option<PathBuf>,
+    /// Also print a listing (every source line with its page, offset and bytes) on stdout.
+    #[arg(long, value_enum, conflicts_with = "check")]
+    emit: Option<Emit>,
     #[command(flatten)]
     target: TargetArgs,
     /// How to print diagnostics.
@@ -65,6 +68,11 @@ enum Command {
     Explain { code: String },
     /// List the stdlib PLC types.
     ListTargets,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Emit {
+    Listing,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -115,10 +123,9 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
             "no input files (try `gutta-cc main.lad -o image/`, `gutta-cc --check main.lad`, or --help)".into(),
         ));
     }
-    if cli.output.is_some() && cli.files.len() != 1 {
-        return Err(Fatal(
-            "-o writes one image: give exactly one source file".into(),
-        ));
+    let compiling = cli.output.is_some() || cli.emit.is_some();
+    if compiling && cli.files.len() != 1 {
+        return Err(Fatal("-o and --emit take exactly one source file".into()));
     }
     let explicit = explicit_target(&cli.target)?;
     let color = match cli.color {
@@ -144,12 +151,23 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
                 e.offset
             ))
         })?;
-        let (checked, image) = if cli.output.is_some() {
+        let (checked, image) = if compiling {
             let meta = ImageMeta {
                 source: name.clone(),
                 tool: format!("gutta-cc {}", env!("CARGO_PKG_VERSION")),
             };
             let compiled = compile(file, explicit.as_ref(), &meta);
+            if let (Some(Emit::Listing), Some(lowered)) = (cli.emit, &compiled.lowered) {
+                if compiled.image.is_some() {
+                    let text = listing(
+                        lowered,
+                        &compiled.checked.file,
+                        &compiled.checked.index,
+                        compiled.checked.target.name(),
+                    );
+                    let _ = stdout.lock().write_all(text.as_bytes());
+                }
+            }
             (compiled.checked, compiled.image)
         } else {
             (check_source(file, explicit.as_ref()), None)

@@ -213,3 +213,29 @@ fn explain_prints_the_registry_entry() {
     assert_eq!(out.status.code(), Some(0));
     assert!(String::from_utf8_lossy(&out.stdout).contains("MOVW MB0, MW2"));
 }
+
+#[test]
+fn listing_shows_each_source_line_with_its_bytes() {
+    let out = gutta_cc(&["examples/in1001_pointers.lad", "--emit", "listing"]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    // MOVD &MB24, MD4: opcode, 2 operands, &MB24 = 0x0018_0341, MD4 = 0x0004_0340.
+    let line = text
+        .lines()
+        .find(|l| l.contains("MOVD   &MB24, MD4"))
+        .expect("MOVD line");
+    assert!(
+        line.contains("I00") && line.contains("41 03 18 00 40 03 04 00"),
+        "{line}"
+    );
+    assert!(
+        text.lines()
+            .any(|l| l.starts_with("; K") && l.contains("01 0E")),
+        "{text}"
+    );
+}

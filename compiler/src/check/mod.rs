@@ -152,6 +152,7 @@ pub fn check(text: &str, ast: &Program, target: &Target) -> CheckOutput {
             units,
             data_blocks,
             system,
+            system_span: ast.system_blocks.first().map(|b| b.span),
         });
     }
     out

@@ -167,4 +167,6 @@ pub struct CheckedProgram {
     pub data_blocks: Vec<CheckedDataBlock>,
     /// `None` when the program has no SYSTEM_BLOCK (the PLC keeps its settings).
     pub system: Option<SystemConfig>,
+    /// The SYSTEM_BLOCK line.
+    pub system_span: Option<Span>,
 }

@@ -7,6 +7,10 @@ use std::collections::BTreeMap;
 use gutta_catalog::{AreaKind, Target};
 use gutta_format::{encode_data, encode_instructions, Image, PageId, PageKind, Record};
 
+mod listing;
+
+pub use listing::listing;
+
 use crate::diagnostics::{Code, Diagnostic};
 use crate::lower::Lowered;
 use crate::source::Span;

@@ -34,7 +34,8 @@ pub struct LoweredUnit {
 pub struct LoweredData {
     pub number: u32,
     pub items: Vec<DataItem>,
-    pub span: Span,
+    /// Source row of each item.
+    pub spans: Vec<Span>,
 }
 
 /// The whole program in image structures.
@@ -44,6 +45,8 @@ pub struct Lowered {
     pub units: Vec<LoweredUnit>,
     pub data: Vec<LoweredData>,
     pub system: Option<SystemPage>,
+    /// The SYSTEM_BLOCK line, for listings.
+    pub system_span: Option<Span>,
 }
 
 /// Page number of a unit: INTn -> n, SBRn -> ProgramBlockPageIntSize + n.
@@ -174,7 +177,7 @@ pub fn lower(program: &CheckedProgram, target: &Target) -> Lowered {
                     },
                 })
                 .collect(),
-            span: d.items.first().map(|i| i.span).unwrap_or_default(),
+            spans: d.items.iter().map(|i| i.span).collect(),
         })
         .collect();
     Lowered {
@@ -182,6 +185,7 @@ pub fn lower(program: &CheckedProgram, target: &Target) -> Lowered {
         units,
         data,
         system: program.system.as_ref().map(system_page),
+        system_span: program.system_span,
     }
 }
 
