@@ -3,7 +3,7 @@
 //! bytes already occur, else overlapping the pool's tail as far as possible, so a byte
 //! constant can share storage with the low byte of a wider one. Deterministic.
 
-use std::collections::BTreeMap;
+use std::collections::HashMap;
 
 use gutta_catalog::Width;
 
@@ -22,45 +22,47 @@ pub fn const_bytes(value: ConstValue, width: Width) -> Vec<u8> {
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct ConstPool {
     pub bytes: Vec<u8>,
-    offsets: BTreeMap<Vec<u8>, u32>,
-}
-
-fn find(haystack: &[u8], needle: &[u8]) -> Option<usize> {
-    if needle.is_empty() {
-        return Some(0);
-    }
-    haystack.windows(needle.len()).position(|w| w == needle)
+    /// First offset of every 1..4-byte sequence in `bytes` (constants are 1, 2 or 4
+    /// bytes long), kept up to date as bytes are appended: lookups are one hash probe.
+    first: HashMap<Vec<u8>, u32>,
 }
 
 impl ConstPool {
+    fn push(&mut self, tail: &[u8]) {
+        for &b in tail {
+            self.bytes.push(b);
+            let end = self.bytes.len();
+            for len in 1..=4.min(end) {
+                let key = self.bytes[end - len..end].to_vec();
+                self.first.entry(key).or_insert((end - len) as u32);
+            }
+        }
+    }
+
     /// Build the pool for a set of constants (their bytes).
     pub fn build(constants: impl IntoIterator<Item = Vec<u8>>) -> ConstPool {
         let mut unique: Vec<Vec<u8>> = constants.into_iter().collect();
         unique.sort_by(|a, b| b.len().cmp(&a.len()).then_with(|| a.cmp(b)));
         unique.dedup();
-        let mut bytes: Vec<u8> = Vec::new();
+        let mut pool = ConstPool::default();
         for c in &unique {
-            if find(&bytes, c).is_some() {
+            if pool.first.contains_key(c) {
                 continue;
             }
             // Longest suffix of the pool that is a prefix of the constant.
-            let overlap = (1..c.len().min(bytes.len() + 1))
+            let n = pool.bytes.len();
+            let overlap = (1..c.len().min(n + 1))
                 .rev()
-                .find(|&k| bytes[bytes.len() - k..] == c[..k])
+                .find(|&k| pool.bytes[n - k..] == c[..k])
                 .unwrap_or(0);
-            bytes.extend_from_slice(&c[overlap..]);
+            pool.push(&c[overlap..]);
         }
-        let offsets = unique
-            .into_iter()
-            .map(|c| (find(&bytes, &c).unwrap_or(0) as u32, c))
-            .map(|(o, c)| (c, o))
-            .collect();
-        ConstPool { bytes, offsets }
+        pool
     }
 
     /// Offset of a constant's bytes in K.
     pub fn offset(&self, bytes: &[u8]) -> Option<u32> {
-        self.offsets.get(bytes).copied()
+        self.first.get(bytes).copied()
     }
 }
 
