@@ -3,13 +3,20 @@
 //! VM and simulator read it. No I/O here: an image is pages in memory; decoders never
 //! panic on any input.
 
+pub mod disasm;
 mod manifest;
 mod operand;
 mod pages;
+mod read;
+mod verify;
 
 pub use manifest::{crc16, Manifest, ManifestError, ManifestPage, FORMAT_VERSION};
 pub use operand::{pointer_value, PackedOperand, Use};
 pub use pages::*;
+pub use read::{ImageError, MANIFEST_FILE};
+pub use verify::{
+    verify, Location, UnitRecord, VerifiedImage, VerifiedUnit, VerifyCode, VerifyError,
+};
 
 use std::collections::BTreeMap;
 
