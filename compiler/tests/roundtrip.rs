@@ -1,0 +1,136 @@
+//! Round trip of the disassembler over every example and clean test program: compile,
+//! disassemble (`gutta_format::disasm`), compile the text again, and require the same
+//! pages, byte for byte, and the same text from the second image.
+
+use std::path::{Path, PathBuf};
+
+use gutta_catalog::stdlib;
+use gutta_compiler::encode::ImageMeta;
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{compile, Compiled, ExplicitTarget};
+use gutta_format::disasm::disassemble_with_errors;
+use gutta_format::Image;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn lad_files(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.expect("dir entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "lad"))
+        .collect();
+    files.sort();
+    files
+}
+
+fn build(name: &str, text: String, explicit: Option<&ExplicitTarget>) -> Compiled {
+    let meta = ImageMeta {
+        source: name.to_string(),
+        tool: "test".into(),
+    };
+    compile(SourceFile::new(name, text), explicit, &meta)
+}
+
+/// Which pages differ, and the first differing byte of each.
+fn page_diff(a: &Image, b: &Image) -> String {
+    let mut out = Vec::new();
+    for id in a.pages.keys().chain(b.pages.keys()) {
+        let (x, y) = (a.pages.get(id), b.pages.get(id));
+        if x == y || out.iter().any(|(i, _)| i == id) {
+            continue;
+        }
+        let what = match (x, y) {
+            (Some(x), Some(y)) => {
+                let at = x
+                    .iter()
+                    .zip(y)
+                    .position(|(p, q)| p != q)
+                    .unwrap_or(x.len().min(y.len()));
+                format!(
+                    "first difference at byte {at} (lengths {} and {})",
+                    x.len(),
+                    y.len()
+                )
+            }
+            (Some(_), None) => "missing after the round trip".to_string(),
+            _ => "only after the round trip".to_string(),
+        };
+        out.push((*id, what));
+    }
+    out.iter()
+        .map(|(id, what)| format!("    {}: {what}", id.file_name()))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// The round trip of one program; `Err` says precisely what went wrong.
+fn round_trip(path: &Path) -> Result<(), String> {
+    let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
+    let first = text.lines().next().unwrap_or("").trim().to_string();
+    let explicit = first.strip_prefix("// plc:").map(|name| ExplicitTarget {
+        target: stdlib::shared(name.trim()).expect("stdlib target"),
+        origin: format!("--plc {}", name.trim()),
+    });
+    let original = build(&path.display().to_string(), text, explicit.as_ref());
+    let Some(image) = original.image else {
+        return Err("does not compile".to_string());
+    };
+    let target = original.checked.target.clone();
+    let dis = disassemble_with_errors(&image, &target);
+    if !dis.errors.is_empty() {
+        let list: Vec<String> = dis.errors.iter().map(|e| format!("    {e}")).collect();
+        return Err(format!("disassembly errors:\n{}", list.join("\n")));
+    }
+    let again = build("dis.lad", dis.text.clone(), None);
+    let Some(image2) = again.image else {
+        let diags: Vec<String> = again
+            .checked
+            .diagnostics()
+            .iter()
+            .map(|d| {
+                let start = (d.primary.span.start as usize).min(dis.text.len());
+                let line = dis.text.get(..start).unwrap_or("").lines().count();
+                format!("    line {line}: {:?} {}", d.code, d.message)
+            })
+            .collect();
+        return Err(format!(
+            "the disassembly does not compile:\n{}\n--- text ---\n{}",
+            diags.join("\n"),
+            dis.text
+        ));
+    };
+    if image2.pages != image.pages {
+        return Err(format!(
+            "the disassembly compiles to other pages:\n{}\n--- text ---\n{}",
+            page_diff(&image, &image2),
+            dis.text
+        ));
+    }
+    let dis2 = disassemble_with_errors(&image2, &target);
+    let body = |t: &str| t.lines().skip(1).map(str::to_string).collect::<Vec<_>>();
+    if body(&dis2.text) != body(&dis.text) {
+        return Err("disassembling the second image gives other text".to_string());
+    }
+    Ok(())
+}
+
+#[test]
+fn every_example_and_clean_program_round_trips() {
+    let root = root();
+    let mut files = lad_files(&root.join("examples"));
+    files.extend(lad_files(&root.join("tests/data/check/ok")));
+    assert!(files.len() > 20, "found only {} programs", files.len());
+    let failures: Vec<String> = files
+        .iter()
+        .filter_map(|p| round_trip(p).err().map(|e| format!("{}: {e}", p.display())))
+        .collect();
+    assert!(
+        failures.is_empty(),
+        "{} of {} programs do not round-trip:\n{}",
+        failures.len(),
+        files.len(),
+        failures.join("\n\n")
+    );
+}

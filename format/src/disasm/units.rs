@@ -1,0 +1,305 @@
+//! Program units: the block header from the page number, the VAR sections from the
+//! argument page (laid out again as the language lays them out, so an argument page
+//! the language cannot reproduce is reported), and the networks and steps of the
+//! instruction page. Operand spelling is in `operands.rs`.
+
+use gutta_catalog::{Address, AreaKind, DataType, Width};
+
+use super::Disassembler;
+use crate::{
+    decode_instructions, ArgumentPage, LocalSection, PackedOperand, PageId, PageKind, Record, Use,
+};
+
+/// One local as the text declares it.
+#[derive(Debug, Clone)]
+pub(super) struct Local {
+    /// Generated: `in0`, `io0`, `out0`, `tmp0`, counted per section.
+    pub name: String,
+    pub section: LocalSection,
+    pub data_type: DataType,
+    /// Where the language places the declaration (what `#name` compiles to).
+    pub address: Address,
+    /// Where the argument page says the local is.
+    pub recorded: PackedOperand,
+    /// Byte offset of its entry in the argument page.
+    pub entry: usize,
+}
+
+const SECTIONS: [(LocalSection, &str, &str); 4] = [
+    (LocalSection::Input, "VAR_INPUT", "in"),
+    (LocalSection::InOut, "VAR_IN_OUT", "io"),
+    (LocalSection::Output, "VAR_OUTPUT", "out"),
+    (LocalSection::Temp, "VAR", "tmp"),
+];
+
+/// The locals of an argument page in the order the text declares them (section by
+/// section, page order within a section), each placed in L as the language places it:
+/// consecutive BOOLs share a byte from bit 0, every other type starts at the next whole
+/// byte, across section boundaries too.
+pub(super) fn locals_of(page: &ArgumentPage, l_slot: u8) -> Vec<Local> {
+    let mut out = Vec::with_capacity(page.locals.len());
+    let (mut byte, mut bit) = (0u32, 0u8);
+    for (section, _, prefix) in SECTIONS {
+        let mut count = 0;
+        for (i, entry) in page.locals.iter().enumerate() {
+            if entry.section != section {
+                continue;
+            }
+            let width = entry.data_type.width();
+            let address = if width == Width::Bit {
+                if bit == 8 {
+                    byte += 1;
+                    bit = 0;
+                }
+                bit += 1;
+                Address {
+                    slot: l_slot,
+                    width,
+                    offset: byte,
+                    bit: bit - 1,
+                }
+            } else {
+                if bit > 0 {
+                    byte += 1;
+                    bit = 0;
+                }
+                byte += width.bytes();
+                Address {
+                    slot: l_slot,
+                    width,
+                    offset: byte - width.bytes(),
+                    bit: 0,
+                }
+            };
+            out.push(Local {
+                name: format!("{prefix}{count}"),
+                section,
+                data_type: entry.data_type,
+                address,
+                recorded: entry.operand,
+                entry: 4 + 8 * i,
+            });
+            count += 1;
+        }
+    }
+    out
+}
+
+impl Disassembler<'_> {
+    /// The unit whose argument and instruction pages have this number.
+    pub(super) fn unit(&mut self, number: u8) {
+        let plc = &self.target.plc;
+        let (int_size, sbr_size) = (
+            plc.program_block_page_int_size,
+            plc.program_block_page_sbr_size,
+        );
+        let n = number as u32;
+        let (subroutine, unit_number) = if n < int_size {
+            (false, n)
+        } else {
+            (true, n - int_size)
+        };
+        let (keyword, header) = match (subroutine, unit_number) {
+            (false, 0) => ("ORGANIZATION_BLOCK", "MAIN:OB1".to_string()),
+            (false, k) => ("INTERRUPT_BLOCK", format!("INT{k}:INT{k}")),
+            (true, k) => ("SUBROUTINE_BLOCK", format!("SBR{k}:SBR{k}")),
+        };
+        let arg_id = PageId::new(PageKind::Argument, number);
+        let code_id = PageId::new(PageKind::Instruction, number);
+        if subroutine && unit_number >= sbr_size {
+            let name = self.target.name().to_string();
+            self.error(
+                Some(code_id),
+                0,
+                format!(
+                    "page {number:02X} would be SBR{unit_number}, beyond the {sbr_size} subroutines of {name}"
+                ),
+            );
+        }
+        self.line(&format!("{keyword} {header}"));
+        let locals = self.locals(arg_id, subroutine, unit_number);
+        self.line("BEGIN");
+        match self.image.page(PageKind::Instruction, number) {
+            Some(bytes) => self.code(code_id, bytes, &locals),
+            None => self.cannot_decode(
+                "",
+                "the code",
+                code_id,
+                0,
+                &format!("the image has no instruction page {number:02X}"),
+            ),
+        }
+        self.line(&format!("END_{keyword}"));
+    }
+
+    /// Slot of the target's L area (`u8::MAX`, matching no operand, if it has none).
+    fn l_slot(&self) -> u8 {
+        self.target
+            .memory
+            .area_of_kind(AreaKind::Local)
+            .map_or(u8::MAX, |a| a.slot)
+    }
+
+    /// The locals of argument page `number`, if it exists and decodes (for CALL).
+    pub(super) fn decoded_locals(&self, number: u8) -> Option<Vec<Local>> {
+        let bytes = self.image.page(PageKind::Argument, number)?;
+        let page = ArgumentPage::decode(bytes).ok()?;
+        Some(locals_of(&page, self.l_slot()))
+    }
+
+    /// Print the VAR sections of a unit and check its argument page.
+    fn locals(&mut self, id: PageId, subroutine: bool, unit_number: u32) -> Vec<Local> {
+        let Some(bytes) = self.image.page(PageKind::Argument, id.number) else {
+            self.cannot_decode(
+                "",
+                "the locals",
+                id,
+                0,
+                &format!("the image has no argument page {:02X}", id.number),
+            );
+            return Vec::new();
+        };
+        let page = match ArgumentPage::decode(bytes) {
+            Ok(page) => page,
+            Err(e) => {
+                self.cannot_decode("", "the locals", id, e.offset, &e.reason);
+                return Vec::new();
+            }
+        };
+        let locals = locals_of(&page, self.l_slot());
+        if page.subroutine != subroutine || page.unit_number as u32 != unit_number {
+            let says = format!(
+                "{}{}",
+                if page.subroutine { "SBR" } else { "INT" },
+                page.unit_number
+            );
+            let is = format!("{}{unit_number}", if subroutine { "SBR" } else { "INT" });
+            self.error(
+                Some(id),
+                0,
+                format!(
+                    "the page header names {says}, but page {:02X} is {is}",
+                    id.number
+                ),
+            );
+        }
+        if let Some(i) = page
+            .locals
+            .windows(2)
+            .position(|w| (w[1].section as u8) < (w[0].section as u8))
+        {
+            self.error(
+                Some(id),
+                4 + 8 * (i + 1),
+                "locals are not in L order (VAR_INPUT, VAR_IN_OUT, VAR_OUTPUT, VAR)",
+            );
+        }
+        for l in &locals {
+            let placed = PackedOperand::memory(l.address, Use::Value, l.address.width);
+            if placed != l.recorded {
+                let reason = format!(
+                    "local {} : {} is {} in the argument page, but the language places it at {}",
+                    l.name,
+                    l.data_type,
+                    self.describe(l.recorded),
+                    self.target.memory.format_address(&l.address)
+                );
+                self.error(Some(id), l.entry, reason);
+            }
+        }
+        for (section, keyword, _) in SECTIONS {
+            let mut any = false;
+            for l in locals.iter().filter(|l| l.section == section) {
+                if !any {
+                    self.line(keyword);
+                    any = true;
+                }
+                let decl = format!("  {} : {};", l.name, l.data_type);
+                let at = self.target.memory.format_address(&l.address);
+                self.line(&format!("{decl:<20} // {at}"));
+            }
+            if any {
+                self.line("END_VAR");
+            }
+        }
+        locals
+    }
+
+    /// An operand for a message: its address if it is a plain one, else its bits.
+    pub(super) fn describe(&self, op: PackedOperand) -> String {
+        match (op.use_(), op.width()) {
+            (Some(Use::Value), Some(w)) => {
+                match self.address(op.slot(), w, op.offset(), op.bit()) {
+                    Ok((a, _)) => self.target.memory.format_address(&a),
+                    Err(_) => format!("0x{:08X}", op.0),
+                }
+            }
+            _ => format!("0x{:08X}", op.0),
+        }
+    }
+
+    /// Networks and steps of an instruction page; what follows a structural error is
+    /// one comment.
+    fn code(&mut self, id: PageId, bytes: &[u8], locals: &[Local]) {
+        let (records, failure) = match decode_instructions(bytes) {
+            Ok(r) => (r, None),
+            Err(e) => {
+                let before = bytes
+                    .get(..e.offset)
+                    .and_then(|b| decode_instructions(b).ok())
+                    .unwrap_or_default();
+                (before, Some(e))
+            }
+        };
+        let mut step = 0usize;
+        for (at, record) in records {
+            match record {
+                Record::Network(n) => {
+                    self.line(&format!("NETWORK {n}"));
+                    step = 0;
+                }
+                Record::Instruction { opcode, operands } => {
+                    self.instruction(id, at, step, opcode, &operands, locals);
+                    step += 1;
+                }
+            }
+        }
+        if let Some(e) = failure {
+            self.cannot_decode("", "the rest of the page", id, e.offset, &e.reason);
+        }
+    }
+
+    fn instruction(
+        &mut self,
+        id: PageId,
+        at: usize,
+        step: usize,
+        opcode: u16,
+        operands: &[PackedOperand],
+        locals: &[Local],
+    ) {
+        let target = self.target;
+        let Some(ins) = target.instructions.by_opcode(opcode) else {
+            let reason = format!(
+                "opcode 0x{opcode:04X} is no instruction of {}",
+                target.name()
+            );
+            self.cannot_decode("", &format!("step {step}"), id, at, &reason);
+            return;
+        };
+        let ins = target.instructions.get(ins);
+        match self.instruction_text(ins, operands, locals) {
+            Ok(text) => self.line(&format!("{text:<28} // step {step}")),
+            Err((operand, reason)) => {
+                let offset = at + operand.map_or(0, |i| 3 + 4 * i);
+                self.cannot_decode(
+                    "",
+                    &format!("step {step} ({})", ins.mnemonic),
+                    id,
+                    offset,
+                    &reason,
+                );
+            }
+        }
+    }
+}
