@@ -64,6 +64,11 @@ enum Command {
         /// A direct address such as MW20, MB31, Q3.0, I0.4.
         variable: String,
     },
+    /// Print an image directory as STL that compiles back to the same pages.
+    Dis {
+        /// The image directory (holding manifest.json).
+        image: PathBuf,
+    },
     /// Explain a diagnostic code (E0302, W0201, ...).
     Explain { code: String },
     /// List the stdlib PLC types.
@@ -106,6 +111,7 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
     match &cli.command {
         Some(Command::Modbus { variable }) => return modbus(&cli.target, variable),
         Some(Command::Explain { code }) => return explain(code),
+        Some(Command::Dis { image }) => return dis(&cli.target, image),
         Some(Command::ListTargets) => {
             for name in stdlib::names() {
                 let t = stdlib::load(name).map_err(|e| Fatal(e.to_string()))?;
@@ -322,4 +328,39 @@ fn explain(code: &str) -> Result<ExitCode, Fatal> {
         c.explanation()
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// Read an image directory (manifest, then every page it lists).
+fn read_image_dir(dir: &Path) -> Result<gutta_format::Image, Fatal> {
+    let manifest_path = dir.join(gutta_format::MANIFEST_FILE);
+    let manifest = std::fs::read_to_string(&manifest_path)
+        .map_err(|e| Fatal(format!("cannot read {}: {e}", manifest_path.display())))?;
+    gutta_format::Image::read(&manifest, |file| {
+        std::fs::read(dir.join(file))
+            .map_err(|e| format!("cannot read {}: {e}", dir.join(file).display()))
+    })
+    .map_err(|e| Fatal(format!("{}: {e}", dir.display())))
+}
+
+fn dis(args: &TargetArgs, dir: &Path) -> Result<ExitCode, Fatal> {
+    let image = read_image_dir(dir)?;
+    let target = match explicit_target(args)? {
+        Some(e) => e.target,
+        None => stdlib::shared(&image.plc_type).map_err(|e| {
+            Fatal(format!(
+                "the image is for {}: {e} (pass --target DIR for a vendor PLC type)",
+                image.plc_type
+            ))
+        })?,
+    };
+    let d = gutta_format::disasm::disassemble_with_errors(&image, &target);
+    let _ = std::io::stdout().lock().write_all(d.text.as_bytes());
+    for e in &d.errors {
+        eprintln!("gutta-cc dis: {e}");
+    }
+    Ok(if d.errors.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    })
 }

@@ -235,3 +235,59 @@ fn a_system_block_too_large_for_the_target_is_e0703() {
         "{json}"
     );
 }
+
+#[test]
+fn dis_prints_stl_that_compiles_back_to_the_same_image() {
+    let root = scratch("dis");
+    let (a, b) = (root.join("a"), root.join("b"));
+    assert_eq!(
+        gutta_cc(&[
+            "examples/an2002_sample3_master.lad",
+            "-o",
+            a.to_str().expect("utf-8")
+        ])
+        .status
+        .code(),
+        Some(0)
+    );
+    let out = gutta_cc(&["dis", a.to_str().expect("utf-8")]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("EXCH   MB20, 0") && text.contains("DATA_BLOCK DAT1:DAT1"),
+        "{text}"
+    );
+    let src = root.join("dis.lad");
+    std::fs::write(&src, text.as_bytes()).expect("write");
+    assert_eq!(
+        gutta_cc(&[
+            src.to_str().expect("utf-8"),
+            "-o",
+            b.to_str().expect("utf-8")
+        ])
+        .status
+        .code(),
+        Some(0)
+    );
+    let pages = |d: &Path| {
+        snapshot(d)
+            .into_iter()
+            .filter(|(f, _)| f != "manifest.json")
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(pages(&a), pages(&b));
+    // A corrupted page is a clean error, exit 2, no panic.
+    std::fs::write(a.join("instruction/00.bin"), b"\x01").expect("corrupt");
+    let out = gutta_cc(&["dis", a.to_str().expect("utf-8")]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("instruction/00.bin"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
