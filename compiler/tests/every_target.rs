@@ -1,0 +1,91 @@
+//! Every example on every stdlib PLC type it fits: it compiles, and the image passes
+//! the format crate's verifier (what the VM will demand). Where it does not fit, the
+//! reasons must be the target's limits or memory map, never anything else.
+
+use std::path::Path;
+
+use gutta_catalog::stdlib;
+use gutta_compiler::diagnostics::Code;
+use gutta_compiler::encode::ImageMeta;
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{compile, ExplicitTarget};
+
+/// Codes that mean "does not fit this PLC type".
+const FIT: [Code; 10] = [
+    Code::AddressOutOfTarget,
+    Code::NoSuchPort,
+    Code::ConstantOutOfRange,
+    Code::BlockNumberRange,
+    Code::TooManyInterrupts,
+    Code::TooManySubroutines,
+    Code::DataBlockTooLarge,
+    Code::ConstPageTooLarge,
+    Code::InstructionsTooLarge,
+    Code::SystemPageTooLarge,
+];
+
+#[test]
+fn examples_compile_and_verify_on_every_target_they_fit() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut dirs = vec![root.join("examples"), root.join("tests/data/check/ok")];
+    let mut files = Vec::new();
+    for d in dirs.drain(..) {
+        for e in std::fs::read_dir(d).expect("read dir") {
+            let p = e.expect("entry").path();
+            if p.extension().is_some_and(|x| x == "lad") {
+                files.push(p);
+            }
+        }
+    }
+    files.sort();
+    let mut fitted = 0;
+    for path in &files {
+        let text = std::fs::read_to_string(path).expect("read");
+        for name in stdlib::names() {
+            let target = stdlib::shared(name).expect("target");
+            let explicit = ExplicitTarget {
+                target: target.clone(),
+                origin: format!("--plc {name}"),
+            };
+            let meta = ImageMeta {
+                source: path.display().to_string(),
+                tool: "test".into(),
+            };
+            let c = compile(
+                SourceFile::new(path.display().to_string(), text.clone()),
+                Some(&explicit),
+                &meta,
+            );
+            match c.image {
+                Some(image) => {
+                    fitted += 1;
+                    if let Err(e) = gutta_format::verify(&image, &target) {
+                        panic!(
+                            "{} on {name}: the compiler's image does not verify: {e}",
+                            path.display()
+                        );
+                    }
+                }
+                None => {
+                    let other: Vec<String> = c
+                        .checked
+                        .diagnostics()
+                        .iter()
+                        .filter(|d| d.is_error() && !FIT.contains(&d.code))
+                        .map(|d| format!("{} {}", d.code.as_str(), d.message))
+                        .collect();
+                    assert!(
+                        other.is_empty(),
+                        "{} on {name} fails for reasons other than fit: {other:?}",
+                        path.display()
+                    );
+                }
+            }
+        }
+    }
+    assert!(
+        fitted >= files.len(),
+        "only {fitted} compilations of {} files fit",
+        files.len()
+    );
+}
