@@ -167,6 +167,36 @@ impl DataType {
     }
 }
 
+impl DataType {
+    /// BYTE, WORD or DWORD: raw bits without a numeric reading.
+    pub fn is_bit_string(self) -> bool {
+        matches!(self, DataType::Byte | DataType::Word | DataType::Dword)
+    }
+
+    /// Whether a variable declared with this type may stand where `types` are accepted.
+    /// Besides the listed types, a bit string stands for any integer of its width and any
+    /// integer for a bit string of its width (so `+D 4, #p` moves a DWORD pointer local);
+    /// REAL never mixes with integers, nor signed with unsigned integers.
+    pub fn accepted_by(self, types: &[DataType]) -> bool {
+        types.contains(&self)
+            || (self != DataType::Real
+                && types.iter().any(|t| {
+                    *t != DataType::Real
+                        && t.width() == self.width()
+                        && (self.is_bit_string() || t.is_bit_string())
+                }))
+    }
+
+    /// The integer literals an operand accepting `types` takes: the union of their
+    /// ranges (`None` when none of them is an integer type).
+    pub fn union_range(types: &[DataType]) -> Option<(i64, i64)> {
+        types
+            .iter()
+            .filter_map(|t| t.integer_range())
+            .reduce(|(lo, hi), (a, b)| (lo.min(a), hi.max(b)))
+    }
+}
+
 impl fmt::Display for DataType {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.keyword())

@@ -11,10 +11,9 @@ mod scale_program;
 use std::process::{Command, ExitCode};
 use std::time::{Duration, Instant};
 
-use gutta_catalog::{stdlib, Target, TargetSources};
 use gutta_compiler::diagnostics::render::{render, RenderStyle};
 use gutta_compiler::source::SourceFile;
-use gutta_compiler::{check_source, CheckedFile, ExplicitTarget};
+use gutta_compiler::{check_source, CheckedFile};
 
 const DEFAULT_SIZES: [usize; 3] = [10_000, 100_000, 1_000_000];
 const SMOKE_SIZE: usize = 2_000;
@@ -158,19 +157,6 @@ fn print_table(results: &[Figures]) {
 
 // ---- child: one size --------------------------------------------------------------
 
-fn bench_target() -> ExplicitTarget {
-    let target = Target::load(TargetSources {
-        plc_type: include_bytes!("target/PlcType.xml"),
-        manager_var: include_bytes!("target/ManagerVar.xml"),
-        manager_fun: stdlib::MANAGER_FUN,
-    })
-    .unwrap_or_else(|e| panic!("bench target does not load: {e}"));
-    ExplicitTarget {
-        target: std::sync::Arc::new(target),
-        origin: "--target compiler/benches/target".to_string(),
-    }
-}
-
 /// `VmHWM` and `VmRSS` of this process, in bytes.
 fn memory() -> (u64, u64) {
     let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
@@ -191,7 +177,7 @@ fn reset_peak() -> bool {
 }
 
 fn child(lines: usize, runs: usize) -> ExitCode {
-    let target = bench_target();
+    let target = scale_program::bench_target();
     let text = scale_program::generate(lines);
     let text_bytes = text.len();
     let line_count = text.lines().count();

@@ -10,23 +10,9 @@ use std::path::Path;
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use gutta_catalog::{stdlib, Target, TargetSources};
+use gutta_compiler::compile;
 use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
-use gutta_compiler::{compile, ExplicitTarget};
-
-fn bench_target() -> ExplicitTarget {
-    let target = Target::load(TargetSources {
-        plc_type: include_bytes!("target/PlcType.xml"),
-        manager_var: include_bytes!("target/ManagerVar.xml"),
-        manager_fun: stdlib::MANAGER_FUN,
-    })
-    .unwrap_or_else(|e| panic!("bench target does not load: {e}"));
-    ExplicitTarget {
-        target: std::sync::Arc::new(target),
-        origin: "--target compiler/benches/target".into(),
-    }
-}
 
 fn median(mut v: Vec<Duration>) -> (Duration, Duration) {
     v.sort();
@@ -45,7 +31,7 @@ fn main() {
         };
     }
     let runs = if bench_mode { 9 } else { 1 };
-    let target = bench_target();
+    let target = scale_program::bench_target();
     let meta = ImageMeta {
         source: "bench.lad".into(),
         tool: "bench".into(),

@@ -396,3 +396,18 @@ impl<'w, W: Write> Generator<'w, W> {
         self.line(format_args!("MOVW   #u, #r"));
     }
 }
+
+/// The bench target (compiler/benches/target/: large program limits, EC30-EKSTM32-XC's
+/// memory map with a 64 KiB K, the stdlib instruction set).
+pub fn bench_target() -> gutta_compiler::ExplicitTarget {
+    let target = gutta_catalog::Target::load(gutta_catalog::TargetSources {
+        plc_type: include_bytes!("../target/PlcType.xml"),
+        manager_var: include_bytes!("../target/ManagerVar.xml"),
+        manager_fun: gutta_catalog::stdlib::MANAGER_FUN,
+    })
+    .unwrap_or_else(|e| panic!("bench target does not load: {e}"));
+    gutta_compiler::ExplicitTarget {
+        target: std::sync::Arc::new(target),
+        origin: "--target compiler/benches/target".to_string(),
+    }
+}

@@ -456,13 +456,7 @@ impl Checker<'_> {
         }
         let (lo, hi) = match (spec.min, spec.max) {
             (Some(lo), Some(hi)) => (lo, hi),
-            _ => spec
-                .types
-                .iter()
-                .filter_map(|t| t.integer_range())
-                .fold((i64::MAX, i64::MIN), |(lo, hi), (a, b)| {
-                    (lo.min(a), hi.max(b))
-                }),
+            _ => DataType::union_range(&spec.types).unwrap_or((i64::MAX, i64::MIN)),
         };
         if !(lo..=hi).contains(&v) {
             self.report(
@@ -645,7 +639,7 @@ impl Checker<'_> {
                     return None;
                 }
                 if let Some(ty) = var.ty {
-                    if !type_compatible(ty, &spec.types) {
+                    if !ty.accepted_by(&spec.types) {
                         self.report(
                             Diagnostic::new(
                                 Code::TypeMismatch,
@@ -691,19 +685,6 @@ impl Checker<'_> {
             }
         }
     }
-}
-
-/// Whether a declared type may stand where `types` are accepted. Besides the listed
-/// types, a bit string (BYTE, WORD, DWORD) stands for any integer of its width and any
-/// integer for a bit string of its width, so `+D 4, #p` works on a DWORD pointer local;
-/// REAL never mixes with integers, nor signed with unsigned integers.
-fn type_compatible(ty: DataType, types: &[DataType]) -> bool {
-    let bits = |t: DataType| matches!(t, DataType::Byte | DataType::Word | DataType::Dword);
-    types.contains(&ty)
-        || (ty != DataType::Real
-            && types
-                .iter()
-                .any(|t| *t != DataType::Real && t.width() == ty.width() && (bits(ty) || bits(*t))))
 }
 
 fn want_text(w: Width, types: &[DataType]) -> String {

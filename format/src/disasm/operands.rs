@@ -39,19 +39,6 @@ fn is_bit_string(t: DataType) -> bool {
     matches!(t, DataType::Byte | DataType::Word | DataType::Dword)
 }
 
-/// Whether a local of type `ty` may stand where `types` are accepted (the checker's
-/// rule: bit strings stand for any integer of their width and the other way round;
-/// REAL never mixes with integers).
-fn type_compatible(ty: DataType, types: &[DataType]) -> bool {
-    types.contains(&ty)
-        || (ty != DataType::Real
-            && types.iter().any(|t| {
-                *t != DataType::Real
-                    && t.width() == ty.width()
-                    && (is_bit_string(ty) || is_bit_string(*t))
-            }))
-}
-
 /// `0`..`9` in decimal, anything larger as `16#` and the width's hex digits.
 pub(super) fn unsigned_text(value: u64, width: Width) -> String {
     if value < 10 {
@@ -80,13 +67,7 @@ pub(super) fn integer_text(raw: u32, width: Width, spec: &OperandSpec) -> String
     };
     let (lo, hi) = match (spec.min, spec.max) {
         (Some(lo), Some(hi)) => (lo, hi),
-        _ => spec
-            .types
-            .iter()
-            .filter_map(|t| t.integer_range())
-            .fold((i64::MAX, i64::MIN), |(lo, hi), (a, b)| {
-                (lo.min(a), hi.max(b))
-            }),
+        _ => DataType::union_range(&spec.types).unwrap_or((i64::MAX, i64::MIN)),
     };
     let fits = |v: i64| lo <= v && v <= hi;
     let all_signed = !spec.types.is_empty() && spec.types.iter().all(|t| t.is_signed());
@@ -374,7 +355,7 @@ impl<'a> Disassembler<'a> {
                 }
                 let local = locals
                     .iter()
-                    .find(|l| l.address == address && type_compatible(l.data_type, &spec.types));
+                    .find(|l| l.address == address && l.data_type.accepted_by(&spec.types));
                 Ok(match local {
                     Some(l) => format!("#{}", l.name),
                     None => memory.format_address(&address),
