@@ -1,0 +1,340 @@
+//! The reference VM: runs a verified GUTTA image as the PLC would. It depends only on
+//! the image format (and, through it, the target description), never on the compiler.
+//! Semantics are in `ops/`, one file per instruction family, keyed by mnemonic; the VM
+//! refuses an image that uses an instruction it has no semantics for.
+
+mod fault;
+mod memory;
+pub mod ops;
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use gutta_catalog::{Address, AreaKind, Flow, InstrId, Target};
+use gutta_format::{UnitRecord, VerifiedImage};
+
+pub use fault::Fault;
+pub use memory::{AccessError, Location, Memory};
+use ops::{Control, Exec, Handler};
+
+/// How the VM runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct VmConfig {
+    /// Virtual time per scan, in milliseconds (timers count it).
+    pub scan_ms: u32,
+    /// Instructions one scan may execute before the watchdog stops the VM.
+    pub watchdog: u64,
+}
+
+impl Default for VmConfig {
+    fn default() -> Self {
+        VmConfig {
+            scan_ms: 10,
+            watchdog: 10_000_000,
+        }
+    }
+}
+
+/// Why an image cannot be loaded.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum LoadError {
+    /// The image was verified against another PLC type.
+    WrongTarget { image: String, target: String },
+    /// The image uses instructions the VM has no semantics for.
+    MissingSemantics(Vec<String>),
+}
+
+impl std::fmt::Display for LoadError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LoadError::WrongTarget { image, target } => {
+                write!(f, "image for {image}, VM target {target}")
+            }
+            LoadError::MissingSemantics(m) => write!(f, "no semantics for: {}", m.join(", ")),
+        }
+    }
+}
+
+impl std::error::Error for LoadError {}
+
+/// Well-known slots, found by area kind.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Slots {
+    pub sm: u8,
+    pub local: u8,
+    pub constant: u8,
+}
+
+/// A loaded PLC.
+#[derive(Debug)]
+pub struct Vm {
+    pub(crate) target: Arc<Target>,
+    pub(crate) image: VerifiedImage,
+    pub(crate) memory: Memory,
+    pub(crate) config: VmConfig,
+    pub(crate) slots: Slots,
+    pub(crate) handlers: Vec<Option<Handler>>,
+    /// Logic stack: bit 0 is the top; depth from the catalog.
+    pub(crate) stack: u32,
+    pub(crate) stack_mask: u32,
+    /// Edge memory of EU/ED, per (page, record index).
+    pub(crate) edges: HashMap<(u8, usize), bool>,
+    pub(crate) clock_ms: u64,
+    pub(crate) scans: u64,
+    pub(crate) executed: u64,
+    pub(crate) fault: Option<Fault>,
+}
+
+impl Vm {
+    /// Load a verified image.
+    pub fn new(
+        image: VerifiedImage,
+        target: Arc<Target>,
+        config: VmConfig,
+    ) -> Result<Vm, LoadError> {
+        if image.target_name() != target.name() {
+            return Err(LoadError::WrongTarget {
+                image: image.target_name().to_string(),
+                target: target.name().to_string(),
+            });
+        }
+        let handlers: Vec<Option<Handler>> = target
+            .instructions
+            .instructions
+            .iter()
+            .map(|i| ops::semantics(&i.mnemonic))
+            .collect();
+        let mut missing: Vec<String> = Vec::new();
+        for unit in image.units().values() {
+            for r in &unit.records {
+                if let UnitRecord::Instruction { id, .. } = r {
+                    if handlers.get(id.0 as usize).copied().flatten().is_none() {
+                        missing.push(target.instructions.get(*id).mnemonic.clone());
+                    }
+                }
+            }
+        }
+        missing.sort();
+        missing.dedup();
+        if !missing.is_empty() {
+            return Err(LoadError::MissingSemantics(missing));
+        }
+        let slot = |k: AreaKind| target.memory.area_of_kind(k).map(|a| a.slot).unwrap_or(0);
+        let slots = Slots {
+            sm: slot(AreaKind::System),
+            local: slot(AreaKind::Local),
+            constant: slot(AreaKind::Constant),
+        };
+        let depth = target.instructions.logic_stack_depth.min(32) as u32;
+        let stack_mask = if depth >= 32 {
+            u32::MAX
+        } else {
+            (1u32 << depth) - 1
+        };
+        let memory = Memory::new(&target.memory);
+        let mut vm = Vm {
+            target,
+            image,
+            memory,
+            config,
+            slots,
+            handlers,
+            stack: 0,
+            stack_mask,
+            edges: HashMap::new(),
+            clock_ms: 0,
+            scans: 0,
+            executed: 0,
+            fault: None,
+        };
+        vm.reset();
+        Ok(vm)
+    }
+
+    /// Power-on reset: memory cleared, K from the const page, data pages applied,
+    /// edge memory and clock cleared, the next scan is the first.
+    pub fn reset(&mut self) {
+        self.memory = Memory::new(&self.target.memory);
+        if let Some(k) = self.memory.area_mut(self.slots.constant) {
+            let consts = self.image.constants();
+            let n = consts.len().min(k.len());
+            k[..n].copy_from_slice(&consts[..n]);
+        }
+        let items: Vec<_> = self.image.data().values().flatten().copied().collect();
+        for item in items {
+            // Verified: in-area, value fits; a failure here would be a verifier bug.
+            let _ = self.memory.store(item.operand, item.value);
+        }
+        self.edges.clear();
+        self.clock_ms = 0;
+        self.scans = 0;
+        self.fault = None;
+    }
+
+    /// The fault that stopped the VM, if any.
+    pub fn fault(&self) -> Option<&Fault> {
+        self.fault.as_ref()
+    }
+
+    pub fn scans(&self) -> u64 {
+        self.scans
+    }
+
+    pub fn clock_ms(&self) -> u64 {
+        self.clock_ms
+    }
+
+    pub fn memory(&self) -> &Memory {
+        &self.memory
+    }
+
+    pub fn target(&self) -> &Target {
+        &self.target
+    }
+
+    /// Read a variable (e.g. parsed with `MemoryMap::parse_address`).
+    pub fn read(&self, address: Address) -> Result<u32, AccessError> {
+        self.memory.read(Location {
+            slot: address.slot,
+            offset: address.offset,
+            width: address.width,
+            bit: address.bit,
+        })
+    }
+
+    /// Write a variable.
+    pub fn write(&mut self, address: Address, value: u32) -> Result<(), AccessError> {
+        self.memory.write(
+            Location {
+                slot: address.slot,
+                offset: address.offset,
+                width: address.width,
+                bit: address.bit,
+            },
+            value,
+        )
+    }
+
+    /// One scan: system bits, MAIN, clock. A fault stops the VM (ERROR) until reset.
+    pub fn scan(&mut self) -> Result<(), Fault> {
+        if let Some(f) = &self.fault {
+            return Err(f.clone());
+        }
+        self.set_system_bits();
+        self.executed = 0;
+        let result = self.run_unit(0, 0);
+        self.scans += 1;
+        self.clock_ms += self.config.scan_ms as u64;
+        match result {
+            Ok(_) => Ok(()),
+            Err(f) => {
+                let sm = self.slots.sm;
+                let _ = self.memory.write(
+                    Location {
+                        slot: sm,
+                        offset: 2,
+                        width: gutta_catalog::Width::Byte,
+                        bit: 0,
+                    },
+                    f.code() as u32,
+                );
+                self.fault = Some(f.clone());
+                Err(f)
+            }
+        }
+    }
+
+    fn set_system_bits(&mut self) {
+        let sm = self.slots.sm;
+        let bit = |b: u8| Location {
+            slot: sm,
+            offset: 0,
+            width: gutta_catalog::Width::Bit,
+            bit: b,
+        };
+        let t = self.clock_ms;
+        let _ = self.memory.write(bit(0), 1);
+        let _ = self.memory.write(bit(1), u32::from(self.scans == 0));
+        let _ = self.memory.write(bit(4), u32::from((t / 30_000) % 2 == 1));
+        let _ = self.memory.write(bit(5), u32::from((t / 500) % 2 == 1));
+        let _ = self.memory.write(bit(6), u32::from(self.scans % 2 == 1));
+    }
+
+    /// Run unit `page` to its end or a return. `depth` counts nested calls.
+    pub(crate) fn run_unit(&mut self, page: u8, depth: u8) -> Result<Control, Fault> {
+        let limit = self.target.instructions.call_depth;
+        if depth > limit {
+            return Err(Fault::CallDepth { limit });
+        }
+        let Some(unit) = self.image.unit(page) else {
+            return Ok(Control::Next);
+        };
+        let records = unit.records.clone();
+        let labels = unit.labels.clone();
+        self.stack = 0;
+        let mut i = 0;
+        while i < records.len() {
+            match &records[i] {
+                UnitRecord::Network { .. } => {
+                    self.stack = 0;
+                    i += 1;
+                }
+                UnitRecord::Instruction {
+                    offset,
+                    id,
+                    operands,
+                } => {
+                    self.executed += 1;
+                    if self.executed > self.config.watchdog {
+                        return Err(Fault::Watchdog {
+                            limit: self.config.watchdog,
+                        });
+                    }
+                    let control = self.execute(page, i, *offset, *id, operands, depth)?;
+                    match control {
+                        Control::Next => i += 1,
+                        Control::Jump(label) => {
+                            i = labels.get(&label).map(|&j| j + 1).unwrap_or(records.len())
+                        }
+                        Control::Return | Control::EndScan => return Ok(control),
+                    }
+                }
+            }
+        }
+        Ok(Control::Next)
+    }
+
+    fn execute(
+        &mut self,
+        page: u8,
+        index: usize,
+        offset: usize,
+        id: InstrId,
+        operands: &[gutta_format::PackedOperand],
+        depth: u8,
+    ) -> Result<Control, Fault> {
+        let ins = self.target.instructions.get(id);
+        if ins.flow == Flow::Box && self.stack & 1 == 0 {
+            return Ok(Control::Next);
+        }
+        let handler = self
+            .handlers
+            .get(id.0 as usize)
+            .copied()
+            .flatten()
+            .ok_or_else(|| Fault::NoSemantics {
+                mnemonic: ins.mnemonic.clone(),
+            })?;
+        let mnemonic = ins.mnemonic.clone();
+        let mut exec = Exec {
+            vm: self,
+            operands,
+            page,
+            index,
+            offset,
+            depth,
+            mnemonic: &mnemonic,
+        };
+        handler(&mut exec)
+    }
+}

@@ -1,0 +1,106 @@
+//! Program control: JMP/LBL, CALL with arguments through L, RET/CRET, END, NOP.
+
+use gutta_catalog::Width;
+use gutta_format::{LocalSection, Use};
+
+use super::{Control, Exec, Handler};
+use crate::{Fault, Location};
+
+fn jmp(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    Ok(Control::Jump(e.operand(0)?.offset()))
+}
+fn next(_: &mut Exec<'_>) -> Result<Control, Fault> {
+    Ok(Control::Next)
+}
+fn ret(_: &mut Exec<'_>) -> Result<Control, Fault> {
+    Ok(Control::Return)
+}
+fn end(_: &mut Exec<'_>) -> Result<Control, Fault> {
+    Ok(Control::EndScan)
+}
+
+/// CALL SBR, args: In and InOut arguments are copied into the callee's L, the callee
+/// runs on its own L and logic stack, then InOut and Out parameters are copied back;
+/// the caller's L and logic stack are restored.
+fn call(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    let unit = e.operand(0)?;
+    if unit.use_() != Some(Use::Unit) {
+        return Err(Fault::NoSemantics {
+            mnemonic: "CALL without a unit".into(),
+        });
+    }
+    let page = if unit.slot() == 1 {
+        e.vm.target.plc.program_block_page_int_size + unit.offset() as u32
+    } else {
+        unit.offset() as u32
+    };
+    let page = u8::try_from(page).map_err(|_| Fault::NoSemantics {
+        mnemonic: "CALL page".into(),
+    })?;
+    let params: Vec<_> =
+        e.vm.image
+            .unit(page)
+            .map(|u| u.parameters().copied().collect())
+            .unwrap_or_default();
+    // Read the inputs in the caller's context.
+    let mut inputs = Vec::with_capacity(params.len());
+    for (k, p) in params.iter().enumerate() {
+        let v = if p.section == LocalSection::Output {
+            0
+        } else {
+            e.get(k + 1)?
+        };
+        inputs.push(v);
+    }
+    let l_slot = e.vm.slots.local;
+    let saved_l =
+        e.vm.memory
+            .area(l_slot)
+            .map(<[u8]>::to_vec)
+            .unwrap_or_default();
+    let saved_stack = e.vm.stack;
+    if let Some(l) = e.vm.memory.area_mut(l_slot) {
+        l.iter_mut().for_each(|b| *b = 0);
+    }
+    let loc = |p: &gutta_format::LocalEntry| Location {
+        slot: p.operand.slot(),
+        offset: p.operand.offset() as u32,
+        width: p.operand.width().unwrap_or(Width::Byte),
+        bit: p.operand.bit(),
+    };
+    for (p, v) in params.iter().zip(&inputs) {
+        e.write_at(loc(p), *v)?;
+    }
+    let depth = e.depth + 1;
+    let result = e.vm.run_unit(page, depth)?;
+    let mut outputs = Vec::new();
+    for (k, p) in params.iter().enumerate() {
+        if p.section != LocalSection::Input {
+            outputs.push((k + 1, e.read_at(loc(p))?));
+        }
+    }
+    if let Some(l) = e.vm.memory.area_mut(l_slot) {
+        let n = saved_l.len().min(l.len());
+        l[..n].copy_from_slice(&saved_l[..n]);
+    }
+    e.vm.stack = saved_stack;
+    for (k, v) in outputs {
+        e.set(k, v)?;
+    }
+    Ok(if result == Control::EndScan {
+        Control::EndScan
+    } else {
+        Control::Next
+    })
+}
+
+pub fn lookup(m: &str) -> Option<Handler> {
+    Some(match m {
+        "JMP" => jmp,
+        "LBL" | "NOP" => next,
+        "CALL" => call,
+        "RET" | "CRET" => ret,
+        "END" => end,
+        _ => return None,
+    })
+}

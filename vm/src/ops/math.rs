@@ -1,0 +1,186 @@
+//! Integer and real math and word logic. S7-200 order: `+I IN1, OUT` is OUT := OUT +
+//! IN1. Integer results wrap and set SM1.1 on overflow; SM1.0 zero, SM1.2 negative.
+//! Division by zero sets SM1.3 (and SM1.1) and leaves OUT unchanged.
+
+use super::{Control, Exec, Handler};
+use crate::Fault;
+
+/// Store a signed result in OUT (operand `out`) of `bits` width, with flags.
+fn store_int(e: &mut Exec<'_>, out: usize, exact: i64, bits: u32) -> Result<Control, Fault> {
+    let (lo, hi) = (-(1i64 << (bits - 1)), (1i64 << (bits - 1)) - 1);
+    let wrapped = ((exact as i128).rem_euclid(1i128 << bits)) as i64;
+    let signed = if wrapped > hi {
+        wrapped - (1i64 << bits)
+    } else {
+        wrapped
+    };
+    e.set(out, wrapped as u32)?;
+    e.flags(signed == 0, !(lo..=hi).contains(&exact), signed < 0);
+    Ok(Control::Next)
+}
+
+fn arith(e: &mut Exec<'_>, bits: u32, f: fn(i64, i64) -> Option<i64>) -> Result<Control, Fault> {
+    let (a, b) = (e.get_signed(1)?, e.get_signed(0)?);
+    match f(a, b) {
+        Some(r) => {
+            e.clear_divide();
+            store_int(e, 1, r, bits)
+        }
+        None => {
+            e.divide_by_zero();
+            Ok(Control::Next)
+        }
+    }
+}
+
+fn add_i(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    arith(e, 16, |a, b| Some(a + b))
+}
+fn sub_i(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    arith(e, 16, |a, b| Some(a - b))
+}
+fn mul_i(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    arith(e, 16, |a, b| Some(a * b))
+}
+fn div_i(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    arith(e, 16, |a, b| if b == 0 { None } else { Some(a / b) })
+}
+fn add_d(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    arith(e, 32, |a, b| Some(a + b))
+}
+fn sub_d(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    arith(e, 32, |a, b| Some(a - b))
+}
+fn mul_d(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    arith(e, 32, |a, b| Some(a * b))
+}
+fn div_d(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    arith(e, 32, |a, b| if b == 0 { None } else { Some(a / b) })
+}
+
+/// MUL IN1, OUT: OUT (DINT) := IN1 (INT) x low word of OUT (INT).
+fn mul(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    let a = e.get_signed(0)?;
+    let b = e.get(1)? as u16 as i16 as i64;
+    store_int(e, 1, a * b, 32)
+}
+
+/// DIV IN1, OUT: low word of OUT / IN1; quotient to the low word, remainder high.
+fn div(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    let d = e.get_signed(0)?;
+    let n = e.get(1)? as u16 as i16 as i64;
+    if d == 0 {
+        e.divide_by_zero();
+        return Ok(Control::Next);
+    }
+    e.clear_divide();
+    let (q, r) = (n.wrapping_div(d), n.wrapping_rem(d));
+    let v = ((r as u16 as u32) << 16) | (q as u16 as u32);
+    e.set(1, v)?;
+    e.flags(q == 0, !(-32768..=32767).contains(&q), q < 0);
+    Ok(Control::Next)
+}
+
+fn step(e: &mut Exec<'_>, delta: i64) -> Result<Control, Fault> {
+    let w = e.operand(0)?.width().map(|w| w.bits()).unwrap_or(32);
+    if w == 8 {
+        // INCB/DECB work on unsigned bytes.
+        let v = e.get(0)? as i64 + delta;
+        let r = v.rem_euclid(256);
+        e.set(0, r as u32)?;
+        e.flags(r == 0, !(0..=255).contains(&v), false);
+        return Ok(Control::Next);
+    }
+    let v = e.get_signed(0)? + delta;
+    store_int(e, 0, v, w)
+}
+fn inc(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    step(e, 1)
+}
+fn dec(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    step(e, -1)
+}
+
+fn real(e: &mut Exec<'_>, f: fn(f32, f32) -> f32) -> Result<Control, Fault> {
+    let (a, b) = (e.get_real(1)?, e.get_real(0)?);
+    let r = f(a, b);
+    e.set(1, r.to_bits())?;
+    e.flags(r == 0.0, !r.is_finite(), r < 0.0);
+    Ok(Control::Next)
+}
+fn add_r(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    real(e, |a, b| a + b)
+}
+fn sub_r(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    real(e, |a, b| a - b)
+}
+fn mul_r(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    real(e, |a, b| a * b)
+}
+fn div_r(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    if e.get_real(0)? == 0.0 {
+        e.divide_by_zero();
+        return Ok(Control::Next);
+    }
+    e.clear_divide();
+    real(e, |a, b| a / b)
+}
+fn sqrt(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    let r = e.get_real(0)?.sqrt();
+    e.set(1, r.to_bits())?;
+    e.flags(r == 0.0, !r.is_finite(), false);
+    Ok(Control::Next)
+}
+
+fn logic(e: &mut Exec<'_>, f: fn(u32, u32) -> u32) -> Result<Control, Fault> {
+    let w = e.operand(1)?.width().map(|w| w.bits()).unwrap_or(32);
+    let mask = if w >= 32 { u32::MAX } else { (1u32 << w) - 1 };
+    let r = f(e.get(1)?, e.get(0)?) & mask;
+    e.set(1, r)?;
+    e.flags(r == 0, false, false);
+    Ok(Control::Next)
+}
+fn and(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    logic(e, |a, b| a & b)
+}
+fn or(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    logic(e, |a, b| a | b)
+}
+fn xor(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    logic(e, |a, b| a ^ b)
+}
+fn inv(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    let w = e.operand(0)?.width().map(|w| w.bits()).unwrap_or(32);
+    let mask = if w >= 32 { u32::MAX } else { (1u32 << w) - 1 };
+    let r = !e.get(0)? & mask;
+    e.set(0, r)?;
+    e.flags(r == 0, false, false);
+    Ok(Control::Next)
+}
+
+pub fn lookup(m: &str) -> Option<Handler> {
+    Some(match m {
+        "+I" => add_i,
+        "-I" => sub_i,
+        "*I" => mul_i,
+        "/I" => div_i,
+        "+D" => add_d,
+        "-D" => sub_d,
+        "*D" => mul_d,
+        "/D" => div_d,
+        "MUL" => mul,
+        "DIV" => div,
+        "INCB" | "INCW" | "INCD" => inc,
+        "DECB" | "DECW" | "DECD" => dec,
+        "+R" => add_r,
+        "-R" => sub_r,
+        "*R" => mul_r,
+        "/R" => div_r,
+        "SQRT" => sqrt,
+        "ANDB" | "ANDW" | "ANDD" => and,
+        "ORB" | "ORW" | "ORD" => or,
+        "XORB" | "XORW" | "XORD" => xor,
+        "INVB" | "INVW" | "INVD" => inv,
+        _ => return None,
+    })
+}

@@ -1,0 +1,164 @@
+//! Instruction semantics, one file per family, found by mnemonic: the instruction
+//! set is data (ManagerFun.xml), and `semantics` maps each mnemonic to what it does
+//! (docs/vm.md). `Exec` is what a semantic sees: its operands, the logic stack,
+//! memory and the flags in SM1.
+
+mod bits;
+mod compare;
+mod control;
+mod math;
+mod moves;
+
+use gutta_catalog::Width;
+use gutta_format::PackedOperand;
+
+use crate::{Fault, Location, Vm};
+
+/// What happens after an instruction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Control {
+    Next,
+    /// Continue after `LBL n` of the same unit.
+    Jump(u16),
+    /// Leave the unit (RET, CRET).
+    Return,
+    /// End the scan (END).
+    EndScan,
+}
+
+/// A semantic.
+pub type Handler = fn(&mut Exec<'_>) -> Result<Control, Fault>;
+
+/// The semantics of a mnemonic, if the VM has them.
+pub fn semantics(mnemonic: &str) -> Option<Handler> {
+    bits::lookup(mnemonic)
+        .or_else(|| compare::lookup(mnemonic))
+        .or_else(|| moves::lookup(mnemonic))
+        .or_else(|| math::lookup(mnemonic))
+        .or_else(|| control::lookup(mnemonic))
+}
+
+/// One instruction being executed.
+#[derive(Debug)]
+pub struct Exec<'a> {
+    pub(crate) vm: &'a mut Vm,
+    pub(crate) operands: &'a [PackedOperand],
+    pub(crate) page: u8,
+    pub(crate) index: usize,
+    pub(crate) offset: usize,
+    pub(crate) depth: u8,
+    pub(crate) mnemonic: &'a str,
+}
+
+impl Exec<'_> {
+    fn fault(&self, detail: String) -> Fault {
+        Fault::BadAccess {
+            page: self.page,
+            offset: self.offset,
+            detail: format!("{}: {detail}", self.mnemonic),
+        }
+    }
+
+    pub fn operand(&self, i: usize) -> Result<PackedOperand, Fault> {
+        self.operands
+            .get(i)
+            .copied()
+            .ok_or_else(|| self.fault(format!("operand {i} missing")))
+    }
+
+    /// The operand's value, zero-extended.
+    pub fn get(&self, i: usize) -> Result<u32, Fault> {
+        let op = self.operand(i)?;
+        self.vm.memory.value(op).map_err(|e| self.fault(e.0))
+    }
+
+    /// The operand's value, sign-extended from the access width.
+    pub fn get_signed(&self, i: usize) -> Result<i64, Fault> {
+        let v = self.get(i)?;
+        let w = self.operand(i)?.width().unwrap_or(Width::Dword);
+        Ok(match w {
+            Width::Bit => v as i64,
+            Width::Byte => v as u8 as i8 as i64,
+            Width::Word => v as u16 as i16 as i64,
+            Width::Dword => v as i32 as i64,
+        })
+    }
+
+    pub fn get_real(&self, i: usize) -> Result<f32, Fault> {
+        Ok(f32::from_bits(self.get(i)?))
+    }
+
+    pub fn set(&mut self, i: usize, value: u32) -> Result<(), Fault> {
+        let op = self.operand(i)?;
+        let r = self.vm.memory.store(op, value);
+        r.map_err(|e| self.fault(e.0))
+    }
+
+    pub fn locate(&self, i: usize) -> Result<Location, Fault> {
+        let op = self.operand(i)?;
+        self.vm.memory.locate(op).map_err(|e| self.fault(e.0))
+    }
+
+    pub fn read_at(&self, loc: Location) -> Result<u32, Fault> {
+        self.vm.memory.read(loc).map_err(|e| self.fault(e.0))
+    }
+
+    pub fn write_at(&mut self, loc: Location, value: u32) -> Result<(), Fault> {
+        let r = self.vm.memory.write(loc, value);
+        r.map_err(|e| self.fault(e.0))
+    }
+
+    // ---- logic stack (bit 0 is the top) ------------------------------------------
+
+    pub fn top(&self) -> bool {
+        self.vm.stack & 1 == 1
+    }
+
+    pub fn set_top(&mut self, v: bool) {
+        self.vm.stack = (self.vm.stack & !1) | u32::from(v);
+    }
+
+    pub fn push(&mut self, v: bool) {
+        self.vm.stack = ((self.vm.stack << 1) | u32::from(v)) & self.vm.stack_mask;
+    }
+
+    pub fn pop(&mut self) -> bool {
+        let v = self.top();
+        self.vm.stack >>= 1;
+        v
+    }
+
+    /// Level `n` of the stack (0 = top).
+    pub fn level(&self, n: u32) -> bool {
+        n < 32 && (self.vm.stack >> n) & 1 == 1
+    }
+
+    // ---- flags in SM1 --------------------------------------------------------------
+
+    fn sm_bit(&mut self, bit: u8, v: bool) {
+        let loc = Location {
+            slot: self.vm.slots.sm,
+            offset: 1,
+            width: Width::Bit,
+            bit,
+        };
+        let _ = self.vm.memory.write(loc, u32::from(v));
+    }
+
+    /// SM1.0 zero, SM1.1 overflow, SM1.2 negative.
+    pub fn flags(&mut self, zero: bool, overflow: bool, negative: bool) {
+        self.sm_bit(0, zero);
+        self.sm_bit(1, overflow);
+        self.sm_bit(2, negative);
+    }
+
+    /// SM1.3 divide by zero (with SM1.1 set as S7-200 does).
+    pub fn divide_by_zero(&mut self) {
+        self.sm_bit(1, true);
+        self.sm_bit(3, true);
+    }
+
+    pub fn clear_divide(&mut self) {
+        self.sm_bit(3, false);
+    }
+}

@@ -1,0 +1,55 @@
+//! Moves: MOVB/MOVW/MOVD/MOVR, SWAP, block moves BMB/BMW/BMD and FILL.
+
+use super::{Control, Exec, Handler};
+use crate::{Fault, Location};
+
+fn mov(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    let v = e.get(0)?;
+    e.set(1, v)?;
+    Ok(Control::Next)
+}
+
+fn swap(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    let v = e.get(0)? as u16;
+    e.set(0, v.swap_bytes() as u32)?;
+    Ok(Control::Next)
+}
+
+/// Location `k` items after `loc`.
+fn nth(loc: Location, k: u32) -> Location {
+    Location {
+        offset: loc.offset + k * loc.width.bytes(),
+        ..loc
+    }
+}
+
+/// BMx IN, OUT, N: copy N items (all read before any is written, so overlap is safe).
+fn block_move(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    let (src, dst, n) = (e.locate(0)?, e.locate(1)?, e.get(2)?);
+    let values = (0..n)
+        .map(|k| e.read_at(nth(src, k)))
+        .collect::<Result<Vec<_>, _>>()?;
+    for (k, v) in values.into_iter().enumerate() {
+        e.write_at(nth(dst, k as u32), v)?;
+    }
+    Ok(Control::Next)
+}
+
+/// FILL IN, OUT, N: write the word IN into N words from OUT.
+fn fill(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    let (v, dst, n) = (e.get(0)?, e.locate(1)?, e.get(2)?);
+    for k in 0..n {
+        e.write_at(nth(dst, k), v)?;
+    }
+    Ok(Control::Next)
+}
+
+pub fn lookup(m: &str) -> Option<Handler> {
+    Some(match m {
+        "MOVB" | "MOVW" | "MOVD" | "MOVR" => mov,
+        "SWAP" => swap,
+        "BMB" | "BMW" | "BMD" => block_move,
+        "FILL" => fill,
+        _ => return None,
+    })
+}

@@ -1,0 +1,192 @@
+//! Programs compiled by gutta-cc, verified, and run on the VM: the memory document's
+//! pointer example exactly, bit logic and edges, arithmetic flags, CALL with arguments,
+//! data blocks at reset, and the watchdog.
+
+use std::sync::Arc;
+
+use gutta_catalog::stdlib;
+use gutta_compiler::encode::ImageMeta;
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{compile, ExplicitTarget};
+use gutta_vm::{Fault, Vm, VmConfig};
+
+fn vm_for(text: &str) -> Vm {
+    vm_with(text, VmConfig::default())
+}
+
+fn vm_with(text: &str, config: VmConfig) -> Vm {
+    let target = stdlib::shared(stdlib::DEFAULT).expect("target");
+    let explicit = ExplicitTarget {
+        target: target.clone(),
+        origin: "test".into(),
+    };
+    let c = compile(
+        SourceFile::new("t.lad", text),
+        Some(&explicit),
+        &ImageMeta {
+            source: "t.lad".into(),
+            tool: "test".into(),
+        },
+    );
+    let image = c
+        .image
+        .unwrap_or_else(|| panic!("does not compile: {:?}", c.checked.diagnostics()));
+    let verified = gutta_format::verify(&image, &target).expect("verifies");
+    Vm::new(verified, Arc::clone(&target), config).expect("loads")
+}
+
+fn read(vm: &Vm, var: &str) -> u32 {
+    let a = vm.target().memory.parse_address(var).expect("address");
+    vm.read(a).expect("read")
+}
+
+fn set(vm: &mut Vm, var: &str, v: u32) {
+    let a = vm.target().memory.parse_address(var).expect("address");
+    vm.write(a, v).expect("write");
+}
+
+fn main_block(code: &str) -> String {
+    format!("ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\n{code}\nEND_ORGANIZATION_BLOCK\n")
+}
+
+#[test]
+fn the_memory_documents_pointer_example() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../examples/in1001_pointers.lad"
+    ))
+    .expect("example");
+    let mut vm = vm_for(&text);
+    vm.scan().expect("scan");
+    assert_eq!(read(&vm, "MW24"), 0x0E01);
+    assert_eq!(read(&vm, "MW26"), 0x0E02);
+    assert_eq!(
+        read(&vm, "MD4"),
+        0x0400_001A,
+        "MD4 locates MB26: slot 4, offset 26"
+    );
+    assert_eq!(
+        read(&vm, "MB24"),
+        0x01,
+        "little-endian: MB24 is the low byte"
+    );
+}
+
+#[test]
+fn latch_and_edges() {
+    let mut vm = vm_for(&main_block(
+        "NETWORK 1\nLD I0.0\nO M0.0\nAN I0.1\n= M0.0\nNETWORK 2\nLD I0.2\nEU\n= Q0.0\nNETWORK 3\nLD I0.2\nED\n= Q0.1",
+    ));
+    vm.scan().expect("scan");
+    assert_eq!(read(&vm, "M0.0"), 0);
+    set(&mut vm, "I0.0", 1);
+    vm.scan().expect("scan");
+    assert_eq!(read(&vm, "M0.0"), 1);
+    set(&mut vm, "I0.0", 0);
+    vm.scan().expect("scan");
+    assert_eq!(read(&vm, "M0.0"), 1, "latched");
+    set(&mut vm, "I0.1", 1);
+    vm.scan().expect("scan");
+    assert_eq!(read(&vm, "M0.0"), 0, "unlatched");
+    set(&mut vm, "I0.2", 1);
+    vm.scan().expect("scan");
+    assert_eq!(
+        (read(&vm, "Q0.0"), read(&vm, "Q0.1")),
+        (1, 0),
+        "rising edge for one scan"
+    );
+    vm.scan().expect("scan");
+    assert_eq!(read(&vm, "Q0.0"), 0);
+    set(&mut vm, "I0.2", 0);
+    vm.scan().expect("scan");
+    assert_eq!(
+        (read(&vm, "Q0.0"), read(&vm, "Q0.1")),
+        (0, 1),
+        "falling edge"
+    );
+}
+
+#[test]
+fn arithmetic_wraps_and_sets_flags() {
+    let mut vm = vm_for(&main_block(
+        "NETWORK 1\nLD SM0.1\nMOVW 32767, MW0\n+I 1, MW0\nMOVD 100000, MD4\n*D -3, MD4\nMOVW 300, MW10\nMUL 1000, MD10\nMOVW 7, MW2\n/I 0, MW2",
+    ));
+    vm.scan().expect("scan");
+    assert_eq!(read(&vm, "MW0"), 0x8000, "32767 + 1 wraps");
+    assert_eq!(read(&vm, "MD4") as i32, -300_000);
+    assert_eq!(
+        read(&vm, "MD10"),
+        300_000,
+        "MUL: INT x low word of OUT into a DINT"
+    );
+    assert_eq!(read(&vm, "MW2"), 7, "division by zero leaves OUT");
+    assert_eq!(
+        (read(&vm, "SM1.3"), read(&vm, "SM1.1")),
+        (1, 1),
+        "the last instruction's flags"
+    );
+}
+
+#[test]
+fn compares_read_signed_words_and_unsigned_bytes() {
+    let mut vm = vm_for(&main_block(
+        "NETWORK 1\nLD SM0.0\nMOVW -5, MW0\nMOVB 200, MB2\nNETWORK 2\nLDW< MW0, 0\n= Q0.0\nNETWORK 3\nLDB> MB2, 100\n= Q0.1\nNETWORK 4\nLDW>= MW0, 0\nO Q0.0\nA Q0.1\n= Q0.2",
+    ));
+    vm.scan().expect("scan");
+    assert_eq!(
+        (read(&vm, "Q0.0"), read(&vm, "Q0.1"), read(&vm, "Q0.2")),
+        (1, 1, 1)
+    );
+}
+
+#[test]
+fn call_passes_arguments_through_l() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../examples/blink.lad"
+    ))
+    .expect("example");
+    let mut vm = vm_for(&text);
+    set(&mut vm, "MW10", 100);
+    set(&mut vm, "I0.0", 1);
+    vm.scan().expect("scan");
+    // MW12 := MW10 + 5 + 3, called while the latch M0.0 is on.
+    assert_eq!(read(&vm, "MW12"), 108);
+    // The data block was applied at reset.
+    assert_eq!(
+        (
+            read(&vm, "MW22"),
+            read(&vm, "MB30"),
+            read(&vm, "MD40") as i32
+        ),
+        (6, 1, -70000)
+    );
+}
+
+#[test]
+fn a_runaway_loop_trips_the_watchdog() {
+    let mut vm = vm_with(
+        &main_block("NETWORK 1\nLBL 1\nLD SM0.0\nJMP 1"),
+        VmConfig {
+            scan_ms: 10,
+            watchdog: 10_000,
+        },
+    );
+    assert!(matches!(vm.scan(), Err(Fault::Watchdog { limit: 10_000 })));
+    assert!(vm.fault().is_some());
+    assert!(vm.scan().is_err(), "a faulted VM stays stopped until reset");
+    vm.reset();
+    assert!(vm.fault().is_none());
+}
+
+#[test]
+fn first_scan_bit_and_clock() {
+    let mut vm = vm_for(&main_block(
+        "NETWORK 1\nLD SM0.1\nINCW MW0\nNETWORK 2\nLD SM0.0\nINCW MW2",
+    ));
+    for _ in 0..5 {
+        vm.scan().expect("scan");
+    }
+    assert_eq!((read(&vm, "MW0"), read(&vm, "MW2")), (1, 5));
+    assert_eq!(vm.clock_ms(), 50);
+}
