@@ -79,6 +79,12 @@ pub struct Vm {
     pub(crate) stack_mask: u32,
     /// Edge memory of EU/ED, per (page, record index).
     pub(crate) edges: HashMap<(u8, usize), bool>,
+    /// Hidden state of an instruction instance, per (page, record index): four words a
+    /// family may use as it documents (e.g. a timer's remainder of a time unit).
+    pub(crate) instance_state: HashMap<(u8, usize), [u32; 4]>,
+    /// Hidden state of a memory cell, per (slot, byte offset): e.g. a counter's
+    /// previous inputs, shared by every instruction driving that counter.
+    pub(crate) cell_state: HashMap<(u8, u32), [u32; 4]>,
     pub(crate) clock_ms: u64,
     pub(crate) scans: u64,
     pub(crate) executed: u64,
@@ -142,6 +148,8 @@ impl Vm {
             stack: 0,
             stack_mask,
             edges: HashMap::new(),
+            instance_state: HashMap::new(),
+            cell_state: HashMap::new(),
             clock_ms: 0,
             scans: 0,
             executed: 0,
@@ -166,6 +174,8 @@ impl Vm {
             let _ = self.memory.store(item.operand, item.value);
         }
         self.edges.clear();
+        self.instance_state.clear();
+        self.cell_state.clear();
         self.clock_ms = 0;
         self.scans = 0;
         self.fault = None;

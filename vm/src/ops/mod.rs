@@ -6,8 +6,12 @@
 mod bits;
 mod compare;
 mod control;
+mod convert;
 mod math;
 mod moves;
+mod shift;
+mod table;
+mod timers;
 
 use gutta_catalog::Width;
 use gutta_format::PackedOperand;
@@ -36,6 +40,10 @@ pub fn semantics(mnemonic: &str) -> Option<Handler> {
         .or_else(|| moves::lookup(mnemonic))
         .or_else(|| math::lookup(mnemonic))
         .or_else(|| control::lookup(mnemonic))
+        .or_else(|| timers::lookup(mnemonic))
+        .or_else(|| shift::lookup(mnemonic))
+        .or_else(|| convert::lookup(mnemonic))
+        .or_else(|| table::lookup(mnemonic))
 }
 
 /// One instruction being executed.
@@ -156,6 +164,32 @@ impl Exec<'_> {
     pub fn divide_by_zero(&mut self) {
         self.sm_bit(1, true);
         self.sm_bit(3, true);
+    }
+
+    /// This instruction instance's hidden state (zeroed at reset).
+    pub fn instance_state(&mut self) -> &mut [u32; 4] {
+        self.vm.instance_state.entry((self.page, self.index)).or_default()
+    }
+
+    /// Hidden state of a memory cell (zeroed at reset).
+    pub fn cell_state(&mut self, loc: Location) -> &mut [u32; 4] {
+        self.vm.cell_state.entry((loc.slot, loc.offset)).or_default()
+    }
+
+    /// Virtual milliseconds one scan lasts.
+    pub fn scan_ms(&self) -> u32 {
+        self.vm.config.scan_ms
+    }
+
+    /// The running target (timer resolutions, counter limits, ...).
+    pub fn target(&self) -> &gutta_catalog::Target {
+        &self.vm.target
+    }
+
+    /// SM1 bit `bit` (0 zero, 1 overflow, 2 negative, 3 divide by zero, 4 table full,
+    /// 5 table empty, 6 BCD error).
+    pub fn flag(&mut self, bit: u8, v: bool) {
+        self.sm_bit(bit, v);
     }
 
     pub fn clear_divide(&mut self) {
