@@ -85,6 +85,12 @@ pub struct Vm {
     /// Hidden state of a memory cell, per (slot, byte offset): e.g. a counter's
     /// previous inputs, shared by every instruction driving that counter.
     pub(crate) cell_state: HashMap<(u8, u32), [u32; 4]>,
+    /// FOR record -> its NEXT record, per (page, record index).
+    pub(crate) for_pairs: HashMap<(u8, usize), usize>,
+    /// Open FOR loops, innermost last.
+    pub(crate) loops: Vec<ops::LoopFrame>,
+    /// STOP was executed: scans do nothing until `set_running(true)`.
+    pub(crate) stopped: bool,
     pub(crate) clock_ms: u64,
     pub(crate) scans: u64,
     pub(crate) executed: u64,
@@ -137,6 +143,26 @@ impl Vm {
         } else {
             (1u32 << depth) - 1
         };
+        // Pair every FOR with its NEXT (the compiler guarantees they match per unit).
+        let mut for_pairs = HashMap::new();
+        let (for_id, next_id) = (
+            target.instructions.lookup("FOR"),
+            target.instructions.lookup("NEXT"),
+        );
+        for (page, unit) in image.units() {
+            let mut open = Vec::new();
+            for (i, r) in unit.records.iter().enumerate() {
+                if let UnitRecord::Instruction { id, .. } = r {
+                    if Some(*id) == for_id {
+                        open.push(i);
+                    } else if Some(*id) == next_id {
+                        if let Some(f) = open.pop() {
+                            for_pairs.insert((*page, f), i);
+                        }
+                    }
+                }
+            }
+        }
         let memory = Memory::new(&target.memory);
         let mut vm = Vm {
             target,
@@ -150,6 +176,9 @@ impl Vm {
             edges: HashMap::new(),
             instance_state: HashMap::new(),
             cell_state: HashMap::new(),
+            for_pairs,
+            loops: Vec::new(),
+            stopped: false,
             clock_ms: 0,
             scans: 0,
             executed: 0,
@@ -176,6 +205,8 @@ impl Vm {
         self.edges.clear();
         self.instance_state.clear();
         self.cell_state.clear();
+        self.loops.clear();
+        self.stopped = false;
         self.clock_ms = 0;
         self.scans = 0;
         self.fault = None;
@@ -184,6 +215,16 @@ impl Vm {
     /// The fault that stopped the VM, if any.
     pub fn fault(&self) -> Option<&Fault> {
         self.fault.as_ref()
+    }
+
+    /// Whether the PLC is in RUN (false after STOP).
+    pub fn is_running(&self) -> bool {
+        !self.stopped
+    }
+
+    /// RUN (true) or STOP (false), as STATUS_WRITE does.
+    pub fn set_running(&mut self, run: bool) {
+        self.stopped = !run;
     }
 
     pub fn scans(&self) -> u64 {
@@ -229,6 +270,9 @@ impl Vm {
     pub fn scan(&mut self) -> Result<(), Fault> {
         if let Some(f) = &self.fault {
             return Err(f.clone());
+        }
+        if self.stopped {
+            return Ok(());
         }
         self.set_system_bits();
         self.executed = 0;
@@ -282,6 +326,7 @@ impl Vm {
         let records = unit.records.clone();
         let labels = unit.labels.clone();
         self.stack = 0;
+        let loops_at_entry = self.loops.len();
         let mut i = 0;
         while i < records.len() {
             match &records[i] {
@@ -302,15 +347,20 @@ impl Vm {
                     }
                     let control = self.execute(page, i, *offset, *id, operands, depth)?;
                     match control {
+                        Control::Goto(j) => i = j,
                         Control::Next => i += 1,
                         Control::Jump(label) => {
                             i = labels.get(&label).map(|&j| j + 1).unwrap_or(records.len())
                         }
-                        Control::Return | Control::EndScan => return Ok(control),
+                        Control::Return | Control::EndScan => {
+                            self.loops.truncate(loops_at_entry);
+                            return Ok(control);
+                        }
                     }
                 }
             }
         }
+        self.loops.truncate(loops_at_entry);
         Ok(Control::Next)
     }
 
@@ -325,6 +375,10 @@ impl Vm {
     ) -> Result<Control, Fault> {
         let ins = self.target.instructions.get(id);
         if ins.flow == Flow::Box && self.stack & 1 == 0 {
+            // FOR without power flow skips its whole loop.
+            if let Some(&next) = self.for_pairs.get(&(page, index)) {
+                return Ok(Control::Goto(next + 1));
+            }
             return Ok(Control::Next);
         }
         let handler = self

@@ -190,3 +190,50 @@ fn first_scan_bit_and_clock() {
     assert_eq!((read(&vm, "MW0"), read(&vm, "MW2")), (1, 5));
     assert_eq!(vm.clock_ms(), 50);
 }
+
+#[test]
+fn for_next_runs_the_body_and_leaves_the_index_past_final() {
+    let mut vm = vm_for(&main_block(
+        "NETWORK 1\nLD SM0.0\nMOVW 0, MW2\nFOR MW0, 1, 10\nINCW MW2\nNEXT\nNETWORK 2\nLD SM0.0\nMOVW 0, MW6\nFOR MW4, 5, 1\nINCW MW6\nNEXT\nNETWORK 3\nLD I0.0\nMOVW 0, MW10\nFOR MW8, 1, 3\nINCW MW10\nNEXT",
+    ));
+    set(&mut vm, "MW10", 77);
+    vm.scan().expect("scan");
+    assert_eq!(
+        (read(&vm, "MW0"), read(&vm, "MW2")),
+        (11, 10),
+        "FOR MW0, 1, 10 runs 10 times, leaves 11"
+    );
+    assert_eq!(
+        (read(&vm, "MW4"), read(&vm, "MW6")),
+        (5, 0),
+        "INIT > FINAL skips the body"
+    );
+    assert_eq!(
+        read(&vm, "MW10"),
+        77,
+        "without power flow the whole loop is skipped"
+    );
+}
+
+#[test]
+fn stop_ends_the_scan_and_stays_stopped() {
+    let mut vm = vm_for(&main_block(
+        "NETWORK 1\nLD SM0.0\nINCW MW0\nNETWORK 2\nLD I0.0\nSTOP\nNETWORK 3\nLD SM0.0\nINCW MW2",
+    ));
+    vm.scan().expect("scan");
+    assert_eq!((read(&vm, "MW0"), read(&vm, "MW2")), (1, 1));
+    set(&mut vm, "I0.0", 1);
+    vm.scan().expect("scan");
+    assert_eq!(
+        (read(&vm, "MW0"), read(&vm, "MW2")),
+        (2, 1),
+        "STOP ends the scan at once"
+    );
+    assert!(!vm.is_running());
+    vm.scan().expect("scan");
+    assert_eq!(read(&vm, "MW0"), 2, "stopped: scans do nothing");
+    set(&mut vm, "I0.0", 0);
+    vm.set_running(true);
+    vm.scan().expect("scan");
+    assert_eq!((read(&vm, "MW0"), read(&vm, "MW2")), (3, 2));
+}

@@ -94,6 +94,74 @@ fn call(e: &mut Exec<'_>) -> Result<Control, Fault> {
     })
 }
 
+/// FOR INDX, INIT, FINAL: INDX := INIT, FINAL read once; skip to after NEXT when
+/// INDX > FINAL.
+fn for_loop(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    let Some(&next) = e.vm.for_pairs.get(&(e.page, e.index)) else {
+        return Ok(Control::Next);
+    };
+    let init = e.get(1)?;
+    let last = e.get_signed(2)?;
+    e.set(0, init)?;
+    let indx = e.get_signed(0)?;
+    if indx > last {
+        return Ok(Control::Goto(next + 1));
+    }
+    let frame = super::LoopFrame {
+        page: e.page,
+        body: e.index + 1,
+        indx: e.operand(0)?,
+        last,
+        stack: e.vm.stack,
+    };
+    e.vm.loops.push(frame);
+    Ok(Control::Next)
+}
+
+/// NEXT: while INDX < FINAL, INDX += 1 and run the body again (with the stack FOR had);
+/// else INDX += 1 (wrapping) and continue after NEXT.
+fn next_loop(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    let Some(frame) = e.vm.loops.last().copied().filter(|f| f.page == e.page) else {
+        return Ok(Control::Next);
+    };
+    let value =
+        e.vm.memory
+            .value(frame.indx)
+            .map_err(|err| Fault::BadAccess {
+                page: e.page,
+                offset: e.offset,
+                detail: err.0,
+            })?;
+    let indx = value as u16 as i16 as i64;
+    let bumped = (indx as i16).wrapping_add(1) as u16 as u32;
+    e.vm.memory
+        .store(frame.indx, bumped)
+        .map_err(|err| Fault::BadAccess {
+            page: e.page,
+            offset: e.offset,
+            detail: err.0,
+        })?;
+    e.vm.stack = frame.stack;
+    if indx < frame.last {
+        Ok(Control::Goto(frame.body))
+    } else {
+        e.vm.loops.pop();
+        Ok(Control::Next)
+    }
+}
+
+/// WDR: restart the watchdog's count for this scan.
+fn wdr(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    e.vm.executed = 0;
+    Ok(Control::Next)
+}
+
+/// STOP: end the scan; the PLC stays in STOP until set running.
+fn stop(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    e.vm.stopped = true;
+    Ok(Control::EndScan)
+}
+
 pub fn lookup(m: &str) -> Option<Handler> {
     Some(match m {
         "JMP" => jmp,
@@ -101,6 +169,10 @@ pub fn lookup(m: &str) -> Option<Handler> {
         "CALL" => call,
         "RET" | "CRET" => ret,
         "END" => end,
+        "FOR" => for_loop,
+        "NEXT" => next_loop,
+        "WDR" => wdr,
+        "STOP" => stop,
         _ => return None,
     })
 }

@@ -26,8 +26,24 @@ pub enum Control {
     Jump(u16),
     /// Leave the unit (RET, CRET).
     Return,
-    /// End the scan (END).
+    /// End the scan (END, STOP).
     EndScan,
+    /// Continue at record `n` of the same unit (FOR/NEXT).
+    Goto(usize),
+}
+
+/// An open FOR loop.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct LoopFrame {
+    pub page: u8,
+    /// Record index of the first instruction after FOR.
+    pub body: usize,
+    /// The INDX operand (read again at every NEXT).
+    pub indx: PackedOperand,
+    /// FINAL, read once at FOR.
+    pub last: i64,
+    /// The logic stack at FOR; every pass starts with it.
+    pub stack: u32,
 }
 
 /// A semantic.
@@ -168,12 +184,18 @@ impl Exec<'_> {
 
     /// This instruction instance's hidden state (zeroed at reset).
     pub fn instance_state(&mut self) -> &mut [u32; 4] {
-        self.vm.instance_state.entry((self.page, self.index)).or_default()
+        self.vm
+            .instance_state
+            .entry((self.page, self.index))
+            .or_default()
     }
 
     /// Hidden state of a memory cell (zeroed at reset).
     pub fn cell_state(&mut self, loc: Location) -> &mut [u32; 4] {
-        self.vm.cell_state.entry((loc.slot, loc.offset)).or_default()
+        self.vm
+            .cell_state
+            .entry((loc.slot, loc.offset))
+            .or_default()
     }
 
     /// Virtual milliseconds one scan lasts.
