@@ -6,11 +6,8 @@ use gutta_catalog::stdlib;
 
 /// Instructions whose semantics are not written yet.
 const NOT_YET: &[&str] = &[
-    "SRB", "SRW", "SRD", "SLB", "SLW", "SLD", "RRB",
-    "RRW", "RRD", "RLB", "RLW", "RLD", "SHRB", "BTI", "ITB", "ITD", "DTI", "DTR", "ROUND", "TRUNC",
-    "BCDI", "IBCD", "SEG", "DECO", "ENCO", "ENI", "DISI", "ATCH", "DTCH", "RETI", "CRETI", "ATT",
-    "FIFO", "LIFO", "FND=", "FND<>", "FND<", "FND>", "EXCH", "SIN", "COS", "TAN", "LN", "EXP",
-    "BIR", "BIW", "BITIM", "CITIM", "CEVNT", "ATH", "HTA", "ITA", "DTA", "RTA",
+    "ENI", "DISI", "ATCH", "DTCH", "RETI", "CRETI", "EXCH", "BIR", "BIW", "BITIM", "CITIM",
+    "CEVNT", "ATH", "HTA", "ITA", "DTA", "RTA",
 ];
 
 #[test]

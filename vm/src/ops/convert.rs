@@ -127,9 +127,9 @@ fn enco(e: &mut Exec<'_>) -> Result<Control, Fault> {
     Ok(Control::Next)
 }
 
-/// A real function: computed in f64 and rounded once to f32 (deterministic and
-/// within half an ULP of the exact value for these functions), stored even when not
-/// finite. SM1.0 zero, SM1.1 not finite, SM1.2 negative (both 0 for NaN).
+/// A real function: computed in f64 from the REAL operand and rounded to f32 (more
+/// precise than the f32 routines), stored even when not finite. SM1.0 zero, SM1.1
+/// not finite, SM1.2 negative (both 0 for NaN).
 fn real_fn(e: &mut Exec<'_>, f: fn(f64) -> f64) -> Result<Control, Fault> {
     let x = e.get_real(0)?;
     let r = f(f64::from(x)) as f32;
