@@ -3,6 +3,7 @@
 //! Semantics are in `ops/`, one file per instruction family, keyed by mnemonic; the VM
 //! refuses an image that uses an instruction it has no semantics for.
 
+pub mod exch;
 mod fault;
 mod memory;
 pub mod ops;
@@ -34,6 +35,18 @@ impl Default for VmConfig {
         }
     }
 }
+
+/// Why a variable cannot be forced.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ForceError(pub String);
+
+impl std::fmt::Display for ForceError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for ForceError {}
 
 /// Why an image cannot be loaded.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -91,6 +104,13 @@ pub struct Vm {
     pub(crate) loops: Vec<ops::LoopFrame>,
     /// STOP was executed: scans do nothing until `set_running(true)`.
     pub(crate) stopped: bool,
+    /// Terminal images of the input areas (I, AI): what the host set; copied into the
+    /// input areas at the start of every scan.
+    pub(crate) terminals: HashMap<u8, Vec<u8>>,
+    /// Force images of the forcing areas (I, Q): slot -> (mask, value), byte per byte.
+    pub(crate) forces: HashMap<u8, (Vec<u8>, Vec<u8>)>,
+    /// EXCH: queued exchanges and the serial ports the host attached.
+    pub(crate) exch: exch::ExchState,
     pub(crate) clock_ms: u64,
     pub(crate) scans: u64,
     pub(crate) executed: u64,
@@ -163,6 +183,13 @@ impl Vm {
                 }
             }
         }
+        let terminals = target
+            .memory
+            .areas
+            .iter()
+            .filter(|a| matches!(a.kind, AreaKind::DigitalInput | AreaKind::AnalogInput))
+            .map(|a| (a.slot, vec![0; a.size as usize]))
+            .collect();
         let memory = Memory::new(&target.memory);
         let mut vm = Vm {
             target,
@@ -179,6 +206,9 @@ impl Vm {
             for_pairs,
             loops: Vec::new(),
             stopped: false,
+            forces: HashMap::new(),
+            terminals,
+            exch: exch::ExchState::default(),
             clock_ms: 0,
             scans: 0,
             executed: 0,
@@ -253,8 +283,23 @@ impl Vm {
         })
     }
 
-    /// Write a variable.
+    /// Write a variable. Writing an input (I, AI) sets its terminal: the value holds
+    /// across scans until changed, as a wired input does.
     pub fn write(&mut self, address: Address, value: u32) -> Result<(), AccessError> {
+        if let Some(terminal) = self.terminals.get_mut(&address.slot) {
+            let mut t = Memory::from_area(address.slot, std::mem::take(terminal));
+            let r = t.write(
+                Location {
+                    slot: address.slot,
+                    offset: address.offset,
+                    width: address.width,
+                    bit: address.bit,
+                },
+                value,
+            );
+            *terminal = t.into_area(address.slot);
+            r?;
+        }
         self.memory.write(
             Location {
                 slot: address.slot,
@@ -274,9 +319,13 @@ impl Vm {
         if self.stopped {
             return Ok(());
         }
+        self.refresh_inputs();
+        self.apply_forces();
         self.set_system_bits();
         self.executed = 0;
         let result = self.run_unit(0, 0);
+        self.apply_forces();
+        let result = result.and_then(|_| exch::service(self));
         self.scans += 1;
         self.clock_ms += self.config.scan_ms as u64;
         match result {
@@ -294,6 +343,97 @@ impl Vm {
                 );
                 self.fault = Some(f.clone());
                 Err(f)
+            }
+        }
+    }
+
+    /// Force a variable of a forcing area (I, Q): it reads (inputs) and is written
+    /// (outputs) with `value` at every scan until unforced. Forces survive `reset()`.
+    pub fn force(&mut self, address: Address, value: u32) -> Result<(), ForceError> {
+        if !self.target.memory.can_force(address.slot) {
+            let area = self
+                .target
+                .memory
+                .area_by_slot(address.slot)
+                .map(|a| a.name.clone())
+                .unwrap_or_default();
+            return Err(ForceError(format!(
+                "area {area} cannot be forced (only {})",
+                self.forcing_areas()
+            )));
+        }
+        let size = self.memory.area(address.slot).map(<[u8]>::len).unwrap_or(0);
+        let end = address.offset as usize + address.width.bytes() as usize;
+        if end > size {
+            return Err(ForceError(format!("outside the area ({size} bytes)")));
+        }
+        let (mask, image) = self
+            .forces
+            .entry(address.slot)
+            .or_insert_with(|| (vec![0; size], vec![0; size]));
+        let bytes = value.to_le_bytes();
+        for k in 0..address.width.bytes() as usize {
+            let at = address.offset as usize + k;
+            let (m, v) = match address.width {
+                gutta_catalog::Width::Bit => (
+                    1u8 << (address.bit & 7),
+                    if value & 1 == 1 {
+                        1u8 << (address.bit & 7)
+                    } else {
+                        0
+                    },
+                ),
+                _ => (0xFF, bytes[k]),
+            };
+            mask[at] |= m;
+            image[at] = (image[at] & !m) | (v & m);
+        }
+        self.apply_forces();
+        Ok(())
+    }
+
+    /// Remove every force.
+    pub fn unforce_all(&mut self) {
+        self.forces.clear();
+    }
+
+    /// The force mask and value image of a slot (all zero when nothing is forced).
+    pub fn force_image(&self, slot: u8) -> (Vec<u8>, Vec<u8>) {
+        let size = self.memory.area(slot).map(<[u8]>::len).unwrap_or(0);
+        self.forces
+            .get(&slot)
+            .cloned()
+            .unwrap_or_else(|| (vec![0; size], vec![0; size]))
+    }
+
+    fn forcing_areas(&self) -> String {
+        self.target
+            .memory
+            .forcing
+            .iter()
+            .filter_map(|s| self.target.memory.area_by_slot(*s))
+            .map(|a| a.name.clone())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    /// The input areas take their terminals' values (start of scan).
+    pub(crate) fn refresh_inputs(&mut self) {
+        for (slot, terminal) in &self.terminals {
+            if let Some(area) = self.memory.area_mut(*slot) {
+                let n = area.len().min(terminal.len());
+                area[..n].copy_from_slice(&terminal[..n]);
+            }
+        }
+    }
+
+    /// Forced bits take their force values.
+    pub(crate) fn apply_forces(&mut self) {
+        for (slot, (mask, image)) in &self.forces {
+            if let Some(area) = self.memory.area_mut(*slot) {
+                for ((b, m), v) in area.iter_mut().zip(mask).zip(image) {
+                    *b = (*b & !m) | (v & m);
+                }
             }
         }
     }

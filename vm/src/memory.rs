@@ -39,6 +39,21 @@ impl Memory {
         Memory { areas }
     }
 
+    /// A memory holding one area's bytes (for terminal images).
+    pub(crate) fn from_area(slot: u8, bytes: Vec<u8>) -> Memory {
+        let mut areas = vec![Vec::new(); slot as usize + 1];
+        areas[slot as usize] = bytes;
+        Memory { areas }
+    }
+
+    /// Take the area's bytes back.
+    pub(crate) fn into_area(mut self, slot: u8) -> Vec<u8> {
+        self.areas
+            .get_mut(slot as usize)
+            .map(std::mem::take)
+            .unwrap_or_default()
+    }
+
     pub fn area(&self, slot: u8) -> Option<&[u8]> {
         self.areas.get(slot as usize).map(Vec::as_slice)
     }

@@ -237,3 +237,33 @@ fn stop_ends_the_scan_and_stays_stopped() {
     vm.scan().expect("scan");
     assert_eq!((read(&vm, "MW0"), read(&vm, "MW2")), (3, 2));
 }
+
+#[test]
+fn forces_hold_across_scans_for_inputs_and_outputs() {
+    let mut vm = vm_for(&main_block(
+        "NETWORK 1\nLD I0.0\n= Q0.0\nNETWORK 2\nLD SM0.0\n= Q0.1\nMOVB 16#FF, QB1",
+    ));
+    let at = |vm: &Vm, v: &str| vm.target().memory.parse_address(v).expect("address");
+    let (i00, q01, qb1) = (at(&vm, "I0.0"), at(&vm, "Q0.1"), at(&vm, "QB1"));
+    vm.force(i00, 1).expect("force input");
+    vm.force(q01, 0).expect("force output bit");
+    vm.force(qb1, 0x0F).expect("force output byte");
+    set(&mut vm, "I0.0", 0); // the terminal says 0; the force wins
+    vm.scan().expect("scan");
+    assert_eq!(read(&vm, "Q0.0"), 1, "forced input reads its force value");
+    assert_eq!(
+        read(&vm, "Q0.1"),
+        0,
+        "forced output is written with its force value"
+    );
+    assert_eq!(read(&vm, "QB1"), 0x0F);
+    let (mask, image) = vm.force_image(i00.slot);
+    assert_eq!((mask[0], image[0]), (0x01, 0x01));
+    assert!(vm.force(at(&vm, "MB0"), 1).is_err(), "M cannot be forced");
+    vm.unforce_all();
+    vm.scan().expect("scan");
+    assert_eq!(
+        (read(&vm, "Q0.0"), read(&vm, "Q0.1"), read(&vm, "QB1")),
+        (0, 1, 0xFF)
+    );
+}
