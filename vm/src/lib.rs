@@ -36,6 +36,19 @@ impl Default for VmConfig {
     }
 }
 
+/// Interrupt state (docs/vm.md, "Interrupts").
+#[derive(Debug, Default, Clone, PartialEq, Eq)]
+pub(crate) struct Interrupts {
+    /// ENI/DISI; off when the PLC enters RUN.
+    pub enabled: bool,
+    /// Event number -> interrupt routine number.
+    pub attached: std::collections::BTreeMap<u32, u32>,
+    /// Timed events: milliseconds accumulated towards the next occurrence.
+    pub elapsed: std::collections::BTreeMap<u32, u32>,
+    /// Events that occurred while interrupts were disabled (one kept per event).
+    pub pending: std::collections::BTreeSet<u32>,
+}
+
 /// Why a variable cannot be forced.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ForceError(pub String);
@@ -109,6 +122,8 @@ pub struct Vm {
     pub(crate) terminals: HashMap<u8, Vec<u8>>,
     /// Force images of the forcing areas (I, Q): slot -> (mask, value), byte per byte.
     pub(crate) forces: HashMap<u8, (Vec<u8>, Vec<u8>)>,
+    /// Interrupt state: global enable, attachments, timed-event clocks, pending events.
+    pub(crate) interrupts: Interrupts,
     /// EXCH: queued exchanges and the serial ports the host attached.
     pub(crate) exch: exch::ExchState,
     pub(crate) clock_ms: u64,
@@ -209,6 +224,7 @@ impl Vm {
             forces: HashMap::new(),
             terminals,
             exch: exch::ExchState::default(),
+            interrupts: Interrupts::default(),
             clock_ms: 0,
             scans: 0,
             executed: 0,
@@ -236,6 +252,7 @@ impl Vm {
         self.instance_state.clear();
         self.cell_state.clear();
         self.loops.clear();
+        self.interrupts = Interrupts::default();
         self.stopped = false;
         self.clock_ms = 0;
         self.scans = 0;
@@ -324,6 +341,7 @@ impl Vm {
         self.set_system_bits();
         self.executed = 0;
         let result = self.run_unit(0, 0);
+        let result = result.and_then(|_| self.service_events());
         self.apply_forces();
         let result = result.and_then(|_| exch::service(self));
         self.scans += 1;
@@ -425,6 +443,72 @@ impl Vm {
                 area[..n].copy_from_slice(&terminal[..n]);
             }
         }
+    }
+
+    /// Between scans (after MAIN): advance the timed events by the scan's virtual time
+    /// and run the interrupt routines attached to the events that occurred, in event
+    /// order; while interrupts are disabled, one occurrence per event is kept pending.
+    pub(crate) fn service_events(&mut self) -> Result<Control, Fault> {
+        let scan_ms = self.config.scan_ms;
+        let mut occurred: Vec<u32> = Vec::new();
+        let timed: Vec<(u32, Option<String>)> = self
+            .target
+            .memory
+            .events
+            .iter()
+            .filter(|e| e.kind.eq_ignore_ascii_case("Timed"))
+            .map(|e| (e.number, e.period.clone()))
+            .collect();
+        for (event, period) in timed {
+            if !self.interrupts.attached.contains_key(&event) {
+                self.interrupts.elapsed.remove(&event);
+                continue;
+            }
+            let Some(addr) = period.and_then(|p| self.target.memory.parse_address(&p).ok()) else {
+                continue;
+            };
+            let period_ms = self
+                .memory
+                .read(Location {
+                    slot: addr.slot,
+                    offset: addr.offset,
+                    width: addr.width,
+                    bit: 0,
+                })
+                .unwrap_or(0);
+            if period_ms == 0 {
+                continue;
+            }
+            let acc = self.interrupts.elapsed.entry(event).or_insert(0);
+            *acc += scan_ms;
+            while *acc >= period_ms {
+                *acc -= period_ms;
+                occurred.push(event);
+            }
+        }
+        if !self.interrupts.enabled {
+            self.interrupts.pending.extend(occurred);
+            return Ok(Control::Next);
+        }
+        let mut queue: Vec<u32> = std::mem::take(&mut self.interrupts.pending)
+            .into_iter()
+            .collect();
+        queue.extend(occurred);
+        for event in queue {
+            let Some(&routine) = self.interrupts.attached.get(&event) else {
+                continue;
+            };
+            let Ok(page) = u8::try_from(routine) else {
+                continue;
+            };
+            let saved = self.stack;
+            let result = self.run_unit(page, 0)?;
+            self.stack = saved;
+            if result == Control::EndScan {
+                break;
+            }
+        }
+        Ok(Control::Next)
     }
 
     /// Forced bits take their force values.

@@ -6,8 +6,7 @@ use gutta_catalog::stdlib;
 
 /// Instructions whose semantics are not written yet.
 const NOT_YET: &[&str] = &[
-    "ENI", "DISI", "ATCH", "DTCH", "RETI", "CRETI", "EXCH", "BIR", "BIW", "BITIM", "CITIM",
-    "CEVNT", "ATH", "HTA", "ITA", "DTA", "RTA",
+    "EXCH", "BIR", "BIW", "BITIM", "CITIM", "CEVNT", "ATH", "HTA", "ITA", "DTA", "RTA",
 ];
 
 #[test]

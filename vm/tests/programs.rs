@@ -267,3 +267,39 @@ fn forces_hold_across_scans_for_inputs_and_outputs() {
         (0, 1, 0xFF)
     );
 }
+
+#[test]
+fn timed_interrupts_run_their_routine_each_period() {
+    // ENI and DISI are unconditional (Flow Always): a jump decides whether ENI runs.
+    let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.1\nMOVB 50, SMB10\nATCH TICK, 10\nNETWORK 2\nLDN I0.0\nJMP 1\nNETWORK 3\nENI\nNETWORK 4\nLBL 1\nLD I0.2\nDTCH 10\nEND_ORGANIZATION_BLOCK\n\
+                INTERRUPT_BLOCK TICK:INT1\nBEGIN\nNETWORK 1\nLD SM0.0\nINCW MW30\nEND_INTERRUPT_BLOCK\n";
+    let mut vm = vm_for(text);
+    for _ in 0..10 {
+        vm.scan().expect("scan");
+    }
+    assert_eq!(
+        read(&vm, "MW30"),
+        0,
+        "interrupts are off after entering RUN"
+    );
+    set(&mut vm, "I0.0", 1);
+    vm.scan().expect("scan");
+    assert_eq!(
+        read(&vm, "MW30"),
+        1,
+        "the one pending occurrence runs once ENI is on"
+    );
+    for _ in 0..10 {
+        vm.scan().expect("scan");
+    }
+    assert_eq!(
+        read(&vm, "MW30"),
+        3,
+        "every 50 ms of virtual time: 100 ms = 2 more"
+    );
+    set(&mut vm, "I0.2", 1);
+    for _ in 0..10 {
+        vm.scan().expect("scan");
+    }
+    assert_eq!(read(&vm, "MW30"), 3, "detached");
+}

@@ -7,6 +7,7 @@ mod bits;
 mod compare;
 mod control;
 mod convert;
+mod interrupts;
 mod math;
 mod moves;
 mod shift;
@@ -60,6 +61,7 @@ pub fn semantics(mnemonic: &str) -> Option<Handler> {
         .or_else(|| shift::lookup(mnemonic))
         .or_else(|| convert::lookup(mnemonic))
         .or_else(|| table::lookup(mnemonic))
+        .or_else(|| interrupts::lookup(mnemonic))
 }
 
 /// One instruction being executed.

@@ -1,0 +1,47 @@
+//! Interrupts: ENI/DISI (global enable), ATCH/DTCH (event -> interrupt routine), and
+//! RETI/CRETI (return from an interrupt routine). Events are raised and routines run
+//! by the VM between scans (`Vm::service_events`).
+
+use super::{Control, Exec, Handler};
+use crate::Fault;
+
+fn eni(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    e.vm.interrupts.enabled = true;
+    Ok(Control::Next)
+}
+
+fn disi(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    e.vm.interrupts.enabled = false;
+    Ok(Control::Next)
+}
+
+/// ATCH INT, EVNT: event EVNT now runs interrupt routine INT.
+fn atch(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    let routine = e.operand(0)?.offset() as u32;
+    let event = e.get(1)?;
+    e.vm.interrupts.attached.insert(event, routine);
+    Ok(Control::Next)
+}
+
+/// DTCH EVNT: event EVNT runs nothing any more (pending occurrences are dropped).
+fn dtch(e: &mut Exec<'_>) -> Result<Control, Fault> {
+    let event = e.get(0)?;
+    e.vm.interrupts.attached.remove(&event);
+    e.vm.interrupts.pending.remove(&event);
+    Ok(Control::Next)
+}
+
+fn reti(_: &mut Exec<'_>) -> Result<Control, Fault> {
+    Ok(Control::Return)
+}
+
+pub fn lookup(m: &str) -> Option<Handler> {
+    Some(match m {
+        "ENI" => eni,
+        "DISI" => disi,
+        "ATCH" => atch,
+        "DTCH" => dtch,
+        "RETI" | "CRETI" => reti,
+        _ => return None,
+    })
+}
