@@ -1,0 +1,457 @@
+//! `gutta-vm`: run an image directory on the reference VM from the command line. All
+//! file I/O, printing and exit codes live here; the library only runs scans. Exit
+//! status: 0 ok, 1 the program faulted, 2 usage, I/O, verification or load errors.
+
+use std::fmt::Write as _;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Arc;
+
+use clap::Parser;
+use gutta_catalog::{stdlib, Address, Target, TargetSources, Width};
+use gutta_vm::{Fault, Vm, VmConfig};
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "gutta-vm",
+    version,
+    about = "Run a GUTTA PLC image on the reference VM",
+    after_help = "Values: decimal, 16#FF, 2#1010, negative allowed (-1). Variables: \
+                  direct addresses such as I0.0, Q3.0, MW24, MD4, AIW0.\n\
+                  Exit status: 0 ok, 1 the program faulted, 2 usage, I/O or verification errors."
+)]
+struct Cli {
+    /// The image directory (holding manifest.json), as written by `gutta-cc -o`.
+    image: PathBuf,
+    /// Number of scans to run.
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    scans: u64,
+    /// Virtual time per scan, in milliseconds (timers count it).
+    #[arg(long, value_name = "MS", default_value_t = 10)]
+    scan_ms: u32,
+    /// Instructions one scan may execute before the watchdog fault.
+    #[arg(long, value_name = "N", default_value_t = VmConfig::default().watchdog)]
+    watchdog: u64,
+    /// Set a variable before the first scan (repeatable): I0.0=1, AIW0=100, MW0=16#FF.
+    /// An input keeps its value across scans, as a wired input does.
+    #[arg(long = "set", value_name = "VAR=VALUE")]
+    set: Vec<String>,
+    /// Force a variable of a forcing area (I, Q) for the whole run (repeatable).
+    #[arg(long = "force", value_name = "VAR=VALUE")]
+    force: Vec<String>,
+    /// Print a variable after the last scan (repeatable): `VAR = VALUE`, unsigned decimal.
+    #[arg(long = "read", value_name = "VAR")]
+    read: Vec<String>,
+    /// Print one JSON object (scans, values, status, error) instead of text.
+    #[arg(long)]
+    json: bool,
+    /// Print, per scan, the --read variables whose value changed (`scan 3: Q0.0 0 -> 1`).
+    #[arg(long, requires = "read")]
+    trace: bool,
+    /// Write a Value Change Dump of the --read variables, one sample per scan.
+    #[arg(long, value_name = "FILE", requires = "read")]
+    vcd: Option<PathBuf>,
+    /// Stop at a breakpoint (FUNCTION:NETWORK:STEP). Not implemented yet.
+    #[arg(long = "break", value_name = "FUNCTION:NETWORK:STEP")]
+    breakpoint: Vec<String>,
+    /// PLC type from the stdlib (instead of the image's PLC type).
+    #[arg(long, value_name = "NAME")]
+    plc: Option<String>,
+    /// A target folder holding PlcType.xml, ManagerVar.xml and ManagerFun.xml.
+    #[arg(long, value_name = "DIR", conflicts_with = "plc")]
+    target: Option<PathBuf>,
+}
+
+/// A usage, I/O, verification or load failure: printed, exit 2.
+struct Fatal(String);
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(&cli) {
+        Ok(code) => code,
+        Err(Fatal(message)) => {
+            eprintln!("gutta-vm: error: {message}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// A variable the user named: its canonical name and address.
+struct Var {
+    name: String,
+    address: Address,
+}
+
+/// One change seen by --trace.
+struct Change {
+    scan: u64,
+    var: usize,
+    from: u32,
+    to: u32,
+}
+
+fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
+    if let Some(b) = cli.breakpoint.first() {
+        return Err(Fatal(format!(
+            "--break {b}: breakpoints are not implemented yet (run without --break)"
+        )));
+    }
+    let image = read_image_dir(&cli.image)?;
+    let target = match explicit_target(cli)? {
+        Some(t) => t,
+        None => stdlib::shared(&image.plc_type).map_err(|e| {
+            Fatal(format!(
+                "the image is for {}: {e} (pass --target DIR for a vendor PLC type)",
+                image.plc_type
+            ))
+        })?,
+    };
+    let verified = gutta_format::verify(&image, &target)
+        .map_err(|e| Fatal(format!("{}: {e}", cli.image.display())))?;
+    let config = VmConfig {
+        scan_ms: cli.scan_ms,
+        watchdog: cli.watchdog,
+    };
+    let mut vm = Vm::new(verified, Arc::clone(&target), config)
+        .map_err(|e| Fatal(format!("{}: cannot load: {e}", cli.image.display())))?;
+
+    let reads: Vec<Var> = cli
+        .read
+        .iter()
+        .map(|text| parse_var(&target, "--read", text))
+        .collect::<Result<_, _>>()?;
+    let sets = parse_assignments(&target, "--set", &cli.set)?;
+    let forces = parse_assignments(&target, "--force", &cli.force)?;
+    for (var, value) in &sets {
+        vm.write(var.address, *value)
+            .map_err(|e| Fatal(format!("--set {}: {}", var.name, e.0)))?;
+    }
+    for (var, value) in &forces {
+        vm.force(var.address, *value)
+            .map_err(|e| Fatal(format!("--force {}: {e}", var.name)))?;
+    }
+
+    let sample = |vm: &Vm| -> Result<Vec<u32>, Fatal> {
+        reads
+            .iter()
+            .map(|v| {
+                vm.read(v.address)
+                    .map_err(|e| Fatal(format!("--read {}: {}", v.name, e.0)))
+            })
+            .collect()
+    };
+    let mut values = sample(&vm)?;
+    let mut vcd = cli.vcd.as_ref().map(|_| vcd_header(&reads, &values));
+    let mut changes: Vec<Change> = Vec::new();
+    let stdout = std::io::stdout();
+    let mut fault: Option<(u64, Fault)> = None;
+    for n in 1..=cli.scans {
+        if let Err(f) = vm.scan() {
+            fault = Some((n, f));
+        }
+        let now = sample(&vm)?;
+        let changed: Vec<usize> = (0..reads.len()).filter(|&i| now[i] != values[i]).collect();
+        if let Some(text) = vcd.as_mut() {
+            if !changed.is_empty() {
+                let _ = writeln!(text, "#{}", vm.clock_ms());
+                for &i in &changed {
+                    vcd_value(text, &reads[i], now[i], i);
+                }
+            }
+        }
+        if cli.trace {
+            for &i in &changed {
+                let c = Change {
+                    scan: n,
+                    var: i,
+                    from: values[i],
+                    to: now[i],
+                };
+                if !cli.json {
+                    let _ = writeln!(
+                        stdout.lock(),
+                        "scan {n}: {} {} -> {}",
+                        reads[i].name,
+                        c.from,
+                        c.to
+                    );
+                }
+                changes.push(c);
+            }
+        }
+        values = now;
+        if fault.is_some() {
+            break;
+        }
+    }
+    if let (Some(mut text), Some(path)) = (vcd, &cli.vcd) {
+        // The end of the run, so the last value shows for its whole time.
+        let _ = writeln!(text, "#{}", vm.clock_ms().max(1));
+        std::fs::write(path, text)
+            .map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))?;
+    }
+
+    if cli.json {
+        let _ = writeln!(
+            stdout.lock(),
+            "{}",
+            json_report(&vm, &reads, &values, &changes, cli.trace, fault.as_ref())
+        );
+    } else {
+        let mut out = String::new();
+        for (v, value) in reads.iter().zip(&values) {
+            let _ = writeln!(out, "{} = {value}", v.name);
+        }
+        let _ = stdout.lock().write_all(out.as_bytes());
+        if let Some((n, f)) = &fault {
+            eprintln!(
+                "gutta-vm: fault in scan {n}: {f} (error code {}, {})",
+                f.code(),
+                fault_kind(f)
+            );
+        }
+    }
+    Ok(if fault.is_some() {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+/// The fault's variant name (`Watchdog`), for JSON and messages.
+fn fault_kind(f: &Fault) -> String {
+    format!("{f:?}")
+        .chars()
+        .take_while(char::is_ascii_alphanumeric)
+        .collect()
+}
+
+fn json_report(
+    vm: &Vm,
+    reads: &[Var],
+    values: &[u32],
+    changes: &[Change],
+    trace: bool,
+    fault: Option<&(u64, Fault)>,
+) -> serde_json::Value {
+    use serde_json::{json, Map, Value};
+    let mut map = Map::new();
+    for (v, value) in reads.iter().zip(values) {
+        map.insert(v.name.clone(), json!(value));
+    }
+    let error = match fault {
+        Some((scan, f)) => json!({
+            "kind": fault_kind(f),
+            "code": f.code(),
+            "message": f.to_string(),
+            "scan": scan,
+        }),
+        None => Value::Null,
+    };
+    let mut report = json!({
+        "scans": vm.scans(),
+        "clock_ms": vm.clock_ms(),
+        "values": map,
+        "status": { "run": vm.is_running() && fault.is_none(), "error": fault.is_some() },
+        "error": error,
+    });
+    if trace {
+        report["trace"] = changes
+            .iter()
+            .map(
+                |c| json!({ "scan": c.scan, "var": reads[c.var].name, "from": c.from, "to": c.to }),
+            )
+            .collect();
+    }
+    report
+}
+
+/// VCD identifier of the i-th variable: printable ASCII `!`..`~`, base 94.
+fn vcd_id(mut i: usize) -> String {
+    let mut id = String::new();
+    loop {
+        id.push(char::from(b'!' + (i % 94) as u8));
+        i /= 94;
+        if i == 0 {
+            return id;
+        }
+        i -= 1;
+    }
+}
+
+fn vcd_header(reads: &[Var], initial: &[u32]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "$version gutta-vm {} $end", env!("CARGO_PKG_VERSION"));
+    let _ = writeln!(s, "$timescale 1 ms $end");
+    let _ = writeln!(s, "$scope module plc $end");
+    for (i, v) in reads.iter().enumerate() {
+        // `.` separates scopes in wave viewers: Q0.0 is written Q0_0.
+        let name = v.name.replace('.', "_");
+        let _ = writeln!(
+            s,
+            "$var wire {} {} {name} $end",
+            v.address.width.bits(),
+            vcd_id(i)
+        );
+    }
+    let _ = writeln!(s, "$upscope $end");
+    let _ = writeln!(s, "$enddefinitions $end");
+    let _ = writeln!(s, "#0");
+    let _ = writeln!(s, "$dumpvars");
+    for (i, (v, value)) in reads.iter().zip(initial).enumerate() {
+        vcd_value(&mut s, v, *value, i);
+    }
+    let _ = writeln!(s, "$end");
+    s
+}
+
+fn vcd_value(s: &mut String, var: &Var, value: u32, i: usize) {
+    if var.address.width == Width::Bit {
+        let _ = writeln!(s, "{}{}", value & 1, vcd_id(i));
+    } else {
+        let _ = writeln!(s, "b{value:b} {}", vcd_id(i));
+    }
+}
+
+fn parse_var(target: &Target, option: &str, text: &str) -> Result<Var, Fatal> {
+    let address = target
+        .memory
+        .parse_address(text.trim())
+        .map_err(|e| Fatal(format!("{option} `{text}` on {}: {e}", target.name())))?;
+    Ok(Var {
+        name: target.memory.format_address(&address),
+        address,
+    })
+}
+
+fn parse_assignments(
+    target: &Target,
+    option: &str,
+    items: &[String],
+) -> Result<Vec<(Var, u32)>, Fatal> {
+    items
+        .iter()
+        .map(|item| {
+            let (var, value) = item.split_once('=').ok_or_else(|| {
+                Fatal(format!(
+                    "{option} `{item}`: expected VAR=VALUE (e.g. I0.0=1)"
+                ))
+            })?;
+            let var = parse_var(target, option, var)?;
+            let value = parse_value(value.trim(), var.address.width)
+                .map_err(|e| Fatal(format!("{option} `{item}`: {e}")))?;
+            Ok((var, value))
+        })
+        .collect()
+}
+
+/// `100`, `-1`, `16#FF`, `2#1010` (`-16#1` too), checked against the width and
+/// returned as the variable's bits.
+fn parse_value(text: &str, width: Width) -> Result<u32, String> {
+    let (negative, digits) = match text.strip_prefix('-') {
+        Some(rest) => (true, rest),
+        None => (false, text.strip_prefix('+').unwrap_or(text)),
+    };
+    let (radix, digits) = if let Some(d) = digits.strip_prefix("16#") {
+        (16, d)
+    } else if let Some(d) = digits.strip_prefix("2#") {
+        (2, d)
+    } else {
+        (10, digits)
+    };
+    let digits = digits.replace('_', "");
+    let bad = || format!("`{text}` is not a number (decimal, 16#FF, 2#1010)");
+    if digits.is_empty() || digits.starts_with(['+', '-']) {
+        return Err(bad());
+    }
+    let magnitude = i64::from_str_radix(&digits, radix).map_err(|_| bad())?;
+    let value = if negative { -magnitude } else { magnitude };
+    let bits = width.bits();
+    let (min, max) = if width == Width::Bit {
+        (0, 1)
+    } else {
+        (-(1i64 << (bits - 1)), (1i64 << bits) - 1)
+    };
+    if value < min || value > max {
+        return Err(format!(
+            "{text} does not fit a {bits}-bit variable ({min}..{max})"
+        ));
+    }
+    let mask = if bits == 32 {
+        u32::MAX as i64
+    } else {
+        (1i64 << bits) - 1
+    };
+    Ok((value & mask) as u32)
+}
+
+fn explicit_target(cli: &Cli) -> Result<Option<Arc<Target>>, Fatal> {
+    if let Some(name) = &cli.plc {
+        return stdlib::shared(name)
+            .map(Some)
+            .map_err(|e| Fatal(e.to_string()));
+    }
+    if let Some(dir) = &cli.target {
+        return load_target_dir(dir).map(|t| Some(Arc::new(t)));
+    }
+    Ok(None)
+}
+
+/// Read a target folder. ManagerFun.xml may be absent: the stdlib one is used.
+fn load_target_dir(dir: &Path) -> Result<Target, Fatal> {
+    let read = |name: &str| std::fs::read(dir.join(name));
+    let missing = |name: &str, e: std::io::Error| {
+        Fatal(format!("cannot read {}: {e}", dir.join(name).display()))
+    };
+    let plc = read("PlcType.xml").map_err(|e| missing("PlcType.xml", e))?;
+    let var = read("ManagerVar.xml").map_err(|e| missing("ManagerVar.xml", e))?;
+    let fun = match read("ManagerFun.xml") {
+        Ok(b) => b,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => stdlib::MANAGER_FUN.to_vec(),
+        Err(e) => return Err(missing("ManagerFun.xml", e)),
+    };
+    Target::load(TargetSources {
+        plc_type: &plc,
+        manager_var: &var,
+        manager_fun: &fun,
+    })
+    .map_err(|e| Fatal(format!("target {}: {e}", dir.display())))
+}
+
+/// Read an image directory (manifest, then every page it lists).
+fn read_image_dir(dir: &Path) -> Result<gutta_format::Image, Fatal> {
+    let manifest_path = dir.join(gutta_format::MANIFEST_FILE);
+    let manifest = std::fs::read_to_string(&manifest_path)
+        .map_err(|e| Fatal(format!("cannot read {}: {e}", manifest_path.display())))?;
+    gutta_format::Image::read(&manifest, |file| {
+        std::fs::read(dir.join(file))
+            .map_err(|e| format!("cannot read {}: {e}", dir.join(file).display()))
+    })
+    .map_err(|e| Fatal(format!("{}: {e}", dir.display())))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values() {
+        assert_eq!(parse_value("1", Width::Bit), Ok(1));
+        assert!(parse_value("2", Width::Bit).is_err());
+        assert_eq!(parse_value("-1", Width::Word), Ok(0xFFFF));
+        assert_eq!(parse_value("16#0E01", Width::Word), Ok(0x0E01));
+        assert_eq!(parse_value("2#1010", Width::Byte), Ok(10));
+        assert_eq!(parse_value("-2147483648", Width::Dword), Ok(0x8000_0000));
+        assert_eq!(parse_value("16#FFFFFFFF", Width::Dword), Ok(u32::MAX));
+        assert!(parse_value("65536", Width::Word).is_err());
+        assert!(parse_value("--1", Width::Word).is_err());
+        assert!(parse_value("x", Width::Word).is_err());
+    }
+
+    #[test]
+    fn vcd_ids_are_unique() {
+        let ids: std::collections::HashSet<String> = (0..20_000).map(vcd_id).collect();
+        assert_eq!(ids.len(), 20_000);
+    }
+}
