@@ -253,6 +253,7 @@ impl Vm {
         self.cell_state.clear();
         self.loops.clear();
         self.interrupts = Interrupts::default();
+        self.exch.queue.clear();
         self.stopped = false;
         self.clock_ms = 0;
         self.scans = 0;
@@ -390,7 +391,7 @@ impl Vm {
             .entry(address.slot)
             .or_insert_with(|| (vec![0; size], vec![0; size]));
         let bytes = value.to_le_bytes();
-        for k in 0..address.width.bytes() as usize {
+        for (k, &byte) in bytes.iter().enumerate().take(address.width.bytes() as usize) {
             let at = address.offset as usize + k;
             let (m, v) = match address.width {
                 gutta_catalog::Width::Bit => (
@@ -401,7 +402,7 @@ impl Vm {
                         0
                     },
                 ),
-                _ => (0xFF, bytes[k]),
+                _ => (0xFF, byte),
             };
             mask[at] |= m;
             image[at] = (image[at] & !m) | (v & m);

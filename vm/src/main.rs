@@ -144,6 +144,8 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
     let mut values = sample(&vm)?;
     let mut vcd = cli.vcd.as_ref().map(|_| vcd_header(&reads, &values));
     let mut changes: Vec<Change> = Vec::new();
+    // The last timestamp written to the VCD.
+    let mut last_time = 0;
     let stdout = std::io::stdout();
     let mut fault: Option<(u64, Fault)> = None;
     for n in 1..=cli.scans {
@@ -154,7 +156,8 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
         let changed: Vec<usize> = (0..reads.len()).filter(|&i| now[i] != values[i]).collect();
         if let Some(text) = vcd.as_mut() {
             if !changed.is_empty() {
-                let _ = writeln!(text, "#{}", vm.clock_ms());
+                last_time = vm.clock_ms();
+                let _ = writeln!(text, "#{last_time}");
                 for &i in &changed {
                     vcd_value(text, &reads[i], now[i], i);
                 }
@@ -187,7 +190,9 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
     }
     if let (Some(mut text), Some(path)) = (vcd, &cli.vcd) {
         // The end of the run, so the last value shows for its whole time.
-        let _ = writeln!(text, "#{}", vm.clock_ms().max(1));
+        if vm.clock_ms() > last_time {
+            let _ = writeln!(text, "#{}", vm.clock_ms());
+        }
         std::fs::write(path, text)
             .map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))?;
     }

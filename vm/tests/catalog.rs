@@ -6,7 +6,7 @@ use gutta_catalog::stdlib;
 
 /// Instructions whose semantics are not written yet.
 const NOT_YET: &[&str] = &[
-    "EXCH", "BIR", "BIW", "BITIM", "CITIM", "CEVNT", "ATH", "HTA", "ITA", "DTA", "RTA",
+    "BIR", "BIW", "BITIM", "CITIM", "CEVNT", "ATH", "HTA", "ITA", "DTA", "RTA",
 ];
 
 #[test]

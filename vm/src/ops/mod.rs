@@ -4,6 +4,7 @@
 //! memory and the flags in SM1.
 
 mod bits;
+mod comm;
 mod compare;
 mod control;
 mod convert;
@@ -62,6 +63,7 @@ pub fn semantics(mnemonic: &str) -> Option<Handler> {
         .or_else(|| convert::lookup(mnemonic))
         .or_else(|| table::lookup(mnemonic))
         .or_else(|| interrupts::lookup(mnemonic))
+        .or_else(|| comm::lookup(mnemonic))
 }
 
 /// One instruction being executed.

@@ -1,0 +1,337 @@
+//! The `gutta-vm` command line: images compiled in the test (with the compiler library)
+//! and written as gutta-cc writes them, then run by the binary: --read, --json, --set,
+//! --force, --trace, --vcd, --break, and the exit status of verification errors and
+//! faults.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use gutta_catalog::stdlib;
+use gutta_compiler::encode::ImageMeta;
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{compile, ExplicitTarget};
+use gutta_format::{Image, PageId, PageKind};
+
+fn compile_image(text: &str) -> Image {
+    let target = stdlib::shared(stdlib::DEFAULT).expect("target");
+    let explicit = ExplicitTarget {
+        target,
+        origin: "test".into(),
+    };
+    let c = compile(
+        SourceFile::new("t.lad", text),
+        Some(&explicit),
+        &ImageMeta {
+            source: "t.lad".into(),
+            tool: "test".into(),
+        },
+    );
+    c.image
+        .unwrap_or_else(|| panic!("does not compile: {:?}", c.checked.diagnostics()))
+}
+
+/// A fresh directory under the target's temporary folder.
+fn temp_dir(tag: &str) -> PathBuf {
+    static NEXT: AtomicUsize = AtomicUsize::new(0);
+    let n = NEXT.fetch_add(1, Ordering::Relaxed);
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("gutta-vm-cli-{}-{tag}-{n}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+/// Write `image` as an image directory: pages, then manifest.json.
+fn write_image(image: &Image, tag: &str) -> PathBuf {
+    let dir = temp_dir(tag);
+    for (id, bytes) in &image.pages {
+        let path = dir.join(id.file_name());
+        std::fs::create_dir_all(path.parent().expect("parent")).expect("page dir");
+        std::fs::write(&path, bytes).expect("page");
+    }
+    std::fs::write(
+        dir.join(gutta_format::MANIFEST_FILE),
+        image.manifest().to_json(),
+    )
+    .expect("manifest");
+    dir
+}
+
+fn image_dir(text: &str, tag: &str) -> PathBuf {
+    write_image(&compile_image(text), tag)
+}
+
+fn main_block(code: &str) -> String {
+    format!("ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\n{code}\nEND_ORGANIZATION_BLOCK\n")
+}
+
+fn pointers() -> PathBuf {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../examples/in1001_pointers.lad"
+    ))
+    .expect("example");
+    image_dir(&text, "pointers")
+}
+
+fn gutta_vm(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_gutta-vm"))
+        .arg(dir)
+        .args(args)
+        .output()
+        .expect("runs gutta-vm")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn json(o: &Output) -> serde_json::Value {
+    serde_json::from_slice(&o.stdout).unwrap_or_else(|e| panic!("not JSON ({e}): {}", stdout(o)))
+}
+
+#[test]
+fn reads_the_pointer_example() {
+    let o = gutta_vm(&pointers(), &["--read", "MW24", "--read", "MW26"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(stdout(&o), "MW24 = 3585\nMW26 = 3586\n");
+}
+
+#[test]
+fn json_report() {
+    let o = gutta_vm(
+        &pointers(),
+        &["--read", "MW24", "--read", "md4", "--scans", "3", "--json"],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let v = json(&o);
+    assert_eq!(v["scans"], 3);
+    assert_eq!(v["values"]["MW24"], 3585);
+    assert_eq!(
+        v["values"]["MD4"], 0x0400_001A,
+        "names are canonical: md4 is MD4"
+    );
+    assert_eq!(v["status"]["run"], true);
+    assert_eq!(v["status"]["error"], false);
+    assert!(v["error"].is_null());
+}
+
+const LATCH: &str = "NETWORK 1\nLD I0.0\nO Q0.0\nAN I0.1\n= Q0.0";
+
+#[test]
+fn set_drives_an_input_before_the_first_scan() {
+    let dir = image_dir(&main_block(LATCH), "latch");
+    let off = gutta_vm(&dir, &["--read", "Q0.0", "--scans", "3"]);
+    assert_eq!(stdout(&off), "Q0.0 = 0\n");
+    let on = gutta_vm(&dir, &["--set", "I0.0=1", "--read", "Q0.0", "--scans", "3"]);
+    assert_eq!(on.status.code(), Some(0), "{}", stderr(&on));
+    assert_eq!(stdout(&on), "Q0.0 = 1\n");
+    // Set and reset both on: reset wins.
+    let both = gutta_vm(
+        &dir,
+        &["--set", "I0.0=1", "--set", "I0.1=1", "--read", "Q0.0"],
+    );
+    assert_eq!(stdout(&both), "Q0.0 = 0\n");
+    // Values in every notation, and words.
+    let dir = image_dir(&main_block("NETWORK 1\nLD SM0.0\nMOVW AIW0, MW10"), "aiw");
+    for value in ["100", "16#64", "2#1100100"] {
+        let o = gutta_vm(&dir, &["--set", &format!("AIW0={value}"), "--read", "MW10"]);
+        assert_eq!(stdout(&o), "MW10 = 100\n", "AIW0={value}");
+    }
+    let o = gutta_vm(&dir, &["--set", "AIW0=-1", "--read", "MW10"]);
+    assert_eq!(
+        stdout(&o),
+        "MW10 = 65535\n",
+        "negative values, printed unsigned"
+    );
+}
+
+#[test]
+fn bad_set_is_a_usage_error() {
+    let dir = pointers();
+    for (arg, says) in [
+        ("XQ9=1", "XQ9"),
+        ("I0.0=2", "does not fit"),
+        ("MW0=70000", "does not fit"),
+        ("MW0=abc", "not a number"),
+        ("MW0", "VAR=VALUE"),
+    ] {
+        let o = gutta_vm(&dir, &["--set", arg]);
+        assert_eq!(o.status.code(), Some(2), "--set {arg}");
+        assert!(stderr(&o).contains(says), "--set {arg}: {}", stderr(&o));
+    }
+}
+
+#[test]
+fn force_holds_an_output_and_an_input() {
+    let dir = image_dir(
+        &main_block("NETWORK 1\nLD I0.0\n= Q0.0\nNETWORK 2\nLD SM0.0\nR Q0.1, 1"),
+        "force",
+    );
+    let o = gutta_vm(
+        &dir,
+        &[
+            "--force", "I0.0=1", "--force", "Q0.1=1", "--read", "Q0.0", "--read", "Q0.1",
+            "--scans", "2",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(stdout(&o), "Q0.0 = 1\nQ0.1 = 1\n");
+    let o = gutta_vm(&dir, &["--force", "MW0=1"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("cannot be forced"), "{}", stderr(&o));
+}
+
+/// Q0.0 toggles every scan.
+const TOGGLE: &str = "NETWORK 1\nLD SM0.0\nAN M0.0\n= M0.1\nNETWORK 2\nLD M0.1\n= M0.0\n= Q0.0";
+
+#[test]
+fn trace_prints_what_changed_each_scan() {
+    let dir = image_dir(&main_block(TOGGLE), "trace");
+    let o = gutta_vm(
+        &dir,
+        &[
+            "--trace", "--read", "Q0.0", "--read", "MW24", "--scans", "3",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(
+        stdout(&o),
+        "scan 1: Q0.0 0 -> 1\nscan 2: Q0.0 1 -> 0\nscan 3: Q0.0 0 -> 1\nQ0.0 = 1\nMW24 = 0\n"
+    );
+    let o = gutta_vm(
+        &dir,
+        &["--trace", "--read", "Q0.0", "--scans", "2", "--json"],
+    );
+    let v = json(&o);
+    assert_eq!(v["trace"][1]["scan"], 2);
+    assert_eq!(v["trace"][1]["var"], "Q0.0");
+    assert_eq!(v["trace"][1]["from"], 1);
+    assert_eq!(v["trace"][1]["to"], 0);
+}
+
+#[test]
+fn vcd_waveform() {
+    let dir = image_dir(&main_block(TOGGLE), "vcd");
+    let vcd = temp_dir("vcd-out").join("run.vcd");
+    let vcd_arg = vcd.to_str().expect("utf-8 path");
+    let o = gutta_vm(
+        &dir,
+        &[
+            "--read",
+            "Q0.0",
+            "--read",
+            "MW24",
+            "--scans",
+            "4",
+            "--scan-ms",
+            "5",
+            "--vcd",
+            vcd_arg,
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&vcd).expect("vcd written");
+    let lines: Vec<&str> = text.lines().collect();
+    assert!(lines.contains(&"$timescale 1 ms $end"), "{text}");
+    assert!(lines.contains(&"$var wire 1 ! Q0_0 $end"), "{text}");
+    assert!(lines.contains(&"$var wire 16 \" MW24 $end"), "{text}");
+    let defs = lines
+        .iter()
+        .position(|l| *l == "$enddefinitions $end")
+        .expect("definitions end");
+    // Every line after the header is a timestamp, a value change or $dumpvars/$end.
+    let mut times = Vec::new();
+    for l in &lines[defs + 1..] {
+        if let Some(t) = l.strip_prefix('#') {
+            times.push(t.parse::<u64>().expect("timestamp"));
+        } else {
+            assert!(
+                matches!(*l, "$dumpvars" | "$end" | "0!" | "1!" | "b0 \""),
+                "unexpected line {l:?} in\n{text}"
+            );
+        }
+    }
+    assert_eq!(times, [0, 5, 10, 15, 20], "{text}");
+    // Vectors are written `bVALUE id`.
+    let dir = pointers();
+    let o = gutta_vm(&dir, &["--read", "MW24", "--vcd", vcd_arg]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&vcd).expect("vcd written");
+    assert!(text.contains(&format!("#10\nb{:b} !\n", 0x0E01)), "{text}");
+}
+
+#[test]
+fn trace_and_vcd_need_read() {
+    let o = gutta_vm(&pointers(), &["--trace"]);
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn breakpoints_are_not_implemented_yet() {
+    let o = gutta_vm(&pointers(), &["--break", "MAIN:1:1", "--read", "MW24"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("breakpoints are not implemented yet"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(stdout(&o).is_empty());
+}
+
+#[test]
+fn an_image_that_does_not_verify_is_exit_2_with_its_v_code() {
+    let mut image = compile_image(&main_block(LATCH));
+    image
+        .pages
+        .remove(&PageId::new(PageKind::Instruction, 0))
+        .expect("MAIN's instruction page");
+    let dir = write_image(&image, "corrupt");
+    let o = gutta_vm(&dir, &["--read", "Q0.0"]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = stderr(&o);
+    assert!(err.contains("V000"), "names the V code: {err}");
+    assert!(stdout(&o).is_empty());
+    // A page changed behind the manifest's back: the CRC check, also exit 2.
+    let dir = image_dir(&main_block(LATCH), "crc");
+    let page = dir.join(PageId::new(PageKind::Instruction, 0).file_name());
+    let mut bytes = std::fs::read(&page).expect("page");
+    bytes[0] ^= 0xFF;
+    std::fs::write(&page, bytes).expect("page");
+    assert_eq!(gutta_vm(&dir, &[]).status.code(), Some(2));
+    // No image at all.
+    let o = gutta_vm(&temp_dir("empty"), &[]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("manifest.json"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_watchdog_fault_is_exit_1() {
+    let dir = image_dir(&main_block("NETWORK 1\nLBL 1\nLD SM0.0\nJMP 1"), "watchdog");
+    let o = gutta_vm(
+        &dir,
+        &["--watchdog", "10000", "--scans", "5", "--read", "MW0"],
+    );
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("watchdog"), "{}", stderr(&o));
+    assert!(stderr(&o).contains("scan 1"), "{}", stderr(&o));
+    let o = gutta_vm(&dir, &["--watchdog", "10000", "--scans", "5", "--json"]);
+    assert_eq!(o.status.code(), Some(1));
+    let v = json(&o);
+    assert_eq!(v["scans"], 1, "the fault stops the run");
+    assert_eq!(v["error"]["code"], 3);
+    assert_eq!(v["error"]["kind"], "Watchdog");
+    assert!(v["error"]["message"]
+        .as_str()
+        .is_some_and(|m| m.contains("watchdog")));
+    assert_eq!(v["status"]["error"], true);
+    assert_eq!(v["status"]["run"], false);
+    // The default watchdog (10,000,000 instructions) catches it too.
+    let o = gutta_vm(&dir, &[]);
+    assert_eq!(o.status.code(), Some(1));
+}
