@@ -391,7 +391,11 @@ impl Vm {
             .entry(address.slot)
             .or_insert_with(|| (vec![0; size], vec![0; size]));
         let bytes = value.to_le_bytes();
-        for (k, &byte) in bytes.iter().enumerate().take(address.width.bytes() as usize) {
+        for (k, &byte) in bytes
+            .iter()
+            .enumerate()
+            .take(address.width.bytes() as usize)
+        {
             let at = address.offset as usize + k;
             let (m, v) = match address.width {
                 gutta_catalog::Width::Bit => (

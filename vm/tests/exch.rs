@@ -4,47 +4,19 @@
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
-use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
-use gutta_compiler::source::SourceFile;
-use gutta_compiler::{compile, ExplicitTarget};
+mod common;
+
+use common::{read, set};
 use gutta_vm::exch::{PortError, SerialPort, VmSlave};
 use gutta_vm::{Vm, VmConfig};
 
 fn vm_for(text: &str) -> Vm {
-    let target = stdlib::shared(stdlib::DEFAULT).expect("target");
-    let explicit = ExplicitTarget {
-        target: target.clone(),
-        origin: "test".into(),
-    };
-    let c = compile(
-        SourceFile::new("t.lad", text),
-        Some(&explicit),
-        &ImageMeta {
-            source: "t.lad".into(),
-            tool: "test".into(),
-        },
-    );
-    let image = c
-        .image
-        .unwrap_or_else(|| panic!("does not compile: {:?}", c.checked.diagnostics()));
-    let verified = gutta_format::verify(&image, &target).expect("verifies");
-    Vm::new(verified, Arc::clone(&target), VmConfig::default()).expect("loads")
+    common::load(&text, VmConfig::default())
 }
 
 fn example(name: &str) -> Vm {
     let path = format!("{}/../examples/{name}", env!("CARGO_MANIFEST_DIR"));
     vm_for(&std::fs::read_to_string(path).expect("example"))
-}
-
-fn read(vm: &Vm, var: &str) -> u32 {
-    let a = vm.target().memory.parse_address(var).expect("address");
-    vm.read(a).expect("read")
-}
-
-fn set(vm: &mut Vm, var: &str, v: u32) {
-    let a = vm.target().memory.parse_address(var).expect("address");
-    vm.write(a, v).expect("write");
 }
 
 fn main_block(code: &str) -> String {

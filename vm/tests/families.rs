@@ -2,12 +2,9 @@
 //! by gutta-cc and run on the VM, checked against ManagerFun.xml's descriptions and,
 //! over grids of values, against Rust's own operations.
 
-use std::sync::Arc;
+mod common;
 
-use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
-use gutta_compiler::source::SourceFile;
-use gutta_compiler::{compile, ExplicitTarget};
+use common::{read, set};
 use gutta_vm::{Vm, VmConfig};
 
 /// A VM running `code` as the body of MAIN, every scan (under `LD SM0.0`).
@@ -15,34 +12,7 @@ fn vm_for(code: &str) -> Vm {
     let text = format!(
         "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.0\n{code}\nEND_ORGANIZATION_BLOCK\n"
     );
-    let target = stdlib::shared(stdlib::DEFAULT).expect("target");
-    let explicit = ExplicitTarget {
-        target: target.clone(),
-        origin: "test".into(),
-    };
-    let c = compile(
-        SourceFile::new("t.lad", &text),
-        Some(&explicit),
-        &ImageMeta {
-            source: "t.lad".into(),
-            tool: "test".into(),
-        },
-    );
-    let image = c
-        .image
-        .unwrap_or_else(|| panic!("does not compile: {:?}", c.checked.diagnostics()));
-    let verified = gutta_format::verify(&image, &target).expect("verifies");
-    Vm::new(verified, Arc::clone(&target), VmConfig::default()).expect("loads")
-}
-
-fn read(vm: &Vm, var: &str) -> u32 {
-    let a = vm.target().memory.parse_address(var).expect("address");
-    vm.read(a).expect("read")
-}
-
-fn set(vm: &mut Vm, var: &str, v: u32) {
-    let a = vm.target().memory.parse_address(var).expect("address");
-    vm.write(a, v).expect("write");
+    common::load(&text, VmConfig::default())
 }
 
 fn scan(vm: &mut Vm) {

@@ -2,12 +2,9 @@
 //! pointer example exactly, bit logic and edges, arithmetic flags, CALL with arguments,
 //! data blocks at reset, and the watchdog.
 
-use std::sync::Arc;
+mod common;
 
-use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
-use gutta_compiler::source::SourceFile;
-use gutta_compiler::{compile, ExplicitTarget};
+use common::{read, set};
 use gutta_vm::{Fault, Vm, VmConfig};
 
 fn vm_for(text: &str) -> Vm {
@@ -15,34 +12,7 @@ fn vm_for(text: &str) -> Vm {
 }
 
 fn vm_with(text: &str, config: VmConfig) -> Vm {
-    let target = stdlib::shared(stdlib::DEFAULT).expect("target");
-    let explicit = ExplicitTarget {
-        target: target.clone(),
-        origin: "test".into(),
-    };
-    let c = compile(
-        SourceFile::new("t.lad", text),
-        Some(&explicit),
-        &ImageMeta {
-            source: "t.lad".into(),
-            tool: "test".into(),
-        },
-    );
-    let image = c
-        .image
-        .unwrap_or_else(|| panic!("does not compile: {:?}", c.checked.diagnostics()));
-    let verified = gutta_format::verify(&image, &target).expect("verifies");
-    Vm::new(verified, Arc::clone(&target), config).expect("loads")
-}
-
-fn read(vm: &Vm, var: &str) -> u32 {
-    let a = vm.target().memory.parse_address(var).expect("address");
-    vm.read(a).expect("read")
-}
-
-fn set(vm: &mut Vm, var: &str, v: u32) {
-    let a = vm.target().memory.parse_address(var).expect("address");
-    vm.write(a, v).expect("write");
+    common::load(text, config)
 }
 
 fn main_block(code: &str) -> String {

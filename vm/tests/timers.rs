@@ -1,12 +1,9 @@
 //! Timers and counters: programs compiled by gutta-cc and run on the VM, checked
 //! against the ManagerFun.xml descriptions of TON, TOF, TONR, CTU, CTD and CTUD.
 
-use std::sync::Arc;
+mod common;
 
-use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
-use gutta_compiler::source::SourceFile;
-use gutta_compiler::{compile, ExplicitTarget};
+use common::{read, set};
 use gutta_vm::{Vm, VmConfig};
 
 fn vm_for(code: &str) -> Vm {
@@ -15,38 +12,11 @@ fn vm_for(code: &str) -> Vm {
 
 fn vm_with(code: &str, config: VmConfig) -> Vm {
     let text = format!("ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\n{code}\nEND_ORGANIZATION_BLOCK\n");
-    let target = stdlib::shared(stdlib::DEFAULT).expect("target");
-    let explicit = ExplicitTarget {
-        target: target.clone(),
-        origin: "test".into(),
-    };
-    let c = compile(
-        SourceFile::new("t.lad", &text),
-        Some(&explicit),
-        &ImageMeta {
-            source: "t.lad".into(),
-            tool: "test".into(),
-        },
-    );
-    let image = c
-        .image
-        .unwrap_or_else(|| panic!("does not compile: {:?}", c.checked.diagnostics()));
-    let verified = gutta_format::verify(&image, &target).expect("verifies");
-    Vm::new(verified, Arc::clone(&target), config).expect("loads")
-}
-
-fn read(vm: &Vm, var: &str) -> u32 {
-    let a = vm.target().memory.parse_address(var).expect("address");
-    vm.read(a).expect("read")
+    common::load(&text, config)
 }
 
 fn int(vm: &Vm, var: &str) -> i16 {
     read(vm, var) as u16 as i16
-}
-
-fn set(vm: &mut Vm, var: &str, v: u32) {
-    let a = vm.target().memory.parse_address(var).expect("address");
-    vm.write(a, v).expect("write");
 }
 
 fn scans(vm: &mut Vm, n: usize) {

@@ -1,0 +1,43 @@
+//! Shared helpers of the VM tests: compile a program with gutta-cc's library on the
+//! default PLC type, verify it, load it; read and write variables by name.
+
+#![allow(dead_code)]
+
+use std::sync::Arc;
+
+use gutta_catalog::stdlib;
+use gutta_compiler::encode::ImageMeta;
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{compile, ExplicitTarget};
+use gutta_vm::{Vm, VmConfig};
+
+/// Compile, verify and load a whole program on the default PLC type.
+pub fn load(text: &str, config: VmConfig) -> Vm {
+    let target = stdlib::shared(stdlib::DEFAULT).expect("target");
+    let explicit = ExplicitTarget {
+        target: target.clone(),
+        origin: "test".into(),
+    };
+    let meta = ImageMeta {
+        source: "t.lad".into(),
+        tool: "test".into(),
+    };
+    let c = compile(SourceFile::new("t.lad", text), Some(&explicit), &meta);
+    let image = c
+        .image
+        .unwrap_or_else(|| panic!("does not compile: {:?}", c.checked.diagnostics()));
+    let verified = gutta_format::verify(&image, &target).expect("verifies");
+    Vm::new(verified, Arc::clone(&target), config).expect("loads")
+}
+
+/// A variable's value (`MW24`, `Q0.0`), zero-extended.
+pub fn read(vm: &Vm, var: &str) -> u32 {
+    let a = vm.target().memory.parse_address(var).expect("address");
+    vm.read(a).expect("read")
+}
+
+/// Set a variable (an input's terminal for I and AI).
+pub fn set(vm: &mut Vm, var: &str, v: u32) {
+    let a = vm.target().memory.parse_address(var).expect("address");
+    vm.write(a, v).expect("write");
+}
