@@ -11,7 +11,7 @@ use gutta_vm::exch::{PortError, SerialPort, VmSlave};
 use gutta_vm::{Vm, VmConfig};
 
 fn vm_for(text: &str) -> Vm {
-    common::load(&text, VmConfig::default())
+    common::load(text, VmConfig::default())
 }
 
 fn example(name: &str) -> Vm {
