@@ -273,3 +273,29 @@ fn timed_interrupts_run_their_routine_each_period() {
     }
     assert_eq!(read(&vm, "MW30"), 3, "detached");
 }
+
+#[test]
+fn an2002_sample2_touch_screen_selects_the_analog_input() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../examples/an2002_sample2_touchscreen.lad"
+    ))
+    .expect("example");
+    let mut vm = vm_for(&text);
+    set(&mut vm, "AIW0", 456);
+    set(&mut vm, "AIW2", 123);
+    set(&mut vm, "Q3.0", 1); // the touch screen's button writes coil 000025
+    vm.scan().expect("scan");
+    assert_eq!(read(&vm, "MW20"), 123, "Q3.0 selects channel 1 (AIW2)");
+    set(&mut vm, "Q3.0", 0);
+    set(&mut vm, "Q3.1", 1);
+    vm.scan().expect("scan");
+    assert_eq!(read(&vm, "MW20"), 456, "Q3.1 selects channel 0 (AIW0)");
+    set(&mut vm, "AIW0", 789);
+    vm.scan().expect("scan");
+    assert_eq!(
+        read(&vm, "MW20"),
+        789,
+        "an input terminal holds until changed and is read every scan"
+    );
+}
