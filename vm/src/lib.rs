@@ -100,6 +100,8 @@ pub struct Vm {
     pub(crate) config: VmConfig,
     pub(crate) slots: Slots,
     pub(crate) handlers: Vec<Option<Handler>>,
+    /// Each unit's records and labels, shared so a call does not copy them.
+    pub(crate) code: HashMap<u8, Arc<gutta_format::VerifiedUnit>>,
     /// Logic stack: bit 0 is the top; depth from the catalog.
     pub(crate) stack: u32,
     pub(crate) stack_mask: u32,
@@ -205,6 +207,11 @@ impl Vm {
             .filter(|a| matches!(a.kind, AreaKind::DigitalInput | AreaKind::AnalogInput))
             .map(|a| (a.slot, vec![0; a.size as usize]))
             .collect();
+        let code = image
+            .units()
+            .iter()
+            .map(|(page, unit)| (*page, Arc::new(unit.clone())))
+            .collect();
         let memory = Memory::new(&target.memory);
         let mut vm = Vm {
             target,
@@ -213,6 +220,7 @@ impl Vm {
             config,
             slots,
             handlers,
+            code,
             stack: 0,
             stack_mask,
             edges: HashMap::new(),
@@ -273,6 +281,11 @@ impl Vm {
     /// RUN (true) or STOP (false), as STATUS_WRITE does.
     pub fn set_running(&mut self, run: bool) {
         self.stopped = !run;
+    }
+
+    /// Instructions the last scan executed (MAIN, calls and interrupt routines).
+    pub fn executed_last_scan(&self) -> u64 {
+        self.executed
     }
 
     pub fn scans(&self) -> u64 {
@@ -549,11 +562,11 @@ impl Vm {
         if depth > limit {
             return Err(Fault::CallDepth { limit });
         }
-        let Some(unit) = self.image.unit(page) else {
+        // Shared, not copied: the code of a unit is read-only while it runs.
+        let Some(code) = self.code.get(&page).cloned() else {
             return Ok(Control::Next);
         };
-        let records = unit.records.clone();
-        let labels = unit.labels.clone();
+        let (records, labels) = (&code.records, &code.labels);
         self.stack = 0;
         let loops_at_entry = self.loops.len();
         let mut i = 0;
@@ -602,7 +615,8 @@ impl Vm {
         operands: &[gutta_format::PackedOperand],
         depth: u8,
     ) -> Result<Control, Fault> {
-        let ins = self.target.instructions.get(id);
+        let target = Arc::clone(&self.target);
+        let ins = target.instructions.get(id);
         if ins.flow == Flow::Box && self.stack & 1 == 0 {
             // FOR without power flow skips its whole loop.
             if let Some(&next) = self.for_pairs.get(&(page, index)) {
@@ -618,7 +632,6 @@ impl Vm {
             .ok_or_else(|| Fault::NoSemantics {
                 mnemonic: ins.mnemonic.clone(),
             })?;
-        let mnemonic = ins.mnemonic.clone();
         let mut exec = Exec {
             vm: self,
             operands,
@@ -626,7 +639,7 @@ impl Vm {
             index,
             offset,
             depth,
-            mnemonic: &mnemonic,
+            mnemonic: &ins.mnemonic,
         };
         handler(&mut exec)
     }
