@@ -7,14 +7,12 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use gutta_catalog::{stdlib, Target, TargetSources};
+use gutta_catalog::stdlib;
 use gutta_compiler::diagnostics::render::{render, RenderStyle};
 use gutta_compiler::diagnostics::{json, Code};
 use gutta_compiler::encode::{listing, summary, ImageMeta};
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{check_source, compile, ExplicitTarget};
-
-mod image_dir;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -180,7 +178,7 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
         };
         any_errors |= checked.has_errors();
         if let (Some(image), Some(dir)) = (&image, &cli.output) {
-            image_dir::write_image(dir, image).map_err(|e| Fatal(e.0))?;
+            gutta_io::write_image(dir, image).map_err(|e| Fatal(e.0))?;
         }
         match cli.message_format {
             MessageFormat::Json => {
@@ -255,38 +253,13 @@ fn explicit_target(args: &TargetArgs) -> Result<Option<ExplicitTarget>, Fatal> {
         }));
     }
     if let Some(dir) = &args.target {
-        let target = std::sync::Arc::new(load_target_dir(dir)?);
+        let target = std::sync::Arc::new(gutta_io::load_target_dir(dir).map_err(Fatal)?);
         return Ok(Some(ExplicitTarget {
             target,
             origin: format!("--target {}", dir.display()),
         }));
     }
     Ok(None)
-}
-
-/// Read a target folder. ManagerFun.xml may be absent: the stdlib one is used.
-fn load_target_dir(dir: &Path) -> Result<Target, Fatal> {
-    let read = |name: &str| std::fs::read(dir.join(name));
-    let missing = |name: &str, e: std::io::Error| {
-        Fatal(format!(
-            "[{}] cannot read {}: {e}",
-            gutta_catalog::CatalogErrorCode::NotFound.as_str(),
-            dir.join(name).display()
-        ))
-    };
-    let plc = read("PlcType.xml").map_err(|e| missing("PlcType.xml", e))?;
-    let var = read("ManagerVar.xml").map_err(|e| missing("ManagerVar.xml", e))?;
-    let fun = match read("ManagerFun.xml") {
-        Ok(b) => b,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => stdlib::MANAGER_FUN.to_vec(),
-        Err(e) => return Err(missing("ManagerFun.xml", e)),
-    };
-    Target::load(TargetSources {
-        plc_type: &plc,
-        manager_var: &var,
-        manager_fun: &fun,
-    })
-    .map_err(|e| Fatal(format!("target {}: {e}", dir.display())))
 }
 
 fn modbus(args: &TargetArgs, variable: &str) -> Result<ExitCode, Fatal> {
@@ -330,20 +303,8 @@ fn explain(code: &str) -> Result<ExitCode, Fatal> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Read an image directory (manifest, then every page it lists).
-fn read_image_dir(dir: &Path) -> Result<gutta_format::Image, Fatal> {
-    let manifest_path = dir.join(gutta_format::MANIFEST_FILE);
-    let manifest = std::fs::read_to_string(&manifest_path)
-        .map_err(|e| Fatal(format!("cannot read {}: {e}", manifest_path.display())))?;
-    gutta_format::Image::read(&manifest, |file| {
-        std::fs::read(dir.join(file))
-            .map_err(|e| format!("cannot read {}: {e}", dir.join(file).display()))
-    })
-    .map_err(|e| Fatal(format!("{}: {e}", dir.display())))
-}
-
 fn dis(args: &TargetArgs, dir: &Path) -> Result<ExitCode, Fatal> {
-    let image = read_image_dir(dir)?;
+    let image = gutta_io::read_image_dir(dir).map_err(Fatal)?;
     let target = match explicit_target(args)? {
         Some(e) => e.target,
         None => stdlib::shared(&image.plc_type).map_err(|e| {

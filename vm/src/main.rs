@@ -4,12 +4,12 @@
 
 use std::fmt::Write as _;
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
 
 use clap::Parser;
-use gutta_catalog::{stdlib, Address, Target, TargetSources, Width};
+use gutta_catalog::{stdlib, Address, Target, Width};
 use gutta_vm::{Fault, Vm, VmConfig};
 
 #[derive(Debug, Parser)]
@@ -97,7 +97,7 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
             "--break {b}: breakpoints are not implemented yet (run without --break)"
         )));
     }
-    let image = read_image_dir(&cli.image)?;
+    let image = gutta_io::read_image_dir(&cli.image).map_err(Fatal)?;
     let target = match explicit_target(cli)? {
         Some(t) => t,
         None => stdlib::shared(&image.plc_type).map_err(|e| {
@@ -398,42 +398,11 @@ fn explicit_target(cli: &Cli) -> Result<Option<Arc<Target>>, Fatal> {
             .map_err(|e| Fatal(e.to_string()));
     }
     if let Some(dir) = &cli.target {
-        return load_target_dir(dir).map(|t| Some(Arc::new(t)));
+        return gutta_io::load_target_dir(dir)
+            .map(|t| Some(Arc::new(t)))
+            .map_err(Fatal);
     }
     Ok(None)
-}
-
-/// Read a target folder. ManagerFun.xml may be absent: the stdlib one is used.
-fn load_target_dir(dir: &Path) -> Result<Target, Fatal> {
-    let read = |name: &str| std::fs::read(dir.join(name));
-    let missing = |name: &str, e: std::io::Error| {
-        Fatal(format!("cannot read {}: {e}", dir.join(name).display()))
-    };
-    let plc = read("PlcType.xml").map_err(|e| missing("PlcType.xml", e))?;
-    let var = read("ManagerVar.xml").map_err(|e| missing("ManagerVar.xml", e))?;
-    let fun = match read("ManagerFun.xml") {
-        Ok(b) => b,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => stdlib::MANAGER_FUN.to_vec(),
-        Err(e) => return Err(missing("ManagerFun.xml", e)),
-    };
-    Target::load(TargetSources {
-        plc_type: &plc,
-        manager_var: &var,
-        manager_fun: &fun,
-    })
-    .map_err(|e| Fatal(format!("target {}: {e}", dir.display())))
-}
-
-/// Read an image directory (manifest, then every page it lists).
-fn read_image_dir(dir: &Path) -> Result<gutta_format::Image, Fatal> {
-    let manifest_path = dir.join(gutta_format::MANIFEST_FILE);
-    let manifest = std::fs::read_to_string(&manifest_path)
-        .map_err(|e| Fatal(format!("cannot read {}: {e}", manifest_path.display())))?;
-    gutta_format::Image::read(&manifest, |file| {
-        std::fs::read(dir.join(file))
-            .map_err(|e| format!("cannot read {}: {e}", dir.join(file).display()))
-    })
-    .map_err(|e| Fatal(format!("{}: {e}", dir.display())))
 }
 
 #[cfg(test)]

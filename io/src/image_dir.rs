@@ -1,4 +1,4 @@
-//! Writing an image directory atomically (binary only; the library does no I/O).
+//! Writing an image directory atomically.
 //! Pages and manifest go to a temporary sibling directory, are synced, and then
 //! replace the old image by rename: a failed or interrupted compile leaves the previous
 //! image as it was, never a half-written or mixed one. A directory that is not an
