@@ -206,6 +206,8 @@ pub struct InterruptEvent {
     pub kind: String,
     /// For timed events: the SM byte holding the period in milliseconds.
     pub period: Option<String>,
+    /// For edge events: the input bit whose rising or falling edge raises the event.
+    pub input: Option<String>,
     pub description: String,
 }
 
@@ -328,6 +330,8 @@ struct RawEvent {
     kind: String,
     #[serde(rename = "@Period")]
     period: Option<String>,
+    #[serde(rename = "@Input")]
+    input: Option<String>,
     #[serde(rename = "@Description", default)]
     description: String,
 }
@@ -564,8 +568,40 @@ impl MemoryMap {
                 name: e.name,
                 kind: e.kind,
                 period: e.period,
+                input: e.input,
                 description: e.description,
             });
+        }
+        // Edge events name an input bit of this target; timed events a period byte.
+        for e in &map.events {
+            if let Some(input) = &e.input {
+                let ok = map
+                    .parse_address(input)
+                    .ok()
+                    .filter(|a| a.width == Width::Bit)
+                    .and_then(|a| map.area_by_slot(a.slot))
+                    .is_some_and(|a| a.kind == AreaKind::DigitalInput);
+                if !ok {
+                    return Err(err(
+                        CatalogErrorCode::Value,
+                        format!(
+                            "Input `{input}` of event {} is not a bit of a digital input area",
+                            e.number
+                        ),
+                    ));
+                }
+            }
+            if let Some(period) = &e.period {
+                if map.parse_address(period).is_err() {
+                    return Err(err(
+                        CatalogErrorCode::Value,
+                        format!(
+                            "Period `{period}` of event {} is not an address of this target",
+                            e.number
+                        ),
+                    ));
+                }
+            }
         }
         map.events.sort_by_key(|e| e.number);
         for pair in map.events.windows(2) {

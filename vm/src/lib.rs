@@ -47,6 +47,8 @@ pub(crate) struct Interrupts {
     pub elapsed: std::collections::BTreeMap<u32, u32>,
     /// Events that occurred while interrupts were disabled (one kept per event).
     pub pending: std::collections::BTreeSet<u32>,
+    /// Edge events: their input bit at the previous scan.
+    pub last_input: std::collections::BTreeMap<u32, bool>,
 }
 
 /// Why a variable cannot be forced.
@@ -504,6 +506,49 @@ impl Vm {
                 occurred.push(event);
             }
         }
+        // Edge events: the input bit now against the previous scan (the first scan only
+        // records it, so entering RUN raises no edge).
+        let edges: Vec<(u32, bool, Option<String>)> = self
+            .target
+            .memory
+            .events
+            .iter()
+            .filter(|e| {
+                e.kind.eq_ignore_ascii_case("RisingEdge")
+                    || e.kind.eq_ignore_ascii_case("FallingEdge")
+            })
+            .map(|e| {
+                (
+                    e.number,
+                    e.kind.eq_ignore_ascii_case("RisingEdge"),
+                    e.input.clone(),
+                )
+            })
+            .collect();
+        for (event, rising, input) in edges {
+            let Some(a) = input.and_then(|i| self.target.memory.parse_address(&i).ok()) else {
+                continue;
+            };
+            let now = self
+                .memory
+                .read(Location {
+                    slot: a.slot,
+                    offset: a.offset,
+                    width: a.width,
+                    bit: a.bit,
+                })
+                .unwrap_or(0)
+                == 1;
+            let before = self.interrupts.last_input.insert(event, now);
+            if let Some(before) = before {
+                if self.interrupts.attached.contains_key(&event)
+                    && ((rising && now && !before) || (!rising && !now && before))
+                {
+                    occurred.push(event);
+                }
+            }
+        }
+        occurred.sort_unstable();
         if !self.interrupts.enabled {
             self.interrupts.pending.extend(occurred);
             return Ok(Control::Next);

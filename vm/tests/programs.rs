@@ -299,3 +299,31 @@ fn an2002_sample2_touch_screen_selects_the_analog_input() {
         "an input terminal holds until changed and is read every scan"
     );
 }
+
+#[test]
+fn edge_events_run_their_routine_once_per_edge() {
+    // Event 0: rising edge of I0.0; event 3: falling edge of I0.1.
+    let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.1\nATCH UP, 0\nATCH DOWN, 3\nNETWORK 2\nENI\nEND_ORGANIZATION_BLOCK\n\
+                INTERRUPT_BLOCK UP:INT1\nBEGIN\nNETWORK 1\nLD SM0.0\nINCW MW40\nEND_INTERRUPT_BLOCK\n\
+                INTERRUPT_BLOCK DOWN:INT2\nBEGIN\nNETWORK 1\nLD SM0.0\nINCW MW42\nEND_INTERRUPT_BLOCK\n";
+    let mut vm = vm_for(text);
+    set(&mut vm, "I0.1", 1);
+    vm.scan().expect("scan");
+    assert_eq!(
+        (read(&vm, "MW40"), read(&vm, "MW42")),
+        (0, 0),
+        "entering RUN raises no edge"
+    );
+    set(&mut vm, "I0.0", 1);
+    vm.scan().expect("scan");
+    vm.scan().expect("scan");
+    assert_eq!(read(&vm, "MW40"), 1, "one rising edge, one run");
+    set(&mut vm, "I0.1", 0);
+    vm.scan().expect("scan");
+    assert_eq!(read(&vm, "MW42"), 1, "falling edge of I0.1");
+    set(&mut vm, "I0.0", 0);
+    vm.scan().expect("scan");
+    set(&mut vm, "I0.0", 1);
+    vm.scan().expect("scan");
+    assert_eq!((read(&vm, "MW40"), read(&vm, "MW42")), (2, 1));
+}
