@@ -4,10 +4,9 @@
 
 use gutta_catalog::stdlib;
 
-/// Instructions whose semantics are not written yet.
-const NOT_YET: &[&str] = &[
-    "BIR", "BIW", "BITIM", "CITIM", "CEVNT", "ATH", "HTA", "ITA", "DTA", "RTA",
-];
+/// Instructions whose semantics are not written yet (none: every stdlib instruction has
+/// semantics; a new instruction in ManagerFun.xml fails this test until it has some).
+const NOT_YET: &[&str] = &[];
 
 #[test]
 fn semantics_cover_the_catalog_except_the_listed_ones() {

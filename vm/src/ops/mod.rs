@@ -12,6 +12,7 @@ mod interrupts;
 mod math;
 mod moves;
 mod shift;
+mod special;
 mod table;
 mod timers;
 
@@ -64,6 +65,7 @@ pub fn semantics(mnemonic: &str) -> Option<Handler> {
         .or_else(|| table::lookup(mnemonic))
         .or_else(|| interrupts::lookup(mnemonic))
         .or_else(|| comm::lookup(mnemonic))
+        .or_else(|| special::lookup(mnemonic))
 }
 
 /// One instruction being executed.
