@@ -308,12 +308,7 @@ impl Vm {
 
     /// Read a variable (e.g. parsed with `MemoryMap::parse_address`).
     pub fn read(&self, address: Address) -> Result<u32, AccessError> {
-        self.memory.read(Location {
-            slot: address.slot,
-            offset: address.offset,
-            width: address.width,
-            bit: address.bit,
-        })
+        self.memory.read(Location::from(address))
     }
 
     /// Write a variable. Writing an input (I, AI) sets its terminal: the value holds
@@ -321,27 +316,11 @@ impl Vm {
     pub fn write(&mut self, address: Address, value: u32) -> Result<(), AccessError> {
         if let Some(terminal) = self.terminals.get_mut(&address.slot) {
             let mut t = Memory::from_area(address.slot, std::mem::take(terminal));
-            let r = t.write(
-                Location {
-                    slot: address.slot,
-                    offset: address.offset,
-                    width: address.width,
-                    bit: address.bit,
-                },
-                value,
-            );
+            let r = t.write(Location::from(address), value);
             *terminal = t.into_area(address.slot);
             r?;
         }
-        self.memory.write(
-            Location {
-                slot: address.slot,
-                offset: address.offset,
-                width: address.width,
-                bit: address.bit,
-            },
-            value,
-        )
+        self.memory.write(Location::from(address), value)
     }
 
     /// One scan: system bits, MAIN, clock. A fault stops the VM (ERROR) until reset.
@@ -487,15 +466,7 @@ impl Vm {
             let Some(addr) = period.and_then(|p| self.target.memory.parse_address(&p).ok()) else {
                 continue;
             };
-            let period_ms = self
-                .memory
-                .read(Location {
-                    slot: addr.slot,
-                    offset: addr.offset,
-                    width: addr.width,
-                    bit: 0,
-                })
-                .unwrap_or(0);
+            let period_ms = self.memory.read(Location::from(addr)).unwrap_or(0);
             if period_ms == 0 {
                 continue;
             }
@@ -529,16 +500,7 @@ impl Vm {
             let Some(a) = input.and_then(|i| self.target.memory.parse_address(&i).ok()) else {
                 continue;
             };
-            let now = self
-                .memory
-                .read(Location {
-                    slot: a.slot,
-                    offset: a.offset,
-                    width: a.width,
-                    bit: a.bit,
-                })
-                .unwrap_or(0)
-                == 1;
+            let now = self.memory.read(Location::from(a)).unwrap_or(0) == 1;
             let before = self.interrupts.last_input.insert(event, now);
             if let Some(before) = before {
                 if self.interrupts.attached.contains_key(&event)

@@ -14,6 +14,17 @@ pub struct Location {
     pub bit: u8,
 }
 
+impl From<gutta_catalog::Address> for Location {
+    fn from(a: gutta_catalog::Address) -> Location {
+        Location {
+            slot: a.slot,
+            offset: a.offset,
+            width: a.width,
+            bit: a.bit,
+        }
+    }
+}
+
 /// The areas of a target.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Memory {
