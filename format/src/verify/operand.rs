@@ -293,14 +293,7 @@ impl OperandChecker<'_> {
     ) -> Result<(), VerifyError> {
         let area = self.area(at, site, op)?;
         let width = rules.width;
-        if op.width_code() != width as u8 {
-            return Err(VerifyError::WidthMismatch {
-                at,
-                operand: site.describe(),
-                expected: width,
-                found: op.width_code(),
-            });
-        }
+        width_is(at, site, op, width)?;
         allows(at, site, area, width)?;
         bit(at, site, op, width)?;
         inside(at, site, op, area, width.bytes())?;
@@ -337,14 +330,7 @@ impl OperandChecker<'_> {
         op: PackedOperand,
     ) -> Result<(), VerifyError> {
         let area = self.area(at, site, op)?;
-        if op.width_code() != Width::Dword as u8 {
-            return Err(VerifyError::WidthMismatch {
-                at,
-                operand: site.describe(),
-                expected: Width::Dword,
-                found: op.width_code(),
-            });
-        }
+        width_is(at, site, op, Width::Dword)?;
         if !area.address_of {
             return Err(VerifyError::NotAddressOfArea {
                 at,
@@ -365,14 +351,7 @@ impl OperandChecker<'_> {
         width: Width,
     ) -> Result<(), VerifyError> {
         let area = self.area(at, site, op)?;
-        if op.width_code() != width as u8 {
-            return Err(VerifyError::WidthMismatch {
-                at,
-                operand: site.describe(),
-                expected: width,
-                found: op.width_code(),
-            });
-        }
+        width_is(at, site, op, width)?;
         if !area.holds_pointer {
             return Err(VerifyError::NotPointerArea {
                 at,
@@ -433,6 +412,24 @@ pub(super) fn malformed(
         value: op,
         reason,
     }
+}
+
+/// The operand's WIDTH field is the one the instruction accesses with.
+fn width_is(
+    at: Location,
+    site: Site<'_>,
+    op: PackedOperand,
+    width: Width,
+) -> Result<(), VerifyError> {
+    if op.width_code() == width as u8 {
+        return Ok(());
+    }
+    Err(VerifyError::WidthMismatch {
+        at,
+        operand: site.describe(),
+        expected: width,
+        found: op.width_code(),
+    })
 }
 
 fn allows(at: Location, site: Site<'_>, area: &Area, width: Width) -> Result<(), VerifyError> {
