@@ -3,27 +3,16 @@
 //! lines announce (`// error: E0302`, `// warning: W0201, W0203`), and every example
 //! must check clean. A first line `// plc: NAME` selects the PLC type.
 
+mod common;
+
+use common::{lad_files, root};
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use gutta_catalog::stdlib;
 use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, CheckedFile, ExplicitTarget};
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn lad_files(dir: &Path) -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|e| e.expect("dir entry").path())
-        .filter(|p| p.extension().is_some_and(|x| x == "lad"))
-        .collect();
-    files.sort();
-    files
-}
 
 fn check(path: &Path) -> CheckedFile {
     let bytes = std::fs::read(path).expect("read test file");

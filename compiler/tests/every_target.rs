@@ -2,7 +2,7 @@
 //! the format crate's verifier (what the VM will demand). Where it does not fit, the
 //! reasons must be the target's limits or memory map, never anything else.
 
-use std::path::Path;
+mod common;
 
 use gutta_catalog::stdlib;
 use gutta_compiler::diagnostics::Code;
@@ -26,18 +26,7 @@ const FIT: [Code; 10] = [
 
 #[test]
 fn examples_compile_and_verify_on_every_target_they_fit() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let mut dirs = vec![root.join("examples"), root.join("tests/data/check/ok")];
-    let mut files = Vec::new();
-    for d in dirs.drain(..) {
-        for e in std::fs::read_dir(d).expect("read dir") {
-            let p = e.expect("entry").path();
-            if p.extension().is_some_and(|x| x == "lad") {
-                files.push(p);
-            }
-        }
-    }
-    files.sort();
+    let files = common::compiling_programs();
     let mut fitted = 0;
     for path in &files {
         let text = std::fs::read_to_string(path).expect("read");

@@ -3,7 +3,9 @@
 //! image's disassembly as the decoded view. Any change in encoding shows as a reviewed
 //! snapshot diff (`cargo insta review`, or INSTA_UPDATE=always to accept).
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 
 use gutta_catalog::stdlib;
 use gutta_compiler::encode::ImageMeta;
@@ -11,25 +13,8 @@ use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
 use gutta_format::{crc16, disasm};
 
-fn programs() -> Vec<PathBuf> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let mut files = Vec::new();
-    for dir in ["examples", "tests/data/check/ok"] {
-        for e in std::fs::read_dir(root.join(dir)).expect("read dir") {
-            let p = e.expect("entry").path();
-            if p.extension().is_some_and(|x| x == "lad") {
-                files.push(p);
-            }
-        }
-    }
-    files.sort();
-    files
-}
-
 fn golden_text(path: &Path) -> String {
-    let rel = path
-        .strip_prefix(Path::new(env!("CARGO_MANIFEST_DIR")).join(".."))
-        .unwrap_or(path);
+    let rel = path.strip_prefix(common::root()).unwrap_or(path);
     let text = std::fs::read_to_string(path).expect("read");
     let explicit = text
         .lines()
@@ -77,7 +62,7 @@ fn golden_text(path: &Path) -> String {
 
 #[test]
 fn golden_images() {
-    let files = programs();
+    let files = common::compiling_programs();
     assert!(files.len() >= 25, "programs are missing");
     for path in files {
         let name = path

@@ -2,7 +2,9 @@
 //! disassemble (`gutta_format::disasm`), compile the text again, and require the same
 //! pages, byte for byte, and the same text from the second image.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 
 use gutta_catalog::stdlib;
 use gutta_compiler::encode::ImageMeta;
@@ -10,20 +12,6 @@ use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, Compiled, ExplicitTarget};
 use gutta_format::disasm::disassemble_with_errors;
 use gutta_format::Image;
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn lad_files(dir: &Path) -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|e| e.expect("dir entry").path())
-        .filter(|p| p.extension().is_some_and(|x| x == "lad"))
-        .collect();
-    files.sort();
-    files
-}
 
 fn build(name: &str, text: String, explicit: Option<&ExplicitTarget>) -> Compiled {
     let meta = ImageMeta {
@@ -118,9 +106,7 @@ fn round_trip(path: &Path) -> Result<(), String> {
 
 #[test]
 fn every_example_and_clean_program_round_trips() {
-    let root = root();
-    let mut files = lad_files(&root.join("examples"));
-    files.extend(lad_files(&root.join("tests/data/check/ok")));
+    let files = common::compiling_programs();
     assert!(files.len() > 20, "found only {} programs", files.len());
     let failures: Vec<String> = files
         .iter()

@@ -1,0 +1,29 @@
+//! Shared helpers of the compiler's integration tests: where the repository is, and
+//! which programs the tests run over.
+
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+
+/// The repository root.
+pub fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// The `.lad` files of a directory, sorted.
+pub fn lad_files(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.expect("dir entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "lad"))
+        .collect();
+    files.sort();
+    files
+}
+
+/// Every program that compiles: the examples and the clean check corpus.
+pub fn compiling_programs() -> Vec<PathBuf> {
+    let mut files = lad_files(&root().join("examples"));
+    files.extend(lad_files(&root().join("tests/data/check/ok")));
+    files
+}
