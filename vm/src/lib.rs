@@ -3,6 +3,9 @@
 //! Semantics are in `ops/`, one file per instruction family, keyed by mnemonic; the VM
 //! refuses an image that uses an instruction it has no semantics for.
 
+mod debug;
+mod decode;
+mod engine;
 pub mod exch;
 mod fault;
 mod memory;
@@ -11,12 +14,14 @@ pub mod ops;
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use gutta_catalog::{Address, AreaKind, Flow, InstrId, Target};
+use gutta_catalog::{Address, AreaKind, Target};
 use gutta_format::{UnitRecord, VerifiedImage};
 
+pub use debug::{DebugError, Position, Status, Step};
+pub use engine::ScanEnd;
 pub use fault::Fault;
 pub use memory::{AccessError, Location, Memory};
-use ops::{Control, Exec, Handler};
+use ops::Handler;
 
 /// How the VM runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -25,6 +30,9 @@ pub struct VmConfig {
     pub scan_ms: u32,
     /// Instructions one scan may execute before the watchdog stops the VM.
     pub watchdog: u64,
+    /// Run the frequent instructions as pre-decoded operations (the default). Off,
+    /// every instruction runs its semantic from `ops/`; the tests compare both.
+    pub fast: bool,
 }
 
 impl Default for VmConfig {
@@ -32,6 +40,7 @@ impl Default for VmConfig {
         VmConfig {
             scan_ms: 10,
             watchdog: 10_000_000,
+            fast: true,
         }
     }
 }
@@ -102,8 +111,16 @@ pub struct Vm {
     pub(crate) config: VmConfig,
     pub(crate) slots: Slots,
     pub(crate) handlers: Vec<Option<Handler>>,
-    /// Each unit's records and labels, shared so a call does not copy them.
-    pub(crate) code: HashMap<u8, Arc<gutta_format::VerifiedUnit>>,
+    /// Each unit (by page) decoded; shared so a running frame does not copy it.
+    pub(crate) units: Vec<Option<Arc<decode::Unit>>>,
+    /// The units being run, innermost last.
+    pub(crate) frames: Vec<engine::Frame>,
+    /// Where the current scan is.
+    pub(crate) phase: engine::Phase,
+    /// Breakpoint, pause and single-step state.
+    pub(crate) debug: debug::Debug,
+    /// Index of SMB1 (the math flags) in the flat memory.
+    pub(crate) flags_at: usize,
     /// Logic stack: bit 0 is the top; depth from the catalog.
     pub(crate) stack: u32,
     pub(crate) stack_mask: u32,
@@ -209,12 +226,20 @@ impl Vm {
             .filter(|a| matches!(a.kind, AreaKind::DigitalInput | AreaKind::AnalogInput))
             .map(|a| (a.slot, vec![0; a.size as usize]))
             .collect();
-        let code = image
-            .units()
-            .iter()
-            .map(|(page, unit)| (*page, Arc::new(unit.clone())))
-            .collect();
         let memory = Memory::new(&target.memory);
+        let mut units = vec![None; 256];
+        for (page, unit) in image.units() {
+            units[*page as usize] = Some(Arc::new(decode::decode(
+                unit,
+                &target,
+                &memory,
+                config.fast,
+            )));
+        }
+        let flags_at = memory
+            .span(slots.sm)
+            .filter(|&(_, len)| len > 1)
+            .map_or(0, |(start, _)| start + 1);
         let mut vm = Vm {
             target,
             image,
@@ -222,7 +247,11 @@ impl Vm {
             config,
             slots,
             handlers,
-            code,
+            units,
+            frames: Vec::new(),
+            phase: engine::Phase::Idle,
+            debug: debug::Debug::default(),
+            flags_at,
             stack: 0,
             stack_mask,
             edges: HashMap::new(),
@@ -247,7 +276,7 @@ impl Vm {
     /// Power-on reset: memory cleared, K from the const page, data pages applied,
     /// edge memory and clock cleared, the next scan is the first.
     pub fn reset(&mut self) {
-        self.memory = Memory::new(&self.target.memory);
+        self.memory.clear();
         if let Some(k) = self.memory.area_mut(self.slots.constant) {
             let consts = self.image.constants();
             let n = consts.len().min(k.len());
@@ -262,6 +291,9 @@ impl Vm {
         self.instance_state.clear();
         self.cell_state.clear();
         self.loops.clear();
+        self.frames.clear();
+        self.phase = engine::Phase::Idle;
+        self.debug.paused = false;
         self.interrupts = Interrupts::default();
         self.exch.queue.clear();
         self.stopped = false;
@@ -281,8 +313,15 @@ impl Vm {
     }
 
     /// RUN (true) or STOP (false), as STATUS_WRITE does.
+    /// Going to STOP abandons a scan paused in the middle.
     pub fn set_running(&mut self, run: bool) {
         self.stopped = !run;
+        if !run {
+            self.frames.clear();
+            self.loops.clear();
+            self.phase = engine::Phase::Idle;
+            self.debug.paused = false;
+        }
     }
 
     /// Instructions the last scan executed (MAIN, calls and interrupt routines).
@@ -315,49 +354,53 @@ impl Vm {
     /// across scans until changed, as a wired input does.
     pub fn write(&mut self, address: Address, value: u32) -> Result<(), AccessError> {
         if let Some(terminal) = self.terminals.get_mut(&address.slot) {
-            let mut t = Memory::from_area(address.slot, std::mem::take(terminal));
-            let r = t.write(Location::from(address), value);
-            *terminal = t.into_area(address.slot);
-            r?;
+            memory::write_in(terminal, Location::from(address), value)?;
         }
         self.memory.write(Location::from(address), value)
     }
 
-    /// One scan: system bits, MAIN, clock. A fault stops the VM (ERROR) until reset.
+    /// One scan: inputs, system bits, MAIN, interrupt routines, forces, EXCH, clock. A
+    /// fault stops the VM (ERROR) until reset. While paused (breakpoint, single-step
+    /// stop) or in STOP, nothing runs.
     pub fn scan(&mut self) -> Result<(), Fault> {
+        self.run_scan().map(|_| ())
+    }
+
+    /// Like `scan`, saying how it ended: a paused scan continues where it stopped.
+    pub fn run_scan(&mut self) -> Result<ScanEnd, Fault> {
         if let Some(f) = &self.fault {
             return Err(f.clone());
         }
         if self.stopped {
-            return Ok(());
+            return Ok(ScanEnd::Stopped);
         }
-        self.refresh_inputs();
-        self.apply_forces();
-        self.set_system_bits();
-        self.executed = 0;
-        let result = self.run_unit(0, 0);
-        let result = result.and_then(|_| self.service_events());
-        self.apply_forces();
-        let result = result.and_then(|_| exch::service(self));
-        self.scans += 1;
-        self.clock_ms += self.config.scan_ms as u64;
-        match result {
-            Ok(_) => Ok(()),
-            Err(f) => {
-                let sm = self.slots.sm;
-                let _ = self.memory.write(
-                    Location {
-                        slot: sm,
-                        offset: 2,
-                        width: gutta_catalog::Width::Byte,
-                        bit: 0,
-                    },
-                    f.code() as u32,
-                );
-                self.fault = Some(f.clone());
-                Err(f)
-            }
+        if self.debug.paused {
+            return Ok(self.position().map_or(ScanEnd::PausedIdle, ScanEnd::Paused));
         }
+        self.continue_scan()
+            .inspect_err(|f| self.record_fault(f.clone()))
+    }
+
+    /// A fault: SMB2 holds its code, the scan is abandoned (and counted), ERROR is set.
+    pub(crate) fn record_fault(&mut self, f: Fault) {
+        let sm = self.slots.sm;
+        let _ = self.memory.write(
+            Location {
+                slot: sm,
+                offset: 2,
+                width: gutta_catalog::Width::Byte,
+                bit: 0,
+            },
+            f.code() as u32,
+        );
+        self.frames.clear();
+        self.loops.clear();
+        if self.phase != engine::Phase::Idle {
+            self.phase = engine::Phase::Idle;
+            self.end_scan_clock();
+        }
+        self.debug.paused = false;
+        self.fault = Some(f);
     }
 
     /// Force a variable of a forcing area (I, Q): it reads (inputs) and is written
@@ -444,10 +487,11 @@ impl Vm {
         }
     }
 
-    /// Between scans (after MAIN): advance the timed events by the scan's virtual time
-    /// and run the interrupt routines attached to the events that occurred, in event
-    /// order; while interrupts are disabled, one occurrence per event is kept pending.
-    pub(crate) fn service_events(&mut self) -> Result<Control, Fault> {
+    /// After MAIN: advance the timed events by the scan's virtual time, compare the
+    /// edge events' inputs, and return the events whose routines run now, in order
+    /// (pending ones first); while interrupts are disabled, one occurrence per event is
+    /// kept pending and none run.
+    pub(crate) fn occurred_events(&mut self) -> Vec<u32> {
         let scan_ms = self.config.scan_ms;
         let mut occurred: Vec<u32> = Vec::new();
         let timed: Vec<(u32, Option<String>)> = self
@@ -513,27 +557,13 @@ impl Vm {
         occurred.sort_unstable();
         if !self.interrupts.enabled {
             self.interrupts.pending.extend(occurred);
-            return Ok(Control::Next);
+            return Vec::new();
         }
         let mut queue: Vec<u32> = std::mem::take(&mut self.interrupts.pending)
             .into_iter()
             .collect();
         queue.extend(occurred);
-        for event in queue {
-            let Some(&routine) = self.interrupts.attached.get(&event) else {
-                continue;
-            };
-            let Ok(page) = u8::try_from(routine) else {
-                continue;
-            };
-            let saved = self.stack;
-            let result = self.run_unit(page, 0)?;
-            self.stack = saved;
-            if result == Control::EndScan {
-                break;
-            }
-        }
-        Ok(Control::Next)
+        queue
     }
 
     /// Forced bits take their force values.
@@ -561,93 +591,5 @@ impl Vm {
         let _ = self.memory.write(bit(4), u32::from((t / 30_000) % 2 == 1));
         let _ = self.memory.write(bit(5), u32::from((t / 500) % 2 == 1));
         let _ = self.memory.write(bit(6), u32::from(self.scans % 2 == 1));
-    }
-
-    /// Run unit `page` to its end or a return. `depth` counts nested calls.
-    pub(crate) fn run_unit(&mut self, page: u8, depth: u8) -> Result<Control, Fault> {
-        let limit = self.target.instructions.call_depth;
-        if depth > limit {
-            return Err(Fault::CallDepth { limit });
-        }
-        // Shared, not copied: the code of a unit is read-only while it runs.
-        let Some(code) = self.code.get(&page).cloned() else {
-            return Ok(Control::Next);
-        };
-        let (records, labels) = (&code.records, &code.labels);
-        self.stack = 0;
-        let loops_at_entry = self.loops.len();
-        let mut i = 0;
-        while i < records.len() {
-            match &records[i] {
-                UnitRecord::Network { .. } => {
-                    self.stack = 0;
-                    i += 1;
-                }
-                UnitRecord::Instruction {
-                    offset,
-                    id,
-                    operands,
-                } => {
-                    self.executed += 1;
-                    if self.executed > self.config.watchdog {
-                        return Err(Fault::Watchdog {
-                            limit: self.config.watchdog,
-                        });
-                    }
-                    let control = self.execute(page, i, *offset, *id, operands, depth)?;
-                    match control {
-                        Control::Goto(j) => i = j,
-                        Control::Next => i += 1,
-                        Control::Jump(label) => {
-                            i = labels.get(&label).map(|&j| j + 1).unwrap_or(records.len())
-                        }
-                        Control::Return | Control::EndScan => {
-                            self.loops.truncate(loops_at_entry);
-                            return Ok(control);
-                        }
-                    }
-                }
-            }
-        }
-        self.loops.truncate(loops_at_entry);
-        Ok(Control::Next)
-    }
-
-    fn execute(
-        &mut self,
-        page: u8,
-        index: usize,
-        offset: usize,
-        id: InstrId,
-        operands: &[gutta_format::PackedOperand],
-        depth: u8,
-    ) -> Result<Control, Fault> {
-        let target = Arc::clone(&self.target);
-        let ins = target.instructions.get(id);
-        if ins.flow == Flow::Box && self.stack & 1 == 0 {
-            // FOR without power flow skips its whole loop.
-            if let Some(&next) = self.for_pairs.get(&(page, index)) {
-                return Ok(Control::Goto(next + 1));
-            }
-            return Ok(Control::Next);
-        }
-        let handler = self
-            .handlers
-            .get(id.0 as usize)
-            .copied()
-            .flatten()
-            .ok_or_else(|| Fault::NoSemantics {
-                mnemonic: ins.mnemonic.clone(),
-            })?;
-        let mut exec = Exec {
-            vm: self,
-            operands,
-            page,
-            index,
-            offset,
-            depth,
-            mnemonic: &ins.mnemonic,
-        };
-        handler(&mut exec)
     }
 }

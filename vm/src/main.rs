@@ -112,6 +112,7 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
     let config = VmConfig {
         scan_ms: cli.scan_ms,
         watchdog: cli.watchdog,
+        ..VmConfig::default()
     };
     let mut vm = Vm::new(verified, Arc::clone(&target), config)
         .map_err(|e| Fatal(format!("{}: cannot load: {e}", cli.image.display())))?;

@@ -140,6 +140,7 @@ fn a_runaway_loop_trips_the_watchdog() {
         VmConfig {
             scan_ms: 10,
             watchdog: 10_000,
+            ..VmConfig::default()
         },
     );
     assert!(matches!(vm.scan(), Err(Fault::Watchdog { limit: 10_000 })));

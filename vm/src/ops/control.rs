@@ -1,10 +1,11 @@
 //! Program control: JMP/LBL, CALL with arguments through L, RET/CRET, END, NOP.
 
 use gutta_catalog::Width;
-use gutta_format::{LocalSection, Use};
+use gutta_format::{LocalEntry, LocalSection, UnitRecord, Use};
 
 use super::{Control, Exec, Handler};
-use crate::{Fault, Location};
+use crate::engine::CallSave;
+use crate::{Fault, Location, Vm};
 
 fn jmp(e: &mut Exec<'_>) -> Result<Control, Fault> {
     Ok(Control::Jump(e.operand(0)?.offset()))
@@ -19,9 +20,9 @@ fn end(_: &mut Exec<'_>) -> Result<Control, Fault> {
     Ok(Control::EndScan)
 }
 
-/// CALL SBR, args: In and InOut arguments are copied into the callee's L, the callee
-/// runs on its own L and logic stack, then InOut and Out parameters are copied back;
-/// the caller's L and logic stack are restored.
+/// CALL SBR, args: In and InOut arguments are read in the caller's context and copied
+/// into the callee's L (cleared first); the callee runs on its own L and logic stack
+/// (a new frame). `finish_call` is the return.
 fn call(e: &mut Exec<'_>) -> Result<Control, Fault> {
     let unit = e.operand(0)?;
     if unit.use_() != Some(Use::Unit) {
@@ -37,7 +38,12 @@ fn call(e: &mut Exec<'_>) -> Result<Control, Fault> {
     let page = u8::try_from(page).map_err(|_| Fault::NoSemantics {
         mnemonic: "CALL page".into(),
     })?;
-    let params: Vec<_> =
+    let limit = e.vm.target.instructions.call_depth;
+    // Frames: MAIN (or an interrupt routine) and one per open call.
+    if e.vm.frames.len() > usize::from(limit) {
+        return Err(Fault::CallDepth { limit });
+    }
+    let params: Vec<LocalEntry> =
         e.vm.image
             .unit(page)
             .map(|u| u.parameters().copied().collect())
@@ -60,38 +66,82 @@ fn call(e: &mut Exec<'_>) -> Result<Control, Fault> {
             .unwrap_or_default();
     let saved_stack = e.vm.stack;
     if let Some(l) = e.vm.memory.area_mut(l_slot) {
-        l.iter_mut().for_each(|b| *b = 0);
+        l.fill(0);
     }
-    let loc = |p: &gutta_format::LocalEntry| Location {
+    for (p, v) in params.iter().zip(&inputs) {
+        e.write_at(local(p), *v)?;
+    }
+    e.vm.push_frame(
+        page,
+        Some(CallSave {
+            saved_l,
+            saved_stack,
+        }),
+    );
+    Ok(Control::Enter)
+}
+
+fn local(p: &LocalEntry) -> Location {
+    Location {
         slot: p.operand.slot(),
         offset: p.operand.offset() as u32,
         width: p.operand.width().unwrap_or(Width::Byte),
         bit: p.operand.bit(),
-    };
-    for (p, v) in params.iter().zip(&inputs) {
-        e.write_at(loc(p), *v)?;
     }
-    let depth = e.depth + 1;
-    let result = e.vm.run_unit(page, depth)?;
+}
+
+/// The return from a subroutine `callee` (its frame already popped): InOut and Out
+/// parameters are read from its L, the caller's L and logic stack are restored, the
+/// values are stored through the CALL's operands, and the caller continues after its
+/// CALL.
+pub(crate) fn finish_call(vm: &mut Vm, callee: u8, save: CallSave) -> Result<(), Fault> {
+    let Some((page, pc)) = vm.frames.last().map(|f| (f.page, f.pc)) else {
+        return Ok(());
+    };
+    let params: Vec<LocalEntry> = vm
+        .image
+        .unit(callee)
+        .map(|u| u.parameters().copied().collect())
+        .unwrap_or_default();
     let mut outputs = Vec::new();
     for (k, p) in params.iter().enumerate() {
         if p.section != LocalSection::Input {
-            outputs.push((k + 1, e.read_at(loc(p))?));
+            let v = vm.memory.read(local(p)).map_err(|err| Fault::BadAccess {
+                page: callee,
+                offset: 0,
+                detail: err.0,
+            })?;
+            outputs.push((k + 1, v));
         }
     }
-    if let Some(l) = e.vm.memory.area_mut(l_slot) {
-        let n = saved_l.len().min(l.len());
-        l[..n].copy_from_slice(&saved_l[..n]);
+    let l_slot = vm.slots.local;
+    if let Some(l) = vm.memory.area_mut(l_slot) {
+        let n = save.saved_l.len().min(l.len());
+        l[..n].copy_from_slice(&save.saved_l[..n]);
     }
-    e.vm.stack = saved_stack;
-    for (k, v) in outputs {
-        e.set(k, v)?;
+    vm.stack = save.saved_stack;
+    if let Some(unit) = vm.units[page as usize].clone() {
+        if let Some(UnitRecord::Instruction {
+            offset, operands, ..
+        }) = unit.source.records.get(pc)
+        {
+            let mut e = Exec {
+                vm,
+                operands,
+                page,
+                index: pc,
+                offset: *offset,
+                mnemonic: "CALL",
+            };
+            for (k, v) in outputs {
+                e.set(k, v)?;
+            }
+        }
     }
-    Ok(if result == Control::EndScan {
-        Control::EndScan
-    } else {
-        Control::Next
-    })
+    if let Some(f) = vm.frames.last_mut() {
+        f.pc = pc + 1;
+    }
+    Ok(())
 }
 
 /// FOR INDX, INIT, FINAL: INDX := INIT, FINAL read once; skip to after NEXT when

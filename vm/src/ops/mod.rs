@@ -16,6 +16,8 @@ mod special;
 mod table;
 mod timers;
 
+pub(crate) use control::finish_call;
+
 use gutta_catalog::Width;
 use gutta_format::PackedOperand;
 
@@ -33,6 +35,8 @@ pub enum Control {
     EndScan,
     /// Continue at record `n` of the same unit (FOR/NEXT).
     Goto(usize),
+    /// A CALL entered its subroutine (pushed a frame).
+    Enter,
 }
 
 /// An open FOR loop.
@@ -76,7 +80,6 @@ pub struct Exec<'a> {
     pub(crate) page: u8,
     pub(crate) index: usize,
     pub(crate) offset: usize,
-    pub(crate) depth: u8,
     pub(crate) mnemonic: &'a str,
 }
 
