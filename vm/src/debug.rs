@@ -256,7 +256,7 @@ impl Vm {
         let mut crossed = self.single()?;
         if step != Step::In {
             while !crossed && self.frames.len() > until {
-                if self.at_breakpoint() {
+                if self.next_op(true) == Some(Op::Break) {
                     break;
                 }
                 crossed = self.single()?;

@@ -9,7 +9,7 @@ use std::sync::Arc;
 
 use gutta_format::UnitRecord;
 
-use crate::decode::{Arith, Combine, Op, Unit};
+use crate::decode::{Arith, Bit, Combine, Op, Unit};
 use crate::ops::{Control, Exec};
 use crate::{exch, Fault, Vm};
 
@@ -71,33 +71,6 @@ pub enum ScanEnd {
 }
 
 impl Vm {
-    #[inline(always)]
-    fn bit(&self, at: u32, mask: u8) -> u32 {
-        u32::from(self.memory.bytes[at as usize] & mask != 0)
-    }
-
-    #[inline(always)]
-    fn load(&self, at: u32, width: u8) -> u32 {
-        let at = at as usize;
-        let b = &self.memory.bytes;
-        match width {
-            1 => u32::from(b[at]),
-            2 => u32::from(u16::from_le_bytes([b[at], b[at + 1]])),
-            _ => u32::from_le_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]]),
-        }
-    }
-
-    #[inline(always)]
-    fn store(&mut self, at: u32, width: u8, v: u32) {
-        let at = at as usize;
-        let b = &mut self.memory.bytes;
-        match width {
-            1 => b[at] = v as u8,
-            2 => b[at..at + 2].copy_from_slice(&(v as u16).to_le_bytes()),
-            _ => b[at..at + 4].copy_from_slice(&v.to_le_bytes()),
-        }
-    }
-
     fn set_pc(&mut self, pc: usize) {
         if let Some(f) = self.frames.last_mut() {
             f.pc = pc;
@@ -152,6 +125,23 @@ impl Vm {
             let ops: &[Op] = &unit.ops;
             let mut st = self.stack;
             loop {
+                if !SINGLE {
+                    // Straight-line fast operations, bounded so the watchdog stays exact.
+                    let remaining = self.config.watchdog.saturating_sub(self.executed);
+                    let end = ops
+                        .len()
+                        .min(pc.saturating_add(usize::try_from(remaining).unwrap_or(usize::MAX)));
+                    let (at, ran) = run_fast(
+                        &mut self.memory.bytes,
+                        &ops[..end],
+                        pc,
+                        &mut st,
+                        mask,
+                        flags_at,
+                    );
+                    pc = at;
+                    self.executed += ran;
+                }
                 let Some(&op) = ops.get(pc) else {
                     // The unit's end: return from it.
                     self.stack = st;
@@ -188,76 +178,7 @@ impl Vm {
                 }
                 let mut next = pc + 1;
                 match op {
-                    Op::Ld(b) => st = ((st << 1) | self.bit(b.at, b.mask)) & mask,
-                    Op::Ldn(b) => st = ((st << 1) | (self.bit(b.at, b.mask) ^ 1)) & mask,
-                    Op::A(b) => st &= !1 | self.bit(b.at, b.mask),
-                    Op::An(b) => st &= !1 | (self.bit(b.at, b.mask) ^ 1),
-                    Op::O(b) => st |= self.bit(b.at, b.mask),
-                    Op::On(b) => st |= self.bit(b.at, b.mask) ^ 1,
-                    Op::Not => st ^= 1,
-                    Op::Assign(b) => {
-                        let byte = &mut self.memory.bytes[b.at as usize];
-                        if st & 1 == 1 {
-                            *byte |= b.mask;
-                        } else {
-                            *byte &= !b.mask;
-                        }
-                    }
-                    Op::Ald => st = (st >> 1) & (st | !1),
-                    Op::Old => st = (st >> 1) | (st & 1),
-                    Op::Lps => st = ((st << 1) | (st & 1)) & mask,
-                    Op::Lrd => st = (st & !1) | ((st >> 1) & 1),
-                    Op::Lpp => st >>= 1,
-                    Op::Move { src, dst, width } => {
-                        if st & 1 == 1 {
-                            let v = self.load(src, width);
-                            self.store(dst, width, v);
-                        }
-                    }
-                    Op::Math {
-                        op,
-                        src,
-                        dst,
-                        width,
-                    } => {
-                        if st & 1 == 1 {
-                            let bits = u32::from(width) * 8;
-                            let a = sign_extend(self.load(dst, width), bits);
-                            let b = sign_extend(self.load(src, width), bits);
-                            let exact = match op {
-                                Arith::Add => a + b,
-                                Arith::Sub => a - b,
-                            };
-                            let r = sign_extend(exact as u32, bits);
-                            self.store(dst, width, exact as u32);
-                            let flags = u8::from(r == 0)
-                                | (u8::from(r != exact) << 1)
-                                | (u8::from(r < 0) << 2);
-                            let f = &mut self.memory.bytes[flags_at];
-                            *f = (*f & !0x0F) | flags;
-                        }
-                    }
-                    Op::Compare {
-                        combine,
-                        rel,
-                        a,
-                        b,
-                        width,
-                    } => {
-                        let (x, y) = (self.load(a, width), self.load(b, width));
-                        let r = if width == 1 {
-                            rel.holds(x, y)
-                        } else {
-                            let bits = u32::from(width) * 8;
-                            rel.holds(sign_extend(x, bits), sign_extend(y, bits))
-                        };
-                        let r = u32::from(r);
-                        st = match combine {
-                            Combine::Load => ((st << 1) | r) & mask,
-                            Combine::And => st & (!1 | r),
-                            Combine::Or => st | r,
-                        };
-                    }
+                    _ if fast_op(&mut self.memory.bytes, op, &mut st, mask, flags_at) => {}
                     Op::Generic { boxed } => {
                         self.stack = st;
                         self.set_pc(pc);
@@ -288,7 +209,7 @@ impl Vm {
                             }
                         }
                     }
-                    Op::Network | Op::Break => {}
+                    _ => {}
                 }
                 pc = next;
                 if SINGLE {
@@ -411,15 +332,156 @@ impl Vm {
         }
     }
 
-    /// Whether the next instruction is the patched breakpoint.
+    /// Whether the record the top frame is at is the patched breakpoint (a scan paused
+    /// there continues by running it once).
     pub(crate) fn at_breakpoint(&self) -> bool {
-        self.frames.last().is_some_and(|f| {
-            self.units[f.page as usize]
-                .as_ref()
-                .and_then(|u| u.ops.get(f.pc))
-                == Some(&Op::Break)
-        })
+        self.next_op(false) == Some(Op::Break)
     }
+
+    /// The top frame's record; with `skip_networks`, the first instruction from there.
+    pub(crate) fn next_op(&self, skip_networks: bool) -> Option<Op> {
+        let f = self.frames.last()?;
+        let ops = &self.units[f.page as usize].as_ref()?.ops;
+        let mut pc = f.pc;
+        while skip_networks && ops.get(pc) == Some(&Op::Network) {
+            pc += 1;
+        }
+        ops.get(pc).copied()
+    }
+}
+
+/// Run fast operations from `pc` until one is not (or the ops end). Returns where it
+/// stopped and how many instructions ran (network records do not count).
+#[inline(always)]
+fn run_fast(
+    mem: &mut [u8],
+    ops: &[Op],
+    mut pc: usize,
+    st: &mut u32,
+    mask: u32,
+    flags_at: usize,
+) -> (usize, u64) {
+    let (start, mut networks) = (pc, 0u64);
+    let mut s = *st;
+    while let Some(&op) = ops.get(pc) {
+        if op == Op::Network {
+            s = 0;
+            networks += 1;
+        } else if !fast_op(mem, op, &mut s, mask, flags_at) {
+            break;
+        }
+        pc += 1;
+    }
+    *st = s;
+    (pc, (pc - start) as u64 - networks)
+}
+
+#[inline(always)]
+fn bit(mem: &[u8], b: Bit) -> u32 {
+    u32::from(mem[b.at as usize] & b.mask != 0)
+}
+
+#[inline(always)]
+fn load(mem: &[u8], at: u32, width: u8) -> u32 {
+    let at = at as usize;
+    match width {
+        1 => u32::from(mem[at]),
+        2 => u32::from(u16::from_le_bytes([mem[at], mem[at + 1]])),
+        _ => u32::from_le_bytes([mem[at], mem[at + 1], mem[at + 2], mem[at + 3]]),
+    }
+}
+
+#[inline(always)]
+fn store(mem: &mut [u8], at: u32, width: u8, v: u32) {
+    let at = at as usize;
+    match width {
+        1 => mem[at] = v as u8,
+        2 => mem[at..at + 2].copy_from_slice(&(v as u16).to_le_bytes()),
+        _ => mem[at..at + 4].copy_from_slice(&v.to_le_bytes()),
+    }
+}
+
+/// Execute a fast operation on the flat memory and the logic stack `st`; false (and
+/// nothing done) for an op that is not one (network records, generic, breakpoints).
+#[inline(always)]
+fn fast_op(mem: &mut [u8], op: Op, st: &mut u32, mask: u32, flags_at: usize) -> bool {
+    let s = *st;
+    *st = match op {
+        Op::Ld(b) => ((s << 1) | bit(mem, b)) & mask,
+        Op::Ldn(b) => ((s << 1) | (bit(mem, b) ^ 1)) & mask,
+        Op::A(b) => s & (!1 | bit(mem, b)),
+        Op::An(b) => s & (!1 | (bit(mem, b) ^ 1)),
+        Op::O(b) => s | bit(mem, b),
+        Op::On(b) => s | (bit(mem, b) ^ 1),
+        Op::Not => s ^ 1,
+        Op::Assign(b) => {
+            let byte = &mut mem[b.at as usize];
+            if s & 1 == 1 {
+                *byte |= b.mask;
+            } else {
+                *byte &= !b.mask;
+            }
+            s
+        }
+        Op::Ald => (s >> 1) & (s | !1),
+        Op::Old => (s >> 1) | (s & 1),
+        Op::Lps => ((s << 1) | (s & 1)) & mask,
+        Op::Lrd => (s & !1) | ((s >> 1) & 1),
+        Op::Lpp => s >> 1,
+        Op::Move { src, dst, width } => {
+            if s & 1 == 1 {
+                let v = load(mem, src, width);
+                store(mem, dst, width, v);
+            }
+            s
+        }
+        Op::Math {
+            op,
+            src,
+            dst,
+            width,
+        } => {
+            if s & 1 == 1 {
+                let bits = u32::from(width) * 8;
+                let a = sign_extend(load(mem, dst, width), bits);
+                let b = sign_extend(load(mem, src, width), bits);
+                let exact = match op {
+                    Arith::Add => a + b,
+                    Arith::Sub => a - b,
+                };
+                let r = sign_extend(exact as u32, bits);
+                store(mem, dst, width, exact as u32);
+                // SM1.0 zero, SM1.1 overflow, SM1.2 negative; SM1.3 (divide) cleared.
+                let flags = u8::from(r == 0) | (u8::from(r != exact) << 1) | (u8::from(r < 0) << 2);
+                let f = &mut mem[flags_at];
+                *f = (*f & !0x0F) | flags;
+            }
+            s
+        }
+        Op::Compare {
+            combine,
+            rel,
+            a,
+            b,
+            width,
+        } => {
+            let (x, y) = (load(mem, a, width), load(mem, b, width));
+            let r = if width == 1 {
+                rel.holds(x, y)
+            } else {
+                let bits = u32::from(width) * 8;
+                rel.holds(sign_extend(x, bits), sign_extend(y, bits))
+            };
+            let r = u32::from(r);
+            match combine {
+                Combine::Load => ((s << 1) | r) & mask,
+                Combine::And => s & (!1 | r),
+                Combine::Or => s | r,
+            }
+        }
+        Op::Network | Op::Generic { .. } | Op::Break => return false,
+    };
+    true
 }
 
 #[inline(always)]

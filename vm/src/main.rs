@@ -10,7 +10,7 @@ use std::sync::Arc;
 
 use clap::Parser;
 use gutta_catalog::{stdlib, Address, Target, Width};
-use gutta_vm::{Fault, Vm, VmConfig};
+use gutta_vm::{Fault, Position, ScanEnd, Vm, VmConfig};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -52,9 +52,11 @@ struct Cli {
     /// Write a Value Change Dump of the --read variables, one sample per scan.
     #[arg(long, value_name = "FILE", requires = "read")]
     vcd: Option<PathBuf>,
-    /// Stop at a breakpoint (FUNCTION:NETWORK:STEP). Not implemented yet.
+    /// Pause before an instruction and stop the run there, printing the --read values
+    /// as they are at that moment. FUNCTION is MAIN, INTn, SBRn or a page number; NETWORK
+    /// the network number; STEP the 0-based instruction in the network (MAIN:2:0).
     #[arg(long = "break", value_name = "FUNCTION:NETWORK:STEP")]
-    breakpoint: Vec<String>,
+    breakpoint: Option<String>,
     /// PLC type from the stdlib (instead of the image's PLC type).
     #[arg(long, value_name = "NAME")]
     plc: Option<String>,
@@ -92,11 +94,6 @@ struct Change {
 }
 
 fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
-    if let Some(b) = cli.breakpoint.first() {
-        return Err(Fatal(format!(
-            "--break {b}: breakpoints are not implemented yet (run without --break)"
-        )));
-    }
     let image = gutta_io::read_image_dir(&cli.image).map_err(Fatal)?;
     let target = match explicit_target(cli)? {
         Some(t) => t,
@@ -132,6 +129,11 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
         vm.force(var.address, *value)
             .map_err(|e| Fatal(format!("--force {}: {e}", var.name)))?;
     }
+    if let Some(text) = &cli.breakpoint {
+        let at = parse_breakpoint(&target, text)?;
+        vm.set_breakpoint(Some(at))
+            .map_err(|e| Fatal(format!("--break {text}: {e}")))?;
+    }
 
     let sample = |vm: &Vm| -> Result<Vec<u32>, Fatal> {
         reads
@@ -149,9 +151,12 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
     let mut last_time = 0;
     let stdout = std::io::stdout();
     let mut fault: Option<(u64, Fault)> = None;
+    let mut paused: Option<(u64, Position)> = None;
     for n in 1..=cli.scans {
-        if let Err(f) = vm.scan() {
-            fault = Some((n, f));
+        match vm.run_scan() {
+            Err(f) => fault = Some((n, f)),
+            Ok(ScanEnd::Paused(at)) => paused = Some((n, at)),
+            Ok(_) => {}
         }
         let now = sample(&vm)?;
         let changed: Vec<usize> = (0..reads.len()).filter(|&i| now[i] != values[i]).collect();
@@ -185,7 +190,7 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
             }
         }
         values = now;
-        if fault.is_some() {
+        if fault.is_some() || paused.is_some() {
             break;
         }
     }
@@ -202,7 +207,15 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
         let _ = writeln!(
             stdout.lock(),
             "{}",
-            json_report(&vm, &reads, &values, &changes, cli.trace, fault.as_ref())
+            json_report(
+                &vm,
+                &reads,
+                &values,
+                &changes,
+                cli.trace,
+                fault.as_ref(),
+                paused
+            )
         );
     } else {
         let mut out = String::new();
@@ -210,6 +223,15 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
             let _ = writeln!(out, "{} = {value}", v.name);
         }
         let _ = stdout.lock().write_all(out.as_bytes());
+        if let Some((n, at)) = paused {
+            eprintln!(
+                "gutta-vm: paused at breakpoint {} (function {}) network {} step {} in scan {n}; values are before that instruction",
+                function_name(&target, at.function),
+                at.function,
+                at.network,
+                at.step
+            );
+        }
         if let Some((n, f)) = &fault {
             eprintln!(
                 "gutta-vm: fault in scan {n}: {f} (error code {}, {})",
@@ -223,6 +245,55 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// `MAIN:2:0`, `SBR0:1:3`, `INT1:1:0`, `8:1:0`: a function (unit page), network and
+/// step.
+fn parse_breakpoint(target: &Target, text: &str) -> Result<Position, Fatal> {
+    let bad = |why: &str| {
+        Fatal(format!(
+            "--break {text}: {why} (expected FUNCTION:NETWORK:STEP, e.g. MAIN:2:0 or SBR0:1:3)"
+        ))
+    };
+    let parts: Vec<&str> = text.split(':').collect();
+    let [function, network, step] = parts[..] else {
+        return Err(bad("three parts separated by `:`"));
+    };
+    let int_size = target.plc.program_block_page_int_size;
+    let upper = function.to_ascii_uppercase();
+    let page = if upper == "MAIN" || upper == "OB1" {
+        Some(0)
+    } else if let Some(n) = upper.strip_prefix("SBR") {
+        n.parse::<u32>().ok().map(|n| int_size + n)
+    } else if let Some(n) = upper.strip_prefix("INT") {
+        n.parse::<u32>().ok().filter(|&n| n < int_size.max(1))
+    } else {
+        upper.parse::<u32>().ok()
+    };
+    let function = page
+        .and_then(|p| u8::try_from(p).ok())
+        .ok_or_else(|| bad("FUNCTION is MAIN, INTn, SBRn or a page number below 256"))?;
+    let network = network
+        .parse()
+        .map_err(|_| bad("NETWORK is a network number"))?;
+    let step = step
+        .parse()
+        .map_err(|_| bad("STEP is the instruction's 0-based index in its network"))?;
+    Ok(Position {
+        function,
+        network,
+        step,
+    })
+}
+
+/// MAIN, INTn or SBRn for a unit page.
+fn function_name(target: &Target, page: u8) -> String {
+    let int_size = target.plc.program_block_page_int_size;
+    match u32::from(page) {
+        0 => "MAIN".into(),
+        p if p < int_size => format!("INT{p}"),
+        p => format!("SBR{}", p - int_size),
+    }
 }
 
 /// The fault's variant name (`Watchdog`), for JSON and messages.
@@ -240,6 +311,7 @@ fn json_report(
     changes: &[Change],
     trace: bool,
     fault: Option<&(u64, Fault)>,
+    paused: Option<(u64, Position)>,
 ) -> serde_json::Value {
     use serde_json::{json, Map, Value};
     let mut map = Map::new();
@@ -259,8 +331,19 @@ fn json_report(
         "scans": vm.scans(),
         "clock_ms": vm.clock_ms(),
         "values": map,
-        "status": { "run": vm.is_running() && fault.is_none(), "error": fault.is_some() },
+        "status": {
+            "run": vm.is_running() && fault.is_none(),
+            "error": fault.is_some(),
+            "paused": paused.is_some(),
+            "byte": vm.status().byte(),
+        },
         "error": error,
+        "break": paused.map_or(Value::Null, |(scan, at)| json!({
+            "function": at.function,
+            "network": at.network,
+            "step": at.step,
+            "scan": scan,
+        })),
     });
     if trace {
         report["trace"] = changes

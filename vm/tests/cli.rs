@@ -273,15 +273,61 @@ fn trace_and_vcd_need_read() {
 }
 
 #[test]
-fn breakpoints_are_not_implemented_yet() {
-    let o = gutta_vm(&pointers(), &["--break", "MAIN:1:1", "--read", "MW24"]);
-    assert_eq!(o.status.code(), Some(2));
+fn break_pauses_before_the_instruction_and_reports_it() {
+    // MAIN network 1 step 4 is the second `MOVW ..., *MD4`: MW24 is written, MW26 not.
+    let o = gutta_vm(
+        &pointers(),
+        &["--break", "MAIN:1:4", "--read", "MW24", "--read", "MW26"],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(stdout(&o), "MW24 = 3585\nMW26 = 0\n");
     assert!(
-        stderr(&o).contains("breakpoints are not implemented yet"),
+        stderr(&o).contains("paused at breakpoint MAIN (function 0) network 1 step 4 in scan 1"),
         "{}",
         stderr(&o)
     );
-    assert!(stdout(&o).is_empty());
+    let o = gutta_vm(
+        &pointers(),
+        &[
+            "--break", "0:1:4", "--read", "MD4", "--scans", "5", "--json",
+        ],
+    );
+    let v = json(&o);
+    assert_eq!(v["break"]["function"], 0);
+    assert_eq!(v["break"]["network"], 1);
+    assert_eq!(v["break"]["step"], 4);
+    assert_eq!(v["break"]["scan"], 1);
+    assert_eq!(v["scans"], 0, "the first scan did not complete");
+    assert_eq!(v["values"]["MD4"], 0x0400_001A);
+    assert_eq!(v["status"]["paused"], true);
+    // A breakpoint that is never reached: the run completes.
+    let text =
+        main_block("NETWORK 1\nLD I0.0\nJMP 1\nNETWORK 2\nLD SM0.0\nINCW MW0\nNETWORK 3\nLBL 1");
+    let dir = image_dir(&text, "break-skip");
+    let o = gutta_vm(
+        &dir,
+        &[
+            "--break", "main:2:1", "--set", "I0.0=1", "--scans", "3", "--json",
+        ],
+    );
+    let v = json(&o);
+    assert!(v["break"].is_null());
+    assert_eq!(v["scans"], 3);
+}
+
+#[test]
+fn break_must_name_an_instruction() {
+    for (arg, why) in [
+        ("MAIN:1:9", "no instruction at function 0 network 1 step 9"),
+        ("MAIN:1", "three parts"),
+        ("FOO:1:0", "FUNCTION is MAIN, INTn, SBRn"),
+        ("SBR0:x:0", "NETWORK is a network number"),
+    ] {
+        let o = gutta_vm(&pointers(), &["--break", arg, "--read", "MW24"]);
+        assert_eq!(o.status.code(), Some(2), "{arg}");
+        assert!(stderr(&o).contains(why), "{arg}: {}", stderr(&o));
+        assert!(stdout(&o).is_empty());
+    }
 }
 
 #[test]

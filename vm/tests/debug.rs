@@ -1,0 +1,230 @@
+//! Debugging as UM4001 describes it: a breakpoint by (function, network, step), pause
+//! and continue, single-step stop, STEP_IN / STEP_OVER / STEP_OUT, the 16-byte debug
+//! information block and the status byte.
+
+mod common;
+
+use common::{load, read, set};
+use gutta_vm::{DebugError, Position, ScanEnd, Step, VmConfig};
+
+/// MAIN: network 1 counts scans in MW0; network 2 calls ADD with MW0 into MW2 when
+/// I0.0 is on; network 3 sets Q0.0 from M0.0. ADD: two networks.
+const PROGRAM: &str = "\
+ORGANIZATION_BLOCK MAIN:OB1
+BEGIN
+NETWORK 1
+LD SM0.0
+INCW MW0
+NETWORK 2
+LD I0.0
+CALL ADD, MW0, MW2
+NETWORK 3
+LD M0.0
+= Q0.0
+END_ORGANIZATION_BLOCK
+SUBROUTINE_BLOCK ADD:SBR0
+VAR_INPUT
+  a : INT;
+END_VAR
+VAR_OUTPUT
+  r : INT;
+END_VAR
+BEGIN
+NETWORK 1
+LD SM0.0
+MOVW #a, #r
+NETWORK 2
+LD SM0.0
++I 100, #r
+END_SUBROUTINE_BLOCK
+";
+
+fn at(function: u8, network: u16, step: u16) -> Position {
+    Position {
+        function,
+        network,
+        step,
+    }
+}
+
+fn sbr0(vm: &gutta_vm::Vm) -> u8 {
+    vm.target().plc.program_block_page_int_size as u8
+}
+
+#[test]
+fn breakpoint_pauses_before_its_instruction_and_continues() {
+    let mut vm = load(PROGRAM, VmConfig::default());
+    vm.set_breakpoint(Some(at(0, 1, 1)))
+        .expect("INCW MW0 exists");
+    assert_eq!(vm.run_scan(), Ok(ScanEnd::Paused(at(0, 1, 1))));
+    assert!(vm.is_paused());
+    assert_eq!(read(&vm, "MW0"), 0, "INCW has not run yet");
+    // Scans do nothing while paused.
+    assert_eq!(vm.run_scan(), Ok(ScanEnd::Paused(at(0, 1, 1))));
+    assert_eq!(vm.scans(), 0);
+    let info = vm.debug_info();
+    assert_eq!(
+        &info[0..5],
+        &[0, 0, 1, 0, 1],
+        "breakpoint function 0, network 1, step 1"
+    );
+    assert_eq!(&info[5..10], &[0, 0, 1, 0, 1], "paused there");
+    assert_eq!(&info[12..14], &[0, 1], "logic stack: SM0.0 loaded");
+    assert_eq!(info[14], 0, "no call open");
+    assert_eq!(info[15], 0, "no error");
+    // Run: the scan finishes, the next one stops at the breakpoint again.
+    vm.debug_run();
+    assert_eq!(vm.run_scan(), Ok(ScanEnd::Completed));
+    assert_eq!(read(&vm, "MW0"), 1);
+    assert_eq!(vm.scans(), 1);
+    assert_eq!(vm.run_scan(), Ok(ScanEnd::Paused(at(0, 1, 1))));
+    assert_eq!(read(&vm, "MW0"), 1);
+    // Cleared, scans run freely.
+    vm.set_breakpoint(None).expect("clear");
+    assert_eq!(vm.debug_info()[0], 0xFF);
+    vm.debug_run();
+    for _ in 0..3 {
+        assert_eq!(vm.run_scan(), Ok(ScanEnd::Completed));
+    }
+    assert_eq!(read(&vm, "MW0"), 4);
+}
+
+#[test]
+fn breakpoint_in_a_subroutine_shows_the_call() {
+    let mut vm = load(PROGRAM, VmConfig::default());
+    set(&mut vm, "I0.0", 1);
+    let sbr = sbr0(&vm);
+    vm.set_breakpoint(Some(at(sbr, 2, 1))).expect("+I exists");
+    assert_eq!(vm.run_scan(), Ok(ScanEnd::Paused(at(sbr, 2, 1))));
+    let info = vm.debug_info();
+    assert_eq!(info[5], sbr);
+    assert_eq!(info[14], 1, "one call open");
+    assert!(
+        u16::from_be_bytes([info[10], info[11]]) > 0,
+        "caller L saved"
+    );
+    // #r holds a (MW0 = 1) before the +I.
+    vm.debug_run();
+    assert_eq!(vm.run_scan(), Ok(ScanEnd::Completed));
+    assert_eq!(read(&vm, "MW2"), 101);
+}
+
+#[test]
+fn a_breakpoint_must_name_an_instruction() {
+    let mut vm = load(PROGRAM, VmConfig::default());
+    for p in [at(0, 1, 2), at(0, 9, 0), at(7, 1, 0)] {
+        assert_eq!(
+            vm.set_breakpoint(Some(p)),
+            Err(DebugError::NoInstruction(p))
+        );
+    }
+    assert_eq!(vm.breakpoint(), None);
+}
+
+#[test]
+fn step_in_over_and_out() {
+    let mut vm = load(PROGRAM, VmConfig::default());
+    set(&mut vm, "I0.0", 1);
+    let sbr = sbr0(&vm);
+    // Single-step stop: paused before MAIN's first instruction.
+    vm.debug_stop().expect("stop");
+    assert_eq!(vm.position(), Some(at(0, 1, 0)));
+    assert_eq!(vm.debug_byte() & 1, 0, "not running");
+    let step = |vm: &mut gutta_vm::Vm, s| match vm.debug_step(s).expect("step") {
+        ScanEnd::Paused(p) => p,
+        other => panic!("{other:?}"),
+    };
+    assert_eq!(step(&mut vm, Step::In), at(0, 1, 1));
+    assert_eq!(
+        step(&mut vm, Step::In),
+        at(0, 2, 0),
+        "INCW ran, next network"
+    );
+    assert_eq!(read(&vm, "MW0"), 1);
+    assert_eq!(step(&mut vm, Step::In), at(0, 2, 1));
+    // STEP_IN enters the subroutine.
+    assert_eq!(step(&mut vm, Step::In), at(sbr, 1, 0));
+    assert_eq!(vm.debug_info()[14], 1);
+    assert_eq!(step(&mut vm, Step::Over), at(sbr, 1, 1));
+    // STEP_OUT: back after the CALL, outputs copied.
+    assert_eq!(step(&mut vm, Step::Out), at(0, 3, 0));
+    assert_eq!(read(&vm, "MW2"), 101);
+    assert_eq!(vm.debug_info()[14], 0);
+    // Through the end of the scan into the next one.
+    assert_eq!(step(&mut vm, Step::Over), at(0, 3, 1));
+    assert_eq!(vm.scans(), 0);
+    assert_eq!(step(&mut vm, Step::Over), at(0, 1, 0));
+    assert_eq!(vm.scans(), 1);
+    // STEP_OVER runs a whole call.
+    for _ in 0..3 {
+        step(&mut vm, Step::Over);
+    }
+    assert_eq!(vm.position(), Some(at(0, 2, 1)));
+    assert_eq!(step(&mut vm, Step::Over), at(0, 3, 0));
+    assert_eq!(read(&vm, "MW2"), 102);
+    // Scans do nothing in single-step stop; running continues the paused scan.
+    assert!(matches!(vm.run_scan(), Ok(ScanEnd::Paused(_))));
+    vm.debug_run();
+    assert_eq!(vm.run_scan(), Ok(ScanEnd::Completed));
+    assert_eq!(vm.scans(), 2);
+}
+
+#[test]
+fn step_over_stops_at_a_breakpoint_inside_the_call() {
+    let mut vm = load(PROGRAM, VmConfig::default());
+    set(&mut vm, "I0.0", 1);
+    let sbr = sbr0(&vm);
+    vm.set_breakpoint(Some(at(0, 2, 1))).expect("CALL");
+    assert_eq!(vm.run_scan(), Ok(ScanEnd::Paused(at(0, 2, 1))));
+    vm.set_breakpoint(Some(at(sbr, 2, 0))).expect("in ADD");
+    assert_eq!(
+        vm.debug_step(Step::Over),
+        Ok(ScanEnd::Paused(at(sbr, 2, 0)))
+    );
+}
+
+#[test]
+fn debug_reset_and_a_breakpoint_in_a_loop() {
+    let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.0\nFOR MW10, 1, 3\n\
+        NETWORK 2\nLD SM0.0\nINCW MW12\nNETWORK 3\nNEXT\nEND_ORGANIZATION_BLOCK\n";
+    let mut vm = load(text, VmConfig::default());
+    vm.scan().expect("scan");
+    assert_eq!(read(&vm, "MW12"), 3);
+    vm.debug_reset().expect("reset");
+    assert_eq!(read(&vm, "MW12"), 0);
+    assert_eq!(vm.position(), Some(at(0, 1, 0)));
+    assert_eq!(vm.status().byte() & 0b10, 0b10, "RESET until a scan ends");
+    vm.set_breakpoint(Some(at(0, 2, 1))).expect("INCW");
+    vm.debug_run();
+    for pass in 0..3 {
+        assert_eq!(vm.run_scan(), Ok(ScanEnd::Paused(at(0, 2, 1))));
+        assert_eq!(read(&vm, "MW12"), pass);
+        vm.debug_run();
+    }
+    assert_eq!(vm.run_scan(), Ok(ScanEnd::Completed));
+    assert_eq!(read(&vm, "MW12"), 3);
+    assert_eq!(vm.status().byte() & 0b10, 0);
+}
+
+#[test]
+fn status_byte() {
+    let mut vm = load(
+        "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLBL 1\nLD SM0.0\nJMP 1\nEND_ORGANIZATION_BLOCK\n",
+        VmConfig {
+            watchdog: 1000,
+            ..VmConfig::default()
+        },
+    );
+    assert_eq!(vm.status().byte(), 0b0011, "RUN, RESET");
+    vm.set_attached(true);
+    assert_eq!(vm.status().byte(), 0b0111);
+    vm.set_running(false);
+    assert_eq!(vm.status().byte(), 0b0110);
+    vm.set_running(true);
+    let fault = vm.scan().expect_err("runaway loop");
+    assert_eq!(vm.status().byte() & 0b1000, 0b1000, "ERROR");
+    assert_eq!(vm.debug_info()[15], fault.code());
+    assert!(matches!(vm.debug_stop(), Err(DebugError::Fault(_))));
+    vm.reset();
+    assert_eq!(vm.status().byte(), 0b0111);
+}
