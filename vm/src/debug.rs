@@ -164,7 +164,7 @@ impl Vm {
                     .as_ref()
                     .and_then(|u| {
                         u.positions.iter().zip(&u.ops).position(|(&(n, s), op)| {
-                            n == p.network && s == p.step && *op != Op::Network
+                            n == p.network && s == p.step && !op.is_network()
                         })
                     })
                     .ok_or(DebugError::NoInstruction(p))?;
@@ -188,7 +188,13 @@ impl Vm {
             return op;
         };
         let unit = Arc::make_mut(unit);
-        std::mem::replace(&mut unit.ops[pc], op)
+        let old = std::mem::replace(&mut unit.ops[pc], op);
+        // A breakpoint on a network's first LD must not be passed over by the fused
+        // network record before it.
+        if let Some(k) = pc.checked_sub(1) {
+            crate::decode::fuse(&mut unit.ops, k);
+        }
+        old
     }
 
     /// DEBUG_WRITE with 0: single-step stop. Execution pauses before the next
@@ -305,7 +311,7 @@ impl Vm {
                 .as_ref()
                 .and_then(|u| u.ops.get(pc).copied());
             match op {
-                Some(Op::Network) => {
+                Some(op) if op.is_network() => {
                     self.stack = 0;
                     if let Some(f) = self.frames.last_mut() {
                         f.pc = pc + 1;

@@ -62,6 +62,11 @@ pub(crate) enum Arith {
 pub(crate) enum Op {
     /// A network record: the logic stack starts empty.
     Network,
+    /// A network record fused with the LD (LDN) that follows it: the stack becomes that
+    /// one bit, and the LD record is passed over. Only the fast path fuses; everything
+    /// else treats it as `Network`.
+    NetLd(Bit),
+    NetLdn(Bit),
     Ld(Bit),
     Ldn(Bit),
     A(Bit),
@@ -103,6 +108,25 @@ pub(crate) enum Op {
     },
     /// A breakpoint patched over the op (the original is kept aside).
     Break,
+}
+
+impl Op {
+    /// A network record, fused or not.
+    pub fn is_network(self) -> bool {
+        matches!(self, Op::Network | Op::NetLd(_) | Op::NetLdn(_))
+    }
+}
+
+/// Fuse the network record at `k` with the LD/LDN after it, if there is one.
+pub(crate) fn fuse(ops: &mut [Op], k: usize) {
+    if !ops.get(k).is_some_and(|o| o.is_network()) {
+        return;
+    }
+    ops[k] = match ops.get(k + 1) {
+        Some(&Op::Ld(b)) => Op::NetLd(b),
+        Some(&Op::Ldn(b)) => Op::NetLdn(b),
+        _ => Op::Network,
+    };
 }
 
 /// A unit ready to run.
@@ -259,6 +283,9 @@ pub(crate) fn decode(
                 step = step.saturating_add(1);
             }
         }
+    }
+    for k in 0..ops.len() {
+        fuse(&mut ops, k);
     }
     Unit {
         page: unit.page,

@@ -153,7 +153,7 @@ impl Vm {
                     continue 'frames;
                 };
                 let op = match op {
-                    Op::Network => {
+                    Op::Network | Op::NetLd(_) | Op::NetLdn(_) => {
                         st = 0;
                         pc += 1;
                         continue;
@@ -343,7 +343,7 @@ impl Vm {
         let f = self.frames.last()?;
         let ops = &self.units[f.page as usize].as_ref()?.ops;
         let mut pc = f.pc;
-        while skip_networks && ops.get(pc) == Some(&Op::Network) {
+        while skip_networks && ops.get(pc).is_some_and(|o| o.is_network()) {
             pc += 1;
         }
         ops.get(pc).copied()
@@ -364,11 +364,26 @@ fn run_fast(
     let (start, mut networks) = (pc, 0u64);
     let mut s = *st;
     while let Some(&op) = ops.get(pc) {
-        if op == Op::Network {
-            s = 0;
-            networks += 1;
-        } else if !fast_op(mem, op, &mut s, mask, flags_at) {
-            break;
+        match op {
+            Op::Network => {
+                s = 0;
+                networks += 1;
+            }
+            Op::NetLd(b) => {
+                s = bit(mem, b);
+                networks += 1;
+                pc += 1;
+            }
+            Op::NetLdn(b) => {
+                s = bit(mem, b) ^ 1;
+                networks += 1;
+                pc += 1;
+            }
+            op => {
+                if !fast_op(mem, op, &mut s, mask, flags_at) {
+                    break;
+                }
+            }
         }
         pc += 1;
     }
@@ -479,7 +494,9 @@ fn fast_op(mem: &mut [u8], op: Op, st: &mut u32, mask: u32, flags_at: usize) -> 
                 Combine::Or => s | r,
             }
         }
-        Op::Network | Op::Generic { .. } | Op::Break => return false,
+        Op::Network | Op::NetLd(_) | Op::NetLdn(_) | Op::Generic { .. } | Op::Break => {
+            return false
+        }
     };
     true
 }
