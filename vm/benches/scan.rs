@@ -1,105 +1,288 @@
-//! VM speed: nanoseconds per executed instruction on (a) a generated bit-logic program
-//! of 10,000 instructions per scan and (b) a mixed program (moves, arithmetic, compares,
-//! calls). Median of several timed batches of scans. Issue 4's bar: <= 3 ns per
-//! instruction on (a), within 5x of a native transcription (not built yet).
+//! Issue 4's VM figures, all from one run: nanoseconds per executed instruction on (a)
+//! a generated bit-logic program of 10,000 instructions per scan and (b) a mixed
+//! program (moves, math, compares, calls), each against its native Rust transcription
+//! (crate gutta-bench-native, checked against the VM by its tests/agree.rs); the scan
+//! time of the AN2002 sample 3 master; the memory of a loaded EC30-EKSTM32-XC image.
+//! Medians of timed batches. `cargo bench -p gutta-vm --bench scan` measures;
+//! `cargo test --benches` (no `--bench`) only runs everything once.
 
+use std::hint::black_box;
 use std::sync::Arc;
 use std::time::Instant;
 
-use gutta_catalog::stdlib;
+use gutta_bench_native::Memory;
+use gutta_catalog::{stdlib, Target};
 use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
+use gutta_format::VerifiedImage;
 use gutta_vm::{Vm, VmConfig};
 
-/// (a): networks of LD/A/AN/O/= on I, Q and M bits; `count` instructions in all.
-fn bit_logic(count: usize) -> String {
-    let mut code = String::new();
-    let mut n = 0;
-    let mut net = 1;
-    while n < count {
-        code.push_str(&format!(
-            "NETWORK {net}\nLD I0.{}\nA M{}.{}\nAN I1.{}\nO M{}.{}\n= M{}.{}\n",
-            net % 8,
-            net % 16,
-            net % 8,
-            (net + 3) % 8,
-            (net + 5) % 16,
-            net % 8,
-            (net + 7) % 16,
-            (net + 1) % 8
-        ));
-        n += 5;
-        net += 1;
-    }
-    format!("ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\n{code}END_ORGANIZATION_BLOCK\n")
+/// The target of the instruction benchmarks: room for large programs (131,072
+/// instruction bytes).
+const BIG_TARGET: &str = "EC30-EKSTM32-XC";
+
+/// How much to measure.
+#[derive(Debug, Clone, Copy)]
+struct Effort {
+    batches: usize,
+    scans: usize,
+    /// VMs loaded per step of the memory measurement.
+    vms_per_step: usize,
 }
 
-/// (b): moves, integer math, compares and a subroutine call per network.
-fn mixed(count: usize) -> String {
-    let mut code = String::new();
-    let mut n = 0;
-    let mut net = 1;
-    while n < count {
-        code.push_str(&format!(
-            "NETWORK {net}\nLD SM0.0\nMOVW MW{a}, MW{b}\n+I 3, MW{b}\n*I 2, MW{b}\nLDW>= MW{b}, 100\nMOVD MD40, MD44\n+D 1, MD44\nCALL ADD1, MW{b}, MW{c}\n",
-            a = (net * 2) % 32,
-            b = 32 + (net * 2) % 32,
-            c = 64 + (net * 2) % 32
-        ));
-        n += 8 + 3;
-        net += 1;
+/// Compile `text` (for `target`, or the target the program names / the stdlib default)
+/// and verify it; the bytes of the image's pages too.
+fn image(name: &str, text: &str, target: Option<&str>) -> (VerifiedImage, Arc<Target>, usize) {
+    let explicit = target.map(|t| ExplicitTarget {
+        target: stdlib::shared(t).expect("target"),
+        origin: "bench".into(),
+    });
+    let meta = ImageMeta {
+        source: name.into(),
+        tool: "bench".into(),
+    };
+    let c = compile(SourceFile::new(name, text), explicit.as_ref(), &meta);
+    let image = c
+        .image
+        .unwrap_or_else(|| panic!("{name}: {:?}", c.checked.diagnostics().first()));
+    let target = Arc::clone(&c.checked.target);
+    let verified = gutta_format::verify(&image, &target).expect("verifies");
+    let bytes = image.pages.values().map(Vec::len).sum();
+    (verified, target, bytes)
+}
+
+fn load(verified: &VerifiedImage, target: &Arc<Target>) -> Vm {
+    Vm::new(verified.clone(), Arc::clone(target), VmConfig::default()).expect("loads")
+}
+
+fn example(name: &str) -> String {
+    let path = format!("{}/../examples/{name}", env!("CARGO_MANIFEST_DIR"));
+    std::fs::read_to_string(path).expect("example")
+}
+
+/// Set a variable (an input's terminal for I).
+fn set(vm: &mut Vm, var: &str, value: u32) {
+    let a = vm.target().memory.parse_address(var).expect("address");
+    vm.write(a, value).expect("write");
+}
+
+fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
+}
+
+/// Seconds per call of `scan` over one batch of `scans` calls.
+fn batch(scans: usize, scan: &mut impl FnMut()) -> f64 {
+    let t = Instant::now();
+    for _ in 0..scans {
+        scan();
     }
-    format!(
-        "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\n{code}END_ORGANIZATION_BLOCK\n\
-         SUBROUTINE_BLOCK ADD1:SBR0\nVAR_INPUT\n  a : INT;\nEND_VAR\nVAR_OUTPUT\n  r : INT;\nEND_VAR\nBEGIN\nNETWORK 1\nLD SM0.0\nMOVW #a, #r\n+I 1, #r\nEND_SUBROUTINE_BLOCK\n"
+    t.elapsed().as_secs_f64() / scans as f64
+}
+
+/// Median seconds per call of `scan` over `effort.batches` batches of `effort.scans`.
+fn seconds_per_scan(effort: Effort, mut scan: impl FnMut()) -> f64 {
+    scan(); // warm-up
+    median(
+        (0..effort.batches)
+            .map(|_| batch(effort.scans, &mut scan))
+            .collect(),
     )
 }
 
-fn load(text: &str) -> Vm {
-    // A target with room for large programs (131,072 instruction bytes).
-    let target = stdlib::shared("EC30-EKSTM32-XC").expect("target");
-    let explicit = ExplicitTarget {
-        target: target.clone(),
-        origin: "bench".into(),
-    };
-    let c = compile(
-        SourceFile::new("bench.lad", text),
-        Some(&explicit),
-        &ImageMeta {
-            source: "bench.lad".into(),
-            tool: "bench".into(),
-        },
-    );
-    let image = c
-        .image
-        .unwrap_or_else(|| panic!("{:?}", c.checked.diagnostics().first()));
-    let verified = gutta_format::verify(&image, &target).expect("verifies");
-    Vm::new(verified, Arc::clone(&target), VmConfig::default()).expect("loads")
+/// The mixed program's INT inputs (MW0..MW30): large enough that every compare holds,
+/// so every network runs its CALL and a scan executes all 10,000 instructions.
+fn mixed_inputs(mut write_word: impl FnMut(u32, u16)) {
+    for k in 0..16u32 {
+        write_word(k * 2, 1000 + 100 * k as u16);
+    }
 }
 
-/// Executed instructions per scan (counted by the VM) and median ns per instruction.
-fn measure(vm: &mut Vm, batches: usize, scans: usize) -> (u64, f64) {
-    vm.scan().expect("warm-up");
+/// A program and its native transcriptions (free, and fenced between networks).
+struct Program {
+    name: &'static str,
+    text: &'static str,
+    native: fn(&mut Memory),
+    fenced: fn(&mut Memory),
+}
+
+/// One row of the instruction table: medians of ns per instruction, and of the
+/// ratios VM/native and VM/fenced of batches timed one right after the other (the
+/// ratios vary less than the times on a busy machine).
+struct Row {
+    per_scan: u64,
+    vm: f64,
+    native: f64,
+    fenced: f64,
+    vm_per_native: f64,
+    vm_per_fenced: f64,
+}
+
+fn instructions(effort: Effort, program: &Program) -> Row {
+    let text = program.text;
+    let (verified, target, _) = image("bench.lad", text, Some(BIG_TARGET));
+    let mut vm = load(&verified, &target);
+    let mut native = Memory::default();
+    mixed_inputs(|at, v| {
+        set(&mut vm, &format!("MW{at}"), u32::from(v));
+        gutta_bench_native::set_word(&mut native.m, at as usize, v as i16);
+    });
+    vm.scan().expect("first scan");
     let per_scan = vm.executed_last_scan();
-    let mut times = Vec::new();
-    for _ in 0..batches {
-        let t = Instant::now();
-        for _ in 0..scans {
-            vm.scan().expect("scan");
-        }
-        times.push(t.elapsed().as_secs_f64() * 1e9 / (scans as f64 * per_scan as f64));
+    let mut native_memory = native.clone();
+    let mut fenced_memory = native;
+    let mut vm_scan = || vm.scan().expect("scan");
+    let mut native_scan = || (program.native)(black_box(&mut native_memory));
+    let mut fenced_scan = || (program.fenced)(black_box(&mut fenced_memory));
+    native_scan(); // warm-up (the VM's was the first scan)
+    fenced_scan();
+    let mut times = [Vec::new(), Vec::new(), Vec::new()];
+    for _ in 0..effort.batches {
+        times[0].push(batch(effort.scans, &mut vm_scan));
+        times[1].push(batch(effort.scans, &mut native_scan));
+        times[2].push(batch(effort.scans, &mut fenced_scan));
     }
-    times.sort_by(|a, b| a.total_cmp(b));
-    (per_scan, times[times.len() / 2])
+    let ratios = |k: usize| median(times[0].iter().zip(&times[k]).map(|(v, n)| v / n).collect());
+    let (vm_per_native, vm_per_fenced) = (ratios(1), ratios(2));
+    let [vm_s, native_s, fenced_s] = times.map(median);
+    let ns = |s: f64| s * 1e9 / per_scan as f64;
+    Row {
+        per_scan,
+        vm: ns(vm_s),
+        native: ns(native_s),
+        fenced: ns(fenced_s),
+        vm_per_native,
+        vm_per_fenced,
+    }
+}
+
+/// Resident set size of this process in bytes (Linux: /proc/self/status VmRSS).
+fn resident_bytes() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+/// Bytes of resident memory per loaded VM: the growth while loading the last of three
+/// steps of `n` VMs each (the first steps soak up heap the compiler freed), and the
+/// same for the step before, as a consistency check.
+fn bytes_per_vm(verified: &VerifiedImage, target: &Arc<Target>, n: usize) -> Option<(f64, f64)> {
+    let mut vms = Vec::with_capacity(3 * n);
+    let mut rss = vec![resident_bytes()?];
+    for _ in 0..3 {
+        for _ in 0..n {
+            vms.push(load(verified, target));
+        }
+        rss.push(resident_bytes()?);
+    }
+    black_box(&vms);
+    let step = |k: usize| rss[k + 1].saturating_sub(rss[k]) as f64 / n as f64;
+    Some((step(2), step(1)))
 }
 
 fn main() {
     let bench = std::env::args().any(|a| a == "--bench");
-    let (batches, scans) = if bench { (9, 200) } else { (1, 1) };
-    for (name, text) in [("bit logic", bit_logic(10_000)), ("mixed", mixed(10_000))] {
-        let mut vm = load(&text);
-        let (per_scan, ns) = measure(&mut vm, batches, scans);
-        println!("{name:<10} {per_scan:>7} instructions/scan  {ns:>8.2} ns/instruction (median of {batches} x {scans} scans)");
+    let effort = if bench {
+        Effort {
+            batches: 9,
+            scans: 200,
+            vms_per_step: 200,
+        }
+    } else {
+        Effort {
+            batches: 1,
+            scans: 1,
+            vms_per_step: 2,
+        }
+    };
+    let how = format!("median of {} x {} scans", effort.batches, effort.scans);
+
+    println!("\nns per executed instruction, VM against native Rust ({how}):");
+    println!("(fenced: native with a compiler barrier between networks, so each network");
+    println!(" reads and writes memory instead of reusing values of the networks before it)");
+    println!(
+        "{:<10} {:>10} {:>8} {:>10} {:>10} {:>10} {:>10}",
+        "program", "instr/scan", "VM", "native", "VM/native", "fenced", "VM/fenced"
+    );
+    let programs = [
+        Program {
+            name: "bit logic",
+            text: gutta_bench_native::BIT_LOGIC,
+            native: gutta_bench_native::bit_logic_scan,
+            fenced: gutta_bench_native::bit_logic_scan_fenced,
+        },
+        Program {
+            name: "mixed",
+            text: gutta_bench_native::MIXED,
+            native: gutta_bench_native::mixed_scan,
+            fenced: gutta_bench_native::mixed_scan_fenced,
+        },
+    ];
+    for program in &programs {
+        let r = instructions(effort, program);
+        println!(
+            "{:<10} {:>10} {:>8.2} {:>10.3} {:>9.1}x {:>10.3} {:>9.1}x",
+            program.name, r.per_scan, r.vm, r.native, r.vm_per_native, r.fenced, r.vm_per_fenced
+        );
+    }
+
+    let (verified, target, _) = image(
+        "an2002_sample3_master.lad",
+        &example("an2002_sample3_master.lad"),
+        None,
+    );
+    let mut master = load(&verified, &target);
+    set(&mut master, "I0.1", 1); // polling on: EXCH queued every 200 ms
+    let s = seconds_per_scan(effort, || master.scan().expect("scan"));
+    // The first table's D (done) bit and error number, after the next exchange at most
+    // 200 ms of virtual time away.
+    let read = |vm: &Vm, var: &str| {
+        vm.read(target.memory.parse_address(var).expect("address"))
+            .expect("read")
+    };
+    for _ in 0..40 {
+        if read(&master, "M20.1") == 1 {
+            break;
+        }
+        master.scan().expect("scan");
+    }
+    let exchange = if read(&master, "M20.1") == 1 {
+        format!("error {} (2 = timeout)", read(&master, "MB21"))
+    } else {
+        "no result within 40 scans".to_string()
+    };
+    println!(
+        "\nAN2002 sample 3 master on {}: {:.2} us per scan ({how}, I0.1 on).\n\
+         No port is attached: each exchange (every 200 ms) ends at once with {exchange}.",
+        target.plc.name,
+        s * 1e6
+    );
+
+    println!(
+        "\nMemory of a loaded {BIG_TARGET} VM (growth of resident memory per VM, \
+         loading steps of {} VMs):",
+        effort.vms_per_step
+    );
+    println!(
+        "{:<22} {:>12} {:>14} {:>16}",
+        "image", "image bytes", "bytes per VM", "(step before)"
+    );
+    let images = [
+        ("in1001_pointers.lad", example("in1001_pointers.lad")),
+        (
+            "mixed (10,000 instr)",
+            gutta_bench_native::MIXED.to_string(),
+        ),
+    ];
+    for (name, text) in images {
+        let (verified, target, bytes) = image(name, &text, Some(BIG_TARGET));
+        match bytes_per_vm(&verified, &target, effort.vms_per_step) {
+            Some((last, before)) => {
+                println!("{name:<22} {bytes:>12} {last:>14.0} {before:>16.0}")
+            }
+            None => println!("{name:<22} {bytes:>12} {:>14}", "no /proc"),
+        }
     }
 }

@@ -1,0 +1,149 @@
+//! The native transcriptions do what the VM does: both programs compiled for
+//! EC30-EKSTM32-XC and run in the VM, and transcribed and run natively, from the same
+//! changing inputs, leave I, Q, M and the math flags (SMB1) byte-identical after every
+//! scan. Without this the benchmark's native figure would mean nothing.
+
+use std::sync::Arc;
+
+use gutta_bench_native::{Memory, BIT_LOGIC, MIXED};
+use gutta_catalog::{stdlib, Target};
+use gutta_compiler::encode::ImageMeta;
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{compile, ExplicitTarget};
+use gutta_vm::{Vm, VmConfig};
+
+const TARGET: &str = "EC30-EKSTM32-XC";
+const SCANS: u32 = 5;
+
+fn load(text: &str) -> (Vm, Arc<Target>) {
+    let target = stdlib::shared(TARGET).expect("target");
+    let explicit = ExplicitTarget {
+        target: Arc::clone(&target),
+        origin: "test".into(),
+    };
+    let meta = ImageMeta {
+        source: "agree.lad".into(),
+        tool: "test".into(),
+    };
+    let c = compile(SourceFile::new("agree.lad", text), Some(&explicit), &meta);
+    let image = c
+        .image
+        .unwrap_or_else(|| panic!("does not compile: {:?}", c.checked.diagnostics()));
+    let verified = gutta_format::verify(&image, &target).expect("verifies");
+    let vm = Vm::new(verified, Arc::clone(&target), VmConfig::default()).expect("loads");
+    (vm, target)
+}
+
+/// Write a byte (`IB3`) or word (`MW6`) in both memories.
+fn set(vm: &mut Vm, target: &Target, native: &mut Memory, var: &str, value: u32) {
+    let a = target.memory.parse_address(var).expect("address");
+    vm.write(a, value).expect("write");
+    let area = match &var[..1] {
+        "I" => &mut native.i[..],
+        "M" => &mut native.m[..],
+        _ => panic!("set {var}"),
+    };
+    let at = a.offset as usize;
+    let bytes = value.to_le_bytes();
+    let n = a.width.bytes() as usize;
+    area[at..at + n].copy_from_slice(&bytes[..n]);
+}
+
+fn vm_area<'a>(vm: &'a Vm, target: &Target, name: &str) -> &'a [u8] {
+    let slot = target.memory.area(name).expect("area").slot;
+    vm.memory().area(slot).expect("area in VM memory")
+}
+
+/// Different inputs every scan: I bytes, M bits the bit program reads, and INT words
+/// (MW0..MW30) and MD40 spread over the range, so compares go both ways and *I
+/// overflows.
+fn stimulate(scan: u32, vm: &mut Vm, target: &Target, native: &mut Memory) {
+    for byte in 0..4 {
+        let v = (0x5A ^ (scan * 37 + byte * 11)) & 0xFF;
+        set(vm, target, native, &format!("IB{byte}"), v);
+    }
+    for byte in 0..16 {
+        let v = (0xC3 ^ (scan * 29 + byte * 7)) & 0xFF;
+        set(vm, target, native, &format!("MB{byte}"), v);
+    }
+    for k in 0..16u32 {
+        let v = (k * 4099 + scan * 7919) % 65536;
+        set(vm, target, native, &format!("MW{}", k * 2), v);
+    }
+    set(vm, target, native, "MD40", 0x7FFF_FFF0 + scan * 3);
+}
+
+fn agree(text: &str, scan: fn(&mut Memory)) {
+    let (mut vm, target) = load(text);
+    let mut native = Memory::default();
+    let mut changed = 0;
+    for n in 0..SCANS {
+        stimulate(n, &mut vm, &target, &mut native);
+        let before = native.clone();
+        vm.scan().expect("scan");
+        scan(&mut native);
+        changed += usize::from(before != native);
+        for (name, bytes) in [
+            ("I", &native.i[..]),
+            ("Q", &native.q[..]),
+            ("M", &native.m[..]),
+        ] {
+            let vm_bytes = vm_area(&vm, &target, name);
+            if let Some(at) = (0..bytes.len()).find(|&k| vm_bytes[k] != bytes[k]) {
+                panic!(
+                    "scan {n}: {name}B{at} is {:#04x} in the VM and {:#04x} native",
+                    vm_bytes[at], bytes[at]
+                );
+            }
+            assert_eq!(vm_bytes.len(), bytes.len(), "{name} size");
+        }
+        assert_eq!(
+            vm_area(&vm, &target, "SM")[1],
+            native.sm[1],
+            "scan {n}: SMB1 (math flags)"
+        );
+    }
+    assert_eq!(changed, SCANS as usize, "every scan changes memory");
+}
+
+#[test]
+fn bit_logic_agrees_with_the_vm() {
+    agree(BIT_LOGIC, gutta_bench_native::bit_logic_scan);
+    agree(BIT_LOGIC, gutta_bench_native::bit_logic_scan_fenced);
+}
+
+#[test]
+fn mixed_agrees_with_the_vm() {
+    agree(MIXED, gutta_bench_native::mixed_scan);
+    agree(MIXED, gutta_bench_native::mixed_scan_fenced);
+}
+
+#[test]
+fn both_programs_take_both_branches() {
+    // A transcription that skips box instructions or never overflows would still agree
+    // on a program that never exercises them: check the stimulus does.
+    let (mut vm, target) = load(MIXED);
+    let mut native = Memory::default();
+    stimulate(0, &mut vm, &target, &mut native);
+    gutta_bench_native::mixed_scan(&mut native);
+    let b_words: Vec<i16> = (32..64)
+        .step_by(2)
+        .map(|k| gutta_bench_native::word(&native.m, k))
+        .collect();
+    assert!(b_words.iter().any(|&w| w >= 100) && b_words.iter().any(|&w| w < 100));
+    assert_ne!(native.m[64..96], [0; 32], "the subroutine's results arrive");
+}
+
+#[test]
+fn memory_sizes_match_the_catalog() {
+    let target = stdlib::shared(TARGET).expect("target");
+    let size = |name: &str| target.memory.area(name).expect("area").size as usize;
+    assert_eq!(size("I"), gutta_bench_native::I_BYTES);
+    assert_eq!(size("Q"), gutta_bench_native::Q_BYTES);
+    assert_eq!(size("M"), gutta_bench_native::M_BYTES);
+    assert_eq!(size("SM"), gutta_bench_native::SM_BYTES);
+    assert_eq!(
+        u32::from(target.instructions.logic_stack_depth),
+        gutta_bench_native::LOGIC_STACK_DEPTH
+    );
+}
