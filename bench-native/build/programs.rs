@@ -1,22 +1,39 @@
 //! The benchmark programs, generated as LAD text. Only text: what they mean is the
 //! compiler's business (for the VM) and `transcribe`'s (for the native code).
 
-/// (a): networks of LD/A/AN/O/= on I, Q and M bits; `count` instructions in all.
+/// A fixed pseudo-random sequence (64-bit LCG, Knuth's MMIX constants): the programs
+/// are the same on every run, and their operands do not repeat with a short period, so
+/// the native transcription cannot fold repeated networks into one.
+struct Lcg(u64);
+
+impl Lcg {
+    fn below(&mut self, n: u64) -> u64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (self.0 >> 33) % n
+    }
+}
+
+/// (a): networks of LD/A/AN/O/= on I and M bits (inputs I0..I31, memory M0..M1023,
+/// chosen pseudo-randomly); `count` instructions in all.
 pub fn bit_logic(count: usize) -> String {
+    let mut rng = Lcg(0x0067_7574_7461);
+    let mut bit = |area: &str, bytes: u64| format!("{area}{}.{}", rng.below(bytes), rng.below(8));
     let mut code = String::new();
     let mut n = 0;
     let mut net = 1;
     while n < count {
+        let (i1, m1, i2, m2, out) = (
+            bit("I", 32),
+            bit("M", 1024),
+            bit("I", 32),
+            bit("M", 1024),
+            bit("M", 1024),
+        );
         code.push_str(&format!(
-            "NETWORK {net}\nLD I0.{}\nA M{}.{}\nAN I1.{}\nO M{}.{}\n= M{}.{}\n",
-            net % 8,
-            net % 16,
-            net % 8,
-            (net + 3) % 8,
-            (net + 5) % 16,
-            net % 8,
-            (net + 7) % 16,
-            (net + 1) % 8
+            "NETWORK {net}\nLD {i1}\nA {m1}\nAN {i2}\nO {m2}\n= {out}\n"
         ));
         n += 5;
         net += 1;

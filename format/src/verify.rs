@@ -90,6 +90,12 @@ impl VerifiedImage {
     }
 
     /// Program units by page number (function index).
+    /// Move the units out (a VM that decoded them keeps no second copy); `units()` is
+    /// empty afterwards.
+    pub fn take_units(&mut self) -> BTreeMap<u8, VerifiedUnit> {
+        std::mem::take(&mut self.units)
+    }
+
     pub fn units(&self) -> &BTreeMap<u8, VerifiedUnit> {
         &self.units
     }

@@ -98,8 +98,6 @@ impl From<Fault> for DebugError {
 pub(crate) struct Debug {
     /// The breakpoint and the record index it is patched over.
     pub breakpoint: Option<(Position, usize)>,
-    /// The instruction under the breakpoint.
-    pub original: Option<Op>,
     /// Execution is suspended before the next instruction.
     pub paused: bool,
     /// DEBUG_WRITE 0: stop before every instruction; the host steps.
@@ -171,30 +169,33 @@ impl Vm {
                 Some((p, pc))
             }
         };
-        if let (Some((p, pc)), Some(op)) = (self.debug.breakpoint.take(), self.debug.original) {
-            self.patch(p.function, pc, op);
+        if let Some((p, _)) = self.debug.breakpoint.take() {
+            self.rebuild(p.function, None);
         }
-        self.debug.original = None;
         if let Some((p, pc)) = found {
-            self.debug.original = Some(self.patch(p.function, pc, Op::Break));
+            self.rebuild(p.function, Some(pc));
             self.debug.breakpoint = Some((p, pc));
         }
         Ok(())
     }
 
-    /// Put `op` at record `pc` of unit `page`; returns what was there.
-    fn patch(&mut self, page: u8, pc: usize, op: Op) -> Op {
-        let Some(unit) = self.units[page as usize].as_mut() else {
-            return op;
-        };
-        let unit = Arc::make_mut(unit);
-        let old = std::mem::replace(&mut unit.ops[pc], op);
-        // A breakpoint on a network's first LD must not be passed over by the fused
-        // network record before it.
-        if let Some(k) = pc.checked_sub(1) {
-            crate::decode::fuse(&mut unit.ops, k);
+    /// Rebuild unit `page`'s fast operations with the breakpoint at `pc` (or none).
+    fn rebuild(&mut self, page: u8, pc: Option<usize>) {
+        let fast = self.config.fast;
+        if let Some(unit) = self.units[page as usize].as_mut() {
+            let unit = Arc::make_mut(unit);
+            let mut chain = std::mem::take(&mut unit.chain);
+            unit.ops = if fast {
+                crate::decode::build(&unit.plain, pc, &mut chain)
+            } else {
+                let mut ops = unit.plain.clone();
+                if let Some(op) = pc.and_then(|pc| ops.get_mut(pc)) {
+                    *op = Op::Break;
+                }
+                ops
+            };
+            unit.chain = chain;
         }
-        old
     }
 
     /// DEBUG_WRITE with 0: single-step stop. Execution pauses before the next
@@ -345,12 +346,7 @@ impl Vm {
         b[5] = at.function;
         b[6..8].copy_from_slice(&at.network.to_be_bytes());
         b[8..10].copy_from_slice(&at.step.to_be_bytes());
-        let saved: usize = self
-            .frames
-            .iter()
-            .filter_map(|f| f.call.as_ref())
-            .map(|c| c.saved_l.len())
-            .sum();
+        let saved = self.l_stack.len();
         b[10..12].copy_from_slice(&(saved.min(0xFFFF) as u16).to_be_bytes());
         b[12..14].copy_from_slice(&((self.stack & 0xFFFF) as u16).to_be_bytes());
         b[14] = self.frames.len().saturating_sub(1).min(255) as u8;

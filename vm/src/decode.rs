@@ -5,8 +5,11 @@
 //! record's packed operands. Op `k` of a unit is record `k`, so labels, FOR/NEXT pairs
 //! and debugger positions use one numbering. docs/vm.md, "Speed", says why.
 
-use gutta_catalog::{Flow, Target, Width};
-use gutta_format::{PackedOperand, UnitRecord, Use, VerifiedUnit};
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use gutta_catalog::{Flow, InstrId, Target, Width};
+use gutta_format::{LocalEntry, PackedOperand, UnitRecord, Use, VerifiedUnit};
 
 use crate::memory::{Location, Memory};
 
@@ -55,6 +58,7 @@ impl Rel {
 pub(crate) enum Arith {
     Add,
     Sub,
+    Mul,
 }
 
 /// One decoded record.
@@ -62,11 +66,13 @@ pub(crate) enum Arith {
 pub(crate) enum Op {
     /// A network record: the logic stack starts empty.
     Network,
-    /// A network record fused with the LD (LDN) that follows it: the stack becomes that
-    /// one bit, and the LD record is passed over. Only the fast path fuses; everything
-    /// else treats it as `Network`.
-    NetLd(Bit),
-    NetLdn(Bit),
+    /// Bit logic fused (see `build`): `Unit::chain[first..first + steps]` run in order;
+    /// it covers `steps` records, plus the network record before them when `network`.
+    Chain {
+        first: u32,
+        steps: u16,
+        network: bool,
+    },
     Ld(Bit),
     Ldn(Bit),
     A(Bit),
@@ -86,7 +92,7 @@ pub(crate) enum Op {
         dst: u32,
         width: u8,
     },
-    /// +I/-I (width 2) and +D/-D (width 4) on plain variables, with the SM1 flags.
+    /// +I -I *I (width 2) and +D -D *D (width 4) on plain variables, with the SM1 flags.
     Math {
         op: Arith,
         src: u32,
@@ -113,30 +119,168 @@ pub(crate) enum Op {
 impl Op {
     /// A network record, fused or not.
     pub fn is_network(self) -> bool {
-        matches!(self, Op::Network | Op::NetLd(_) | Op::NetLdn(_))
+        matches!(self, Op::Network | Op::Chain { network: true, .. })
     }
 }
 
-/// Fuse the network record at `k` with the LD/LDN after it, if there is one.
-pub(crate) fn fuse(ops: &mut [Op], k: usize) {
-    if !ops.get(k).is_some_and(|o| o.is_network()) {
-        return;
-    }
-    ops[k] = match ops.get(k + 1) {
-        Some(&Op::Ld(b)) => Op::NetLd(b),
-        Some(&Op::Ldn(b)) => Op::NetLdn(b),
-        _ => Op::Network,
+/// One step of a fused chain, branch-free but for the store. With v the bit at `at`
+/// under `mask` (inverted for LDN/AN/ON) and `s` the logic stack:
+/// s := (s AND (keep OR (v AND and))) OR (v AND or); then for a `=`, the bit `store` of
+/// the byte at `at` takes the new top.
+/// LD/LDN at a network's start: keep 0, and 0, or 1 (s := v). A/AN: keep NOT 1, and 1,
+/// or 0. O/ON: keep all, or 1. `=`: mask 0, keep all, or 0 (s unchanged).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct ChainStep {
+    pub at: u32,
+    pub keep: u32,
+    pub and: u32,
+    pub or: u32,
+    pub mask: u8,
+    pub invert: u8,
+    pub store: u8,
+}
+
+fn chain_step(op: Op) -> Option<ChainStep> {
+    let step = |b: Bit, invert, or: bool| ChainStep {
+        at: b.at,
+        keep: if or { u32::MAX } else { !1 },
+        and: u32::from(!or),
+        or: u32::from(or),
+        mask: b.mask,
+        invert,
+        store: 0,
     };
+    Some(match op {
+        Op::A(b) => step(b, 0, false),
+        Op::An(b) => step(b, 1, false),
+        Op::O(b) => step(b, 0, true),
+        Op::On(b) => step(b, 1, true),
+        Op::Assign(b) => ChainStep {
+            at: b.at,
+            keep: u32::MAX,
+            and: 0,
+            or: 0,
+            mask: 0,
+            invert: 0,
+            store: b.mask,
+        },
+        _ => return None,
+    })
 }
 
-/// A unit ready to run.
+/// The operations the fast path runs: `plain` with the breakpoint (if any) patched in,
+/// and fused: a network record with the LD/LDN after it, and the A/AN/O/ON/`=` that
+/// follow, become one chain (steps appended to `chain`); so do two or more of those
+/// anywhere else. Fused operations sit at the first record they cover; the records
+/// after keep their plain operations, so record numbering is unchanged and a scan can
+/// stop at any of them.
+pub(crate) fn build(
+    plain: &[Op],
+    breakpoint: Option<usize>,
+    chain: &mut Vec<ChainStep>,
+) -> Vec<Op> {
+    let mut ops = plain.to_vec();
+    chain.clear();
+    if let Some(op) = breakpoint.and_then(|pc| ops.get_mut(pc)) {
+        *op = Op::Break;
+    }
+    let mut k = 0;
+    while k < ops.len() {
+        let first = chain.len();
+        let network = ops[k] == Op::Network;
+        let mut j = k;
+        if network {
+            let load = match ops.get(k + 1) {
+                Some(&Op::Ld(b)) => Some((b, 0)),
+                Some(&Op::Ldn(b)) => Some((b, 1)),
+                _ => None,
+            };
+            if let Some((b, invert)) = load {
+                chain.push(ChainStep {
+                    at: b.at,
+                    keep: 0,
+                    and: 0,
+                    or: 1,
+                    mask: b.mask,
+                    invert,
+                    store: 0,
+                });
+                j = k + 2;
+            } else {
+                k += 1;
+                continue;
+            }
+        }
+        while j < ops.len() && j - k < u16::MAX as usize {
+            match chain_step(ops[j]) {
+                Some(step) => chain.push(step),
+                None => break,
+            }
+            j += 1;
+        }
+        let steps = chain.len() - first;
+        if network || steps >= 2 {
+            ops[k] = Op::Chain {
+                first: u32::try_from(first).unwrap_or(u32::MAX),
+                steps: steps as u16,
+                network,
+            };
+            k = j;
+        } else {
+            chain.truncate(first);
+            k += 1;
+        }
+    }
+    ops
+}
+
+/// An instruction record, compactly: its operands are `Unit::operands[first..first + len]`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Record {
+    pub id: InstrId,
+    /// Byte offset in the instruction page (for fault messages).
+    pub offset: u32,
+    pub first: u32,
+    pub len: u16,
+}
+
+/// A unit ready to run. Everything the interpreter needs, so the VM keeps no other copy
+/// of the code.
 #[derive(Debug, Clone)]
 pub(crate) struct Unit {
     pub page: u8,
+    /// What the fast path runs (fused, breakpoint patched in); see `build`.
     pub ops: Vec<Op>,
-    pub source: VerifiedUnit,
+    /// One operation per record, unfused: what single steps and the slow path run.
+    pub plain: Vec<Op>,
+    /// Steps of the fused chains in `ops`.
+    pub chain: Vec<ChainStep>,
     /// Per record: (network number, step within the network); networks have step 0xFFFF.
     pub positions: Vec<(u16, u16)>,
+    /// Per record: the instruction (None for network records).
+    pub records: Vec<Option<Record>>,
+    pub operands: Vec<PackedOperand>,
+    /// Label number -> record index of its LBL.
+    pub labels: BTreeMap<u16, usize>,
+    /// The parameters a CALL passes (VAR_INPUT, VAR_IN_OUT, VAR_OUTPUT), in order.
+    pub params: Vec<LocalEntry>,
+    /// The instruction set, for mnemonics.
+    pub target: Arc<Target>,
+}
+
+impl Unit {
+    /// Record `pc` if it is an instruction: its id, page offset and operands.
+    pub fn instruction(&self, pc: usize) -> Option<(InstrId, usize, &[PackedOperand])> {
+        let r = (*self.records.get(pc)?)?;
+        let ops = self
+            .operands
+            .get(r.first as usize..r.first as usize + r.len as usize)?;
+        Some((r.id, r.offset as usize, ops))
+    }
+
+    pub fn mnemonic(&self, id: InstrId) -> &str {
+        &self.target.instructions.get(id).mnemonic
+    }
 }
 
 /// A plain variable operand (USE 0) of the given width, as a flat memory index.
@@ -220,13 +364,13 @@ fn fast(memory: &Memory, mnemonic: &str, ops: &[PackedOperand]) -> Option<Op> {
                 width,
             }
         }
-        "+I" | "-I" | "+D" | "-D" => {
+        "+I" | "-I" | "*I" | "+D" | "-D" | "*D" => {
             let width = if mnemonic.ends_with('I') { 2 } else { 4 };
             Op::Math {
-                op: if mnemonic.starts_with('+') {
-                    Arith::Add
-                } else {
-                    Arith::Sub
+                op: match mnemonic.as_bytes()[0] {
+                    b'+' => Arith::Add,
+                    b'-' => Arith::Sub,
+                    _ => Arith::Mul,
                 },
                 src: var(0, width)?,
                 dst: var(1, width)?,
@@ -256,12 +400,17 @@ fn fast(memory: &Memory, mnemonic: &str, ops: &[PackedOperand]) -> Option<Op> {
 /// both forms).
 pub(crate) fn decode(
     unit: &VerifiedUnit,
-    target: &Target,
+    target: &Arc<Target>,
     memory: &Memory,
     fast_ops: bool,
 ) -> Unit {
-    let mut ops = Vec::with_capacity(unit.records.len());
-    let mut positions = Vec::with_capacity(unit.records.len());
+    let n = unit.records.len();
+    let (mut ops, mut positions, mut records) = (
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+    );
+    let mut operands = Vec::new();
     let (mut network, mut step) = (0u16, 0u16);
     for r in &unit.records {
         match r {
@@ -269,28 +418,50 @@ pub(crate) fn decode(
                 (network, step) = (*number, 0);
                 ops.push(Op::Network);
                 positions.push((network, u16::MAX));
+                records.push(None);
             }
-            UnitRecord::Instruction { id, operands, .. } => {
+            UnitRecord::Instruction {
+                id,
+                operands: packed,
+                offset,
+            } => {
                 let ins = target.instructions.get(*id);
                 let op = fast_ops
-                    .then(|| fast(memory, &ins.mnemonic, operands))
+                    .then(|| fast(memory, &ins.mnemonic, packed))
                     .flatten()
                     .unwrap_or(Op::Generic {
                         boxed: ins.flow == Flow::Box,
                     });
                 ops.push(op);
                 positions.push((network, step));
+                records.push(Some(Record {
+                    id: *id,
+                    offset: u32::try_from(*offset).unwrap_or(u32::MAX),
+                    first: u32::try_from(operands.len()).unwrap_or(u32::MAX),
+                    len: u16::try_from(packed.len()).unwrap_or(u16::MAX),
+                }));
+                operands.extend_from_slice(packed);
                 step = step.saturating_add(1);
             }
         }
     }
-    for k in 0..ops.len() {
-        fuse(&mut ops, k);
-    }
+    operands.shrink_to_fit();
+    let mut chain = Vec::new();
+    let fused = if fast_ops {
+        build(&ops, None, &mut chain)
+    } else {
+        ops.clone()
+    };
     Unit {
         page: unit.page,
-        ops,
-        source: unit.clone(),
+        ops: fused,
+        plain: ops,
+        chain,
         positions,
+        records,
+        operands,
+        labels: unit.labels.clone(),
+        params: unit.parameters().copied().collect(),
+        target: Arc::clone(target),
     }
 }

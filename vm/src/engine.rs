@@ -5,11 +5,8 @@
 //! "Debugging".
 
 use std::collections::VecDeque;
-use std::sync::Arc;
 
-use gutta_format::UnitRecord;
-
-use crate::decode::{Arith, Bit, Combine, Op, Unit};
+use crate::decode::{Arith, Bit, ChainStep, Combine, Op, Unit};
 use crate::ops::{Control, Exec};
 use crate::{exch, Fault, Vm};
 
@@ -25,10 +22,10 @@ pub(crate) struct Frame {
     pub loops_at_entry: usize,
 }
 
-/// The caller's state a CALL saves.
+/// The caller's state a CALL saves: its L is on `Vm::l_stack` from `l_mark`.
 #[derive(Debug, Clone)]
 pub(crate) struct CallSave {
-    pub saved_l: Vec<u8>,
+    pub l_mark: usize,
     pub saved_stack: u32,
 }
 
@@ -134,6 +131,7 @@ impl Vm {
                     let (at, ran) = run_fast(
                         &mut self.memory.bytes,
                         &ops[..end],
+                        &unit.chain,
                         pc,
                         &mut st,
                         mask,
@@ -152,22 +150,18 @@ impl Vm {
                     }
                     continue 'frames;
                 };
-                let op = match op {
-                    Op::Network | Op::NetLd(_) | Op::NetLdn(_) => {
-                        st = 0;
-                        pc += 1;
-                        continue;
-                    }
-                    Op::Break if SINGLE => {
-                        self.debug.original.unwrap_or(Op::Generic { boxed: false })
-                    }
-                    Op::Break => {
-                        self.stack = st;
-                        self.set_pc(pc);
-                        return Ok(Flow::Break);
-                    }
-                    op => op,
-                };
+                if op == Op::Break && !SINGLE {
+                    self.stack = st;
+                    self.set_pc(pc);
+                    return Ok(Flow::Break);
+                }
+                // One record, unfused (a breakpoint's own instruction when stepping).
+                let op = unit.plain[pc];
+                if op == Op::Network {
+                    st = 0;
+                    pc += 1;
+                    continue;
+                }
                 self.executed += 1;
                 if self.executed > self.config.watchdog {
                     self.stack = st;
@@ -188,7 +182,7 @@ impl Vm {
                             Control::Next => {}
                             Control::Goto(j) => next = j,
                             Control::Jump(label) => {
-                                next = unit.source.labels.get(&label).map_or(ops.len(), |&j| j + 1)
+                                next = unit.labels.get(&label).map_or(ops.len(), |&j| j + 1)
                             }
                             Control::Return => {
                                 self.leave()?;
@@ -222,13 +216,8 @@ impl Vm {
     }
 
     /// Run an instruction's semantic from `ops/`.
-    fn generic(&mut self, unit: &Arc<Unit>, pc: usize, boxed: bool) -> Result<Control, Fault> {
-        let Some(UnitRecord::Instruction {
-            offset,
-            id,
-            operands,
-        }) = unit.source.records.get(pc)
-        else {
+    fn generic(&mut self, unit: &Unit, pc: usize, boxed: bool) -> Result<Control, Fault> {
+        let Some((id, offset, operands)) = unit.instruction(pc) else {
             return Ok(Control::Next);
         };
         if boxed && self.stack & 1 == 0 {
@@ -238,23 +227,22 @@ impl Vm {
             }
             return Ok(Control::Next);
         }
-        let target = Arc::clone(&self.target);
-        let ins = target.instructions.get(*id);
+        let mnemonic = unit.mnemonic(id);
         let handler = self
             .handlers
             .get(id.0 as usize)
             .copied()
             .flatten()
             .ok_or_else(|| Fault::NoSemantics {
-                mnemonic: ins.mnemonic.clone(),
+                mnemonic: mnemonic.to_string(),
             })?;
         let mut exec = Exec {
             vm: self,
             operands,
             page: unit.page,
             index: pc,
-            offset: *offset,
-            mnemonic: &ins.mnemonic,
+            offset,
+            mnemonic,
         };
         handler(&mut exec)
     }
@@ -356,6 +344,7 @@ impl Vm {
 fn run_fast(
     mem: &mut [u8],
     ops: &[Op],
+    chain: &[ChainStep],
     mut pc: usize,
     st: &mut u32,
     mask: u32,
@@ -369,15 +358,30 @@ fn run_fast(
                 s = 0;
                 networks += 1;
             }
-            Op::NetLd(b) => {
-                s = bit(mem, b);
-                networks += 1;
-                pc += 1;
-            }
-            Op::NetLdn(b) => {
-                s = bit(mem, b) ^ 1;
-                networks += 1;
-                pc += 1;
+            Op::Chain {
+                first,
+                steps,
+                network,
+            } => {
+                let covered = steps as usize + usize::from(network);
+                if pc + covered > ops.len() {
+                    // Past the watchdog's bound: the slow path runs it record by record.
+                    break;
+                }
+                let first = first as usize;
+                for step in &chain[first..first + steps as usize] {
+                    let at = step.at as usize;
+                    let byte = mem[at];
+                    let v = u32::from(byte & step.mask != 0) ^ u32::from(step.invert);
+                    s = (s & (step.keep | (v & step.and))) | (v & step.or);
+                    if step.store != 0 {
+                        mem[at] =
+                            (byte & !step.store) | ((s as u8 & 1).wrapping_neg() & step.store);
+                    }
+                }
+                networks += u64::from(network);
+                pc += covered;
+                continue;
             }
             op => {
                 if !fast_op(mem, op, &mut s, mask, flags_at) {
@@ -430,12 +434,10 @@ fn fast_op(mem: &mut [u8], op: Op, st: &mut u32, mask: u32, flags_at: usize) -> 
         Op::On(b) => s | (bit(mem, b) ^ 1),
         Op::Not => s ^ 1,
         Op::Assign(b) => {
+            // Branch-free: the top is data, a branch on it would mispredict.
             let byte = &mut mem[b.at as usize];
-            if s & 1 == 1 {
-                *byte |= b.mask;
-            } else {
-                *byte &= !b.mask;
-            }
+            let set = (s & 1) as u8 * b.mask;
+            *byte = (*byte & !b.mask) | set;
             s
         }
         Op::Ald => (s >> 1) & (s | !1),
@@ -463,6 +465,7 @@ fn fast_op(mem: &mut [u8], op: Op, st: &mut u32, mask: u32, flags_at: usize) -> 
                 let exact = match op {
                     Arith::Add => a + b,
                     Arith::Sub => a - b,
+                    Arith::Mul => a * b,
                 };
                 let r = sign_extend(exact as u32, bits);
                 store(mem, dst, width, exact as u32);
@@ -494,9 +497,7 @@ fn fast_op(mem: &mut [u8], op: Op, st: &mut u32, mask: u32, flags_at: usize) -> 
                 Combine::Or => s | r,
             }
         }
-        Op::Network | Op::NetLd(_) | Op::NetLdn(_) | Op::Generic { .. } | Op::Break => {
-            return false
-        }
+        Op::Network | Op::Chain { .. } | Op::Generic { .. } | Op::Break => return false,
     };
     true
 }

@@ -121,6 +121,11 @@ pub struct Vm {
     pub(crate) debug: debug::Debug,
     /// Index of SMB1 (the math flags) in the flat memory.
     pub(crate) flags_at: usize,
+    /// The callers' L areas, saved by CALL, innermost last.
+    pub(crate) l_stack: Vec<u8>,
+    /// Reused buffers of CALL (argument values, the CALL's operands).
+    pub(crate) scratch: Vec<u32>,
+    pub(crate) call_operands: Vec<gutta_format::PackedOperand>,
     /// Logic stack: bit 0 is the top; depth from the catalog.
     pub(crate) stack: u32,
     pub(crate) stack_mask: u32,
@@ -228,9 +233,10 @@ impl Vm {
             .collect();
         let memory = Memory::new(&target.memory);
         let mut units = vec![None; 256];
-        for (page, unit) in image.units() {
-            units[*page as usize] = Some(Arc::new(decode::decode(
-                unit,
+        let mut image = image;
+        for (page, unit) in image.take_units() {
+            units[page as usize] = Some(Arc::new(decode::decode(
+                &unit,
                 &target,
                 &memory,
                 config.fast,
@@ -252,6 +258,9 @@ impl Vm {
             phase: engine::Phase::Idle,
             debug: debug::Debug::default(),
             flags_at,
+            l_stack: Vec::new(),
+            scratch: Vec::new(),
+            call_operands: Vec::new(),
             stack: 0,
             stack_mask,
             edges: HashMap::new(),
@@ -290,10 +299,7 @@ impl Vm {
         self.edges.clear();
         self.instance_state.clear();
         self.cell_state.clear();
-        self.loops.clear();
-        self.frames.clear();
-        self.phase = engine::Phase::Idle;
-        self.debug.paused = false;
+        self.abandon_scan();
         self.interrupts = Interrupts::default();
         self.exch.queue.clear();
         self.stopped = false;
@@ -317,10 +323,7 @@ impl Vm {
     pub fn set_running(&mut self, run: bool) {
         self.stopped = !run;
         if !run {
-            self.frames.clear();
-            self.loops.clear();
-            self.phase = engine::Phase::Idle;
-            self.debug.paused = false;
+            self.abandon_scan();
         }
     }
 
@@ -381,6 +384,15 @@ impl Vm {
             .inspect_err(|f| self.record_fault(f.clone()))
     }
 
+    /// Drop a scan in progress (frames, loops, saved L, pause).
+    pub(crate) fn abandon_scan(&mut self) {
+        self.frames.clear();
+        self.loops.clear();
+        self.l_stack.clear();
+        self.phase = engine::Phase::Idle;
+        self.debug.paused = false;
+    }
+
     /// A fault: SMB2 holds its code, the scan is abandoned (and counted), ERROR is set.
     pub(crate) fn record_fault(&mut self, f: Fault) {
         let sm = self.slots.sm;
@@ -393,13 +405,10 @@ impl Vm {
             },
             f.code() as u32,
         );
-        self.frames.clear();
-        self.loops.clear();
         if self.phase != engine::Phase::Idle {
-            self.phase = engine::Phase::Idle;
             self.end_scan_clock();
         }
-        self.debug.paused = false;
+        self.abandon_scan();
         self.fault = Some(f);
     }
 

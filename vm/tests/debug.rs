@@ -228,3 +228,46 @@ fn status_byte() {
     vm.reset();
     assert_eq!(vm.status().byte(), 0b0111);
 }
+
+/// Bit logic runs fused on the fast path; a breakpoint or a step inside a fused run
+/// stops at the exact instruction with the logic stack as it is there.
+#[test]
+fn breakpoints_inside_fused_bit_logic() {
+    let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD I0.0\nA I0.1\nAN I0.2\nO I0.3\n= Q0.0\n= Q0.1\nEND_ORGANIZATION_BLOCK\n";
+    for (input, q) in [(0b0011, 1), (0b0111, 0), (0b1000, 1), (0b0001, 0)] {
+        for step in 0..6u16 {
+            let mut vm = load(text, VmConfig::default());
+            set(&mut vm, "IB0", input);
+            vm.set_breakpoint(Some(at(0, 1, step)))
+                .expect("instruction");
+            assert_eq!(vm.run_scan(), Ok(ScanEnd::Paused(at(0, 1, step))));
+            // The top after `step` instructions, computed here.
+            let bit = |k: u32| input >> k & 1 == 1;
+            let mut top = bit(0);
+            for k in 1..step.min(4) {
+                top = match k {
+                    1 => top && bit(1),
+                    2 => top && !bit(2),
+                    _ => top || bit(3),
+                };
+            }
+            if step > 0 {
+                assert_eq!(
+                    vm.debug_info()[13] & 1,
+                    u8::from(top),
+                    "input {input:04b} step {step}"
+                );
+            }
+            assert_eq!(read(&vm, "Q0.0"), u32::from(step > 4 && q == 1));
+            vm.debug_run();
+            assert_eq!(vm.run_scan(), Ok(ScanEnd::Completed));
+            assert_eq!(read(&vm, "Q0.0"), q, "input {input:04b}");
+            assert_eq!(read(&vm, "Q0.1"), q);
+            // Cleared: the fused form runs again and agrees.
+            vm.set_breakpoint(None).expect("clear");
+            vm.debug_run();
+            assert_eq!(vm.run_scan(), Ok(ScanEnd::Completed));
+            assert_eq!(read(&vm, "Q0.1"), q);
+        }
+    }
+}

@@ -99,10 +99,10 @@ fn action() -> impl Strategy<Value = String> {
         (word_in(), word()).prop_map(|(a, b)| format!("MOVW {a}, {b}")),
         (dword_in(), dword()).prop_map(|(a, b)| format!("MOVD {a}, {b}")),
         (byte_in(), (0..8u32)).prop_map(|(a, b)| format!("MOVB {a}, MB{b}")),
-        (word_in(), word(), any::<bool>())
-            .prop_map(|(a, b, add)| format!("{} {a}, {b}", if add { "+I" } else { "-I" })),
-        (dword_in(), dword(), any::<bool>())
-            .prop_map(|(a, b, add)| format!("{} {a}, {b}", if add { "+D" } else { "-D" })),
+        (word_in(), word(), 0..3usize)
+            .prop_map(|(a, b, k)| format!("{} {a}, {b}", ["+I", "-I", "*I"][k])),
+        (dword_in(), dword(), 0..3usize)
+            .prop_map(|(a, b, k)| format!("{} {a}, {b}", ["+D", "-D", "*D"][k])),
         word_in().prop_map(|a| format!("MOVW {a}, *MD20")),
         (out_bit(), out_bit()).prop_map(|(a, b)| format!("LPS\n= {a}\nLPP\n= {b}")),
     ]

@@ -1,7 +1,7 @@
 //! Program control: JMP/LBL, CALL with arguments through L, RET/CRET, END, NOP.
 
 use gutta_catalog::Width;
-use gutta_format::{LocalEntry, LocalSection, UnitRecord, Use};
+use gutta_format::{LocalEntry, LocalSection, Use};
 
 use super::{Control, Exec, Handler};
 use crate::engine::CallSave;
@@ -43,38 +43,41 @@ fn call(e: &mut Exec<'_>) -> Result<Control, Fault> {
     if e.vm.frames.len() > usize::from(limit) {
         return Err(Fault::CallDepth { limit });
     }
-    let params: Vec<LocalEntry> =
-        e.vm.image
-            .unit(page)
-            .map(|u| u.parameters().copied().collect())
-            .unwrap_or_default();
-    // Read the inputs in the caller's context.
-    let mut inputs = Vec::with_capacity(params.len());
-    for (k, p) in params.iter().enumerate() {
+    let param = |vm: &Vm, k: usize| -> Option<LocalEntry> {
+        vm.units[page as usize].as_ref()?.params.get(k).copied()
+    };
+    // Read the inputs in the caller's context (into a reused buffer).
+    let mut args = std::mem::take(&mut e.vm.scratch);
+    args.clear();
+    let mut k = 0;
+    while let Some(p) = param(e.vm, k) {
         let v = if p.section == LocalSection::Output {
             0
         } else {
             e.get(k + 1)?
         };
-        inputs.push(v);
+        args.push(v);
+        k += 1;
     }
-    let l_slot = e.vm.slots.local;
-    let saved_l =
-        e.vm.memory
-            .area(l_slot)
-            .map(<[u8]>::to_vec)
-            .unwrap_or_default();
+    // Save the caller's L on the L stack, clear L, pass the arguments.
+    let l_mark = e.vm.l_stack.len();
+    if let Some((start, len)) = e.vm.memory.span(e.vm.slots.local) {
+        let vm = &mut *e.vm;
+        vm.l_stack
+            .extend_from_slice(&vm.memory.bytes[start..start + len]);
+        vm.memory.bytes[start..start + len].fill(0);
+    }
+    for (k, v) in args.iter().enumerate() {
+        if let Some(p) = param(e.vm, k) {
+            e.write_at(local(&p), *v)?;
+        }
+    }
+    e.vm.scratch = args;
     let saved_stack = e.vm.stack;
-    if let Some(l) = e.vm.memory.area_mut(l_slot) {
-        l.fill(0);
-    }
-    for (p, v) in params.iter().zip(&inputs) {
-        e.write_at(local(p), *v)?;
-    }
     e.vm.push_frame(
         page,
         Some(CallSave {
-            saved_l,
+            l_mark,
             saved_stack,
         }),
     );
@@ -98,46 +101,59 @@ pub(crate) fn finish_call(vm: &mut Vm, callee: u8, save: CallSave) -> Result<(),
     let Some((page, pc)) = vm.frames.last().map(|f| (f.page, f.pc)) else {
         return Ok(());
     };
-    let params: Vec<LocalEntry> = vm
-        .image
-        .unit(callee)
-        .map(|u| u.parameters().copied().collect())
-        .unwrap_or_default();
-    let mut outputs = Vec::new();
-    for (k, p) in params.iter().enumerate() {
-        if p.section != LocalSection::Input {
-            let v = vm.memory.read(local(p)).map_err(|err| Fault::BadAccess {
-                page: callee,
-                offset: 0,
-                detail: err.0,
-            })?;
-            outputs.push((k + 1, v));
-        }
-    }
-    let l_slot = vm.slots.local;
-    if let Some(l) = vm.memory.area_mut(l_slot) {
-        let n = save.saved_l.len().min(l.len());
-        l[..n].copy_from_slice(&save.saved_l[..n]);
-    }
-    vm.stack = save.saved_stack;
-    if let Some(unit) = vm.units[page as usize].clone() {
-        if let Some(UnitRecord::Instruction {
-            offset, operands, ..
-        }) = unit.source.records.get(pc)
-        {
-            let mut e = Exec {
-                vm,
-                operands,
-                page,
-                index: pc,
-                offset: *offset,
-                mnemonic: "CALL",
+    let mut outputs = std::mem::take(&mut vm.scratch);
+    outputs.clear();
+    if let Some(unit) = vm.units[callee as usize].as_ref() {
+        for p in &unit.params {
+            let v = if p.section == LocalSection::Input {
+                0
+            } else {
+                vm.memory.read(local(p)).map_err(|err| Fault::BadAccess {
+                    page: callee,
+                    offset: 0,
+                    detail: err.0,
+                })?
             };
-            for (k, v) in outputs {
-                e.set(k, v)?;
-            }
+            outputs.push(v);
         }
     }
+    if let Some((start, len)) = vm.memory.span(vm.slots.local) {
+        let saved = vm.l_stack.get(save.l_mark..).unwrap_or(&[]);
+        let n = saved.len().min(len);
+        vm.memory.bytes[start..start + n].copy_from_slice(&saved[..n]);
+    }
+    vm.l_stack.truncate(save.l_mark);
+    vm.stack = save.saved_stack;
+    // The CALL's operands, copied so the caller's unit is not borrowed while storing.
+    let mut operands = std::mem::take(&mut vm.call_operands);
+    operands.clear();
+    let mut offset = 0;
+    if let Some((_, at, ops)) = vm.units[page as usize]
+        .as_ref()
+        .and_then(|u| u.instruction(pc))
+    {
+        operands.extend_from_slice(ops);
+        offset = at;
+    }
+    let mut e = Exec {
+        vm,
+        operands: &operands,
+        page,
+        index: pc,
+        offset,
+        mnemonic: "CALL",
+    };
+    for (k, v) in outputs.iter().enumerate() {
+        let section = e.vm.units[callee as usize]
+            .as_ref()
+            .and_then(|u| u.params.get(k))
+            .map(|p| p.section);
+        if section.is_some_and(|s| s != LocalSection::Input) {
+            e.set(k + 1, *v)?;
+        }
+    }
+    vm.call_operands = operands;
+    vm.scratch = outputs;
     if let Some(f) = vm.frames.last_mut() {
         f.pc = pc + 1;
     }
