@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use gutta_catalog::{Flow, InstrId, Target, Width};
-use gutta_format::{LocalEntry, PackedOperand, UnitRecord, Use, VerifiedUnit};
+use gutta_format::{LocalEntry, LocalSection, PackedOperand, UnitRecord, Use, VerifiedUnit};
 
 use crate::memory::{Location, Memory};
 
@@ -106,6 +106,10 @@ pub(crate) enum Op {
         a: u32,
         b: u32,
         width: u8,
+    },
+    /// CALL with plain arguments whose widths match the parameters: `Unit::calls[plan]`.
+    Call {
+        plan: u32,
     },
     /// Any other instruction: its semantic runs with the record's operands. `boxed`:
     /// it runs only with power flow.
@@ -234,6 +238,66 @@ pub(crate) fn build(
     ops
 }
 
+/// One argument of a planned CALL: the caller's variable and the callee's parameter in
+/// L, as flat memory indices.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct ArgPlan {
+    pub var: u32,
+    pub param: u32,
+    pub width: u8,
+    /// VAR_INPUT or VAR_IN_OUT: copied in.
+    pub input: bool,
+    /// VAR_OUTPUT or VAR_IN_OUT: copied back.
+    pub output: bool,
+}
+
+/// A CALL whose arguments are all plain variables of their parameters' widths.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct CallPlan {
+    pub callee: u8,
+    pub args: Vec<ArgPlan>,
+}
+
+/// The plan of a CALL, if its arguments allow one.
+fn plan_call(
+    memory: &Memory,
+    target: &Target,
+    operands: &[PackedOperand],
+    params: &dyn Fn(u8) -> Option<Vec<LocalEntry>>,
+) -> Option<CallPlan> {
+    let unit = *operands.first()?;
+    if unit.use_() != Some(Use::Unit) {
+        return None;
+    }
+    let page = if unit.slot() == 1 {
+        target.plc.program_block_page_int_size + unit.offset() as u32
+    } else {
+        unit.offset() as u32
+    };
+    let callee = u8::try_from(page).ok()?;
+    let params = params(callee)?;
+    if operands.len() != params.len() + 1 {
+        return None;
+    }
+    let mut args = Vec::with_capacity(params.len());
+    for (p, &op) in params.iter().zip(&operands[1..]) {
+        let width = p.operand.width()?;
+        if width == Width::Bit {
+            return None;
+        }
+        let param = plain(memory, p.operand, width)?;
+        let var = plain(memory, op, width)?;
+        args.push(ArgPlan {
+            var,
+            param,
+            width: width.bytes() as u8,
+            input: p.section != LocalSection::Output,
+            output: p.section != LocalSection::Input,
+        });
+    }
+    Some(CallPlan { callee, args })
+}
+
 /// An instruction record, compactly: its operands are `Unit::operands[first..first + len]`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Record {
@@ -264,6 +328,8 @@ pub(crate) struct Unit {
     pub labels: BTreeMap<u16, usize>,
     /// The parameters a CALL passes (VAR_INPUT, VAR_IN_OUT, VAR_OUTPUT), in order.
     pub params: Vec<LocalEntry>,
+    /// Plans of the unit's planned CALLs.
+    pub calls: Vec<CallPlan>,
     /// The instruction set, for mnemonics.
     pub target: Arc<Target>,
 }
@@ -398,12 +464,15 @@ fn fast(memory: &Memory, mnemonic: &str, ops: &[PackedOperand]) -> Option<Op> {
 
 /// Decode a unit. `fast_ops` false keeps every instruction `Generic` (the tests compare
 /// both forms).
+/// `params(page)`: the parameters of unit `page` (for CALL plans).
 pub(crate) fn decode(
     unit: &VerifiedUnit,
     target: &Arc<Target>,
     memory: &Memory,
     fast_ops: bool,
+    params: &dyn Fn(u8) -> Option<Vec<LocalEntry>>,
 ) -> Unit {
+    let mut calls = Vec::new();
     let n = unit.records.len();
     let (mut ops, mut positions, mut records) = (
         Vec::with_capacity(n),
@@ -426,9 +495,21 @@ pub(crate) fn decode(
                 offset,
             } => {
                 let ins = target.instructions.get(*id);
-                let op = fast_ops
-                    .then(|| fast(memory, &ins.mnemonic, packed))
+                let planned = (fast_ops && ins.mnemonic == "CALL")
+                    .then(|| plan_call(memory, target, packed, params))
                     .flatten()
+                    .map(|plan| {
+                        calls.push(plan);
+                        Op::Call {
+                            plan: (calls.len() - 1) as u32,
+                        }
+                    });
+                let op = planned
+                    .or_else(|| {
+                        fast_ops
+                            .then(|| fast(memory, &ins.mnemonic, packed))
+                            .flatten()
+                    })
                     .unwrap_or(Op::Generic {
                         boxed: ins.flow == Flow::Box,
                     });
@@ -462,6 +543,7 @@ pub(crate) fn decode(
         operands,
         labels: unit.labels.clone(),
         params: unit.parameters().copied().collect(),
+        calls,
         target: Arc::clone(target),
     }
 }

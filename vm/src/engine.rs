@@ -27,6 +27,8 @@ pub(crate) struct Frame {
 pub(crate) struct CallSave {
     pub l_mark: usize,
     pub saved_stack: u32,
+    /// A planned CALL: the plan's index in the caller's unit.
+    pub plan: Option<u32>,
 }
 
 /// Where a scan is.
@@ -93,9 +95,94 @@ impl Vm {
         };
         self.loops.truncate(frame.loops_at_entry);
         if let Some(save) = frame.call {
-            crate::ops::finish_call(self, frame.page, save)?;
+            match save.plan {
+                Some(plan) => self.finish_planned_call(plan, save),
+                None => crate::ops::finish_call(self, frame.page, save)?,
+            }
         }
         Ok(())
+    }
+
+    /// A planned CALL (docs/vm.md, CALL): arguments read in the caller's context, the
+    /// caller's L saved and cleared, inputs copied into the parameters, a new frame.
+    fn planned_call(&mut self, unit: &Unit, plan: u32) -> Result<(), Fault> {
+        let limit = self.target.instructions.call_depth;
+        if self.frames.len() > usize::from(limit) {
+            return Err(Fault::CallDepth { limit });
+        }
+        let Some(p) = unit.calls.get(plan as usize) else {
+            return Ok(());
+        };
+        let mem = &mut self.memory.bytes;
+        self.scratch.clear();
+        for a in &p.args {
+            self.scratch.push(if a.input {
+                load(mem, a.var, a.width)
+            } else {
+                0
+            });
+        }
+        let l_mark = self.l_stack.len();
+        if let Some((start, len)) = self.memory.span(self.slots.local) {
+            let mem = &mut self.memory.bytes;
+            self.l_stack.extend_from_slice(&mem[start..start + len]);
+            mem[start..start + len].fill(0);
+        }
+        let mem = &mut self.memory.bytes;
+        for (a, &v) in p.args.iter().zip(&self.scratch) {
+            if a.input {
+                store(mem, a.param, a.width, v);
+            }
+        }
+        let saved_stack = self.stack;
+        self.push_frame(
+            p.callee,
+            Some(CallSave {
+                l_mark,
+                saved_stack,
+                plan: Some(plan),
+            }),
+        );
+        Ok(())
+    }
+
+    /// The return of a planned CALL (its frame popped): outputs read from L, the
+    /// caller's L and stack restored, outputs stored, the caller continues after it.
+    fn finish_planned_call(&mut self, plan: u32, save: CallSave) {
+        let Some((page, pc)) = self.frames.last().map(|f| (f.page, f.pc)) else {
+            return;
+        };
+        let Some(p) = self.units[page as usize]
+            .as_ref()
+            .and_then(|u| u.calls.get(plan as usize))
+        else {
+            return;
+        };
+        let mem = &mut self.memory.bytes;
+        self.scratch.clear();
+        for a in &p.args {
+            self.scratch.push(if a.output {
+                load(mem, a.param, a.width)
+            } else {
+                0
+            });
+        }
+        if let Some((start, len)) = self.memory.span(self.slots.local) {
+            let saved = self.l_stack.get(save.l_mark..).unwrap_or(&[]);
+            let n = saved.len().min(len);
+            self.memory.bytes[start..start + n].copy_from_slice(&saved[..n]);
+        }
+        self.l_stack.truncate(save.l_mark);
+        self.stack = save.saved_stack;
+        let mem = &mut self.memory.bytes;
+        for (a, &v) in p.args.iter().zip(&self.scratch) {
+            if a.output {
+                store(mem, a.var, a.width, v);
+            }
+        }
+        if let Some(f) = self.frames.last_mut() {
+            f.pc = pc + 1;
+        }
     }
 
     fn unwind(&mut self) -> Result<(), Fault> {
@@ -173,6 +260,17 @@ impl Vm {
                 let mut next = pc + 1;
                 match op {
                     _ if fast_op(&mut self.memory.bytes, op, &mut st, mask, flags_at) => {}
+                    Op::Call { plan } => {
+                        if st & 1 == 1 {
+                            self.stack = st;
+                            self.set_pc(pc);
+                            self.planned_call(&unit, plan)?;
+                            if SINGLE {
+                                return Ok(Flow::Stepped);
+                            }
+                            continue 'frames;
+                        }
+                    }
                     Op::Generic { boxed } => {
                         self.stack = st;
                         self.set_pc(pc);
@@ -497,7 +595,9 @@ fn fast_op(mem: &mut [u8], op: Op, st: &mut u32, mask: u32, flags_at: usize) -> 
                 Combine::Or => s | r,
             }
         }
-        Op::Network | Op::Chain { .. } | Op::Generic { .. } | Op::Break => return false,
+        Op::Network | Op::Chain { .. } | Op::Call { .. } | Op::Generic { .. } | Op::Break => {
+            return false
+        }
     };
     true
 }

@@ -234,12 +234,19 @@ impl Vm {
         let memory = Memory::new(&target.memory);
         let mut units = vec![None; 256];
         let mut image = image;
-        for (page, unit) in image.take_units() {
-            units[page as usize] = Some(Arc::new(decode::decode(
-                &unit,
+        let verified_units = image.take_units();
+        let params = |page: u8| {
+            verified_units
+                .get(&page)
+                .map(|u| u.parameters().copied().collect())
+        };
+        for (page, unit) in &verified_units {
+            units[*page as usize] = Some(Arc::new(decode::decode(
+                unit,
                 &target,
                 &memory,
                 config.fast,
+                &params,
             )));
         }
         let flags_at = memory

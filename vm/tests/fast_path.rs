@@ -1,5 +1,5 @@
 //! The pre-decoded operations against the semantics in `ops/`: random programs of bit
-//! logic, stack operations, moves, integer math, compares and pointer moves run with
+//! logic, stack operations, moves, integer math, compares, pointer moves and calls run with
 //! `VmConfig::fast` on and off from the same inputs, and every byte of memory must
 //! agree after every scan.
 
@@ -104,6 +104,8 @@ fn action() -> impl Strategy<Value = String> {
         (dword_in(), dword(), 0..3usize)
             .prop_map(|(a, b, k)| format!("{} {a}, {b}", ["+D", "-D", "*D"][k])),
         word_in().prop_map(|a| format!("MOVW {a}, *MD20")),
+        (word_in(), dword(), word()).prop_map(|(a, b, r)| format!("CALL SUB, {a}, {b}, {r}")),
+        (dword(), word()).prop_map(|(b, r)| format!("CALL SUB, *MD20, {b}, {r}")),
         (out_bit(), out_bit()).prop_map(|(a, b)| format!("LPS\n= {a}\nLPP\n= {b}")),
     ]
 }
@@ -119,6 +121,11 @@ fn network() -> impl Strategy<Value = String> {
     })
 }
 
+/// A subroutine with an input, an in-out and an output parameter.
+const SUB: &str = "SUBROUTINE_BLOCK SUB:SBR0\nVAR_INPUT\n  a : INT;\nEND_VAR\n\
+    VAR_IN_OUT\n  b : DINT;\nEND_VAR\nVAR_OUTPUT\n  r : INT;\nEND_VAR\nBEGIN\n\
+    NETWORK 1\nLD SM0.0\nMOVW #a, #r\n+I 7, #r\n+D 1, #b\nEND_SUBROUTINE_BLOCK\n";
+
 fn program() -> impl Strategy<Value = String> {
     prop::collection::vec(network(), 1..8).prop_map(|nets| {
         // MD20 points into M for the pointer moves.
@@ -129,6 +136,7 @@ fn program() -> impl Strategy<Value = String> {
             s.push_str(&format!("NETWORK {}\n{n}\n", k + 2));
         }
         s.push_str("END_ORGANIZATION_BLOCK\n");
+        s.push_str(SUB);
         s
     })
 }

@@ -79,6 +79,7 @@ fn call(e: &mut Exec<'_>) -> Result<Control, Fault> {
         Some(CallSave {
             l_mark,
             saved_stack,
+            plan: None,
         }),
     );
     Ok(Control::Enter)
