@@ -260,16 +260,14 @@ impl Vm {
                 let mut next = pc + 1;
                 match op {
                     _ if fast_op(&mut self.memory.bytes, op, &mut st, mask, flags_at) => {}
-                    Op::Call { plan } => {
-                        if st & 1 == 1 {
-                            self.stack = st;
-                            self.set_pc(pc);
-                            self.planned_call(&unit, plan)?;
-                            if SINGLE {
-                                return Ok(Flow::Stepped);
-                            }
-                            continue 'frames;
+                    Op::Call { plan } if st & 1 == 1 => {
+                        self.stack = st;
+                        self.set_pc(pc);
+                        self.planned_call(&unit, plan)?;
+                        if SINGLE {
+                            return Ok(Flow::Stepped);
                         }
+                        continue 'frames;
                     }
                     Op::Generic { boxed } => {
                         self.stack = st;
