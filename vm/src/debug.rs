@@ -39,7 +39,7 @@ pub enum Step {
 pub struct Status {
     /// In RUN (not STOP).
     pub run: bool,
-    /// Reset and not yet through a whole scan.
+    /// A reset was requested (STATUS_RESET) and has not happened yet.
     pub reset: bool,
     /// A programming tool is logged in (PLC_ATTACH); the host sets it.
     pub attach: bool,
@@ -104,6 +104,8 @@ pub(crate) struct Debug {
     pub single_step: bool,
     /// PLC_ATTACH: a tool is logged in.
     pub attached: bool,
+    /// DEBUG_RESET happened and nothing has run since (DEBUG_READ's RESET bit).
+    pub reset_pending: bool,
 }
 
 impl Vm {
@@ -111,7 +113,7 @@ impl Vm {
     pub fn status(&self) -> Status {
         Status {
             run: !self.stopped,
-            reset: self.scans == 0,
+            reset: self.reset_requested,
             attach: self.debug.attached,
             error: self.fault.is_some(),
         }
@@ -123,9 +125,9 @@ impl Vm {
     }
 
     /// DEBUG_READ: bit0 RUN (running until a breakpoint, not in single-step stop),
-    /// bit1 RESET.
+    /// bit1 RESET (a DEBUG_RESET happened and nothing has run since).
     pub fn debug_byte(&self) -> u8 {
-        u8::from(!self.debug.single_step) | (u8::from(self.scans == 0) << 1)
+        u8::from(!self.debug.single_step) | (u8::from(self.debug.reset_pending) << 1)
     }
 
     /// Whether execution is paused before an instruction.
@@ -220,7 +222,9 @@ impl Vm {
     /// DEBUG_RESET: reset, then single-step stop before the first instruction.
     pub fn debug_reset(&mut self) -> Result<(), DebugError> {
         self.reset();
-        self.debug_stop()
+        self.debug_stop()?;
+        self.debug.reset_pending = true;
+        Ok(())
     }
 
     /// DEBUG_SCAN: one step while paused. Returns where execution is paused afterwards.
@@ -229,6 +233,7 @@ impl Vm {
         if !self.debug.paused {
             return Err(DebugError::NotPaused);
         }
+        self.debug.reset_pending = false;
         let result = self.step_inner(step);
         match result {
             Ok(end) => Ok(end),

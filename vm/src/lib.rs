@@ -143,6 +143,8 @@ pub struct Vm {
     pub(crate) loops: Vec<ops::LoopFrame>,
     /// STOP was executed: scans do nothing until `set_running(true)`.
     pub(crate) stopped: bool,
+    /// STATUS_RESET was requested; the next scan resets first.
+    pub(crate) reset_requested: bool,
     /// Terminal images of the input areas (I, AI): what the host set; copied into the
     /// input areas at the start of every scan.
     pub(crate) terminals: HashMap<u8, Vec<u8>>,
@@ -276,6 +278,7 @@ impl Vm {
             for_pairs,
             loops: Vec::new(),
             stopped: false,
+            reset_requested: false,
             forces: HashMap::new(),
             terminals,
             exch: exch::ExchState::default(),
@@ -310,6 +313,8 @@ impl Vm {
         self.interrupts = Interrupts::default();
         self.exch.queue.clear();
         self.stopped = false;
+        self.reset_requested = false;
+        self.debug.reset_pending = false;
         self.clock_ms = 0;
         self.scans = 0;
         self.fault = None;
@@ -361,12 +366,98 @@ impl Vm {
     }
 
     /// Write a variable. Writing an input (I, AI) sets its terminal: the value holds
-    /// across scans until changed, as a wired input does.
+    /// across scans until changed, as a wired input does. A forced bit takes the value
+    /// as its force value too (UM4001 STATUS_VAR_WRITE), so the write holds.
     pub fn write(&mut self, address: Address, value: u32) -> Result<(), AccessError> {
+        let loc = Location::from(address);
         if let Some(terminal) = self.terminals.get_mut(&address.slot) {
-            memory::write_in(terminal, Location::from(address), value)?;
+            memory::write_in(terminal, loc, value)?;
         }
-        self.memory.write(Location::from(address), value)
+        self.memory.write(loc, value)?;
+        if let (Some((mask, image)), Some(area)) = (
+            self.forces.get_mut(&address.slot),
+            self.memory.area(address.slot),
+        ) {
+            let bits = bit_mask(loc);
+            for (k, m) in bits.iter().enumerate() {
+                let at = loc.offset as usize + k;
+                let forced = mask[at] & m;
+                image[at] = (image[at] & !forced) | (area[at] & forced);
+            }
+        }
+        Ok(())
+    }
+
+    /// STATUS_VAR_READ: the 4 bytes from the first byte of a packed address (only SLOT
+    /// and OFFSET count). Bytes past the end of the area read as 0; a first byte outside
+    /// the area is an error.
+    pub fn read_packed(&self, address: u32) -> Result<[u8; 4], AccessError> {
+        let op = gutta_format::PackedOperand(address);
+        let area = self
+            .memory
+            .area(op.slot())
+            .ok_or_else(|| AccessError(format!("no area in slot {}", op.slot())))?;
+        four_bytes(area, op.offset() as usize, op.slot())
+    }
+
+    /// STATUS_VAR_WRITE: write `value` where SLOT, WIDTH, BIT_OFFSET and OFFSET say (USE
+    /// is ignored); like `write`.
+    pub fn write_packed(&mut self, address: u32, value: u32) -> Result<(), AccessError> {
+        self.write(packed_address(address)?, value)
+    }
+
+    /// STATUS_VAR_FORCE_READ: 4 bytes of the force value image from the first byte of a
+    /// packed address (0 where nothing is forced; areas that cannot be forced read 0).
+    pub fn read_force_packed(&self, address: u32) -> Result<[u8; 4], AccessError> {
+        let op = gutta_format::PackedOperand(address);
+        let (_, image) = self.force_image(op.slot());
+        if image.is_empty() {
+            return Err(AccessError(format!("no area in slot {}", op.slot())));
+        }
+        four_bytes(&image, op.offset() as usize, op.slot())
+    }
+
+    /// STATUS_VAR_FORCE_WRITE: force the variable at a packed address to `value` (it
+    /// reads, or is written, with that value every scan until unforced).
+    pub fn force_packed(&mut self, address: u32, value: u32) -> Result<(), ForceError> {
+        let a = packed_address(address).map_err(|e| ForceError(e.0))?;
+        self.force(a, value)
+    }
+
+    /// Remove the force of one variable (its bits; the rest of the byte stays forced).
+    pub fn unforce(&mut self, address: Address) {
+        let loc = Location::from(address);
+        if let Some((mask, _)) = self.forces.get_mut(&address.slot) {
+            for (k, m) in bit_mask(loc).iter().enumerate() {
+                if let Some(b) = mask.get_mut(loc.offset as usize + k) {
+                    *b &= !m;
+                }
+            }
+        }
+    }
+
+    /// STATUS_RESET: request a reset; RESET shows in the status byte until it happens,
+    /// at the start of the next scan (or `reset()`).
+    pub fn request_reset(&mut self) {
+        self.reset_requested = true;
+    }
+
+    /// STATUS_SCAN: a PLC in STOP runs `n` scans and stays in STOP. A running PLC is not
+    /// affected (it scans anyway).
+    pub fn scan_while_stopped(&mut self, n: u8) -> Result<(), Fault> {
+        if !self.stopped {
+            return Ok(());
+        }
+        self.stopped = false;
+        let mut result = Ok(());
+        for _ in 0..n {
+            result = self.scan();
+            if result.is_err() || self.stopped {
+                break;
+            }
+        }
+        self.set_running(false);
+        result
     }
 
     /// One scan: inputs, system bits, MAIN, interrupt routines, forces, EXCH, clock. A
@@ -387,6 +478,10 @@ impl Vm {
         if self.debug.paused {
             return Ok(self.position().map_or(ScanEnd::PausedIdle, ScanEnd::Paused));
         }
+        if self.reset_requested {
+            self.reset();
+        }
+        self.debug.reset_pending = false;
         self.continue_scan()
             .inspect_err(|f| self.record_fault(f.clone()))
     }
@@ -608,4 +703,48 @@ impl Vm {
         let _ = self.memory.write(bit(5), u32::from((t / 500) % 2 == 1));
         let _ = self.memory.write(bit(6), u32::from(self.scans % 2 == 1));
     }
+}
+
+/// The bits a location covers, per byte from its first.
+fn bit_mask(loc: Location) -> Vec<u8> {
+    match loc.width {
+        gutta_catalog::Width::Bit => vec![1 << (loc.bit & 7)],
+        w => vec![0xFF; w.bytes() as usize],
+    }
+}
+
+/// 4 bytes from `at`, zero past the end; `at` itself must be inside.
+fn four_bytes(area: &[u8], at: usize, slot: u8) -> Result<[u8; 4], AccessError> {
+    if at >= area.len() {
+        return Err(AccessError(format!(
+            "slot {slot} byte {at} outside its {} bytes",
+            area.len()
+        )));
+    }
+    let mut out = [0u8; 4];
+    for (k, b) in area[at..].iter().take(4).enumerate() {
+        out[k] = *b;
+    }
+    Ok(out)
+}
+
+/// The variable a packed address names (USE ignored).
+fn packed_address(address: u32) -> Result<Address, AccessError> {
+    let op = gutta_format::PackedOperand(address);
+    let width = op.width().ok_or_else(|| {
+        AccessError(format!(
+            "bad width code {} in {address:#010X}",
+            op.width_code()
+        ))
+    })?;
+    Ok(Address {
+        slot: op.slot(),
+        width,
+        offset: op.offset() as u32,
+        bit: if width == gutta_catalog::Width::Bit {
+            op.bit() & 7
+        } else {
+            0
+        },
+    })
 }

@@ -193,7 +193,7 @@ fn debug_reset_and_a_breakpoint_in_a_loop() {
     vm.debug_reset().expect("reset");
     assert_eq!(read(&vm, "MW12"), 0);
     assert_eq!(vm.position(), Some(at(0, 1, 0)));
-    assert_eq!(vm.status().byte() & 0b10, 0b10, "RESET until a scan ends");
+    assert_eq!(vm.debug_byte(), 0b10, "DEBUG_READ: RESET, not running");
     vm.set_breakpoint(Some(at(0, 2, 1))).expect("INCW");
     vm.debug_run();
     for pass in 0..3 {
@@ -203,7 +203,7 @@ fn debug_reset_and_a_breakpoint_in_a_loop() {
     }
     assert_eq!(vm.run_scan(), Ok(ScanEnd::Completed));
     assert_eq!(read(&vm, "MW12"), 3);
-    assert_eq!(vm.status().byte() & 0b10, 0);
+    assert_eq!(vm.debug_byte(), 0b01, "running, the reset is behind");
 }
 
 #[test]
@@ -215,18 +215,95 @@ fn status_byte() {
             ..VmConfig::default()
         },
     );
-    assert_eq!(vm.status().byte(), 0b0011, "RUN, RESET");
+    assert_eq!(vm.status().byte(), 0b0001, "RUN");
     vm.set_attached(true);
-    assert_eq!(vm.status().byte(), 0b0111);
+    assert_eq!(vm.status().byte(), 0b0101);
     vm.set_running(false);
-    assert_eq!(vm.status().byte(), 0b0110);
+    assert_eq!(vm.status().byte(), 0b0100);
     vm.set_running(true);
     let fault = vm.scan().expect_err("runaway loop");
     assert_eq!(vm.status().byte() & 0b1000, 0b1000, "ERROR");
     assert_eq!(vm.debug_info()[15], fault.code());
     assert!(matches!(vm.debug_stop(), Err(DebugError::Fault(_))));
     vm.reset();
-    assert_eq!(vm.status().byte(), 0b0111);
+    assert_eq!(vm.status().byte(), 0b0101);
+}
+
+/// STATUS_RESET requests a reset: RESET shows until the next scan performs it.
+/// STATUS_SCAN runs scans while in STOP.
+#[test]
+fn reset_request_and_scans_while_stopped() {
+    let mut vm = load(PROGRAM, VmConfig::default());
+    for _ in 0..3 {
+        vm.scan().expect("scan");
+    }
+    assert_eq!(read(&vm, "MW0"), 3);
+    vm.request_reset();
+    assert_eq!(vm.status().byte() & 0b10, 0b10);
+    assert_eq!(read(&vm, "MW0"), 3, "not yet");
+    vm.scan().expect("scan");
+    assert_eq!(read(&vm, "MW0"), 1, "reset, then one scan");
+    assert_eq!(vm.status().byte() & 0b10, 0);
+    vm.set_running(false);
+    vm.scan().expect("stopped: nothing");
+    assert_eq!(read(&vm, "MW0"), 1);
+    vm.scan_while_stopped(4).expect("four scans");
+    assert_eq!(read(&vm, "MW0"), 5);
+    assert!(!vm.is_running());
+}
+
+/// STATUS_VAR_READ / WRITE and the force values by packed address (UM4001 layout:
+/// OFFSET << 16 | BIT << 12 | WIDTH << 8 | SLOT << 4 | USE).
+#[test]
+fn reading_writing_and_forcing_by_packed_address() {
+    let mut vm = load(PROGRAM, VmConfig::default());
+    let packed = |vm: &gutta_vm::Vm, var: &str| {
+        let a = vm.target().memory.parse_address(var).expect("address");
+        (a.offset << 16)
+            | (u32::from(a.bit) << 12)
+            | ((a.width as u32) << 8)
+            | (u32::from(a.slot) << 4)
+    };
+    let mw4 = packed(&vm, "MW4");
+    vm.write_packed(mw4, 0x1234).expect("write");
+    assert_eq!(read(&vm, "MW4"), 0x1234);
+    // Only SLOT and OFFSET count for reads: 4 bytes from MB4.
+    set(&mut vm, "MW6", 0xBEEF);
+    let mb4 = packed(&vm, "MB4");
+    assert_eq!(vm.read_packed(mb4), Ok([0x34, 0x12, 0xEF, 0xBE]));
+    // A bit write changes only that bit.
+    let m4_0 = packed(&vm, "M4.0");
+    vm.write_packed(m4_0, 1).expect("bit");
+    assert_eq!(read(&vm, "MW4"), 0x1235);
+    // Force Q0.0 to 1: the program's `= Q0.0` (from M0.0 = 0) cannot clear it.
+    let q0_0 = packed(&vm, "Q0.0");
+    vm.force_packed(q0_0, 1).expect("force");
+    vm.scan().expect("scan");
+    assert_eq!(read(&vm, "Q0.0"), 1);
+    let qb0 = packed(&vm, "QB0");
+    assert_eq!(vm.read_force_packed(qb0), Ok([1, 0, 0, 0]));
+    // Writing a forced variable changes its force value too.
+    vm.write_packed(q0_0, 0).expect("write");
+    vm.scan().expect("scan");
+    assert_eq!(read(&vm, "Q0.0"), 0);
+    assert_eq!(vm.read_force_packed(qb0), Ok([0, 0, 0, 0]));
+    // M0.0 (bit 0 of MW0, which network 1 counts up) drives Q0.0 unless forced.
+    for _ in 0..2 {
+        vm.scan().expect("scan");
+        assert_eq!(read(&vm, "Q0.0"), 0, "still forced, to 0");
+    }
+    vm.unforce(vm.target().memory.parse_address("Q0.0").expect("address"));
+    for _ in 0..2 {
+        vm.scan().expect("scan");
+        assert_eq!(
+            read(&vm, "Q0.0"),
+            read(&vm, "M0.0"),
+            "the program drives it again"
+        );
+    }
+    // M cannot be forced; a read past the area is an error.
+    assert!(vm.force_packed(m4_0, 1).is_err());
+    assert!(vm.read_packed(0xFFFF_0000 | (mb4 & 0xFFFF)).is_err());
 }
 
 /// Bit logic runs fused on the fast path; a breakpoint or a step inside a fused run
