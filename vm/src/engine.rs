@@ -565,10 +565,10 @@ fn fast_op(mem: &mut [u8], op: Op, st: &mut u32, mask: u32, flags_at: usize) -> 
                 };
                 let r = sign_extend(exact as u32, bits);
                 store(mem, dst, width, exact as u32);
-                // SM1.0 zero, SM1.1 overflow, SM1.2 negative; SM1.3 (divide) cleared.
+                // SM1.0 zero, SM1.1 overflow, SM1.2 negative; the other flags kept.
                 let flags = u8::from(r == 0) | (u8::from(r != exact) << 1) | (u8::from(r < 0) << 2);
                 let f = &mut mem[flags_at];
-                *f = (*f & !0x0F) | flags;
+                *f = (*f & !0x07) | flags;
             }
             s
         }

@@ -366,26 +366,15 @@ impl Vm {
     }
 
     /// Write a variable. Writing an input (I, AI) sets its terminal: the value holds
-    /// across scans until changed, as a wired input does. A forced bit takes the value
-    /// as its force value too (UM4001 STATUS_VAR_WRITE), so the write holds.
+    /// across scans until changed, as a wired input does. A forced bit keeps its force
+    /// value (the force wins at the next scan); `write_packed` is the protocol's write,
+    /// which changes the force value too.
     pub fn write(&mut self, address: Address, value: u32) -> Result<(), AccessError> {
         let loc = Location::from(address);
         if let Some(terminal) = self.terminals.get_mut(&address.slot) {
             memory::write_in(terminal, loc, value)?;
         }
-        self.memory.write(loc, value)?;
-        if let (Some((mask, image)), Some(area)) = (
-            self.forces.get_mut(&address.slot),
-            self.memory.area(address.slot),
-        ) {
-            let bits = bit_mask(loc);
-            for (k, m) in bits.iter().enumerate() {
-                let at = loc.offset as usize + k;
-                let forced = mask[at] & m;
-                image[at] = (image[at] & !forced) | (area[at] & forced);
-            }
-        }
-        Ok(())
+        self.memory.write(loc, value)
     }
 
     /// STATUS_VAR_READ: the 4 bytes from the first byte of a packed address (only SLOT
@@ -401,9 +390,23 @@ impl Vm {
     }
 
     /// STATUS_VAR_WRITE: write `value` where SLOT, WIDTH, BIT_OFFSET and OFFSET say (USE
-    /// is ignored); like `write`.
+    /// is ignored), as `write` does; a forced bit takes the value as its force value
+    /// too (UM4001), so the write holds.
     pub fn write_packed(&mut self, address: u32, value: u32) -> Result<(), AccessError> {
-        self.write(packed_address(address)?, value)
+        let address = packed_address(address)?;
+        self.write(address, value)?;
+        let loc = Location::from(address);
+        if let (Some((mask, image)), Some(area)) = (
+            self.forces.get_mut(&address.slot),
+            self.memory.area(address.slot),
+        ) {
+            for (k, m) in bit_mask(loc).iter().enumerate() {
+                let at = loc.offset as usize + k;
+                let forced = mask[at] & m;
+                image[at] = (image[at] & !forced) | (area[at] & forced);
+            }
+        }
+        Ok(())
     }
 
     /// STATUS_VAR_FORCE_READ: 4 bytes of the force value image from the first byte of a

@@ -1,6 +1,8 @@
 //! Integer and real math and word logic. S7-200 order: `+I IN1, OUT` is OUT := OUT +
-//! IN1. Integer results wrap and set SM1.1 on overflow; SM1.0 zero, SM1.2 negative.
-//! Division by zero sets SM1.3 (and SM1.1) and leaves OUT unchanged.
+//! IN1. Integer results wrap and set SM1.1 on overflow; SM1.0 zero, SM1.2 negative;
+//! + - * write SM1.0..SM1.2 only. Divisions write SM1.0..SM1.3: by zero, SM1.3 set, the
+//! others cleared and OUT unchanged; the one integer overflow (MIN / -1) sets SM1.1 and
+//! leaves OUT unchanged (ManagerFun.xml).
 
 use super::{Control, Exec, Handler};
 use crate::Fault;
@@ -19,43 +21,52 @@ fn store_int(e: &mut Exec<'_>, out: usize, exact: i64, bits: u32) -> Result<Cont
     Ok(Control::Next)
 }
 
-fn arith(e: &mut Exec<'_>, bits: u32, f: fn(i64, i64) -> Option<i64>) -> Result<Control, Fault> {
+/// + - *: OUT := OUT op IN1, wrapped, flags SM1.0..SM1.2.
+fn arith(e: &mut Exec<'_>, bits: u32, f: fn(i64, i64) -> i64) -> Result<Control, Fault> {
     let (a, b) = (e.get_signed(1)?, e.get_signed(0)?);
-    match f(a, b) {
-        Some(r) => {
-            e.clear_divide();
-            store_int(e, 1, r, bits)
-        }
-        None => {
-            e.divide_by_zero();
-            Ok(Control::Next)
-        }
+    store_int(e, 1, f(a, b), bits)
+}
+
+/// /I /D: OUT := OUT / IN1 truncated; SM1.3 written.
+fn divide(e: &mut Exec<'_>, bits: u32) -> Result<Control, Fault> {
+    let (a, b) = (e.get_signed(1)?, e.get_signed(0)?);
+    if b == 0 {
+        e.divide_by_zero();
+        return Ok(Control::Next);
     }
+    e.clear_divide();
+    let q = a / b;
+    if q > (1i64 << (bits - 1)) - 1 {
+        // MIN / -1: OUT unchanged.
+        e.flags(false, true, false);
+        return Ok(Control::Next);
+    }
+    store_int(e, 1, q, bits)
 }
 
 fn add_i(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    arith(e, 16, |a, b| Some(a + b))
+    arith(e, 16, |a, b| a + b)
 }
 fn sub_i(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    arith(e, 16, |a, b| Some(a - b))
+    arith(e, 16, |a, b| a - b)
 }
 fn mul_i(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    arith(e, 16, |a, b| Some(a * b))
+    arith(e, 16, |a, b| a * b)
 }
 fn div_i(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    arith(e, 16, |a, b| if b == 0 { None } else { Some(a / b) })
+    divide(e, 16)
 }
 fn add_d(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    arith(e, 32, |a, b| Some(a + b))
+    arith(e, 32, |a, b| a + b)
 }
 fn sub_d(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    arith(e, 32, |a, b| Some(a - b))
+    arith(e, 32, |a, b| a - b)
 }
 fn mul_d(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    arith(e, 32, |a, b| Some(a * b))
+    arith(e, 32, |a, b| a * b)
 }
 fn div_d(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    arith(e, 32, |a, b| if b == 0 { None } else { Some(a / b) })
+    divide(e, 32)
 }
 
 /// MUL IN1, OUT: OUT (DINT) := IN1 (INT) x low word of OUT (INT).
@@ -74,6 +85,11 @@ fn div(e: &mut Exec<'_>) -> Result<Control, Fault> {
         return Ok(Control::Next);
     }
     e.clear_divide();
+    if n == -32768 && d == -1 {
+        // The one overflow: OUT unchanged.
+        e.flags(false, true, false);
+        return Ok(Control::Next);
+    }
     let (q, r) = (n.wrapping_div(d), n.wrapping_rem(d));
     let v = ((r as u16 as u32) << 16) | (q as u16 as u32);
     e.set(1, v)?;

@@ -185,9 +185,10 @@ impl Exec<'_> {
         self.sm_bit(2, negative);
     }
 
-    /// SM1.3 divide by zero (with SM1.1 set as S7-200 does).
+    /// Division by zero (ManagerFun.xml /I /D /R DIV): SM1.3 set, SM1.0, SM1.1 and
+    /// SM1.2 cleared.
     pub fn divide_by_zero(&mut self) {
-        self.sm_bit(1, true);
+        self.flags(false, false, false);
         self.sm_bit(3, true);
     }
 

@@ -23,24 +23,42 @@ fn nth(loc: Location, k: u32) -> Location {
     }
 }
 
+/// Whether `n` items from `loc` lie inside its area.
+fn fits(e: &Exec<'_>, loc: Location, n: u32) -> bool {
+    let len = e.vm.memory.area(loc.slot).map_or(0, <[u8]>::len) as u64;
+    u64::from(loc.offset) + u64::from(n) * u64::from(loc.width.bytes()) <= len
+}
+
 /// BMx IN, OUT, N: copy N items (all read before any is written, so overlap is safe).
+/// A block past the end of its area moves nothing and sets SM1.1; else SM1.1 is cleared.
 fn block_move(e: &mut Exec<'_>) -> Result<Control, Fault> {
     let (src, dst, n) = (e.locate(0)?, e.locate(1)?, e.get(2)?);
+    if !fits(e, src, n) || !fits(e, dst, n) {
+        e.flag(1, true);
+        return Ok(Control::Next);
+    }
     let values = (0..n)
         .map(|k| e.read_at(nth(src, k)))
         .collect::<Result<Vec<_>, _>>()?;
     for (k, v) in values.into_iter().enumerate() {
         e.write_at(nth(dst, k as u32), v)?;
     }
+    e.flag(1, false);
     Ok(Control::Next)
 }
 
-/// FILL IN, OUT, N: write the word IN into N words from OUT.
+/// FILL IN, OUT, N: write the word IN into N words from OUT; past the end of the area,
+/// nothing is written and SM1.1 is set; else SM1.1 is cleared.
 fn fill(e: &mut Exec<'_>) -> Result<Control, Fault> {
     let (v, dst, n) = (e.get(0)?, e.locate(1)?, e.get(2)?);
+    if !fits(e, dst, n) {
+        e.flag(1, true);
+        return Ok(Control::Next);
+    }
     for k in 0..n {
         e.write_at(nth(dst, k), v)?;
     }
+    e.flag(1, false);
     Ok(Control::Next)
 }
 
