@@ -1,8 +1,8 @@
 //! Integer and real math and word logic. S7-200 order: `+I IN1, OUT` is OUT := OUT +
 //! IN1. Integer results wrap and set SM1.1 on overflow; SM1.0 zero, SM1.2 negative;
-//! + - * write SM1.0..SM1.2 only. Divisions write SM1.0..SM1.3: by zero, SM1.3 set, the
-//! others cleared and OUT unchanged; the one integer overflow (MIN / -1) sets SM1.1 and
-//! leaves OUT unchanged (ManagerFun.xml).
+//! add, subtract and multiply write SM1.0..SM1.2 only. Divisions write SM1.0..SM1.3: by
+//! zero, SM1.3 set, the others cleared and OUT unchanged; the one integer overflow,
+//! MIN divided by -1, sets SM1.1 and leaves OUT unchanged (ManagerFun.xml).
 
 use super::{Control, Exec, Handler};
 use crate::Fault;
