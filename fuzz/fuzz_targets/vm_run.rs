@@ -1,0 +1,108 @@
+//! Fuzz target of the VM: byte mutations of a valid image (the format tests' full
+//! program, every operand kind) that still verify are loaded and run, with the fast
+//! operations on and off, through scans, a breakpoint and single steps. Panics and hangs
+//! are the bugs it looks for; faults are fine (they are typed errors). Both VMs must
+//! also agree on memory and on the fault.
+#![no_main]
+
+use std::sync::{Arc, OnceLock};
+
+use gutta_catalog::{stdlib, Target};
+use gutta_format::{verify, Image, PageId};
+use gutta_vm::{Position, Step, Vm, VmConfig};
+use libfuzzer_sys::fuzz_target;
+
+#[path = "../../format/tests/common/mod.rs"]
+mod common;
+
+fn default_target() -> &'static Arc<Target> {
+    static TARGET: OnceLock<Arc<Target>> = OnceLock::new();
+    TARGET
+        .get_or_init(|| stdlib::shared(stdlib::DEFAULT).expect("the embedded default target loads"))
+}
+
+fn base_image() -> &'static Image {
+    static IMAGE: OnceLock<Image> = OnceLock::new();
+    IMAGE.get_or_init(|| common::full_program(default_target()).build())
+}
+
+fn mutate(image: &mut Image, data: &[u8]) {
+    let ids: Vec<PageId> = image.pages.keys().copied().collect();
+    for m in data.chunks(4) {
+        let [sel, hi, lo, x] = [
+            m[0],
+            *m.get(1).unwrap_or(&0),
+            *m.get(2).unwrap_or(&0),
+            *m.get(3).unwrap_or(&0),
+        ];
+        let id = ids[usize::from(sel) % ids.len()];
+        let Some(page) = image.pages.get_mut(&id) else {
+            continue;
+        };
+        let at = usize::from(u16::from_be_bytes([hi, lo]));
+        match sel >> 6 {
+            0..=2 => {
+                if let Some(len) = page.len().checked_sub(1) {
+                    page[at % (len + 1)] ^= x;
+                }
+            }
+            _ => page.truncate(at % (page.len() + 1)),
+        }
+    }
+}
+
+fuzz_target!(|data: &[u8]| {
+    let Some((&inputs, rest)) = data.split_first() else {
+        return;
+    };
+    let mut image = base_image().clone();
+    mutate(&mut image, rest);
+    let Ok(verified) = verify(&image, default_target()) else {
+        return;
+    };
+    let config = VmConfig {
+        watchdog: 20_000,
+        ..VmConfig::default()
+    };
+    let load = |fast| {
+        Vm::new(
+            verified.clone(),
+            Arc::clone(default_target()),
+            VmConfig { fast, ..config },
+        )
+    };
+    let (Ok(mut fast), Ok(mut slow)) = (load(true), load(false)) else {
+        return;
+    };
+    let ib0 = default_target()
+        .memory
+        .parse_address("IB0")
+        .expect("IB0 exists");
+    for vm in [&mut fast, &mut slow] {
+        let _ = vm.write(ib0, u32::from(inputs));
+    }
+    for _ in 0..3 {
+        let (a, b) = (fast.scan(), slow.scan());
+        assert_eq!(a, b, "fast and generic agree on the outcome");
+        assert_eq!(
+            fast.memory(),
+            slow.memory(),
+            "fast and generic agree on memory"
+        );
+    }
+    // Debugging on whatever survived: a breakpoint on MAIN's first networks, steps.
+    let _ = fast.set_breakpoint(Some(Position {
+        function: 0,
+        network: u16::from(inputs % 4),
+        step: u16::from(inputs >> 6),
+    }));
+    let _ = fast.scan();
+    let _ = fast.debug_stop();
+    for k in 0..8u8 {
+        let step = [Step::In, Step::Over, Step::Out][usize::from(k % 3)];
+        let _ = fast.debug_step(step);
+        let _ = fast.debug_info();
+    }
+    fast.debug_run();
+    let _ = fast.scan();
+});
