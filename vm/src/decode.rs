@@ -127,45 +127,38 @@ impl Op {
     }
 }
 
-/// One step of a fused chain, branch-free but for the store. With v the bit at `at`
-/// under `mask` (inverted for LDN/AN/ON) and `s` the logic stack:
-/// s := (s AND (keep OR (v AND and))) OR (v AND or); then for a `=`, the bit `store` of
-/// the byte at `at` takes the new top.
-/// LD/LDN at a network's start: keep 0, and 0, or 1 (s := v). A/AN: keep NOT 1, and 1,
-/// or 0. O/ON: keep all, or 1. `=`: mask 0, keep all, or 0 (s unchanged).
+/// One step of a fused chain. Only the top of the logic stack changes in a chain, so
+/// it is kept apart as `t` (0 or 1): the first step of a network chain is its LD/LDN
+/// (t := v, the rest of the stack empty); A/AN (`or` 0) make t := t AND v, O/ON (`or`
+/// 1) t := t OR v, with v the bit at `at` under `mask`, inverted for LDN/AN/ON, both
+/// as t := (t AND (v OR or)) OR (v AND or); a `=` (`store` = its bit mask) writes t.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct ChainStep {
     pub at: u32,
-    pub keep: u32,
-    pub and: u32,
-    pub or: u32,
     pub mask: u8,
     pub invert: u8,
+    pub or: u8,
     pub store: u8,
 }
 
 fn chain_step(op: Op) -> Option<ChainStep> {
-    let step = |b: Bit, invert, or: bool| ChainStep {
+    let step = |b: Bit, invert, or| ChainStep {
         at: b.at,
-        keep: if or { u32::MAX } else { !1 },
-        and: u32::from(!or),
-        or: u32::from(or),
         mask: b.mask,
         invert,
+        or,
         store: 0,
     };
     Some(match op {
-        Op::A(b) => step(b, 0, false),
-        Op::An(b) => step(b, 1, false),
-        Op::O(b) => step(b, 0, true),
-        Op::On(b) => step(b, 1, true),
+        Op::A(b) => step(b, 0, 0),
+        Op::An(b) => step(b, 1, 0),
+        Op::O(b) => step(b, 0, 1),
+        Op::On(b) => step(b, 1, 1),
         Op::Assign(b) => ChainStep {
             at: b.at,
-            keep: u32::MAX,
-            and: 0,
-            or: 0,
             mask: 0,
             invert: 0,
+            or: 0,
             store: b.mask,
         },
         _ => return None,
@@ -202,11 +195,9 @@ pub(crate) fn build(
             if let Some((b, invert)) = load {
                 chain.push(ChainStep {
                     at: b.at,
-                    keep: 0,
-                    and: 0,
-                    or: 1,
                     mask: b.mask,
                     invert,
+                    or: 0,
                     store: 0,
                 });
                 j = k + 2;

@@ -465,16 +465,26 @@ fn run_fast(
                     break;
                 }
                 let first = first as usize;
-                for step in &chain[first..first + steps as usize] {
+                let steps = &chain[first..first + steps as usize];
+                let (mut t, rest, from) = match (network, steps.first()) {
+                    (true, Some(load)) => {
+                        let v = u32::from(mem[load.at as usize] & load.mask != 0);
+                        (v ^ u32::from(load.invert), 0, 1)
+                    }
+                    _ => (s & 1, s & !1, 0),
+                };
+                for step in &steps[from.min(steps.len())..] {
                     let at = step.at as usize;
-                    let byte = mem[at];
-                    let v = u32::from(byte & step.mask != 0) ^ u32::from(step.invert);
-                    s = (s & (step.keep | (v & step.and))) | (v & step.or);
                     if step.store != 0 {
-                        mem[at] =
-                            (byte & !step.store) | ((s as u8 & 1).wrapping_neg() & step.store);
+                        let byte = &mut mem[at];
+                        *byte = (*byte & !step.store) | ((t as u8).wrapping_neg() & step.store);
+                    } else {
+                        let v = u32::from(mem[at] & step.mask != 0) ^ u32::from(step.invert);
+                        let or = u32::from(step.or);
+                        t = (t & (v | or)) | (v & or);
                     }
                 }
+                s = rest | t;
                 networks += u64::from(network);
                 pc += covered;
                 continue;
