@@ -128,10 +128,11 @@ impl Op {
 }
 
 /// One step of a fused chain. Only the top of the logic stack changes in a chain, so
-/// it is kept apart as `t` (0 or 1): the first step of a network chain is its LD/LDN
-/// (t := v, the rest of the stack empty); A/AN (`or` 0) make t := t AND v, O/ON (`or`
-/// 1) make t := t OR v, with v the bit at `at` under `mask`, inverted for LDN/AN/ON,
-/// both as t := (t AND (v OR or)) OR (v AND or); a `=` (`store` its bit mask) writes t.
+/// it is kept apart as `t` (0 or 1). The first step of a network chain is its LD/LDN:
+/// t := v, the rest of the stack empty. With v the bit at `at` under `mask` (inverted
+/// for LDN/AN/ON), A/AN (`or` = 0) make t := t AND v and O/ON (`or` = 1) make
+/// t := t OR v, both computed as t := (t AND (v OR or)) OR (v AND or). A `=` (`store`
+/// = its bit mask) writes t.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct ChainStep {
     pub at: u32,
