@@ -186,8 +186,8 @@ fn main() {
     let bench = std::env::args().any(|a| a == "--bench");
     let effort = if bench {
         Effort {
-            batches: 9,
-            scans: 200,
+            batches: 31,
+            scans: 60,
             vms_per_step: 200,
         }
     } else {

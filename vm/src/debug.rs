@@ -163,7 +163,7 @@ impl Vm {
                 let pc = self.units[p.function as usize]
                     .as_ref()
                     .and_then(|u| {
-                        u.positions.iter().zip(&u.ops).position(|(&(n, s), op)| {
+                        u.positions.iter().zip(&u.plain).position(|(&(n, s), op)| {
                             n == p.network && s == p.step && !op.is_network()
                         })
                     })
@@ -315,7 +315,7 @@ impl Vm {
             let (page, pc) = (f.page, f.pc);
             let op = self.units[page as usize]
                 .as_ref()
-                .and_then(|u| u.ops.get(pc).copied());
+                .and_then(|u| u.plain.get(pc).copied());
             match op {
                 Some(op) if op.is_network() => {
                     self.stack = 0;

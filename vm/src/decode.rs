@@ -66,12 +66,12 @@ pub(crate) enum Arith {
 pub(crate) enum Op {
     /// A network record: the logic stack starts empty.
     Network,
-    /// Bit logic fused (see `build`): `Unit::chain[first..first + steps]` run in order;
-    /// it covers `steps` records, plus the network record before them when `network`.
+    /// Bit logic fused (see `build`): `Unit::chain[first..]` run in order; it covers
+    /// `records` records, `networks` of them network records and each other one a step.
     Chain {
         first: u32,
-        steps: u16,
-        network: bool,
+        records: u32,
+        networks: u16,
     },
     Ld(Bit),
     Ldn(Bit),
@@ -116,62 +116,78 @@ pub(crate) enum Op {
     Generic {
         boxed: bool,
     },
-    /// A breakpoint patched over the op (the original is kept aside).
+    /// A breakpoint patched over the op (the original is in `Unit::plain`).
     Break,
 }
 
 impl Op {
-    /// A network record, fused or not.
+    /// A network record.
     pub fn is_network(self) -> bool {
-        matches!(self, Op::Network | Op::Chain { network: true, .. })
+        self == Op::Network
     }
 }
 
+/// What a chain step does (`ChainStep::kind`).
+pub(crate) const STEP_AND: u8 = 0;
+pub(crate) const STEP_OR: u8 = 1;
+pub(crate) const STEP_LOAD: u8 = 2;
+pub(crate) const STEP_STORE: u8 = 3;
+
 /// One step of a fused chain. Only the top of the logic stack changes in a chain, so
-/// it is kept apart as `t` (0 or 1). The first step of a network chain is its LD/LDN:
-/// t := v, the rest of the stack empty. With v the bit at `at` under `mask` (inverted
-/// for LDN/AN/ON), A/AN (`or` = 0) make t := t AND v and O/ON (`or` = 1) make
-/// t := t OR v, both computed as t := (t AND (v OR or)) OR (v AND or). A `=` (`store`
-/// = its bit mask) writes t.
+/// it is kept apart as `t` (0 or 1). With v the bit `bit` of the byte at `at` (inverted
+/// for LDN/AN/ON): a network's LD/LDN (`STEP_LOAD`) starts the network, t := v with the
+/// rest of the stack empty; A/AN (`STEP_AND`) make t := t AND v; O/ON (`STEP_OR`) make
+/// t := t OR v; a `=` (`STEP_STORE`) writes t into that bit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct ChainStep {
     pub at: u32,
-    pub mask: u8,
+    /// The bit's number in its byte.
+    pub bit: u8,
     pub invert: u8,
-    pub or: u8,
-    pub store: u8,
+    pub kind: u8,
 }
 
 fn chain_step(op: Op) -> Option<ChainStep> {
-    let step = |b: Bit, invert, or| ChainStep {
-        at: b.at,
-        mask: b.mask,
-        invert,
-        or,
-        store: 0,
-    };
-    Some(match op {
-        Op::A(b) => step(b, 0, 0),
-        Op::An(b) => step(b, 1, 0),
-        Op::O(b) => step(b, 0, 1),
-        Op::On(b) => step(b, 1, 1),
-        Op::Assign(b) => ChainStep {
-            at: b.at,
-            mask: 0,
-            invert: 0,
-            or: 0,
-            store: b.mask,
-        },
+    let (b, invert, kind) = match op {
+        Op::A(b) => (b, 0, STEP_AND),
+        Op::An(b) => (b, 1, STEP_AND),
+        Op::O(b) => (b, 0, STEP_OR),
+        Op::On(b) => (b, 1, STEP_OR),
+        Op::Assign(b) => (b, 0, STEP_STORE),
         _ => return None,
+    };
+    Some(ChainStep {
+        at: b.at,
+        bit: b.mask.trailing_zeros() as u8,
+        invert,
+        kind,
+    })
+}
+
+/// A network record followed by LD/LDN at `k`: the chain step that starts it.
+fn network_start(ops: &[Op], k: usize) -> Option<ChainStep> {
+    if ops.get(k) != Some(&Op::Network) {
+        return None;
+    }
+    let (b, invert) = match ops.get(k + 1) {
+        Some(&Op::Ld(b)) => (b, 0),
+        Some(&Op::Ldn(b)) => (b, 1),
+        _ => return None,
+    };
+    Some(ChainStep {
+        at: b.at,
+        bit: b.mask.trailing_zeros() as u8,
+        invert,
+        kind: STEP_LOAD,
     })
 }
 
 /// The operations the fast path runs: `plain` with the breakpoint (if any) patched in,
-/// and fused: a network record with the LD/LDN after it, and the A/AN/O/ON/`=` that
-/// follow, become one chain (steps appended to `chain`); so do two or more of those
-/// anywhere else. Fused operations sit at the first record they cover; the records
-/// after keep their plain operations, so record numbering is unchanged and a scan can
-/// stop at any of them.
+/// and fused: runs of bit logic become one chain (steps appended to `chain`). A chain
+/// is A/AN/O/ON/`=` records, and whole networks that are a network record, LD/LDN and
+/// such records; it covers at least two records. Fused operations sit at the first
+/// record they cover; the records after keep their plain operations, so record
+/// numbering is unchanged and a scan can stop at any of them.
 pub(crate) fn build(
     plain: &[Op],
     breakpoint: Option<usize>,
@@ -185,41 +201,35 @@ pub(crate) fn build(
     let mut k = 0;
     while k < ops.len() {
         let first = chain.len();
-        let network = ops[k] == Op::Network;
         let mut j = k;
-        if network {
-            let load = match ops.get(k + 1) {
-                Some(&Op::Ld(b)) => Some((b, 0)),
-                Some(&Op::Ldn(b)) => Some((b, 1)),
-                _ => None,
-            };
-            if let Some((b, invert)) = load {
-                chain.push(ChainStep {
-                    at: b.at,
-                    mask: b.mask,
-                    invert,
-                    or: 0,
-                    store: 0,
-                });
-                j = k + 2;
-            } else {
-                k += 1;
-                continue;
+        loop {
+            if chain.len() - first >= u16::MAX as usize - 1 {
+                break;
+            }
+            if let Some(load) = network_start(&ops, j) {
+                chain.push(load);
+                j += 2;
+            } else if j != k {
+                break;
+            }
+            while let Some(step) = ops.get(j).and_then(|&op| chain_step(op)) {
+                if chain.len() - first >= u16::MAX as usize {
+                    break;
+                }
+                chain.push(step);
+                j += 1;
+            }
+            if network_start(&ops, j).is_none() {
+                break;
             }
         }
-        while j < ops.len() && j - k < u16::MAX as usize {
-            match chain_step(ops[j]) {
-                Some(step) => chain.push(step),
-                None => break,
-            }
-            j += 1;
-        }
-        let steps = chain.len() - first;
-        if network || steps >= 2 {
+        let records = j - k;
+        if records >= 2 {
+            let steps = chain.len() - first;
             ops[k] = Op::Chain {
                 first: u32::try_from(first).unwrap_or(u32::MAX),
-                steps: steps as u16,
-                network,
+                records: u32::try_from(records).unwrap_or(u32::MAX),
+                networks: (records - steps) as u16,
             };
             k = j;
         } else {

@@ -6,7 +6,7 @@
 
 use std::collections::VecDeque;
 
-use crate::decode::{Arith, Bit, ChainStep, Combine, Op, Unit};
+use crate::decode::{Arith, Bit, ChainStep, Combine, Op, Unit, STEP_LOAD, STEP_STORE};
 use crate::ops::{Control, Exec};
 use crate::{exch, Fault, Vm};
 
@@ -422,15 +422,16 @@ impl Vm {
         self.next_op(false) == Some(Op::Break)
     }
 
-    /// The top frame's record; with `skip_networks`, the first instruction from there.
+    /// The top frame's fast operation; with `skip_networks`, at the first instruction
+    /// from there (network records are skipped by the plain operations).
     pub(crate) fn next_op(&self, skip_networks: bool) -> Option<Op> {
         let f = self.frames.last()?;
-        let ops = &self.units[f.page as usize].as_ref()?.ops;
+        let unit = self.units[f.page as usize].as_ref()?;
         let mut pc = f.pc;
-        while skip_networks && ops.get(pc).is_some_and(|o| o.is_network()) {
+        while skip_networks && unit.plain.get(pc).is_some_and(|o| o.is_network()) {
             pc += 1;
         }
-        ops.get(pc).copied()
+        unit.ops.get(pc).copied()
     }
 }
 
@@ -456,37 +457,35 @@ fn run_fast(
             }
             Op::Chain {
                 first,
-                steps,
-                network,
+                records,
+                networks: n,
             } => {
-                let covered = steps as usize + usize::from(network);
-                if pc + covered > ops.len() {
+                let records = records as usize;
+                if pc + records > ops.len() {
                     // Past the watchdog's bound: the slow path runs it record by record.
                     break;
                 }
                 let first = first as usize;
-                let steps = &chain[first..first + steps as usize];
-                let (mut t, rest, from) = match (network, steps.first()) {
-                    (true, Some(load)) => {
-                        let v = u32::from(mem[load.at as usize] & load.mask != 0);
-                        (v ^ u32::from(load.invert), 0, 1)
-                    }
-                    _ => (s & 1, s & !1, 0),
-                };
-                for step in &steps[from.min(steps.len())..] {
+                let steps = records - usize::from(n);
+                let (mut t, mut rest) = (s & 1, s & !1);
+                for step in &chain[first..first + steps] {
                     let at = step.at as usize;
-                    if step.store != 0 {
+                    if step.kind == STEP_STORE {
                         let byte = &mut mem[at];
-                        *byte = (*byte & !step.store) | ((t as u8).wrapping_neg() & step.store);
+                        *byte = (*byte & !(1 << step.bit)) | ((t as u8) << step.bit);
                     } else {
-                        let v = u32::from(mem[at] & step.mask != 0) ^ u32::from(step.invert);
-                        let or = u32::from(step.or);
-                        t = (t & (v | or)) | (v & or);
+                        let v = (u32::from(mem[at] >> step.bit) & 1) ^ u32::from(step.invert);
+                        if step.kind == STEP_LOAD {
+                            (t, rest) = (v, 0);
+                        } else {
+                            let or = u32::from(step.kind);
+                            t = (t & (v | or)) | (v & or);
+                        }
                     }
                 }
                 s = rest | t;
-                networks += u64::from(network);
-                pc += covered;
+                networks += u64::from(n);
+                pc += records;
                 continue;
             }
             op => {
