@@ -145,6 +145,20 @@ pub(crate) struct ChainStep {
     pub bit: u8,
     pub invert: u8,
     pub kind: u8,
+    /// Arithmetic form of the kind, for t in {0, 1}: t := ((t AND keep) + v + or) / 2
+    /// is t AND v for A (keep 1, or 0), t OR v for O (keep 1, or 1) and v for a
+    /// network's LD (keep 0, or 1).
+    pub keep_or: u8,
+}
+
+/// `keep_or` of a kind: keep in bit 0, or in bit 1.
+const fn keep_or(kind: u8) -> u8 {
+    match kind {
+        STEP_AND => 0b01,
+        STEP_OR => 0b11,
+        STEP_LOAD => 0b10,
+        _ => 0,
+    }
 }
 
 fn chain_step(op: Op) -> Option<ChainStep> {
@@ -161,6 +175,7 @@ fn chain_step(op: Op) -> Option<ChainStep> {
         bit: b.mask.trailing_zeros() as u8,
         invert,
         kind,
+        keep_or: keep_or(kind),
     })
 }
 
@@ -179,6 +194,7 @@ fn network_start(ops: &[Op], k: usize) -> Option<ChainStep> {
         bit: b.mask.trailing_zeros() as u8,
         invert,
         kind: STEP_LOAD,
+        keep_or: keep_or(STEP_LOAD),
     })
 }
 

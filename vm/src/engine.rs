@@ -6,7 +6,7 @@
 
 use std::collections::VecDeque;
 
-use crate::decode::{Arith, Bit, ChainStep, Combine, Op, Unit, STEP_LOAD, STEP_STORE};
+use crate::decode::{Arith, Bit, ChainStep, Combine, Op, Unit, STEP_STORE};
 use crate::ops::{Control, Exec};
 use crate::{exch, Fault, Vm};
 
@@ -467,20 +467,18 @@ fn run_fast(
                 }
                 let first = first as usize;
                 let steps = records - usize::from(n);
-                let (mut t, mut rest) = (s & 1, s & !1);
+                // After a network start the rest of the stack is empty; t is the top.
+                let mut t = s & 1;
+                let rest = if n > 0 { 0 } else { s & !1 };
                 for step in &chain[first..first + steps] {
                     let at = step.at as usize;
                     if step.kind == STEP_STORE {
                         let byte = &mut mem[at];
                         *byte = (*byte & !(1 << step.bit)) | ((t as u8) << step.bit);
                     } else {
-                        let v = (u32::from(mem[at] >> step.bit) & 1) ^ u32::from(step.invert);
-                        if step.kind == STEP_LOAD {
-                            (t, rest) = (v, 0);
-                        } else {
-                            let or = u32::from(step.kind);
-                            t = (t & (v | or)) | (v & or);
-                        }
+                        let v = ((u32::from(mem[at]) >> step.bit) & 1) ^ u32::from(step.invert);
+                        let ko = u32::from(step.keep_or);
+                        t = ((t & ko) + v + (ko >> 1)) >> 1;
                     }
                 }
                 s = rest | t;
