@@ -1,0 +1,29 @@
+//! The GUTTA PLC communication protocol as plain data: Modbus RTU and TCP framing,
+//! splitting frames out of a byte stream, the GUTTA messages carried inside Modbus
+//! function 13 (UM4001), packetisation of pages, standard Modbus functions 01-06/15/16
+//! (AN2002) and one sans-I/O master state machine.
+//!
+//! This crate never does I/O, never reads a clock and never sleeps: bytes and the
+//! current time (milliseconds, any epoch) come in as arguments, bytes to write go out as
+//! return values. The simulator, the download client and the VM's EXCH do the I/O.
+//! No input makes it panic; every failure is a typed error. See `docs/protocol.md`.
+
+pub mod gutta;
+pub mod master;
+pub mod message;
+pub mod modbus;
+pub mod rtu;
+pub mod stream;
+pub mod tcp;
+pub mod transfer;
+
+pub use gutta::{Function, GuttaError, GuttaFrame, PageArea, PageRef, FAILURE_BIT, LAST_PACKET};
+pub use master::{Master, MasterConfig, MasterError, MasterEvent};
+pub use message::{
+    Breakpoint, Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response, VarAddress,
+};
+pub use modbus::{ExceptionCode, ModbusError, ModbusRequest, ModbusResponse};
+pub use rtu::{crc16, decode_rtu, encode_rtu, FrameError, RtuFrame};
+pub use stream::{RtuSplitter, Side, TcpSplitter};
+pub use tcp::{decode_tcp, encode_tcp, MbapHeader, TcpFrame};
+pub use transfer::{PackSize, Progress, Reassembler, TransferError};
