@@ -5,3 +5,4 @@
 
 pub mod modbus_data;
 pub mod plc;
+pub mod session;

@@ -1,0 +1,250 @@
+//! `gutta-sim`: a simulated GUTTA PLC on the network. It loads an image directory (or
+//! starts empty), runs the VM in real time, and serves Modbus TCP (`--tcp`) and Modbus
+//! RTU over TCP (`--rtu-tcp`): standard Modbus 01-06/15/16 and the GUTTA protocol in
+//! function 13. All I/O is here; the protocol logic is the library's.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use clap::Parser;
+use gutta_catalog::{stdlib, Target};
+use gutta_sim::plc::Plc;
+use gutta_sim::session::{Framing, Session};
+use gutta_vm::VmConfig;
+use tokio::io::{AsyncReadExt, AsyncWriteExt};
+use tokio::net::TcpListener;
+use tokio_serial::SerialPortBuilderExt;
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "gutta-sim",
+    version,
+    about = "A simulated GUTTA PLC: the reference VM behind Modbus and the GUTTA protocol",
+    after_help = "Each listener prints `gutta-sim: LISTENER on ADDRESS` once it listens \
+                  (port 0 picks a free port). Exit status: 0 after a clean stop, 2 for \
+                  usage, image or network errors."
+)]
+struct Cli {
+    /// An image directory written by `gutta-cc -o` (the PLC starts empty without one).
+    image: Option<PathBuf>,
+    /// PLC type from the stdlib (default: the image's, else the stdlib default).
+    #[arg(long, value_name = "NAME")]
+    plc: Option<String>,
+    /// A target folder holding PlcType.xml, ManagerVar.xml and ManagerFun.xml.
+    #[arg(long, value_name = "DIR", conflicts_with = "plc")]
+    target: Option<PathBuf>,
+    /// Serve Modbus TCP on this address (repeatable).
+    #[arg(long = "tcp", value_name = "ADDR")]
+    tcp: Vec<String>,
+    /// Serve Modbus RTU frames over TCP on this address (repeatable).
+    #[arg(long = "rtu-tcp", value_name = "ADDR")]
+    rtu_tcp: Vec<String>,
+    /// Serve Modbus RTU on a serial device (repeatable), e.g. /dev/ttyUSB0 or one end of
+    /// a socat pty pair.
+    #[arg(long = "serial", value_name = "DEVICE")]
+    serial: Vec<PathBuf>,
+    /// Baud rate of --serial devices (8 data bits, even parity, 1 stop bit: the GUTTA
+    /// default after PLC_CLEAR).
+    #[arg(long, value_name = "BAUD", default_value_t = 19200)]
+    baud: u32,
+    /// Real time per scan, in milliseconds (also the VM's virtual time per scan).
+    #[arg(long, value_name = "MS", default_value_t = 10)]
+    scan_ms: u32,
+    /// Every SECS seconds print the scans of that interval and their longest period
+    /// (`gutta-sim: stats: 100 scans in 1.00 s, period max 10.4 ms`).
+    #[arg(long, value_name = "SECS")]
+    stats_every: Option<f64>,
+}
+
+/// A line on stdout; a closed stdout is not an error of the simulator.
+fn say(line: &str) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    let _ = writeln!(out, "{line}");
+    let _ = out.flush();
+}
+
+/// A start-up failure: printed, exit 2.
+struct Fatal(String);
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let runtime = match tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+    {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("gutta-sim: error: cannot start the runtime: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    match runtime.block_on(run(cli)) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Fatal(message)) => {
+            eprintln!("gutta-sim: error: {message}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn target_for(cli: &Cli, image_plc: Option<&str>) -> Result<Arc<Target>, Fatal> {
+    if let Some(dir) = &cli.target {
+        return gutta_io::load_target_dir(dir)
+            .map(Arc::new)
+            .map_err(|e| Fatal(format!("--target {}: {e}", dir.display())));
+    }
+    let name = cli
+        .plc
+        .as_deref()
+        .or(image_plc)
+        .unwrap_or(stdlib::DEFAULT);
+    stdlib::shared(name).map_err(|e| Fatal(format!("PLC type {name}: {e}")))
+}
+
+async fn run(cli: Cli) -> Result<(), Fatal> {
+    if cli.tcp.is_empty() && cli.rtu_tcp.is_empty() && cli.serial.is_empty() {
+        return Err(Fatal(
+            "nothing to serve: give --tcp ADDR, --rtu-tcp ADDR and/or --serial DEVICE".into(),
+        ));
+    }
+    let image = match &cli.image {
+        Some(dir) => Some(gutta_io::read_image_dir(dir).map_err(Fatal)?),
+        None => None,
+    };
+    let target = target_for(&cli, image.as_ref().map(|i| i.plc_type.as_str()))?;
+    if let Some(image) = &image {
+        gutta_format::verify(image, &target)
+            .map_err(|e| Fatal(format!("the image does not verify: {e}")))?;
+    }
+    let config = VmConfig {
+        scan_ms: cli.scan_ms,
+        ..VmConfig::default()
+    };
+    let pages = image.map(|i| i.pages).unwrap_or_default();
+    let plc = Plc::new(target, pages, config).map_err(Fatal)?;
+    let plc = Arc::new(Mutex::new(plc));
+    let start = Instant::now();
+
+    let mut listeners = Vec::new();
+    for (framing, addresses) in [(Framing::Tcp, &cli.tcp), (Framing::Rtu, &cli.rtu_tcp)] {
+        for address in addresses {
+            let listener = TcpListener::bind(address)
+                .await
+                .map_err(|e| Fatal(format!("cannot listen on {address}: {e}")))?;
+            let local = listener
+                .local_addr()
+                .map_err(|e| Fatal(format!("{address}: {e}")))?;
+            let name = match framing {
+                Framing::Tcp => "modbus-tcp",
+                Framing::Rtu => "rtu-over-tcp",
+            };
+            say(&format!("gutta-sim: {name} on {local}"));
+            listeners.push((framing, listener));
+        }
+    }
+    for (framing, listener) in listeners {
+        let plc = Arc::clone(&plc);
+        tokio::spawn(async move {
+            loop {
+                match listener.accept().await {
+                    Ok((stream, _)) => {
+                        let _ = stream.set_nodelay(true);
+                        let plc = Arc::clone(&plc);
+                        tokio::spawn(serve(stream, framing, plc, start));
+                    }
+                    Err(e) => {
+                        eprintln!("gutta-sim: accept failed: {e}");
+                        tokio::time::sleep(Duration::from_millis(100)).await;
+                    }
+                }
+            }
+        });
+    }
+
+    for device in &cli.serial {
+        let path = device.display().to_string();
+        let port = tokio_serial::new(&path, cli.baud)
+            .data_bits(tokio_serial::DataBits::Eight)
+            .parity(tokio_serial::Parity::Even)
+            .stop_bits(tokio_serial::StopBits::One)
+            .open_native_async()
+            .map_err(|e| Fatal(format!("cannot open {path}: {e}")))?;
+        say(&format!("gutta-sim: rtu-serial on {path}"));
+        let plc = Arc::clone(&plc);
+        tokio::spawn(serve(port, Framing::Rtu, plc, start));
+    }
+
+    // The scan cycle, in real time.
+    let mut tick = tokio::time::interval(Duration::from_millis(u64::from(cli.scan_ms.max(1))));
+    tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
+    let mut reported_fault = false;
+    let (mut window_start, mut last_scan) = (Instant::now(), Instant::now());
+    let (mut window_scans, mut window_max) = (0u64, Duration::ZERO);
+    loop {
+        tick.tick().await;
+        let now = Instant::now();
+        window_max = window_max.max(now - last_scan);
+        last_scan = now;
+        window_scans += 1;
+        if let Some(every) = cli.stats_every {
+            let elapsed = now - window_start;
+            if elapsed.as_secs_f64() >= every {
+                say(&format!(
+                    "gutta-sim: stats: {window_scans} scans in {:.2} s, period max {:.1} ms",
+                    elapsed.as_secs_f64(),
+                    window_max.as_secs_f64() * 1e3
+                ));
+                (window_start, window_scans, window_max) = (now, 0, Duration::ZERO);
+            }
+        }
+        let result = match plc.lock() {
+            Ok(mut plc) => plc.scan(),
+            Err(_) => return Err(Fatal("the PLC state was poisoned by a panic".into())),
+        };
+        match result {
+            Err(f) if !reported_fault => {
+                eprintln!("gutta-sim: the program faulted: {f} (error code {})", f.code());
+                reported_fault = true;
+            }
+            Ok(_) => reported_fault = false,
+            Err(_) => {}
+        }
+    }
+}
+
+/// One connection or serial line: read, answer, until the client closes or sends
+/// garbage.
+async fn serve<S>(mut stream: S, framing: Framing, plc: Arc<Mutex<Plc>>, start: Instant)
+where
+    S: tokio::io::AsyncRead + tokio::io::AsyncWrite + Unpin,
+{
+    let mut session = Session::new(framing);
+    let mut buf = vec![0u8; 4096];
+    loop {
+        let n = match stream.read(&mut buf).await {
+            Ok(0) | Err(_) => return,
+            Ok(n) => n,
+        };
+        let now_ms = start.elapsed().as_millis() as u64;
+        let answer = match plc.lock() {
+            Ok(mut plc) => session.on_bytes(&mut plc, &buf[..n], now_ms),
+            Err(_) => return,
+        };
+        match answer {
+            Ok(bytes) if bytes.is_empty() => {}
+            Ok(bytes) => {
+                if stream.write_all(&bytes).await.is_err() {
+                    return;
+                }
+            }
+            Err(e) => {
+                eprintln!("gutta-sim: closing a connection: {e}");
+                return;
+            }
+        }
+    }
+}
