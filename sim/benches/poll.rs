@@ -45,13 +45,24 @@ fn main() {
 
     let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
         .arg(&dir)
-        .args(["--tcp", "127.0.0.1:0", "--scan-ms", "10", "--stats-every", "1"])
+        .args([
+            "--tcp",
+            "127.0.0.1:0",
+            "--scan-ms",
+            "10",
+            "--stats-every",
+            "1",
+        ])
         .stdout(Stdio::piped())
         .spawn()
         .expect("starts gutta-sim");
     let mut lines = BufReader::new(child.stdout.take().expect("stdout")).lines();
     let first = lines.next().expect("listener").expect("text");
-    let port: u16 = first.rsplit(':').next().and_then(|p| p.parse().ok()).expect("port");
+    let port: u16 = first
+        .rsplit(':')
+        .next()
+        .and_then(|p| p.parse().ok())
+        .expect("port");
     let stats = std::thread::spawn(move || {
         lines
             .map_while(Result::ok)

@@ -97,11 +97,7 @@ fn target_for(cli: &Cli, image_plc: Option<&str>) -> Result<Arc<Target>, Fatal> 
             .map(Arc::new)
             .map_err(|e| Fatal(format!("--target {}: {e}", dir.display())));
     }
-    let name = cli
-        .plc
-        .as_deref()
-        .or(image_plc)
-        .unwrap_or(stdlib::DEFAULT);
+    let name = cli.plc.as_deref().or(image_plc).unwrap_or(stdlib::DEFAULT);
     stdlib::shared(name).map_err(|e| Fatal(format!("PLC type {name}: {e}")))
 }
 
@@ -207,7 +203,10 @@ async fn run(cli: Cli) -> Result<(), Fatal> {
         };
         match result {
             Err(f) if !reported_fault => {
-                eprintln!("gutta-sim: the program faulted: {f} (error code {})", f.code());
+                eprintln!(
+                    "gutta-sim: the program faulted: {f} (error code {})",
+                    f.code()
+                );
                 reported_fault = true;
             }
             Ok(_) => reported_fault = false,

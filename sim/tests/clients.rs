@@ -67,7 +67,10 @@ fn start(dir: &Path) -> Sim {
     let mut port = |what: &str| -> u16 {
         let line = lines.next().expect("a listener line").expect("text");
         assert!(line.contains(what), "{line}");
-        line.rsplit(':').next().and_then(|p| p.parse().ok()).expect("port")
+        line.rsplit(':')
+            .next()
+            .and_then(|p| p.parse().ok())
+            .expect("port")
     };
     let tcp = port("modbus-tcp");
     let rtu = port("rtu-over-tcp");
@@ -119,7 +122,10 @@ fn mbpoll_reads_and_writes_through_the_mapping() {
     };
     // M: MW24, MW26 = 400021, 400022.
     let out = tcp(&["-r", "21", "-c", "2", "-t", "4:hex"], &[]);
-    assert!(out.contains("[21]: \t0x0E01") && out.contains("[22]: \t0x0E02"), "{out}");
+    assert!(
+        out.contains("[21]: \t0x0E01") && out.contains("[22]: \t0x0E02"),
+        "{out}"
+    );
     // AQ: write 400001 then read it.
     tcp(&["-r", "1", "-t", "4"], &["4321"]);
     assert!(tcp(&["-r", "1", "-c", "1", "-t", "4"], &[]).contains("[1]: \t4321"));
@@ -170,7 +176,10 @@ fn pymodbus_over_tcp_and_rtu_with_function_13() {
         return;
     }
     let sim = start(&image_dir("pymodbus"));
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/clients/pymodbus_check.py");
+    let script = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/clients/pymodbus_check.py"
+    );
     let out = Command::new(&python)
         .arg(script)
         .arg(sim.tcp.to_string())
@@ -178,7 +187,11 @@ fn pymodbus_over_tcp_and_rtu_with_function_13() {
         .output()
         .expect("runs python");
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{text}{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{text}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert!(text.contains("0 failures"), "{text}");
 }
 
@@ -203,7 +216,8 @@ fn ask(s: &mut TcpStream, tid: u16, pdu: &[u8]) -> Vec<u8> {
 
 fn connect(port: u16) -> TcpStream {
     let s = TcpStream::connect(("127.0.0.1", port)).expect("connects");
-    s.set_read_timeout(Some(Duration::from_secs(5))).expect("timeout");
+    s.set_read_timeout(Some(Duration::from_secs(5)))
+        .expect("timeout");
     s
 }
 
@@ -213,12 +227,14 @@ fn bad_clients_do_not_wedge_the_server() {
     // Half a frame, then the client goes away.
     {
         let mut s = connect(sim.tcp);
-        s.write_all(&mbap(1, &[0x03, 0x00, 0x14, 0x00, 0x02])[..5]).expect("send");
+        s.write_all(&mbap(1, &[0x03, 0x00, 0x14, 0x00, 0x02])[..5])
+            .expect("send");
     }
     // A malformed MBAP header (protocol id 7) closes that connection only.
     {
         let mut s = connect(sim.tcp);
-        s.write_all(&[0, 1, 0, 7, 0, 6, 1, 3, 0, 0, 0, 1]).expect("send");
+        s.write_all(&[0, 1, 0, 7, 0, 6, 1, 3, 0, 0, 0, 1])
+            .expect("send");
         let mut buf = [0u8; 16];
         assert_eq!(s.read(&mut buf).unwrap_or(0), 0, "closed without an answer");
     }
@@ -232,7 +248,8 @@ fn bad_clients_do_not_wedge_the_server() {
         s.write_all(&bad).expect("send");
         s.write_all(&good).expect("send");
         let mut answer = [0u8; 9];
-        s.read_exact(&mut answer).expect("the good frame is answered");
+        s.read_exact(&mut answer)
+            .expect("the good frame is answered");
         assert_eq!(&answer[..7], &[1, 3, 4, 0x0E, 0x01, 0x0E, 0x02]);
     }
     // A wrong password fails; everything that needs a login is refused; a new client
@@ -240,11 +257,20 @@ fn bad_clients_do_not_wedge_the_server() {
     let mut s = connect(sim.tcp);
     let mut attach = vec![0x0D, 0x00, 0x14, 0x01, 0x10, 0x80, 0x00];
     attach.extend([0u8; 16]);
-    assert_eq!(ask(&mut s, 2, &attach), [0x0D, 0x00, 0x04, 0x81, 0x10, 0x80, 0x00]);
+    assert_eq!(
+        ask(&mut s, 2, &attach),
+        [0x0D, 0x00, 0x04, 0x81, 0x10, 0x80, 0x00]
+    );
     let page_write = [0x0D, 0x00, 0x06, 0x03, 0x12, 0x80, 0x00, 1, 2];
-    assert_eq!(ask(&mut s, 3, &page_write), [0x0D, 0x00, 0x04, 0x83, 0x12, 0x80, 0x00]);
+    assert_eq!(
+        ask(&mut s, 3, &page_write),
+        [0x0D, 0x00, 0x04, 0x83, 0x12, 0x80, 0x00]
+    );
     // Function 13 with a length field that lies: exception 03, not a crash.
-    assert_eq!(ask(&mut s, 4, &[0x0D, 0x00, 0x09, 0x0A, 0x00, 0x80, 0x00]), [0x8D, 0x03]);
+    assert_eq!(
+        ask(&mut s, 4, &[0x0D, 0x00, 0x09, 0x0A, 0x00, 0x80, 0x00]),
+        [0x8D, 0x03]
+    );
     let mut other = connect(sim.tcp);
     assert_eq!(
         ask(&mut other, 5, &[0x03, 0x00, 0x14, 0x00, 0x02]),
@@ -298,6 +324,9 @@ fn mbpoll_over_a_serial_line() {
     let _ = child.wait();
     let _ = socat.kill();
     let _ = socat.wait();
-    assert!(out.contains("[21]: \t0x0E01") && out.contains("[22]: \t0x0E02"), "{out}");
+    assert!(
+        out.contains("[21]: \t0x0E01") && out.contains("[22]: \t0x0E02"),
+        "{out}"
+    );
     assert!(back.contains("[9]: \t777"), "MW0 = 400009: {back}");
 }
