@@ -1,0 +1,185 @@
+//! Transports of the client: one request PDU out, its answer PDU back. Modbus TCP
+//! matches answers by transaction id; RTU (over TCP or a serial line) goes through
+//! gutta-protocol's master (timeout, retries, CRC). Blocking, with timeouts.
+
+use std::io::{ErrorKind, Read, Write};
+use std::net::TcpStream;
+use std::time::{Duration, Instant};
+
+use gutta_protocol::master::{Master, MasterConfig, MasterEvent};
+use gutta_protocol::stream::TcpSplitter;
+use gutta_protocol::tcp::{decode_tcp, encode_tcp};
+
+use crate::LinkError;
+
+/// One request, one answer.
+pub trait Transport: std::fmt::Debug {
+    fn exchange(&mut self, station: u8, pdu: &[u8]) -> Result<Vec<u8>, LinkError>;
+}
+
+/// How long one read waits before the master's clock is checked.
+const POLL: Duration = Duration::from_millis(20);
+
+/// Modbus TCP.
+#[derive(Debug)]
+pub struct TcpTransport {
+    stream: TcpStream,
+    transaction: u16,
+    timeout: Duration,
+    retries: u32,
+}
+
+impl TcpTransport {
+    pub fn connect(address: &str, timeout_ms: u64, retries: u32) -> Result<Self, LinkError> {
+        let stream = TcpStream::connect(address)
+            .map_err(|e| LinkError::Io(format!("cannot connect to {address}: {e}")))?;
+        stream
+            .set_nodelay(true)
+            .and_then(|_| stream.set_read_timeout(Some(POLL)))
+            .map_err(|e| LinkError::Io(e.to_string()))?;
+        Ok(TcpTransport {
+            stream,
+            transaction: 0,
+            timeout: Duration::from_millis(timeout_ms),
+            retries,
+        })
+    }
+}
+
+impl Transport for TcpTransport {
+    fn exchange(&mut self, station: u8, pdu: &[u8]) -> Result<Vec<u8>, LinkError> {
+        for _ in 0..=self.retries {
+            self.transaction = self.transaction.wrapping_add(1);
+            let frame = encode_tcp(self.transaction, station, pdu)
+                .ok_or_else(|| LinkError::Protocol("request too long for Modbus TCP".into()))?;
+            self.stream
+                .write_all(&frame)
+                .map_err(|e| LinkError::Io(e.to_string()))?;
+            let mut splitter = TcpSplitter::new(u16::MAX);
+            let deadline = Instant::now() + self.timeout;
+            let mut buf = [0u8; 1024];
+            while Instant::now() < deadline {
+                match self.stream.read(&mut buf) {
+                    Ok(0) => return Err(LinkError::Io("the connection was closed".into())),
+                    Ok(n) => splitter.push(&buf[..n]),
+                    Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => {}
+                    Err(e) => return Err(LinkError::Io(e.to_string())),
+                }
+                while let Some(frame) = splitter.next_frame() {
+                    let frame = frame.map_err(|e| LinkError::Protocol(e.to_string()))?;
+                    let frame =
+                        decode_tcp(&frame).map_err(|e| LinkError::Protocol(e.to_string()))?;
+                    if frame.transaction == self.transaction {
+                        return Ok(frame.pdu);
+                    }
+                }
+            }
+        }
+        Err(LinkError::Timeout {
+            attempts: self.retries + 1,
+        })
+    }
+}
+
+/// Modbus RTU over any byte stream with a short read timeout (a TCP socket, a serial
+/// port), through the protocol's master.
+#[derive(Debug)]
+pub struct RtuTransport<S: Read + Write + std::fmt::Debug> {
+    port: S,
+    master: Master,
+    start: Instant,
+}
+
+impl<S: Read + Write + std::fmt::Debug> RtuTransport<S> {
+    pub fn new(port: S, timeout_ms: u64, retries: u32) -> Self {
+        RtuTransport {
+            port,
+            master: Master::new(MasterConfig {
+                timeout_ms,
+                retries,
+                ..MasterConfig::default()
+            }),
+            start: Instant::now(),
+        }
+    }
+
+    fn now(&self) -> u64 {
+        self.start.elapsed().as_millis() as u64
+    }
+}
+
+/// RTU over TCP.
+pub fn rtu_over_tcp(
+    address: &str,
+    timeout_ms: u64,
+    retries: u32,
+) -> Result<RtuTransport<TcpStream>, LinkError> {
+    let stream = TcpStream::connect(address)
+        .map_err(|e| LinkError::Io(format!("cannot connect to {address}: {e}")))?;
+    stream
+        .set_nodelay(true)
+        .and_then(|_| stream.set_read_timeout(Some(POLL)))
+        .map_err(|e| LinkError::Io(e.to_string()))?;
+    Ok(RtuTransport::new(stream, timeout_ms, retries))
+}
+
+/// A serial line: `baud`, 8 data bits, even parity, 1 stop bit (the GUTTA default).
+pub fn serial(
+    device: &str,
+    baud: u32,
+    timeout_ms: u64,
+    retries: u32,
+) -> Result<RtuTransport<Box<dyn serialport::SerialPort>>, LinkError> {
+    let port = serialport::new(device, baud)
+        .data_bits(serialport::DataBits::Eight)
+        .parity(serialport::Parity::Even)
+        .stop_bits(serialport::StopBits::One)
+        .timeout(POLL)
+        .open()
+        .map_err(|e| LinkError::Io(format!("cannot open {device}: {e}")))?;
+    Ok(RtuTransport::new(port, timeout_ms, retries))
+}
+
+impl<S: Read + Write + std::fmt::Debug> Transport for RtuTransport<S> {
+    fn exchange(&mut self, station: u8, pdu: &[u8]) -> Result<Vec<u8>, LinkError> {
+        let bytes = self
+            .master
+            .send(station, pdu, self.now())
+            .map_err(|e| LinkError::Protocol(e.to_string()))?;
+        self.port
+            .write_all(&bytes)
+            .map_err(|e| LinkError::Io(e.to_string()))?;
+        let mut buf = [0u8; 1024];
+        loop {
+            let event = match self.port.read(&mut buf) {
+                Ok(0) => return Err(LinkError::Io("the connection was closed".into())),
+                Ok(n) => {
+                    let now = self.now();
+                    self.master.on_bytes(&buf[..n], now)
+                }
+                Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => {
+                    let now = self.now();
+                    self.master.on_tick(now).unwrap_or(MasterEvent::Pending)
+                }
+                Err(e) => return Err(LinkError::Io(e.to_string())),
+            };
+            match event {
+                MasterEvent::Response(frame) => return Ok(frame.pdu),
+                MasterEvent::Retry(bytes) => self
+                    .port
+                    .write_all(&bytes)
+                    .map_err(|e| LinkError::Io(e.to_string()))?,
+                MasterEvent::Failed(e) => {
+                    return Err(LinkError::Timeout {
+                        attempts: match e {
+                            gutta_protocol::master::MasterError::Timeout { attempts }
+                            | gutta_protocol::master::MasterError::Crc { attempts } => attempts,
+                            _ => 1,
+                        },
+                    })
+                }
+                MasterEvent::Pending | MasterEvent::Idle => {}
+            }
+        }
+    }
+}

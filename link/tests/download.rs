@@ -1,0 +1,173 @@
+//! The client against a real `gutta-sim` process: a download over Modbus TCP and over
+//! RTU over TCP, then status, run/stop and variables; a download refused for another
+//! PLC type. The simulator binary is the workspace's (built by `cargo test --workspace`).
+
+use std::io::{BufRead, BufReader};
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+
+use gutta_catalog::stdlib;
+use gutta_compiler::encode::ImageMeta;
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{compile, ExplicitTarget};
+use gutta_format::Image;
+use gutta_link::transport::{rtu_over_tcp, TcpTransport};
+use gutta_link::{download, Client, LinkError, FACTORY_PASSWORD};
+
+const POINTERS: &str = include_str!("../../examples/in1001_pointers.lad");
+
+struct Sim {
+    child: Child,
+    tcp: String,
+    rtu: String,
+}
+
+impl Drop for Sim {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn sim_binary() -> PathBuf {
+    let exe = std::env::current_exe().expect("test binary");
+    let dir = exe.parent().and_then(|d| d.parent()).expect("target dir");
+    let sim = dir.join("gutta-sim");
+    assert!(
+        sim.exists(),
+        "{} is missing: run the tests with `cargo test --workspace` (or `cargo build -p gutta-sim` first)",
+        sim.display()
+    );
+    sim
+}
+
+/// An empty simulated PLC of `plc`.
+fn start(plc: &str) -> Sim {
+    let mut child = Command::new(sim_binary())
+        .args([
+            "--plc",
+            plc,
+            "--tcp",
+            "127.0.0.1:0",
+            "--rtu-tcp",
+            "127.0.0.1:0",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("starts gutta-sim");
+    let mut lines = BufReader::new(child.stdout.take().expect("stdout")).lines();
+    let mut addr = || {
+        let line = lines.next().expect("listener").expect("text");
+        line.rsplit(' ').next().expect("address").to_string()
+    };
+    let tcp = addr();
+    let rtu = addr();
+    Sim { child, tcp, rtu }
+}
+
+fn image(plc: &str) -> Image {
+    let target = stdlib::shared(plc).expect("target");
+    compile(
+        SourceFile::new("p.lad", POINTERS),
+        Some(&ExplicitTarget {
+            target,
+            origin: "test".into(),
+        }),
+        &ImageMeta {
+            source: "p.lad".into(),
+            tool: "test".into(),
+        },
+    )
+    .image
+    .expect("compiles")
+}
+
+/// The packed address of MW`offset` on CPU-EC20 (M is slot 4).
+fn mw(offset: u32) -> u32 {
+    (offset << 16) | ((gutta_catalog::Width::Word as u32) << 8) | (4 << 4)
+}
+
+fn exercise(client: &mut Client) {
+    let image = image("CPU-EC20");
+    let pack = stdlib::shared("CPU-EC20")
+        .expect("target")
+        .plc
+        .exch_pack_size as usize;
+    let mut sent = 0;
+    let report =
+        download(client, &image, &FACTORY_PASSWORD, pack, &mut |n| sent += n).expect("downloads");
+    assert_eq!(report.pages, image.pages.len());
+    assert_eq!(sent, report.bytes);
+    // After the reset: log in again, the program runs.
+    client.attach(&FACTORY_PASSWORD).expect("login");
+    std::thread::sleep(std::time::Duration::from_millis(100));
+    assert_eq!(
+        client.status().expect("status") & 0b1101,
+        0b0101,
+        "RUN, ATTACH, no ERROR"
+    );
+    let values = client.read_vars(&[mw(24)]).expect("read");
+    assert_eq!(
+        values[0],
+        [0x01, 0x0E, 0x02, 0x0E],
+        "MW24 = 16#0E01, MW26 = 16#0E02"
+    );
+    client.set_running(false).expect("stop");
+    assert_eq!(client.status().expect("status") & 1, 0);
+    client
+        .write_vars(&[(mw(40), 0xBEEF)], false)
+        .expect("write");
+    assert_eq!(
+        client.read_vars(&[mw(40)]).expect("read")[0][..2],
+        [0xEF, 0xBE]
+    );
+    client.set_running(true).expect("run");
+    // Forcing M is refused (only I and Q).
+    assert!(matches!(
+        client.write_vars(&[(mw(40), 1)], true),
+        Err(LinkError::Refused {
+            function: 0x0A21,
+            ..
+        })
+    ));
+}
+
+#[test]
+fn download_and_operate_over_modbus_tcp() {
+    let sim = start("CPU-EC20");
+    let transport = TcpTransport::connect(&sim.tcp, 1000, 2).expect("connects");
+    exercise(&mut Client::new(Box::new(transport), 1));
+}
+
+#[test]
+fn download_and_operate_over_rtu_over_tcp() {
+    let sim = start("CPU-EC20");
+    let transport = rtu_over_tcp(&sim.rtu, 1000, 2).expect("connects");
+    exercise(&mut Client::new(Box::new(transport), 1));
+}
+
+#[test]
+fn a_download_for_another_plc_type_is_refused_before_anything_changes() {
+    let sim = start("CPU-EC20");
+    let transport = TcpTransport::connect(&sim.tcp, 1000, 2).expect("connects");
+    let mut client = Client::new(Box::new(transport), 1);
+    let other = image("EC30-EK51");
+    let err =
+        download(&mut client, &other, &FACTORY_PASSWORD, 64, &mut |_| {}).expect_err("refused");
+    assert_eq!(
+        err,
+        LinkError::WrongPlc {
+            plc: "CPU-EC20".into(),
+            image: "EC30-EK51".into()
+        }
+    );
+    // A wrong password is refused with the login's failure.
+    assert!(matches!(
+        client.attach(&[0; 16]),
+        Err(LinkError::Refused {
+            function: 0x0110,
+            ..
+        })
+    ));
+}
