@@ -242,3 +242,62 @@ fn letters_to_area_guess(letters: &str, stripped: &str) -> String {
         letters.to_ascii_uppercase()
     }
 }
+
+/// `100`, `-1`, `16#FF`, `2#1010` (`-16#1` too), checked against the width and
+/// returned as the variable's bits.
+pub fn parse_value(text: &str, width: Width) -> Result<u32, String> {
+    let (negative, digits) = match text.strip_prefix('-') {
+        Some(rest) => (true, rest),
+        None => (false, text.strip_prefix('+').unwrap_or(text)),
+    };
+    let (radix, digits) = if let Some(d) = digits.strip_prefix("16#") {
+        (16, d)
+    } else if let Some(d) = digits.strip_prefix("2#") {
+        (2, d)
+    } else {
+        (10, digits)
+    };
+    let digits = digits.replace('_', "");
+    let bad = || format!("`{text}` is not a number (decimal, 16#FF, 2#1010)");
+    if digits.is_empty() || digits.starts_with(['+', '-']) {
+        return Err(bad());
+    }
+    let magnitude = i64::from_str_radix(&digits, radix).map_err(|_| bad())?;
+    let value = if negative { -magnitude } else { magnitude };
+    let bits = width.bits();
+    let (min, max) = if width == Width::Bit {
+        (0, 1)
+    } else {
+        (-(1i64 << (bits - 1)), (1i64 << bits) - 1)
+    };
+    if value < min || value > max {
+        return Err(format!(
+            "{text} does not fit a {bits}-bit variable ({min}..{max})"
+        ));
+    }
+    let mask = if bits == 32 {
+        u32::MAX as i64
+    } else {
+        (1i64 << bits) - 1
+    };
+    Ok((value & mask) as u32)
+}
+
+#[cfg(test)]
+mod value_tests {
+    use super::*;
+
+    #[test]
+    fn values() {
+        assert_eq!(parse_value("1", Width::Bit), Ok(1));
+        assert!(parse_value("2", Width::Bit).is_err());
+        assert_eq!(parse_value("-1", Width::Word), Ok(0xFFFF));
+        assert_eq!(parse_value("16#0E01", Width::Word), Ok(0x0E01));
+        assert_eq!(parse_value("2#1010", Width::Byte), Ok(10));
+        assert_eq!(parse_value("-2147483648", Width::Dword), Ok(0x8000_0000));
+        assert_eq!(parse_value("16#FFFFFFFF", Width::Dword), Ok(u32::MAX));
+        assert!(parse_value("65536", Width::Word).is_err());
+        assert!(parse_value("--1", Width::Word).is_err());
+        assert!(parse_value("x", Width::Word).is_err());
+    }
+}

@@ -18,7 +18,7 @@ mod text;
 mod types;
 mod xml_util;
 
-pub use address::{is_address_shaped, Address, AddressError};
+pub use address::{is_address_shaped, parse_value, Address, AddressError};
 pub use error::{CatalogError, CatalogErrorCode};
 pub use instructions::{
     BlockKind, Flow, InstrId, Instruction, InstructionSet, OperandKind, OperandSpec, Role,

@@ -69,8 +69,84 @@ enum Command {
     },
     /// Explain a diagnostic code (E0302, W0201, ...).
     Explain { code: String },
+    /// Download an image directory into a PLC (UM4001: the PLC type must match; the PLC
+    /// is cleared, every page written and read back, then reset to run the image).
+    Download {
+        /// The image directory (holding manifest.json).
+        image: PathBuf,
+        #[command(flatten)]
+        link: LinkArgs,
+    },
+    /// Print the PLC's status (RUN, RESET, ATTACH, ERROR) and PLC type.
+    Status {
+        #[command(flatten)]
+        link: LinkArgs,
+    },
+    /// Put the PLC in RUN.
+    Run {
+        #[command(flatten)]
+        link: LinkArgs,
+    },
+    /// Put the PLC in STOP.
+    Stop {
+        #[command(flatten)]
+        link: LinkArgs,
+    },
+    /// Read variables (`VAR = VALUE` lines, unsigned decimal; bits 0 or 1).
+    Read {
+        /// Direct addresses: MW24, Q0.0, AIW0, MD4.
+        #[arg(required = true)]
+        vars: Vec<String>,
+        #[command(flatten)]
+        link: LinkArgs,
+    },
+    /// Write variables (an input's terminal holds the value across scans).
+    Write {
+        /// VAR=VALUE: MW0=16#FF, Q0.0=1, AIW0=100.
+        #[arg(required = true)]
+        assignments: Vec<String>,
+        #[command(flatten)]
+        link: LinkArgs,
+    },
+    /// Force I or Q variables to values (they keep them every scan).
+    Force {
+        /// VAR=VALUE: Q0.0=1, IB0=16#0F.
+        #[arg(required = true)]
+        assignments: Vec<String>,
+        #[command(flatten)]
+        link: LinkArgs,
+    },
     /// List the stdlib PLC types.
     ListTargets,
+}
+
+/// How to reach a PLC.
+#[derive(Debug, clap::Args)]
+struct LinkArgs {
+    /// Modbus TCP, e.g. 127.0.0.1:502.
+    #[arg(long, value_name = "HOST:PORT", group = "endpoint")]
+    tcp: Option<String>,
+    /// Modbus RTU frames over TCP (a serial server, or gutta-sim --rtu-tcp).
+    #[arg(long, value_name = "HOST:PORT", group = "endpoint")]
+    rtu_tcp: Option<String>,
+    /// Modbus RTU on a serial device (8 data bits, even parity, 1 stop bit).
+    #[arg(long, value_name = "DEVICE", group = "endpoint")]
+    serial: Option<String>,
+    /// Baud rate for --serial.
+    #[arg(long, value_name = "BAUD", default_value_t = 19200)]
+    baud: u32,
+    /// The PLC's login password (the system block's); none is the factory password.
+    #[arg(long, value_name = "TEXT")]
+    password: Option<String>,
+    /// The PLC's station address.
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    station: u8,
+    /// Milliseconds to wait for each answer.
+    #[arg(long, value_name = "MS", default_value_t = 1000)]
+    timeout: u64,
+    /// Attempts after the first when an answer does not come.
+    #[arg(long, value_name = "N", default_value_t = 2)]
+    retries: u32,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -91,6 +167,8 @@ enum ColorChoice {
     Never,
 }
 
+mod client;
+
 /// A usage or I/O failure: printed, exit 2.
 struct Fatal(String);
 
@@ -110,6 +188,19 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
         Some(Command::Modbus { variable }) => return modbus(&cli.target, variable),
         Some(Command::Explain { code }) => return explain(code),
         Some(Command::Dis { image }) => return dis(&cli.target, image),
+        Some(Command::Download { image, link }) => {
+            return client::download(&cli.target, image, link)
+        }
+        Some(Command::Status { link }) => return client::status(link),
+        Some(Command::Run { link }) => return client::run_stop(link, true),
+        Some(Command::Stop { link }) => return client::run_stop(link, false),
+        Some(Command::Read { vars, link }) => return client::read(&cli.target, vars, link),
+        Some(Command::Write { assignments, link }) => {
+            return client::write(&cli.target, assignments, link, false)
+        }
+        Some(Command::Force { assignments, link }) => {
+            return client::write(&cli.target, assignments, link, true)
+        }
         Some(Command::ListTargets) => {
             for name in stdlib::names() {
                 let t = stdlib::load(name).map_err(|e| Fatal(e.to_string()))?;

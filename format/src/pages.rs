@@ -321,6 +321,20 @@ pub struct SystemPage {
 
 pub const SYSTEM_LAYOUT_VERSION: u8 = 1;
 
+/// The 16 password bytes of a text password: its bytes, zero-padded (longer text is cut
+/// at 16 bytes); no password is the factory password, 16 x 0xFF. The compiler writes
+/// the system block's password this way and the download client logs in with it.
+pub fn password_bytes(text: Option<&str>) -> [u8; 16] {
+    let Some(text) = text else {
+        return [0xFF; 16];
+    };
+    let mut password = [0u8; 16];
+    for (d, b) in password.iter_mut().zip(text.bytes()) {
+        *d = b;
+    }
+    password
+}
+
 impl SystemPage {
     pub fn encode(&self) -> Vec<u8> {
         let mut out = vec![SYSTEM_LAYOUT_VERSION, self.ports.len().min(255) as u8];

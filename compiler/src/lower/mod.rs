@@ -208,12 +208,6 @@ fn system_page(s: &SystemConfig) -> SystemPage {
             frame_gap: p.frame_gap,
         })
         .collect();
-    let mut password = [0xFFu8; 16];
-    if let Some(pw) = &s.password {
-        password = [0u8; 16];
-        for (d, b) in password.iter_mut().zip(pw.bytes()) {
-            *d = b;
-        }
-    }
+    let password = gutta_format::password_bytes(s.password.as_deref());
     SystemPage { ports, password }
 }

@@ -1,0 +1,136 @@
+//! `gutta-cc download|status|run|stop|read|write|force` against a `gutta-sim` process
+//! (the workspace's binary, built by `cargo test --workspace`).
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+
+struct Sim(Child, String);
+
+impl Drop for Sim {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn bin(name: &str) -> PathBuf {
+    let cc = PathBuf::from(env!("CARGO_BIN_EXE_gutta-cc"));
+    let path = cc.with_file_name(name);
+    assert!(
+        path.exists(),
+        "{} is missing: run `cargo test --workspace` (or `cargo build -p gutta-sim`)",
+        path.display()
+    );
+    path
+}
+
+fn sim(plc: &str) -> Sim {
+    let mut child = Command::new(bin("gutta-sim"))
+        .args(["--plc", plc, "--tcp", "127.0.0.1:0"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("gutta-sim starts");
+    let line = BufReader::new(child.stdout.take().expect("stdout"))
+        .lines()
+        .next()
+        .expect("listener")
+        .expect("text");
+    let address = line.rsplit(' ').next().expect("address").to_string();
+    Sim(child, address)
+}
+
+fn cc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_gutta-cc"))
+        .args(args)
+        .output()
+        .expect("gutta-cc runs")
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+fn compile(plc: &str, tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("gutta-cc-client-{tag}-{}", std::process::id()));
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/in1001_pointers.lad");
+    let o = cc(&[
+        example.to_str().expect("path"),
+        "--plc",
+        plc,
+        "-o",
+        dir.to_str().expect("path"),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    dir
+}
+
+#[test]
+fn download_then_operate_the_plc() {
+    let sim = sim("CPU-EC20");
+    let image = compile("CPU-EC20", "ok");
+    let at = ["--tcp", sim.1.as_str()];
+    let run = |args: &[&str]| {
+        let mut all = args.to_vec();
+        all.extend_from_slice(&at);
+        cc(&all)
+    };
+    let o = run(&["download", image.to_str().expect("path")]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("downloaded 3 pages"), "{}", text(&o));
+    std::thread::sleep(std::time::Duration::from_millis(100));
+    let o = run(&["status"]);
+    assert!(text(&o).starts_with("CPU-EC20: RUN"), "{}", text(&o));
+    let o = run(&["read", "MW24", "MW26", "Q0.0"]);
+    assert_eq!(
+        String::from_utf8_lossy(&o.stdout),
+        "MW24 = 3585\nMW26 = 3586\nQ0.0 = 0\n"
+    );
+    assert!(run(&["stop"]).status.success());
+    assert!(text(&run(&["status"])).starts_with("CPU-EC20: STOP"));
+    let o = run(&["write", "MW40=16#BEEF", "AIW0=100", "Q0.1=1"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let o = run(&["read", "MW40", "AIW0", "Q0.1"]);
+    assert_eq!(
+        String::from_utf8_lossy(&o.stdout),
+        "MW40 = 48879\nAIW0 = 100\nQ0.1 = 1\n"
+    );
+    // Forcing M is refused; a bad value is a usage error before anything is sent.
+    let o = run(&["force", "MW0=1"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o).contains("only I and Q can be forced"),
+        "{}",
+        text(&o)
+    );
+    let o = run(&["write", "MB0=300"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("does not fit"), "{}", text(&o));
+    assert!(run(&["run"]).status.success());
+    // A wrong password: refused, exit 2.
+    let o = run(&["status", "--password", "wrong"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("wrong password"), "{}", text(&o));
+}
+
+#[test]
+fn a_download_for_another_plc_type_changes_nothing() {
+    let sim = sim("CPU-EC20");
+    let image = compile("EC30-EK51", "other");
+    let o = cc(&["download", image.to_str().expect("path"), "--tcp", &sim.1]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o).contains("the PLC is a CPU-EC20, the image is for EC30-EK51"),
+        "{}",
+        text(&o)
+    );
+    // Nothing to reach: a clear usage error.
+    let o = cc(&["status"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).contains("--tcp HOST:PORT"), "{}", text(&o));
+}
