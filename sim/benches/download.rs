@@ -36,7 +36,7 @@ fn program(networks: usize) -> String {
 fn try_image(networks: usize) -> Option<Image> {
     let target = stdlib::shared("CPU-EC20").expect("target");
     compile(
-        SourceFile::new("max.lad", &program(networks)),
+        SourceFile::new("max.lad", program(networks)),
         Some(&ExplicitTarget {
             target,
             origin: "bench".into(),
