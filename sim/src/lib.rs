@@ -5,4 +5,5 @@
 
 pub mod modbus_data;
 pub mod plc;
+pub mod ports;
 pub mod session;

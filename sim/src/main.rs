@@ -52,6 +52,13 @@ struct Cli {
     /// Real time per scan, in milliseconds (also the VM's virtual time per scan).
     #[arg(long, value_name = "MS", default_value_t = 10)]
     scan_ms: u32,
+    /// Where the PLC's serial port 0 leads, for EXCH: tcp-connect:HOST:PORT (another
+    /// simulator's --rtu-tcp), serial:DEVICE or pty:PATH.
+    #[arg(long, value_name = "SPEC")]
+    port0: Option<String>,
+    /// Where serial port 1 leads (as --port0).
+    #[arg(long, value_name = "SPEC")]
+    port1: Option<String>,
     /// Every SECS seconds print the scans of that interval and their longest period
     /// (`gutta-sim: stats: 100 scans in 1.00 s, period max 10.4 ms`).
     #[arg(long, value_name = "SECS")]
@@ -121,7 +128,12 @@ async fn run(cli: Cli) -> Result<(), Fatal> {
         ..VmConfig::default()
     };
     let pages = image.map(|i| i.pages).unwrap_or_default();
-    let plc = Plc::new(target, pages, config).map_err(Fatal)?;
+    let mut plc = Plc::new(target, pages, config).map_err(Fatal)?;
+    for (n, spec) in [(0u8, &cli.port0), (1, &cli.port1)] {
+        if let Some(spec) = spec {
+            plc.set_port(n, gutta_sim::ports::PortSpec::parse(spec).map_err(Fatal)?);
+        }
+    }
     let plc = Arc::new(Mutex::new(plc));
     let start = Instant::now();
 
@@ -197,10 +209,12 @@ async fn run(cli: Cli) -> Result<(), Fatal> {
                 (window_start, window_scans, window_max) = (now, 0, Duration::ZERO);
             }
         }
-        let result = match plc.lock() {
-            Ok(mut plc) => plc.scan(),
-            Err(_) => return Err(Fatal("the PLC state was poisoned by a panic".into())),
-        };
+        // EXCH may wait on a serial port at the end of the scan: let the runtime move
+        // other work off this thread meanwhile.
+        let result = tokio::task::block_in_place(|| match plc.lock() {
+            Ok(mut plc) => Ok(plc.scan()),
+            Err(_) => Err(Fatal("the PLC state was poisoned by a panic".into())),
+        })?;
         match result {
             Err(f) if !reported_fault => {
                 eprintln!(

@@ -102,6 +102,8 @@ pub struct Plc {
     image_error: bool,
     /// The last refusal, for logs and tests.
     last_refusal: Option<Refusal>,
+    /// Where the PLC's serial ports lead (for EXCH); attached to every loaded VM.
+    ports: BTreeMap<u8, crate::ports::PortSpec>,
 }
 
 fn blank_image(target: &Target) -> Image {
@@ -150,6 +152,7 @@ impl Plc {
             vm,
             image_error: false,
             last_refusal: None,
+            ports: BTreeMap::new(),
         };
         plc.reset();
         Ok(plc)
@@ -221,6 +224,17 @@ impl Plc {
             }
         }
         self.vm.set_attached(false);
+        for (n, spec) in &self.ports {
+            self.vm
+                .attach_port(*n, Box::new(crate::ports::StreamPort::new(spec.clone())));
+        }
+    }
+
+    /// Lead serial port `n` to `spec`: EXCH on that port talks through it.
+    pub fn set_port(&mut self, n: u8, spec: crate::ports::PortSpec) {
+        self.vm
+            .attach_port(n, Box::new(crate::ports::StreamPort::new(spec.clone())));
+        self.ports.insert(n, spec);
     }
 
     /// One scan of the program (no-op when stopped or paused).
