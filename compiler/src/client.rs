@@ -119,6 +119,39 @@ pub(crate) fn download(
     Ok(ExitCode::SUCCESS)
 }
 
+pub(crate) fn upload(targets: &TargetArgs, dir: &Path, args: &LinkArgs) -> Result<ExitCode, Fatal> {
+    let mut client = connect(args)?;
+    let origin = args
+        .tcp
+        .as_deref()
+        .or(args.rtu_tcp.as_deref())
+        .or(args.serial.as_deref())
+        .unwrap_or("plc");
+    let password = gutta_format::password_bytes(args.password.as_deref());
+    // The PLC type decides the packet size; log in first to ask it.
+    client.attach(&password).map_err(link_error)?;
+    let target = plc_target(targets, &mut client)?;
+    let image = gutta_link::upload(
+        &mut client,
+        &password,
+        target.plc.exch_pack_size as usize,
+        origin,
+    )
+    .map_err(link_error)?;
+    if let Err(e) = gutta_format::verify(&image, &target) {
+        eprintln!("gutta-cc: warning: the uploaded program does not verify: {e}");
+    }
+    gutta_io::write_image(dir, &image).map_err(|e| Fatal(e.0))?;
+    println!(
+        "uploaded {} pages ({} bytes) of a {} into {}",
+        image.pages.len(),
+        image.pages.values().map(Vec::len).sum::<usize>(),
+        image.plc_type,
+        dir.display()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
 pub(crate) fn status(args: &LinkArgs) -> Result<ExitCode, Fatal> {
     let mut client = login(args)?;
     let name = client.plc_name().map_err(link_error)?;
@@ -194,5 +227,136 @@ pub(crate) fn write(
         })
         .collect::<Result<_, Fatal>>()?;
     client.write_vars(&pairs, force).map_err(link_error)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `gutta-cc debug ACTION [ARG]`: UM4001's DEBUG_* functions.
+pub(crate) fn debug(
+    targets: &TargetArgs,
+    action: &[String],
+    args: &LinkArgs,
+) -> Result<ExitCode, Fatal> {
+    let mut client = login(args)?;
+    let target = plc_target(targets, &mut client)?;
+    let int_size = target.plc.program_block_page_int_size;
+    let arg = action.get(1).map(String::as_str);
+    let call = |client: &mut Client, function: u16, payload: &[u8], what: &str| {
+        client
+            .gutta(function, 0x8000, payload, what)
+            .map_err(link_error)
+    };
+    match (action[0].as_str(), arg) {
+        ("break", Some(at)) => {
+            let (f, n, s) = gutta_format::parse_position(at, int_size).map_err(Fatal)?;
+            let mut payload = vec![f];
+            payload.extend(n.to_be_bytes());
+            payload.extend(s.to_be_bytes());
+            call(
+                &mut client,
+                0x0A35,
+                &payload,
+                "the breakpoint (no instruction there?)",
+            )?;
+        }
+        ("clear", None) => {
+            call(
+                &mut client,
+                0x0A35,
+                &[0xFF, 0xFF, 0xFF, 0xFF, 0xFF],
+                "clearing the breakpoint",
+            )?;
+        }
+        ("stop", None) => {
+            call(&mut client, 0x0A31, &[0], "single-step stop")?;
+        }
+        ("run", None) => {
+            call(&mut client, 0x0A31, &[1], "run until a breakpoint")?;
+        }
+        ("reset", None) => {
+            call(&mut client, 0x0A33, &[], "DEBUG_RESET")?;
+        }
+        ("step", Some(kind)) => {
+            let k = match kind {
+                "in" => 1,
+                "over" => 2,
+                "out" => 3,
+                other => return Err(Fatal(format!("step `{other}`: in, over or out"))),
+            };
+            call(
+                &mut client,
+                0x0A32,
+                &[k],
+                "the step (is the program paused?)",
+            )?;
+        }
+        ("info", None) => {}
+        (other, _) => {
+            return Err(Fatal(format!(
+                "debug `{other}`: break POSITION, clear, stop, run, step in|over|out, reset or info"
+            )))
+        }
+    }
+    // Every action ends by showing where the program is.
+    let b = call(&mut client, 0x0A34, &[], "DEBUG_INFOR_READ")?;
+    let state = call(&mut client, 0x0A30, &[], "DEBUG_READ")?;
+    if b.len() != 16 {
+        return Err(Fatal("DEBUG_INFOR_READ answered the wrong length".into()));
+    }
+    let word = |i: usize| u16::from_be_bytes([b[i], b[i + 1]]);
+    let place = |f: u8, n: u16, s: u16| {
+        if f == 0xFF {
+            "none".to_string()
+        } else {
+            format!("{}:{n}:{s}", gutta_format::function_name(f, int_size))
+        }
+    };
+    println!("breakpoint: {}", place(b[0], word(1), word(3)));
+    println!("paused at:  {}", place(b[5], word(6), word(8)));
+    println!(
+        "mode: {}; logic stack {:#06X}; call depth {}; saved L {} bytes; error {}",
+        if state.first().is_some_and(|s| s & 1 != 0) {
+            "run until a breakpoint"
+        } else {
+            "single-step stop"
+        },
+        word(12),
+        b[14],
+        word(10),
+        b[15]
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `gutta-cc unforce VAR...`: STATUS_VAR_FORCE_WRITE with USE = 15, which gutta-sim
+/// reads as "release" (UM4001 has no unforce). The value sent is the variable's current
+/// value, so a PLC that ignores USE keeps it where it is rather than jumping.
+pub(crate) fn unforce(
+    targets: &TargetArgs,
+    vars: &[String],
+    args: &LinkArgs,
+) -> Result<ExitCode, Fatal> {
+    let mut client = login(args)?;
+    let target = plc_target(targets, &mut client)?;
+    let addresses: Vec<Address> = vars
+        .iter()
+        .map(|v| parse_var(&target, v))
+        .collect::<Result<_, _>>()?;
+    let current = client
+        .read_vars(&addresses.iter().map(|a| packed(*a)).collect::<Vec<_>>())
+        .map_err(link_error)?;
+    let pairs: Vec<(u32, u32)> = addresses
+        .iter()
+        .zip(current)
+        .map(|(a, bytes)| {
+            let raw = u32::from_le_bytes(bytes);
+            let value = if a.width == Width::Bit {
+                (raw >> a.bit) & 1
+            } else {
+                raw
+            };
+            ((packed(*a) & !0xF) | 0xF, value)
+        })
+        .collect();
+    client.write_vars(&pairs, true).map_err(link_error)?;
     Ok(ExitCode::SUCCESS)
 }

@@ -77,6 +77,14 @@ enum Command {
         #[command(flatten)]
         link: LinkArgs,
     },
+    /// Upload the PLC's program into an image directory (the pages the PLC holds).
+    Upload {
+        /// The directory to write (created; written atomically).
+        #[arg(short, long, value_name = "DIR")]
+        output: PathBuf,
+        #[command(flatten)]
+        link: LinkArgs,
+    },
     /// Print the PLC's status (RUN, RESET, ATTACH, ERROR) and PLC type.
     Status {
         #[command(flatten)]
@@ -105,6 +113,23 @@ enum Command {
         /// VAR=VALUE: MW0=16#FF, Q0.0=1, AIW0=100.
         #[arg(required = true)]
         assignments: Vec<String>,
+        #[command(flatten)]
+        link: LinkArgs,
+    },
+    /// Release forced variables (they follow the program and inputs again).
+    Unforce {
+        /// Direct addresses that were forced: Q0.0, IB0.
+        #[arg(required = true)]
+        vars: Vec<String>,
+        #[command(flatten)]
+        link: LinkArgs,
+    },
+    /// Debug the running program: `break MAIN:2:0`, `clear`, `stop` (single-step stop),
+    /// `run`, `step in|over|out`, `reset` (reset into single-step stop), `info`.
+    Debug {
+        /// The action, then its argument (a position for `break`, in/over/out for `step`).
+        #[arg(required = true, num_args = 1..=2)]
+        action: Vec<String>,
         #[command(flatten)]
         link: LinkArgs,
     },
@@ -192,12 +217,15 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
             return client::download(&cli.target, image, link)
         }
         Some(Command::Status { link }) => return client::status(link),
+        Some(Command::Upload { output, link }) => return client::upload(&cli.target, output, link),
         Some(Command::Run { link }) => return client::run_stop(link, true),
         Some(Command::Stop { link }) => return client::run_stop(link, false),
         Some(Command::Read { vars, link }) => return client::read(&cli.target, vars, link),
         Some(Command::Write { assignments, link }) => {
             return client::write(&cli.target, assignments, link, false)
         }
+        Some(Command::Unforce { vars, link }) => return client::unforce(&cli.target, vars, link),
+        Some(Command::Debug { action, link }) => return client::debug(&cli.target, action, link),
         Some(Command::Force { assignments, link }) => {
             return client::write(&cli.target, assignments, link, true)
         }

@@ -112,6 +112,58 @@ fn download_then_operate_the_plc() {
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o).contains("does not fit"), "{}", text(&o));
     assert!(run(&["run"]).status.success());
+    // Upload: the same pages and PLC type as the image downloaded.
+    let back = std::env::temp_dir().join(format!("gutta-cc-upload-{}", std::process::id()));
+    let o = run(&["upload", "-o", back.to_str().expect("path")]);
+    assert!(o.status.success(), "{}", text(&o));
+    let sent = gutta_io::read_image_dir(&image).expect("image");
+    let got = gutta_io::read_image_dir(&back).expect("uploaded image");
+    assert_eq!(got.plc_type, sent.plc_type);
+    assert_eq!(got.pages, sent.pages);
+    for (name, bytes) in sent.files() {
+        if name != gutta_format::MANIFEST_FILE {
+            assert_eq!(
+                std::fs::read(back.join(&name)).expect("file"),
+                bytes,
+                "{name}"
+            );
+        }
+    }
+    // Force an input, release it: the terminal (0) shows again.
+    assert!(run(&["force", "I0.2=1"]).status.success());
+    std::thread::sleep(std::time::Duration::from_millis(50));
+    assert_eq!(
+        String::from_utf8_lossy(&run(&["read", "I0.2"]).stdout),
+        "I0.2 = 1\n"
+    );
+    assert!(run(&["unforce", "I0.2"]).status.success());
+    std::thread::sleep(std::time::Duration::from_millis(50));
+    assert_eq!(
+        String::from_utf8_lossy(&run(&["read", "I0.2"]).stdout),
+        "I0.2 = 0\n"
+    );
+    // Debug: reset into single-step stop, run to a breakpoint before the second
+    // pointer write (network 1 step 4), step over it.
+    assert!(run(&["debug", "break", "MAIN:1:4"]).status.success());
+    let o = run(&["debug", "reset"]);
+    assert!(text(&o).contains("paused at:  MAIN:1:0"), "{}", text(&o));
+    assert!(run(&["debug", "run"]).status.success());
+    std::thread::sleep(std::time::Duration::from_millis(100));
+    let o = run(&["debug", "info"]);
+    assert!(text(&o).contains("paused at:  MAIN:1:4"), "{}", text(&o));
+    assert_eq!(
+        String::from_utf8_lossy(&run(&["read", "MW24", "MW26"]).stdout),
+        "MW24 = 3585\nMW26 = 0\n"
+    );
+    assert!(run(&["debug", "step", "over"]).status.success());
+    assert_eq!(
+        String::from_utf8_lossy(&run(&["read", "MW26"]).stdout),
+        "MW26 = 3586\n"
+    );
+    assert!(run(&["debug", "clear"]).status.success());
+    assert!(run(&["debug", "run"]).status.success());
+    let o = run(&["debug", "step", "sideways"]);
+    assert_eq!(o.status.code(), Some(2));
     // A wrong password: refused, exit 2.
     let o = run(&["status", "--password", "wrong"]);
     assert_eq!(o.status.code(), Some(2));

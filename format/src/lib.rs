@@ -7,12 +7,14 @@ pub mod disasm;
 mod manifest;
 mod operand;
 mod pages;
+mod position;
 mod read;
 mod verify;
 
 pub use manifest::{crc16, Manifest, ManifestError, ManifestPage, FORMAT_VERSION};
 pub use operand::{pointer_value, PackedOperand, Use};
 pub use pages::*;
+pub use position::{function_name, parse_position};
 pub use read::{ImageError, MANIFEST_FILE};
 pub use verify::{
     verify, Location, UnitRecord, VerifiedImage, VerifiedUnit, VerifyCode, VerifyError,

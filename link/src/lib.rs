@@ -346,3 +346,39 @@ pub fn download(
         requests,
     })
 }
+
+/// Upload the program in the PLC: its PLC type (GET_PLC_NAME), the page lists (data,
+/// system, program), and every page present (the const page, and for every program
+/// page its argument and instruction pages), each read in packets of `pack` bytes. The
+/// image's `tool` and `source` say where it came from; the pages are the PLC's.
+pub fn upload(
+    client: &mut Client,
+    password: &[u8; 16],
+    pack: usize,
+    origin: &str,
+) -> Result<Image, LinkError> {
+    client.attach(password)?;
+    let plc_type = client.plc_name()?;
+    let list =
+        |client: &mut Client, function: u16, what: &str| client.gutta(function, 0x8000, &[], what);
+    let data = list(client, 0x0210, "DATA_ASK")?;
+    let system = list(client, 0x0260, "SYSTEM_ASK")?;
+    let program = list(client, 0x0300, "PROGRAM_ASK")?;
+    let mut ids = vec![PageId::new(PageKind::Const, 0)];
+    for &n in &program {
+        ids.push(PageId::new(PageKind::Argument, n));
+        ids.push(PageId::new(PageKind::Instruction, n));
+    }
+    ids.extend(data.iter().map(|&n| PageId::new(PageKind::Data, n)));
+    ids.extend(system.iter().map(|&n| PageId::new(PageKind::System, n)));
+    let mut pages = BTreeMap::new();
+    for id in ids {
+        pages.insert(id, client.read_page(id, pack)?);
+    }
+    Ok(Image {
+        plc_type,
+        tool: format!("gutta-cc upload {}", env!("CARGO_PKG_VERSION")),
+        source: origin.to_string(),
+        pages,
+    })
+}

@@ -26,6 +26,10 @@ use crate::modbus_data;
 /// The factory password: 16 x 0xFF.
 pub const FACTORY_PASSWORD: [u8; 16] = [0xFF; 16];
 
+/// The USE field value that makes STATUS_VAR_FORCE_WRITE release a force (our
+/// extension; docs/simulator.md).
+pub const RELEASE_USE: u32 = 0xF;
+
 /// Bit 15 of a packet number: the last packet of a transfer.
 pub const LAST_PACKET: u16 = 0x8000;
 
@@ -465,6 +469,19 @@ impl Plc {
                         self.vm
                             .write_packed(address, value)
                             .map_err(|e| Refusal::Access(e.0))?;
+                    } else if address & 0xF == RELEASE_USE {
+                        // Our extension: USE 15 releases the force (UM4001 has no
+                        // unforce; a PLC that ignores USE forces the value sent, which
+                        // the client makes the current value).
+                        let op = gutta_format::PackedOperand(address);
+                        if let Some(a) = op.width().map(|width| gutta_catalog::Address {
+                            slot: op.slot(),
+                            width,
+                            offset: u32::from(op.offset()),
+                            bit: op.bit() & 7,
+                        }) {
+                            self.vm.unforce(a);
+                        }
                     } else {
                         self.vm
                             .force_packed(address, value)

@@ -250,35 +250,9 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
 /// `MAIN:2:0`, `SBR0:1:3`, `INT1:1:0`, `8:1:0`: a function (unit page), network and
 /// step.
 fn parse_breakpoint(target: &Target, text: &str) -> Result<Position, Fatal> {
-    let bad = |why: &str| {
-        Fatal(format!(
-            "--break {text}: {why} (expected FUNCTION:NETWORK:STEP, e.g. MAIN:2:0 or SBR0:1:3)"
-        ))
-    };
-    let parts: Vec<&str> = text.split(':').collect();
-    let [function, network, step] = parts[..] else {
-        return Err(bad("three parts separated by `:`"));
-    };
-    let int_size = target.plc.program_block_page_int_size;
-    let upper = function.to_ascii_uppercase();
-    let page = if upper == "MAIN" || upper == "OB1" {
-        Some(0)
-    } else if let Some(n) = upper.strip_prefix("SBR") {
-        n.parse::<u32>().ok().map(|n| int_size + n)
-    } else if let Some(n) = upper.strip_prefix("INT") {
-        n.parse::<u32>().ok().filter(|&n| n < int_size.max(1))
-    } else {
-        upper.parse::<u32>().ok()
-    };
-    let function = page
-        .and_then(|p| u8::try_from(p).ok())
-        .ok_or_else(|| bad("FUNCTION is MAIN, INTn, SBRn or a page number below 256"))?;
-    let network = network
-        .parse()
-        .map_err(|_| bad("NETWORK is a network number"))?;
-    let step = step
-        .parse()
-        .map_err(|_| bad("STEP is the instruction's 0-based index in its network"))?;
+    let (function, network, step) =
+        gutta_format::parse_position(text, target.plc.program_block_page_int_size)
+            .map_err(|e| Fatal(format!("--break {e}")))?;
     Ok(Position {
         function,
         network,
@@ -288,12 +262,7 @@ fn parse_breakpoint(target: &Target, text: &str) -> Result<Position, Fatal> {
 
 /// MAIN, INTn or SBRn for a unit page.
 fn function_name(target: &Target, page: u8) -> String {
-    let int_size = target.plc.program_block_page_int_size;
-    match u32::from(page) {
-        0 => "MAIN".into(),
-        p if p < int_size => format!("INT{p}"),
-        p => format!("SBR{}", p - int_size),
-    }
+    gutta_format::function_name(page, target.plc.program_block_page_int_size)
 }
 
 /// The fault's variant name (`Watchdog`), for JSON and messages.
