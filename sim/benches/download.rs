@@ -4,16 +4,69 @@
 //! gutta-link, as `gutta-cc download` does: wall time (median of runs) and requests.
 //! `cargo bench -p gutta-sim --bench download`; without `--bench`, one run.
 
-use std::io::{BufRead, BufReader};
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::{TcpListener, TcpStream};
 use std::process::{Command, Stdio};
-use std::time::Instant;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// Bits per byte on an RTU line: start, 8 data, even parity, stop.
+const BITS_PER_BYTE: f64 = 11.0;
+
+/// A simulated serial line between a client and the simulator's RTU-over-TCP
+/// listener: bytes pass in each direction no faster than `baud` allows (a byte takes
+/// 11 bit times), so the link behaves like the wire. Counts the bytes it carried.
+fn paced_link(to: String, baud: f64, carried: Arc<AtomicU64>) -> String {
+    let listener = TcpListener::bind("127.0.0.1:0").expect("binds");
+    let address = listener.local_addr().expect("address").to_string();
+    std::thread::spawn(move || {
+        for client in listener.incoming() {
+            let Ok(client) = client else { continue };
+            let Ok(server) = TcpStream::connect(&to) else {
+                continue;
+            };
+            let _ = client.set_nodelay(true);
+            let _ = server.set_nodelay(true);
+            for (mut from, mut into) in [
+                (
+                    client.try_clone().expect("clone"),
+                    server.try_clone().expect("clone"),
+                ),
+                (server, client),
+            ] {
+                let carried = Arc::clone(&carried);
+                std::thread::spawn(move || {
+                    let byte_time = Duration::from_secs_f64(BITS_PER_BYTE / baud);
+                    let mut line_free = Instant::now();
+                    let mut buf = [0u8; 1024];
+                    while let Ok(n) = from.read(&mut buf) {
+                        if n == 0 {
+                            break;
+                        }
+                        // The bytes leave the line one byte time after another.
+                        let start = line_free.max(Instant::now());
+                        line_free = start + byte_time * n as u32;
+                        let wait = line_free.saturating_duration_since(Instant::now());
+                        std::thread::sleep(wait);
+                        carried.fetch_add(n as u64, Ordering::Relaxed);
+                        if into.write_all(&buf[..n]).is_err() {
+                            break;
+                        }
+                    }
+                });
+            }
+        }
+    });
+    address
+}
 
 use gutta_catalog::stdlib;
 use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
 use gutta_format::Image;
-use gutta_link::transport::TcpTransport;
+use gutta_link::transport::{rtu_over_tcp, TcpTransport};
 use gutta_link::{download, Client, FACTORY_PASSWORD};
 
 fn program(networks: usize) -> String {
@@ -76,16 +129,24 @@ fn main() {
         .map(|(_, p)| p.len())
         .sum();
     let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
-        .args(["--plc", "CPU-EC20", "--tcp", "127.0.0.1:0"])
+        .args([
+            "--plc",
+            "CPU-EC20",
+            "--tcp",
+            "127.0.0.1:0",
+            "--rtu-tcp",
+            "127.0.0.1:0",
+        ])
         .stdout(Stdio::piped())
         .spawn()
         .expect("starts gutta-sim");
-    let line = BufReader::new(child.stdout.take().expect("stdout"))
-        .lines()
-        .next()
-        .expect("listener")
-        .expect("text");
-    let address = line.rsplit(' ').next().expect("address").to_string();
+    let mut lines = BufReader::new(child.stdout.take().expect("stdout")).lines();
+    let mut next_address = || {
+        let line = lines.next().expect("listener").expect("text");
+        line.rsplit(' ').next().expect("address").to_string()
+    };
+    let address = next_address();
+    let rtu_address = next_address();
     let pack = target.plc.exch_pack_size as usize;
     let mut times = Vec::new();
     let mut report = None;
@@ -98,8 +159,20 @@ fn main() {
         times.push(start.elapsed().as_secs_f64());
         report = Some(r);
     }
+    // The same download over a simulated 115200-baud RTU line.
+    let baud = 115_200.0;
+    let carried = Arc::new(AtomicU64::new(0));
+    let line = paced_link(rtu_address, baud, Arc::clone(&carried));
+    let transport = rtu_over_tcp(&line, 2000, 2).expect("connects");
+    let mut client = Client::new(Box::new(transport), 1);
+    let start = Instant::now();
+    let rtu_report =
+        download(&mut client, &image, &FACTORY_PASSWORD, pack, &mut |_| {}).expect("downloads");
+    let rtu_seconds = start.elapsed().as_secs_f64();
     let _ = child.kill();
     let _ = child.wait();
+    let bytes = carried.load(Ordering::Relaxed) as f64;
+    let wire = bytes * BITS_PER_BYTE / baud;
     times.sort_by(f64::total_cmp);
     let report = report.expect("one run");
     println!(
@@ -112,5 +185,13 @@ fn main() {
         times[times.len() / 2] * 1e3,
         times[0] * 1e3,
         times[times.len() - 1] * 1e3
+    );
+    println!(
+        "download over a simulated 115200-baud RTU line (11 bits a byte): {} requests, {:.0} bytes on the wire (both ways) take {:.3} s; the download took {:.3} s = {:.1}% over the wire time",
+        rtu_report.requests,
+        bytes,
+        wire,
+        rtu_seconds,
+        (rtu_seconds / wire - 1.0) * 100.0
     );
 }
