@@ -171,3 +171,37 @@ fn a_download_for_another_plc_type_is_refused_before_anything_changes() {
         })
     ));
 }
+
+#[test]
+fn a_client_that_disconnects_mid_download_leaves_a_stopped_plc_and_a_serving_server() {
+    let sim = start("CPU-EC20");
+    let image = image("CPU-EC20");
+    {
+        let transport = TcpTransport::connect(&sim.tcp, 1000, 2).expect("connects");
+        let mut client = Client::new(Box::new(transport), 1);
+        client.attach(&FACTORY_PASSWORD).expect("login");
+        client.clear().expect("clear");
+        let (id, page) = image.pages.iter().next().expect("a page");
+        client
+            .write_page(*id, &page[..page.len().min(10)], 64, &mut |_| {})
+            .expect("one packet");
+        // The client goes away here, mid-download.
+    }
+    let transport = TcpTransport::connect(&sim.tcp, 1000, 2).expect("connects again");
+    let mut client = Client::new(Box::new(transport), 1);
+    client.attach(&FACTORY_PASSWORD).expect("login");
+    assert_eq!(
+        client.status().expect("status") & 1,
+        0,
+        "not running half an image"
+    );
+    download(&mut client, &image, &FACTORY_PASSWORD, 64, &mut |_| {})
+        .expect("a new download works");
+    client.attach(&FACTORY_PASSWORD).expect("login");
+    std::thread::sleep(std::time::Duration::from_millis(100));
+    assert_eq!(
+        client.status().expect("status") & 1,
+        1,
+        "runs the whole image"
+    );
+}
