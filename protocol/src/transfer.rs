@@ -289,6 +289,22 @@ impl Reassembler {
 mod tests {
     use super::*;
 
+    /// Found by the `frames` fuzz target: full packets may be followed by an empty last
+    /// packet (UM4001's rule "packet i covers bytes from i x ExchPackSize" allows it);
+    /// the page is the same as when the last full packet carries the last bit.
+    #[test]
+    fn an_empty_last_packet_after_full_ones_completes_the_page() {
+        let pack = PackSize::new(64).expect("size");
+        let mut r = Reassembler::new(pack, 300);
+        assert_eq!(r.push(0, &[7; 64]), Ok(Progress::More));
+        assert_eq!(r.push(LAST_PACKET | 1, &[]), Ok(Progress::Complete));
+        assert_eq!(r.finish(), Ok(vec![7; 64]));
+        assert_eq!(
+            split_page(&[7; 64], pack).expect("fits"),
+            vec![(LAST_PACKET, &[7u8; 64][..])]
+        );
+    }
+
     fn pack64() -> PackSize {
         PackSize::new(64).expect("64 is the smallest ExchPackSize")
     }
