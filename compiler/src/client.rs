@@ -59,6 +59,32 @@ fn packed(a: Address) -> u32 {
     PackedOperand::memory(a, Use::Value, a.width).0
 }
 
+/// A variable's value from the 4 bytes STATUS_VAR_READ returns from its first byte.
+fn value_of(a: &Address, bytes: [u8; 4]) -> u32 {
+    let raw = u32::from_le_bytes(bytes);
+    match a.width {
+        Width::Bit => (raw >> a.bit) & 1,
+        Width::Byte => raw & 0xFF,
+        Width::Word => raw & 0xFFFF,
+        Width::Dword => raw,
+    }
+}
+
+/// Connect, log in, find the target and parse the variables.
+fn login_with_vars(
+    targets: &TargetArgs,
+    vars: &[String],
+    args: &LinkArgs,
+) -> Result<(Client, Arc<Target>, Vec<Address>), Fatal> {
+    let mut client = login(args)?;
+    let target = plc_target(targets, &mut client)?;
+    let addresses = vars
+        .iter()
+        .map(|v| parse_var(&target, v))
+        .collect::<Result<_, _>>()?;
+    Ok((client, target, addresses))
+}
+
 fn parse_var(target: &Target, text: &str) -> Result<Address, Fatal> {
     target
         .memory
@@ -71,16 +97,7 @@ pub(crate) fn download(
     dir: &Path,
     args: &LinkArgs,
 ) -> Result<ExitCode, Fatal> {
-    let image = gutta_io::read_image_dir(dir).map_err(Fatal)?;
-    let target = match explicit_target(targets)? {
-        Some(e) => e.target,
-        None => stdlib::shared(&image.plc_type).map_err(|e| {
-            Fatal(format!(
-                "the image is for {}: {e} (pass --target DIR for a vendor PLC type)",
-                image.plc_type
-            ))
-        })?,
-    };
+    let (image, target) = crate::image_and_target(targets, dir)?;
     gutta_format::verify(&image, &target).map_err(|e| Fatal(format!("{}: {e}", dir.display())))?;
     let total: usize = image.pages.values().map(Vec::len).sum();
     let mut client = connect(args)?;
@@ -185,23 +202,15 @@ pub(crate) fn read(
     vars: &[String],
     args: &LinkArgs,
 ) -> Result<ExitCode, Fatal> {
-    let mut client = login(args)?;
-    let target = plc_target(targets, &mut client)?;
-    let addresses: Vec<Address> = vars
-        .iter()
-        .map(|v| parse_var(&target, v))
-        .collect::<Result<_, _>>()?;
+    let (mut client, target, addresses) = login_with_vars(targets, vars, args)?;
     let packed: Vec<u32> = addresses.iter().map(|a| packed(*a)).collect();
     let values = client.read_vars(&packed).map_err(link_error)?;
     for (a, bytes) in addresses.iter().zip(values) {
-        let raw = u32::from_le_bytes(bytes);
-        let value = match a.width {
-            Width::Bit => (raw >> a.bit) & 1,
-            Width::Byte => raw & 0xFF,
-            Width::Word => raw & 0xFFFF,
-            Width::Dword => raw,
-        };
-        println!("{} = {value}", target.memory.format_address(a));
+        println!(
+            "{} = {}",
+            target.memory.format_address(a),
+            value_of(a, bytes)
+        );
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -335,27 +344,14 @@ pub(crate) fn unforce(
     vars: &[String],
     args: &LinkArgs,
 ) -> Result<ExitCode, Fatal> {
-    let mut client = login(args)?;
-    let target = plc_target(targets, &mut client)?;
-    let addresses: Vec<Address> = vars
-        .iter()
-        .map(|v| parse_var(&target, v))
-        .collect::<Result<_, _>>()?;
+    let (mut client, _, addresses) = login_with_vars(targets, vars, args)?;
     let current = client
         .read_vars(&addresses.iter().map(|a| packed(*a)).collect::<Vec<_>>())
         .map_err(link_error)?;
     let pairs: Vec<(u32, u32)> = addresses
         .iter()
         .zip(current)
-        .map(|(a, bytes)| {
-            let raw = u32::from_le_bytes(bytes);
-            let value = if a.width == Width::Bit {
-                (raw >> a.bit) & 1
-            } else {
-                raw
-            };
-            ((packed(*a) & !0xF) | 0xF, value)
-        })
+        .map(|(a, bytes)| ((packed(*a) & !0xF) | 0xF, value_of(a, bytes)))
         .collect();
     client.write_vars(&pairs, true).map_err(link_error)?;
     Ok(ExitCode::SUCCESS)

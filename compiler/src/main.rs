@@ -422,7 +422,11 @@ fn explain(code: &str) -> Result<ExitCode, Fatal> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn dis(args: &TargetArgs, dir: &Path) -> Result<ExitCode, Fatal> {
+/// An image directory and the target it is for: --plc/--target, else its PLC type.
+fn image_and_target(
+    args: &TargetArgs,
+    dir: &Path,
+) -> Result<(gutta_format::Image, std::sync::Arc<gutta_catalog::Target>), Fatal> {
     let image = gutta_io::read_image_dir(dir).map_err(Fatal)?;
     let target = match explicit_target(args)? {
         Some(e) => e.target,
@@ -433,6 +437,11 @@ fn dis(args: &TargetArgs, dir: &Path) -> Result<ExitCode, Fatal> {
             ))
         })?,
     };
+    Ok((image, target))
+}
+
+fn dis(args: &TargetArgs, dir: &Path) -> Result<ExitCode, Fatal> {
+    let (image, target) = image_and_target(args, dir)?;
     let d = gutta_format::disasm::disassemble_with_errors(&image, &target);
     let _ = std::io::stdout().lock().write_all(d.text.as_bytes());
     for e in &d.errors {
