@@ -108,7 +108,11 @@ fn reassembler(data: &[u8]) {
 
 /// A master waiting for a GUTTA answer gets the input as its receive stream.
 fn master(data: &[u8], chunk: usize) {
-    let mut m = Master::new(MasterConfig { timeout_ms: 10, retries: 1, ..MasterConfig::default() });
+    let mut m = Master::new(MasterConfig {
+        timeout_ms: 10,
+        retries: 1,
+        ..MasterConfig::default()
+    });
     let request = [0x0D, 0x00, 0x04, 0x08, 0x00, 0x00, 0x01];
     if m.send(0, &request, 0).is_err() {
         return;
@@ -131,7 +135,9 @@ fn master(data: &[u8], chunk: usize) {
 }
 
 fuzz_target!(|data: &[u8]| {
-    let Some((&first, rest)) = data.split_first() else { return };
+    let Some((&first, rest)) = data.split_first() else {
+        return;
+    };
     let chunk = usize::from(first % 16) + 1;
     rtu_splitter(Side::Slave, rest, chunk);
     rtu_splitter(Side::Master, rest, chunk);

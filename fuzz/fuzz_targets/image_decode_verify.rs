@@ -7,28 +7,17 @@
 #![no_main]
 
 use std::collections::BTreeMap;
-use std::sync::{Arc, OnceLock};
 
-use gutta_catalog::{stdlib, Target};
+use gutta_catalog::stdlib;
 use gutta_format::{
     decode_data, decode_instructions, verify, ArgumentPage, Image, Manifest, PageId, PageKind,
     SystemPage, MANIFEST_FILE,
 };
 use libfuzzer_sys::fuzz_target;
 
-#[path = "../../format/tests/common/mod.rs"]
-mod common;
+mod shared;
 
-fn default_target() -> &'static Arc<Target> {
-    static TARGET: OnceLock<Arc<Target>> = OnceLock::new();
-    TARGET
-        .get_or_init(|| stdlib::shared(stdlib::DEFAULT).expect("the embedded default target loads"))
-}
-
-fn base_image() -> &'static Image {
-    static IMAGE: OnceLock<Image> = OnceLock::new();
-    IMAGE.get_or_init(|| common::full_program(default_target()).build())
-}
+use shared::{base_image, default_target, mutate};
 
 /// Every decoder on raw bytes: they return errors, never panic.
 fn decode_all(bytes: &[u8]) {
@@ -136,29 +125,7 @@ fn structured_pages(data: &[u8]) {
 
 fn mutated_base(data: &[u8]) {
     let mut image = base_image().clone();
-    let ids: Vec<PageId> = image.pages.keys().copied().collect();
-    for m in data.chunks(4) {
-        let [sel, hi, lo, x] = [
-            m[0],
-            *m.get(1).unwrap_or(&0),
-            *m.get(2).unwrap_or(&0),
-            *m.get(3).unwrap_or(&0),
-        ];
-        let id = ids[usize::from(sel) % ids.len()];
-        let Some(page) = image.pages.get_mut(&id) else {
-            continue;
-        };
-        let at = usize::from(u16::from_be_bytes([hi, lo]));
-        match sel >> 6 {
-            0 | 1 => {
-                if let Some(len) = page.len().checked_sub(1) {
-                    page[at % (len + 1)] ^= x;
-                }
-            }
-            2 => page.truncate(at % (page.len() + 1)),
-            _ => page.insert(at % (page.len() + 1), x),
-        }
-    }
+    mutate(&mut image, data, true);
     let _ = verify(&image, default_target());
     read_and_verify(&image.files().into_iter().collect());
 }

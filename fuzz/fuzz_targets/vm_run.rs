@@ -5,58 +5,22 @@
 //! also agree on memory and on the fault.
 #![no_main]
 
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 
-use gutta_catalog::{stdlib, Target};
-use gutta_format::{verify, Image, PageId};
+use gutta_format::verify;
 use gutta_vm::{Position, Step, Vm, VmConfig};
 use libfuzzer_sys::fuzz_target;
 
-#[path = "../../format/tests/common/mod.rs"]
-mod common;
+mod shared;
 
-fn default_target() -> &'static Arc<Target> {
-    static TARGET: OnceLock<Arc<Target>> = OnceLock::new();
-    TARGET
-        .get_or_init(|| stdlib::shared(stdlib::DEFAULT).expect("the embedded default target loads"))
-}
-
-fn base_image() -> &'static Image {
-    static IMAGE: OnceLock<Image> = OnceLock::new();
-    IMAGE.get_or_init(|| common::full_program(default_target()).build())
-}
-
-fn mutate(image: &mut Image, data: &[u8]) {
-    let ids: Vec<PageId> = image.pages.keys().copied().collect();
-    for m in data.chunks(4) {
-        let [sel, hi, lo, x] = [
-            m[0],
-            *m.get(1).unwrap_or(&0),
-            *m.get(2).unwrap_or(&0),
-            *m.get(3).unwrap_or(&0),
-        ];
-        let id = ids[usize::from(sel) % ids.len()];
-        let Some(page) = image.pages.get_mut(&id) else {
-            continue;
-        };
-        let at = usize::from(u16::from_be_bytes([hi, lo]));
-        match sel >> 6 {
-            0..=2 => {
-                if let Some(len) = page.len().checked_sub(1) {
-                    page[at % (len + 1)] ^= x;
-                }
-            }
-            _ => page.truncate(at % (page.len() + 1)),
-        }
-    }
-}
+use shared::{base_image, default_target, mutate};
 
 fuzz_target!(|data: &[u8]| {
     let Some((&inputs, rest)) = data.split_first() else {
         return;
     };
     let mut image = base_image().clone();
-    mutate(&mut image, rest);
+    mutate(&mut image, rest, false);
     let Ok(verified) = verify(&image, default_target()) else {
         return;
     };
