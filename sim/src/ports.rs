@@ -134,6 +134,9 @@ impl StreamPort {
             };
             match event {
                 MasterEvent::Response(f) => return Ok(f.encode()),
+                MasterEvent::Failed(gutta_protocol::master::MasterError::Crc { .. }) => {
+                    return Err(PortError::Crc)
+                }
                 MasterEvent::Failed(_) => return Err(PortError::Timeout),
                 MasterEvent::Retry(b) => {
                     if let Some(s) = self.stream.as_mut() {

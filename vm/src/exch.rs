@@ -38,6 +38,8 @@ pub const ERR_SHORT_BUFFER: u8 = 4;
 pub enum PortError {
     /// Nothing came back within the timeout.
     Timeout,
+    /// An answer came back with a bad CRC (and no good one after it).
+    Crc,
 }
 
 /// A serial line with a device (or devices) at its other end.
@@ -172,8 +174,10 @@ fn exchange(vm: &mut Vm, q: Queued) -> u8 {
     if broadcast {
         return 0;
     }
-    let Ok(answer) = answer else {
-        return ERR_TIMEOUT;
+    let answer = match answer {
+        Ok(a) => a,
+        Err(PortError::Crc) => return ERR_CRC,
+        Err(PortError::Timeout) => return ERR_TIMEOUT,
     };
     if answer.len() < 3 {
         return ERR_CRC;

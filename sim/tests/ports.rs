@@ -1,0 +1,81 @@
+//! The PLC's serial ports for EXCH, through the shared master: a device that answers
+//! with a bad CRC makes EXCH end with error 3, one that never answers with error 2.
+
+use std::io::{Read, Write};
+use std::net::TcpListener;
+use std::sync::Arc;
+
+use gutta_catalog::stdlib;
+use gutta_compiler::encode::ImageMeta;
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{compile, ExplicitTarget};
+use gutta_sim::plc::Plc;
+use gutta_sim::ports::PortSpec;
+use gutta_vm::VmConfig;
+
+const MASTER: &str = include_str!("../../examples/an2002_sample3_master.lad");
+
+/// A device on TCP: answers every request with `answer(request)` (None: silence).
+fn device(answer: fn(&[u8]) -> Option<Vec<u8>>) -> String {
+    let listener = TcpListener::bind("127.0.0.1:0").expect("binds");
+    let address = listener.local_addr().expect("address").to_string();
+    std::thread::spawn(move || {
+        for stream in listener.incoming() {
+            let Ok(mut s) = stream else { continue };
+            let mut buf = [0u8; 256];
+            while let Ok(n) = s.read(&mut buf) {
+                if n == 0 {
+                    break;
+                }
+                if let Some(a) = answer(&buf[..n]) {
+                    let _ = s.write_all(&a);
+                }
+            }
+        }
+    });
+    address
+}
+
+/// The AN2002 master with its port 0 leading to `address`, polling on; the error number
+/// in table 1 (MB21) once an exchange has ended.
+fn error_after_poll(address: String) -> u32 {
+    let target = stdlib::shared("CPU-EC20").expect("target");
+    let image = compile(
+        SourceFile::new("m.lad", MASTER),
+        Some(&ExplicitTarget {
+            target: Arc::clone(&target),
+            origin: "test".into(),
+        }),
+        &ImageMeta {
+            source: "m.lad".into(),
+            tool: "test".into(),
+        },
+    )
+    .image
+    .expect("compiles");
+    let mut plc = Plc::new(target, image.pages, VmConfig::default()).expect("plc");
+    plc.set_port(0, PortSpec::TcpConnect(address));
+    let at = |plc: &Plc, v: &str| plc.target().memory.parse_address(v).expect("address");
+    let i01 = at(&plc, "I0.1");
+    plc.vm_mut().write(i01, 1).expect("polling on");
+    let (mb20, mb21) = (at(&plc, "MB20"), at(&plc, "MB21"));
+    for _ in 0..100 {
+        plc.scan().expect("scan");
+        if plc.vm().read(mb20).expect("read") & 0b110 != 0 {
+            return plc.vm().read(mb21).expect("read");
+        }
+    }
+    panic!("no exchange ended in 100 scans");
+}
+
+#[test]
+fn a_bad_crc_is_error_3_and_silence_is_error_2() {
+    let bad_crc = device(|req| {
+        // 01 02 01 00 with a wrong CRC.
+        let _ = req;
+        Some(vec![0x01, 0x02, 0x01, 0x00, 0x00, 0x00])
+    });
+    assert_eq!(error_after_poll(bad_crc), 3);
+    let silent = device(|_| None);
+    assert_eq!(error_after_poll(silent), 2);
+}
