@@ -64,19 +64,10 @@ pub struct Client {
     station: u8,
 }
 
-/// The protocol code base of a page: (ask, read, write).
+/// The function codes of a page: (ask, read, write).
 fn page_codes(id: PageId) -> Option<(u16, u16, u16)> {
-    let page = match id.kind {
-        PageKind::Data => PageRef::Data(id.number),
-        PageKind::System => PageRef::System(id.number),
-        PageKind::Const => PageRef::Const,
-        PageKind::Argument => PageRef::Argument(id.number),
-        PageKind::Instruction => PageRef::Instruction(id.number),
-    };
-    if !page.is_valid() {
-        return None;
-    }
     use gutta_protocol::gutta::Function;
+    let page = PageRef::of(id)?;
     Some((
         Function::PageAsk(page).code(),
         Function::PageRead(page).code(),

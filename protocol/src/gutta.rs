@@ -182,6 +182,32 @@ pub enum PageRef {
 }
 
 impl PageRef {
+    /// The image page a protocol page is (docs/image-format.md page kinds).
+    pub fn page_id(self) -> gutta_format::PageId {
+        use gutta_format::{PageId, PageKind};
+        match self {
+            PageRef::Data(n) => PageId::new(PageKind::Data, n),
+            PageRef::System(n) => PageId::new(PageKind::System, n),
+            PageRef::Const => PageId::new(PageKind::Const, 0),
+            PageRef::Argument(n) => PageId::new(PageKind::Argument, n),
+            PageRef::Instruction(n) => PageId::new(PageKind::Instruction, n),
+        }
+    }
+
+    /// The protocol page of an image page; `None` for a data or system page number
+    /// above 15, which has no function code.
+    pub fn of(id: gutta_format::PageId) -> Option<PageRef> {
+        use gutta_format::PageKind;
+        let page = match id.kind {
+            PageKind::Data => PageRef::Data(id.number),
+            PageKind::System => PageRef::System(id.number),
+            PageKind::Const => PageRef::Const,
+            PageKind::Argument => PageRef::Argument(id.number),
+            PageKind::Instruction => PageRef::Instruction(id.number),
+        };
+        page.is_valid().then_some(page)
+    }
+
     /// Whether the page number fits its field (data/system pages are 0..=15).
     pub fn is_valid(self) -> bool {
         match self {
@@ -435,6 +461,31 @@ fn page_name(
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn page_functions_name_image_pages() {
+        use gutta_format::{PageId, PageKind};
+        let page = |code| match Function::from_code(code) {
+            Some(Function::PageAsk(p) | Function::PageRead(p) | Function::PageWrite(p)) => {
+                Some(p.page_id())
+            }
+            _ => None,
+        };
+        assert_eq!(page(0x0223), Some(PageId::new(PageKind::Data, 3)));
+        assert_eq!(page(0x0245), Some(PageId::new(PageKind::Data, 5)));
+        assert_eq!(page(0x028F), Some(PageId::new(PageKind::System, 15)));
+        assert_eq!(page(0x0311), Some(PageId::new(PageKind::Const, 0)));
+        assert_eq!(page(0x05AB), Some(PageId::new(PageKind::Argument, 0xAB)));
+        assert_eq!(page(0x0908), Some(PageId::new(PageKind::Instruction, 8)));
+        assert_eq!(page(0x0250), None);
+        for id in [
+            PageId::new(PageKind::Data, 15),
+            PageId::new(PageKind::Argument, 200),
+        ] {
+            assert_eq!(PageRef::of(id).map(PageRef::page_id), Some(id));
+        }
+        assert_eq!(PageRef::of(PageId::new(PageKind::System, 16)), None);
+    }
     use super::*;
 
     #[test]

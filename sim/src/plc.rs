@@ -19,6 +19,7 @@ use std::sync::Arc;
 
 use gutta_catalog::Target;
 use gutta_format::{verify, ArgumentPage, Image, PageId, PageKind};
+use gutta_protocol::gutta::{Function, PageArea};
 use gutta_vm::{Position, ScanEnd, Step, Vm, VmConfig};
 
 use crate::modbus_data;
@@ -309,8 +310,11 @@ impl Plc {
                 Err(Refusal::BadLength)
             }
         };
-        match function {
-            0x0100 => {
+        let Some(f) = Function::from_code(function) else {
+            return Err(Refusal::UnknownFunction);
+        };
+        match f {
+            Function::PlcClear => {
                 empty(payload)?;
                 self.pages.clear();
                 self.password = FACTORY_PASSWORD;
@@ -319,7 +323,7 @@ impl Plc {
                 self.vm.set_running(false);
                 Ok(Vec::new())
             }
-            0x0110 => {
+            Function::PlcAttach => {
                 if payload.len() != 16 {
                     return Err(Refusal::BadLength);
                 }
@@ -337,16 +341,16 @@ impl Plc {
                 self.vm.set_attached(true);
                 Ok(Vec::new())
             }
-            0x0111 => {
+            Function::PlcDetach => {
                 empty(payload)?;
                 self.attached = false;
                 self.vm.set_attached(false);
                 Ok(Vec::new())
             }
-            0x0120 | 0x0121 => {
+            Function::GetPlcName | Function::GetPlcInfor => {
                 self.need_login()?;
                 empty(payload)?;
-                let (text, size) = if function == 0x0120 {
+                let (text, size) = if f == Function::GetPlcName {
                     (self.target.name().to_string(), 16)
                 } else {
                     (self.target.plc.information.clone(), 64)
@@ -356,25 +360,25 @@ impl Plc {
                 out.resize(size, 0);
                 Ok(out)
             }
-            0x0210 | 0x0260 | 0x0300 => {
+            Function::PageList(area) => {
                 self.need_login()?;
                 empty(payload)?;
-                Ok(self.page_list(function))
+                Ok(self.page_list(area))
             }
-            0x0220..=0x022F | 0x0270..=0x027F | 0x0310 | 0x0400..=0x04FF | 0x0700..=0x07FF => {
+            Function::PageAsk(page) => {
                 self.need_login()?;
                 empty(payload)?;
-                let id = page_of(function).ok_or(Refusal::UnknownFunction)?;
+                let id = page.page_id();
                 let len = self.pages.get(&id).ok_or(Refusal::NoSuchPage)?.len();
                 Ok(u16::try_from(len)
                     .unwrap_or(u16::MAX)
                     .to_be_bytes()
                     .to_vec())
             }
-            0x0230..=0x023F | 0x0280..=0x028F | 0x0311 | 0x0500..=0x05FF | 0x0800..=0x08FF => {
+            Function::PageRead(page) => {
                 self.need_login()?;
                 empty(payload)?;
-                let id = page_of(function).ok_or(Refusal::UnknownFunction)?;
+                let id = page.page_id();
                 let page = self.pages.get(&id).ok_or(Refusal::NoSuchPage)?;
                 let size = self.pack_size();
                 let start = usize::from(packet & !LAST_PACKET) * size;
@@ -383,7 +387,7 @@ impl Plc {
                 }
                 Ok(page[start..page.len().min(start + size)].to_vec())
             }
-            0x0240..=0x024F | 0x0290..=0x029F | 0x0312 | 0x0600..=0x06FF | 0x0900..=0x09FF => {
+            Function::PageWrite(page) => {
                 self.need_login()?;
                 if self.vm.is_running() && !self.image_error && self.has_program() {
                     return Err(Refusal::Running);
@@ -391,16 +395,15 @@ impl Plc {
                 if !self.unlocked {
                     return Err(Refusal::FlashLocked);
                 }
-                let id = page_of(function).ok_or(Refusal::UnknownFunction)?;
-                self.write_packet(id, packet, payload)?;
+                self.write_packet(page.page_id(), packet, payload)?;
                 Ok(Vec::new())
             }
-            0x0A00 => {
+            Function::StatusRead => {
                 self.need_login()?;
                 empty(payload)?;
                 Ok(vec![self.status_byte()])
             }
-            0x0A01 => {
+            Function::StatusWrite => {
                 self.need_login()?;
                 let &[run] = payload else {
                     return Err(Refusal::BadLength);
@@ -411,7 +414,7 @@ impl Plc {
                 self.vm.set_running(run != 0);
                 Ok(Vec::new())
             }
-            0x0A02 => {
+            Function::StatusScan => {
                 self.need_login()?;
                 let &[n] = payload else {
                     return Err(Refusal::BadLength);
@@ -421,12 +424,12 @@ impl Plc {
                     .map_err(|f| Refusal::Access(f.to_string()))?;
                 Ok(Vec::new())
             }
-            0x0A03 => {
+            Function::StatusReset => {
                 empty(payload)?;
                 self.reset();
                 Ok(Vec::new())
             }
-            0x0A10 | 0x0A20 => {
+            Function::VarRead | Function::ForceRead => {
                 self.need_login()?;
                 if payload.len() % 4 != 0 {
                     return Err(Refusal::BadLength);
@@ -434,7 +437,7 @@ impl Plc {
                 let mut out = Vec::with_capacity(payload.len());
                 for a in payload.chunks_exact(4) {
                     let address = u32::from_le_bytes([a[0], a[1], a[2], a[3]]);
-                    let value = if function == 0x0A10 {
+                    let value = if f == Function::VarRead {
                         self.vm.read_packed(address)
                     } else {
                         self.vm.read_force_packed(address)
@@ -444,7 +447,7 @@ impl Plc {
                 }
                 Ok(out)
             }
-            0x0A11 | 0x0A21 => {
+            Function::VarWrite | Function::ForceWrite => {
                 self.need_login()?;
                 if payload.len() % 8 != 0 {
                     return Err(Refusal::BadLength);
@@ -465,7 +468,7 @@ impl Plc {
                         .map_err(|e| Refusal::Access(e.0))?;
                 }
                 for (address, value) in pairs {
-                    if function == 0x0A11 {
+                    if f == Function::VarWrite {
                         self.vm
                             .write_packed(address, value)
                             .map_err(|e| Refusal::Access(e.0))?;
@@ -490,12 +493,12 @@ impl Plc {
                 }
                 Ok(Vec::new())
             }
-            0x0A30 => {
+            Function::DebugRead => {
                 self.need_login()?;
                 empty(payload)?;
                 Ok(vec![self.vm.debug_byte()])
             }
-            0x0A31 => {
+            Function::DebugWrite => {
                 self.need_login()?;
                 let &[run] = payload else {
                     return Err(Refusal::BadLength);
@@ -509,7 +512,7 @@ impl Plc {
                 }
                 Ok(Vec::new())
             }
-            0x0A32 => {
+            Function::DebugScan => {
                 self.need_login()?;
                 let step = match payload {
                     [1] => Step::In,
@@ -522,19 +525,19 @@ impl Plc {
                     .map_err(|e| Refusal::Debug(e.to_string()))?;
                 Ok(Vec::new())
             }
-            0x0A33 => {
+            Function::DebugReset => {
                 empty(payload)?;
                 self.vm
                     .debug_reset()
                     .map_err(|e| Refusal::Debug(e.to_string()))?;
                 Ok(Vec::new())
             }
-            0x0A34 => {
+            Function::DebugInforRead => {
                 self.need_login()?;
                 empty(payload)?;
                 Ok(self.vm.debug_info().to_vec())
             }
-            0x0A35 => {
+            Function::DebugInforWrite => {
                 self.need_login()?;
                 let &[function, n1, n2, s1, s2] = payload else {
                     return Err(Refusal::BadLength);
@@ -551,7 +554,6 @@ impl Plc {
                     .map_err(|e| Refusal::Debug(e.to_string()))?;
                 Ok(Vec::new())
             }
-            _ => Err(Refusal::UnknownFunction),
         }
     }
 
@@ -566,11 +568,11 @@ impl Plc {
 
     /// DATA_ASK, SYSTEM_ASK, PROGRAM_ASK: the numbers of the pages present (for the
     /// program: the instruction pages).
-    fn page_list(&self, function: u16) -> Vec<u8> {
-        let kind = match function {
-            0x0210 => PageKind::Data,
-            0x0260 => PageKind::System,
-            _ => PageKind::Instruction,
+    fn page_list(&self, area: PageArea) -> Vec<u8> {
+        let kind = match area {
+            PageArea::Data => PageKind::Data,
+            PageArea::System => PageKind::System,
+            PageArea::Program => PageKind::Instruction,
         };
         self.pages
             .keys()
@@ -599,36 +601,9 @@ impl Plc {
     }
 }
 
-/// The page a page function code names.
-fn page_of(function: u16) -> Option<PageId> {
-    let low = (function & 0xFF) as u8;
-    Some(match function >> 8 {
-        0x02 => match low >> 4 {
-            0x2..=0x4 => PageId::new(PageKind::Data, low & 0x0F),
-            0x7..=0x9 => PageId::new(PageKind::System, low & 0x0F),
-            _ => return None,
-        },
-        0x03 => PageId::new(PageKind::Const, 0),
-        0x04..=0x06 => PageId::new(PageKind::Argument, low),
-        0x07..=0x09 => PageId::new(PageKind::Instruction, low),
-        _ => return None,
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn page_functions_name_their_pages() {
-        assert_eq!(page_of(0x0223), Some(PageId::new(PageKind::Data, 3)));
-        assert_eq!(page_of(0x0245), Some(PageId::new(PageKind::Data, 5)));
-        assert_eq!(page_of(0x028F), Some(PageId::new(PageKind::System, 15)));
-        assert_eq!(page_of(0x0311), Some(PageId::new(PageKind::Const, 0)));
-        assert_eq!(page_of(0x05AB), Some(PageId::new(PageKind::Argument, 0xAB)));
-        assert_eq!(page_of(0x0908), Some(PageId::new(PageKind::Instruction, 8)));
-        assert_eq!(page_of(0x0250), None);
-    }
 
     #[test]
     fn lockout_doubles_after_two_free_failures() {
