@@ -3,15 +3,14 @@
 //! slave every 200 ms through gutta-protocol's master. Inputs are set and outputs read
 //! over Modbus TCP with gutta-link, as `gutta-cc write/read` do.
 
+mod common;
+
 use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
-use gutta_compiler::source::SourceFile;
-use gutta_compiler::{compile, ExplicitTarget};
 use gutta_format::{PackedOperand, Use};
 use gutta_link::transport::TcpTransport;
 use gutta_link::{Client, FACTORY_PASSWORD};
@@ -26,26 +25,7 @@ impl Drop for Sim {
 }
 
 fn image_dir(example: &str) -> PathBuf {
-    let path = format!("{}/../examples/{example}", env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(path).expect("example");
-    let target = stdlib::shared("CPU-EC20").expect("target");
-    let image = compile(
-        SourceFile::new(example, text),
-        Some(&ExplicitTarget {
-            target,
-            origin: "test".into(),
-        }),
-        &ImageMeta {
-            source: example.into(),
-            tool: "test".into(),
-        },
-    )
-    .image
-    .expect("compiles");
-    let dir = std::env::temp_dir().join(format!("gutta-{example}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    gutta_io::write_image(&dir, &image).expect("writes");
-    dir
+    common::image_dir(example, &common::example(example))
 }
 
 fn start(args: &[String], listeners: usize) -> Sim {

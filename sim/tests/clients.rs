@@ -5,18 +5,13 @@
 //! and sets GUTTA_REQUIRE_TOOLS=1, so there a missing tool fails the test; elsewhere
 //! the test says it skipped. The robustness tests use plain sockets and always run.
 
+mod common;
+
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
-
-use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
-use gutta_compiler::source::SourceFile;
-use gutta_compiler::{compile, ExplicitTarget};
-
-const POINTERS: &str = include_str!("../../examples/in1001_pointers.lad");
 
 /// A running simulator, killed on drop.
 struct Sim {
@@ -33,25 +28,7 @@ impl Drop for Sim {
 }
 
 fn image_dir(tag: &str) -> PathBuf {
-    let target = stdlib::shared("CPU-EC20").expect("target");
-    let explicit = ExplicitTarget {
-        target,
-        origin: "test".into(),
-    };
-    let image = compile(
-        SourceFile::new("p.lad", POINTERS),
-        Some(&explicit),
-        &ImageMeta {
-            source: "p.lad".into(),
-            tool: "test".into(),
-        },
-    )
-    .image
-    .expect("compiles");
-    let dir = std::env::temp_dir().join(format!("gutta-sim-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    gutta_io::write_image(&dir, &image).expect("writes");
-    dir
+    common::image_dir(tag, &common::example("in1001_pointers.lad"))
 }
 
 fn start(dir: &Path) -> Sim {

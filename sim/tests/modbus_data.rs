@@ -1,34 +1,21 @@
 //! Standard Modbus data functions on a simulated CPU-EC20 (8051), with the byte
 //! examples of AN2002 and IN1001's address mapping.
 
+mod common;
+
 use std::sync::Arc;
 
 use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
-use gutta_compiler::source::SourceFile;
-use gutta_compiler::{compile, ExplicitTarget};
 use gutta_sim::modbus_data::serve;
 use gutta_vm::{Vm, VmConfig};
 
 /// A CPU-EC20 VM running an empty MAIN.
 fn vm() -> Vm {
     let target = stdlib::shared("CPU-EC20").expect("target");
-    let explicit = ExplicitTarget {
-        target: target.clone(),
-        origin: "test".into(),
-    };
-    let c = compile(
-        SourceFile::new(
-            "t.lad",
-            "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.0\nEND_ORGANIZATION_BLOCK\n",
-        ),
-        Some(&explicit),
-        &ImageMeta {
-            source: "t.lad".into(),
-            tool: "test".into(),
-        },
+    let image = common::image(
+        "t.lad",
+        "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.0\nEND_ORGANIZATION_BLOCK\n",
     );
-    let image = c.image.expect("compiles");
     let verified = gutta_format::verify(&image, &target).expect("verifies");
     Vm::new(verified, Arc::clone(&target), VmConfig::default()).expect("loads")
 }

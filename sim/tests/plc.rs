@@ -1,13 +1,12 @@
 //! The simulated PLC's GUTTA protocol, without transports: a whole download as the
 //! client does it, the login and its lockout, and the rules of UM4001.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
-use gutta_compiler::source::SourceFile;
-use gutta_compiler::{compile, ExplicitTarget};
 use gutta_format::{Image, PageId, PageKind};
 use gutta_sim::plc::{Plc, Refusal, Reply, FACTORY_PASSWORD, LAST_PACKET};
 use gutta_vm::VmConfig;
@@ -15,21 +14,7 @@ use gutta_vm::VmConfig;
 const POINTERS: &str = include_str!("../../examples/in1001_pointers.lad");
 
 fn image(text: &str) -> Image {
-    let target = stdlib::shared("CPU-EC20").expect("target");
-    let explicit = ExplicitTarget {
-        target,
-        origin: "test".into(),
-    };
-    compile(
-        SourceFile::new("t.lad", text),
-        Some(&explicit),
-        &ImageMeta {
-            source: "t.lad".into(),
-            tool: "test".into(),
-        },
-    )
-    .image
-    .expect("compiles")
+    common::image("t.lad", text)
 }
 
 fn blank_plc() -> Plc {

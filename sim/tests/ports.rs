@@ -1,14 +1,12 @@
 //! The PLC's serial ports for EXCH, through the shared master: a device that answers
 //! with a bad CRC makes EXCH end with error 3, one that never answers with error 2.
 
+mod common;
+
 use std::io::{Read, Write};
 use std::net::TcpListener;
-use std::sync::Arc;
 
 use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
-use gutta_compiler::source::SourceFile;
-use gutta_compiler::{compile, ExplicitTarget};
 use gutta_sim::plc::Plc;
 use gutta_sim::ports::PortSpec;
 use gutta_vm::VmConfig;
@@ -40,19 +38,7 @@ fn device(answer: fn(&[u8]) -> Option<Vec<u8>>) -> String {
 /// in table 1 (MB21) once an exchange has ended.
 fn error_after_poll(address: String) -> u32 {
     let target = stdlib::shared("CPU-EC20").expect("target");
-    let image = compile(
-        SourceFile::new("m.lad", MASTER),
-        Some(&ExplicitTarget {
-            target: Arc::clone(&target),
-            origin: "test".into(),
-        }),
-        &ImageMeta {
-            source: "m.lad".into(),
-            tool: "test".into(),
-        },
-    )
-    .image
-    .expect("compiles");
+    let image = common::image("m.lad", MASTER);
     let mut plc = Plc::new(target, image.pages, VmConfig::default()).expect("plc");
     plc.set_port(0, PortSpec::TcpConnect(address));
     let at = |plc: &Plc, v: &str| plc.target().memory.parse_address(v).expect("address");

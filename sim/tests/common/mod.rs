@@ -1,0 +1,44 @@
+//! Shared by the simulator's tests: compile a program for CPU-EC20, and write it as an
+//! image directory for a `gutta-sim` process.
+
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+
+use gutta_catalog::stdlib;
+use gutta_compiler::encode::ImageMeta;
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{compile, ExplicitTarget};
+use gutta_format::Image;
+
+/// `text` compiled for CPU-EC20 (it must compile).
+pub fn image(name: &str, text: &str) -> Image {
+    let target = stdlib::shared("CPU-EC20").expect("target");
+    let c = compile(
+        SourceFile::new(name, text),
+        Some(&ExplicitTarget {
+            target,
+            origin: "test".into(),
+        }),
+        &ImageMeta {
+            source: name.into(),
+            tool: "test".into(),
+        },
+    );
+    c.image
+        .unwrap_or_else(|| panic!("{name} does not compile: {:?}", c.checked.diagnostics()))
+}
+
+/// An example of examples/ compiled for CPU-EC20.
+pub fn example(name: &str) -> Image {
+    let path = format!("{}/../examples/{name}", env!("CARGO_MANIFEST_DIR"));
+    image(name, &std::fs::read_to_string(path).expect("example"))
+}
+
+/// `image` written to a fresh directory named after `tag` and this process.
+pub fn image_dir(tag: &str, image: &Image) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("gutta-sim-test-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    gutta_io::write_image(&dir, image).expect("writes");
+    dir
+}
