@@ -16,8 +16,9 @@ use gutta_protocol::rtu::{decode_rtu, encode_rtu};
 use gutta_protocol::stream::{RtuSplitter, Side, TcpSplitter};
 use gutta_protocol::tcp::{decode_tcp, encode_tcp};
 
-use crate::modbus_data::{exception, is_data_function, ILLEGAL_DATA_VALUE, ILLEGAL_FUNCTION};
+use crate::modbus_data::{exception, is_data_function};
 use crate::plc::Plc;
+use gutta_protocol::modbus::ExceptionCode;
 
 /// Modbus function 13: the GUTTA protocol.
 pub const GUTTA_FUNCTION: u8 = 0x0D;
@@ -61,13 +62,13 @@ pub fn answer(plc: &mut Plc, pdu: &[u8], now_ms: u64) -> Vec<u8> {
                 let r = plc.gutta(request.function, request.packet, &request.payload, now_ms);
                 GuttaFrame::new(r.function, r.packet, r.payload)
                     .to_pdu()
-                    .unwrap_or_else(|_| exception(GUTTA_FUNCTION, ILLEGAL_DATA_VALUE))
+                    .unwrap_or_else(|_| exception(GUTTA_FUNCTION, ExceptionCode::IllegalDataValue))
             }
-            Err(_) => exception(GUTTA_FUNCTION, ILLEGAL_DATA_VALUE),
+            Err(_) => exception(GUTTA_FUNCTION, ExceptionCode::IllegalDataValue),
         },
         Some(&f) if is_data_function(f) => plc.modbus(pdu),
-        Some(&f) => exception(f, ILLEGAL_FUNCTION),
-        None => exception(0, ILLEGAL_FUNCTION),
+        Some(&f) => exception(f, ExceptionCode::IllegalFunction),
+        None => exception(0, ExceptionCode::IllegalFunction),
     }
 }
 
