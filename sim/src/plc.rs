@@ -11,15 +11,20 @@
 //!   does not leaves the PLC stopped with ERROR set.
 //! - A failed ATTACH counts; from the third failure in a row every ATTACH is refused
 //!   for a lockout that doubles from 1 s up to 60 s; a good password resets it.
-//! - A request the target's ExchSupport does not allow, or with a payload of the wrong
-//!   length, fails (function code with bit 15 set, no payload).
+//! - Requests are decoded with gutta-protocol's `message::Request`. One the target's
+//!   ExchSupport does not allow, or that does not decode (payload length, packet
+//!   number 0x8000 for single-packet functions, debug step 1..3), fails: function
+//!   code with bit 15 set, no payload.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use gutta_catalog::Target;
 use gutta_format::{verify, ArgumentPage, Image, PageId, PageKind};
-use gutta_protocol::gutta::{Function, PageArea};
+use gutta_protocol::gutta::{GuttaFrame, PageArea};
+use gutta_protocol::message::{
+    Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response, VarAddress,
+};
 use gutta_vm::{Position, ScanEnd, Step, Vm, VmConfig};
 
 use crate::modbus_data;
@@ -32,30 +37,20 @@ pub const FACTORY_PASSWORD: [u8; 16] = [0xFF; 16];
 pub const RELEASE_USE: u32 = 0xF;
 
 /// Bit 15 of a packet number: the last packet of a transfer.
-pub const LAST_PACKET: u16 = 0x8000;
-
-/// An answer to one GUTTA request.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Reply {
-    /// The request's function code, or with bit 15 set for a failure.
-    pub function: u16,
-    pub packet: u16,
-    pub payload: Vec<u8>,
-}
-
-impl Reply {
-    pub fn is_failure(&self) -> bool {
-        self.function & 0x8000 != 0
-    }
-}
+pub const LAST_PACKET: u16 = gutta_protocol::gutta::LAST_PACKET;
 
 /// Why a request failed (for logs and tests; on the wire every failure looks alike).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Refusal {
     NotAttached,
     WrongPassword,
-    LockedOut { until_ms: u64 },
+    LockedOut {
+        until_ms: u64,
+    },
+    /// The payload's length is not the function's (UM4001's success conditions).
     BadLength,
+    /// Otherwise not a well-formed request (packet number, debug step, page number).
+    Malformed(String),
     Unsupported,
     UnknownFunction,
     Running,
@@ -261,222 +256,151 @@ impl Plc {
         status.byte()
     }
 
-    /// Answer one GUTTA request at time `now_ms` (for the login lockout).
-    pub fn gutta(&mut self, function: u16, packet: u16, payload: &[u8], now_ms: u64) -> Reply {
-        let result = if !self.target.plc.exch_support.supports(function) {
+    /// Answer one GUTTA request at time `now_ms` (for the login lockout): the answer
+    /// frame, the request's function with bit 15 set and no payload on failure.
+    pub fn answer(&mut self, request: &GuttaFrame, now_ms: u64) -> GuttaFrame {
+        let result = if !self.target.plc.exch_support.supports(request.function) {
             Err(Refusal::Unsupported)
         } else {
-            self.dispatch(function, packet, payload, now_ms)
+            Request::decode(request)
+                .map_err(Refusal::from)
+                .and_then(|r| self.dispatch(r, now_ms))
+                .and_then(|reply| {
+                    Response {
+                        packet: request.packet,
+                        reply,
+                    }
+                    .encode()
+                    .map_err(Refusal::from)
+                })
         };
         match result {
-            Ok(payload) => {
+            Ok(frame) => {
                 self.last_refusal = None;
-                Reply {
-                    function,
-                    packet,
-                    payload,
-                }
+                frame
             }
             Err(why) => {
                 self.last_refusal = Some(why);
-                Reply {
-                    function: function | 0x8000,
-                    packet,
-                    payload: Vec::new(),
-                }
+                GuttaFrame::failure_of(request)
             }
         }
     }
 
-    fn need_login(&self) -> Result<(), Refusal> {
-        if self.attached {
-            Ok(())
-        } else {
-            Err(Refusal::NotAttached)
-        }
+    /// `answer` for a request given by its fields.
+    pub fn gutta(&mut self, function: u16, packet: u16, payload: &[u8], now_ms: u64) -> GuttaFrame {
+        self.answer(&GuttaFrame::new(function, packet, payload.to_vec()), now_ms)
     }
 
-    fn dispatch(
-        &mut self,
-        function: u16,
-        packet: u16,
-        payload: &[u8],
-        now_ms: u64,
-    ) -> Result<Vec<u8>, Refusal> {
-        let empty = |p: &[u8]| {
-            if p.is_empty() {
-                Ok(())
-            } else {
-                Err(Refusal::BadLength)
-            }
-        };
-        let Some(f) = Function::from_code(function) else {
-            return Err(Refusal::UnknownFunction);
-        };
-        match f {
-            Function::PlcClear => {
-                empty(payload)?;
+    fn dispatch(&mut self, request: Request, now_ms: u64) -> Result<Reply, Refusal> {
+        let function = request.function();
+        if function.needs_login() && !self.attached {
+            return Err(Refusal::NotAttached);
+        }
+        let ack = Ok(Reply::Ack(function));
+        match request.command {
+            Command::PlcClear => {
                 self.pages.clear();
                 self.password = FACTORY_PASSWORD;
                 self.unlocked = true;
                 self.image_error = false;
                 self.vm.set_running(false);
-                Ok(Vec::new())
+                ack
             }
-            Function::PlcAttach => {
-                if payload.len() != 16 {
-                    return Err(Refusal::BadLength);
-                }
+            Command::PlcAttach { password } => {
                 if now_ms < self.guard.locked_until_ms {
                     return Err(Refusal::LockedOut {
                         until_ms: self.guard.locked_until_ms,
                     });
                 }
-                if payload != self.password {
+                if password != self.password {
                     self.guard.fail(now_ms);
                     return Err(Refusal::WrongPassword);
                 }
                 self.guard = LoginGuard::default();
                 self.attached = true;
                 self.vm.set_attached(true);
-                Ok(Vec::new())
+                ack
             }
-            Function::PlcDetach => {
-                empty(payload)?;
+            Command::PlcDetach => {
                 self.attached = false;
                 self.vm.set_attached(false);
-                Ok(Vec::new())
+                ack
             }
-            Function::GetPlcName | Function::GetPlcInfor => {
-                self.need_login()?;
-                empty(payload)?;
-                let (text, size) = if f == Function::GetPlcName {
-                    (self.target.name().to_string(), 16)
-                } else {
-                    (self.target.plc.information.clone(), 64)
-                };
-                let mut out = text.into_bytes();
-                out.truncate(size);
-                out.resize(size, 0);
-                Ok(out)
+            Command::GetPlcName => Ok(Reply::PlcName(padded(self.target.name()))),
+            Command::GetPlcInfor => Ok(Reply::PlcInfor(padded(&self.target.plc.information))),
+            Command::PageList(area) => Ok(Reply::PageList(area, self.page_list(area))),
+            Command::PageAsk(page) => {
+                let len = self
+                    .pages
+                    .get(&page.page_id())
+                    .ok_or(Refusal::NoSuchPage)?
+                    .len();
+                Ok(Reply::PageLength(
+                    page,
+                    u16::try_from(len).unwrap_or(u16::MAX),
+                ))
             }
-            Function::PageList(area) => {
-                self.need_login()?;
-                empty(payload)?;
-                Ok(self.page_list(area))
-            }
-            Function::PageAsk(page) => {
-                self.need_login()?;
-                empty(payload)?;
-                let id = page.page_id();
-                let len = self.pages.get(&id).ok_or(Refusal::NoSuchPage)?.len();
-                Ok(u16::try_from(len)
-                    .unwrap_or(u16::MAX)
-                    .to_be_bytes()
-                    .to_vec())
-            }
-            Function::PageRead(page) => {
-                self.need_login()?;
-                empty(payload)?;
-                let id = page.page_id();
-                let page = self.pages.get(&id).ok_or(Refusal::NoSuchPage)?;
+            Command::PageRead(page) => {
+                let bytes = self.pages.get(&page.page_id()).ok_or(Refusal::NoSuchPage)?;
                 let size = self.pack_size();
-                let start = usize::from(packet & !LAST_PACKET) * size;
-                if start > page.len() || (start == page.len() && start > 0) {
+                let start = usize::from(request.packet & !LAST_PACKET) * size;
+                if start > bytes.len() || (start == bytes.len() && start > 0) {
                     return Err(Refusal::BadPacket);
                 }
-                Ok(page[start..page.len().min(start + size)].to_vec())
+                let end = bytes.len().min(start + size);
+                Ok(Reply::PageData(page, bytes[start..end].to_vec()))
             }
-            Function::PageWrite(page) => {
-                self.need_login()?;
+            Command::PageWrite(page, data) => {
                 if self.vm.is_running() && !self.image_error && self.has_program() {
                     return Err(Refusal::Running);
                 }
                 if !self.unlocked {
                     return Err(Refusal::FlashLocked);
                 }
-                self.write_packet(page.page_id(), packet, payload)?;
-                Ok(Vec::new())
+                self.write_packet(page.page_id(), request.packet, &data)?;
+                ack
             }
-            Function::StatusRead => {
-                self.need_login()?;
-                empty(payload)?;
-                Ok(vec![self.status_byte()])
-            }
-            Function::StatusWrite => {
-                self.need_login()?;
-                let &[run] = payload else {
-                    return Err(Refusal::BadLength);
-                };
+            Command::StatusRead => Ok(Reply::Status(self.status_byte())),
+            Command::StatusWrite { run } => {
                 if run != 0 && (self.image_error || !self.has_program()) {
                     return Err(Refusal::NoProgram);
                 }
                 self.vm.set_running(run != 0);
-                Ok(Vec::new())
+                ack
             }
-            Function::StatusScan => {
-                self.need_login()?;
-                let &[n] = payload else {
-                    return Err(Refusal::BadLength);
-                };
+            Command::StatusScan { count } => {
                 self.vm
-                    .scan_while_stopped(n)
+                    .scan_while_stopped(count)
                     .map_err(|f| Refusal::Access(f.to_string()))?;
-                Ok(Vec::new())
+                ack
             }
-            Function::StatusReset => {
-                empty(payload)?;
+            Command::StatusReset => {
                 self.reset();
-                Ok(Vec::new())
+                ack
             }
-            Function::VarRead | Function::ForceRead => {
-                self.need_login()?;
-                if payload.len() % 4 != 0 {
-                    return Err(Refusal::BadLength);
-                }
-                let mut out = Vec::with_capacity(payload.len());
-                for a in payload.chunks_exact(4) {
-                    let address = u32::from_le_bytes([a[0], a[1], a[2], a[3]]);
-                    let value = if f == Function::VarRead {
-                        self.vm.read_packed(address)
-                    } else {
-                        self.vm.read_force_packed(address)
-                    }
-                    .map_err(|e| Refusal::Access(e.0))?;
-                    out.extend(value);
-                }
-                Ok(out)
-            }
-            Function::VarWrite | Function::ForceWrite => {
-                self.need_login()?;
-                if payload.len() % 8 != 0 {
-                    return Err(Refusal::BadLength);
-                }
-                // Check every pair first, so a bad one writes nothing.
-                let pairs: Vec<(u32, u32)> = payload
-                    .chunks_exact(8)
-                    .map(|p| {
-                        (
-                            u32::from_le_bytes([p[0], p[1], p[2], p[3]]),
-                            u32::from_le_bytes([p[4], p[5], p[6], p[7]]),
-                        )
-                    })
-                    .collect();
-                for &(address, _) in &pairs {
+            Command::VarRead(addresses) => Ok(Reply::VarValues(
+                self.read_each(&addresses, |vm, a| vm.read_packed(a))?,
+            )),
+            Command::ForceRead(addresses) => Ok(Reply::ForceValues(
+                self.read_each(&addresses, |vm, a| vm.read_force_packed(a))?,
+            )),
+            Command::VarWrite(pairs) => {
+                self.check_each(&pairs)?;
+                for (address, value) in pairs {
                     self.vm
-                        .read_packed(address)
+                        .write_packed(address.0, value)
                         .map_err(|e| Refusal::Access(e.0))?;
                 }
+                ack
+            }
+            Command::ForceWrite(pairs) => {
+                self.check_each(&pairs)?;
                 for (address, value) in pairs {
-                    if f == Function::VarWrite {
-                        self.vm
-                            .write_packed(address, value)
-                            .map_err(|e| Refusal::Access(e.0))?;
-                    } else if address & 0xF == RELEASE_USE {
+                    if u32::from(address.use_field()) == RELEASE_USE {
                         // Our extension: USE 15 releases the force (UM4001 has no
                         // unforce; a PLC that ignores USE forces the value sent, which
                         // the client makes the current value).
-                        let op = gutta_format::PackedOperand(address);
+                        let op = gutta_format::PackedOperand(address.0);
                         if let Some(a) = op.width().map(|width| gutta_catalog::Address {
                             slot: op.slot(),
                             width,
@@ -487,22 +411,14 @@ impl Plc {
                         }
                     } else {
                         self.vm
-                            .force_packed(address, value)
+                            .force_packed(address.0, value)
                             .map_err(|e| Refusal::Access(e.0))?;
                     }
                 }
-                Ok(Vec::new())
+                ack
             }
-            Function::DebugRead => {
-                self.need_login()?;
-                empty(payload)?;
-                Ok(vec![self.vm.debug_byte()])
-            }
-            Function::DebugWrite => {
-                self.need_login()?;
-                let &[run] = payload else {
-                    return Err(Refusal::BadLength);
-                };
+            Command::DebugRead => Ok(Reply::DebugState(self.vm.debug_byte())),
+            Command::DebugWrite { run } => {
                 if run == 0 {
                     self.vm
                         .debug_stop()
@@ -510,51 +426,66 @@ impl Plc {
                 } else {
                     self.vm.debug_run();
                 }
-                Ok(Vec::new())
+                ack
             }
-            Function::DebugScan => {
-                self.need_login()?;
-                let step = match payload {
-                    [1] => Step::In,
-                    [2] => Step::Over,
-                    [3] => Step::Out,
-                    _ => return Err(Refusal::BadLength),
+            Command::DebugScan(step) => {
+                let step = match step {
+                    DebugStep::In => Step::In,
+                    DebugStep::Over => Step::Over,
+                    DebugStep::Out => Step::Out,
                 };
                 self.vm
                     .debug_step(step)
                     .map_err(|e| Refusal::Debug(e.to_string()))?;
-                Ok(Vec::new())
+                ack
             }
-            Function::DebugReset => {
-                empty(payload)?;
+            Command::DebugReset => {
                 self.vm
                     .debug_reset()
                     .map_err(|e| Refusal::Debug(e.to_string()))?;
-                Ok(Vec::new())
+                ack
             }
-            Function::DebugInforRead => {
-                self.need_login()?;
-                empty(payload)?;
-                Ok(self.vm.debug_info().to_vec())
+            Command::DebugInforRead => {
+                Ok(Reply::DebugInfo(DebugInfo::decode(&self.vm.debug_info())))
             }
-            Function::DebugInforWrite => {
-                self.need_login()?;
-                let &[function, n1, n2, s1, s2] = payload else {
-                    return Err(Refusal::BadLength);
-                };
-                let network = u16::from_be_bytes([n1, n2]);
-                let step = u16::from_be_bytes([s1, s2]);
-                let at = (function != 0xFF).then_some(Position {
-                    function,
-                    network,
-                    step,
+            Command::DebugInforWrite(breakpoint) => {
+                let at = (breakpoint.index != 0xFF).then_some(Position {
+                    function: breakpoint.index,
+                    network: breakpoint.network,
+                    step: breakpoint.step,
                 });
                 self.vm
                     .set_breakpoint(at)
                     .map_err(|e| Refusal::Debug(e.to_string()))?;
-                Ok(Vec::new())
+                ack
             }
         }
+    }
+
+    /// Every address read, or the first refusal.
+    fn read_each(
+        &self,
+        addresses: &[VarAddress],
+        read: impl Fn(&Vm, u32) -> Result<[u8; 4], gutta_vm::AccessError>,
+    ) -> Result<Vec<u32>, Refusal> {
+        addresses
+            .iter()
+            .map(|a| {
+                read(&self.vm, a.0)
+                    .map(u32::from_le_bytes)
+                    .map_err(|e| Refusal::Access(e.0))
+            })
+            .collect()
+    }
+
+    /// Every address of a write checked first, so a bad one writes nothing.
+    fn check_each(&self, pairs: &[(VarAddress, u32)]) -> Result<(), Refusal> {
+        for (address, _) in pairs {
+            self.vm
+                .read_packed(address.0)
+                .map_err(|e| Refusal::Access(e.0))?;
+        }
+        Ok(())
     }
 
     fn has_program(&self) -> bool {
@@ -598,6 +529,28 @@ impl Plc {
         }
         page.extend_from_slice(payload);
         Ok(())
+    }
+}
+
+/// A name or information text as the fixed-size answer field: cut to N bytes, or
+/// padded with zeros (which also terminates it).
+fn padded<const N: usize>(text: &str) -> [u8; N] {
+    let mut out = [0u8; N];
+    let bytes = text.as_bytes();
+    let n = bytes.len().min(N);
+    out[..n].copy_from_slice(&bytes[..n]);
+    out
+}
+
+impl From<MessageError> for Refusal {
+    fn from(e: MessageError) -> Self {
+        match e {
+            MessageError::UnknownFunction { .. } | MessageError::FailureBitInRequest { .. } => {
+                Refusal::UnknownFunction
+            }
+            MessageError::PayloadLength { .. } => Refusal::BadLength,
+            other => Refusal::Malformed(other.to_string()),
+        }
     }
 }
 

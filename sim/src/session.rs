@@ -58,12 +58,10 @@ pub struct Session {
 pub fn answer(plc: &mut Plc, pdu: &[u8], now_ms: u64) -> Vec<u8> {
     match pdu.first() {
         Some(&GUTTA_FUNCTION) => match GuttaFrame::from_pdu(pdu) {
-            Ok(request) => {
-                let r = plc.gutta(request.function, request.packet, &request.payload, now_ms);
-                GuttaFrame::new(r.function, r.packet, r.payload)
-                    .to_pdu()
-                    .unwrap_or_else(|_| exception(GUTTA_FUNCTION, ExceptionCode::IllegalDataValue))
-            }
+            Ok(request) => plc
+                .answer(&request, now_ms)
+                .to_pdu()
+                .unwrap_or_else(|_| exception(GUTTA_FUNCTION, ExceptionCode::IllegalDataValue)),
             Err(_) => exception(GUTTA_FUNCTION, ExceptionCode::IllegalDataValue),
         },
         Some(&f) if is_data_function(f) => plc.modbus(pdu),

@@ -8,7 +8,8 @@ use std::sync::Arc;
 
 use gutta_catalog::stdlib;
 use gutta_format::{Image, PageId, PageKind};
-use gutta_sim::plc::{Plc, Refusal, Reply, FACTORY_PASSWORD, LAST_PACKET};
+use gutta_protocol::gutta::GuttaFrame;
+use gutta_sim::plc::{Plc, Refusal, FACTORY_PASSWORD, LAST_PACKET};
 use gutta_vm::VmConfig;
 
 const POINTERS: &str = include_str!("../../examples/in1001_pointers.lad");
@@ -26,7 +27,7 @@ fn blank_plc() -> Plc {
     .expect("plc")
 }
 
-fn ok(r: Reply) -> Vec<u8> {
+fn ok(r: GuttaFrame) -> Vec<u8> {
     assert!(!r.is_failure(), "failed: {r:?}");
     r.payload
 }
@@ -118,11 +119,7 @@ fn login_rules() {
     // The failure form echoes the function with bit 15 and no payload.
     assert_eq!(
         plc.gutta(0x0A00, LAST_PACKET, &[], 0),
-        Reply {
-            function: 0x8A00,
-            packet: LAST_PACKET,
-            payload: vec![]
-        }
+        GuttaFrame::new(0x8A00, LAST_PACKET, vec![])
     );
     // Two wrong passwords are free; the third locks ATTACH for 1 s, then 2 s ...
     let wrong = [0u8; 16];
@@ -197,4 +194,29 @@ fn exch_support_limits_the_functions() {
     assert!(plc.gutta(0x0A00, LAST_PACKET, &[], 0).is_failure());
     assert_eq!(plc.last_refusal(), Some(&Refusal::Unsupported));
     ok(plc.gutta(0x0A03, LAST_PACKET, &[], 0));
+}
+
+#[test]
+fn malformed_requests_fail_with_the_failure_form() {
+    let mut plc = blank_plc();
+    ok(plc.gutta(0x0110, LAST_PACKET, &FACTORY_PASSWORD, 0));
+    // A single-packet function must carry packet 0x8000.
+    let r = plc.gutta(0x0A00, 0, &[], 0);
+    assert_eq!(r, GuttaFrame::new(0x8A00, 0, vec![]));
+    assert!(matches!(plc.last_refusal(), Some(Refusal::Malformed(_))));
+    // STATUS_DEBUG_SCAN knows steps 1, 2 and 3 only.
+    assert!(plc.gutta(0x0A32, LAST_PACKET, &[4], 0).is_failure());
+    assert!(matches!(plc.last_refusal(), Some(Refusal::Malformed(_))));
+    // Payload lengths: STATUS_VAR_READ takes whole addresses, ATTACH 16 bytes.
+    assert!(plc.gutta(0x0A10, LAST_PACKET, &[0; 5], 0).is_failure());
+    assert_eq!(plc.last_refusal(), Some(&Refusal::BadLength));
+    assert!(plc.gutta(0x0110, LAST_PACKET, &[0xFF; 15], 0).is_failure());
+    assert_eq!(plc.last_refusal(), Some(&Refusal::BadLength));
+    // Codes UM4001 does not define, and requests with the failure bit.
+    for code in [0x0B00, 0x8A00] {
+        assert!(plc.gutta(code, LAST_PACKET, &[], 0).is_failure());
+        assert_eq!(plc.last_refusal(), Some(&Refusal::UnknownFunction));
+    }
+    // After all that the PLC still answers.
+    assert_eq!(ok(plc.gutta(0x0A00, LAST_PACKET, &[], 0)).len(), 1);
 }
