@@ -10,6 +10,7 @@ use gutta_catalog::{stdlib, Address, Target, Width};
 use gutta_format::{PackedOperand, Use};
 use gutta_link::transport::{rtu_over_tcp, serial, TcpTransport};
 use gutta_link::{Client, LinkError};
+use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::{explicit_target, Fatal, LinkArgs, TargetArgs};
 
@@ -99,17 +100,24 @@ pub(crate) fn download(
 ) -> Result<ExitCode, Fatal> {
     let (image, target) = crate::image_and_target(targets, dir)?;
     gutta_format::verify(&image, &target).map_err(|e| Fatal(format!("{}: {e}", dir.display())))?;
-    let total: usize = image.pages.values().map(Vec::len).sum();
+    // Every byte is written, then read back and compared.
+    let total: usize = 2 * image.pages.values().map(Vec::len).sum::<usize>();
     let mut client = connect(args)?;
-    let terminal = std::io::stderr().is_terminal();
-    let mut sent = 0usize;
-    let start = std::time::Instant::now();
-    let mut progress = |n: usize| {
-        sent += n;
-        if terminal {
-            eprint!("\rgutta-cc: downloading {sent}/{total} bytes");
-        }
+    // A progress bar on a terminal; nothing when stderr is a file or a pipe (CI logs).
+    let bar = if std::io::stderr().is_terminal() {
+        let style = ProgressStyle::with_template(
+            "{prefix} [{bar:32}] {bytes}/{total_bytes} {binary_bytes_per_sec} {elapsed}",
+        )
+        .map_err(|e| Fatal(format!("progress bar: {e}")))?
+        .progress_chars("=> ");
+        ProgressBar::new(total as u64)
+            .with_style(style)
+            .with_prefix("downloading")
+    } else {
+        ProgressBar::hidden()
     };
+    let start = std::time::Instant::now();
+    let mut progress = |n: usize| bar.inc(n as u64);
     let password = gutta_format::password_bytes(args.password.as_deref());
     let result = gutta_link::download(
         &mut client,
@@ -118,8 +126,10 @@ pub(crate) fn download(
         target.plc.exch_pack_size as usize,
         &mut progress,
     );
-    if terminal {
-        eprintln!();
+    if result.is_ok() {
+        bar.finish_and_clear();
+    } else {
+        bar.abandon();
     }
     let report = result.map_err(|e| {
         Fatal(format!(

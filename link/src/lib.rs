@@ -291,6 +291,8 @@ pub struct DownloadReport {
 /// factory password, write every page in packets of `pack` bytes, read every page back
 /// and compare, STATUS_RESET (the PLC verifies and runs the image). If anything fails
 /// before the reset, the PLC stays cleared and stopped: it never runs half an image.
+/// `progress` is told the bytes of each packet written and of each page read back, so
+/// it counts up to twice the image's bytes.
 pub fn download(
     client: &mut Client,
     image: &Image,
@@ -319,6 +321,7 @@ pub fn download(
     let mut read: BTreeMap<PageId, Vec<u8>> = BTreeMap::new();
     for id in image.pages.keys() {
         let page = client.read_page(*id, pack)?;
+        progress(page.len());
         requests += 1 + page.len().div_ceil(pack.max(1)).max(1);
         read.insert(*id, page);
     }
