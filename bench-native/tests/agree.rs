@@ -7,7 +7,6 @@ use std::sync::Arc;
 
 use gutta_bench_native::{Memory, BIT_LOGIC, MIXED};
 use gutta_catalog::{stdlib, Target};
-use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
 use gutta_vm::{Vm, VmConfig};
@@ -21,11 +20,7 @@ fn load(text: &str) -> (Vm, Arc<Target>) {
         target: Arc::clone(&target),
         origin: "test".into(),
     };
-    let meta = ImageMeta {
-        source: "agree.lad".into(),
-        tool: "test".into(),
-    };
-    let c = compile(SourceFile::new("agree.lad", text), Some(&explicit), &meta);
+    let c = compile(SourceFile::new("agree.lad", text), Some(&explicit));
     let image = c
         .image
         .unwrap_or_else(|| panic!("does not compile: {:?}", c.checked.diagnostics()));

@@ -11,7 +11,6 @@ use std::process::Command;
 use std::time::{Duration, Instant};
 
 use gutta_compiler::compile;
-use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
 
 fn median(mut v: Vec<Duration>) -> (Duration, Duration) {
@@ -32,10 +31,6 @@ fn main() {
     }
     let runs = if bench_mode { 9 } else { 1 };
     let target = scale_program::bench_target();
-    let meta = ImageMeta {
-        source: "bench.lad".into(),
-        tool: "bench".into(),
-    };
     let dir = std::env::temp_dir().join(format!("gutta-compile-bench-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
     let target_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/target");
@@ -53,7 +48,7 @@ fn main() {
         for _ in 0..runs + 1 {
             let file = SourceFile::new("bench.lad", text.clone());
             let t = Instant::now();
-            let c = compile(file, Some(&target), &meta);
+            let c = compile(file, Some(&target));
             lib.push(t.elapsed());
             let image = c.image.unwrap_or_else(|| {
                 panic!(

@@ -148,23 +148,12 @@ pub(crate) fn download(
 
 pub(crate) fn upload(targets: &TargetArgs, dir: &Path, args: &LinkArgs) -> Result<ExitCode, Fatal> {
     let mut client = connect(args)?;
-    let origin = args
-        .tcp
-        .as_deref()
-        .or(args.rtu_tcp.as_deref())
-        .or(args.serial.as_deref())
-        .unwrap_or("plc");
     let password = gutta_format::password_bytes(args.password.as_deref());
     // The PLC type decides the packet size; log in first to ask it.
     client.attach(&password).map_err(link_error)?;
     let target = plc_target(targets, &mut client)?;
-    let image = gutta_link::upload(
-        &mut client,
-        &password,
-        target.plc.exch_pack_size as usize,
-        origin,
-    )
-    .map_err(link_error)?;
+    let image = gutta_link::upload(&mut client, &password, target.plc.exch_pack_size as usize)
+        .map_err(link_error)?;
     if let Err(e) = gutta_format::verify(&image, &target) {
         eprintln!("gutta-cc: warning: the uploaded program does not verify: {e}");
     }

@@ -140,11 +140,7 @@ pub struct Compiled {
 
 /// The whole pipeline: parse, check, lower, encode. Limit errors of the encoder join the
 /// file's diagnostics; `image` is set only when there are no errors at all.
-pub fn compile(
-    file: SourceFile,
-    explicit: Option<&ExplicitTarget>,
-    meta: &encode::ImageMeta,
-) -> Compiled {
+pub fn compile(file: SourceFile, explicit: Option<&ExplicitTarget>) -> Compiled {
     let mut checked = check_source(file, explicit);
     let Some(program) = checked.output.program.take() else {
         return Compiled {
@@ -155,7 +151,7 @@ pub fn compile(
     };
     let lowered = lower::lower(&program, &checked.target);
     let main_span = program.units.first().map(|u| u.span).unwrap_or_default();
-    let image = match encode::encode(&lowered, &checked.target, meta, main_span) {
+    let image = match encode::encode(&lowered, &checked.target, main_span) {
         Ok(image) => Some(image),
         Err(mut diags) => {
             checked.output.diagnostics.append(&mut diags);

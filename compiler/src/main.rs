@@ -10,7 +10,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use gutta_catalog::stdlib;
 use gutta_compiler::diagnostics::render::{render, RenderStyle};
 use gutta_compiler::diagnostics::{json, Code};
-use gutta_compiler::encode::{listing, summary, ImageMeta};
+use gutta_compiler::encode::{listing, summary};
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{check_source, compile, ExplicitTarget};
 
@@ -275,11 +275,7 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
             ))
         })?;
         let (checked, image) = if compiling {
-            let meta = ImageMeta {
-                source: name.clone(),
-                tool: format!("gutta-cc {}", env!("CARGO_PKG_VERSION")),
-            };
-            let compiled = compile(file, explicit.as_ref(), &meta);
+            let compiled = compile(file, explicit.as_ref());
             if let (Some(Emit::Listing), Some(lowered)) = (cli.emit, &compiled.lowered) {
                 if compiled.image.is_some() {
                     let text = listing(

@@ -1,6 +1,7 @@
-//! `gutta-cc download|status|run|stop|read|write|force` against a `gutta-sim` process
-//! (the workspace's binary, built by `cargo test --workspace`).
+//! `gutta-cc download|upload|status|run|stop|read|write|force|debug` against a
+//! `gutta-sim` process (the workspace's binary, built by `cargo test --workspace`).
 
+use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
@@ -70,6 +71,29 @@ fn compile(plc: &str, tag: &str) -> PathBuf {
     dir
 }
 
+/// Every file under `dir`, by its path relative to `dir` with `/` separators.
+fn files_under(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    let mut files = BTreeMap::new();
+    let mut dirs = vec![dir.to_path_buf()];
+    while let Some(d) = dirs.pop() {
+        for entry in std::fs::read_dir(&d).expect("readable directory") {
+            let path = entry.expect("directory entry").path();
+            if path.is_dir() {
+                dirs.push(path);
+            } else {
+                let name: Vec<String> = path
+                    .strip_prefix(dir)
+                    .expect("under the directory")
+                    .components()
+                    .map(|c| c.as_os_str().to_string_lossy().into_owned())
+                    .collect();
+                files.insert(name.join("/"), std::fs::read(&path).expect("readable file"));
+            }
+        }
+    }
+    files
+}
+
 #[test]
 fn download_then_operate_the_plc() {
     let sim = sim("CPU-EC20");
@@ -112,22 +136,35 @@ fn download_then_operate_the_plc() {
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o).contains("does not fit"), "{}", text(&o));
     assert!(run(&["run"]).status.success());
-    // Upload: the same pages and PLC type as the image downloaded.
+    // Upload: the directory gutta-cc wrote for the download, every file byte for byte,
+    // manifest.json included, and no file more or less.
     let back = std::env::temp_dir().join(format!("gutta-cc-upload-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&back);
     let o = run(&["upload", "-o", back.to_str().expect("path")]);
     assert!(o.status.success(), "{}", text(&o));
-    let sent = gutta_io::read_image_dir(&image).expect("image");
-    let got = gutta_io::read_image_dir(&back).expect("uploaded image");
-    assert_eq!(got.plc_type, sent.plc_type);
-    assert_eq!(got.pages, sent.pages);
-    for (name, bytes) in sent.files() {
-        if name != gutta_format::MANIFEST_FILE {
-            assert_eq!(
-                std::fs::read(back.join(&name)).expect("file"),
-                bytes,
-                "{name}"
-            );
-        }
+    let sent = files_under(&image);
+    let got = files_under(&back);
+    let _ = std::fs::remove_dir_all(&back);
+    assert_eq!(
+        sent.keys().collect::<Vec<_>>(),
+        [
+            "argument/00.bin",
+            "const.bin",
+            "instruction/00.bin",
+            gutta_format::MANIFEST_FILE
+        ]
+    );
+    assert_eq!(
+        got.keys().collect::<Vec<_>>(),
+        sent.keys().collect::<Vec<_>>(),
+        "the same files"
+    );
+    assert_eq!(
+        String::from_utf8_lossy(&got[gutta_format::MANIFEST_FILE]),
+        String::from_utf8_lossy(&sent[gutta_format::MANIFEST_FILE])
+    );
+    for (name, bytes) in &sent {
+        assert_eq!(&got[name], bytes, "{name}");
     }
     // Force an input, release it: the terminal (0) shows again.
     assert!(run(&["force", "I0.2=1"]).status.success());

@@ -10,7 +10,6 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, CheckedFile, ExplicitTarget};
 
@@ -27,11 +26,7 @@ fn check(path: &Path) -> CheckedFile {
         }
     });
     // The whole pipeline: clean programs must also encode within their target's limits.
-    let meta = ImageMeta {
-        source: path.display().to_string(),
-        tool: "test".into(),
-    };
-    let compiled = compile(file, explicit.as_ref(), &meta);
+    let compiled = compile(file, explicit.as_ref());
     assert_eq!(
         compiled.image.is_some(),
         !compiled.checked.has_errors(),

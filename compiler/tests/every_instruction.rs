@@ -3,7 +3,6 @@
 //! opcode. The catalog is walked, so a new instruction without a working example fails.
 
 use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
 use gutta_format::{decode_instructions, PageKind, Record};
@@ -66,17 +65,12 @@ fn every_instruction_encodes() {
         target: target.clone(),
         origin: "test".into(),
     };
-    let meta = ImageMeta {
-        source: "t.lad".into(),
-        tool: "test".into(),
-    };
     let mut failures = Vec::new();
     for ins in &target.instructions.instructions {
         let text = program_for(&ins.mnemonic, &ins.example, ins.units);
         let compiled = compile(
             SourceFile::new(format!("{}.lad", ins.mnemonic), text.clone()),
             Some(&explicit),
-            &meta,
         );
         let Some(image) = compiled.image else {
             let d: Vec<String> = compiled

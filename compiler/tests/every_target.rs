@@ -6,7 +6,6 @@ mod common;
 
 use gutta_catalog::stdlib;
 use gutta_compiler::diagnostics::Code;
-use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
 
@@ -36,14 +35,9 @@ fn examples_compile_and_verify_on_every_target_they_fit() {
                 target: target.clone(),
                 origin: format!("--plc {name}"),
             };
-            let meta = ImageMeta {
-                source: path.display().to_string(),
-                tool: "test".into(),
-            };
             let c = compile(
                 SourceFile::new(path.display().to_string(), text.clone()),
                 Some(&explicit),
-                &meta,
             );
             match c.image {
                 Some(image) => {

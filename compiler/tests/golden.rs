@@ -8,7 +8,6 @@ mod common;
 use std::path::Path;
 
 use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
 use gutta_format::{crc16, disasm};
@@ -24,14 +23,9 @@ fn golden_text(path: &Path) -> String {
             target: stdlib::shared(n.trim()).expect("stdlib target"),
             origin: format!("--plc {}", n.trim()),
         });
-    let meta = ImageMeta {
-        source: rel.display().to_string(),
-        tool: "golden".into(),
-    };
     let compiled = compile(
         SourceFile::new(rel.display().to_string(), text),
         explicit.as_ref(),
-        &meta,
     );
     let image = compiled.image.unwrap_or_else(|| {
         panic!(

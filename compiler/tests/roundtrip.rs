@@ -7,18 +7,13 @@ mod common;
 use std::path::Path;
 
 use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, Compiled, ExplicitTarget};
 use gutta_format::disasm::disassemble_with_errors;
 use gutta_format::Image;
 
 fn build(name: &str, text: String, explicit: Option<&ExplicitTarget>) -> Compiled {
-    let meta = ImageMeta {
-        source: name.to_string(),
-        tool: "test".into(),
-    };
-    compile(SourceFile::new(name, text), explicit, &meta)
+    compile(SourceFile::new(name, text), explicit)
 }
 
 /// Which pages differ, and the first differing byte of each.

@@ -92,7 +92,7 @@ struct Disassembler<'a> {
     const_used: Vec<bool>,
 }
 
-/// Printable form of a text from the image (the source path) inside a `//` comment.
+/// Printable form of a text from the image (the PLC type) inside a `//` comment.
 fn one_line(s: &str) -> String {
     s.chars()
         .map(|c| if c.is_control() { '?' } else { c })
@@ -146,8 +146,7 @@ impl<'a> Disassembler<'a> {
         let image = self.image;
         let name = self.target.name().to_string();
         self.line(&format!(
-            "// Disassembly of {} ({}), produced by gutta-cc dis",
-            one_line(&image.source),
+            "// Disassembly of an image for {}, produced by gutta-cc dis",
             one_line(&image.plc_type)
         ));
         if !image.plc_type.eq_ignore_ascii_case(&name) {

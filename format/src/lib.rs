@@ -92,12 +92,11 @@ impl PageId {
     }
 }
 
-/// A whole image: identity plus page bytes, ordered as the manifest lists them.
+/// A whole image: PLC type plus page bytes, ordered as the manifest lists them. Nothing
+/// else: an image is a function of source and target, and the PLC holds all of it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Image {
     pub plc_type: String,
-    pub tool: String,
-    pub source: String,
     pub pages: BTreeMap<PageId, Vec<u8>>,
 }
 
@@ -107,8 +106,6 @@ impl Image {
         Manifest {
             format: FORMAT_VERSION,
             plc_type: self.plc_type.clone(),
-            tool: self.tool.clone(),
-            source: self.source.clone(),
             pages: self
                 .pages
                 .iter()

@@ -1,6 +1,7 @@
-//! `manifest.json`: the image's identity and every page's length and CRC-16/MODBUS,
+//! `manifest.json`: the image's PLC type and every page's length and CRC-16/MODBUS,
 //! written in one fixed layout (byte-identical for the same image) and read back with
-//! coded errors.
+//! coded errors. It holds nothing the PLC does not hold (no tool, no source path), so
+//! an uploaded image writes the same manifest as the one downloaded.
 
 use std::fmt;
 
@@ -30,8 +31,6 @@ pub struct ManifestPage {
 pub struct Manifest {
     pub format: u32,
     pub plc_type: String,
-    pub tool: String,
-    pub source: String,
     pub pages: Vec<ManifestPage>,
 }
 
@@ -47,12 +46,12 @@ impl fmt::Display for ManifestError {
 
 impl std::error::Error for ManifestError {}
 
+/// The manifest as JSON. Unknown keys are ignored (no `deny_unknown_fields`), so
+/// manifests of earlier versions, which also held `tool` and `source`, still read.
 #[derive(Deserialize)]
 struct RawManifest {
     format: u32,
     plc_type: String,
-    tool: String,
-    source: String,
     pages: Vec<RawPage>,
 }
 
@@ -78,8 +77,6 @@ impl Manifest {
             "  \"plc_type\": {},\n",
             json_string(&self.plc_type)
         ));
-        out.push_str(&format!("  \"tool\": {},\n", json_string(&self.tool)));
-        out.push_str(&format!("  \"source\": {},\n", json_string(&self.source)));
         out.push_str("  \"pages\": [\n");
         for (i, p) in self.pages.iter().enumerate() {
             out.push_str(&format!(
@@ -137,8 +134,6 @@ impl Manifest {
         Ok(Manifest {
             format: raw.format,
             plc_type: raw.plc_type,
-            tool: raw.tool,
-            source: raw.source,
             pages,
         })
     }
@@ -161,9 +156,7 @@ mod tests {
     fn manifest_round_trips() {
         let m = Manifest {
             format: 1,
-            plc_type: "CPU-EC20".into(),
-            tool: "gutta-cc 0.1.0".into(),
-            source: "a \"b\".lad".into(),
+            plc_type: "CPU-EC20 \"b\"".into(),
             pages: vec![ManifestPage {
                 kind: PageKind::Const,
                 number: 0,
@@ -174,5 +167,37 @@ mod tests {
         };
         assert_eq!(Manifest::parse(&m.to_json()), Ok(m));
         assert!(Manifest::parse("{}").is_err());
+    }
+
+    #[test]
+    fn manifests_of_earlier_versions_with_tool_and_source_still_read() {
+        let old = r#"{
+  "format": 1,
+  "plc_type": "CPU-EC20",
+  "tool": "gutta-cc 0.1.0",
+  "source": "examples/blink.lad",
+  "pages": [
+    { "kind": "const", "number": 0, "file": "const.bin", "length": 18, "crc": "0x1F2E" }
+  ]
+}
+"#;
+        let m = Manifest::parse(old).expect("an old-style manifest reads");
+        assert_eq!(
+            m,
+            Manifest {
+                format: 1,
+                plc_type: "CPU-EC20".into(),
+                pages: vec![ManifestPage {
+                    kind: PageKind::Const,
+                    number: 0,
+                    file: "const.bin".into(),
+                    length: 18,
+                    crc: 0x1F2E,
+                }],
+            }
+        );
+        // Written again, it holds only what the PLC holds.
+        assert!(!m.to_json().contains("tool"));
+        assert!(!m.to_json().contains("source"));
     }
 }

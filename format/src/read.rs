@@ -151,8 +151,6 @@ impl Image {
         }
         Ok(Image {
             plc_type: manifest.plc_type,
-            tool: manifest.tool,
-            source: manifest.source,
             pages,
         })
     }

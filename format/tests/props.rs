@@ -167,7 +167,7 @@ proptest! {
     ) {
         let name = stdlib::names().nth(target).unwrap_or(stdlib::DEFAULT);
         let t = target_named(name);
-        let image = Image { plc_type: name.to_string(), tool: String::new(), source: String::new(), pages };
+        let image = Image { plc_type: name.to_string(), pages };
         let _ = verify(&image, &t);
     }
 

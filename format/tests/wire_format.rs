@@ -67,8 +67,6 @@ fn manifest_layout() {
     let manifest = Manifest {
         format: FORMAT_VERSION,
         plc_type: "CPU-EC20".into(),
-        tool: "gutta-cc 0.1.0".into(),
-        source: "examples/blink.lad".into(),
         pages: vec![
             ManifestPage {
                 kind: PageKind::Const,
@@ -90,8 +88,6 @@ fn manifest_layout() {
     let expected = r#"{
   "format": 1,
   "plc_type": "CPU-EC20",
-  "tool": "gutta-cc 0.1.0",
-  "source": "examples/blink.lad",
   "pages": [
     { "kind": "const", "number": 0, "file": "const.bin", "length": 18, "crc": "0x1F2E" },
     { "kind": "argument", "number": 0, "file": "argument/00.bin", "length": 4, "crc": "0x40BF" }

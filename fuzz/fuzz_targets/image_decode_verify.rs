@@ -115,8 +115,6 @@ fn structured_pages(data: &[u8]) {
     }
     let image = Image {
         plc_type: stdlib::DEFAULT.to_string(),
-        tool: "fuzz".to_string(),
-        source: "fuzz".to_string(),
         pages,
     };
     let _ = verify(&image, default_target());

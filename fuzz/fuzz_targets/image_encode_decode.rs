@@ -134,8 +134,6 @@ fn check(u: &mut Unstructured<'_>) -> Result<()> {
     let manifest = Manifest {
         format: FORMAT_VERSION,
         plc_type: text(u)?,
-        tool: text(u)?,
-        source: text(u)?,
         pages: (0..u.int_in_range(0..=8)?)
             .map(|_| {
                 let id = page_id(u)?;
@@ -158,8 +156,6 @@ fn check(u: &mut Unstructured<'_>) -> Result<()> {
     pages.insert(PageId::new(PageKind::Const, 0), u.arbitrary::<Vec<u8>>()?);
     let image = Image {
         plc_type: text(u)?,
-        tool: text(u)?,
-        source: text(u)?,
         pages,
     };
     let files: BTreeMap<String, Vec<u8>> = image.files().into_iter().collect();

@@ -344,13 +344,9 @@ pub fn download(
 /// Upload the program in the PLC: its PLC type (GET_PLC_NAME), the page lists (data,
 /// system, program), and every page present (the const page, and for every program
 /// page its argument and instruction pages), each read in packets of `pack` bytes. The
-/// image's `tool` and `source` say where it came from; the pages are the PLC's.
-pub fn upload(
-    client: &mut Client,
-    password: &[u8; 16],
-    pack: usize,
-    origin: &str,
-) -> Result<Image, LinkError> {
+/// image holds only what the PLC holds, so written out it is byte for byte the image
+/// directory that was downloaded, `manifest.json` included.
+pub fn upload(client: &mut Client, password: &[u8; 16], pack: usize) -> Result<Image, LinkError> {
     client.attach(password)?;
     let plc_type = client.plc_name()?;
     let list =
@@ -369,10 +365,5 @@ pub fn upload(
     for id in ids {
         pages.insert(id, client.read_page(id, pack)?);
     }
-    Ok(Image {
-        plc_type,
-        tool: format!("gutta-cc upload {}", env!("CARGO_PKG_VERSION")),
-        source: origin.to_string(),
-        pages,
-    })
+    Ok(Image { plc_type, pages })
 }

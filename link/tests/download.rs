@@ -1,20 +1,23 @@
 //! The client against a real `gutta-sim` process: a download over Modbus TCP and over
-//! RTU over TCP, then status, run/stop and variables; a download refused for another
-//! PLC type. The simulator binary is the workspace's (built by `cargo test --workspace`).
+//! RTU over TCP, then status, run/stop and variables; an upload that writes the
+//! downloaded image directory byte for byte; a download refused for another PLC type.
+//! The simulator binary is the workspace's (built by `cargo test --workspace`).
 
+use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 
 use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
 use gutta_format::Image;
 use gutta_link::transport::{rtu_over_tcp, TcpTransport};
-use gutta_link::{download, Client, LinkError, FACTORY_PASSWORD};
+use gutta_link::{download, upload, Client, LinkError, FACTORY_PASSWORD};
 
 const POINTERS: &str = include_str!("../../examples/in1001_pointers.lad");
+/// Every kind of page: MAIN, an interrupt, a subroutine, data blocks, a system block.
+const BLINK: &str = include_str!("../../examples/blink.lad");
 
 struct Sim {
     child: Child,
@@ -67,17 +70,17 @@ fn start(plc: &str) -> Sim {
 }
 
 fn image(plc: &str) -> Image {
+    compiled(plc, POINTERS)
+}
+
+fn compiled(plc: &str, text: &str) -> Image {
     let target = stdlib::shared(plc).expect("target");
     compile(
-        SourceFile::new("p.lad", POINTERS),
+        SourceFile::new("p.lad", text),
         Some(&ExplicitTarget {
             target,
             origin: "test".into(),
         }),
-        &ImageMeta {
-            source: "p.lad".into(),
-            tool: "test".into(),
-        },
     )
     .image
     .expect("compiles")
@@ -98,7 +101,8 @@ fn exercise(client: &mut Client) {
     let report =
         download(client, &image, &FACTORY_PASSWORD, pack, &mut |n| sent += n).expect("downloads");
     assert_eq!(report.pages, image.pages.len());
-    assert_eq!(sent, report.bytes);
+    // Progress counts every byte written and every byte read back.
+    assert_eq!(sent, 2 * report.bytes);
     // After the reset: log in again, the program runs.
     client.attach(&FACTORY_PASSWORD).expect("login");
     std::thread::sleep(std::time::Duration::from_millis(100));
@@ -145,6 +149,85 @@ fn download_and_operate_over_rtu_over_tcp() {
     let sim = start("CPU-EC20");
     let transport = rtu_over_tcp(&sim.rtu, 1000, 2).expect("connects");
     exercise(&mut Client::new(Box::new(transport), 1));
+}
+
+/// Every file under `dir`, by its path relative to `dir` with `/` separators.
+fn files_under(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    let mut files = BTreeMap::new();
+    let mut dirs = vec![dir.to_path_buf()];
+    while let Some(d) = dirs.pop() {
+        for entry in std::fs::read_dir(&d).expect("readable directory") {
+            let path = entry.expect("directory entry").path();
+            if path.is_dir() {
+                dirs.push(path);
+            } else {
+                let name: Vec<String> = path
+                    .strip_prefix(dir)
+                    .expect("under the directory")
+                    .components()
+                    .map(|c| c.as_os_str().to_string_lossy().into_owned())
+                    .collect();
+                files.insert(name.join("/"), std::fs::read(&path).expect("readable file"));
+            }
+        }
+    }
+    files
+}
+
+#[test]
+fn an_upload_writes_the_downloaded_image_directory_byte_for_byte() {
+    let sim = start("CPU-EC20");
+    let transport = TcpTransport::connect(&sim.tcp, 1000, 2).expect("connects");
+    let mut client = Client::new(Box::new(transport), 1);
+    let image = compiled("CPU-EC20", BLINK);
+    let pack = stdlib::shared("CPU-EC20")
+        .expect("target")
+        .plc
+        .exch_pack_size as usize;
+    let scratch = |tag: &str| {
+        let dir =
+            std::env::temp_dir().join(format!("gutta-link-upload-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        dir
+    };
+    let (sent_dir, back_dir) = (scratch("sent"), scratch("back"));
+    gutta_io::write_image(&sent_dir, &image).expect("writes the image");
+    download(&mut client, &image, &FACTORY_PASSWORD, pack, &mut |_| {}).expect("downloads");
+    // The image's system block sets the password the PLC asks for from now on.
+    let uploaded = upload(
+        &mut client,
+        &gutta_format::password_bytes(Some("1234")),
+        pack,
+    )
+    .expect("uploads");
+    gutta_io::write_image(&back_dir, &uploaded).expect("writes the upload");
+    let (sent, back) = (files_under(&sent_dir), files_under(&back_dir));
+    let _ = std::fs::remove_dir_all(&sent_dir);
+    let _ = std::fs::remove_dir_all(&back_dir);
+    // Every page kind is there, so the directory is more than a manifest and a const page.
+    for file in [
+        gutta_format::MANIFEST_FILE,
+        "const.bin",
+        "argument/00.bin",
+        "instruction/00.bin",
+        "data/0.bin",
+        "system/0.bin",
+    ] {
+        assert!(sent.contains_key(file), "{file} in {:?}", sent.keys());
+    }
+    assert_eq!(sent.len(), image.pages.len() + 1, "{:?}", sent.keys());
+    assert_eq!(
+        back.keys().collect::<Vec<_>>(),
+        sent.keys().collect::<Vec<_>>(),
+        "the same files"
+    );
+    assert_eq!(
+        String::from_utf8_lossy(&back[gutta_format::MANIFEST_FILE]),
+        String::from_utf8_lossy(&sent[gutta_format::MANIFEST_FILE])
+    );
+    for (name, bytes) in &sent {
+        assert_eq!(&back[name], bytes, "{name}");
+    }
 }
 
 #[test]

@@ -62,7 +62,6 @@ fn paced_link(to: String, baud: f64, carried: Arc<AtomicU64>) -> String {
 }
 
 use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
 use gutta_format::Image;
@@ -94,10 +93,6 @@ fn try_image(networks: usize) -> Option<Image> {
             target,
             origin: "bench".into(),
         }),
-        &ImageMeta {
-            source: "max.lad".into(),
-            tool: "bench".into(),
-        },
     )
     .image
 }

@@ -13,7 +13,6 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
 
@@ -32,10 +31,6 @@ fn main() {
             target,
             origin: "bench".into(),
         }),
-        &ImageMeta {
-            source: "p.lad".into(),
-            tool: "bench".into(),
-        },
     )
     .image
     .expect("compiles");

@@ -121,8 +121,6 @@ fn blank_image(target: &Target) -> Image {
     pages.insert(PageId::new(PageKind::Const, 0), Vec::new());
     Image {
         plc_type: target.name().to_string(),
-        tool: "gutta-sim".into(),
-        source: String::new(),
         pages,
     }
 }
@@ -199,8 +197,6 @@ impl Plc {
         self.attached = false;
         let image = Image {
             plc_type: self.target.name().to_string(),
-            tool: "flash".into(),
-            source: String::new(),
             pages: self.pages.clone(),
         };
         self.password = gutta_format::SystemPage::decode(

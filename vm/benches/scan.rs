@@ -12,7 +12,6 @@ use std::time::Instant;
 
 use gutta_bench_native::Memory;
 use gutta_catalog::{stdlib, Target};
-use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
 use gutta_format::VerifiedImage;
@@ -38,11 +37,7 @@ fn image(name: &str, text: &str, target: Option<&str>) -> (VerifiedImage, Arc<Ta
         target: stdlib::shared(t).expect("target"),
         origin: "bench".into(),
     });
-    let meta = ImageMeta {
-        source: name.into(),
-        tool: "bench".into(),
-    };
-    let c = compile(SourceFile::new(name, text), explicit.as_ref(), &meta);
+    let c = compile(SourceFile::new(name, text), explicit.as_ref());
     let image = c
         .image
         .unwrap_or_else(|| panic!("{name}: {:?}", c.checked.diagnostics().first()));

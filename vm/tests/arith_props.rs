@@ -5,7 +5,6 @@
 use std::sync::{Arc, OnceLock};
 
 use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
 use gutta_vm::{Vm, VmConfig};
@@ -29,14 +28,7 @@ fn vm() -> Vm {
             target: target.clone(),
             origin: "test".into(),
         };
-        let c = compile(
-            SourceFile::new("arith.lad", PROGRAM),
-            Some(&explicit),
-            &ImageMeta {
-                source: "arith.lad".into(),
-                tool: "test".into(),
-            },
-        );
+        let c = compile(SourceFile::new("arith.lad", PROGRAM), Some(&explicit));
         let image = c
             .image
             .unwrap_or_else(|| panic!("{:?}", c.checked.diagnostics()));

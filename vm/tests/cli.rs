@@ -8,7 +8,6 @@ use std::process::{Command, Output};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
 use gutta_format::{Image, PageId, PageKind};
@@ -19,14 +18,7 @@ fn compile_image(text: &str) -> Image {
         target,
         origin: "test".into(),
     };
-    let c = compile(
-        SourceFile::new("t.lad", text),
-        Some(&explicit),
-        &ImageMeta {
-            source: "t.lad".into(),
-            tool: "test".into(),
-        },
-    );
+    let c = compile(SourceFile::new("t.lad", text), Some(&explicit));
     c.image
         .unwrap_or_else(|| panic!("does not compile: {:?}", c.checked.diagnostics()))
 }

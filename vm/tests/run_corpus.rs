@@ -10,7 +10,6 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use gutta_catalog::{stdlib, Address, Target, Width};
-use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
 use gutta_format::VerifiedImage;
@@ -380,11 +379,7 @@ fn run_program(path: &Path, failures: &mut Vec<String>) {
             Err(e) => return failures.push(format!("{name}: `// plc: {plc}`: {e}")),
         },
     };
-    let meta = ImageMeta {
-        source: name.clone(),
-        tool: "run_corpus".into(),
-    };
-    let compiled = compile(file, explicit.as_ref(), &meta);
+    let compiled = compile(file, explicit.as_ref());
     let checked = &compiled.checked;
     let Some(image) = &compiled.image else {
         for d in checked.diagnostics().iter().filter(|d| d.is_error()) {

@@ -15,13 +15,6 @@ use crate::diagnostics::{Code, Diagnostic};
 use crate::lower::Lowered;
 use crate::source::Span;
 
-/// Identity written into the manifest.
-#[derive(Debug, Clone)]
-pub struct ImageMeta {
-    pub source: String,
-    pub tool: String,
-}
-
 /// `12,345`.
 pub fn thousands(n: usize) -> String {
     let s = n.to_string();
@@ -39,7 +32,6 @@ pub fn thousands(n: usize) -> String {
 pub fn encode(
     lowered: &Lowered,
     target: &Target,
-    meta: &ImageMeta,
     main_span: Span,
 ) -> Result<Image, Vec<Diagnostic>> {
     let plc = &target.plc;
@@ -142,8 +134,6 @@ pub fn encode(
     }
     Ok(Image {
         plc_type: plc.name.clone(),
-        tool: meta.tool.clone(),
-        source: meta.source.clone(),
         pages,
     })
 }

@@ -158,8 +158,6 @@ impl ImageSpec {
         }
         Image {
             plc_type: self.plc_type.clone(),
-            tool: "gutta-format tests".to_string(),
-            source: "tests/common".to_string(),
             pages,
         }
     }

@@ -6,7 +6,6 @@
 use std::path::PathBuf;
 
 use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
 use gutta_format::Image;
@@ -20,10 +19,6 @@ pub fn image(name: &str, text: &str) -> Image {
             target,
             origin: "test".into(),
         }),
-        &ImageMeta {
-            source: name.into(),
-            tool: "test".into(),
-        },
     );
     c.image
         .unwrap_or_else(|| panic!("{name} does not compile: {:?}", c.checked.diagnostics()))

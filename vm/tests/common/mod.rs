@@ -6,7 +6,6 @@
 use std::sync::Arc;
 
 use gutta_catalog::stdlib;
-use gutta_compiler::encode::ImageMeta;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
 use gutta_vm::{Vm, VmConfig};
@@ -18,11 +17,7 @@ pub fn load(text: &str, config: VmConfig) -> Vm {
         target: target.clone(),
         origin: "test".into(),
     };
-    let meta = ImageMeta {
-        source: "t.lad".into(),
-        tool: "test".into(),
-    };
-    let c = compile(SourceFile::new("t.lad", text), Some(&explicit), &meta);
+    let c = compile(SourceFile::new("t.lad", text), Some(&explicit));
     let image = c
         .image
         .unwrap_or_else(|| panic!("does not compile: {:?}", c.checked.diagnostics()));
