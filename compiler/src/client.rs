@@ -8,6 +8,7 @@ use std::sync::Arc;
 
 use gutta_catalog::{stdlib, Address, Target, Width};
 use gutta_format::{PackedOperand, Use};
+use gutta_link::message::{debug_state, Breakpoint, DebugStep};
 use gutta_link::transport::{rtu_over_tcp, serial, TcpTransport};
 use gutta_link::{Client, LinkError};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -248,69 +249,39 @@ pub(crate) fn debug(
     let target = plc_target(targets, &mut client)?;
     let int_size = target.plc.program_block_page_int_size;
     let arg = action.get(1).map(String::as_str);
-    let call = |client: &mut Client, function: u16, payload: &[u8], what: &str| {
-        client
-            .gutta(function, 0x8000, payload, what)
-            .map_err(link_error)
-    };
     match (action[0].as_str(), arg) {
         ("break", Some(at)) => {
-            let (f, n, s) = gutta_format::parse_position(at, int_size).map_err(Fatal)?;
-            let mut payload = vec![f];
-            payload.extend(n.to_be_bytes());
-            payload.extend(s.to_be_bytes());
-            call(
-                &mut client,
-                0x0A35,
-                &payload,
-                "the breakpoint (no instruction there?)",
-            )?;
+            let (index, network, step) =
+                gutta_format::parse_position(at, int_size).map_err(Fatal)?;
+            client.set_breakpoint(Some(Breakpoint {
+                index,
+                network,
+                step,
+            }))
         }
-        ("clear", None) => {
-            call(
-                &mut client,
-                0x0A35,
-                &[0xFF, 0xFF, 0xFF, 0xFF, 0xFF],
-                "clearing the breakpoint",
-            )?;
-        }
-        ("stop", None) => {
-            call(&mut client, 0x0A31, &[0], "single-step stop")?;
-        }
-        ("run", None) => {
-            call(&mut client, 0x0A31, &[1], "run until a breakpoint")?;
-        }
-        ("reset", None) => {
-            call(&mut client, 0x0A33, &[], "DEBUG_RESET")?;
-        }
+        ("clear", None) => client.set_breakpoint(None),
+        ("stop", None) => client.debug_run(false),
+        ("run", None) => client.debug_run(true),
+        ("reset", None) => client.debug_reset(),
         ("step", Some(kind)) => {
-            let k = match kind {
-                "in" => 1,
-                "over" => 2,
-                "out" => 3,
+            let step = match kind {
+                "in" => DebugStep::In,
+                "over" => DebugStep::Over,
+                "out" => DebugStep::Out,
                 other => return Err(Fatal(format!("step `{other}`: in, over or out"))),
             };
-            call(
-                &mut client,
-                0x0A32,
-                &[k],
-                "the step (is the program paused?)",
-            )?;
+            client.debug_step(step)
         }
-        ("info", None) => {}
+        ("info", None) => Ok(()),
         (other, _) => {
             return Err(Fatal(format!(
                 "debug `{other}`: break POSITION, clear, stop, run, step in|over|out, reset or info"
             )))
         }
     }
+    .map_err(link_error)?;
     // Every action ends by showing where the program is.
-    let b = call(&mut client, 0x0A34, &[], "DEBUG_INFOR_READ")?;
-    let state = call(&mut client, 0x0A30, &[], "DEBUG_READ")?;
-    if b.len() != 16 {
-        return Err(Fatal("DEBUG_INFOR_READ answered the wrong length".into()));
-    }
-    let word = |i: usize| u16::from_be_bytes([b[i], b[i + 1]]);
+    let (state, info) = client.debug_info().map_err(link_error)?;
     let place = |f: u8, n: u16, s: u16| {
         if f == 0xFF {
             "none".to_string()
@@ -318,19 +289,23 @@ pub(crate) fn debug(
             format!("{}:{n}:{s}", gutta_format::function_name(f, int_size))
         }
     };
-    println!("breakpoint: {}", place(b[0], word(1), word(3)));
-    println!("paused at:  {}", place(b[5], word(6), word(8)));
+    let b = info.breakpoint;
+    println!("breakpoint: {}", place(b.index, b.network, b.step));
+    println!(
+        "paused at:  {}",
+        place(info.state_index, info.state_network, info.state_step)
+    );
     println!(
         "mode: {}; logic stack {:#06X}; call depth {}; saved L {} bytes; error {}",
-        if state.first().is_some_and(|s| s & 1 != 0) {
+        if state & debug_state::RUN != 0 {
             "run until a breakpoint"
         } else {
             "single-step stop"
         },
-        word(12),
-        b[14],
-        word(10),
-        b[15]
+        info.stack_logic,
+        info.sp,
+        info.stack_data,
+        info.error
     );
     Ok(ExitCode::SUCCESS)
 }

@@ -7,8 +7,14 @@ pub mod transport;
 use std::collections::BTreeMap;
 
 use gutta_format::{Image, PageId, PageKind};
-use gutta_protocol::gutta::{GuttaFrame, PageRef};
+use gutta_protocol::gutta::{Function, GuttaFrame, PageArea, PageRef};
+use gutta_protocol::message::{
+    Breakpoint, Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response, VarAddress,
+};
+use gutta_protocol::transfer::{split_page, PackSize};
 
+/// The typed GUTTA messages the client's operations take and return.
+pub use gutta_protocol::message;
 pub use transport::Transport;
 
 /// The factory password: 16 x 0xFF.
@@ -64,17 +70,6 @@ pub struct Client {
     station: u8,
 }
 
-/// The function codes of a page: (ask, read, write).
-fn page_codes(id: PageId) -> Option<(u16, u16, u16)> {
-    use gutta_protocol::gutta::Function;
-    let page = PageRef::of(id)?;
-    Some((
-        Function::PageAsk(page).code(),
-        Function::PageRead(page).code(),
-        Function::PageWrite(page).code(),
-    ))
-}
-
 fn last(index: usize, count: usize) -> u16 {
     let n = u16::try_from(index).unwrap_or(u16::MAX) & 0x7FFF;
     if index + 1 == count {
@@ -89,16 +84,14 @@ impl Client {
         Client { transport, station }
     }
 
-    /// One GUTTA request; the answer's payload, or `Refused` for the failure form.
-    pub fn gutta(
-        &mut self,
-        function: u16,
-        packet: u16,
-        payload: &[u8],
-        what: &str,
-    ) -> Result<Vec<u8>, LinkError> {
-        let pdu = GuttaFrame::new(function, packet, payload.to_vec())
-            .to_pdu()
+    /// One GUTTA request, encoded and its answer decoded by gutta-protocol's typed
+    /// messages; the reply, or `Refused` for the failure form. `what` names the
+    /// operation in errors.
+    pub fn request(&mut self, request: &Request, what: &str) -> Result<Reply, LinkError> {
+        let function = request.function().code();
+        let pdu = request
+            .encode()
+            .and_then(|frame| frame.to_pdu().map_err(Into::into))
             .map_err(|e| LinkError::Protocol(e.to_string()))?;
         let answer = self.transport.exchange(self.station, &pdu)?;
         if let [f, code] = answer[..] {
@@ -109,21 +102,35 @@ impl Client {
                 });
             }
         }
-        let reply =
-            GuttaFrame::from_pdu(&answer).map_err(|e| LinkError::Protocol(e.to_string()))?;
-        if reply.function == function | 0x8000 {
-            return Err(LinkError::Refused {
-                function,
-                what: what.to_string(),
-            });
-        }
-        if reply.function != function || reply.packet != packet {
+        let response = GuttaFrame::from_pdu(&answer)
+            .map_err(MessageError::from)
+            .and_then(|frame| Response::decode(&frame))
+            .map_err(|e| LinkError::Protocol(e.to_string()))?;
+        if response.packet != request.packet {
             return Err(LinkError::Protocol(format!(
-                "answer {:04X}/{:04X} to request {function:04X}/{packet:04X}",
-                reply.function, reply.packet
+                "answer to packet {:04X} carries packet {:04X}",
+                request.packet, response.packet
             )));
         }
-        Ok(reply.payload)
+        match response.reply {
+            Reply::Failure { code } if code == function => Err(LinkError::Refused {
+                function,
+                what: what.to_string(),
+            }),
+            reply if response_code(&reply) == function => Ok(reply),
+            reply => Err(LinkError::Protocol(format!(
+                "answer {:04X} to request {function:04X}",
+                response_code(&reply)
+            ))),
+        }
+    }
+
+    /// A single-packet request whose success is a bare acknowledgement.
+    fn ack(&mut self, command: Command, what: &str) -> Result<(), LinkError> {
+        match self.request(&Request::single(command), what)? {
+            Reply::Ack(_) => Ok(()),
+            other => Err(unexpected(what, &other)),
+        }
     }
 
     /// A standard Modbus request PDU; the answer PDU (exceptions are errors).
@@ -139,87 +146,147 @@ impl Client {
     }
 
     pub fn attach(&mut self, password: &[u8; 16]) -> Result<(), LinkError> {
-        self.gutta(
-            0x0110,
-            0x8000,
-            password,
+        self.ack(
+            Command::PlcAttach {
+                password: *password,
+            },
             "the login (PLC_ATTACH: wrong password?)",
         )
-        .map(|_| ())
     }
 
     pub fn detach(&mut self) -> Result<(), LinkError> {
-        self.gutta(0x0111, 0x8000, &[], "PLC_DETACH").map(|_| ())
+        self.ack(Command::PlcDetach, "PLC_DETACH")
     }
 
     /// GET_PLC_NAME, without its zero padding.
     pub fn plc_name(&mut self) -> Result<String, LinkError> {
-        let bytes = self.gutta(0x0120, 0x8000, &[], "GET_PLC_NAME")?;
-        let end = bytes.iter().position(|&b| b == 0).unwrap_or(bytes.len());
-        Ok(String::from_utf8_lossy(&bytes[..end]).into_owned())
+        let what = "GET_PLC_NAME";
+        match self.request(&Request::single(Command::GetPlcName), what)? {
+            Reply::PlcName(bytes) => {
+                let end = bytes.iter().position(|&b| b == 0).unwrap_or(bytes.len());
+                Ok(String::from_utf8_lossy(&bytes[..end]).into_owned())
+            }
+            other => Err(unexpected(what, &other)),
+        }
     }
 
     pub fn clear(&mut self) -> Result<(), LinkError> {
-        self.gutta(0x0100, 0x8000, &[], "PLC_CLEAR").map(|_| ())
+        self.ack(Command::PlcClear, "PLC_CLEAR")
     }
 
     pub fn reset(&mut self) -> Result<(), LinkError> {
-        self.gutta(0x0A03, 0x8000, &[], "STATUS_RESET").map(|_| ())
+        self.ack(Command::StatusReset, "STATUS_RESET")
     }
 
     /// STATUS_READ: bit0 RUN, bit1 RESET, bit2 ATTACH, bit3 ERROR.
     pub fn status(&mut self) -> Result<u8, LinkError> {
-        let b = self.gutta(0x0A00, 0x8000, &[], "STATUS_READ")?;
-        b.first()
-            .copied()
-            .ok_or_else(|| LinkError::Protocol("STATUS_READ without its byte".into()))
+        let what = "STATUS_READ";
+        match self.request(&Request::single(Command::StatusRead), what)? {
+            Reply::Status(state) => Ok(state),
+            other => Err(unexpected(what, &other)),
+        }
     }
 
     /// STATUS_WRITE: RUN (true) or STOP.
     pub fn set_running(&mut self, run: bool) -> Result<(), LinkError> {
-        self.gutta(
-            0x0A01,
-            0x8000,
-            &[u8::from(run)],
+        self.ack(
+            Command::StatusWrite { run: u8::from(run) },
             "STATUS_WRITE (a PLC without a valid program cannot run)",
         )
-        .map(|_| ())
     }
 
     /// STATUS_VAR_READ: 4 bytes from each packed address.
     pub fn read_vars(&mut self, addresses: &[u32]) -> Result<Vec<[u8; 4]>, LinkError> {
-        let payload: Vec<u8> = addresses.iter().flat_map(|a| a.to_le_bytes()).collect();
-        let b = self.gutta(
-            0x0A10,
-            0x8000,
-            &payload,
-            "STATUS_VAR_READ (outside an area?)",
-        )?;
-        if b.len() != payload.len() {
-            return Err(LinkError::Protocol(
+        let what = "STATUS_VAR_READ (outside an area?)";
+        let command = Command::VarRead(addresses.iter().map(|&a| VarAddress(a)).collect());
+        match self.request(&Request::single(command), what)? {
+            Reply::VarValues(values) if values.len() == addresses.len() => {
+                Ok(values.into_iter().map(u32::to_le_bytes).collect())
+            }
+            Reply::VarValues(_) => Err(LinkError::Protocol(
                 "STATUS_VAR_READ answered the wrong length".into(),
-            ));
+            )),
+            other => Err(unexpected(what, &other)),
         }
-        Ok(b.chunks_exact(4)
-            .map(|c| [c[0], c[1], c[2], c[3]])
-            .collect())
     }
 
     /// STATUS_VAR_WRITE (`force`: STATUS_VAR_FORCE_WRITE) of (packed address, value).
     pub fn write_vars(&mut self, pairs: &[(u32, u32)], force: bool) -> Result<(), LinkError> {
-        let payload: Vec<u8> = pairs
-            .iter()
-            .flat_map(|(a, v)| a.to_le_bytes().into_iter().chain(v.to_le_bytes()))
-            .collect();
-        let (function, what) = if force {
-            (
-                0x0A21,
+        let pairs: Vec<(VarAddress, u32)> =
+            pairs.iter().map(|&(a, v)| (VarAddress(a), v)).collect();
+        if force {
+            self.ack(
+                Command::ForceWrite(pairs),
                 "STATUS_VAR_FORCE_WRITE (only I and Q can be forced)",
             )
         } else {
-            (0x0A11, "STATUS_VAR_WRITE (outside an area?)")
+            self.ack(
+                Command::VarWrite(pairs),
+                "STATUS_VAR_WRITE (outside an area?)",
+            )
+        }
+    }
+
+    /// DATA_ASK, SYSTEM_ASK or PROGRAM_ASK: the numbers of the pages present.
+    pub fn page_list(&mut self, area: PageArea) -> Result<Vec<u8>, LinkError> {
+        let what = Function::PageList(area).name();
+        match self.request(&Request::single(Command::PageList(area)), what)? {
+            Reply::PageList(_, pages) => Ok(pages),
+            other => Err(unexpected(what, &other)),
+        }
+    }
+
+    /// STATUS_DEBUG_INFOR_WRITE: set the breakpoint, or clear it (`None`).
+    pub fn set_breakpoint(&mut self, at: Option<Breakpoint>) -> Result<(), LinkError> {
+        let (breakpoint, what) = match at {
+            Some(b) => (b, "the breakpoint (no instruction there?)"),
+            None => (
+                Breakpoint {
+                    index: 0xFF,
+                    network: 0xFFFF,
+                    step: 0xFFFF,
+                },
+                "clearing the breakpoint",
+            ),
         };
-        self.gutta(function, 0x8000, &payload, what).map(|_| ())
+        self.ack(Command::DebugInforWrite(breakpoint), what)
+    }
+
+    /// STATUS_DEBUG_WRITE: run until a breakpoint (true) or single-step stop.
+    pub fn debug_run(&mut self, run: bool) -> Result<(), LinkError> {
+        let what = if run {
+            "run until a breakpoint"
+        } else {
+            "single-step stop"
+        };
+        self.ack(Command::DebugWrite { run: u8::from(run) }, what)
+    }
+
+    /// STATUS_DEBUG_SCAN: one step in, over or out.
+    pub fn debug_step(&mut self, step: DebugStep) -> Result<(), LinkError> {
+        self.ack(
+            Command::DebugScan(step),
+            "the step (is the program paused?)",
+        )
+    }
+
+    /// STATUS_DEBUG_RESET.
+    pub fn debug_reset(&mut self) -> Result<(), LinkError> {
+        self.ack(Command::DebugReset, "STATUS_DEBUG_RESET")
+    }
+
+    /// STATUS_DEBUG_READ (the DEBUG_STATE byte) and STATUS_DEBUG_INFOR_READ.
+    pub fn debug_info(&mut self) -> Result<(u8, DebugInfo), LinkError> {
+        let what = "STATUS_DEBUG_INFOR_READ";
+        let info = match self.request(&Request::single(Command::DebugInforRead), what)? {
+            Reply::DebugInfo(info) => info,
+            other => return Err(unexpected(what, &other)),
+        };
+        let what = "STATUS_DEBUG_READ";
+        match self.request(&Request::single(Command::DebugRead), what)? {
+            Reply::DebugState(state) => Ok((state, info)),
+            other => Err(unexpected(what, &other)),
+        }
     }
 
     /// Write a page in packets of `pack` bytes; `sent` is told the bytes after each.
@@ -230,40 +297,51 @@ impl Client {
         pack: usize,
         sent: &mut dyn FnMut(usize),
     ) -> Result<usize, LinkError> {
-        let (_, _, write) = page_codes(id).ok_or_else(|| {
-            LinkError::Protocol(format!("page {} has no protocol code", id.file_name()))
-        })?;
-        let chunks: Vec<&[u8]> = if bytes.is_empty() {
-            vec![&[]]
-        } else {
-            bytes.chunks(pack.max(1)).collect()
-        };
-        for (i, chunk) in chunks.iter().enumerate() {
-            let what = format!(
-                "writing {} (is the PLC stopped and cleared?)",
-                id.file_name()
-            );
-            self.gutta(write, last(i, chunks.len()), chunk, &what)?;
-            sent(chunk.len());
+        let page = page_ref(id)?;
+        let what = format!(
+            "writing {} (is the PLC stopped and cleared?)",
+            id.file_name()
+        );
+        let pack = u16::try_from(pack)
+            .ok()
+            .and_then(|p| PackSize::new(p).ok())
+            .ok_or_else(|| {
+                LinkError::Protocol(format!("packet size {pack} is outside UM4001's 64..=1023"))
+            })?;
+        let packets = split_page(bytes, pack).map_err(|e| LinkError::Protocol(e.to_string()))?;
+        let count = packets.len();
+        for (packet, chunk) in packets {
+            let request = Request {
+                packet,
+                command: Command::PageWrite(page, chunk.to_vec()),
+            };
+            match self.request(&request, &what)? {
+                Reply::Ack(_) => sent(chunk.len()),
+                other => return Err(unexpected(&what, &other)),
+            }
         }
-        Ok(chunks.len())
+        Ok(count)
     }
 
     /// Read a page: ask its length, then read its packets.
     pub fn read_page(&mut self, id: PageId, pack: usize) -> Result<Vec<u8>, LinkError> {
-        let (ask, read, _) = page_codes(id).ok_or_else(|| {
-            LinkError::Protocol(format!("page {} has no protocol code", id.file_name()))
-        })?;
+        let page = page_ref(id)?;
         let what = format!("reading {}", id.file_name());
-        let len = self.gutta(ask, 0x8000, &[], &what)?;
-        let [hi, lo] = len[..] else {
-            return Err(LinkError::Protocol("a page length is 2 bytes".into()));
+        let len = match self.request(&Request::single(Command::PageAsk(page)), &what)? {
+            Reply::PageLength(_, len) => usize::from(len),
+            other => return Err(unexpected(&what, &other)),
         };
-        let len = usize::from(u16::from_be_bytes([hi, lo]));
         let count = len.div_ceil(pack.max(1)).max(1);
         let mut out = Vec::with_capacity(len);
         for i in 0..count {
-            out.extend(self.gutta(read, last(i, count), &[], &what)?);
+            let request = Request {
+                packet: last(i, count),
+                command: Command::PageRead(page),
+            };
+            match self.request(&request, &what)? {
+                Reply::PageData(_, data) => out.extend(data),
+                other => return Err(unexpected(&what, &other)),
+            }
         }
         if out.len() != len {
             return Err(LinkError::Protocol(format!(
@@ -274,6 +352,24 @@ impl Client {
         }
         Ok(out)
     }
+}
+
+/// The function code a successful reply answers.
+fn response_code(reply: &Reply) -> u16 {
+    Response {
+        packet: 0,
+        reply: reply.clone(),
+    }
+    .code()
+}
+
+fn unexpected(what: &str, reply: &Reply) -> LinkError {
+    LinkError::Protocol(format!("{what}: unexpected answer {reply:?}"))
+}
+
+fn page_ref(id: PageId) -> Result<PageRef, LinkError> {
+    PageRef::of(id)
+        .ok_or_else(|| LinkError::Protocol(format!("page {} has no protocol code", id.file_name())))
 }
 
 /// What a download did.
@@ -349,11 +445,9 @@ pub fn download(
 pub fn upload(client: &mut Client, password: &[u8; 16], pack: usize) -> Result<Image, LinkError> {
     client.attach(password)?;
     let plc_type = client.plc_name()?;
-    let list =
-        |client: &mut Client, function: u16, what: &str| client.gutta(function, 0x8000, &[], what);
-    let data = list(client, 0x0210, "DATA_ASK")?;
-    let system = list(client, 0x0260, "SYSTEM_ASK")?;
-    let program = list(client, 0x0300, "PROGRAM_ASK")?;
+    let data = client.page_list(PageArea::Data)?;
+    let system = client.page_list(PageArea::System)?;
+    let program = client.page_list(PageArea::Program)?;
     let mut ids = vec![PageId::new(PageKind::Const, 0)];
     for &n in &program {
         ids.push(PageId::new(PageKind::Argument, n));
