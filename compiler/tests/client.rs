@@ -136,6 +136,15 @@ fn download_then_operate_the_plc() {
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o).contains("does not fit"), "{}", text(&o));
     assert!(run(&["run"]).status.success());
+    // Inputs are terminals: written while the PLC runs, they hold across scans (about
+    // ten in 100 ms at the simulator's 10 ms period) until written again.
+    assert!(run(&["write", "AIW0=1234", "I0.3=1"]).status.success());
+    std::thread::sleep(std::time::Duration::from_millis(100));
+    assert_eq!(
+        String::from_utf8_lossy(&run(&["read", "AIW0", "I0.3"]).stdout),
+        "AIW0 = 1234\nI0.3 = 1\n"
+    );
+    assert!(run(&["write", "AIW0=100", "I0.3=0"]).status.success());
     // Upload: the directory gutta-cc wrote for the download, every file byte for byte,
     // manifest.json included, and no file more or less.
     let back = std::env::temp_dir().join(format!("gutta-cc-upload-{}", std::process::id()));
