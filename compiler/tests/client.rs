@@ -232,3 +232,80 @@ fn a_download_for_another_plc_type_changes_nothing() {
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o).contains("--tcp HOST:PORT"), "{}", text(&o));
 }
+
+/// Whether socat is there; fails when the CI requires the tools (`.ci/run`).
+fn have_socat() -> bool {
+    let found = Command::new("sh")
+        .args(["-c", "command -v socat"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !found {
+        assert!(
+            std::env::var("GUTTA_REQUIRE_TOOLS").is_err(),
+            "socat is required (GUTTA_REQUIRE_TOOLS is set) but not installed"
+        );
+        eprintln!("skipped: socat is not installed (bash .ci/run installs it)");
+    }
+    found
+}
+
+#[test]
+fn download_and_operate_over_a_serial_line() {
+    if !have_socat() {
+        return;
+    }
+    // A socat pty pair is the serial cable: gutta-sim on one end, gutta-cc on the other.
+    let base = std::env::temp_dir().join(format!("gutta-cc-serial-{}", std::process::id()));
+    let (plc_end, tool_end) = (base.with_extension("plc"), base.with_extension("tool"));
+    let mut socat = Command::new("socat")
+        .arg(format!("pty,raw,echo=0,link={}", plc_end.display()))
+        .arg(format!("pty,raw,echo=0,link={}", tool_end.display()))
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("socat starts");
+    for _ in 0..100 {
+        if plc_end.exists() && tool_end.exists() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let mut child = Command::new(bin("gutta-sim"))
+        .args(["--plc", "CPU-EC20", "--serial"])
+        .arg(&plc_end)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("gutta-sim starts");
+    let line = BufReader::new(child.stdout.take().expect("stdout"))
+        .lines()
+        .next()
+        .expect("listener")
+        .expect("text");
+    let sim = Sim(child, line);
+    assert!(sim.1.contains("rtu-serial on"), "{}", sim.1);
+    let image = compile("CPU-EC20", "serial");
+    let device = tool_end.to_str().expect("path").to_string();
+    let run = |args: &[&str]| {
+        let mut all = args.to_vec();
+        all.extend_from_slice(&["--serial", &device]);
+        cc(&all)
+    };
+    let o = run(&["download", image.to_str().expect("path")]);
+    let status = run(&["status"]);
+    let read = run(&["read", "MW24", "MW26"]);
+    drop(sim);
+    let _ = socat.kill();
+    let _ = socat.wait();
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&status).starts_with("CPU-EC20: RUN"),
+        "{}",
+        text(&status)
+    );
+    assert_eq!(
+        String::from_utf8_lossy(&read.stdout),
+        "MW24 = 3585\nMW26 = 3586\n",
+        "{}",
+        text(&read)
+    );
+}
