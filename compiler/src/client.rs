@@ -19,6 +19,19 @@ fn link_error(e: LinkError) -> Fatal {
     Fatal(e.to_string())
 }
 
+/// The serial line the options ask for.
+pub(crate) fn client_line(args: &LinkArgs) -> gutta_format::LineSettings {
+    gutta_format::LineSettings {
+        baud: args.baud,
+        parity: match args.parity {
+            crate::Parity::None => 0,
+            crate::Parity::Even => 1,
+            crate::Parity::Odd => 2,
+        },
+        ..gutta_format::LineSettings::DEFAULT
+    }
+}
+
 /// Connect as the options say.
 fn connect(args: &LinkArgs) -> Result<Client, Fatal> {
     let transport: Box<dyn gutta_link::Transport> = if let Some(a) = &args.tcp {
@@ -26,7 +39,7 @@ fn connect(args: &LinkArgs) -> Result<Client, Fatal> {
     } else if let Some(a) = &args.rtu_tcp {
         Box::new(rtu_over_tcp(a, args.timeout, args.retries).map_err(link_error)?)
     } else if let Some(d) = &args.serial {
-        Box::new(serial(d, args.baud, args.timeout, args.retries).map_err(link_error)?)
+        Box::new(serial(d, client_line(args), args.timeout, args.retries).map_err(link_error)?)
     } else {
         return Err(Fatal(
             "no PLC given: use --tcp HOST:PORT, --rtu-tcp HOST:PORT or --serial DEVICE".into(),
@@ -144,7 +157,47 @@ pub(crate) fn download(
         report.requests,
         start.elapsed().as_secs_f64()
     );
+    // The reset applied the image's system block: say where the PLC answers now, when
+    // that differs from how this download reached it.
+    let port0 = image
+        .page(gutta_format::PageKind::System, 0)
+        .and_then(|b| gutta_format::SystemPage::decode(b).ok())
+        .and_then(|s| s.ports.first().copied());
+    if let Some(port) = port0 {
+        let line = port.line();
+        let moved = port.address != args.station && args.station != 0;
+        let serial = args.serial.is_some() && line != client_line(args);
+        if moved || serial {
+            println!(
+                "the PLC now answers as station {}{} (its system block): use --station {}{}",
+                port.address,
+                if args.serial.is_some() {
+                    format!(" on a {line} line")
+                } else {
+                    String::new()
+                },
+                port.address,
+                if serial {
+                    format!(
+                        " --baud {} --parity {}",
+                        line.baud,
+                        parity_name(line.parity)
+                    )
+                } else {
+                    String::new()
+                }
+            );
+        }
+    }
     Ok(ExitCode::SUCCESS)
+}
+
+fn parity_name(parity: u8) -> &'static str {
+    match parity {
+        0 => "none",
+        2 => "odd",
+        _ => "even",
+    }
 }
 
 pub(crate) fn upload(targets: &TargetArgs, dir: &Path, args: &LinkArgs) -> Result<ExitCode, Fatal> {

@@ -145,6 +145,14 @@ enum Command {
     ListTargets,
 }
 
+/// Serial parity, as a system block's PORTn.PARITY.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Parity {
+    None,
+    Even,
+    Odd,
+}
+
 /// How to reach a PLC.
 #[derive(Debug, clap::Args)]
 struct LinkArgs {
@@ -154,12 +162,15 @@ struct LinkArgs {
     /// Modbus RTU frames over TCP (a serial server, or gutta-sim --rtu-tcp).
     #[arg(long, value_name = "HOST:PORT", group = "endpoint")]
     rtu_tcp: Option<String>,
-    /// Modbus RTU on a serial device (8 data bits, even parity, 1 stop bit).
+    /// Modbus RTU on a serial device (8 data bits, 1 stop bit).
     #[arg(long, value_name = "DEVICE", group = "endpoint")]
     serial: Option<String>,
-    /// Baud rate for --serial.
+    /// Baud rate for --serial: the PLC's port 0 (its system block), 19200 without one.
     #[arg(long, value_name = "BAUD", default_value_t = 19200)]
     baud: u32,
+    /// Parity for --serial: the PLC's port 0 (its system block), even without one.
+    #[arg(long, value_name = "PARITY", default_value = "even")]
+    parity: Parity,
     /// The PLC's login password (the system block's); none is the factory password.
     #[arg(long, value_name = "TEXT")]
     password: Option<String>,

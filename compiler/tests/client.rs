@@ -58,8 +58,14 @@ fn text(o: &Output) -> String {
 }
 
 fn compile(plc: &str, tag: &str) -> PathBuf {
+    compile_example(plc, "in1001_pointers.lad", tag)
+}
+
+fn compile_example(plc: &str, example: &str, tag: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("gutta-cc-client-{tag}-{}", std::process::id()));
-    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/in1001_pointers.lad");
+    let example = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../examples")
+        .join(example);
     let o = cc(&[
         example.to_str().expect("path"),
         "--plc",
@@ -276,13 +282,20 @@ fn download_and_operate_over_a_serial_line() {
         .stderr(Stdio::null())
         .spawn()
         .expect("gutta-sim starts");
-    let line = BufReader::new(child.stdout.take().expect("stdout"))
-        .lines()
-        .next()
-        .expect("listener")
-        .expect("text");
+    let mut said = BufReader::new(child.stdout.take().expect("stdout")).lines();
+    let line = said.next().expect("listener").expect("text");
+    // Later lines arrive on a thread, so a missing one fails the test instead of
+    // hanging it.
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in said.map_while(Result::ok) {
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
     let sim = Sim(child, line);
-    assert!(sim.1.contains("rtu-serial on"), "{}", sim.1);
+    assert!(sim.1.ends_with("(19200 8E1)"), "{}", sim.1);
     let image = compile("CPU-EC20", "serial");
     let device = tool_end.to_str().expect("path").to_string();
     let run = |args: &[&str]| {
@@ -293,6 +306,23 @@ fn download_and_operate_over_a_serial_line() {
     let o = run(&["download", image.to_str().expect("path")]);
     let status = run(&["status"]);
     let read = run(&["read", "MW24", "MW26"]);
+    // blink's system block: station 20, 38400 8E1, password 1234. After its reset the
+    // simulator's end of the line runs at 38400; gutta-cc says how to reach it.
+    let blink = compile_example("CPU-EC20", "blink.lad", "serial-blink");
+    let moved = run(&["download", blink.to_str().expect("path")]);
+    // The simulator reports each switch of its end of the line.
+    let switched = || {
+        rx.recv_timeout(std::time::Duration::from_secs(10))
+            .unwrap_or_default()
+    };
+    let after_blink = switched();
+    let at_20 = ["--station", "20", "--baud", "38400", "--password", "1234"];
+    let blink_status = run(&[&["status"][..], &at_20].concat());
+    // Downloading again from there: PLC_CLEAR sends the PLC back to station 1 at 19200
+    // 8E1, the client follows, and the pointer example (no system block) stays there.
+    let back = run(&[&["download", image.to_str().expect("path")][..], &at_20].concat());
+    let after_clear = switched();
+    let final_status = run(&["status"]);
     drop(sim);
     let _ = socat.kill();
     let _ = socat.wait();
@@ -307,5 +337,27 @@ fn download_and_operate_over_a_serial_line() {
         "MW24 = 3585\nMW26 = 3586\n",
         "{}",
         text(&read)
+    );
+    assert!(moved.status.success(), "{}", text(&moved));
+    assert!(
+        text(&moved).contains(
+            "the PLC now answers as station 20 on a 38400 8E1 line (its system block): \
+             use --station 20 --baud 38400 --parity even"
+        ),
+        "{}",
+        text(&moved)
+    );
+    assert!(after_blink.ends_with("now 38400 8E1"), "{after_blink}");
+    assert!(
+        text(&blink_status).starts_with("CPU-EC20: RUN"),
+        "{}",
+        text(&blink_status)
+    );
+    assert!(back.status.success(), "{}", text(&back));
+    assert!(after_clear.ends_with("now 19200 8E1"), "{after_clear}");
+    assert!(
+        text(&final_status).starts_with("CPU-EC20: RUN"),
+        "{}",
+        text(&final_status)
     );
 }

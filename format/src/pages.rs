@@ -311,6 +311,56 @@ pub struct PortEntry {
     pub frame_gap: u8,
 }
 
+impl PortEntry {
+    /// The serial line this port runs with.
+    pub fn line(&self) -> LineSettings {
+        LineSettings {
+            baud: self.baud,
+            data_bits: self.data_bits,
+            parity: self.parity,
+            stop_bits: self.stop_bits,
+        }
+    }
+}
+
+/// A serial line's settings: what a port of the system page says, or `DEFAULT`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct LineSettings {
+    pub baud: u32,
+    pub data_bits: u8,
+    /// 0 none, 1 even, 2 odd (as in `PortEntry`).
+    pub parity: u8,
+    pub stop_bits: u8,
+}
+
+impl LineSettings {
+    /// 19200 baud, 8 data bits, even parity, 1 stop bit: a port without a system page,
+    /// and every port after PLC_CLEAR (UM4001).
+    pub const DEFAULT: LineSettings = LineSettings {
+        baud: 19200,
+        data_bits: 8,
+        parity: 1,
+        stop_bits: 1,
+    };
+}
+
+impl std::fmt::Display for LineSettings {
+    /// `19200 8E1`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let parity = match self.parity {
+            0 => 'N',
+            1 => 'E',
+            2 => 'O',
+            _ => '?',
+        };
+        write!(
+            f,
+            "{} {}{parity}{}",
+            self.baud, self.data_bits, self.stop_bits
+        )
+    }
+}
+
 /// The system page: ports and password.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct SystemPage {

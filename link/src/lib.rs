@@ -6,7 +6,7 @@ pub mod transport;
 
 use std::collections::BTreeMap;
 
-use gutta_format::{Image, PageId, PageKind};
+use gutta_format::{Image, LineSettings, PageId, PageKind};
 use gutta_protocol::gutta::{Function, GuttaFrame, PageArea, PageRef};
 use gutta_protocol::message::{
     Breakpoint, Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response, VarAddress,
@@ -82,6 +82,21 @@ fn last(index: usize, count: usize) -> u16 {
 impl Client {
     pub fn new(transport: Box<dyn Transport>, station: u8) -> Client {
         Client { transport, station }
+    }
+
+    /// The station address requests go to (0: broadcast, which a GUTTA PLC answers for
+    /// function 13).
+    pub fn station(&self) -> u8 {
+        self.station
+    }
+
+    pub fn set_station(&mut self, station: u8) {
+        self.station = station;
+    }
+
+    /// Switch the serial line (if the transport has one) to `line`.
+    pub fn set_line(&mut self, line: LineSettings) -> Result<(), LinkError> {
+        self.transport.set_line(line)
     }
 
     /// One GUTTA request, encoded and its answer decoded by gutta-protocol's typed
@@ -383,8 +398,8 @@ pub struct DownloadReport {
 }
 
 /// Download `image` as UM4001 says: log in, check GET_PLC_NAME against the image's PLC
-/// type, PLC_CLEAR (erases the old program and password, stops), log in with the
-/// factory password, write every page in packets of `pack` bytes, read every page back
+/// type, PLC_CLEAR (erases the old program and password, stops; the client follows the
+/// PLC to station 1 and a 19200 8E1 line), log in with the factory password, write every page in packets of `pack` bytes, read every page back
 /// and compare, STATUS_RESET (the PLC verifies and runs the image). If anything fails
 /// before the reset, the PLC stays cleared and stopped: it never runs half an image.
 /// `progress` is told the bytes of each packet written and of each page read back, so
@@ -407,6 +422,12 @@ pub fn download(
         });
     }
     client.clear()?;
+    // PLC_CLEAR erased the system page: the PLC answers at station 1 now, on a serial
+    // line at 19200 8E1 (UM4001). Follow it; a broadcast client stays on 0.
+    if client.station() != 0 {
+        client.set_station(1);
+    }
+    client.set_line(LineSettings::DEFAULT)?;
     client.attach(&FACTORY_PASSWORD)?;
     requests += 2;
     let mut bytes = 0;

@@ -6,6 +6,7 @@ use std::io::{ErrorKind, Read, Write};
 use std::net::TcpStream;
 use std::time::{Duration, Instant};
 
+use gutta_format::LineSettings;
 use gutta_protocol::master::{Master, MasterConfig, MasterEvent};
 use gutta_protocol::stream::TcpSplitter;
 use gutta_protocol::tcp::{decode_tcp, encode_tcp};
@@ -15,6 +16,50 @@ use crate::LinkError;
 /// One request, one answer.
 pub trait Transport: std::fmt::Debug {
     fn exchange(&mut self, station: u8, pdu: &[u8]) -> Result<Vec<u8>, LinkError>;
+
+    /// Switch a serial line to `line` (PLC_CLEAR and a reset change the PLC's); a
+    /// transport without a line ignores it.
+    fn set_line(&mut self, _line: LineSettings) -> Result<(), LinkError> {
+        Ok(())
+    }
+}
+
+/// The byte stream under an RTU transport, with or without a serial line to set.
+pub trait Line {
+    fn set_line(&mut self, line: LineSettings) -> Result<(), String>;
+}
+
+impl Line for TcpStream {
+    fn set_line(&mut self, _line: LineSettings) -> Result<(), String> {
+        Ok(())
+    }
+}
+
+impl Line for Box<dyn serialport::SerialPort> {
+    fn set_line(&mut self, line: LineSettings) -> Result<(), String> {
+        use serialport::{DataBits, Parity, StopBits};
+        let data_bits = match line.data_bits {
+            5 => DataBits::Five,
+            6 => DataBits::Six,
+            7 => DataBits::Seven,
+            _ => DataBits::Eight,
+        };
+        let parity = match line.parity {
+            0 => Parity::None,
+            2 => Parity::Odd,
+            _ => Parity::Even,
+        };
+        let stop_bits = if line.stop_bits == 2 {
+            StopBits::Two
+        } else {
+            StopBits::One
+        };
+        self.set_baud_rate(line.baud)
+            .and_then(|()| self.set_data_bits(data_bits))
+            .and_then(|()| self.set_parity(parity))
+            .and_then(|()| self.set_stop_bits(stop_bits))
+            .map_err(|e| e.to_string())
+    }
 }
 
 /// How long one read waits before the master's clock is checked.
@@ -123,24 +168,30 @@ pub fn rtu_over_tcp(
     Ok(RtuTransport::new(stream, timeout_ms, retries))
 }
 
-/// A serial line: `baud`, 8 data bits, even parity, 1 stop bit (the GUTTA default).
+/// A serial line with `line`'s settings (`LineSettings::DEFAULT` is 19200 8E1, a
+/// PLC's after PLC_CLEAR).
 pub fn serial(
     device: &str,
-    baud: u32,
+    line: LineSettings,
     timeout_ms: u64,
     retries: u32,
 ) -> Result<RtuTransport<Box<dyn serialport::SerialPort>>, LinkError> {
-    let port = serialport::new(device, baud)
-        .data_bits(serialport::DataBits::Eight)
-        .parity(serialport::Parity::Even)
-        .stop_bits(serialport::StopBits::One)
+    let mut port = serialport::new(device, line.baud)
         .timeout(POLL)
         .open()
         .map_err(|e| LinkError::Io(format!("cannot open {device}: {e}")))?;
+    Line::set_line(&mut port, line).map_err(|e| LinkError::Io(format!("{device}: {e}")))?;
     Ok(RtuTransport::new(port, timeout_ms, retries))
 }
 
-impl<S: Read + Write + std::fmt::Debug> Transport for RtuTransport<S> {
+impl<S: Read + Write + Line + std::fmt::Debug> Transport for RtuTransport<S> {
+    fn set_line(&mut self, line: LineSettings) -> Result<(), LinkError> {
+        self.port
+            .flush()
+            .map_err(|e| LinkError::Io(e.to_string()))?;
+        Line::set_line(&mut self.port, line).map_err(LinkError::Io)
+    }
+
     fn exchange(&mut self, station: u8, pdu: &[u8]) -> Result<Vec<u8>, LinkError> {
         let bytes = self
             .master

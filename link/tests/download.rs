@@ -288,3 +288,42 @@ fn a_client_that_disconnects_mid_download_leaves_a_stopped_plc_and_a_serving_ser
         "runs the whole image"
     );
 }
+
+#[test]
+fn a_system_block_moves_the_station_at_reset_and_clear_moves_it_back() {
+    let sim = start("CPU-EC20");
+    let rtu = |station| {
+        Client::new(
+            Box::new(rtu_over_tcp(&sim.rtu, 300, 0).expect("connects")),
+            station,
+        )
+    };
+    // blink's system block says station 20 and password 1234. The download writes it
+    // while the PLC still answers at 1 (it takes effect at the reset) and reads every
+    // page back there.
+    let mut client = rtu(1);
+    download(
+        &mut client,
+        &compiled("CPU-EC20", BLINK),
+        &FACTORY_PASSWORD,
+        64,
+        &mut |_| {},
+    )
+    .expect("downloads at station 1");
+    let password = gutta_format::password_bytes(Some("1234"));
+    assert!(
+        matches!(rtu(1).attach(&password), Err(LinkError::Timeout { .. })),
+        "station 1 is silent after the reset"
+    );
+    let mut at_20 = rtu(20);
+    at_20.attach(&password).expect("logs in at station 20");
+    assert_eq!(at_20.status().expect("status") & 1, 1, "RUN");
+    // Downloading from station 20: PLC_CLEAR sends the PLC back to station 1 and the
+    // client follows it there.
+    download(&mut at_20, &image("CPU-EC20"), &password, 64, &mut |_| {})
+        .expect("downloads from station 20");
+    assert_eq!(at_20.station(), 1);
+    let mut at_1 = rtu(1);
+    at_1.attach(&FACTORY_PASSWORD).expect("station 1 again");
+    assert_eq!(at_1.status().expect("status") & 1, 1, "RUN");
+}

@@ -10,6 +10,7 @@ use std::time::{Duration, Instant};
 
 use clap::Parser;
 use gutta_catalog::{stdlib, Target};
+use gutta_format::LineSettings;
 use gutta_sim::plc::Plc;
 use gutta_sim::session::{Framing, Session};
 use gutta_vm::VmConfig;
@@ -45,10 +46,11 @@ struct Cli {
     /// a socat pty pair.
     #[arg(long = "serial", value_name = "DEVICE")]
     serial: Vec<PathBuf>,
-    /// Baud rate of --serial devices (8 data bits, even parity, 1 stop bit: the GUTTA
-    /// default after PLC_CLEAR).
-    #[arg(long, value_name = "BAUD", default_value_t = 19200)]
-    baud: u32,
+    /// Hold --serial devices at this baud rate. Without it the n-th device follows the
+    /// PLC's port n: the system page's settings after a reset, 19200 8E1 without one
+    /// and after PLC_CLEAR.
+    #[arg(long, value_name = "BAUD")]
+    baud: Option<u32>,
     /// Real time per scan, in milliseconds (also the VM's virtual time per scan).
     #[arg(long, value_name = "MS", default_value_t = 10)]
     scan_ms: u32,
@@ -162,7 +164,7 @@ async fn run(cli: Cli) -> Result<(), Fatal> {
                     Ok((stream, _)) => {
                         let _ = stream.set_nodelay(true);
                         let plc = Arc::clone(&plc);
-                        tokio::spawn(serve(stream, framing, plc, start));
+                        tokio::spawn(serve(stream, framing, plc, start, None));
                     }
                     Err(e) => {
                         eprintln!("gutta-sim: accept failed: {e}");
@@ -173,17 +175,32 @@ async fn run(cli: Cli) -> Result<(), Fatal> {
         });
     }
 
-    for device in &cli.serial {
+    for (n, device) in cli.serial.iter().enumerate() {
         let path = device.display().to_string();
-        let port = tokio_serial::new(&path, cli.baud)
-            .data_bits(tokio_serial::DataBits::Eight)
-            .parity(tokio_serial::Parity::Even)
-            .stop_bits(tokio_serial::StopBits::One)
+        let follow = Follow {
+            port: n,
+            path: path.clone(),
+            fixed_baud: cli.baud,
+            line: LineSettings::DEFAULT,
+            apply: configure,
+        };
+        let line = match plc.lock() {
+            Ok(plc) => follow.wanted(&plc),
+            Err(_) => return Err(Fatal("the PLC state was poisoned by a panic".into())),
+        };
+        let mut port = tokio_serial::new(&path, line.baud)
             .open_native_async()
             .map_err(|e| Fatal(format!("cannot open {path}: {e}")))?;
-        say(&format!("gutta-sim: rtu-serial on {path}"));
+        configure(&mut port, line).map_err(|e| Fatal(format!("{path}: {e}")))?;
+        say(&format!("gutta-sim: rtu-serial on {path} ({line})"));
         let plc = Arc::clone(&plc);
-        tokio::spawn(serve(port, Framing::Rtu, plc, start));
+        tokio::spawn(serve(
+            port,
+            Framing::Rtu,
+            plc,
+            start,
+            Some(Follow { line, ..follow }),
+        ));
     }
 
     // The scan cycle, in real time.
@@ -231,8 +248,13 @@ async fn run(cli: Cli) -> Result<(), Fatal> {
 
 /// One connection or serial line: read, answer, until the client closes or sends
 /// garbage.
-async fn serve<S>(mut stream: S, framing: Framing, plc: Arc<Mutex<Plc>>, start: Instant)
-where
+async fn serve<S>(
+    mut stream: S,
+    framing: Framing,
+    plc: Arc<Mutex<Plc>>,
+    start: Instant,
+    mut follow: Option<Follow<S>>,
+) where
     S: tokio::io::AsyncRead + tokio::io::AsyncWrite + Unpin,
 {
     let mut session = Session::new(framing);
@@ -253,6 +275,28 @@ where
                 if stream.write_all(&bytes).await.is_err() {
                     return;
                 }
+                if let Some(follow) = follow.as_mut() {
+                    let next = match plc.lock() {
+                        Ok(plc) => follow.wanted(&plc),
+                        Err(_) => return,
+                    };
+                    if next != follow.line {
+                        // The answer leaves at the old settings (a reset or PLC_CLEAR
+                        // is answered before it takes effect), then the line switches.
+                        tokio::time::sleep(wire_time(bytes.len(), follow.line)).await;
+                        match (follow.apply)(&mut stream, next) {
+                            Ok(()) => say(&format!(
+                                "gutta-sim: rtu-serial on {} now {next}",
+                                follow.path
+                            )),
+                            Err(e) => eprintln!(
+                                "gutta-sim: {}: cannot switch the line to {next}: {e}",
+                                follow.path
+                            ),
+                        }
+                        follow.line = next;
+                    }
+                }
             }
             Err(e) => {
                 eprintln!("gutta-sim: closing a connection: {e}");
@@ -260,4 +304,59 @@ where
             }
         }
     }
+}
+
+/// A serial line that follows the PLC's port settings.
+struct Follow<S> {
+    /// The PLC port it is (the n-th --serial device).
+    port: usize,
+    path: String,
+    /// --baud: the baud rate stays this.
+    fixed_baud: Option<u32>,
+    /// The settings the line has now.
+    line: LineSettings,
+    apply: fn(&mut S, LineSettings) -> Result<(), String>,
+}
+
+impl<S> Follow<S> {
+    fn wanted(&self, plc: &Plc) -> LineSettings {
+        let line = plc.line(self.port);
+        LineSettings {
+            baud: self.fixed_baud.unwrap_or(line.baud),
+            ..line
+        }
+    }
+}
+
+/// How long `bytes` take on a line (start, data, parity and stop bits).
+fn wire_time(bytes: usize, line: LineSettings) -> Duration {
+    let bits =
+        1 + u32::from(line.data_bits) + u32::from(line.parity != 0) + u32::from(line.stop_bits);
+    Duration::from_secs_f64(bytes as f64 * f64::from(bits) / f64::from(line.baud.max(1)))
+}
+
+/// Set a serial device to `line`.
+fn configure(port: &mut tokio_serial::SerialStream, line: LineSettings) -> Result<(), String> {
+    use tokio_serial::{DataBits, Parity, SerialPort, StopBits};
+    let data_bits = match line.data_bits {
+        5 => DataBits::Five,
+        6 => DataBits::Six,
+        7 => DataBits::Seven,
+        _ => DataBits::Eight,
+    };
+    let parity = match line.parity {
+        0 => Parity::None,
+        2 => Parity::Odd,
+        _ => Parity::Even,
+    };
+    let stop_bits = if line.stop_bits == 2 {
+        StopBits::Two
+    } else {
+        StopBits::One
+    };
+    port.set_baud_rate(line.baud)
+        .and_then(|()| port.set_data_bits(data_bits))
+        .and_then(|()| port.set_parity(parity))
+        .and_then(|()| port.set_stop_bits(stop_bits))
+        .map_err(|e| e.to_string())
 }

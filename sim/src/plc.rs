@@ -20,7 +20,7 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use gutta_catalog::Target;
-use gutta_format::{verify, ArgumentPage, Image, PageId, PageKind};
+use gutta_format::{verify, ArgumentPage, Image, LineSettings, PageId, PageKind};
 use gutta_protocol::gutta::{GuttaFrame, PageArea};
 use gutta_protocol::message::{
     Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response, VarAddress,
@@ -104,6 +104,9 @@ pub struct Plc {
     last_refusal: Option<Refusal>,
     /// Where the PLC's serial ports lead (for EXCH); attached to every loaded VM.
     ports: BTreeMap<u8, crate::ports::PortSpec>,
+    /// The ports of the system page as of the last reset (empty: defaults). Writing a
+    /// new system page changes nothing until STATUS_RESET; PLC_CLEAR reverts them.
+    active_ports: Vec<gutta_format::PortEntry>,
 }
 
 fn blank_image(target: &Target) -> Image {
@@ -151,6 +154,7 @@ impl Plc {
             image_error: false,
             last_refusal: None,
             ports: BTreeMap::new(),
+            active_ports: Vec::new(),
         };
         plc.reset();
         Ok(plc)
@@ -180,13 +184,18 @@ impl Plc {
         self.last_refusal.as_ref()
     }
 
-    /// The station address: the first port of the system page (default 1).
+    /// The station address: port 0's in the system page of the last reset (1 without
+    /// one, and after PLC_CLEAR).
     pub fn station(&self) -> u8 {
-        self.pages
-            .get(&PageId::new(PageKind::System, 0))
-            .and_then(|b| gutta_format::SystemPage::decode(b).ok())
-            .and_then(|s| s.ports.first().map(|p| p.address))
-            .unwrap_or(1)
+        self.active_ports.first().map_or(1, |p| p.address)
+    }
+
+    /// Serial port `n`'s line: as the system page of the last reset says, else (and
+    /// after PLC_CLEAR) 19200 8E1.
+    pub fn line(&self, n: usize) -> LineSettings {
+        self.active_ports
+            .get(n)
+            .map_or(LineSettings::DEFAULT, |p| p.line())
     }
 
     /// STATUS_RESET (and power-on): lock the flash, drop the login, load the pages. An
@@ -199,12 +208,12 @@ impl Plc {
             plc_type: self.target.name().to_string(),
             pages: self.pages.clone(),
         };
-        self.password = gutta_format::SystemPage::decode(
-            self.pages
-                .get(&PageId::new(PageKind::System, 0))
-                .map_or(&[][..], Vec::as_slice),
-        )
-        .map_or(FACTORY_PASSWORD, |s| s.password);
+        let system = self
+            .pages
+            .get(&PageId::new(PageKind::System, 0))
+            .and_then(|b| gutta_format::SystemPage::decode(b).ok());
+        self.password = system.as_ref().map_or(FACTORY_PASSWORD, |s| s.password);
+        self.active_ports = system.map(|s| s.ports).unwrap_or_default();
         let loaded = verify(&image, &self.target)
             .ok()
             .and_then(|v| Vm::new(v, Arc::clone(&self.target), self.config).ok());
@@ -297,6 +306,8 @@ impl Plc {
             Command::PlcClear => {
                 self.pages.clear();
                 self.password = FACTORY_PASSWORD;
+                // The station and the serial lines revert to their defaults (UM4001).
+                self.active_ports.clear();
                 self.unlocked = true;
                 self.image_error = false;
                 self.vm.set_running(false);

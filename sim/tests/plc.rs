@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use gutta_catalog::stdlib;
-use gutta_format::{Image, PageId, PageKind};
+use gutta_format::{Image, LineSettings, PageId, PageKind};
 use gutta_protocol::gutta::GuttaFrame;
 use gutta_sim::plc::{Plc, Refusal, FACTORY_PASSWORD, LAST_PACKET};
 use gutta_vm::VmConfig;
@@ -219,4 +219,30 @@ fn malformed_requests_fail_with_the_failure_form() {
     }
     // After all that the PLC still answers.
     assert_eq!(ok(plc.gutta(0x0A00, LAST_PACKET, &[], 0)).len(), 1);
+}
+
+#[test]
+fn the_system_page_sets_station_and_lines_at_reset_and_clear_reverts_them() {
+    let blink = image(include_str!("../../examples/blink.lad"));
+    let mut plc = blank_plc();
+    assert_eq!((plc.station(), plc.line(0)), (1, LineSettings::DEFAULT));
+    ok(plc.gutta(0x0100, LAST_PACKET, &[], 0));
+    ok(plc.gutta(0x0110, LAST_PACKET, &FACTORY_PASSWORD, 0));
+    for (id, bytes) in &blink.pages {
+        write_page(&mut plc, *id, bytes);
+    }
+    // Written but not yet reset: the PLC still answers as before.
+    assert_eq!((plc.station(), plc.line(0)), (1, LineSettings::DEFAULT));
+    ok(plc.gutta(0x0A03, LAST_PACKET, &[], 0));
+    let port0 = LineSettings {
+        baud: 38400,
+        data_bits: 8,
+        parity: 1,
+        stop_bits: 1,
+    };
+    assert_eq!((plc.station(), plc.line(0)), (20, port0));
+    assert_eq!(plc.line(1), LineSettings::DEFAULT, "blink sets port 0 only");
+    // PLC_CLEAR erases the system page: station 1, 19200 8E1 (UM4001).
+    ok(plc.gutta(0x0100, LAST_PACKET, &[], 0));
+    assert_eq!((plc.station(), plc.line(0)), (1, LineSettings::DEFAULT));
 }
