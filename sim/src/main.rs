@@ -182,7 +182,7 @@ async fn run(cli: Cli) -> Result<(), Fatal> {
             path: path.clone(),
             fixed_baud: cli.baud,
             line: LineSettings::DEFAULT,
-            apply: configure,
+            apply: |port, line| gutta_sim::ports::configure(port, line),
         };
         let line = match plc.lock() {
             Ok(plc) => follow.wanted(&plc),
@@ -191,7 +191,7 @@ async fn run(cli: Cli) -> Result<(), Fatal> {
         let mut port = tokio_serial::new(&path, line.baud)
             .open_native_async()
             .map_err(|e| Fatal(format!("cannot open {path}: {e}")))?;
-        configure(&mut port, line).map_err(|e| Fatal(format!("{path}: {e}")))?;
+        gutta_sim::ports::configure(&mut port, line).map_err(|e| Fatal(format!("{path}: {e}")))?;
         say(&format!("gutta-sim: rtu-serial on {path} ({line})"));
         let plc = Arc::clone(&plc);
         tokio::spawn(serve(
@@ -333,30 +333,4 @@ fn wire_time(bytes: usize, line: LineSettings) -> Duration {
     let bits =
         1 + u32::from(line.data_bits) + u32::from(line.parity != 0) + u32::from(line.stop_bits);
     Duration::from_secs_f64(bytes as f64 * f64::from(bits) / f64::from(line.baud.max(1)))
-}
-
-/// Set a serial device to `line`.
-fn configure(port: &mut tokio_serial::SerialStream, line: LineSettings) -> Result<(), String> {
-    use tokio_serial::{DataBits, Parity, SerialPort, StopBits};
-    let data_bits = match line.data_bits {
-        5 => DataBits::Five,
-        6 => DataBits::Six,
-        7 => DataBits::Seven,
-        _ => DataBits::Eight,
-    };
-    let parity = match line.parity {
-        0 => Parity::None,
-        2 => Parity::Odd,
-        _ => Parity::Even,
-    };
-    let stop_bits = if line.stop_bits == 2 {
-        StopBits::Two
-    } else {
-        StopBits::One
-    };
-    port.set_baud_rate(line.baud)
-        .and_then(|()| port.set_data_bits(data_bits))
-        .and_then(|()| port.set_parity(parity))
-        .and_then(|()| port.set_stop_bits(stop_bits))
-        .map_err(|e| e.to_string())
 }

@@ -230,15 +230,21 @@ impl Plc {
         }
         self.vm.set_attached(false);
         for (n, spec) in &self.ports {
-            self.vm
-                .attach_port(*n, Box::new(crate::ports::StreamPort::new(spec.clone())));
+            let line = self.line(usize::from(*n));
+            self.vm.attach_port(
+                *n,
+                Box::new(crate::ports::StreamPort::new(spec.clone(), line)),
+            );
         }
     }
 
     /// Lead serial port `n` to `spec`: EXCH on that port talks through it.
     pub fn set_port(&mut self, n: u8, spec: crate::ports::PortSpec) {
-        self.vm
-            .attach_port(n, Box::new(crate::ports::StreamPort::new(spec.clone())));
+        let line = self.line(usize::from(n));
+        self.vm.attach_port(
+            n,
+            Box::new(crate::ports::StreamPort::new(spec.clone(), line)),
+        );
         self.ports.insert(n, spec);
     }
 

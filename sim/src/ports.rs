@@ -5,12 +5,14 @@
 //! serves EXCH at the end of its scan.
 //!
 //! Port specs (`gutta-sim --port0 SPEC`): `tcp-connect:HOST:PORT`, `serial:DEVICE` or
-//! `pty:PATH` (a serial device at 19200 baud, 8 data bits, even parity, 1 stop bit).
+//! `pty:PATH` (a serial device with the port's line: the system page's settings, 19200
+//! 8E1 without one).
 
 use std::io::{ErrorKind, Read, Write};
 use std::net::TcpStream;
 use std::time::{Duration, Instant};
 
+use gutta_format::LineSettings;
 use gutta_protocol::master::{Master, MasterConfig, MasterEvent};
 use gutta_protocol::rtu::decode_rtu;
 use gutta_vm::exch::{PortError, SerialPort};
@@ -49,14 +51,17 @@ impl<T: Read + Write + Send + std::fmt::Debug> Stream for T {}
 #[derive(Debug)]
 pub struct StreamPort {
     spec: PortSpec,
+    line: LineSettings,
     stream: Option<Box<dyn Stream>>,
     start: Instant,
 }
 
 impl StreamPort {
-    pub fn new(spec: PortSpec) -> StreamPort {
+    /// A port leading to `spec`; a serial device runs with `line`.
+    pub fn new(spec: PortSpec, line: LineSettings) -> StreamPort {
         StreamPort {
             spec,
+            line,
             stream: None,
             start: Instant::now(),
         }
@@ -71,13 +76,11 @@ impl StreamPort {
                 Some(Box::new(s))
             }
             PortSpec::Serial(d) => {
-                let p = serialport::new(d, 19200)
-                    .data_bits(serialport::DataBits::Eight)
-                    .parity(serialport::Parity::Even)
-                    .stop_bits(serialport::StopBits::One)
+                let mut p = serialport::new(d, self.line.baud)
                     .timeout(POLL)
                     .open()
                     .ok()?;
+                configure(p.as_mut(), self.line).ok()?;
                 Some(Box::new(p))
             }
         }
@@ -156,4 +159,30 @@ impl SerialPort for StreamPort {
     fn transact(&mut self, request: &[u8], timeout_ms: u32) -> Result<Vec<u8>, PortError> {
         self.exchange(request, timeout_ms)
     }
+}
+
+/// Set a serial device to `line` (baud rate, data bits, parity, stop bits).
+pub fn configure(port: &mut dyn serialport::SerialPort, line: LineSettings) -> Result<(), String> {
+    use serialport::{DataBits, Parity, StopBits};
+    let data_bits = match line.data_bits {
+        5 => DataBits::Five,
+        6 => DataBits::Six,
+        7 => DataBits::Seven,
+        _ => DataBits::Eight,
+    };
+    let parity = match line.parity {
+        0 => Parity::None,
+        2 => Parity::Odd,
+        _ => Parity::Even,
+    };
+    let stop_bits = if line.stop_bits == 2 {
+        StopBits::Two
+    } else {
+        StopBits::One
+    };
+    port.set_baud_rate(line.baud)
+        .and_then(|()| port.set_data_bits(data_bits))
+        .and_then(|()| port.set_parity(parity))
+        .and_then(|()| port.set_stop_bits(stop_bits))
+        .map_err(|e| e.to_string())
 }
