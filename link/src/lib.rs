@@ -127,15 +127,15 @@ impl Client {
                 request.packet, response.packet
             )));
         }
+        let code = response.code();
         match response.reply {
             Reply::Failure { code } if code == function => Err(LinkError::Refused {
                 function,
                 what: what.to_string(),
             }),
-            reply if response_code(&reply) == function => Ok(reply),
-            reply => Err(LinkError::Protocol(format!(
-                "answer {:04X} to request {function:04X}",
-                response_code(&reply)
+            reply if code == function => Ok(reply),
+            _ => Err(LinkError::Protocol(format!(
+                "answer {code:04X} to request {function:04X}"
             ))),
         }
     }
@@ -367,15 +367,6 @@ impl Client {
         }
         Ok(out)
     }
-}
-
-/// The function code a successful reply answers.
-fn response_code(reply: &Reply) -> u16 {
-    Response {
-        packet: 0,
-        reply: reply.clone(),
-    }
-    .code()
 }
 
 fn unexpected(what: &str, reply: &Reply) -> LinkError {
