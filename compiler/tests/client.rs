@@ -79,25 +79,7 @@ fn compile_example(plc: &str, example: &str, tag: &str) -> PathBuf {
 
 /// Every file under `dir`, by its path relative to `dir` with `/` separators.
 fn files_under(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    let mut files = BTreeMap::new();
-    let mut dirs = vec![dir.to_path_buf()];
-    while let Some(d) = dirs.pop() {
-        for entry in std::fs::read_dir(&d).expect("readable directory") {
-            let path = entry.expect("directory entry").path();
-            if path.is_dir() {
-                dirs.push(path);
-            } else {
-                let name: Vec<String> = path
-                    .strip_prefix(dir)
-                    .expect("under the directory")
-                    .components()
-                    .map(|c| c.as_os_str().to_string_lossy().into_owned())
-                    .collect();
-                files.insert(name.join("/"), std::fs::read(&path).expect("readable file"));
-            }
-        }
-    }
-    files
+    gutta_io::directory_files(dir).expect("a readable directory")
 }
 
 #[test]

@@ -49,3 +49,28 @@ pub fn read_image_dir(dir: &Path) -> Result<Image, String> {
     })
     .map_err(|e| format!("{}: {e}", dir.display()))
 }
+
+/// Every file under `dir` (recursively), by its path relative to `dir` with `/`
+/// separators, and its bytes: for comparing image directories whole (an upload with
+/// the download it came from).
+pub fn directory_files(dir: &Path) -> std::io::Result<std::collections::BTreeMap<String, Vec<u8>>> {
+    let mut files = std::collections::BTreeMap::new();
+    let mut dirs = vec![dir.to_path_buf()];
+    while let Some(d) = dirs.pop() {
+        for entry in std::fs::read_dir(&d)? {
+            let path = entry?.path();
+            if path.is_dir() {
+                dirs.push(path);
+            } else {
+                let name: Vec<String> = path
+                    .strip_prefix(dir)
+                    .unwrap_or(&path)
+                    .components()
+                    .map(|c| c.as_os_str().to_string_lossy().into_owned())
+                    .collect();
+                files.insert(name.join("/"), std::fs::read(&path)?);
+            }
+        }
+    }
+    Ok(files)
+}
