@@ -37,29 +37,35 @@ impl Line for TcpStream {
 
 impl Line for Box<dyn serialport::SerialPort> {
     fn set_line(&mut self, line: LineSettings) -> Result<(), String> {
-        use serialport::{DataBits, Parity, StopBits};
-        let data_bits = match line.data_bits {
-            5 => DataBits::Five,
-            6 => DataBits::Six,
-            7 => DataBits::Seven,
-            _ => DataBits::Eight,
-        };
-        let parity = match line.parity {
-            0 => Parity::None,
-            2 => Parity::Odd,
-            _ => Parity::Even,
-        };
-        let stop_bits = if line.stop_bits == 2 {
-            StopBits::Two
-        } else {
-            StopBits::One
-        };
-        self.set_baud_rate(line.baud)
-            .and_then(|()| self.set_data_bits(data_bits))
-            .and_then(|()| self.set_parity(parity))
-            .and_then(|()| self.set_stop_bits(stop_bits))
-            .map_err(|e| e.to_string())
+        configure(self.as_mut(), line)
     }
+}
+
+/// Set a serial device to `line`: baud rate, data bits, parity, stop bits. (The
+/// simulator's serial lines use it too.)
+pub fn configure(port: &mut dyn serialport::SerialPort, line: LineSettings) -> Result<(), String> {
+    use serialport::{DataBits, Parity, StopBits};
+    let data_bits = match line.data_bits {
+        5 => DataBits::Five,
+        6 => DataBits::Six,
+        7 => DataBits::Seven,
+        _ => DataBits::Eight,
+    };
+    let parity = match line.parity {
+        0 => Parity::None,
+        2 => Parity::Odd,
+        _ => Parity::Even,
+    };
+    let stop_bits = if line.stop_bits == 2 {
+        StopBits::Two
+    } else {
+        StopBits::One
+    };
+    port.set_baud_rate(line.baud)
+        .and_then(|()| port.set_data_bits(data_bits))
+        .and_then(|()| port.set_parity(parity))
+        .and_then(|()| port.set_stop_bits(stop_bits))
+        .map_err(|e| e.to_string())
 }
 
 /// How long one read waits before the master's clock is checked.

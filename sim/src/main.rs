@@ -182,7 +182,7 @@ async fn run(cli: Cli) -> Result<(), Fatal> {
             path: path.clone(),
             fixed_baud: cli.baud,
             line: LineSettings::DEFAULT,
-            apply: |port, line| gutta_sim::ports::configure(port, line),
+            apply: |port, line| gutta_link::transport::configure(port, line),
         };
         let line = match plc.lock() {
             Ok(plc) => follow.wanted(&plc),
@@ -191,7 +191,8 @@ async fn run(cli: Cli) -> Result<(), Fatal> {
         let mut port = tokio_serial::new(&path, line.baud)
             .open_native_async()
             .map_err(|e| Fatal(format!("cannot open {path}: {e}")))?;
-        gutta_sim::ports::configure(&mut port, line).map_err(|e| Fatal(format!("{path}: {e}")))?;
+        gutta_link::transport::configure(&mut port, line)
+            .map_err(|e| Fatal(format!("{path}: {e}")))?;
         say(&format!("gutta-sim: rtu-serial on {path} ({line})"));
         let plc = Arc::clone(&plc);
         tokio::spawn(serve(

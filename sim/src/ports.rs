@@ -80,7 +80,7 @@ impl StreamPort {
                     .timeout(POLL)
                     .open()
                     .ok()?;
-                configure(p.as_mut(), self.line).ok()?;
+                gutta_link::transport::configure(p.as_mut(), self.line).ok()?;
                 Some(Box::new(p))
             }
         }
@@ -159,30 +159,4 @@ impl SerialPort for StreamPort {
     fn transact(&mut self, request: &[u8], timeout_ms: u32) -> Result<Vec<u8>, PortError> {
         self.exchange(request, timeout_ms)
     }
-}
-
-/// Set a serial device to `line` (baud rate, data bits, parity, stop bits).
-pub fn configure(port: &mut dyn serialport::SerialPort, line: LineSettings) -> Result<(), String> {
-    use serialport::{DataBits, Parity, StopBits};
-    let data_bits = match line.data_bits {
-        5 => DataBits::Five,
-        6 => DataBits::Six,
-        7 => DataBits::Seven,
-        _ => DataBits::Eight,
-    };
-    let parity = match line.parity {
-        0 => Parity::None,
-        2 => Parity::Odd,
-        _ => Parity::Even,
-    };
-    let stop_bits = if line.stop_bits == 2 {
-        StopBits::Two
-    } else {
-        StopBits::One
-    };
-    port.set_baud_rate(line.baud)
-        .and_then(|()| port.set_data_bits(data_bits))
-        .and_then(|()| port.set_parity(parity))
-        .and_then(|()| port.set_stop_bits(stop_bits))
-        .map_err(|e| e.to_string())
 }
