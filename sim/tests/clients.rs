@@ -41,35 +41,14 @@ fn start(dir: &Path) -> Sim {
         .expect("starts gutta-sim");
     let stdout = child.stdout.take().expect("stdout");
     let mut lines = BufReader::new(stdout).lines();
-    let mut port = |what: &str| -> u16 {
-        let line = lines.next().expect("a listener line").expect("text");
-        assert!(line.contains(what), "{line}");
-        line.rsplit(':')
-            .next()
-            .and_then(|p| p.parse().ok())
-            .expect("port")
+    let mut port = |what: &str| {
+        common::listener_port(&lines.next().expect("a listener line").expect("text"), what)
     };
     let tcp = port("modbus-tcp");
     let rtu = port("rtu-over-tcp");
     // Let the first scans run (the pointer example writes MW24/MW26 in scan 1).
     std::thread::sleep(Duration::from_millis(100));
     Sim { child, tcp, rtu }
-}
-
-/// Whether a tool is there; fails when the CI requires the tools.
-fn have(tool: &str) -> bool {
-    let found = Command::new("sh")
-        .args(["-c", &format!("command -v {tool}")])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !found {
-        assert!(
-            std::env::var("GUTTA_REQUIRE_TOOLS").is_err(),
-            "{tool} is required (GUTTA_REQUIRE_TOOLS is set) but not installed"
-        );
-        eprintln!("skipped: {tool} is not installed (bash .ci/run installs it)");
-    }
-    found
 }
 
 fn mbpoll(args: &[&str]) -> String {
@@ -84,7 +63,7 @@ fn mbpoll(args: &[&str]) -> String {
 
 #[test]
 fn mbpoll_reads_and_writes_through_the_mapping() {
-    if !have("mbpoll") {
+    if !common::have("mbpoll") {
         return;
     }
     let sim = start(&image_dir("mbpoll"));
@@ -113,7 +92,7 @@ fn mbpoll_reads_and_writes_through_the_mapping() {
     assert!(tcp(&["-r", "1", "-c", "8", "-t", "1"], &[]).contains("[8]: \t0"));
     assert!(tcp(&["-r", "1", "-c", "1", "-t", "3"], &[]).contains("[1]: \t0"));
     // RTU through a pty: socat bridges a serial device to the RTU-over-TCP listener.
-    if have("socat") {
+    if common::have("socat") {
         let pty = std::env::temp_dir().join(format!("gutta-pty-{}", std::process::id()));
         let mut socat = Command::new("socat")
             .arg(format!("pty,link={},raw,echo=0", pty.display()))
@@ -145,11 +124,7 @@ fn pymodbus_over_tcp_and_rtu_with_function_13() {
         .output()
         .is_ok_and(|o| o.status.success());
     if !has_pymodbus {
-        assert!(
-            std::env::var("GUTTA_REQUIRE_TOOLS").is_err(),
-            "pymodbus is required (GUTTA_REQUIRE_TOOLS is set) but {python} cannot import it"
-        );
-        eprintln!("skipped: {python} has no pymodbus (bash .ci/run installs it in a venv)");
+        common::tool_missing(&format!("{python} cannot import pymodbus"));
         return;
     }
     let sim = start(&image_dir("pymodbus"));
@@ -257,7 +232,7 @@ fn bad_clients_do_not_wedge_the_server() {
 
 #[test]
 fn mbpoll_over_a_serial_line() {
-    if !have("mbpoll") || !have("socat") {
+    if !common::have("mbpoll") || !common::have("socat") {
         return;
     }
     // A socat pty pair: the simulator opens one end with --serial, mbpoll the other.

@@ -13,6 +13,8 @@
 //! hard-codes (1502) replaced by the simulator's. `.ci/run` installs libmodbus-dev and
 //! sets GUTTA_REQUIRE_TOOLS=1, so there a missing library fails the test.
 
+mod common;
+
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -31,19 +33,11 @@ impl Drop for Sim {
     }
 }
 
-fn skip_or_fail(why: &str) {
-    assert!(
-        std::env::var("GUTTA_REQUIRE_TOOLS").is_err(),
-        "{why} (GUTTA_REQUIRE_TOOLS is set)"
-    );
-    eprintln!("skipped: {why} (bash .ci/run installs libmodbus-dev)");
-}
-
 /// The client compiled for `port`, or None when libmodbus-dev is not there.
 fn build_client(port: u16) -> Option<PathBuf> {
     let source = Path::new(EXAMPLES).join("random-test-client.c");
     let Ok(text) = std::fs::read_to_string(&source) else {
-        skip_or_fail(&format!("{} is not there", source.display()));
+        common::tool_missing(&format!("{} is not there", source.display()));
         return None;
     };
     let hard_coded = "modbus_new_tcp(\"127.0.0.1\", 1502)";
@@ -65,7 +59,7 @@ fn build_client(port: u16) -> Option<PathBuf> {
     {
         Ok(out) if out.status.success() => String::from_utf8_lossy(&out.stdout).into_owned(),
         _ => {
-            skip_or_fail("pkg-config does not know libmodbus");
+            common::tool_missing("pkg-config does not know libmodbus");
             return None;
         }
     };
@@ -98,12 +92,7 @@ fn start_sim() -> (Sim, u16) {
         .next()
         .expect("a listener line")
         .expect("text");
-    assert!(line.contains("modbus-tcp"), "{line}");
-    let port = line
-        .rsplit(':')
-        .next()
-        .and_then(|p| p.parse().ok())
-        .expect("port");
+    let port = common::listener_port(&line, "modbus-tcp");
     (Sim(child), port)
 }
 

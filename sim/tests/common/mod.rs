@@ -37,3 +37,34 @@ pub fn image_dir(tag: &str, image: &Image) -> PathBuf {
     gutta_io::write_image(&dir, image).expect("writes");
     dir
 }
+
+/// A tool the test needs is missing: fails when the CI requires the tools
+/// (GUTTA_REQUIRE_TOOLS, set by `.ci/run`), else says the test skipped.
+pub fn tool_missing(why: &str) {
+    assert!(
+        std::env::var("GUTTA_REQUIRE_TOOLS").is_err(),
+        "{why} (GUTTA_REQUIRE_TOOLS is set, so the tools are required)"
+    );
+    eprintln!("skipped: {why} (bash .ci/run installs it)");
+}
+
+/// Whether a command is on PATH (`tool_missing` when not).
+pub fn have(tool: &str) -> bool {
+    let found = std::process::Command::new("sh")
+        .args(["-c", &format!("command -v {tool}")])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !found {
+        tool_missing(&format!("{tool} is not installed"));
+    }
+    found
+}
+
+/// The port of a `gutta-sim: WHAT on HOST:PORT` listener line.
+pub fn listener_port(line: &str, what: &str) -> u16 {
+    assert!(line.contains(what), "{line}");
+    line.rsplit(':')
+        .next()
+        .and_then(|p| p.parse().ok())
+        .unwrap_or_else(|| panic!("no port in `{line}`"))
+}
