@@ -82,12 +82,7 @@ pub struct TcpTransport {
 
 impl TcpTransport {
     pub fn connect(address: &str, timeout_ms: u64, retries: u32) -> Result<Self, LinkError> {
-        let stream = TcpStream::connect(address)
-            .map_err(|e| LinkError::Io(format!("cannot connect to {address}: {e}")))?;
-        stream
-            .set_nodelay(true)
-            .and_then(|_| stream.set_read_timeout(Some(POLL)))
-            .map_err(|e| LinkError::Io(e.to_string()))?;
+        let stream = connect_tcp(address)?;
         Ok(TcpTransport {
             stream,
             transaction: 0,
@@ -165,13 +160,22 @@ pub fn rtu_over_tcp(
     timeout_ms: u64,
     retries: u32,
 ) -> Result<RtuTransport<TcpStream>, LinkError> {
+    Ok(RtuTransport::new(
+        connect_tcp(address)?,
+        timeout_ms,
+        retries,
+    ))
+}
+
+/// A TCP connection for requests: no Nagle delay, reads that wake every POLL.
+fn connect_tcp(address: &str) -> Result<TcpStream, LinkError> {
     let stream = TcpStream::connect(address)
         .map_err(|e| LinkError::Io(format!("cannot connect to {address}: {e}")))?;
     stream
         .set_nodelay(true)
         .and_then(|_| stream.set_read_timeout(Some(POLL)))
         .map_err(|e| LinkError::Io(e.to_string()))?;
-    Ok(RtuTransport::new(stream, timeout_ms, retries))
+    Ok(stream)
 }
 
 /// A serial line with `line`'s settings (`LineSettings::DEFAULT` is 19200 8E1, a
