@@ -169,6 +169,14 @@ impl Run<'_, '_> {
                 }
                 (Ok(()), _) => {}
                 (Err(f), Some(code)) if last && f.code() == code => {}
+                (Err(f), Some(code)) if last => {
+                    let got = f.code();
+                    self.fail(
+                        line,
+                        format!("expected fault code {code}, got {f} (code {got})"),
+                    );
+                    return false;
+                }
                 (Err(f), _) => {
                     self.fail(line, format!("unexpected fault: {f} (code {})", f.code()));
                     return false;
