@@ -1,10 +1,15 @@
 //! Debugging as UM4001 describes it: a breakpoint by (function, network, step), pause
 //! and continue, single-step stop, STEP_IN / STEP_OVER / STEP_OUT, the 16-byte debug
-//! information block and the status byte.
+//! information block, the status byte, reset requests, scans while stopped, and access
+//! by packed address. These stay in Rust, not in the run corpus: each drives the
+//! debugger or status API (`set_breakpoint`, `debug_step`, `debug_info`, `status`,
+//! `read_packed`, ...) that a corpus header cannot call.
 
 mod common;
 
 use common::{load, read, set};
+use gutta_catalog::Address;
+use gutta_format::{Operand, PackedOperand, UnitRef};
 use gutta_vm::{DebugError, Position, ScanEnd, Step, VmConfig};
 
 /// MAIN: network 1 counts scans in MW0; network 2 calls ADD with MW0 into MW2 when
@@ -48,7 +53,9 @@ fn at(function: u8, network: u16, step: u16) -> Position {
 }
 
 fn sbr0(vm: &gutta_vm::Vm) -> u8 {
-    vm.target().plc.program_block_page_int_size as u8
+    UnitRef::subroutine(0)
+        .page(&vm.target().plc)
+        .expect("the target has SBR0")
 }
 
 #[test]
@@ -252,17 +259,14 @@ fn reset_request_and_scans_while_stopped() {
     assert!(!vm.is_running());
 }
 
-/// STATUS_VAR_READ / WRITE and the force values by packed address (UM4001 layout:
-/// OFFSET << 16 | BIT << 12 | WIDTH << 8 | SLOT << 4 | USE).
+/// STATUS_VAR_READ / WRITE and the force values by packed address (UM4001's operand
+/// word, USE 0: gutta-format's `PackedOperand`).
 #[test]
 fn reading_writing_and_forcing_by_packed_address() {
     let mut vm = load(PROGRAM, VmConfig::default());
+    let word = |a: Address| PackedOperand::encode(Operand::Value(a)).0;
     let packed = |vm: &gutta_vm::Vm, var: &str| {
-        let a = vm.target().memory.parse_address(var).expect("address");
-        (a.offset << 16)
-            | (u32::from(a.bit) << 12)
-            | ((a.width as u32) << 8)
-            | (u32::from(a.slot) << 4)
+        word(vm.target().memory.parse_address(var).expect("address"))
     };
     let mw4 = packed(&vm, "MW4");
     vm.write_packed(mw4, 0x1234).expect("write");
@@ -303,7 +307,13 @@ fn reading_writing_and_forcing_by_packed_address() {
     }
     // M cannot be forced; a read past the area is an error.
     assert!(vm.force_packed(m4_0, 1).is_err());
-    assert!(vm.read_packed(0xFFFF_0000 | (mb4 & 0xFFFF)).is_err());
+    let mb4 = vm.target().memory.parse_address("MB4").expect("address");
+    assert!(vm
+        .read_packed(word(Address {
+            offset: 0xFFFF,
+            ..mb4
+        }))
+        .is_err());
 }
 
 /// Bit logic runs fused on the fast path; a breakpoint or a step inside a fused run
