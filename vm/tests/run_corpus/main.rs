@@ -7,6 +7,7 @@
 //! what the VM does.
 
 mod header;
+mod language_tests;
 mod run;
 mod values;
 
@@ -20,12 +21,11 @@ use gutta_vm::VmConfig;
 
 use header::parse_header;
 use run::{prepare, run_mode};
-use values::{resolve, Assignment, Bits, Value};
 
 /// Fewer files than this means the corpus went missing, not that it passed.
 const MIN_PROGRAMS: usize = 20;
 
-/// Check one program; every problem becomes a line in `failures`.
+/// Check one program file; every problem becomes a line in `failures`.
 fn run_program(path: &Path, failures: &mut Vec<String>) {
     let name = path.file_name().map_or_else(
         || path.display().to_string(),
@@ -35,10 +35,14 @@ fn run_program(path: &Path, failures: &mut Vec<String>) {
         Ok(b) => b,
         Err(e) => return failures.push(format!("{name}: {e}")),
     };
-    let file = match SourceFile::from_bytes(path.display().to_string(), bytes) {
-        Ok(f) => f,
-        Err(e) => return failures.push(format!("{name}: not UTF-8: {e:?}")),
-    };
+    match SourceFile::from_bytes(path.display().to_string(), bytes) {
+        Ok(file) => run_source(&name, file, failures),
+        Err(e) => failures.push(format!("{name}: not UTF-8: {e:?}")),
+    }
+}
+
+/// Check one program's text, reported as `name`.
+fn run_source(name: &str, file: SourceFile, failures: &mut Vec<String>) {
     let header = match parse_header(&file.text) {
         Ok(h) => h,
         Err(errors) => {
@@ -77,7 +81,7 @@ fn run_program(path: &Path, failures: &mut Vec<String>) {
         Ok(v) => v,
         Err(e) => return failures.push(format!("{name}: does not verify: {e:?}")),
     };
-    let Some(prepared) = prepare(&name, verified, target, &header, failures) else {
+    let Some(prepared) = prepare(name, verified, target, &header, failures) else {
         return;
     };
     let base = VmConfig {
@@ -124,45 +128,24 @@ fn every_program_gives_its_expected_values() {
 }
 
 #[test]
-fn values_resolve_against_the_target() {
-    let target = stdlib::shared(stdlib::DEFAULT).expect("target");
-    let minus_one = Assignment {
-        line: 5,
-        var: "MW0".into(),
-        value: Value::Number(-1),
-    };
-    let r = resolve(&target, &minus_one).expect("resolves");
-    assert!(
-        matches!(r.bits, Bits::Word(0xFFFF)),
-        "negative values are masked to the width"
-    );
-    let text = Assignment {
-        line: 6,
-        var: "MB40".into(),
-        value: Value::Text(b"1A".to_vec()),
-    };
-    let Bits::Bytes(bytes) = resolve(&target, &text).expect("resolves").bits else {
-        panic!("a text resolves to bytes");
-    };
-    assert_eq!(
-        bytes
-            .iter()
-            .map(|(a, b)| (a.offset, *b))
-            .collect::<Vec<_>>(),
-        [(40, b'1'), (41, b'A')]
-    );
-    let too_big = Assignment {
-        line: 4,
-        var: "MB0".into(),
-        value: Value::Number(256),
-    };
-    let err = resolve(&target, &too_big).expect_err("256 is no byte");
-    assert!(err.starts_with("line 4"), "{err}");
-    let text_on_word = Assignment {
-        line: 7,
-        var: "MW40".into(),
-        value: Value::Text(b"1A".to_vec()),
-    };
-    let err = resolve(&target, &text_on_word).expect_err("a text needs bytes");
-    assert!(err.starts_with("line 7"), "{err}");
+fn a_wrong_expectation_or_fault_fails_naming_line_mode_and_scan() {
+    let text = "// set: I0.0 = 1\n// after 2 scans: expect Q0.0 = 0\n// then expect: Q0.1 = 0\n\
+                // after 1 scan: fault 3\n// then expect: Q0.0 = 0\n\n\
+                ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD I0.0\n= Q0.0\n\
+                END_ORGANIZATION_BLOCK\n";
+    let mut failures = Vec::new();
+    run_source("t.lad", SourceFile::new("t.lad", text), &mut failures);
+    // Q0.1 = 0 holds; the missing fault ends the run, so line 5 is never checked.
+    let wanted: Vec<String> = ["fast", "generic"]
+        .iter()
+        .flat_map(|mode| {
+            [
+                format!("t.lad:2 [{mode}] after scan 2: Q0.0 expected 0, got 1"),
+                format!(
+                    "t.lad:4 [{mode}] after scan 3: expected fault code 3, the scan ran without one"
+                ),
+            ]
+        })
+        .collect();
+    assert_eq!(failures, wanted);
 }
