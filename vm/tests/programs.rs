@@ -69,6 +69,9 @@ fn call_passes_arguments_through_l() {
     );
 }
 
+/// The fault API: the `Fault` value with its limit and `Vm::fault`. The run-time
+/// behaviour (held until reset, SMB2) is tests/data/run data
+/// (watchdog_fault_holds_until_reset.lad).
 #[test]
 fn a_runaway_loop_trips_the_watchdog() {
     let mut vm = vm_with(
@@ -86,8 +89,11 @@ fn a_runaway_loop_trips_the_watchdog() {
     assert!(vm.fault().is_none());
 }
 
+/// The force API (what a corpus header cannot reach): the force image, a refused
+/// force, `unforce_all`. Forces holding across scans are tests/data/run data
+/// (force_inputs_and_outputs_hold.lad).
 #[test]
-fn forces_hold_across_scans_for_inputs_and_outputs() {
+fn force_image_refusals_and_unforce_all() {
     let mut vm = vm_for(&main_block(
         "NETWORK 1\nLD I0.0\n= Q0.0\nNETWORK 2\nLD SM0.0\n= Q0.1\nMOVB 16#FF, QB1",
     ));
@@ -96,19 +102,19 @@ fn forces_hold_across_scans_for_inputs_and_outputs() {
     vm.force(i00, 1).expect("force input");
     vm.force(q01, 0).expect("force output bit");
     vm.force(qb1, 0x0F).expect("force output byte");
-    set(&mut vm, "I0.0", 0); // the terminal says 0; the force wins
     vm.scan().expect("scan");
-    assert_eq!(read(&vm, "Q0.0"), 1, "forced input reads its force value");
-    assert_eq!(
-        read(&vm, "Q0.1"),
-        0,
-        "forced output is written with its force value"
-    );
-    assert_eq!(read(&vm, "QB1"), 0x0F);
+    assert_eq!(read(&vm, "Q0.0"), 1, "the force took effect");
     let (mask, image) = vm.force_image(i00.slot);
     assert_eq!((mask[0], image[0]), (0x01, 0x01));
+    let (mask, image) = vm.force_image(q01.slot);
+    assert_eq!(
+        (mask[0], image[0], mask[1], image[1]),
+        (0x02, 0x00, 0xFF, 0x0F)
+    );
     assert!(vm.force(at(&vm, "MB0"), 1).is_err(), "M cannot be forced");
     vm.unforce_all();
+    let (mask, _) = vm.force_image(q01.slot);
+    assert!(mask.iter().all(|&m| m == 0), "nothing forced");
     vm.scan().expect("scan");
     assert_eq!(
         (read(&vm, "Q0.0"), read(&vm, "Q0.1"), read(&vm, "QB1")),
