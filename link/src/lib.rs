@@ -7,7 +7,8 @@ pub mod transport;
 use std::collections::BTreeMap;
 
 use gutta_format::{Image, LineSettings, PageId, PageKind};
-use gutta_protocol::gutta::{Function, GuttaFrame, PageArea, PageRef};
+use gutta_protocol::function::{Function, PageArea, PageRef};
+use gutta_protocol::gutta::GuttaFrame;
 use gutta_protocol::message::{
     Breakpoint, Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response, VarAddress,
 };

@@ -103,6 +103,32 @@ fn every_um4001_example() {
     assert_eq!(names.len(), 37);
 }
 
+/// A test per registry row: UM4001's request, failure and success examples of the
+/// function are in the data file, and their payloads have the row's shapes.
+#[test]
+fn every_registry_row_has_its_examples() {
+    let examples = examples();
+    for spec in gutta_protocol::FUNCTIONS {
+        for kind in ["request", "failure", "success"] {
+            let example = examples
+                .iter()
+                .find(|ex| ex.name == spec.name && ex.kind == kind)
+                .unwrap_or_else(|| panic!("{}: no {kind} example in um4001.txt", spec.name));
+            let frame = GuttaFrame::decode(&example.bytes).expect("frame");
+            assert!(spec.covers(frame.function & !gutta_protocol::FAILURE_BIT));
+            let shape = match kind {
+                "request" => spec.request,
+                "success" => spec.success,
+                _ => gutta_protocol::Payload::Empty,
+            };
+            let at = format!("{} {kind}", spec.name);
+            assert!(shape.accepts(frame.payload.len()), "{at}: {shape}");
+            let paged = spec.packets == gutta_protocol::Packets::Paged;
+            assert_eq!(frame.packet != 0x8000, paged, "{at}: packet number");
+        }
+    }
+}
+
 #[test]
 fn typed_values_of_the_examples() {
     let req =

@@ -21,7 +21,8 @@ use std::sync::Arc;
 
 use gutta_catalog::Target;
 use gutta_format::{verify, ArgumentPage, Image, LineSettings, PageId, PageKind};
-use gutta_protocol::gutta::{GuttaFrame, PageArea};
+use gutta_protocol::function::PageArea;
+use gutta_protocol::gutta::GuttaFrame;
 use gutta_protocol::message::{
     Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response, VarAddress,
 };
