@@ -6,11 +6,11 @@ pub mod transport;
 
 use std::collections::BTreeMap;
 
-use gutta_format::{Image, LineSettings, PageId, PageKind};
+use gutta_format::{Image, LineSettings, PackedOperand, PageId, PageKind};
 use gutta_protocol::function::{Function, PageArea, PageRef};
 use gutta_protocol::gutta::GuttaFrame;
 use gutta_protocol::message::{
-    Breakpoint, Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response, VarAddress,
+    Breakpoint, Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response,
 };
 use gutta_protocol::transfer::{split_page, PackSize};
 
@@ -214,7 +214,7 @@ impl Client {
     /// STATUS_VAR_READ: 4 bytes from each packed address.
     pub fn read_vars(&mut self, addresses: &[u32]) -> Result<Vec<[u8; 4]>, LinkError> {
         let what = "STATUS_VAR_READ (outside an area?)";
-        let command = Command::VarRead(addresses.iter().map(|&a| VarAddress(a)).collect());
+        let command = Command::VarRead(addresses.iter().map(|&a| PackedOperand(a)).collect());
         match self.request(&Request::single(command), what)? {
             Reply::VarValues(values) if values.len() == addresses.len() => {
                 Ok(values.into_iter().map(u32::to_le_bytes).collect())
@@ -228,8 +228,8 @@ impl Client {
 
     /// STATUS_VAR_WRITE (`force`: STATUS_VAR_FORCE_WRITE) of (packed address, value).
     pub fn write_vars(&mut self, pairs: &[(u32, u32)], force: bool) -> Result<(), LinkError> {
-        let pairs: Vec<(VarAddress, u32)> =
-            pairs.iter().map(|&(a, v)| (VarAddress(a), v)).collect();
+        let pairs: Vec<(PackedOperand, u32)> =
+            pairs.iter().map(|&(a, v)| (PackedOperand(a), v)).collect();
         if force {
             self.ack(
                 Command::ForceWrite(pairs),

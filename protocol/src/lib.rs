@@ -23,7 +23,7 @@ pub use function::{Function, PageArea, PageRef};
 pub use gutta::{GuttaError, GuttaFrame, FAILURE_BIT, LAST_PACKET};
 pub use master::{Master, MasterConfig, MasterError, MasterEvent};
 pub use message::{
-    Breakpoint, Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response, VarAddress,
+    Breakpoint, Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response,
 };
 pub use modbus::{ExceptionCode, ModbusError, ModbusRequest, ModbusResponse};
 pub use registry::{FunctionSpec, Needs, Packets, Payload, FUNCTIONS};

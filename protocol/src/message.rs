@@ -8,6 +8,7 @@ use std::fmt;
 use crate::function::{Function, PageArea, PageRef};
 use crate::gutta::{GuttaError, GuttaFrame, FAILURE_BIT, LAST_PACKET};
 use crate::registry::Payload;
+use gutta_format::PackedOperand;
 
 /// Bytes of the PLC_ATTACH password and of the GET_PLC_NAME answer.
 pub const NAME_LEN: usize = 16;
@@ -98,29 +99,6 @@ impl std::error::Error for MessageError {}
 impl From<GuttaError> for MessageError {
     fn from(e: GuttaError) -> Self {
         MessageError::Gutta(e)
-    }
-}
-
-/// The 32-bit variable address of STATUS_VAR_*: bits 31..16 OFFSET, 15..12 BIT_OFFSET,
-/// 11..8 WIDTH, 7..4 SLOT, 3..0 USE; on the wire low byte first.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct VarAddress(pub u32);
-
-impl VarAddress {
-    pub fn use_field(self) -> u8 {
-        (self.0 & 0x0F) as u8
-    }
-    pub fn slot(self) -> u8 {
-        ((self.0 >> 4) & 0x0F) as u8
-    }
-    pub fn width(self) -> u8 {
-        ((self.0 >> 8) & 0x0F) as u8
-    }
-    pub fn bit_offset(self) -> u8 {
-        ((self.0 >> 12) & 0x0F) as u8
-    }
-    pub fn offset(self) -> u16 {
-        (self.0 >> 16) as u16
     }
 }
 
@@ -258,10 +236,11 @@ pub enum Command {
         count: u8,
     },
     StatusReset,
-    VarRead(Vec<VarAddress>),
-    VarWrite(Vec<(VarAddress, u32)>),
-    ForceRead(Vec<VarAddress>),
-    ForceWrite(Vec<(VarAddress, u32)>),
+    /// The variables' addresses: packed operand words (gutta-format decodes them).
+    VarRead(Vec<PackedOperand>),
+    VarWrite(Vec<(PackedOperand, u32)>),
+    ForceRead(Vec<PackedOperand>),
+    ForceWrite(Vec<(PackedOperand, u32)>),
     DebugRead,
     /// 0 = single-step stop, anything else = run until a breakpoint.
     DebugWrite {
@@ -335,11 +314,11 @@ impl Request {
             Command::StatusWrite { run } | Command::DebugWrite { run } => vec![*run],
             Command::StatusScan { count } => vec![*count],
             Command::VarRead(addresses) | Command::ForceRead(addresses) => {
-                addresses.iter().flat_map(|a| a.0.to_le_bytes()).collect()
+                addresses.iter().flat_map(|a| a.to_le_bytes()).collect()
             }
             Command::VarWrite(pairs) | Command::ForceWrite(pairs) => pairs
                 .iter()
-                .flat_map(|(a, v)| a.0.to_le_bytes().into_iter().chain(v.to_le_bytes()))
+                .flat_map(|(a, v)| a.to_le_bytes().into_iter().chain(v.to_le_bytes()))
                 .collect(),
             Command::DebugScan(step) => vec![step.byte()],
             Command::DebugInforWrite(bp) => {
@@ -631,9 +610,9 @@ fn le32(b: &[u8]) -> u32 {
     u32::from_le_bytes([b[0], b[1], b[2], b[3]])
 }
 
-fn addresses(function: Function, p: &[u8]) -> Result<Vec<VarAddress>, MessageError> {
+fn addresses(function: Function, p: &[u8]) -> Result<Vec<PackedOperand>, MessageError> {
     Ok(words(function, p, 4)?
-        .map(|c| VarAddress(le32(c)))
+        .map(|c| PackedOperand(le32(c)))
         .collect())
 }
 
@@ -641,8 +620,8 @@ fn values(function: Function, p: &[u8]) -> Result<Vec<u32>, MessageError> {
     Ok(words(function, p, 4)?.map(le32).collect())
 }
 
-fn pairs(function: Function, p: &[u8]) -> Result<Vec<(VarAddress, u32)>, MessageError> {
+fn pairs(function: Function, p: &[u8]) -> Result<Vec<(PackedOperand, u32)>, MessageError> {
     Ok(words(function, p, 8)?
-        .map(|c| (VarAddress(le32(&c[..4])), le32(&c[4..])))
+        .map(|c| (PackedOperand(le32(&c[..4])), le32(&c[4..])))
         .collect())
 }

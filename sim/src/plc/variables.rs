@@ -2,28 +2,28 @@
 //! packed address (docs/vm.md, "Status and debugging"). A request with one address
 //! outside an area fails whole and writes nothing. Only `Plc::dispatch` calls these.
 
-use gutta_protocol::message::VarAddress;
+use gutta_format::PackedOperand;
 use gutta_vm::Vm;
 
 use super::{Plc, Refusal};
 
 /// The USE field value that makes STATUS_VAR_FORCE_WRITE release a force (our
 /// extension; docs/simulator.md).
-pub const RELEASE_USE: u32 = 0xF;
+pub const RELEASE_USE: u8 = 0xF;
 
 impl Plc {
     /// STATUS_VAR_READ: the 4 bytes at each address.
-    pub(super) fn read_vars(&self, addresses: &[VarAddress]) -> Result<Vec<u32>, Refusal> {
+    pub(super) fn read_vars(&self, addresses: &[PackedOperand]) -> Result<Vec<u32>, Refusal> {
         self.read_each(addresses, |vm, a| vm.read_packed(a))
     }
 
     /// STATUS_VAR_FORCE_READ: the force value of each address.
-    pub(super) fn read_forces(&self, addresses: &[VarAddress]) -> Result<Vec<u32>, Refusal> {
+    pub(super) fn read_forces(&self, addresses: &[PackedOperand]) -> Result<Vec<u32>, Refusal> {
         self.read_each(addresses, |vm, a| vm.read_force_packed(a))
     }
 
     /// STATUS_VAR_WRITE: every pair, or none when an address is bad.
-    pub(super) fn write_vars(&mut self, pairs: Vec<(VarAddress, u32)>) -> Result<(), Refusal> {
+    pub(super) fn write_vars(&mut self, pairs: Vec<(PackedOperand, u32)>) -> Result<(), Refusal> {
         self.check_each(&pairs)?;
         for (address, value) in pairs {
             self.vm
@@ -35,21 +35,15 @@ impl Plc {
 
     /// STATUS_VAR_FORCE_WRITE: force every pair (USE 15 releases), or none when an
     /// address is bad.
-    pub(super) fn write_forces(&mut self, pairs: Vec<(VarAddress, u32)>) -> Result<(), Refusal> {
+    pub(super) fn write_forces(&mut self, pairs: Vec<(PackedOperand, u32)>) -> Result<(), Refusal> {
         self.check_each(&pairs)?;
         for (address, value) in pairs {
-            if u32::from(address.use_field()) == RELEASE_USE {
+            if address.use_code() == RELEASE_USE {
                 // Our extension: USE 15 releases the force (UM4001 has no
                 // unforce; a PLC that ignores USE forces the value sent, which
                 // the client makes the current value).
-                let op = gutta_format::PackedOperand(address.0);
-                if let Some(a) = op.width().map(|width| gutta_catalog::Address {
-                    slot: op.slot(),
-                    width,
-                    offset: u32::from(op.offset()),
-                    bit: op.bit() & 7,
-                }) {
-                    self.vm.unforce(a);
+                if let Ok(variable) = address.variable() {
+                    self.vm.unforce(variable);
                 }
             } else {
                 self.vm
@@ -63,7 +57,7 @@ impl Plc {
     /// Every address read, or the first refusal.
     fn read_each(
         &self,
-        addresses: &[VarAddress],
+        addresses: &[PackedOperand],
         read: impl Fn(&Vm, u32) -> Result<[u8; 4], gutta_vm::AccessError>,
     ) -> Result<Vec<u32>, Refusal> {
         addresses
@@ -77,7 +71,7 @@ impl Plc {
     }
 
     /// Every address of a write checked first, so a bad one writes nothing.
-    fn check_each(&self, pairs: &[(VarAddress, u32)]) -> Result<(), Refusal> {
+    fn check_each(&self, pairs: &[(PackedOperand, u32)]) -> Result<(), Refusal> {
         for (address, _) in pairs {
             self.vm
                 .read_packed(address.0)
