@@ -142,6 +142,12 @@ impl Client {
     }
 
     /// A single-packet request whose success is a bare acknowledgement.
+    /// `ack`, a refusal naming the function (its registry name).
+    fn ack_named(&mut self, command: Command) -> Result<(), LinkError> {
+        let what = command.function().name();
+        self.ack(command, what)
+    }
+
     fn ack(&mut self, command: Command, what: &str) -> Result<(), LinkError> {
         match self.request(&Request::single(command), what)? {
             Reply::Ack(_) => Ok(()),
@@ -171,7 +177,7 @@ impl Client {
     }
 
     pub fn detach(&mut self) -> Result<(), LinkError> {
-        self.ack(Command::PlcDetach, "PLC_DETACH")
+        self.ack_named(Command::PlcDetach)
     }
 
     /// GET_PLC_NAME, without its zero padding.
@@ -187,11 +193,11 @@ impl Client {
     }
 
     pub fn clear(&mut self) -> Result<(), LinkError> {
-        self.ack(Command::PlcClear, "PLC_CLEAR")
+        self.ack_named(Command::PlcClear)
     }
 
     pub fn reset(&mut self) -> Result<(), LinkError> {
-        self.ack(Command::StatusReset, "STATUS_RESET")
+        self.ack_named(Command::StatusReset)
     }
 
     /// STATUS_READ: bit0 RUN, bit1 RESET, bit2 ATTACH, bit3 ERROR.
@@ -288,7 +294,7 @@ impl Client {
 
     /// STATUS_DEBUG_RESET.
     pub fn debug_reset(&mut self) -> Result<(), LinkError> {
-        self.ack(Command::DebugReset, "STATUS_DEBUG_RESET")
+        self.ack_named(Command::DebugReset)
     }
 
     /// STATUS_DEBUG_READ (the DEBUG_STATE byte) and STATUS_DEBUG_INFOR_READ.
