@@ -40,8 +40,8 @@ mod variables;
 
 pub use variables::RELEASE_USE;
 
-/// The factory password: 16 x 0xFF.
-pub const FACTORY_PASSWORD: [u8; 16] = [0xFF; 16];
+/// The factory password: 16 x 0xFF (gutta-protocol's).
+pub use gutta_protocol::message::FACTORY_PASSWORD;
 
 /// Bit 15 of a packet number: the last packet of a transfer.
 pub const LAST_PACKET: u16 = gutta_protocol::gutta::LAST_PACKET;
