@@ -214,7 +214,9 @@ functions! {
         Empty, "", Bytes(2), "length of data page X, high byte first", "X = 0..15";
     DATA_PAGE_READ: PageRead(PageRef::Data(_)) => PageRead(PageRef::Data(0)), 0x0230 Low4,
         Login Paged,
-        Empty, "", Any, "bytes of packet i: from i x ExchPackSize, up to ExchPackSize or the page end", "";
+        Empty, "",
+        Any, "bytes of packet i: from i x ExchPackSize, up to ExchPackSize or the page end",
+        "";
     DATA_PAGE_WRITE: PageWrite(PageRef::Data(_)) => PageWrite(PageRef::Data(0)), 0x0240 Low4,
         LoginStopped Paged,
         Any, "packet i's bytes", Empty, "", "";
@@ -273,7 +275,8 @@ functions! {
         Multiple(4), "the 4 bytes at each address (SLOT + OFFSET only), low byte first", "";
     STATUS_VAR_WRITE: VarWrite => VarWrite, 0x0A11 None, Login Single,
         Multiple(8), "(address, value) pairs, each low byte first", Empty, "",
-        "SLOT, WIDTH, BIT_OFFSET, OFFSET decide what is written; a forced variable's force value changes too";
+        "SLOT, WIDTH, BIT_OFFSET, OFFSET decide what is written; \
+         a forced variable's force value changes too";
     STATUS_VAR_FORCE_READ: ForceRead => ForceRead, 0x0A20 None, Login Single,
         Multiple(4), "addresses", Multiple(4), "force values", "";
     STATUS_VAR_FORCE_WRITE: ForceWrite => ForceWrite, 0x0A21 None, Login Single,

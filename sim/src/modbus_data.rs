@@ -9,8 +9,8 @@
 //! and data, no station, no CRC or MBAP) and returns the response PDU or the exception
 //! PDU; `answer_frame` and `answer_rtu` are a slave at a station on an RTU line (station
 //! filter, broadcast, CRC), for EXCH peers and tests. Requests are decoded and answers
-//! encoded by gutta-protocol (which checks the Modbus limits); this module does no I/O. Exceptions (Modbus application protocol 1.1b3, 7):
-//! 01 an unknown function, 02 an address range not wholly served by the table, 03 a bad
+//! encoded by gutta-protocol (which checks the Modbus limits); this module does no I/O.
+//! Exceptions (Modbus application protocol 1.1b3, 7): 01 an unknown function, 02 an address range not wholly served by the table, 03 a bad
 //! quantity, byte count or coil value, or a request of the wrong length.
 
 use gutta_catalog::{Address, ModbusTable};
