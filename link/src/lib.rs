@@ -6,10 +6,11 @@ pub mod transport;
 
 use std::collections::BTreeMap;
 
-use gutta_format::{Image, LineSettings, PageId, PageKind};
-use gutta_protocol::gutta::{Function, GuttaFrame, PageArea, PageRef};
+use gutta_format::{Image, LineSettings, PackedOperand, PageId, PageKind};
+use gutta_protocol::function::{Function, PageArea, PageRef};
+use gutta_protocol::gutta::GuttaFrame;
 use gutta_protocol::message::{
-    Breakpoint, Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response, VarAddress,
+    Breakpoint, Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response,
 };
 use gutta_protocol::transfer::{split_page, PackSize};
 
@@ -141,6 +142,12 @@ impl Client {
     }
 
     /// A single-packet request whose success is a bare acknowledgement.
+    /// `ack`, a refusal naming the function (its registry name).
+    fn ack_named(&mut self, command: Command) -> Result<(), LinkError> {
+        let what = command.function().name();
+        self.ack(command, what)
+    }
+
     fn ack(&mut self, command: Command, what: &str) -> Result<(), LinkError> {
         match self.request(&Request::single(command), what)? {
             Reply::Ack(_) => Ok(()),
@@ -170,7 +177,7 @@ impl Client {
     }
 
     pub fn detach(&mut self) -> Result<(), LinkError> {
-        self.ack(Command::PlcDetach, "PLC_DETACH")
+        self.ack_named(Command::PlcDetach)
     }
 
     /// GET_PLC_NAME, without its zero padding.
@@ -186,11 +193,11 @@ impl Client {
     }
 
     pub fn clear(&mut self) -> Result<(), LinkError> {
-        self.ack(Command::PlcClear, "PLC_CLEAR")
+        self.ack_named(Command::PlcClear)
     }
 
     pub fn reset(&mut self) -> Result<(), LinkError> {
-        self.ack(Command::StatusReset, "STATUS_RESET")
+        self.ack_named(Command::StatusReset)
     }
 
     /// STATUS_READ: bit0 RUN, bit1 RESET, bit2 ATTACH, bit3 ERROR.
@@ -213,7 +220,7 @@ impl Client {
     /// STATUS_VAR_READ: 4 bytes from each packed address.
     pub fn read_vars(&mut self, addresses: &[u32]) -> Result<Vec<[u8; 4]>, LinkError> {
         let what = "STATUS_VAR_READ (outside an area?)";
-        let command = Command::VarRead(addresses.iter().map(|&a| VarAddress(a)).collect());
+        let command = Command::VarRead(addresses.iter().map(|&a| PackedOperand(a)).collect());
         match self.request(&Request::single(command), what)? {
             Reply::VarValues(values) if values.len() == addresses.len() => {
                 Ok(values.into_iter().map(u32::to_le_bytes).collect())
@@ -227,8 +234,8 @@ impl Client {
 
     /// STATUS_VAR_WRITE (`force`: STATUS_VAR_FORCE_WRITE) of (packed address, value).
     pub fn write_vars(&mut self, pairs: &[(u32, u32)], force: bool) -> Result<(), LinkError> {
-        let pairs: Vec<(VarAddress, u32)> =
-            pairs.iter().map(|&(a, v)| (VarAddress(a), v)).collect();
+        let pairs: Vec<(PackedOperand, u32)> =
+            pairs.iter().map(|&(a, v)| (PackedOperand(a), v)).collect();
         if force {
             self.ack(
                 Command::ForceWrite(pairs),
@@ -287,7 +294,7 @@ impl Client {
 
     /// STATUS_DEBUG_RESET.
     pub fn debug_reset(&mut self) -> Result<(), LinkError> {
-        self.ack(Command::DebugReset, "STATUS_DEBUG_RESET")
+        self.ack_named(Command::DebugReset)
     }
 
     /// STATUS_DEBUG_READ (the DEBUG_STATE byte) and STATUS_DEBUG_INFOR_READ.

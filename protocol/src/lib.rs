@@ -8,21 +8,25 @@
 //! return values. The simulator, the download client and the VM's EXCH do the I/O.
 //! No input makes it panic; every failure is a typed error. See `docs/protocol.md`.
 
+pub mod function;
 pub mod gutta;
 pub mod master;
 pub mod message;
 pub mod modbus;
+pub mod registry;
 pub mod rtu;
 pub mod stream;
 pub mod tcp;
 pub mod transfer;
 
-pub use gutta::{Function, GuttaError, GuttaFrame, PageArea, PageRef, FAILURE_BIT, LAST_PACKET};
+pub use function::{Function, PageArea, PageRef};
+pub use gutta::{GuttaError, GuttaFrame, FAILURE_BIT, LAST_PACKET};
 pub use master::{Master, MasterConfig, MasterError, MasterEvent};
 pub use message::{
-    Breakpoint, Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response, VarAddress,
+    Breakpoint, Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response,
 };
 pub use modbus::{ExceptionCode, ModbusError, ModbusRequest, ModbusResponse};
+pub use registry::{FunctionSpec, Needs, Packets, Payload, FUNCTIONS};
 pub use rtu::{crc16, decode_rtu, encode_rtu, FrameError, RtuFrame};
 pub use stream::{RtuSplitter, Side, TcpSplitter};
 pub use tcp::{decode_tcp, encode_tcp, MbapHeader, TcpFrame};

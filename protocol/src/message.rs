@@ -1,10 +1,14 @@
 //! Typed GUTTA requests and responses (UM4001 "功能码参考"): what the payload of each
-//! function is, in both directions. Encodes to and decodes from `GuttaFrame`; knows
-//! nothing of Modbus framing or of what the PLC does with a request.
+//! function is, in both directions. Encodes to and decodes from `GuttaFrame`; payload
+//! lengths and packet numbering are checked against the function's row of `registry`.
+//! Knows nothing of Modbus framing or of what the PLC does with a request.
 
 use std::fmt;
 
-use crate::gutta::{Function, GuttaError, GuttaFrame, PageArea, PageRef, FAILURE_BIT, LAST_PACKET};
+use crate::function::{Function, PageArea, PageRef};
+use crate::gutta::{GuttaError, GuttaFrame, FAILURE_BIT, LAST_PACKET};
+use crate::registry::Payload;
+use gutta_format::PackedOperand;
 
 /// Bytes of the PLC_ATTACH password and of the GET_PLC_NAME answer.
 pub const NAME_LEN: usize = 16;
@@ -27,7 +31,7 @@ pub enum MessageError {
     /// The payload length is not what the function requires.
     PayloadLength {
         function: Function,
-        expected: &'static str,
+        expected: Payload,
         found: usize,
     },
     /// A single-packet function whose packet number is not 0x8000.
@@ -95,29 +99,6 @@ impl std::error::Error for MessageError {}
 impl From<GuttaError> for MessageError {
     fn from(e: GuttaError) -> Self {
         MessageError::Gutta(e)
-    }
-}
-
-/// The 32-bit variable address of STATUS_VAR_*: bits 31..16 OFFSET, 15..12 BIT_OFFSET,
-/// 11..8 WIDTH, 7..4 SLOT, 3..0 USE; on the wire low byte first.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub struct VarAddress(pub u32);
-
-impl VarAddress {
-    pub fn use_field(self) -> u8 {
-        (self.0 & 0x0F) as u8
-    }
-    pub fn slot(self) -> u8 {
-        ((self.0 >> 4) & 0x0F) as u8
-    }
-    pub fn width(self) -> u8 {
-        ((self.0 >> 8) & 0x0F) as u8
-    }
-    pub fn bit_offset(self) -> u8 {
-        ((self.0 >> 12) & 0x0F) as u8
-    }
-    pub fn offset(self) -> u16 {
-        (self.0 >> 16) as u16
     }
 }
 
@@ -255,10 +236,11 @@ pub enum Command {
         count: u8,
     },
     StatusReset,
-    VarRead(Vec<VarAddress>),
-    VarWrite(Vec<(VarAddress, u32)>),
-    ForceRead(Vec<VarAddress>),
-    ForceWrite(Vec<(VarAddress, u32)>),
+    /// The variables' addresses: packed operand words (gutta-format decodes them).
+    VarRead(Vec<PackedOperand>),
+    VarWrite(Vec<(PackedOperand, u32)>),
+    ForceRead(Vec<PackedOperand>),
+    ForceWrite(Vec<(PackedOperand, u32)>),
     DebugRead,
     /// 0 = single-step stop, anything else = run until a breakpoint.
     DebugWrite {
@@ -332,11 +314,11 @@ impl Request {
             Command::StatusWrite { run } | Command::DebugWrite { run } => vec![*run],
             Command::StatusScan { count } => vec![*count],
             Command::VarRead(addresses) | Command::ForceRead(addresses) => {
-                addresses.iter().flat_map(|a| a.0.to_le_bytes()).collect()
+                addresses.iter().flat_map(|a| a.to_le_bytes()).collect()
             }
             Command::VarWrite(pairs) | Command::ForceWrite(pairs) => pairs
                 .iter()
-                .flat_map(|(a, v)| a.0.to_le_bytes().into_iter().chain(v.to_le_bytes()))
+                .flat_map(|(a, v)| a.to_le_bytes().into_iter().chain(v.to_le_bytes()))
                 .collect(),
             Command::DebugScan(step) => vec![step.byte()],
             Command::DebugInforWrite(bp) => {
@@ -346,6 +328,7 @@ impl Request {
             }
             _ => vec![],
         };
+        check_length(function, function.spec().request, &payload)?;
         let frame = GuttaFrame::new(function.code(), self.packet, payload);
         frame.encode()?; // the payload must fit the length field
         Ok(frame)
@@ -362,37 +345,38 @@ impl Request {
         let function = Function::from_code(code).ok_or(MessageError::UnknownFunction { code })?;
         check_packet(function, frame.packet)?;
         let p = frame.payload.as_slice();
+        check_length(function, function.spec().request, p)?;
         let command = match function {
-            Function::PlcClear => none(function, p, Command::PlcClear)?,
+            Function::PlcClear => Command::PlcClear,
             Function::PlcAttach => Command::PlcAttach {
                 password: fixed(function, p)?,
             },
-            Function::PlcDetach => none(function, p, Command::PlcDetach)?,
-            Function::GetPlcName => none(function, p, Command::GetPlcName)?,
-            Function::GetPlcInfor => none(function, p, Command::GetPlcInfor)?,
-            Function::PageList(area) => none(function, p, Command::PageList(area))?,
-            Function::PageAsk(page) => none(function, p, Command::PageAsk(page))?,
-            Function::PageRead(page) => none(function, p, Command::PageRead(page))?,
+            Function::PlcDetach => Command::PlcDetach,
+            Function::GetPlcName => Command::GetPlcName,
+            Function::GetPlcInfor => Command::GetPlcInfor,
+            Function::PageList(area) => Command::PageList(area),
+            Function::PageAsk(page) => Command::PageAsk(page),
+            Function::PageRead(page) => Command::PageRead(page),
             Function::PageWrite(page) => Command::PageWrite(page, p.to_vec()),
-            Function::StatusRead => none(function, p, Command::StatusRead)?,
+            Function::StatusRead => Command::StatusRead,
             Function::StatusWrite => Command::StatusWrite {
                 run: one(function, p)?,
             },
             Function::StatusScan => Command::StatusScan {
                 count: one(function, p)?,
             },
-            Function::StatusReset => none(function, p, Command::StatusReset)?,
+            Function::StatusReset => Command::StatusReset,
             Function::VarRead => Command::VarRead(addresses(function, p)?),
             Function::VarWrite => Command::VarWrite(pairs(function, p)?),
             Function::ForceRead => Command::ForceRead(addresses(function, p)?),
             Function::ForceWrite => Command::ForceWrite(pairs(function, p)?),
-            Function::DebugRead => none(function, p, Command::DebugRead)?,
+            Function::DebugRead => Command::DebugRead,
             Function::DebugWrite => Command::DebugWrite {
                 run: one(function, p)?,
             },
             Function::DebugScan => Command::DebugScan(DebugStep::from_byte(one(function, p)?)?),
-            Function::DebugReset => none(function, p, Command::DebugReset)?,
-            Function::DebugInforRead => none(function, p, Command::DebugInforRead)?,
+            Function::DebugReset => Command::DebugReset,
+            Function::DebugInforRead => Command::DebugInforRead,
             Function::DebugInforWrite => {
                 Command::DebugInforWrite(Breakpoint::decode(&fixed(function, p)?))
             }
@@ -514,6 +498,9 @@ impl Response {
             }
             Reply::DebugInfo(info) => info.encode().to_vec(),
         };
+        if let Some(function) = Function::from_code(self.code()) {
+            check_length(function, function.spec().success, &payload)?;
+        }
         let frame = GuttaFrame::new(self.code(), self.packet, payload);
         frame.encode()?;
         Ok(frame)
@@ -534,6 +521,7 @@ impl Response {
         }
         let code = frame.function;
         let function = Function::from_code(code).ok_or(MessageError::UnknownFunction { code })?;
+        check_length(function, function.spec().success, p)?;
         let reply = match function {
             Function::GetPlcName => Reply::PlcName(fixed(function, p)?),
             Function::GetPlcInfor => Reply::PlcInfor(fixed(function, p)?),
@@ -547,7 +535,8 @@ impl Response {
             Function::ForceRead => Reply::ForceValues(values(function, p)?),
             Function::DebugRead => Reply::DebugState(one(function, p)?),
             Function::DebugInforRead => Reply::DebugInfo(DebugInfo::decode(&fixed(function, p)?)),
-            ack => none(ack, p, Reply::Ack(ack))?,
+            ack if acks(ack) => Reply::Ack(ack),
+            other => return Err(MessageError::NotAnAck { function: other }),
         };
         Ok(Response {
             packet: frame.packet,
@@ -556,21 +545,9 @@ impl Response {
     }
 }
 
-/// Functions whose success answer has no payload.
+/// Functions whose success answer has no payload (the registry's success shape).
 fn acks(function: Function) -> bool {
-    !matches!(
-        function,
-        Function::GetPlcName
-            | Function::GetPlcInfor
-            | Function::PageList(_)
-            | Function::PageAsk(_)
-            | Function::PageRead(_)
-            | Function::StatusRead
-            | Function::VarRead
-            | Function::ForceRead
-            | Function::DebugRead
-            | Function::DebugInforRead
-    )
+    function.spec().success == Payload::Empty
 }
 
 fn check_page(function: Function) -> Result<(), MessageError> {
@@ -594,39 +571,28 @@ fn check_packet(function: Function, packet: u16) -> Result<(), MessageError> {
     }
 }
 
-fn none<T>(function: Function, p: &[u8], value: T) -> Result<T, MessageError> {
-    if p.is_empty() {
-        Ok(value)
+/// The payload has the length the function's row gives it (UM4001's success
+/// conditions: "发送数据长度为 0", "能够被 4 整除", ...).
+fn check_length(function: Function, shape: Payload, p: &[u8]) -> Result<(), MessageError> {
+    if shape.accepts(p.len()) {
+        Ok(())
     } else {
         Err(MessageError::PayloadLength {
             function,
-            expected: "0",
+            expected: shape,
             found: p.len(),
         })
     }
 }
 
 fn one(function: Function, p: &[u8]) -> Result<u8, MessageError> {
-    match p {
-        [b] => Ok(*b),
-        _ => Err(MessageError::PayloadLength {
-            function,
-            expected: "1",
-            found: p.len(),
-        }),
-    }
+    fixed::<1>(function, p).map(|[b]| b)
 }
 
 fn fixed<const N: usize>(function: Function, p: &[u8]) -> Result<[u8; N], MessageError> {
     <[u8; N]>::try_from(p).map_err(|_| MessageError::PayloadLength {
         function,
-        expected: match N {
-            2 => "2",
-            5 => "5",
-            16 => "16",
-            64 => "64",
-            _ => "a fixed length",
-        },
+        expected: Payload::Bytes(N),
         found: p.len(),
     })
 }
@@ -636,18 +602,7 @@ fn words(
     p: &[u8],
     size: usize,
 ) -> Result<std::slice::ChunksExact<'_, u8>, MessageError> {
-    if p.len() % size != 0 {
-        let expected = if size == 4 {
-            "a multiple of 4"
-        } else {
-            "a multiple of 8"
-        };
-        return Err(MessageError::PayloadLength {
-            function,
-            expected,
-            found: p.len(),
-        });
-    }
+    check_length(function, Payload::Multiple(size), p)?;
     Ok(p.chunks_exact(size))
 }
 
@@ -655,9 +610,9 @@ fn le32(b: &[u8]) -> u32 {
     u32::from_le_bytes([b[0], b[1], b[2], b[3]])
 }
 
-fn addresses(function: Function, p: &[u8]) -> Result<Vec<VarAddress>, MessageError> {
+fn addresses(function: Function, p: &[u8]) -> Result<Vec<PackedOperand>, MessageError> {
     Ok(words(function, p, 4)?
-        .map(|c| VarAddress(le32(c)))
+        .map(|c| PackedOperand(le32(c)))
         .collect())
 }
 
@@ -665,8 +620,8 @@ fn values(function: Function, p: &[u8]) -> Result<Vec<u32>, MessageError> {
     Ok(words(function, p, 4)?.map(le32).collect())
 }
 
-fn pairs(function: Function, p: &[u8]) -> Result<Vec<(VarAddress, u32)>, MessageError> {
+fn pairs(function: Function, p: &[u8]) -> Result<Vec<(PackedOperand, u32)>, MessageError> {
     Ok(words(function, p, 8)?
-        .map(|c| (VarAddress(le32(&c[..4])), le32(&c[4..])))
+        .map(|c| (PackedOperand(le32(&c[..4])), le32(&c[4..])))
         .collect())
 }

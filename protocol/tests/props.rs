@@ -2,12 +2,13 @@
 //! what they can re-encode byte for byte, and the splitters on arbitrary chunkings of a
 //! stream of valid frames.
 
+use gutta_format::PackedOperand;
 use gutta_protocol::modbus::{ModbusRequest, ModbusResponse};
 use gutta_protocol::transfer::{read_slice, split_page};
 use gutta_protocol::{
     decode_rtu, decode_tcp, encode_rtu, encode_tcp, Breakpoint, Command, DebugStep, Function,
     GuttaFrame, PackSize, PageArea, PageRef, Reassembler, Reply, Request, Response, RtuSplitter,
-    Side, TcpSplitter, VarAddress,
+    Side, TcpSplitter,
 };
 use proptest::prelude::*;
 
@@ -34,8 +35,9 @@ fn bytes(max: usize) -> impl Strategy<Value = Vec<u8>> {
 }
 
 fn command() -> impl Strategy<Value = Command> {
-    let addresses = proptest::collection::vec(any::<u32>().prop_map(VarAddress), 0..8);
-    let pairs = proptest::collection::vec((any::<u32>().prop_map(VarAddress), any::<u32>()), 0..8);
+    let addresses = proptest::collection::vec(any::<u32>().prop_map(PackedOperand), 0..8);
+    let pairs =
+        proptest::collection::vec((any::<u32>().prop_map(PackedOperand), any::<u32>()), 0..8);
     prop_oneof![
         Just(Command::PlcClear),
         any::<[u8; 16]>().prop_map(|password| Command::PlcAttach { password }),

@@ -2,10 +2,11 @@
 //! to the named function, re-encodes to the same bytes, and survives RTU framing and
 //! the stream splitter of its direction; plus the typed values of the examples.
 
+use gutta_format::PackedOperand;
 use gutta_protocol::message::{sys_state, FACTORY_PASSWORD};
 use gutta_protocol::{
     encode_rtu, Breakpoint, Command, DebugInfo, DebugStep, Function, GuttaFrame, PageArea, PageRef,
-    Reply, Request, Response, RtuSplitter, Side, VarAddress,
+    Reply, Request, Response, RtuSplitter, Side,
 };
 
 struct Example {
@@ -64,8 +65,8 @@ fn every_um4001_example() {
     let examples = examples();
     assert_eq!(
         examples.len(),
-        3 * 37,
-        "37 function families x request/failure/success"
+        3 * gutta_protocol::FUNCTIONS.len(),
+        "one request, failure and success per registry row"
     );
     let mut names = std::collections::BTreeSet::new();
     for ex in &examples {
@@ -100,7 +101,33 @@ fn every_um4001_example() {
             other => panic!("{at}: unknown kind {other}"),
         }
     }
-    assert_eq!(names.len(), 37);
+    assert_eq!(names.len(), gutta_protocol::FUNCTIONS.len());
+}
+
+/// A test per registry row: UM4001's request, failure and success examples of the
+/// function are in the data file, and their payloads have the row's shapes.
+#[test]
+fn every_registry_row_has_its_examples() {
+    let examples = examples();
+    for spec in gutta_protocol::FUNCTIONS {
+        for kind in ["request", "failure", "success"] {
+            let example = examples
+                .iter()
+                .find(|ex| ex.name == spec.name && ex.kind == kind)
+                .unwrap_or_else(|| panic!("{}: no {kind} example in um4001.txt", spec.name));
+            let frame = GuttaFrame::decode(&example.bytes).expect("frame");
+            assert!(spec.covers(frame.function & !gutta_protocol::FAILURE_BIT));
+            let shape = match kind {
+                "request" => spec.request,
+                "success" => spec.success,
+                _ => gutta_protocol::Payload::Empty,
+            };
+            let at = format!("{} {kind}", spec.name);
+            assert!(shape.accepts(frame.payload.len()), "{at}: {shape}");
+            let paged = spec.packets == gutta_protocol::Packets::Paged;
+            assert_eq!(frame.packet != 0x8000, paged, "{at}: packet number");
+        }
+    }
 }
 
 #[test]
@@ -152,19 +179,29 @@ fn typed_values_of_the_examples() {
     let Command::VarRead(addresses) = req("00 08 0A 10 80 00 10 02 04 00").command else {
         panic!("not a var read");
     };
-    assert_eq!(addresses, [VarAddress(0x0004_0210)]);
+    assert_eq!(addresses, [PackedOperand(0x0004_0210)]);
     assert_eq!(
         (
             addresses[0].offset(),
-            addresses[0].bit_offset(),
-            addresses[0].width()
+            addresses[0].bit(),
+            addresses[0].width_code()
         ),
         (4, 0, 2)
     );
-    assert_eq!((addresses[0].slot(), addresses[0].use_field()), (1, 0));
+    assert_eq!((addresses[0].slot(), addresses[0].use_code()), (1, 0));
+    // gutta-format decodes it: the WORD at offset 4 of slot 1, by value.
+    assert_eq!(
+        addresses[0].decode(),
+        Ok(gutta_format::Operand::Value(gutta_format::Address {
+            slot: 1,
+            width: gutta_format::Width::Word,
+            offset: 4,
+            bit: 0
+        }))
+    );
     assert_eq!(
         req("00 0C 0A 21 80 00 10 02 04 00 34 12 00 00").command,
-        Command::ForceWrite(vec![(VarAddress(0x0004_0210), 0x1234)])
+        Command::ForceWrite(vec![(PackedOperand(0x0004_0210), 0x1234)])
     );
     assert_eq!(
         req("00 09 0A 35 80 00 02 00 05 00 07").command,

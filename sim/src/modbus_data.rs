@@ -5,14 +5,17 @@
 //! (ManagerVar.xml `Modbus`/`ModbusStart`, via `MemoryMap::modbus_cell`): a register is
 //! the little-endian word at its byte offset, sent high byte first.
 //!
-//! `serve` takes a request PDU (function code and data, no station, no CRC or MBAP) and
-//! returns the response PDU. Requests are decoded and answers encoded by gutta-protocol
-//! (which checks the Modbus limits). Exceptions (Modbus application protocol 1.1b3, 7):
-//! 01 an unknown function, 02 an address range not wholly served by the table, 03 a bad
+//! This is the toolchain's one Modbus slave. `serve` takes a request PDU (function code
+//! and data, no station, no CRC or MBAP) and returns the response PDU or the exception
+//! PDU; `answer_frame` and `answer_rtu` are a slave at a station on an RTU line (station
+//! filter, broadcast, CRC), for EXCH peers and tests. Requests are decoded and answers
+//! encoded by gutta-protocol (which checks the Modbus limits); this module does no I/O.
+//! Exceptions (Modbus application protocol 1.1b3, 7): 01 an unknown function, 02 an address range not wholly served by the table, 03 a bad
 //! quantity, byte count or coil value, or a request of the wrong length.
 
 use gutta_catalog::{Address, ModbusTable};
 use gutta_protocol::modbus::{pack_bits, ExceptionCode, ModbusRequest, ModbusResponse};
+use gutta_protocol::rtu::{decode_rtu, RtuFrame};
 use gutta_vm::Vm;
 
 /// Whether `function` is one `serve` handles.
@@ -35,6 +38,25 @@ pub fn serve(vm: &mut Vm, pdu: &[u8]) -> Vec<u8> {
         Ok(bytes) => bytes,
         Err(code) => exception(function, code),
     }
+}
+
+/// A Modbus RTU slave at `station` answering one request frame (station, function
+/// code, data; no CRC) from `vm`'s memory. `None` when a slave stays silent: the request
+/// is for another station, or it is a broadcast (station 0), which is carried out.
+/// The answer carries the slave's station and is the response or the exception PDU.
+pub fn answer_frame(vm: &mut Vm, station: u8, request: &RtuFrame) -> Option<RtuFrame> {
+    if request.station != station && request.station != 0 {
+        return None;
+    }
+    let pdu = serve(vm, &request.pdu);
+    (request.station != 0).then_some(RtuFrame { station, pdu })
+}
+
+/// `answer_frame` for the bytes on the line: a request frame with its CRC in, the answer
+/// frame with its CRC out. A frame whose CRC does not check gets no answer either.
+pub fn answer_rtu(vm: &mut Vm, station: u8, frame: &[u8]) -> Option<Vec<u8>> {
+    let request = decode_rtu(frame).ok()?;
+    answer_frame(vm, station, &request).map(|answer| answer.encode())
 }
 
 fn answer(vm: &mut Vm, request: ModbusRequest) -> Result<ModbusResponse, ExceptionCode> {

@@ -3,8 +3,13 @@
 //! one GUTTA request (the data inside Modbus function 13); `modbus` one standard Modbus
 //! data request; `scan` runs the program. Transports and time live in the binary.
 //!
+//! `dispatch` applies the login and stop conditions of gutta-protocol's function
+//! registry and hands each function to its family: `identity` (login, name), `flash`
+//! (pages), `run_state`, `variables` (reading, writing, forcing), `debugger`.
+//!
 //! Rules (UM4001, and what we decided where it is silent; docs/simulator.md):
-//! - Everything but PLC_CLEAR, STATUS_RESET and DEBUG_RESET needs a login (ATTACH).
+//! - A function needs a login (ATTACH) when its registry row says so: everything but
+//!   PLC_CLEAR, PLC_ATTACH, PLC_DETACH, STATUS_RESET and DEBUG_RESET.
 //! - PLC_CLEAR erases the pages and the password, stops the PLC and unlocks the flash;
 //!   STATUS_RESET locks it again. Page writes need the flash unlocked and the PLC
 //!   stopped. STATUS_RESET then loads the pages: an image that verifies runs; one that
@@ -21,20 +26,22 @@ use std::sync::Arc;
 
 use gutta_catalog::Target;
 use gutta_format::{verify, ArgumentPage, Image, LineSettings, PageId, PageKind};
-use gutta_protocol::gutta::{GuttaFrame, PageArea};
-use gutta_protocol::message::{
-    Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response, VarAddress,
-};
-use gutta_vm::{Position, ScanEnd, Step, Vm, VmConfig};
+use gutta_protocol::gutta::GuttaFrame;
+use gutta_protocol::message::{Command, MessageError, Reply, Request, Response};
+use gutta_vm::{ScanEnd, Vm, VmConfig};
 
 use crate::modbus_data;
 
-/// The factory password: 16 x 0xFF.
-pub const FACTORY_PASSWORD: [u8; 16] = [0xFF; 16];
+mod debugger;
+mod flash;
+mod identity;
+mod run_state;
+mod variables;
 
-/// The USE field value that makes STATUS_VAR_FORCE_WRITE release a force (our
-/// extension; docs/simulator.md).
-pub const RELEASE_USE: u32 = 0xF;
+pub use variables::RELEASE_USE;
+
+/// The factory password: 16 x 0xFF (gutta-protocol's).
+pub use gutta_protocol::message::FACTORY_PASSWORD;
 
 /// Bit 15 of a packet number: the last packet of a transfer.
 pub const LAST_PACKET: u16 = gutta_protocol::gutta::LAST_PACKET;
@@ -62,27 +69,6 @@ pub enum Refusal {
     Debug(String),
 }
 
-/// Login failures and the lockout after them.
-#[derive(Debug, Clone, Default)]
-struct LoginGuard {
-    failures: u32,
-    locked_until_ms: u64,
-}
-
-impl LoginGuard {
-    const FREE_FAILURES: u32 = 2;
-    const MAX_LOCKOUT_MS: u64 = 60_000;
-
-    fn fail(&mut self, now_ms: u64) {
-        self.failures += 1;
-        if self.failures > Self::FREE_FAILURES {
-            let doublings = (self.failures - Self::FREE_FAILURES - 1).min(6);
-            let lockout = (1000u64 << doublings).min(Self::MAX_LOCKOUT_MS);
-            self.locked_until_ms = now_ms + lockout;
-        }
-    }
-}
-
 /// The simulated PLC.
 #[derive(Debug)]
 pub struct Plc {
@@ -94,7 +80,7 @@ pub struct Plc {
     unlocked: bool,
     attached: bool,
     password: [u8; 16],
-    guard: LoginGuard,
+    guard: identity::LoginGuard,
     /// The running image; a blank one (empty MAIN) when there is none, so memory and
     /// Modbus still work.
     vm: Vm,
@@ -149,7 +135,7 @@ impl Plc {
             unlocked: false,
             attached: false,
             password: FACTORY_PASSWORD,
-            guard: LoginGuard::default(),
+            guard: identity::LoginGuard::default(),
             vm,
             image_error: false,
             last_refusal: None,
@@ -302,257 +288,63 @@ impl Plc {
         self.answer(&GuttaFrame::new(function, packet, payload.to_vec()), now_ms)
     }
 
+    /// One decoded request: the registry's login and stop conditions first, then the
+    /// function's family (`identity`, `flash`, `run_state`, `variables`, `debugger`).
     fn dispatch(&mut self, request: Request, now_ms: u64) -> Result<Reply, Refusal> {
         let function = request.function();
         if function.needs_login() && !self.attached {
             return Err(Refusal::NotAttached);
         }
-        let ack = Ok(Reply::Ack(function));
+        if function.needs_stop() && self.runs_program() {
+            return Err(Refusal::Running);
+        }
+        let ack = Reply::Ack(function);
+        let packet = request.packet;
         match request.command {
             Command::PlcClear => {
-                self.pages.clear();
-                self.password = FACTORY_PASSWORD;
-                // The station and the serial lines revert to their defaults (UM4001).
-                self.active_ports.clear();
-                self.unlocked = true;
-                self.image_error = false;
-                self.vm.set_running(false);
-                ack
+                self.clear();
+                Ok(ack)
             }
-            Command::PlcAttach { password } => {
-                if now_ms < self.guard.locked_until_ms {
-                    return Err(Refusal::LockedOut {
-                        until_ms: self.guard.locked_until_ms,
-                    });
-                }
-                if password != self.password {
-                    self.guard.fail(now_ms);
-                    return Err(Refusal::WrongPassword);
-                }
-                self.guard = LoginGuard::default();
-                self.attached = true;
-                self.vm.set_attached(true);
-                ack
-            }
+            Command::PlcAttach { password } => self.attach(password, now_ms).map(|()| ack),
             Command::PlcDetach => {
-                self.attached = false;
-                self.vm.set_attached(false);
-                ack
+                self.detach();
+                Ok(ack)
             }
-            Command::GetPlcName => Ok(Reply::PlcName(padded(self.target.name()))),
-            Command::GetPlcInfor => Ok(Reply::PlcInfor(padded(&self.target.plc.information))),
+            Command::GetPlcName => Ok(Reply::PlcName(self.name())),
+            Command::GetPlcInfor => Ok(Reply::PlcInfor(self.information())),
             Command::PageList(area) => Ok(Reply::PageList(area, self.page_list(area))),
-            Command::PageAsk(page) => {
-                let len = self
-                    .pages
-                    .get(&page.page_id())
-                    .ok_or(Refusal::NoSuchPage)?
-                    .len();
-                Ok(Reply::PageLength(
-                    page,
-                    u16::try_from(len).unwrap_or(u16::MAX),
-                ))
-            }
-            Command::PageRead(page) => {
-                let bytes = self.pages.get(&page.page_id()).ok_or(Refusal::NoSuchPage)?;
-                let size = self.pack_size();
-                let start = usize::from(request.packet & !LAST_PACKET) * size;
-                if start > bytes.len() || (start == bytes.len() && start > 0) {
-                    return Err(Refusal::BadPacket);
-                }
-                let end = bytes.len().min(start + size);
-                Ok(Reply::PageData(page, bytes[start..end].to_vec()))
-            }
-            Command::PageWrite(page, data) => {
-                if self.vm.is_running() && !self.image_error && self.has_program() {
-                    return Err(Refusal::Running);
-                }
-                if !self.unlocked {
-                    return Err(Refusal::FlashLocked);
-                }
-                self.write_packet(page.page_id(), request.packet, &data)?;
-                ack
-            }
+            Command::PageAsk(page) => Ok(Reply::PageLength(page, self.page_length(page)?)),
+            Command::PageRead(page) => Ok(Reply::PageData(page, self.read_page(page, packet)?)),
+            Command::PageWrite(page, data) => self.write_page(page, packet, &data).map(|()| ack),
             Command::StatusRead => Ok(Reply::Status(self.status_byte())),
-            Command::StatusWrite { run } => {
-                if run != 0 && (self.image_error || !self.has_program()) {
-                    return Err(Refusal::NoProgram);
-                }
-                self.vm.set_running(run != 0);
-                ack
-            }
-            Command::StatusScan { count } => {
-                self.vm
-                    .scan_while_stopped(count)
-                    .map_err(|f| Refusal::Access(f.to_string()))?;
-                ack
-            }
+            Command::StatusWrite { run } => self.set_running(run != 0).map(|()| ack),
+            Command::StatusScan { count } => self.scan_stopped(count).map(|()| ack),
             Command::StatusReset => {
                 self.reset();
-                ack
+                Ok(ack)
             }
-            Command::VarRead(addresses) => Ok(Reply::VarValues(
-                self.read_each(&addresses, |vm, a| vm.read_packed(a))?,
-            )),
-            Command::ForceRead(addresses) => Ok(Reply::ForceValues(
-                self.read_each(&addresses, |vm, a| vm.read_force_packed(a))?,
-            )),
-            Command::VarWrite(pairs) => {
-                self.check_each(&pairs)?;
-                for (address, value) in pairs {
-                    self.vm
-                        .write_packed(address.0, value)
-                        .map_err(|e| Refusal::Access(e.0))?;
-                }
-                ack
-            }
-            Command::ForceWrite(pairs) => {
-                self.check_each(&pairs)?;
-                for (address, value) in pairs {
-                    if u32::from(address.use_field()) == RELEASE_USE {
-                        // Our extension: USE 15 releases the force (UM4001 has no
-                        // unforce; a PLC that ignores USE forces the value sent, which
-                        // the client makes the current value).
-                        let op = gutta_format::PackedOperand(address.0);
-                        if let Some(a) = op.width().map(|width| gutta_catalog::Address {
-                            slot: op.slot(),
-                            width,
-                            offset: u32::from(op.offset()),
-                            bit: op.bit() & 7,
-                        }) {
-                            self.vm.unforce(a);
-                        }
-                    } else {
-                        self.vm
-                            .force_packed(address.0, value)
-                            .map_err(|e| Refusal::Access(e.0))?;
-                    }
-                }
-                ack
-            }
+            Command::VarRead(addresses) => self.read_vars(&addresses).map(Reply::VarValues),
+            Command::VarWrite(pairs) => self.write_vars(pairs).map(|()| ack),
+            Command::ForceRead(addresses) => self.read_forces(&addresses).map(Reply::ForceValues),
+            Command::ForceWrite(pairs) => self.write_forces(pairs).map(|()| ack),
             Command::DebugRead => Ok(Reply::DebugState(self.vm.debug_byte())),
-            Command::DebugWrite { run } => {
-                if run == 0 {
-                    self.vm
-                        .debug_stop()
-                        .map_err(|e| Refusal::Debug(e.to_string()))?;
-                } else {
-                    self.vm.debug_run();
-                }
-                ack
-            }
-            Command::DebugScan(step) => {
-                let step = match step {
-                    DebugStep::In => Step::In,
-                    DebugStep::Over => Step::Over,
-                    DebugStep::Out => Step::Out,
-                };
-                self.vm
-                    .debug_step(step)
-                    .map_err(|e| Refusal::Debug(e.to_string()))?;
-                ack
-            }
-            Command::DebugReset => {
-                self.vm
-                    .debug_reset()
-                    .map_err(|e| Refusal::Debug(e.to_string()))?;
-                ack
-            }
-            Command::DebugInforRead => {
-                Ok(Reply::DebugInfo(DebugInfo::decode(&self.vm.debug_info())))
-            }
-            Command::DebugInforWrite(breakpoint) => {
-                let at = (breakpoint.index != 0xFF).then_some(Position {
-                    function: breakpoint.index,
-                    network: breakpoint.network,
-                    step: breakpoint.step,
-                });
-                self.vm
-                    .set_breakpoint(at)
-                    .map_err(|e| Refusal::Debug(e.to_string()))?;
-                ack
-            }
+            Command::DebugWrite { run } => self.debug_run(run != 0).map(|()| ack),
+            Command::DebugScan(step) => self.debug_step(step).map(|()| ack),
+            Command::DebugReset => self.debug_reset().map(|()| ack),
+            Command::DebugInforRead => Ok(Reply::DebugInfo(self.debug_info())),
+            Command::DebugInforWrite(breakpoint) => self.set_breakpoint(breakpoint).map(|()| ack),
         }
     }
 
-    /// Every address read, or the first refusal.
-    fn read_each(
-        &self,
-        addresses: &[VarAddress],
-        read: impl Fn(&Vm, u32) -> Result<[u8; 4], gutta_vm::AccessError>,
-    ) -> Result<Vec<u32>, Refusal> {
-        addresses
-            .iter()
-            .map(|a| {
-                read(&self.vm, a.0)
-                    .map(u32::from_le_bytes)
-                    .map_err(|e| Refusal::Access(e.0))
-            })
-            .collect()
-    }
-
-    /// Every address of a write checked first, so a bad one writes nothing.
-    fn check_each(&self, pairs: &[(VarAddress, u32)]) -> Result<(), Refusal> {
-        for (address, _) in pairs {
-            self.vm
-                .read_packed(address.0)
-                .map_err(|e| Refusal::Access(e.0))?;
-        }
-        Ok(())
+    /// The PLC runs a program that verified (page writes need it stopped).
+    fn runs_program(&self) -> bool {
+        self.vm.is_running() && !self.image_error && self.has_program()
     }
 
     fn has_program(&self) -> bool {
         self.pages
             .contains_key(&PageId::new(PageKind::Instruction, 0))
     }
-
-    fn pack_size(&self) -> usize {
-        (self.target.plc.exch_pack_size as usize).max(1)
-    }
-
-    /// DATA_ASK, SYSTEM_ASK, PROGRAM_ASK: the numbers of the pages present (for the
-    /// program: the instruction pages).
-    fn page_list(&self, area: PageArea) -> Vec<u8> {
-        let kind = match area {
-            PageArea::Data => PageKind::Data,
-            PageArea::System => PageKind::System,
-            PageArea::Program => PageKind::Instruction,
-        };
-        self.pages
-            .keys()
-            .filter(|id| id.kind == kind)
-            .map(|id| id.number)
-            .collect()
-    }
-
-    /// A write packet: packet 0 starts the page, each next packet continues at
-    /// packet x ExchPackSize; the last packet ends the page.
-    fn write_packet(&mut self, id: PageId, packet: u16, payload: &[u8]) -> Result<(), Refusal> {
-        let size = self.pack_size();
-        let number = usize::from(packet & !LAST_PACKET);
-        let last = packet & LAST_PACKET != 0;
-        if payload.len() > size || (!last && payload.len() != size) {
-            return Err(Refusal::BadPacket);
-        }
-        let page = self.pages.entry(id).or_default();
-        if number == 0 {
-            page.clear();
-        } else if page.len() != number * size {
-            return Err(Refusal::BadPacket);
-        }
-        page.extend_from_slice(payload);
-        Ok(())
-    }
-}
-
-/// A name or information text as the fixed-size answer field: cut to N bytes, or
-/// padded with zeros (which also terminates it).
-fn padded<const N: usize>(text: &str) -> [u8; N] {
-    let mut out = [0u8; N];
-    let bytes = text.as_bytes();
-    let n = bytes.len().min(N);
-    out[..n].copy_from_slice(&bytes[..n]);
-    out
 }
 
 impl From<MessageError> for Refusal {
@@ -564,26 +356,5 @@ impl From<MessageError> for Refusal {
             MessageError::PayloadLength { .. } => Refusal::BadLength,
             other => Refusal::Malformed(other.to_string()),
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn lockout_doubles_after_two_free_failures() {
-        let mut g = LoginGuard::default();
-        g.fail(0);
-        g.fail(0);
-        assert_eq!(g.locked_until_ms, 0);
-        g.fail(10);
-        assert_eq!(g.locked_until_ms, 1010);
-        g.fail(2000);
-        assert_eq!(g.locked_until_ms, 4000);
-        for _ in 0..20 {
-            g.fail(5000);
-        }
-        assert_eq!(g.locked_until_ms, 65_000);
     }
 }

@@ -6,7 +6,8 @@ mod common;
 use std::sync::Arc;
 
 use gutta_catalog::stdlib;
-use gutta_sim::modbus_data::serve;
+use gutta_protocol::rtu::RtuFrame;
+use gutta_sim::modbus_data::{answer_frame, answer_rtu, serve};
 use gutta_vm::{Vm, VmConfig};
 
 /// A CPU-EC20 VM running an empty MAIN.
@@ -153,4 +154,50 @@ fn exceptions() {
     );
     assert_eq!(read_last(&mut vm), [0x03, 0x02, 0x00, 0x07]);
     // Inputs are not writable through Modbus: there is no write function for 1x/3x.
+}
+
+#[test]
+fn a_slave_at_a_station_on_an_rtu_line() {
+    let mut vm = vm();
+    set(&mut vm, "MW0", 0x0C2B);
+    // The AN2002 capture, CRC and all: 01 03 00 08 00 04 C5 CB.
+    assert_eq!(
+        answer_rtu(&mut vm, 1, &[1, 3, 0, 8, 0, 4, 0xC5, 0xCB]),
+        Some(vec![1, 3, 8, 0x0C, 0x2B, 0, 0, 0, 0, 0, 0, 0x0E, 0x80])
+    );
+    // A bad CRC, or another station: silence.
+    assert_eq!(
+        answer_rtu(&mut vm, 1, &[1, 3, 0, 8, 0, 4, 0xC5, 0xCC]),
+        None
+    );
+    assert_eq!(
+        answer_rtu(&mut vm, 2, &[1, 3, 0, 8, 0, 4, 0xC5, 0xCB]),
+        None
+    );
+    assert_eq!(
+        answer_rtu(&mut vm, 1, &[1, 3]),
+        None,
+        "shorter than a frame"
+    );
+    // Without CRC; an exception is an answer like any other.
+    let ask = |vm: &mut Vm, station: u8, pdu: &[u8]| {
+        answer_frame(
+            vm,
+            1,
+            &RtuFrame {
+                station,
+                pdu: pdu.to_vec(),
+            },
+        )
+    };
+    assert_eq!(
+        ask(&mut vm, 1, &[0x03, 0x00, 0x6F, 0x00, 0x02]),
+        Some(RtuFrame {
+            station: 1,
+            pdu: vec![0x83, 0x02]
+        })
+    );
+    // A broadcast is carried out without an answer.
+    assert_eq!(ask(&mut vm, 0, &[0x06, 0x00, 0x12, 0x12, 0x34]), None);
+    assert_eq!(get(&vm, "MW20"), 0x1234);
 }
