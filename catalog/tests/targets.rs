@@ -346,17 +346,6 @@ fn utf16_files_give_the_same_target() {
 }
 
 #[test]
-fn default_files_are_copies_of_the_cpu_ec20_target() {
-    let (name, plc, var) = stdlib::TARGETS[0];
-    assert_eq!(name, "CPU-EC20");
-    assert_eq!(include_bytes!("../../stdlib/PlcType.xml").as_slice(), plc);
-    assert_eq!(
-        include_bytes!("../../stdlib/ManagerVar.xml").as_slice(),
-        var
-    );
-}
-
-#[test]
 fn area_specific_addresses_parse_only_where_the_area_exists() {
     for row in TYPES {
         let m = memory(row.name);
