@@ -52,9 +52,9 @@ From the document:
 - Offsets count in bytes, except T and C (words: `T5` is bytes 10..11) and HC (double
   words: `HC1` is bytes 4..7). T, C, J and HC have one width and take no width letter
   (`T5`, `C3`, `J2`, `HC1`); every other area needs `B`, `W`, `D` or a `.bit`.
-- Which widths each area allows, where `&` (address-of a byte) and `*` (a dword holding
-  a pointer) are allowed, and which areas programs cannot write (I, AI: inputs; K:
-  constants) are in each type's memory map below.
+";
+
+const SHARED_MODBUS: &str = "\
 - Modbus: I = discrete inputs from 100001, Q = coils from 000001 (one object per bit,
   `Q3.0` = 000025, `I0.4` = 100005), AI = input registers from 300001, AQ = holding
   registers from 400001, then M, (V), T, C, (HC), SM, J continue the holding registers
@@ -122,6 +122,8 @@ pub fn target_reference(targets: &[Target]) -> String {
     write_names(&mut out, targets);
     out.push('\n');
     out.push_str(SHARED_FROM_THE_DOCUMENT);
+    write_area_rules(&mut out, targets);
+    out.push_str(SHARED_MODBUS);
     write_serial_ports(&mut out, targets);
     out.push_str(SHARED_DECISIONS_END);
     out.push('\n');
@@ -168,13 +170,116 @@ fn write_names(out: &mut String, targets: &[Target]) {
     }
 }
 
+/// Widths, `&`, `*` and writes by area name, when every name means the same on every
+/// type; otherwise a pointer to the memory maps.
+fn write_area_rules(out: &mut String, targets: &[Target]) {
+    let Some(areas) = areas_by_name(targets) else {
+        out.push_str(
+            "- Widths, `&`, `*` and program writes differ between types: see the memory maps.\n",
+        );
+        return;
+    };
+    let mut by_widths: Vec<(String, Vec<&str>)> = Vec::new();
+    for area in &areas {
+        let widths: Vec<String> = area
+            .widths
+            .iter()
+            .map(|w| w.keyword().to_ascii_lowercase())
+            .collect();
+        let widths = widths.join(", ");
+        match by_widths.iter_mut().find(|(w, _)| *w == widths) {
+            Some((_, names)) => names.push(&area.name),
+            None => by_widths.push((widths, vec![&area.name])),
+        }
+    }
+    let widths: Vec<String> = by_widths
+        .iter()
+        .map(|(widths, names)| format!("{}: {widths}.", names.join(", ")))
+        .collect();
+    bullet(out, &format!("Widths: {}", widths.join(" ")));
+    let names = |keep: fn(&Area) -> bool| -> String {
+        let names: Vec<&str> = areas
+            .iter()
+            .filter(|a| keep(a))
+            .map(|a| a.name.as_str())
+            .collect();
+        names.join(", ")
+    };
+    bullet(
+        out,
+        &format!(
+            "`&` (address-of a byte): {}. `*` (a dword holding a pointer): {}.",
+            names(|a| a.address_of),
+            names(|a| a.holds_pointer)
+        ),
+    );
+    bullet(
+        out,
+        &format!(
+            "Programs cannot write {}; all other areas are writable.",
+            names(|a| !a.writable)
+        ),
+    );
+}
+
+/// Every area name of the types once, each after the area its first type has before it
+/// (`V` after `M`); None when a name has other widths or permissions on another type.
+fn areas_by_name(targets: &[Target]) -> Option<Vec<&Area>> {
+    let mut areas: Vec<&Area> = Vec::new();
+    for target in targets {
+        for (i, area) in target.memory.areas.iter().enumerate() {
+            match areas.iter().find(|a| a.name == area.name) {
+                Some(known) if same_rules(known, area) => {}
+                Some(_) => return None,
+                None => {
+                    let at = i
+                        .checked_sub(1)
+                        .and_then(|before| {
+                            let name = &target.memory.areas[before].name;
+                            areas.iter().position(|a| a.name == *name)
+                        })
+                        .map_or(areas.len(), |p| p + 1);
+                    areas.insert(at, area);
+                }
+            }
+        }
+    }
+    Some(areas)
+}
+
+fn same_rules(a: &Area, b: &Area) -> bool {
+    a.widths == b.widths
+        && a.address_of == b.address_of
+        && a.holds_pointer == b.holds_pointer
+        && a.writable == b.writable
+}
+
 fn write_serial_ports(out: &mut String, targets: &[Target]) {
     let counts: Vec<String> = groups(targets, |m| &m.serial_ports)
         .into_iter()
         .map(|(names, memory)| format!("{} on {}", memory.serial_ports, names.join(", ")))
         .collect();
-    let _ = writeln!(out, "- Serial ports: {}.", counts.join("; "));
+    bullet(out, &format!("Serial ports: {}.", counts.join("; ")));
 }
+
+/// A list item wrapped at [`LINE`] columns, continuation lines indented.
+fn bullet(out: &mut String, text: &str) {
+    let mut line = String::from("-");
+    for word in text.split(' ') {
+        if line.len() + 1 + word.len() > LINE && line.len() > 2 {
+            out.push_str(&line);
+            out.push('\n');
+            line = String::from(" ");
+        }
+        line.push(' ');
+        line.push_str(word);
+    }
+    out.push_str(&line);
+    out.push('\n');
+}
+
+/// The width the prose of the page is wrapped at.
+const LINE: usize = 88;
 
 /// Targets grouped by equal `part` of their memory map, in order of first appearance:
 /// the names of each group and the first member's map.
