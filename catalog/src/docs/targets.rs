@@ -1,8 +1,8 @@
 //! Renders the stdlib PLC types as `docs/targets.md`: each type's memory map with its
 //! Modbus references, limits, timers, counters, forcing, serial ports, system memory and
-//! interrupt events, all from the loaded tables. The prose here says only what the files
-//! cannot (the document's names, the reasons for our decisions); no number of a target
-//! is written by hand. Pure text, no I/O.
+//! interrupt events, all from the loaded tables: no table cell is written by hand. The
+//! prose here says only what the files cannot (the document's names, the reasons for
+//! our decisions). Pure text, no I/O.
 
 use std::fmt::Write;
 
