@@ -1,7 +1,7 @@
 //! The stdlib target descriptions, embedded at build time so the compiler needs no
-//! files at run time. `stdlib/PlcType.xml`, `ManagerVar.xml`, `ManagerFun.xml` are the
-//! default target; `stdlib/targets/<Name>/` hold PlcType.xml and ManagerVar.xml of every
-//! PLC type, all sharing the default ManagerFun.xml.
+//! files at run time; no file I/O. `stdlib/targets/<Name>/` holds PlcType.xml and
+//! ManagerVar.xml of every PLC type (the default, CPU-EC20, among them), all sharing
+//! `stdlib/ManagerFun.xml`. Each file exists once.
 
 use std::sync::{Arc, OnceLock};
 

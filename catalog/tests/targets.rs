@@ -1,7 +1,11 @@
 //! The six stdlib targets against a table transcribed by hand from GUTTA.md section 2
-//! (IN1001): slots, names, sizes, permissions and Modbus ranges; plus encodings, the
-//! default copies, target-specific addresses and the decided timer and SM layout.
+//! (IN1001): slots, names, sizes, permissions and Modbus ranges; plus encodings,
+//! target-specific addresses and the decided timer and SM layout; and the check that
+//! docs/targets.md is the page generated from the targets.
 
+use std::path::PathBuf;
+
+use gutta_catalog::docs::target_reference;
 use gutta_catalog::{
     stdlib, AddressError, AreaKind, MemoryMap, ModbusTable, Target, TargetSources, Width,
 };
@@ -200,6 +204,23 @@ fn memory(name: &str) -> MemoryMap {
 }
 
 #[test]
+fn targets_doc_is_generated_from_the_stdlib_targets() {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../docs/targets.md");
+    let generated = target_reference(&load_all());
+    if std::env::var_os("UPDATE_DOCS").is_some_and(|v| v == "1") {
+        std::fs::write(&path, &generated).expect("write docs/targets.md");
+        return;
+    }
+    let on_disk = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        on_disk == generated,
+        "docs/targets.md is not the page generated from stdlib/targets/; \
+         regenerate it with `UPDATE_DOCS=1 cargo test -p gutta-catalog --test targets` \
+         and commit the result"
+    );
+}
+
+#[test]
 fn stdlib_lists_the_six_types_default_first() {
     let names: Vec<&str> = stdlib::names().collect();
     let expected: Vec<&str> = TYPES.iter().map(|t| t.name).collect();
@@ -343,17 +364,6 @@ fn utf16_files_give_the_same_target() {
             assert_eq!(t.instructions, utf8.instructions, "{name}");
         }
     }
-}
-
-#[test]
-fn default_files_are_copies_of_the_cpu_ec20_target() {
-    let (name, plc, var) = stdlib::TARGETS[0];
-    assert_eq!(name, "CPU-EC20");
-    assert_eq!(include_bytes!("../../stdlib/PlcType.xml").as_slice(), plc);
-    assert_eq!(
-        include_bytes!("../../stdlib/ManagerVar.xml").as_slice(),
-        var
-    );
 }
 
 #[test]

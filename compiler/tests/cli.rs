@@ -175,19 +175,34 @@ fn usage_and_io_errors_exit_two() {
 
 #[test]
 fn target_folder_is_loaded_from_disk() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../stdlib");
-    let out = gutta_cc(&[
-        "--check",
-        "--target",
-        root.to_str().expect("utf-8 path"),
-        "examples/blink.lad",
-    ]);
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let stdlib = Path::new(env!("CARGO_MANIFEST_DIR")).join("../stdlib");
+    let root = stdlib.join("targets/CPU-EC20");
+    // A folder of all three files, and a stdlib target folder (no ManagerFun.xml: the
+    // stdlib instruction set) both load.
+    let full = std::env::temp_dir().join(format!("gutta-fulltarget-{}", std::process::id()));
+    std::fs::create_dir_all(&full).expect("dir");
+    for (from, name) in [
+        (&root, "PlcType.xml"),
+        (&root, "ManagerVar.xml"),
+        (&stdlib, "ManagerFun.xml"),
+    ] {
+        std::fs::copy(from.join(name), full.join(name)).expect("copy");
+    }
+    for folder in [&full, &root] {
+        let out = gutta_cc(&[
+            "--check",
+            "--target",
+            folder.to_str().expect("utf-8 path"),
+            "examples/blink.lad",
+        ]);
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{}: {}",
+            folder.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
     // A broken target folder is a coded error, exit 2.
     let dir = std::env::temp_dir().join(format!("gutta-badtarget-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("dir");

@@ -205,7 +205,7 @@ fn limits_name_the_limit_the_size_and_the_target() {
 #[test]
 fn a_system_block_too_large_for_the_target_is_e0703() {
     let root = scratch("system");
-    let stdlib = Path::new(env!("CARGO_MANIFEST_DIR")).join("../stdlib");
+    let stdlib = Path::new(env!("CARGO_MANIFEST_DIR")).join("../stdlib/targets/CPU-EC20");
     let target = root.join("target");
     std::fs::create_dir_all(&target).expect("dir");
     std::fs::copy(stdlib.join("ManagerVar.xml"), target.join("ManagerVar.xml")).expect("copy");

@@ -1,6 +1,6 @@
 //! chumsky grammars for the content of one line: instruction operands, symbol and
 //! local declarations, data rows, system entries, block and network headers. The
-//! block parser (blocks.rs) splits the text into lines and picks the grammar; a line
+//! block parser (blocks/) splits the text into lines and picks the grammar; a line
 //! that fails its grammar gives exactly one E0102 diagnostic.
 
 use chumsky::input::ValueInput;

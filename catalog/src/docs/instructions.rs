@@ -1,9 +1,9 @@
 //! Renders an [`InstructionSet`] as the Markdown instruction reference
-//! (`docs/instructions.md`). Pure text: no I/O, and the output depends only on the set,
-//! so a test can compare the checked-in file with a fresh rendering.
+//! (`docs/instructions.md`). Pure text, no I/O.
 
 use std::fmt::Write;
 
+use super::{cell, yes_no};
 use crate::{BlockKind, Instruction, InstructionSet, OperandKind, OperandSpec};
 
 /// The whole reference: a header, a table of contents by family, then one section per
@@ -203,25 +203,12 @@ fn write_operand_row(out: &mut String, op: &OperandSpec) {
     );
 }
 
-fn yes_no(b: bool) -> &'static str {
-    if b {
-        "yes"
-    } else {
-        "no"
-    }
-}
-
 fn signed(n: i8) -> String {
     if n > 0 {
         format!("+{n}")
     } else {
         n.to_string()
     }
-}
-
-/// Escape the one character that breaks a table cell.
-fn cell(text: &str) -> String {
-    text.replace('|', "\\|")
 }
 
 /// Stable anchor of an instruction: its opcode (mnemonics like `LDB<>` make poor slugs).
