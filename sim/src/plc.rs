@@ -23,11 +23,12 @@ use gutta_catalog::Target;
 use gutta_format::{verify, ArgumentPage, Image, LineSettings, PageId, PageKind};
 use gutta_protocol::gutta::{GuttaFrame, PageArea};
 use gutta_protocol::message::{
-    Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response, VarAddress,
+    Command, DebugStep, MessageError, Reply, Request, Response, VarAddress,
 };
 use gutta_vm::{Position, ScanEnd, Step, Vm, VmConfig};
 
 use crate::modbus_data;
+use crate::vm_access;
 
 /// The factory password: 16 x 0xFF.
 pub const FACTORY_PASSWORD: [u8; 16] = [0xFF; 16];
@@ -392,16 +393,15 @@ impl Plc {
                 ack
             }
             Command::VarRead(addresses) => Ok(Reply::VarValues(
-                self.read_each(&addresses, |vm, a| vm.read_packed(a))?,
+                self.read_each(&addresses, vm_access::read_packed)?,
             )),
             Command::ForceRead(addresses) => Ok(Reply::ForceValues(
-                self.read_each(&addresses, |vm, a| vm.read_force_packed(a))?,
+                self.read_each(&addresses, vm_access::read_force_packed)?,
             )),
             Command::VarWrite(pairs) => {
                 self.check_each(&pairs)?;
                 for (address, value) in pairs {
-                    self.vm
-                        .write_packed(address.0, value)
+                    vm_access::write_packed(&mut self.vm, address.0, value)
                         .map_err(|e| Refusal::Access(e.0))?;
                 }
                 ack
@@ -413,18 +413,9 @@ impl Plc {
                         // Our extension: USE 15 releases the force (UM4001 has no
                         // unforce; a PLC that ignores USE forces the value sent, which
                         // the client makes the current value).
-                        let op = gutta_format::PackedOperand(address.0);
-                        if let Some(a) = op.width().map(|width| gutta_catalog::Address {
-                            slot: op.slot(),
-                            width,
-                            offset: u32::from(op.offset()),
-                            bit: op.bit() & 7,
-                        }) {
-                            self.vm.unforce(a);
-                        }
+                        vm_access::unforce_packed(&mut self.vm, address.0);
                     } else {
-                        self.vm
-                            .force_packed(address.0, value)
+                        vm_access::force_packed(&mut self.vm, address.0, value)
                             .map_err(|e| Refusal::Access(e.0))?;
                     }
                 }
@@ -458,9 +449,7 @@ impl Plc {
                     .map_err(|e| Refusal::Debug(e.to_string()))?;
                 ack
             }
-            Command::DebugInforRead => {
-                Ok(Reply::DebugInfo(DebugInfo::decode(&self.vm.debug_info())))
-            }
+            Command::DebugInforRead => Ok(Reply::DebugInfo(vm_access::debug_info(&self.vm))),
             Command::DebugInforWrite(breakpoint) => {
                 let at = (breakpoint.index != 0xFF).then_some(Position {
                     function: breakpoint.index,
@@ -494,9 +483,7 @@ impl Plc {
     /// Every address of a write checked first, so a bad one writes nothing.
     fn check_each(&self, pairs: &[(VarAddress, u32)]) -> Result<(), Refusal> {
         for (address, _) in pairs {
-            self.vm
-                .read_packed(address.0)
-                .map_err(|e| Refusal::Access(e.0))?;
+            vm_access::read_packed(&self.vm, address.0).map_err(|e| Refusal::Access(e.0))?;
         }
         Ok(())
     }

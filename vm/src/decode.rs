@@ -8,10 +8,10 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use gutta_catalog::{Flow, InstrId, Target, Width};
+use gutta_catalog::{Address, Flow, InstrId, Target, Width};
 use gutta_format::{LocalEntry, LocalSection, PackedOperand, UnitRecord, Use, VerifiedUnit};
 
-use crate::memory::{Location, Memory};
+use crate::memory::Memory;
 
 /// A bit of memory: byte index into the flat memory and the bit's mask.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -344,6 +344,8 @@ pub(crate) struct Unit {
     pub operands: Vec<PackedOperand>,
     /// Label number -> record index of its LBL.
     pub labels: BTreeMap<u16, usize>,
+    /// FOR record index -> record index of its NEXT.
+    pub loops: BTreeMap<usize, usize>,
     /// The parameters a CALL passes (VAR_INPUT, VAR_IN_OUT, VAR_OUTPUT), in order.
     pub params: Vec<LocalEntry>,
     /// Plans of the unit's planned CALLs.
@@ -372,7 +374,7 @@ fn plain(memory: &Memory, op: PackedOperand, width: Width) -> Option<u32> {
     if op.use_() != Some(Use::Value) || op.width() != Some(width) {
         return None;
     }
-    let loc = Location {
+    let loc = Address {
         slot: op.slot(),
         offset: op.offset() as u32,
         width,
@@ -560,8 +562,31 @@ pub(crate) fn decode(
         records,
         operands,
         labels: unit.labels.clone(),
+        loops: for_next_pairs(unit, target),
         params: unit.parameters().copied().collect(),
         calls,
         target: Arc::clone(target),
     }
+}
+
+/// FOR record -> its NEXT record.
+fn for_next_pairs(unit: &VerifiedUnit, target: &Target) -> BTreeMap<usize, usize> {
+    let (for_id, next_id) = (
+        target.instructions.lookup("FOR"),
+        target.instructions.lookup("NEXT"),
+    );
+    let mut pairs = BTreeMap::new();
+    let mut open = Vec::new();
+    for (i, r) in unit.records.iter().enumerate() {
+        if let UnitRecord::Instruction { id, .. } = r {
+            if Some(*id) == for_id {
+                open.push(i);
+            } else if Some(*id) == next_id {
+                if let Some(f) = open.pop() {
+                    pairs.insert(f, i);
+                }
+            }
+        }
+    }
+    pairs
 }

@@ -3,15 +3,15 @@
 //! by the VM between scans (`Vm::service_events`).
 
 use super::{Control, Exec, Handler};
-use crate::Fault;
+use crate::fault::Fault;
 
 fn eni(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    e.vm.interrupts.enabled = true;
+    e.interrupts.enabled = true;
     Ok(Control::Next)
 }
 
 fn disi(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    e.vm.interrupts.enabled = false;
+    e.interrupts.enabled = false;
     Ok(Control::Next)
 }
 
@@ -19,15 +19,15 @@ fn disi(e: &mut Exec<'_>) -> Result<Control, Fault> {
 fn atch(e: &mut Exec<'_>) -> Result<Control, Fault> {
     let routine = e.operand(0)?.offset() as u32;
     let event = e.get(1)?;
-    e.vm.interrupts.attached.insert(event, routine);
+    e.interrupts.attached.insert(event, routine);
     Ok(Control::Next)
 }
 
 /// DTCH EVNT: event EVNT runs nothing any more (pending occurrences are dropped).
 fn dtch(e: &mut Exec<'_>) -> Result<Control, Fault> {
     let event = e.get(0)?;
-    e.vm.interrupts.attached.remove(&event);
-    e.vm.interrupts.pending.remove(&event);
+    e.interrupts.attached.remove(&event);
+    e.interrupts.pending.remove(&event);
     Ok(Control::Next)
 }
 

@@ -5,7 +5,7 @@
 //! MIN divided by -1, sets SM1.1 and leaves OUT unchanged (ManagerFun.xml).
 
 use super::{Control, Exec, Handler};
-use crate::Fault;
+use crate::fault::Fault;
 
 /// Store a signed result in OUT (operand `out`) of `bits` width, with flags.
 fn store_int(e: &mut Exec<'_>, out: usize, exact: i64, bits: u32) -> Result<Control, Fault> {
