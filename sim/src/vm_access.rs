@@ -11,23 +11,9 @@ use gutta_vm::{AccessError, ForceError, Position, Vm};
 
 /// The variable a packed address names (USE ignored).
 fn variable(address: u32) -> Result<Address, AccessError> {
-    let op = PackedOperand(address);
-    let width = op.width().ok_or_else(|| {
-        AccessError(format!(
-            "bad width code {} in {address:#010X}",
-            op.width_code()
-        ))
-    })?;
-    Ok(Address {
-        slot: op.slot(),
-        width,
-        offset: u32::from(op.offset()),
-        bit: if width == gutta_catalog::Width::Bit {
-            op.bit() & 7
-        } else {
-            0
-        },
-    })
+    PackedOperand(address)
+        .variable()
+        .map_err(|e| AccessError(format!("{address:#010X}: {e}")))
 }
 
 /// 4 bytes of `area` from `at`, zero past its end; `at` itself must be inside.

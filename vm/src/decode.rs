@@ -9,7 +9,7 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use gutta_catalog::{Address, Flow, InstrId, Target, Width};
-use gutta_format::{LocalEntry, LocalSection, PackedOperand, UnitRecord, Use, VerifiedUnit};
+use gutta_format::{LocalEntry, LocalSection, Operand, PackedOperand, UnitRecord, VerifiedUnit};
 
 use crate::memory::Memory;
 
@@ -283,23 +283,20 @@ fn plan_call(
     operands: &[PackedOperand],
     params: &dyn Fn(u8) -> Option<Vec<LocalEntry>>,
 ) -> Option<CallPlan> {
-    let unit = *operands.first()?;
-    if unit.use_() != Some(Use::Unit) {
+    let Ok(Operand::Unit(unit)) = operands.first()?.decode() else {
         return None;
-    }
-    let page = if unit.slot() == 1 {
-        target.plc.program_block_page_int_size + unit.offset() as u32
-    } else {
-        unit.offset() as u32
     };
-    let callee = u8::try_from(page).ok()?;
+    let callee = unit.page(&target.plc)?;
     let params = params(callee)?;
     if operands.len() != params.len() + 1 {
         return None;
     }
     let mut args = Vec::with_capacity(params.len());
     for (p, &op) in params.iter().zip(&operands[1..]) {
-        let width = p.operand.width()?;
+        let Ok(Operand::Value(declared)) = p.operand.decode() else {
+            return None;
+        };
+        let width = declared.width;
         if width == Width::Bit {
             return None;
         }
@@ -344,7 +341,7 @@ pub(crate) struct Unit {
     pub operands: Vec<PackedOperand>,
     /// Label number -> record index of its LBL.
     pub labels: BTreeMap<u16, usize>,
-    /// FOR record index -> record index of its NEXT.
+    /// FOR record index -> record index of its NEXT (paired by the verifier).
     pub loops: BTreeMap<usize, usize>,
     /// The parameters a CALL passes (VAR_INPUT, VAR_IN_OUT, VAR_OUTPUT), in order.
     pub params: Vec<LocalEntry>,
@@ -369,25 +366,26 @@ impl Unit {
     }
 }
 
-/// A plain variable operand (USE 0) of the given width, as a flat memory index.
-fn plain(memory: &Memory, op: PackedOperand, width: Width) -> Option<u32> {
-    if op.use_() != Some(Use::Value) || op.width() != Some(width) {
-        return None;
+/// A plain variable operand (USE 0) of the given width.
+fn variable(op: PackedOperand, width: Width) -> Option<Address> {
+    match op.decode() {
+        Ok(Operand::Value(a)) if a.width == width => Some(a),
+        _ => None,
     }
-    let loc = Address {
-        slot: op.slot(),
-        offset: op.offset() as u32,
-        width,
-        bit: op.bit(),
-    };
-    memory.index_of(loc).and_then(|i| u32::try_from(i).ok())
+}
+
+/// A plain variable operand of the given width, as a flat memory index.
+fn plain(memory: &Memory, op: PackedOperand, width: Width) -> Option<u32> {
+    let a = variable(op, width)?;
+    memory.index_of(a).and_then(|i| u32::try_from(i).ok())
 }
 
 fn plain_bit(memory: &Memory, op: PackedOperand) -> Option<Bit> {
-    let at = plain(memory, op, Width::Bit)?;
+    let a = variable(op, Width::Bit)?;
+    let at = memory.index_of(a).and_then(|i| u32::try_from(i).ok())?;
     Some(Bit {
         at,
-        mask: 1 << (op.bit() & 7),
+        mask: 1 << a.bit,
     })
 }
 
@@ -562,31 +560,9 @@ pub(crate) fn decode(
         records,
         operands,
         labels: unit.labels.clone(),
-        loops: for_next_pairs(unit, target),
+        loops: unit.loops.clone(),
         params: unit.parameters().copied().collect(),
         calls,
         target: Arc::clone(target),
     }
-}
-
-/// FOR record -> its NEXT record.
-fn for_next_pairs(unit: &VerifiedUnit, target: &Target) -> BTreeMap<usize, usize> {
-    let (for_id, next_id) = (
-        target.instructions.lookup("FOR"),
-        target.instructions.lookup("NEXT"),
-    );
-    let mut pairs = BTreeMap::new();
-    let mut open = Vec::new();
-    for (i, r) in unit.records.iter().enumerate() {
-        if let UnitRecord::Instruction { id, .. } = r {
-            if Some(*id) == for_id {
-                open.push(i);
-            } else if Some(*id) == next_id {
-                if let Some(f) = open.pop() {
-                    pairs.insert(f, i);
-                }
-            }
-        }
-    }
-    pairs
 }

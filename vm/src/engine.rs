@@ -109,7 +109,8 @@ impl Engine {
         }
         for item in self.program.image.data().values().flatten() {
             // Verified: in-area, value fits; a failure here would be a verifier bug.
-            let _ = memory.store(item.operand, item.value);
+            let _ =
+                crate::memory::operand(item.operand).and_then(|op| memory.store(op, item.value));
         }
         self.machine.hidden = Default::default();
         self.abandon_scan();
@@ -386,10 +387,7 @@ impl Engine {
             _ => VecDeque::new(),
         };
         while let Some(event) = queue.pop_front() {
-            let Some(&routine) = self.interrupts.attached.get(&event) else {
-                continue;
-            };
-            let Ok(page) = u8::try_from(routine) else {
+            let Some(&page) = self.interrupts.attached.get(&event) else {
                 continue;
             };
             self.machine.push_frame(page, None);

@@ -13,8 +13,8 @@ use crate::memory::Memory;
 pub(crate) struct Interrupts {
     /// ENI/DISI; off when the PLC enters RUN.
     pub enabled: bool,
-    /// Event number -> interrupt routine number.
-    pub attached: BTreeMap<u32, u32>,
+    /// Event number -> the page of its interrupt routine.
+    pub attached: BTreeMap<u32, u8>,
     /// Timed events: milliseconds accumulated towards the next occurrence.
     pub elapsed: BTreeMap<u32, u32>,
     /// Events that occurred while interrupts were disabled (one kept per event).

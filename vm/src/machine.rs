@@ -6,7 +6,7 @@
 use std::collections::HashMap;
 
 use gutta_catalog::Target;
-use gutta_format::PackedOperand;
+use gutta_format::Operand;
 
 use crate::memory::Memory;
 
@@ -38,7 +38,7 @@ pub(crate) struct LoopFrame {
     /// Record index of the first instruction after FOR.
     pub body: usize,
     /// The INDX operand (read again at every NEXT).
-    pub indx: PackedOperand,
+    pub indx: Operand,
     /// FINAL, read once at FOR.
     pub last: i64,
     /// The logic stack at FOR; every pass starts with it.

@@ -1,11 +1,12 @@
 //! PLC memory: the areas (slots) of a target at their ManagerVar.xml sizes, little-endian,
 //! widths overlapping (MB0 and MW0 share a byte). All areas live in one byte array, so a
-//! pre-decoded operation addresses a byte by one index (docs/vm.md, "Speed"). Variables
-//! come from packed operands; pointer values (`&`) are SLOT << 24 | byte offset. Every
-//! access is bounds-checked.
+//! pre-decoded operation addresses a byte by one index (docs/vm.md, "Speed"). Operands
+//! arrive decoded (`gutta_format::Operand`); pointers are followed with
+//! `gutta_format::Pointer`, so nothing here takes an operand word or a pointer value
+//! apart. Every access is bounds-checked.
 
 use gutta_catalog::{Address, MemoryMap, Width};
-use gutta_format::{pointer_value, PackedOperand, Use};
+use gutta_format::{Operand, PackedOperand, Pointer};
 
 /// The areas of a target.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -131,51 +132,36 @@ impl Memory {
         write_in(area, loc, value)
     }
 
-    /// Where a memory operand points: itself, or (USE 2) the target of the pointer it
-    /// holds. Other uses have no location.
-    pub fn locate(&self, op: PackedOperand) -> Result<Address, AccessError> {
-        let width = op
-            .width()
-            .ok_or_else(|| AccessError(format!("bad width in {op:?}")))?;
-        match op.use_() {
-            Some(Use::Value) => Ok(Address {
-                slot: op.slot(),
-                offset: op.offset() as u32,
-                width,
-                bit: op.bit(),
-            }),
-            Some(Use::Pointer) => {
-                let holder = Address {
-                    slot: op.slot(),
-                    offset: op.offset() as u32,
-                    width: Width::Dword,
-                    bit: 0,
-                };
-                let ptr = self.read(holder)?;
-                Ok(Address {
-                    slot: (ptr >> 24) as u8,
-                    offset: ptr & 0x00FF_FFFF,
-                    width,
-                    bit: 0,
-                })
-            }
+    /// Where a memory operand's access goes: the variable itself, or (`*holder`) the
+    /// variable the pointer held in `holder` points to. Other operands have no place.
+    pub fn locate(&self, op: Operand) -> Result<Address, AccessError> {
+        match op {
+            Operand::Value(a) => Ok(a),
+            Operand::Pointer { holder, width } => Ok(Pointer(self.read(holder)?).target(width)),
             _ => Err(AccessError(format!("{op:?} is not a memory operand"))),
         }
     }
 
-    /// The value an operand stands for: a variable's value, or a pointer value for `&`.
-    pub fn value(&self, op: PackedOperand) -> Result<u32, AccessError> {
-        match op.use_() {
-            Some(Use::AddressOf) => Ok(pointer_value(op.slot(), op.offset() as u32)),
-            Some(Use::Value) | Some(Use::Pointer) => self.read(self.locate(op)?),
-            Some(Use::Literal) | Some(Use::Label) => Ok(op.offset() as u32),
-            _ => Err(AccessError(format!("{op:?} has no value"))),
+    /// The value an operand stands for: a variable's value, a pointer value for `&`, a
+    /// label's or literal's number.
+    pub fn value(&self, op: Operand) -> Result<u32, AccessError> {
+        match op {
+            Operand::AddressOf { byte, .. } => Ok(Pointer::to(byte).0),
+            Operand::Value(_) | Operand::Pointer { .. } => self.read(self.locate(op)?),
+            Operand::Literal(n) | Operand::Label(n) => Ok(u32::from(n)),
+            Operand::Unit(_) => Err(AccessError(format!("{op:?} has no value"))),
         }
     }
 
-    /// Store into an operand's location.
-    pub fn store(&mut self, op: PackedOperand, value: u32) -> Result<(), AccessError> {
-        let loc = self.locate(op)?;
-        self.write(loc, value)
+    /// Store into an operand's place.
+    pub fn store(&mut self, op: Operand, value: u32) -> Result<(), AccessError> {
+        let a = self.locate(op)?;
+        self.write(a, value)
     }
+}
+
+/// An operand word decoded (strictly, as `gutta_format` defines it).
+pub fn operand(word: PackedOperand) -> Result<Operand, AccessError> {
+    word.decode()
+        .map_err(|e| AccessError(format!("operand {word:?}: {e}")))
 }

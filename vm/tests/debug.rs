@@ -5,6 +5,8 @@
 mod common;
 
 use common::{load, read, set};
+use gutta_catalog::Address;
+use gutta_format::{Operand, PackedOperand, UnitRef};
 use gutta_sim::vm_access;
 use gutta_vm::{DebugError, Position, ScanEnd, Step, VmConfig};
 
@@ -49,7 +51,9 @@ fn at(function: u8, network: u16, step: u16) -> Position {
 }
 
 fn sbr0(vm: &gutta_vm::Vm) -> u8 {
-    vm.target().plc.program_block_page_int_size as u8
+    UnitRef::subroutine(0)
+        .page(&vm.target().plc)
+        .expect("SBR0 has a page")
 }
 
 #[test]
@@ -258,13 +262,10 @@ fn reset_request_and_scans_while_stopped() {
 #[test]
 fn reading_writing_and_forcing_by_packed_address() {
     let mut vm = load(PROGRAM, VmConfig::default());
-    let packed = |vm: &gutta_vm::Vm, var: &str| {
-        let a = vm.target().memory.parse_address(var).expect("address");
-        (a.offset << 16)
-            | (u32::from(a.bit) << 12)
-            | ((a.width as u32) << 8)
-            | (u32::from(a.slot) << 4)
-    };
+    let address =
+        |vm: &gutta_vm::Vm, var: &str| vm.target().memory.parse_address(var).expect("address");
+    let packed =
+        |vm: &gutta_vm::Vm, var: &str| PackedOperand::encode(Operand::Value(address(vm, var))).0;
     let mw4 = packed(&vm, "MW4");
     vm_access::write_packed(&mut vm, mw4, 0x1234).expect("write");
     assert_eq!(read(&vm, "MW4"), 0x1234);
@@ -307,7 +308,12 @@ fn reading_writing_and_forcing_by_packed_address() {
     }
     // M cannot be forced; a read past the area is an error.
     assert!(vm_access::force_packed(&mut vm, m4_0, 1).is_err());
-    assert!(vm_access::read_packed(&vm, 0xFFFF_0000 | (mb4 & 0xFFFF)).is_err());
+    let past_m = Address {
+        offset: 0xFFFF,
+        ..address(&vm, "MB4")
+    };
+    let past_m = PackedOperand::encode(Operand::Value(past_m)).0;
+    assert!(vm_access::read_packed(&vm, past_m).is_err());
 }
 
 /// Bit logic runs fused on the fast path; a breakpoint or a step inside a fused run

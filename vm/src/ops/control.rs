@@ -1,15 +1,19 @@
 //! Program control: JMP/LBL, CALL with arguments through L, RET/CRET, END, NOP.
 
-use gutta_catalog::{Address, Width};
-use gutta_format::{LocalEntry, LocalSection, Use};
+use gutta_catalog::Address;
+use gutta_format::{LocalEntry, LocalSection, Operand};
 
 use super::{Control, Exec, Handler};
 use crate::fault::Fault;
 use crate::machine::{CallSave, LoopFrame, Machine};
+use crate::memory::{self, AccessError, Memory};
 use crate::program::Program;
 
 fn jmp(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    Ok(Control::Jump(e.operand(0)?.offset()))
+    match e.operand(0)? {
+        Operand::Label(n) => Ok(Control::Jump(n)),
+        op => Err(e.fault(format!("{op:?} is not a label"))),
+    }
 }
 fn next(_: &mut Exec<'_>) -> Result<Control, Fault> {
     Ok(Control::Next)
@@ -25,20 +29,16 @@ fn end(_: &mut Exec<'_>) -> Result<Control, Fault> {
 /// into the callee's L (cleared first); the callee runs on its own L and logic stack
 /// (a new frame). `finish_call` is the return.
 fn call(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    let unit = e.operand(0)?;
-    if unit.use_() != Some(Use::Unit) {
+    let Operand::Unit(unit) = e.operand(0)? else {
         return Err(Fault::NoSemantics {
             mnemonic: "CALL without a unit".into(),
         });
-    }
-    let page = if unit.slot() == 1 {
-        e.program.target.plc.program_block_page_int_size + unit.offset() as u32
-    } else {
-        unit.offset() as u32
     };
-    let page = u8::try_from(page).map_err(|_| Fault::NoSemantics {
-        mnemonic: "CALL page".into(),
-    })?;
+    let page = unit
+        .page(&e.program.target.plc)
+        .ok_or_else(|| Fault::NoSemantics {
+            mnemonic: format!("CALL {unit}: no such unit on the target"),
+        })?;
     let limit = e.program.target.instructions.call_depth;
     // Frames: MAIN (or an interrupt routine) and one per open call.
     if e.machine.frames.len() > usize::from(limit) {
@@ -64,7 +64,8 @@ fn call(e: &mut Exec<'_>) -> Result<Control, Fault> {
     let l_mark = e.machine.save_local(local_area);
     for (k, v) in args.iter().enumerate() {
         if let Some(p) = param(k) {
-            e.write_at(local(&p), *v)?;
+            let at = local(&e.machine.memory, &p).map_err(|err| e.fault(err.0))?;
+            e.write_at(at, *v)?;
         }
     }
     e.machine.scratch = args;
@@ -80,13 +81,9 @@ fn call(e: &mut Exec<'_>) -> Result<Control, Fault> {
     Ok(Control::Enter)
 }
 
-fn local(p: &LocalEntry) -> Address {
-    Address {
-        slot: p.operand.slot(),
-        offset: p.operand.offset() as u32,
-        width: p.operand.width().unwrap_or(Width::Byte),
-        bit: p.operand.bit(),
-    }
+/// The variable in L a parameter is.
+fn local(memory: &Memory, p: &LocalEntry) -> Result<Address, AccessError> {
+    memory.locate(memory::operand(p.operand)?)
 }
 
 /// The return from a subroutine `callee` (its frame already popped): InOut and Out
@@ -109,9 +106,8 @@ pub(crate) fn finish_call(
         let v = if p.section == LocalSection::Input {
             0
         } else {
-            machine
-                .memory
-                .read(local(p))
+            local(&machine.memory, p)
+                .and_then(|at| machine.memory.read(at))
                 .map_err(|err| Fault::BadAccess {
                     page: callee,
                     offset: 0,
@@ -137,9 +133,8 @@ pub(crate) fn finish_call(
             let operand = operands
                 .get(k + 1)
                 .ok_or_else(|| fault(format!("operand {} missing", k + 1)))?;
-            machine
-                .memory
-                .store(*operand, *v)
+            memory::operand(*operand)
+                .and_then(|op| machine.memory.store(op, *v))
                 .map_err(|err| fault(err.0))?;
         }
     }

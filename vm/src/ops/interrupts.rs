@@ -1,6 +1,8 @@
 //! Interrupts: ENI/DISI (global enable), ATCH/DTCH (event -> interrupt routine), and
 //! RETI/CRETI (return from an interrupt routine). Events are raised and routines run
-//! by the VM between scans (`Vm::service_events`).
+//! by the engine after MAIN (`interrupts.rs`, `engine.rs`).
+
+use gutta_format::Operand;
 
 use super::{Control, Exec, Handler};
 use crate::fault::Fault;
@@ -17,9 +19,14 @@ fn disi(e: &mut Exec<'_>) -> Result<Control, Fault> {
 
 /// ATCH INT, EVNT: event EVNT now runs interrupt routine INT.
 fn atch(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    let routine = e.operand(0)?.offset() as u32;
+    let Operand::Unit(routine) = e.operand(0)? else {
+        return Err(e.fault("INT is not a program unit".into()));
+    };
+    let page = routine
+        .page(&e.program.target.plc)
+        .ok_or_else(|| e.fault(format!("{routine}: no such unit on the target")))?;
     let event = e.get(1)?;
-    e.interrupts.attached.insert(event, routine);
+    e.interrupts.attached.insert(event, page);
     Ok(Control::Next)
 }
 

@@ -21,7 +21,7 @@ mod timers;
 pub(crate) use control::finish_call;
 
 use gutta_catalog::{Address, Width};
-use gutta_format::PackedOperand;
+use gutta_format::{Operand, PackedOperand};
 
 use crate::clock::Clock;
 use crate::decode::Unit;
@@ -29,6 +29,7 @@ use crate::exch::ExchQueue;
 use crate::fault::Fault;
 use crate::interrupts::Interrupts;
 use crate::machine::Machine;
+use crate::memory;
 use crate::program::Program;
 use crate::terminals::Terminals;
 
@@ -107,12 +108,25 @@ impl Exec<'_> {
         self.at.unit.page
     }
 
-    pub fn operand(&self, i: usize) -> Result<PackedOperand, Fault> {
-        self.at
+    /// Operand `i`, decoded.
+    pub fn operand(&self, i: usize) -> Result<Operand, Fault> {
+        let word = self
+            .at
             .operands
             .get(i)
             .copied()
-            .ok_or_else(|| self.fault(format!("operand {i} missing")))
+            .ok_or_else(|| self.fault(format!("operand {i} missing")))?;
+        memory::operand(word).map_err(|e| self.fault(e.0))
+    }
+
+    /// The access width of operand `i`: a variable's or a pointer's; a DWORD for an
+    /// operand that is a number (label, unit, literal).
+    pub fn width(&self, i: usize) -> Result<Width, Fault> {
+        Ok(match self.operand(i)? {
+            Operand::Value(a) => a.width,
+            Operand::AddressOf { width, .. } | Operand::Pointer { width, .. } => width,
+            Operand::Label(_) | Operand::Unit(_) | Operand::Literal(_) => Width::Dword,
+        })
     }
 
     /// The operand's value, zero-extended.
@@ -124,8 +138,7 @@ impl Exec<'_> {
     /// The operand's value, sign-extended from the access width.
     pub fn get_signed(&self, i: usize) -> Result<i64, Fault> {
         let v = self.get(i)?;
-        let w = self.operand(i)?.width().unwrap_or(Width::Dword);
-        Ok(match w {
+        Ok(match self.width(i)? {
             Width::Bit => v as i64,
             Width::Byte => v as u8 as i8 as i64,
             Width::Word => v as u16 as i16 as i64,

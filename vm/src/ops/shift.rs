@@ -11,7 +11,7 @@ use gutta_catalog::Address;
 
 /// Width in bits of operand `i` (a DWORD when unknown).
 fn bits_of(e: &Exec<'_>, i: usize) -> Result<u32, Fault> {
-    Ok(e.operand(i)?.width().map(|w| w.bits()).unwrap_or(32))
+    Ok(e.width(i)?.bits())
 }
 
 fn mask(w: u32) -> u32 {
