@@ -5,9 +5,9 @@
 
 use std::sync::Arc;
 
-use crate::decode::Op;
 use crate::engine::{Engine, Flow, Phase, Position, ScanEnd};
 use crate::fault::Fault;
+use crate::op::Op;
 
 /// DEBUG_SCAN's steps.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -206,7 +206,7 @@ fn rebuild(engine: &mut Engine, page: u8, pc: Option<usize>) {
         let unit = Arc::make_mut(unit);
         let mut chain = std::mem::take(&mut unit.chain);
         unit.ops = if fast {
-            crate::decode::build(&unit.plain, pc, &mut chain)
+            crate::fuse::build(&unit.plain, pc, &mut chain)
         } else {
             let mut ops = unit.plain.clone();
             if let Some(op) = pc.and_then(|pc| ops.get_mut(pc)) {

@@ -11,12 +11,13 @@ use gutta_catalog::{Address, Width};
 
 use crate::calls;
 use crate::clock::Clock;
-use crate::decode::{Op, Unit};
+use crate::decode::Unit;
 use crate::exch::Exch;
 use crate::fast::{fast_op, run_fast};
 use crate::fault::Fault;
 use crate::interrupts::Interrupts;
 use crate::machine::Machine;
+use crate::op::Op;
 use crate::ops::{self, Control, Exec, Handler, Instruction};
 use crate::program::Program;
 use crate::terminals::Terminals;

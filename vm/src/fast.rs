@@ -1,9 +1,9 @@
-//! The fast path: pre-decoded operations (`decode.rs`) executed directly on the flat
+//! The fast path: pre-decoded operations (`op.rs`) executed directly on the flat
 //! memory bytes and the logic stack, with no lookups and no allocation. Everything else
 //! returns to the engine, which runs it through `ops/`. It must stay free of anything
 //! that is not an instruction's effect on memory and the stack.
 
-use crate::decode::{Arith, Bit, ChainStep, Combine, Op, STEP_STORE};
+use crate::op::{Arith, Bit, ChainStep, Combine, Op, STEP_STORE};
 
 /// Run fast operations from `pc` until one is not (or the ops end). Returns where it
 /// stopped and how many instructions ran (network records do not count).

@@ -7,18 +7,19 @@
 //! Modules in layers, lowest first; a module uses only modules of lower layers, so the
 //! module graph has no cycles (`layers.rs` checks it):
 //!
-//! 0. `fault` (run-time faults), `memory` (the flat byte memory)
-//! 1. `decode` (units pre-decoded into operations), and the VM's parts: `machine`
-//!    (memory, logic stack, frames, L stack, loops, hidden state), `clock` (virtual
-//!    time, scan counters), `terminals` (input terminals and forces), `interrupts`,
-//!    `exch` (the EXCH queue and serial ports)
-//! 2. `fast` (the pre-decoded operations on memory), `program` (target, image data,
-//!    config, decoded units)
-//! 3. `calls` (planned CALLs), `ops` (semantics: each sees an `Exec` with the parts it
+//! 0. `fault` (run-time faults), `memory` (the flat byte memory), `op` (decoded
+//!    operations)
+//! 1. `fuse` (bit-logic chains), `fast` (running operations on memory), and the VM's
+//!    parts: `machine` (memory, logic stack, frames, L stack, loops, hidden state),
+//!    `clock` (virtual time, scan counters), `terminals` (input terminals and forces),
+//!    `interrupts`, `exch` (the EXCH queue and serial ports)
+//! 2. `decode` (a unit's records into operations, CALL plans)
+//! 3. `program` (target, image data, config, decoded units)
+//! 4. `calls` (planned CALLs), `ops` (semantics: each sees an `Exec` with the parts it
 //!    may change, never the `Vm`)
-//! 4. `engine` (the parts together; the scan on its explicit frame stack)
-//! 5. `debug` (breakpoint, single steps), `load` (image -> engine)
-//! 6. this file: `Vm`, the public API, delegating to the above
+//! 5. `engine` (the parts together; the scan on its explicit frame stack)
+//! 6. `debug` (breakpoint, single steps), `load` (image -> engine)
+//! 7. this file: `Vm`, the public API, delegating to the above
 
 mod calls;
 mod clock;
@@ -28,12 +29,14 @@ mod engine;
 pub mod exch;
 mod fast;
 mod fault;
+mod fuse;
 mod interrupts;
 #[cfg(test)]
 mod layers;
 mod load;
 mod machine;
 mod memory;
+mod op;
 pub mod ops;
 mod program;
 mod terminals;
