@@ -65,7 +65,7 @@ fuzz_target!(|data: &[u8]| {
     for k in 0..8u8 {
         let step = [Step::In, Step::Over, Step::Out][usize::from(k % 3)];
         let _ = fast.debug_step(step);
-        let _ = fast.debug_info();
+        let _ = fast.debug_state();
     }
     fast.debug_run();
     let _ = fast.scan();

@@ -7,3 +7,4 @@ pub mod modbus_data;
 pub mod plc;
 pub mod ports;
 pub mod session;
+pub mod vm_access;

@@ -2,33 +2,39 @@
 //! stop at any instruction (a breakpoint, a single step) and continue later exactly where
 //! it stopped. A scan has phases: MAIN, then the interrupt routines of the events that
 //! occurred, then the end of scan (forces, EXCH, clock). docs/vm.md, "Scan cycle" and
-//! "Debugging".
+//! "Debugging". The engine owns the VM's parts; it knows no debugger policy (that is
+//! `debug.rs`, above it) and no protocol.
 
 use std::collections::VecDeque;
 
-use crate::decode::{Arith, Bit, ChainStep, Combine, Op, Unit, STEP_STORE};
-use crate::ops::{Control, Exec};
-use crate::{exch, Fault, Vm};
+use gutta_catalog::{Address, Width};
 
-/// A unit being run.
-#[derive(Debug, Clone)]
-pub(crate) struct Frame {
-    pub page: u8,
-    /// The next record to run (for a caller: its CALL record while the callee runs).
-    pub pc: usize,
-    /// Set for a subroutine called by CALL: what the return restores.
-    pub call: Option<CallSave>,
-    /// Open FOR loops when the unit was entered.
-    pub loops_at_entry: usize,
+use crate::calls;
+use crate::clock::Clock;
+use crate::decode::Unit;
+use crate::exch::Exch;
+use crate::fast::{fast_op, run_fast};
+use crate::fault::Fault;
+use crate::interrupts::Interrupts;
+use crate::machine::Machine;
+use crate::op::Op;
+use crate::ops::{self, Control, Exec, Handler, Instruction};
+use crate::program::Program;
+use crate::terminals::Terminals;
+
+/// An instruction: function (unit page: 0 MAIN, n INTn, IntSize + n SBRn), network
+/// number and 0-based step within the network.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Position {
+    pub function: u8,
+    pub network: u16,
+    pub step: u16,
 }
 
-/// The caller's state a CALL saves: its L is on `Vm::l_stack` from `l_mark`.
-#[derive(Debug, Clone)]
-pub(crate) struct CallSave {
-    pub l_mark: usize,
-    pub saved_stack: u32,
-    /// A planned CALL: the plan's index in the caller's unit.
-    pub plan: Option<u32>,
+impl std::fmt::Display for Position {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}:{}:{}", self.function, self.network, self.step)
+    }
 }
 
 /// Where a scan is.
@@ -62,131 +68,133 @@ pub enum ScanEnd {
     /// The scan ran to its end.
     Completed,
     /// The scan is paused before an instruction (breakpoint or single-step stop).
-    Paused(crate::debug::Position),
+    Paused(Position),
     /// Paused between scans (a program with no instruction to stop at).
     PausedIdle,
     /// The PLC is in STOP: nothing ran.
     Stopped,
 }
 
-impl Vm {
-    fn set_pc(&mut self, pc: usize) {
-        if let Some(f) = self.frames.last_mut() {
-            f.pc = pc;
+/// The VM's parts, and the scan that runs on them.
+#[derive(Debug)]
+pub(crate) struct Engine {
+    pub program: Program,
+    /// The semantic of each instruction id.
+    pub handlers: Vec<Option<Handler>>,
+    pub machine: Machine,
+    pub terminals: Terminals,
+    pub interrupts: Interrupts,
+    pub exch: Exch,
+    pub clock: Clock,
+    /// Where the current scan is.
+    pub phase: Phase,
+    /// Execution is suspended before the next instruction (breakpoint, single step).
+    pub paused: bool,
+    /// STOP was executed: scans do nothing until set running.
+    pub stopped: bool,
+    /// STATUS_RESET was requested; the next scan resets first.
+    pub reset_requested: bool,
+    pub fault: Option<Fault>,
+}
+
+impl Engine {
+    /// Power-on reset: memory cleared, K from the const page, data pages applied,
+    /// hidden state and clock cleared, the next scan is the first.
+    pub fn reset(&mut self) {
+        let memory = &mut self.machine.memory;
+        memory.clear();
+        if let Some(k) = memory.area_mut(self.program.slots.constant) {
+            let consts = self.program.image.constants();
+            let n = consts.len().min(k.len());
+            k[..n].copy_from_slice(&consts[..n]);
         }
+        for item in self.program.image.data().values().flatten() {
+            // Verified: in-area, value fits; a failure here would be a verifier bug.
+            let _ =
+                crate::memory::operand(item.operand).and_then(|op| memory.store(op, item.value));
+        }
+        self.machine.hidden = Default::default();
+        self.abandon_scan();
+        self.interrupts = Interrupts::default();
+        self.exch.queue.0.clear();
+        self.stopped = false;
+        self.reset_requested = false;
+        self.clock = Clock::default();
+        self.fault = None;
     }
 
-    /// Enter a unit (MAIN, an interrupt routine, or a called subroutine).
-    pub(crate) fn push_frame(&mut self, page: u8, call: Option<CallSave>) {
-        self.frames.push(Frame {
-            page,
-            pc: 0,
-            call,
-            loops_at_entry: self.loops.len(),
-        });
-        self.stack = 0;
+    /// Drop a scan in progress (frames, loops, saved L, pause).
+    pub fn abandon_scan(&mut self) {
+        self.machine.unwind_all();
+        self.phase = Phase::Idle;
+        self.paused = false;
+    }
+
+    /// A fault: SMB2 holds its code, the scan is abandoned (and counted), ERROR is set.
+    pub fn record_fault(&mut self, f: Fault) {
+        let smb2 = Address {
+            slot: self.program.slots.sm,
+            offset: 2,
+            width: Width::Byte,
+            bit: 0,
+        };
+        let _ = self.machine.memory.write(smb2, u32::from(f.code()));
+        if self.phase != Phase::Idle {
+            self.clock.end_scan(self.program.config.scan_ms);
+        }
+        self.abandon_scan();
+        self.fault = Some(f);
+    }
+
+    /// Why a scan cannot run now (a fault, STOP, a pause), as `run_scan` reports it.
+    pub fn blocked(&self) -> Option<Result<ScanEnd, Fault>> {
+        if let Some(f) = &self.fault {
+            return Some(Err(f.clone()));
+        }
+        if self.stopped {
+            return Some(Ok(ScanEnd::Stopped));
+        }
+        if self.paused {
+            return Some(Ok(self
+                .position()
+                .map_or(ScanEnd::PausedIdle, ScanEnd::Paused)));
+        }
+        None
+    }
+
+    /// Where execution is paused (the next instruction to run).
+    pub fn position(&self) -> Option<Position> {
+        if !self.paused {
+            return None;
+        }
+        let f = self.machine.frames.last()?;
+        let unit = self.program.unit(f.page)?;
+        let &(network, step) = unit.positions.get(f.pc)?;
+        Some(Position {
+            function: f.page,
+            network,
+            step,
+        })
     }
 
     /// Leave the top unit: a called subroutine copies its outputs back to the caller,
     /// which continues after its CALL.
-    pub(crate) fn leave(&mut self) -> Result<(), Fault> {
-        let Some(frame) = self.frames.pop() else {
+    pub fn leave(&mut self) -> Result<(), Fault> {
+        let Some(frame) = self.machine.frames.pop() else {
             return Ok(());
         };
-        self.loops.truncate(frame.loops_at_entry);
+        self.machine.loops.truncate(frame.loops_at_entry);
         if let Some(save) = frame.call {
             match save.plan {
-                Some(plan) => self.finish_planned_call(plan, save),
-                None => crate::ops::finish_call(self, frame.page, save)?,
+                Some(plan) => calls::return_planned(&mut self.machine, &self.program, plan, save),
+                None => ops::finish_call(&mut self.machine, &self.program, frame.page, save)?,
             }
         }
         Ok(())
-    }
-
-    /// A planned CALL (docs/vm.md, CALL): arguments read in the caller's context, the
-    /// caller's L saved and cleared, inputs copied into the parameters, a new frame.
-    fn planned_call(&mut self, unit: &Unit, plan: u32) -> Result<(), Fault> {
-        let limit = self.target.instructions.call_depth;
-        if self.frames.len() > usize::from(limit) {
-            return Err(Fault::CallDepth { limit });
-        }
-        let Some(p) = unit.calls.get(plan as usize) else {
-            return Ok(());
-        };
-        let mem = &mut self.memory.bytes;
-        self.scratch.clear();
-        for a in &p.args {
-            self.scratch.push(if a.input {
-                load(mem, a.var, a.width)
-            } else {
-                0
-            });
-        }
-        let l_mark = self.l_stack.len();
-        if let Some((start, len)) = self.memory.span(self.slots.local) {
-            let mem = &mut self.memory.bytes;
-            self.l_stack.extend_from_slice(&mem[start..start + len]);
-            mem[start..start + len].fill(0);
-        }
-        let mem = &mut self.memory.bytes;
-        for (a, &v) in p.args.iter().zip(&self.scratch) {
-            if a.input {
-                store(mem, a.param, a.width, v);
-            }
-        }
-        let saved_stack = self.stack;
-        self.push_frame(
-            p.callee,
-            Some(CallSave {
-                l_mark,
-                saved_stack,
-                plan: Some(plan),
-            }),
-        );
-        Ok(())
-    }
-
-    /// The return of a planned CALL (its frame popped): outputs read from L, the
-    /// caller's L and stack restored, outputs stored, the caller continues after it.
-    fn finish_planned_call(&mut self, plan: u32, save: CallSave) {
-        let Some((page, pc)) = self.frames.last().map(|f| (f.page, f.pc)) else {
-            return;
-        };
-        let Some(p) = self.units[page as usize]
-            .as_ref()
-            .and_then(|u| u.calls.get(plan as usize))
-        else {
-            return;
-        };
-        let mem = &mut self.memory.bytes;
-        self.scratch.clear();
-        for a in &p.args {
-            self.scratch.push(if a.output {
-                load(mem, a.param, a.width)
-            } else {
-                0
-            });
-        }
-        if let Some((start, len)) = self.memory.span(self.slots.local) {
-            let saved = self.l_stack.get(save.l_mark..).unwrap_or(&[]);
-            let n = saved.len().min(len);
-            self.memory.bytes[start..start + n].copy_from_slice(&saved[..n]);
-        }
-        self.l_stack.truncate(save.l_mark);
-        self.stack = save.saved_stack;
-        let mem = &mut self.memory.bytes;
-        for (a, &v) in p.args.iter().zip(&self.scratch) {
-            if a.output {
-                store(mem, a.var, a.width, v);
-            }
-        }
-        if let Some(f) = self.frames.last_mut() {
-            f.pc = pc + 1;
-        }
     }
 
     fn unwind(&mut self) -> Result<(), Fault> {
-        while !self.frames.is_empty() {
+        while !self.machine.frames.is_empty() {
             self.leave()?;
         }
         Ok(())
@@ -194,29 +202,30 @@ impl Vm {
 
     /// Run the top frames. `SINGLE`: return after one instruction (a breakpoint's own
     /// instruction runs); otherwise run until the frames are done or a breakpoint is next.
-    pub(crate) fn exec<const SINGLE: bool>(&mut self) -> Result<Flow, Fault> {
-        let mask = self.stack_mask;
-        let flags_at = self.flags_at;
+    pub fn exec<const SINGLE: bool>(&mut self) -> Result<Flow, Fault> {
+        let mask = self.machine.stack_mask;
+        let flags_at = self.program.flags_at;
+        let watchdog = self.program.config.watchdog;
         'frames: loop {
-            let Some(frame) = self.frames.last() else {
+            let Some(frame) = self.machine.frames.last() else {
                 return Ok(Flow::Empty);
             };
             let mut pc = frame.pc;
-            let Some(unit) = self.units[frame.page as usize].clone() else {
+            let Some(unit) = self.program.unit(frame.page).cloned() else {
                 self.leave()?;
                 continue;
             };
             let ops: &[Op] = &unit.ops;
-            let mut st = self.stack;
+            let mut st = self.machine.stack;
             loop {
                 if !SINGLE {
                     // Straight-line fast operations, bounded so the watchdog stays exact.
-                    let remaining = self.config.watchdog.saturating_sub(self.executed);
+                    let remaining = watchdog.saturating_sub(self.clock.executed);
                     let end = ops
                         .len()
                         .min(pc.saturating_add(usize::try_from(remaining).unwrap_or(usize::MAX)));
                     let (at, ran) = run_fast(
-                        &mut self.memory.bytes,
+                        &mut self.machine.memory.bytes,
                         &ops[..end],
                         &unit.chain,
                         pc,
@@ -225,12 +234,12 @@ impl Vm {
                         flags_at,
                     );
                     pc = at;
-                    self.executed += ran;
+                    self.clock.executed += ran;
                 }
                 let Some(&op) = ops.get(pc) else {
                     // The unit's end: return from it.
-                    self.stack = st;
-                    self.set_pc(pc);
+                    self.machine.stack = st;
+                    self.machine.set_pc(pc);
                     self.leave()?;
                     if SINGLE {
                         return Ok(Flow::Stepped);
@@ -238,8 +247,8 @@ impl Vm {
                     continue 'frames;
                 };
                 if op == Op::Break && !SINGLE {
-                    self.stack = st;
-                    self.set_pc(pc);
+                    self.machine.stack = st;
+                    self.machine.set_pc(pc);
                     return Ok(Flow::Break);
                 }
                 // One record, unfused (a breakpoint's own instruction when stepping).
@@ -249,31 +258,29 @@ impl Vm {
                     pc += 1;
                     continue;
                 }
-                self.executed += 1;
-                if self.executed > self.config.watchdog {
-                    self.stack = st;
-                    self.set_pc(pc);
-                    return Err(Fault::Watchdog {
-                        limit: self.config.watchdog,
-                    });
+                self.clock.executed += 1;
+                if self.clock.executed > watchdog {
+                    self.machine.stack = st;
+                    self.machine.set_pc(pc);
+                    return Err(Fault::Watchdog { limit: watchdog });
                 }
                 let mut next = pc + 1;
                 match op {
-                    _ if fast_op(&mut self.memory.bytes, op, &mut st, mask, flags_at) => {}
+                    _ if fast_op(&mut self.machine.memory.bytes, op, &mut st, mask, flags_at) => {}
                     Op::Call { plan } if st & 1 == 1 => {
-                        self.stack = st;
-                        self.set_pc(pc);
-                        self.planned_call(&unit, plan)?;
+                        self.machine.stack = st;
+                        self.machine.set_pc(pc);
+                        calls::enter_planned(&mut self.machine, &self.program, &unit, plan)?;
                         if SINGLE {
                             return Ok(Flow::Stepped);
                         }
                         continue 'frames;
                     }
                     Op::Generic { boxed } => {
-                        self.stack = st;
-                        self.set_pc(pc);
+                        self.machine.stack = st;
+                        self.machine.set_pc(pc);
                         let control = self.generic(&unit, pc, boxed)?;
-                        st = self.stack;
+                        st = self.machine.stack;
                         match control {
                             Control::Next => {}
                             Control::Goto(j) => next = j,
@@ -287,7 +294,10 @@ impl Vm {
                                 }
                                 continue 'frames;
                             }
-                            Control::EndScan => {
+                            Control::Stop | Control::EndScan => {
+                                if control == Control::Stop {
+                                    self.stopped = true;
+                                }
                                 self.unwind()?;
                                 return Ok(Flow::EndScan);
                             }
@@ -303,8 +313,8 @@ impl Vm {
                 }
                 pc = next;
                 if SINGLE {
-                    self.stack = st;
-                    self.set_pc(pc);
+                    self.machine.stack = st;
+                    self.machine.set_pc(pc);
                     return Ok(Flow::Stepped);
                 }
             }
@@ -316,9 +326,9 @@ impl Vm {
         let Some((id, offset, operands)) = unit.instruction(pc) else {
             return Ok(Control::Next);
         };
-        if boxed && self.stack & 1 == 0 {
+        if boxed && self.machine.stack & 1 == 0 {
             // FOR without power flow skips its whole loop.
-            if let Some(&next) = self.for_pairs.get(&(unit.page, pc)) {
+            if let Some(&next) = unit.loops.get(&pc) {
                 return Ok(Control::Goto(next + 1));
             }
             return Ok(Control::Next);
@@ -333,61 +343,72 @@ impl Vm {
                 mnemonic: mnemonic.to_string(),
             })?;
         let mut exec = Exec {
-            vm: self,
-            operands,
-            page: unit.page,
-            index: pc,
-            offset,
-            mnemonic,
+            machine: &mut self.machine,
+            program: &self.program,
+            terminals: &self.terminals,
+            interrupts: &mut self.interrupts,
+            exch: &mut self.exch.queue,
+            clock: &mut self.clock,
+            at: Instruction {
+                unit,
+                operands,
+                index: pc,
+                offset,
+                mnemonic,
+            },
         };
         handler(&mut exec)
     }
 
     /// Start a scan: inputs, forces, system bits, then MAIN.
-    pub(crate) fn begin_scan(&mut self) {
-        self.refresh_inputs();
-        self.apply_forces();
-        self.set_system_bits();
-        self.executed = 0;
-        self.frames.clear();
-        self.push_frame(0, None);
+    pub fn begin_scan(&mut self) {
+        let memory = &mut self.machine.memory;
+        self.terminals.refresh_inputs(memory);
+        self.terminals.apply_forces(memory);
+        self.clock.set_system_bits(memory, self.program.slots.sm);
+        self.clock.executed = 0;
+        self.machine.frames.clear();
+        self.machine.push_frame(0, None);
         self.phase = Phase::Main;
     }
 
     /// The frames of a phase are done (`flow`: they ran out or ended with END/STOP):
     /// start the next routine, or end the scan. True when the scan has ended.
-    pub(crate) fn next_phase(&mut self, flow: Flow) -> Result<bool, Fault> {
+    pub fn next_phase(&mut self, flow: Flow) -> Result<bool, Fault> {
         let mut queue = match std::mem::take(&mut self.phase) {
-            Phase::Main => self.occurred_events().into(),
+            Phase::Main => self
+                .interrupts
+                .occurred_events(
+                    &self.program.target,
+                    &self.machine.memory,
+                    self.program.config.scan_ms,
+                )
+                .into(),
             Phase::Events(q) if flow != Flow::EndScan => q,
             _ => VecDeque::new(),
         };
         while let Some(event) = queue.pop_front() {
-            let Some(&routine) = self.interrupts.attached.get(&event) else {
+            let Some(&page) = self.interrupts.attached.get(&event) else {
                 continue;
             };
-            let Ok(page) = u8::try_from(routine) else {
-                continue;
-            };
-            self.push_frame(page, None);
+            self.machine.push_frame(page, None);
             self.phase = Phase::Events(queue);
             return Ok(false);
         }
         self.phase = Phase::Idle;
-        self.apply_forces();
-        exch::service(self)?;
-        self.end_scan_clock();
+        self.terminals.apply_forces(&mut self.machine.memory);
+        self.exch.service(
+            &mut self.machine.memory,
+            &self.program.image,
+            self.clock.scans,
+        );
+        self.clock.end_scan(self.program.config.scan_ms);
         Ok(true)
-    }
-
-    pub(crate) fn end_scan_clock(&mut self) {
-        self.scans += 1;
-        self.clock_ms += self.config.scan_ms as u64;
     }
 
     /// Continue the current scan (starting one when idle) until it ends or pauses at
     /// a breakpoint.
-    pub(crate) fn continue_scan(&mut self) -> Result<ScanEnd, Fault> {
+    pub fn continue_scan(&mut self) -> Result<ScanEnd, Fault> {
         if self.phase == Phase::Idle {
             self.begin_scan();
         }
@@ -401,11 +422,8 @@ impl Vm {
         loop {
             match self.exec::<false>()? {
                 Flow::Break => {
-                    self.debug.paused = true;
-                    return Ok(match self.position() {
-                        Some(p) => ScanEnd::Paused(p),
-                        None => ScanEnd::PausedIdle,
-                    });
+                    self.paused = true;
+                    return Ok(self.position().map_or(ScanEnd::PausedIdle, ScanEnd::Paused));
                 }
                 flow => {
                     if self.next_phase(flow)? {
@@ -418,200 +436,19 @@ impl Vm {
 
     /// Whether the record the top frame is at is the patched breakpoint (a scan paused
     /// there continues by running it once).
-    pub(crate) fn at_breakpoint(&self) -> bool {
+    pub fn at_breakpoint(&self) -> bool {
         self.next_op(false) == Some(Op::Break)
     }
 
     /// The top frame's fast operation; with `skip_networks`, at the first instruction
     /// from there (network records are skipped by the plain operations).
-    pub(crate) fn next_op(&self, skip_networks: bool) -> Option<Op> {
-        let f = self.frames.last()?;
-        let unit = self.units[f.page as usize].as_ref()?;
+    pub fn next_op(&self, skip_networks: bool) -> Option<Op> {
+        let f = self.machine.frames.last()?;
+        let unit = self.program.unit(f.page)?;
         let mut pc = f.pc;
         while skip_networks && unit.plain.get(pc).is_some_and(|o| o.is_network()) {
             pc += 1;
         }
         unit.ops.get(pc).copied()
-    }
-}
-
-/// Run fast operations from `pc` until one is not (or the ops end). Returns where it
-/// stopped and how many instructions ran (network records do not count).
-#[inline(always)]
-fn run_fast(
-    mem: &mut [u8],
-    ops: &[Op],
-    chain: &[ChainStep],
-    mut pc: usize,
-    st: &mut u32,
-    mask: u32,
-    flags_at: usize,
-) -> (usize, u64) {
-    let (start, mut networks) = (pc, 0u64);
-    let mut s = *st;
-    while let Some(&op) = ops.get(pc) {
-        match op {
-            Op::Network => {
-                s = 0;
-                networks += 1;
-            }
-            Op::Chain {
-                first,
-                records,
-                networks: n,
-            } => {
-                let records = records as usize;
-                if pc + records > ops.len() {
-                    // Past the watchdog's bound: the slow path runs it record by record.
-                    break;
-                }
-                let first = first as usize;
-                let steps = records - usize::from(n);
-                // After a network start the rest of the stack is empty; t is the top.
-                let mut t = s & 1;
-                let rest = if n > 0 { 0 } else { s & !1 };
-                for step in &chain[first..first + steps] {
-                    let at = step.at as usize;
-                    if step.kind == STEP_STORE {
-                        let byte = &mut mem[at];
-                        *byte = (*byte & !(1 << step.bit)) | ((t as u8) << step.bit);
-                    } else {
-                        let v = ((u32::from(mem[at]) >> step.bit) & 1) ^ u32::from(step.invert);
-                        let ko = u32::from(step.keep_or);
-                        t = ((t & ko) + v + (ko >> 1)) >> 1;
-                    }
-                }
-                s = rest | t;
-                networks += u64::from(n);
-                pc += records;
-                continue;
-            }
-            op => {
-                if !fast_op(mem, op, &mut s, mask, flags_at) {
-                    break;
-                }
-            }
-        }
-        pc += 1;
-    }
-    *st = s;
-    (pc, (pc - start) as u64 - networks)
-}
-
-#[inline(always)]
-fn bit(mem: &[u8], b: Bit) -> u32 {
-    u32::from(mem[b.at as usize] & b.mask != 0)
-}
-
-#[inline(always)]
-fn load(mem: &[u8], at: u32, width: u8) -> u32 {
-    let at = at as usize;
-    match width {
-        1 => u32::from(mem[at]),
-        2 => u32::from(u16::from_le_bytes([mem[at], mem[at + 1]])),
-        _ => u32::from_le_bytes([mem[at], mem[at + 1], mem[at + 2], mem[at + 3]]),
-    }
-}
-
-#[inline(always)]
-fn store(mem: &mut [u8], at: u32, width: u8, v: u32) {
-    let at = at as usize;
-    match width {
-        1 => mem[at] = v as u8,
-        2 => mem[at..at + 2].copy_from_slice(&(v as u16).to_le_bytes()),
-        _ => mem[at..at + 4].copy_from_slice(&v.to_le_bytes()),
-    }
-}
-
-/// Execute a fast operation on the flat memory and the logic stack `st`; false (and
-/// nothing done) for an op that is not one (network records, generic, breakpoints).
-#[inline(always)]
-fn fast_op(mem: &mut [u8], op: Op, st: &mut u32, mask: u32, flags_at: usize) -> bool {
-    let s = *st;
-    *st = match op {
-        Op::Ld(b) => ((s << 1) | bit(mem, b)) & mask,
-        Op::Ldn(b) => ((s << 1) | (bit(mem, b) ^ 1)) & mask,
-        Op::A(b) => s & (!1 | bit(mem, b)),
-        Op::An(b) => s & (!1 | (bit(mem, b) ^ 1)),
-        Op::O(b) => s | bit(mem, b),
-        Op::On(b) => s | (bit(mem, b) ^ 1),
-        Op::Not => s ^ 1,
-        Op::Assign(b) => {
-            // Branch-free: the top is data, a branch on it would mispredict.
-            let byte = &mut mem[b.at as usize];
-            let set = (s & 1) as u8 * b.mask;
-            *byte = (*byte & !b.mask) | set;
-            s
-        }
-        Op::Ald => (s >> 1) & (s | !1),
-        Op::Old => (s >> 1) | (s & 1),
-        Op::Lps => ((s << 1) | (s & 1)) & mask,
-        Op::Lrd => (s & !1) | ((s >> 1) & 1),
-        Op::Lpp => s >> 1,
-        Op::Move { src, dst, width } => {
-            if s & 1 == 1 {
-                let v = load(mem, src, width);
-                store(mem, dst, width, v);
-            }
-            s
-        }
-        Op::Math {
-            op,
-            src,
-            dst,
-            width,
-        } => {
-            if s & 1 == 1 {
-                let bits = u32::from(width) * 8;
-                let a = sign_extend(load(mem, dst, width), bits);
-                let b = sign_extend(load(mem, src, width), bits);
-                let exact = match op {
-                    Arith::Add => a + b,
-                    Arith::Sub => a - b,
-                    Arith::Mul => a * b,
-                };
-                let r = sign_extend(exact as u32, bits);
-                store(mem, dst, width, exact as u32);
-                // SM1.0 zero, SM1.1 overflow, SM1.2 negative; the other flags kept.
-                let flags = u8::from(r == 0) | (u8::from(r != exact) << 1) | (u8::from(r < 0) << 2);
-                let f = &mut mem[flags_at];
-                *f = (*f & !0x07) | flags;
-            }
-            s
-        }
-        Op::Compare {
-            combine,
-            rel,
-            a,
-            b,
-            width,
-        } => {
-            let (x, y) = (load(mem, a, width), load(mem, b, width));
-            let r = if width == 1 {
-                rel.holds(x, y)
-            } else {
-                let bits = u32::from(width) * 8;
-                rel.holds(sign_extend(x, bits), sign_extend(y, bits))
-            };
-            let r = u32::from(r);
-            match combine {
-                Combine::Load => ((s << 1) | r) & mask,
-                Combine::And => s & (!1 | r),
-                Combine::Or => s | r,
-            }
-        }
-        Op::Network | Op::Chain { .. } | Op::Call { .. } | Op::Generic { .. } | Op::Break => {
-            return false
-        }
-    };
-    true
-}
-
-#[inline(always)]
-fn sign_extend(v: u32, bits: u32) -> i64 {
-    match bits {
-        8 => v as u8 as i8 as i64,
-        16 => v as u16 as i16 as i64,
-        _ => v as i32 as i64,
     }
 }

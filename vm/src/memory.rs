@@ -1,31 +1,12 @@
 //! PLC memory: the areas (slots) of a target at their ManagerVar.xml sizes, little-endian,
 //! widths overlapping (MB0 and MW0 share a byte). All areas live in one byte array, so a
-//! pre-decoded operation addresses a byte by one index (docs/vm.md, "Speed"). Locations
-//! come from packed operands; pointer values (`&`) are SLOT << 24 | byte offset. Every
-//! access is bounds-checked.
+//! pre-decoded operation addresses a byte by one index (docs/vm.md, "Speed"). Operands
+//! arrive decoded (`gutta_format::Operand`); pointers are followed with
+//! `gutta_format::Pointer`, so nothing here takes an operand word or a pointer value
+//! apart. Every access is bounds-checked.
 
-use gutta_catalog::{MemoryMap, Width};
-use gutta_format::{PackedOperand, Pointer, Use};
-
-/// A resolved place in memory.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Location {
-    pub slot: u8,
-    pub offset: u32,
-    pub width: Width,
-    pub bit: u8,
-}
-
-impl From<gutta_catalog::Address> for Location {
-    fn from(a: gutta_catalog::Address) -> Location {
-        Location {
-            slot: a.slot,
-            offset: a.offset,
-            width: a.width,
-            bit: a.bit,
-        }
-    }
-}
+use gutta_catalog::{Address, MemoryMap, Width};
+use gutta_format::{Operand, PackedOperand, Pointer};
 
 /// The areas of a target.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -41,7 +22,7 @@ pub struct Memory {
 pub struct AccessError(pub String);
 
 /// Read a location's bytes from an area, zero-extended (bits read as 0 or 1).
-pub(crate) fn read_in(area: &[u8], loc: Location) -> Result<u32, AccessError> {
+pub(crate) fn read_in(area: &[u8], loc: Address) -> Result<u32, AccessError> {
     let b = bytes_of(area, loc)?;
     Ok(match loc.width {
         Width::Bit => ((b[0] >> (loc.bit & 7)) & 1) as u32,
@@ -52,7 +33,7 @@ pub(crate) fn read_in(area: &[u8], loc: Location) -> Result<u32, AccessError> {
 }
 
 /// Write a location into an area (the value truncated to its width; bits take value & 1).
-pub(crate) fn write_in(area: &mut [u8], loc: Location, value: u32) -> Result<(), AccessError> {
+pub(crate) fn write_in(area: &mut [u8], loc: Address, value: u32) -> Result<(), AccessError> {
     bytes_of(area, loc)?;
     let at = loc.offset as usize;
     match loc.width {
@@ -71,7 +52,7 @@ pub(crate) fn write_in(area: &mut [u8], loc: Location, value: u32) -> Result<(),
     Ok(())
 }
 
-fn bytes_of(area: &[u8], loc: Location) -> Result<&[u8], AccessError> {
+fn bytes_of(area: &[u8], loc: Address) -> Result<&[u8], AccessError> {
     let start = loc.offset as usize;
     let end = start + loc.width.bytes() as usize;
     area.get(start..end).ok_or_else(|| {
@@ -117,7 +98,7 @@ impl Memory {
 
     /// The index in the flat byte array of a location's first byte, if it lies inside
     /// its area.
-    pub(crate) fn index_of(&self, loc: Location) -> Option<usize> {
+    pub(crate) fn index_of(&self, loc: Address) -> Option<usize> {
         let (start, len) = self.span(loc.slot)?;
         let end = loc.offset as usize + loc.width.bytes() as usize;
         (end <= len).then_some(start + loc.offset as usize)
@@ -139,66 +120,48 @@ impl Memory {
     }
 
     /// Read a location, zero-extended to 32 bits (bits read as 0 or 1).
-    pub fn read(&self, loc: Location) -> Result<u32, AccessError> {
+    pub fn read(&self, loc: Address) -> Result<u32, AccessError> {
         read_in(self.area_of(loc.slot)?, loc)
     }
 
     /// Write a location (the value truncated to its width; bits take value & 1).
-    pub fn write(&mut self, loc: Location, value: u32) -> Result<(), AccessError> {
+    pub fn write(&mut self, loc: Address, value: u32) -> Result<(), AccessError> {
         let area = self
             .area_mut(loc.slot)
             .ok_or_else(|| AccessError(format!("no area in slot {}", loc.slot)))?;
         write_in(area, loc, value)
     }
 
-    /// Where a memory operand points: itself, or (USE 2) the target of the pointer it
-    /// holds. Other uses have no location.
-    pub fn locate(&self, op: PackedOperand) -> Result<Location, AccessError> {
-        let width = op
-            .width()
-            .ok_or_else(|| AccessError(format!("bad width in {op:?}")))?;
-        match op.use_() {
-            Some(Use::Value) => Ok(Location {
-                slot: op.slot(),
-                offset: op.offset() as u32,
-                width,
-                bit: op.bit(),
-            }),
-            Some(Use::Pointer) => {
-                let holder = Location {
-                    slot: op.slot(),
-                    offset: op.offset() as u32,
-                    width: Width::Dword,
-                    bit: 0,
-                };
-                let ptr = self.read(holder)?;
-                Ok(Location {
-                    slot: (ptr >> 24) as u8,
-                    offset: ptr & 0x00FF_FFFF,
-                    width,
-                    bit: 0,
-                })
-            }
+    /// Where a memory operand's access goes: the variable itself, or (`*holder`) the
+    /// variable the pointer held in `holder` points to. Other operands have no place.
+    pub fn locate(&self, op: Operand) -> Result<Address, AccessError> {
+        match op {
+            Operand::Value(a) => Ok(a),
+            Operand::Pointer { holder, width } => Ok(Pointer(self.read(holder)?).target(width)),
             _ => Err(AccessError(format!("{op:?} is not a memory operand"))),
         }
     }
 
-    /// The value an operand stands for: a variable's value, or a pointer value for `&`.
-    pub fn value(&self, op: PackedOperand) -> Result<u32, AccessError> {
-        match op.use_() {
-            Some(Use::AddressOf) => op
-                .address()
-                .map(|byte| Pointer::to(byte).0)
-                .ok_or_else(|| AccessError(format!("{op:?} has no address"))),
-            Some(Use::Value) | Some(Use::Pointer) => self.read(self.locate(op)?),
-            Some(Use::Literal) | Some(Use::Label) => Ok(op.offset() as u32),
-            _ => Err(AccessError(format!("{op:?} has no value"))),
+    /// The value an operand stands for: a variable's value, a pointer value for `&`, a
+    /// label's or literal's number.
+    pub fn value(&self, op: Operand) -> Result<u32, AccessError> {
+        match op {
+            Operand::AddressOf { byte, .. } => Ok(Pointer::to(byte).0),
+            Operand::Value(_) | Operand::Pointer { .. } => self.read(self.locate(op)?),
+            Operand::Literal(n) | Operand::Label(n) => Ok(u32::from(n)),
+            Operand::Unit(_) => Err(AccessError(format!("{op:?} has no value"))),
         }
     }
 
-    /// Store into an operand's location.
-    pub fn store(&mut self, op: PackedOperand, value: u32) -> Result<(), AccessError> {
-        let loc = self.locate(op)?;
-        self.write(loc, value)
+    /// Store into an operand's place.
+    pub fn store(&mut self, op: Operand, value: u32) -> Result<(), AccessError> {
+        let a = self.locate(op)?;
+        self.write(a, value)
     }
+}
+
+/// An operand word decoded (strictly, as `gutta_format` defines it).
+pub fn operand(word: PackedOperand) -> Result<Operand, AccessError> {
+    word.decode()
+        .map_err(|e| AccessError(format!("operand {word:?}: {e}")))
 }

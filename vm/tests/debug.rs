@@ -10,6 +10,7 @@ mod common;
 use common::{load, read, set};
 use gutta_catalog::Address;
 use gutta_format::{Operand, PackedOperand, UnitRef};
+use gutta_sim::vm_access;
 use gutta_vm::{DebugError, Position, ScanEnd, Step, VmConfig};
 
 /// MAIN: network 1 counts scans in MW0; network 2 calls ADD with MW0 into MW2 when
@@ -55,7 +56,7 @@ fn at(function: u8, network: u16, step: u16) -> Position {
 fn sbr0(vm: &gutta_vm::Vm) -> u8 {
     UnitRef::subroutine(0)
         .page(&vm.target().plc)
-        .expect("the target has SBR0")
+        .expect("SBR0 has a page")
 }
 
 #[test]
@@ -69,7 +70,7 @@ fn breakpoint_pauses_before_its_instruction_and_continues() {
     // Scans do nothing while paused.
     assert_eq!(vm.run_scan(), Ok(ScanEnd::Paused(at(0, 1, 1))));
     assert_eq!(vm.scans(), 0);
-    let info = vm.debug_info();
+    let info = vm_access::debug_info(&vm).encode();
     assert_eq!(
         &info[0..5],
         &[0, 0, 1, 0, 1],
@@ -88,7 +89,7 @@ fn breakpoint_pauses_before_its_instruction_and_continues() {
     assert_eq!(read(&vm, "MW0"), 1);
     // Cleared, scans run freely.
     vm.set_breakpoint(None).expect("clear");
-    assert_eq!(vm.debug_info()[0], 0xFF);
+    assert_eq!(vm_access::debug_info(&vm).encode()[0], 0xFF);
     vm.debug_run();
     for _ in 0..3 {
         assert_eq!(vm.run_scan(), Ok(ScanEnd::Completed));
@@ -103,7 +104,7 @@ fn breakpoint_in_a_subroutine_shows_the_call() {
     let sbr = sbr0(&vm);
     vm.set_breakpoint(Some(at(sbr, 2, 1))).expect("+I exists");
     assert_eq!(vm.run_scan(), Ok(ScanEnd::Paused(at(sbr, 2, 1))));
-    let info = vm.debug_info();
+    let info = vm_access::debug_info(&vm).encode();
     assert_eq!(info[5], sbr);
     assert_eq!(info[14], 1, "one call open");
     assert!(
@@ -151,12 +152,12 @@ fn step_in_over_and_out() {
     assert_eq!(step(&mut vm, Step::In), at(0, 2, 1));
     // STEP_IN enters the subroutine.
     assert_eq!(step(&mut vm, Step::In), at(sbr, 1, 0));
-    assert_eq!(vm.debug_info()[14], 1);
+    assert_eq!(vm_access::debug_info(&vm).encode()[14], 1);
     assert_eq!(step(&mut vm, Step::Over), at(sbr, 1, 1));
     // STEP_OUT: back after the CALL, outputs copied.
     assert_eq!(step(&mut vm, Step::Out), at(0, 3, 0));
     assert_eq!(read(&vm, "MW2"), 101);
-    assert_eq!(vm.debug_info()[14], 0);
+    assert_eq!(vm_access::debug_info(&vm).encode()[14], 0);
     // Through the end of the scan into the next one.
     assert_eq!(step(&mut vm, Step::Over), at(0, 3, 1));
     assert_eq!(vm.scans(), 0);
@@ -230,7 +231,7 @@ fn status_byte() {
     vm.set_running(true);
     let fault = vm.scan().expect_err("runaway loop");
     assert_eq!(vm.status().byte() & 0b1000, 0b1000, "ERROR");
-    assert_eq!(vm.debug_info()[15], fault.code());
+    assert_eq!(vm_access::debug_info(&vm).encode()[15], fault.code());
     assert!(matches!(vm.debug_stop(), Err(DebugError::Fault(_))));
     vm.reset();
     assert_eq!(vm.status().byte(), 0b0101);
@@ -264,33 +265,36 @@ fn reset_request_and_scans_while_stopped() {
 #[test]
 fn reading_writing_and_forcing_by_packed_address() {
     let mut vm = load(PROGRAM, VmConfig::default());
-    let word = |a: Address| PackedOperand::encode(Operand::Value(a)).0;
-    let packed = |vm: &gutta_vm::Vm, var: &str| {
-        word(vm.target().memory.parse_address(var).expect("address"))
-    };
+    let address =
+        |vm: &gutta_vm::Vm, var: &str| vm.target().memory.parse_address(var).expect("address");
+    let packed =
+        |vm: &gutta_vm::Vm, var: &str| PackedOperand::encode(Operand::Value(address(vm, var))).0;
     let mw4 = packed(&vm, "MW4");
-    vm.write_packed(mw4, 0x1234).expect("write");
+    vm_access::write_packed(&mut vm, mw4, 0x1234).expect("write");
     assert_eq!(read(&vm, "MW4"), 0x1234);
     // Only SLOT and OFFSET count for reads: 4 bytes from MB4.
     set(&mut vm, "MW6", 0xBEEF);
     let mb4 = packed(&vm, "MB4");
-    assert_eq!(vm.read_packed(mb4), Ok([0x34, 0x12, 0xEF, 0xBE]));
+    assert_eq!(
+        vm_access::read_packed(&vm, mb4),
+        Ok([0x34, 0x12, 0xEF, 0xBE])
+    );
     // A bit write changes only that bit.
     let m4_0 = packed(&vm, "M4.0");
-    vm.write_packed(m4_0, 1).expect("bit");
+    vm_access::write_packed(&mut vm, m4_0, 1).expect("bit");
     assert_eq!(read(&vm, "MW4"), 0x1235);
     // Force Q0.0 to 1: the program's `= Q0.0` (from M0.0 = 0) cannot clear it.
     let q0_0 = packed(&vm, "Q0.0");
-    vm.force_packed(q0_0, 1).expect("force");
+    vm_access::force_packed(&mut vm, q0_0, 1).expect("force");
     vm.scan().expect("scan");
     assert_eq!(read(&vm, "Q0.0"), 1);
     let qb0 = packed(&vm, "QB0");
-    assert_eq!(vm.read_force_packed(qb0), Ok([1, 0, 0, 0]));
+    assert_eq!(vm_access::read_force_packed(&vm, qb0), Ok([1, 0, 0, 0]));
     // Writing a forced variable changes its force value too.
-    vm.write_packed(q0_0, 0).expect("write");
+    vm_access::write_packed(&mut vm, q0_0, 0).expect("write");
     vm.scan().expect("scan");
     assert_eq!(read(&vm, "Q0.0"), 0);
-    assert_eq!(vm.read_force_packed(qb0), Ok([0, 0, 0, 0]));
+    assert_eq!(vm_access::read_force_packed(&vm, qb0), Ok([0, 0, 0, 0]));
     // M0.0 (bit 0 of MW0, which network 1 counts up) drives Q0.0 unless forced.
     for _ in 0..2 {
         vm.scan().expect("scan");
@@ -306,14 +310,13 @@ fn reading_writing_and_forcing_by_packed_address() {
         );
     }
     // M cannot be forced; a read past the area is an error.
-    assert!(vm.force_packed(m4_0, 1).is_err());
-    let mb4 = vm.target().memory.parse_address("MB4").expect("address");
-    assert!(vm
-        .read_packed(word(Address {
-            offset: 0xFFFF,
-            ..mb4
-        }))
-        .is_err());
+    assert!(vm_access::force_packed(&mut vm, m4_0, 1).is_err());
+    let past_m = Address {
+        offset: 0xFFFF,
+        ..address(&vm, "MB4")
+    };
+    let past_m = PackedOperand::encode(Operand::Value(past_m)).0;
+    assert!(vm_access::read_packed(&vm, past_m).is_err());
 }
 
 /// Bit logic runs fused on the fast path; a breakpoint or a step inside a fused run
@@ -340,7 +343,7 @@ fn breakpoints_inside_fused_bit_logic() {
             }
             if step > 0 {
                 assert_eq!(
-                    vm.debug_info()[13] & 1,
+                    vm_access::debug_info(&vm).encode()[13] & 1,
                     u8::from(top),
                     "input {input:04b} step {step}"
                 );

@@ -1,5 +1,6 @@
 //! EXCH, the PLC as Modbus RTU master (AN2002): sample 3 end to end with an in-process
-//! slave VM, and the table's error numbers, the queue limit and power flow.
+//! slave VM served by the simulator's Modbus data service (the toolchain's one Modbus
+//! slave), and the table's error numbers, the queue limit and power flow.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
@@ -7,8 +8,44 @@ use std::sync::{Arc, Mutex};
 mod common;
 
 use common::{read, set};
-use gutta_vm::exch::{PortError, SerialPort, VmSlave};
+use gutta_protocol::rtu::{decode_rtu, encode_rtu};
+use gutta_sim::modbus_data;
+use gutta_vm::exch::{PortError, SerialPort};
 use gutta_vm::{Vm, VmConfig};
+
+/// A slave VM on the RTU line: the simulator's Modbus data service answers from its
+/// memory. A request with a bad CRC or for another station gets no answer; a
+/// broadcast (station 0) is carried out without an answer.
+#[derive(Debug, Clone)]
+struct VmSlave {
+    vm: Arc<Mutex<Vm>>,
+    station: u8,
+}
+
+impl VmSlave {
+    fn new(vm: Arc<Mutex<Vm>>, station: u8) -> VmSlave {
+        VmSlave { vm, station }
+    }
+
+    /// The answer (station and PDU, no CRC) to a request without CRC.
+    fn answer(&self, request: &[u8]) -> Option<Vec<u8>> {
+        let (&station, pdu) = request.split_first()?;
+        if station != 0 && station != self.station {
+            return None;
+        }
+        let answer = modbus_data::serve(&mut self.vm.lock().expect("slave VM"), pdu);
+        (station != 0).then(|| [&[station][..], &answer].concat())
+    }
+}
+
+impl SerialPort for VmSlave {
+    fn transact(&mut self, request: &[u8], _timeout_ms: u32) -> Result<Vec<u8>, PortError> {
+        let frame = decode_rtu(request).map_err(|_| PortError::Timeout)?;
+        let request = [&[frame.station][..], &frame.pdu].concat();
+        let answer = self.answer(&request).ok_or(PortError::Timeout)?;
+        Ok(encode_rtu(answer[0], &answer[1..]))
+    }
+}
 
 fn vm_for(text: &str) -> Vm {
     common::load(text, VmConfig::default())

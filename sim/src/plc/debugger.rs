@@ -43,7 +43,7 @@ impl Plc {
 
     /// STATUS_DEBUG_INFOR_READ.
     pub(super) fn debug_info(&self) -> DebugInfo {
-        DebugInfo::decode(&self.vm.debug_info())
+        crate::vm_access::debug_info(&self.vm)
     }
 
     /// STATUS_DEBUG_INFOR_WRITE: set the breakpoint; function 0xFF clears it.

@@ -6,6 +6,7 @@ use gutta_format::PackedOperand;
 use gutta_vm::Vm;
 
 use super::{Plc, Refusal};
+use crate::vm_access;
 
 /// The USE field value that makes STATUS_VAR_FORCE_WRITE release a force (our
 /// extension; docs/simulator.md).
@@ -14,20 +15,19 @@ pub const RELEASE_USE: u8 = 0xF;
 impl Plc {
     /// STATUS_VAR_READ: the 4 bytes at each address.
     pub(super) fn read_vars(&self, addresses: &[PackedOperand]) -> Result<Vec<u32>, Refusal> {
-        self.read_each(addresses, |vm, a| vm.read_packed(a))
+        self.read_each(addresses, vm_access::read_packed)
     }
 
     /// STATUS_VAR_FORCE_READ: the force value of each address.
     pub(super) fn read_forces(&self, addresses: &[PackedOperand]) -> Result<Vec<u32>, Refusal> {
-        self.read_each(addresses, |vm, a| vm.read_force_packed(a))
+        self.read_each(addresses, vm_access::read_force_packed)
     }
 
     /// STATUS_VAR_WRITE: every pair, or none when an address is bad.
     pub(super) fn write_vars(&mut self, pairs: Vec<(PackedOperand, u32)>) -> Result<(), Refusal> {
         self.check_each(&pairs)?;
         for (address, value) in pairs {
-            self.vm
-                .write_packed(address.0, value)
+            vm_access::write_packed(&mut self.vm, address.0, value)
                 .map_err(|e| Refusal::Access(e.0))?;
         }
         Ok(())
@@ -42,12 +42,9 @@ impl Plc {
                 // Our extension: USE 15 releases the force (UM4001 has no
                 // unforce; a PLC that ignores USE forces the value sent, which
                 // the client makes the current value).
-                if let Ok(variable) = address.variable() {
-                    self.vm.unforce(variable);
-                }
+                vm_access::unforce_packed(&mut self.vm, address.0);
             } else {
-                self.vm
-                    .force_packed(address.0, value)
+                vm_access::force_packed(&mut self.vm, address.0, value)
                     .map_err(|e| Refusal::Access(e.0))?;
             }
         }
@@ -73,9 +70,7 @@ impl Plc {
     /// Every address of a write checked first, so a bad one writes nothing.
     fn check_each(&self, pairs: &[(PackedOperand, u32)]) -> Result<(), Refusal> {
         for (address, _) in pairs {
-            self.vm
-                .read_packed(address.0)
-                .map_err(|e| Refusal::Access(e.0))?;
+            vm_access::read_packed(&self.vm, address.0).map_err(|e| Refusal::Access(e.0))?;
         }
         Ok(())
     }

@@ -2,7 +2,7 @@
 //! (LDI, =I, ...) act on the same I/Q image as their plain forms in the VM.
 
 use super::{Control, Exec, Handler};
-use crate::Fault;
+use crate::fault::Fault;
 
 fn ld(e: &mut Exec<'_>) -> Result<Control, Fault> {
     let v = e.get(0)? == 1;
@@ -57,7 +57,7 @@ fn set_reset(e: &mut Exec<'_>, value: u32) -> Result<Control, Fault> {
     let n = e.get(1)?;
     for k in 0..n {
         let bit = first.bit as u32 + k;
-        let loc = crate::Location {
+        let loc = gutta_catalog::Address {
             offset: first.offset + bit / 8,
             bit: (bit % 8) as u8,
             ..first
@@ -108,8 +108,8 @@ fn lds(e: &mut Exec<'_>) -> Result<Control, Fault> {
 /// instruction's previous execution; each instance keeps its own edge memory.
 fn edge(e: &mut Exec<'_>, rising: bool) -> Result<Control, Fault> {
     let now = e.top();
-    let key = (e.page, e.index);
-    let before = e.vm.edges.insert(key, now).unwrap_or(false);
+    let key = (e.at.unit.page, e.at.index);
+    let before = e.machine.hidden.edges.insert(key, now).unwrap_or(false);
     e.set_top(if rising {
         now && !before
     } else {

@@ -2,8 +2,8 @@
 //! `exch::service` carries the exchange out at the end of the scan.
 
 use super::{Control, Exec, Handler};
-use crate::exch::{self, Queued, QUEUE_LIMIT};
-use crate::Fault;
+use crate::exch::{self, Queued};
+use crate::fault::Fault;
 
 pub fn lookup(m: &str) -> Option<Handler> {
     Some(match m {
@@ -20,19 +20,26 @@ fn exch_op(e: &mut Exec<'_>) -> Result<Control, Fault> {
     let port = e.get(1)? as u8;
     let slot = loc.slot;
     let table = loc.offset;
-    if e.vm.exch.is_queued(slot, table) || e.vm.exch.queue.len() >= QUEUE_LIMIT {
+    if e.exch.is_queued(slot, table) || e.exch.is_full() {
         return Ok(Control::Next);
     }
-    let size = e.vm.memory.area(slot).map_or(0, <[u8]>::len) as u64;
-    if exch::m_slot(e.vm) != Some(slot) || u64::from(table) + 10 > size {
+    let size = e.machine.memory.area(slot).map_or(0, <[u8]>::len) as u64;
+    if exch::m_slot(&e.program.target) != Some(slot) || u64::from(table) + 10 > size {
         if u64::from(table) + 2 <= size {
-            exch::write_status(e.vm, slot, table, false, true, exch::ERR_TABLE);
+            exch::write_status(
+                &mut e.machine.memory,
+                slot,
+                table,
+                false,
+                true,
+                exch::ERR_TABLE,
+            );
         }
         return Ok(Control::Next);
     }
-    exch::write_status(e.vm, slot, table, true, false, 0);
-    let scan = e.vm.scans;
-    e.vm.exch.queue.push(Queued {
+    exch::write_status(&mut e.machine.memory, slot, table, true, false, 0);
+    let scan = e.clock.scans;
+    e.exch.0.push(Queued {
         slot,
         table,
         port,

@@ -3,7 +3,7 @@
 //! semantic serves all 72.
 
 use super::{Control, Exec, Handler};
-use crate::Fault;
+use crate::fault::Fault;
 
 fn parse(m: &str) -> Option<(char, char, &str)> {
     let (form, rest) = if let Some(r) = m.strip_prefix("LD") {
@@ -32,9 +32,9 @@ fn holds<T: PartialOrd>(a: T, b: T, op: &str) -> bool {
 }
 
 fn compare(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    let Some((form, ty, op)) = parse(e.mnemonic) else {
+    let Some((form, ty, op)) = parse(e.at.mnemonic) else {
         return Err(Fault::NoSemantics {
-            mnemonic: e.mnemonic.to_string(),
+            mnemonic: e.at.mnemonic.to_string(),
         });
     };
     let r = match ty {

@@ -1,14 +1,19 @@
 //! Program control: JMP/LBL, CALL with arguments through L, RET/CRET, END, NOP.
 
-use gutta_catalog::Width;
-use gutta_format::{LocalEntry, LocalSection, Use};
+use gutta_catalog::Address;
+use gutta_format::{LocalEntry, LocalSection, Operand};
 
 use super::{Control, Exec, Handler};
-use crate::engine::CallSave;
-use crate::{Fault, Location, Vm};
+use crate::fault::Fault;
+use crate::machine::{CallSave, LoopFrame, Machine};
+use crate::memory::{self, AccessError, Memory};
+use crate::program::Program;
 
 fn jmp(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    Ok(Control::Jump(e.operand(0)?.offset()))
+    match e.operand(0)? {
+        Operand::Label(n) => Ok(Control::Jump(n)),
+        op => Err(e.fault(format!("{op:?} is not a label"))),
+    }
 }
 fn next(_: &mut Exec<'_>) -> Result<Control, Fault> {
     Ok(Control::Next)
@@ -24,33 +29,28 @@ fn end(_: &mut Exec<'_>) -> Result<Control, Fault> {
 /// into the callee's L (cleared first); the callee runs on its own L and logic stack
 /// (a new frame). `finish_call` is the return.
 fn call(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    let unit = e.operand(0)?;
-    if unit.use_() != Some(Use::Unit) {
+    let Operand::Unit(unit) = e.operand(0)? else {
         return Err(Fault::NoSemantics {
             mnemonic: "CALL without a unit".into(),
         });
-    }
-    let page = if unit.slot() == 1 {
-        e.vm.target.plc.program_block_page_int_size + unit.offset() as u32
-    } else {
-        unit.offset() as u32
     };
-    let page = u8::try_from(page).map_err(|_| Fault::NoSemantics {
-        mnemonic: "CALL page".into(),
-    })?;
-    let limit = e.vm.target.instructions.call_depth;
+    let page = unit
+        .page(&e.program.target.plc)
+        .ok_or_else(|| Fault::NoSemantics {
+            mnemonic: format!("CALL {unit}: no such unit on the target"),
+        })?;
+    let limit = e.program.target.instructions.call_depth;
     // Frames: MAIN (or an interrupt routine) and one per open call.
-    if e.vm.frames.len() > usize::from(limit) {
+    if e.machine.frames.len() > usize::from(limit) {
         return Err(Fault::CallDepth { limit });
     }
-    let param = |vm: &Vm, k: usize| -> Option<LocalEntry> {
-        vm.units[page as usize].as_ref()?.params.get(k).copied()
-    };
+    let program = e.program;
+    let param = |k: usize| -> Option<LocalEntry> { program.unit(page)?.params.get(k).copied() };
     // Read the inputs in the caller's context (into a reused buffer).
-    let mut args = std::mem::take(&mut e.vm.scratch);
+    let mut args = std::mem::take(&mut e.machine.scratch);
     args.clear();
     let mut k = 0;
-    while let Some(p) = param(e.vm, k) {
+    while let Some(p) = param(k) {
         let v = if p.section == LocalSection::Output {
             0
         } else {
@@ -60,21 +60,17 @@ fn call(e: &mut Exec<'_>) -> Result<Control, Fault> {
         k += 1;
     }
     // Save the caller's L on the L stack, clear L, pass the arguments.
-    let l_mark = e.vm.l_stack.len();
-    if let Some((start, len)) = e.vm.memory.span(e.vm.slots.local) {
-        let vm = &mut *e.vm;
-        vm.l_stack
-            .extend_from_slice(&vm.memory.bytes[start..start + len]);
-        vm.memory.bytes[start..start + len].fill(0);
-    }
+    let local_area = e.machine.memory.span(program.slots.local);
+    let l_mark = e.machine.save_local(local_area);
     for (k, v) in args.iter().enumerate() {
-        if let Some(p) = param(e.vm, k) {
-            e.write_at(local(&p), *v)?;
+        if let Some(p) = param(k) {
+            let at = local(&e.machine.memory, &p).map_err(|err| e.fault(err.0))?;
+            e.write_at(at, *v)?;
         }
     }
-    e.vm.scratch = args;
-    let saved_stack = e.vm.stack;
-    e.vm.push_frame(
+    e.machine.scratch = args;
+    let saved_stack = e.machine.stack;
+    e.machine.push_frame(
         page,
         Some(CallSave {
             l_mark,
@@ -85,86 +81,72 @@ fn call(e: &mut Exec<'_>) -> Result<Control, Fault> {
     Ok(Control::Enter)
 }
 
-fn local(p: &LocalEntry) -> Location {
-    Location {
-        slot: p.operand.slot(),
-        offset: p.operand.offset() as u32,
-        width: p.operand.width().unwrap_or(Width::Byte),
-        bit: p.operand.bit(),
-    }
+/// The variable in L a parameter is.
+fn local(memory: &Memory, p: &LocalEntry) -> Result<Address, AccessError> {
+    memory.locate(memory::operand(p.operand)?)
 }
 
 /// The return from a subroutine `callee` (its frame already popped): InOut and Out
 /// parameters are read from its L, the caller's L and logic stack are restored, the
 /// values are stored through the CALL's operands, and the caller continues after its
 /// CALL.
-pub(crate) fn finish_call(vm: &mut Vm, callee: u8, save: CallSave) -> Result<(), Fault> {
-    let Some((page, pc)) = vm.frames.last().map(|f| (f.page, f.pc)) else {
+pub(crate) fn finish_call(
+    machine: &mut Machine,
+    program: &Program,
+    callee: u8,
+    save: CallSave,
+) -> Result<(), Fault> {
+    let Some((page, pc)) = machine.frames.last().map(|f| (f.page, f.pc)) else {
         return Ok(());
     };
-    let mut outputs = std::mem::take(&mut vm.scratch);
+    let params: &[LocalEntry] = program.unit(callee).map_or(&[], |u| &u.params);
+    let mut outputs = std::mem::take(&mut machine.scratch);
     outputs.clear();
-    if let Some(unit) = vm.units[callee as usize].as_ref() {
-        for p in &unit.params {
-            let v = if p.section == LocalSection::Input {
-                0
-            } else {
-                vm.memory.read(local(p)).map_err(|err| Fault::BadAccess {
+    for p in params {
+        let v = if p.section == LocalSection::Input {
+            0
+        } else {
+            local(&machine.memory, p)
+                .and_then(|at| machine.memory.read(at))
+                .map_err(|err| Fault::BadAccess {
                     page: callee,
                     offset: 0,
                     detail: err.0,
                 })?
-            };
-            outputs.push(v);
-        }
+        };
+        outputs.push(v);
     }
-    if let Some((start, len)) = vm.memory.span(vm.slots.local) {
-        let saved = vm.l_stack.get(save.l_mark..).unwrap_or(&[]);
-        let n = saved.len().min(len);
-        vm.memory.bytes[start..start + n].copy_from_slice(&saved[..n]);
-    }
-    vm.l_stack.truncate(save.l_mark);
-    vm.stack = save.saved_stack;
-    // The CALL's operands, copied so the caller's unit is not borrowed while storing.
-    let mut operands = std::mem::take(&mut vm.call_operands);
-    operands.clear();
-    let mut offset = 0;
-    if let Some((_, at, ops)) = vm.units[page as usize]
-        .as_ref()
+    machine.restore_local(machine.memory.span(program.slots.local), save.l_mark);
+    machine.stack = save.saved_stack;
+    // The values go through the CALL's operands, in the caller's context.
+    let (offset, operands) = program
+        .unit(page)
         .and_then(|u| u.instruction(pc))
-    {
-        operands.extend_from_slice(ops);
-        offset = at;
-    }
-    let mut e = Exec {
-        vm,
-        operands: &operands,
+        .map_or((0, &[][..]), |(_, offset, operands)| (offset, operands));
+    let fault = |detail: String| Fault::BadAccess {
         page,
-        index: pc,
         offset,
-        mnemonic: "CALL",
+        detail: format!("CALL: {detail}"),
     };
-    for (k, v) in outputs.iter().enumerate() {
-        let section = e.vm.units[callee as usize]
-            .as_ref()
-            .and_then(|u| u.params.get(k))
-            .map(|p| p.section);
-        if section.is_some_and(|s| s != LocalSection::Input) {
-            e.set(k + 1, *v)?;
+    for (k, (p, v)) in params.iter().zip(&outputs).enumerate() {
+        if p.section != LocalSection::Input {
+            let operand = operands
+                .get(k + 1)
+                .ok_or_else(|| fault(format!("operand {} missing", k + 1)))?;
+            memory::operand(*operand)
+                .and_then(|op| machine.memory.store(op, *v))
+                .map_err(|err| fault(err.0))?;
         }
     }
-    vm.call_operands = operands;
-    vm.scratch = outputs;
-    if let Some(f) = vm.frames.last_mut() {
-        f.pc = pc + 1;
-    }
+    machine.scratch = outputs;
+    machine.set_pc(pc + 1);
     Ok(())
 }
 
 /// FOR INDX, INIT, FINAL: INDX := INIT, FINAL read once; skip to after NEXT when
 /// INDX > FINAL.
 fn for_loop(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    let Some(&next) = e.vm.for_pairs.get(&(e.page, e.index)) else {
+    let Some(&next) = e.at.unit.loops.get(&e.at.index) else {
         return Ok(Control::Next);
     };
     let init = e.get(1)?;
@@ -174,59 +156,61 @@ fn for_loop(e: &mut Exec<'_>) -> Result<Control, Fault> {
     if indx > last {
         return Ok(Control::Goto(next + 1));
     }
-    let frame = super::LoopFrame {
-        page: e.page,
-        body: e.index + 1,
+    let frame = LoopFrame {
+        page: e.page(),
+        body: e.at.index + 1,
         indx: e.operand(0)?,
         last,
-        stack: e.vm.stack,
+        stack: e.machine.stack,
     };
-    e.vm.loops.push(frame);
+    e.machine.loops.push(frame);
     Ok(Control::Next)
 }
 
 /// NEXT: while INDX < FINAL, INDX += 1 and run the body again (with the stack FOR had);
 /// else INDX += 1 (wrapping) and continue after NEXT.
 fn next_loop(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    let Some(frame) = e.vm.loops.last().copied().filter(|f| f.page == e.page) else {
+    let page = e.page();
+    let Some(frame) = e.machine.loops.last().copied().filter(|f| f.page == page) else {
         return Ok(Control::Next);
     };
-    let value =
-        e.vm.memory
-            .value(frame.indx)
-            .map_err(|err| Fault::BadAccess {
-                page: e.page,
-                offset: e.offset,
-                detail: err.0,
-            })?;
-    let indx = value as u16 as i16 as i64;
-    let bumped = (indx as i16).wrapping_add(1) as u16 as u32;
-    e.vm.memory
-        .store(frame.indx, bumped)
+    let value = e
+        .machine
+        .memory
+        .value(frame.indx)
         .map_err(|err| Fault::BadAccess {
-            page: e.page,
-            offset: e.offset,
+            page,
+            offset: e.at.offset,
             detail: err.0,
         })?;
-    e.vm.stack = frame.stack;
+    let indx = value as u16 as i16 as i64;
+    let bumped = (indx as i16).wrapping_add(1) as u16 as u32;
+    e.machine
+        .memory
+        .store(frame.indx, bumped)
+        .map_err(|err| Fault::BadAccess {
+            page,
+            offset: e.at.offset,
+            detail: err.0,
+        })?;
+    e.machine.stack = frame.stack;
     if indx < frame.last {
         Ok(Control::Goto(frame.body))
     } else {
-        e.vm.loops.pop();
+        e.machine.loops.pop();
         Ok(Control::Next)
     }
 }
 
 /// WDR: restart the watchdog's count for this scan.
 fn wdr(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    e.vm.executed = 0;
+    e.clock.executed = 0;
     Ok(Control::Next)
 }
 
 /// STOP: end the scan; the PLC stays in STOP until set running.
-fn stop(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    e.vm.stopped = true;
-    Ok(Control::EndScan)
+fn stop(_: &mut Exec<'_>) -> Result<Control, Fault> {
+    Ok(Control::Stop)
 }
 
 pub fn lookup(m: &str) -> Option<Handler> {

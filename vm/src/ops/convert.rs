@@ -5,7 +5,7 @@
 //! instruction names are written on every execution, the others keep their values.
 
 use super::{Control, Exec, Handler};
-use crate::Fault;
+use crate::fault::Fault;
 
 /// BTI: the unsigned byte to an INT.
 fn bti(e: &mut Exec<'_>) -> Result<Control, Fault> {

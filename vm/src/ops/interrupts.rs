@@ -1,33 +1,40 @@
 //! Interrupts: ENI/DISI (global enable), ATCH/DTCH (event -> interrupt routine), and
 //! RETI/CRETI (return from an interrupt routine). Events are raised and routines run
-//! by the VM between scans (`Vm::service_events`).
+//! by the engine after MAIN (`interrupts.rs`, `engine.rs`).
+
+use gutta_format::Operand;
 
 use super::{Control, Exec, Handler};
-use crate::Fault;
+use crate::fault::Fault;
 
 fn eni(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    e.vm.interrupts.enabled = true;
+    e.interrupts.enabled = true;
     Ok(Control::Next)
 }
 
 fn disi(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    e.vm.interrupts.enabled = false;
+    e.interrupts.enabled = false;
     Ok(Control::Next)
 }
 
 /// ATCH INT, EVNT: event EVNT now runs interrupt routine INT.
 fn atch(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    let routine = e.operand(0)?.offset() as u32;
+    let Operand::Unit(routine) = e.operand(0)? else {
+        return Err(e.fault("INT is not a program unit".into()));
+    };
+    let page = routine
+        .page(&e.program.target.plc)
+        .ok_or_else(|| e.fault(format!("{routine}: no such unit on the target")))?;
     let event = e.get(1)?;
-    e.vm.interrupts.attached.insert(event, routine);
+    e.interrupts.attached.insert(event, page);
     Ok(Control::Next)
 }
 
 /// DTCH EVNT: event EVNT runs nothing any more (pending occurrences are dropped).
 fn dtch(e: &mut Exec<'_>) -> Result<Control, Fault> {
     let event = e.get(0)?;
-    e.vm.interrupts.attached.remove(&event);
-    e.vm.interrupts.pending.remove(&event);
+    e.interrupts.attached.remove(&event);
+    e.interrupts.pending.remove(&event);
     Ok(Control::Next)
 }
 

@@ -5,7 +5,7 @@
 //! MIN divided by -1, sets SM1.1 and leaves OUT unchanged (ManagerFun.xml).
 
 use super::{Control, Exec, Handler};
-use crate::Fault;
+use crate::fault::Fault;
 
 /// Store a signed result in OUT (operand `out`) of `bits` width, with flags.
 fn store_int(e: &mut Exec<'_>, out: usize, exact: i64, bits: u32) -> Result<Control, Fault> {
@@ -98,7 +98,7 @@ fn div(e: &mut Exec<'_>) -> Result<Control, Fault> {
 }
 
 fn step(e: &mut Exec<'_>, delta: i64) -> Result<Control, Fault> {
-    let w = e.operand(0)?.width().map(|w| w.bits()).unwrap_or(32);
+    let w = e.width(0)?.bits();
     if w == 8 {
         // INCB/DECB work on unsigned bytes.
         let v = e.get(0)? as i64 + delta;
@@ -149,7 +149,7 @@ fn sqrt(e: &mut Exec<'_>) -> Result<Control, Fault> {
 }
 
 fn logic(e: &mut Exec<'_>, f: fn(u32, u32) -> u32) -> Result<Control, Fault> {
-    let w = e.operand(1)?.width().map(|w| w.bits()).unwrap_or(32);
+    let w = e.width(1)?.bits();
     let mask = if w >= 32 { u32::MAX } else { (1u32 << w) - 1 };
     let r = f(e.get(1)?, e.get(0)?) & mask;
     e.set(1, r)?;
@@ -166,7 +166,7 @@ fn xor(e: &mut Exec<'_>) -> Result<Control, Fault> {
     logic(e, |a, b| a ^ b)
 }
 fn inv(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    let w = e.operand(0)?.width().map(|w| w.bits()).unwrap_or(32);
+    let w = e.width(0)?.bits();
     let mask = if w >= 32 { u32::MAX } else { (1u32 << w) - 1 };
     let r = !e.get(0)? & mask;
     e.set(0, r)?;

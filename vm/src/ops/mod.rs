@@ -1,7 +1,9 @@
 //! Instruction semantics, one file per family, found by mnemonic: the instruction
 //! set is data (ManagerFun.xml), and `semantics` maps each mnemonic to what it does
-//! (docs/vm.md). `Exec` is what a semantic sees: its operands, the logic stack,
-//! memory and the flags in SM1.
+//! (docs/vm.md). `Exec` is what a semantic sees: its instruction and operands, the
+//! machine (memory, logic stack, frames), the program, and the few other parts some
+//! families need (terminals for BIR, interrupts, the EXCH queue, the clock). A semantic
+//! never sees the whole VM, the debugger or the host.
 
 mod bits;
 mod comm;
@@ -18,10 +20,18 @@ mod timers;
 
 pub(crate) use control::finish_call;
 
-use gutta_catalog::Width;
-use gutta_format::PackedOperand;
+use gutta_catalog::{Address, Width};
+use gutta_format::{Operand, PackedOperand};
 
-use crate::{Fault, Location, Vm};
+use crate::clock::Clock;
+use crate::decode::Unit;
+use crate::exch::ExchQueue;
+use crate::fault::Fault;
+use crate::interrupts::Interrupts;
+use crate::machine::Machine;
+use crate::memory;
+use crate::program::Program;
+use crate::terminals::Terminals;
 
 /// What happens after an instruction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -31,26 +41,14 @@ pub enum Control {
     Jump(u16),
     /// Leave the unit (RET, CRET).
     Return,
-    /// End the scan (END, STOP).
+    /// End the scan (END).
     EndScan,
+    /// End the scan and stay in STOP (STOP).
+    Stop,
     /// Continue at record `n` of the same unit (FOR/NEXT).
     Goto(usize),
     /// A CALL entered its subroutine (pushed a frame).
     Enter,
-}
-
-/// An open FOR loop.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct LoopFrame {
-    pub page: u8,
-    /// Record index of the first instruction after FOR.
-    pub body: usize,
-    /// The INDX operand (read again at every NEXT).
-    pub indx: PackedOperand,
-    /// FINAL, read once at FOR.
-    pub last: i64,
-    /// The logic stack at FOR; every pass starts with it.
-    pub stack: u32,
 }
 
 /// A semantic.
@@ -72,44 +70,75 @@ pub fn semantics(mnemonic: &str) -> Option<Handler> {
         .or_else(|| special::lookup(mnemonic))
 }
 
-/// One instruction being executed.
+/// The instruction being executed.
+#[derive(Debug)]
+pub(crate) struct Instruction<'a> {
+    pub unit: &'a Unit,
+    pub operands: &'a [PackedOperand],
+    /// Record index in the unit.
+    pub index: usize,
+    /// Byte offset in the instruction page (for fault messages).
+    pub offset: usize,
+    pub mnemonic: &'a str,
+}
+
+/// One instruction being executed, and the parts of the VM its semantic may reach.
 #[derive(Debug)]
 pub struct Exec<'a> {
-    pub(crate) vm: &'a mut Vm,
-    pub(crate) operands: &'a [PackedOperand],
-    pub(crate) page: u8,
-    pub(crate) index: usize,
-    pub(crate) offset: usize,
-    pub(crate) mnemonic: &'a str,
+    pub(crate) machine: &'a mut Machine,
+    pub(crate) program: &'a Program,
+    pub(crate) terminals: &'a Terminals,
+    pub(crate) interrupts: &'a mut Interrupts,
+    pub(crate) exch: &'a mut ExchQueue,
+    pub(crate) clock: &'a mut Clock,
+    pub(crate) at: Instruction<'a>,
 }
 
 impl Exec<'_> {
     fn fault(&self, detail: String) -> Fault {
         Fault::BadAccess {
-            page: self.page,
-            offset: self.offset,
-            detail: format!("{}: {detail}", self.mnemonic),
+            page: self.page(),
+            offset: self.at.offset,
+            detail: format!("{}: {detail}", self.at.mnemonic),
         }
     }
 
-    pub fn operand(&self, i: usize) -> Result<PackedOperand, Fault> {
-        self.operands
+    /// The page of the unit being run.
+    fn page(&self) -> u8 {
+        self.at.unit.page
+    }
+
+    /// Operand `i`, decoded.
+    pub fn operand(&self, i: usize) -> Result<Operand, Fault> {
+        let word = self
+            .at
+            .operands
             .get(i)
             .copied()
-            .ok_or_else(|| self.fault(format!("operand {i} missing")))
+            .ok_or_else(|| self.fault(format!("operand {i} missing")))?;
+        memory::operand(word).map_err(|e| self.fault(e.0))
+    }
+
+    /// The access width of operand `i`: a variable's or a pointer's; a DWORD for an
+    /// operand that is a number (label, unit, literal).
+    pub fn width(&self, i: usize) -> Result<Width, Fault> {
+        Ok(match self.operand(i)? {
+            Operand::Value(a) => a.width,
+            Operand::AddressOf { width, .. } | Operand::Pointer { width, .. } => width,
+            Operand::Label(_) | Operand::Unit(_) | Operand::Literal(_) => Width::Dword,
+        })
     }
 
     /// The operand's value, zero-extended.
     pub fn get(&self, i: usize) -> Result<u32, Fault> {
         let op = self.operand(i)?;
-        self.vm.memory.value(op).map_err(|e| self.fault(e.0))
+        self.machine.memory.value(op).map_err(|e| self.fault(e.0))
     }
 
     /// The operand's value, sign-extended from the access width.
     pub fn get_signed(&self, i: usize) -> Result<i64, Fault> {
         let v = self.get(i)?;
-        let w = self.operand(i)?.width().unwrap_or(Width::Dword);
-        Ok(match w {
+        Ok(match self.width(i)? {
             Width::Bit => v as i64,
             Width::Byte => v as u8 as i8 as i64,
             Width::Word => v as u16 as i16 as i64,
@@ -123,59 +152,59 @@ impl Exec<'_> {
 
     pub fn set(&mut self, i: usize, value: u32) -> Result<(), Fault> {
         let op = self.operand(i)?;
-        let r = self.vm.memory.store(op, value);
+        let r = self.machine.memory.store(op, value);
         r.map_err(|e| self.fault(e.0))
     }
 
-    pub fn locate(&self, i: usize) -> Result<Location, Fault> {
+    pub fn locate(&self, i: usize) -> Result<Address, Fault> {
         let op = self.operand(i)?;
-        self.vm.memory.locate(op).map_err(|e| self.fault(e.0))
+        self.machine.memory.locate(op).map_err(|e| self.fault(e.0))
     }
 
-    pub fn read_at(&self, loc: Location) -> Result<u32, Fault> {
-        self.vm.memory.read(loc).map_err(|e| self.fault(e.0))
+    pub fn read_at(&self, loc: Address) -> Result<u32, Fault> {
+        self.machine.memory.read(loc).map_err(|e| self.fault(e.0))
     }
 
-    pub fn write_at(&mut self, loc: Location, value: u32) -> Result<(), Fault> {
-        let r = self.vm.memory.write(loc, value);
+    pub fn write_at(&mut self, loc: Address, value: u32) -> Result<(), Fault> {
+        let r = self.machine.memory.write(loc, value);
         r.map_err(|e| self.fault(e.0))
     }
 
     // ---- logic stack (bit 0 is the top) ------------------------------------------
 
     pub fn top(&self) -> bool {
-        self.vm.stack & 1 == 1
+        self.machine.stack & 1 == 1
     }
 
     pub fn set_top(&mut self, v: bool) {
-        self.vm.stack = (self.vm.stack & !1) | u32::from(v);
+        self.machine.stack = (self.machine.stack & !1) | u32::from(v);
     }
 
     pub fn push(&mut self, v: bool) {
-        self.vm.stack = ((self.vm.stack << 1) | u32::from(v)) & self.vm.stack_mask;
+        self.machine.stack = ((self.machine.stack << 1) | u32::from(v)) & self.machine.stack_mask;
     }
 
     pub fn pop(&mut self) -> bool {
         let v = self.top();
-        self.vm.stack >>= 1;
+        self.machine.stack >>= 1;
         v
     }
 
     /// Level `n` of the stack (0 = top).
     pub fn level(&self, n: u32) -> bool {
-        n < 32 && (self.vm.stack >> n) & 1 == 1
+        n < 32 && (self.machine.stack >> n) & 1 == 1
     }
 
     // ---- flags in SM1 --------------------------------------------------------------
 
     fn sm_bit(&mut self, bit: u8, v: bool) {
-        let loc = Location {
-            slot: self.vm.slots.sm,
+        let loc = Address {
+            slot: self.program.slots.sm,
             offset: 1,
             width: Width::Bit,
             bit,
         };
-        let _ = self.vm.memory.write(loc, u32::from(v));
+        let _ = self.machine.memory.write(loc, u32::from(v));
     }
 
     /// SM1.0 zero, SM1.1 overflow, SM1.2 negative.
@@ -194,28 +223,27 @@ impl Exec<'_> {
 
     /// This instruction instance's hidden state (zeroed at reset).
     pub fn instance_state(&mut self) -> &mut [u32; 4] {
-        self.vm
-            .instance_state
-            .entry((self.page, self.index))
-            .or_default()
+        let key = (self.page(), self.at.index);
+        self.machine.hidden.instances.entry(key).or_default()
     }
 
     /// Hidden state of a memory cell (zeroed at reset).
-    pub fn cell_state(&mut self, loc: Location) -> &mut [u32; 4] {
-        self.vm
-            .cell_state
+    pub fn cell_state(&mut self, loc: Address) -> &mut [u32; 4] {
+        self.machine
+            .hidden
+            .cells
             .entry((loc.slot, loc.offset))
             .or_default()
     }
 
     /// Virtual milliseconds one scan lasts.
     pub fn scan_ms(&self) -> u32 {
-        self.vm.config.scan_ms
+        self.program.config.scan_ms
     }
 
     /// The running target (timer resolutions, counter limits, ...).
     pub fn target(&self) -> &gutta_catalog::Target {
-        &self.vm.target
+        &self.program.target
     }
 
     /// SM1 bit `bit` (0 zero, 1 overflow, 2 negative, 3 divide by zero, 4 table full,

@@ -1,7 +1,8 @@
 //! Moves: MOVB/MOVW/MOVD/MOVR, SWAP, block moves BMB/BMW/BMD and FILL.
 
 use super::{Control, Exec, Handler};
-use crate::{Fault, Location};
+use crate::fault::Fault;
+use gutta_catalog::Address;
 
 fn mov(e: &mut Exec<'_>) -> Result<Control, Fault> {
     let v = e.get(0)?;
@@ -15,17 +16,17 @@ fn swap(e: &mut Exec<'_>) -> Result<Control, Fault> {
     Ok(Control::Next)
 }
 
-/// Location `k` items after `loc`.
-fn nth(loc: Location, k: u32) -> Location {
-    Location {
+/// Address `k` items after `loc`.
+fn nth(loc: Address, k: u32) -> Address {
+    Address {
         offset: loc.offset + k * loc.width.bytes(),
         ..loc
     }
 }
 
 /// Whether `n` items from `loc` lie inside its area.
-fn fits(e: &Exec<'_>, loc: Location, n: u32) -> bool {
-    let len = e.vm.memory.area(loc.slot).map_or(0, <[u8]>::len) as u64;
+fn fits(e: &Exec<'_>, loc: Address, n: u32) -> bool {
+    let len = e.machine.memory.area(loc.slot).map_or(0, <[u8]>::len) as u64;
     u64::from(loc.offset) + u64::from(n) * u64::from(loc.width.bytes()) <= len
 }
 

@@ -6,11 +6,12 @@
 use gutta_catalog::Width;
 
 use super::{Control, Exec, Handler};
-use crate::{Fault, Location};
+use crate::fault::Fault;
+use gutta_catalog::Address;
 
 /// Width in bits of operand `i` (a DWORD when unknown).
 fn bits_of(e: &Exec<'_>, i: usize) -> Result<u32, Fault> {
-    Ok(e.operand(i)?.width().map(|w| w.bits()).unwrap_or(32))
+    Ok(e.width(i)?.bits())
 }
 
 fn mask(w: u32) -> u32 {
@@ -82,7 +83,7 @@ fn shrb(e: &mut Exec<'_>) -> Result<Control, Fault> {
     let start = e.locate(1)?;
     let n = e.get(2)? as u8 as i8 as i32;
     let len = n.unsigned_abs();
-    let area_bytes = e.vm.memory.area(start.slot).map_or(0, <[u8]>::len) as u64;
+    let area_bytes = e.machine.memory.area(start.slot).map_or(0, <[u8]>::len) as u64;
     let first = start.offset as u64 * 8 + u64::from(start.bit & 7);
     if n == 0 || len > 64 || (first + u64::from(len) - 1) / 8 >= area_bytes {
         e.flag(1, true);
@@ -90,7 +91,7 @@ fn shrb(e: &mut Exec<'_>) -> Result<Control, Fault> {
     }
     let at = |i: u32| {
         let b = first + u64::from(i);
-        Location {
+        Address {
             slot: start.slot,
             offset: (b / 8) as u32,
             width: Width::Bit,

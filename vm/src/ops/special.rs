@@ -23,21 +23,15 @@
 //! that rounds to zero is written without `-`.
 
 use super::{Control, Exec, Handler};
-use crate::{Fault, Location};
+use crate::fault::Fault;
+use gutta_catalog::Address;
 use gutta_catalog::Width;
 
 fn bir(e: &mut Exec<'_>) -> Result<Control, Fault> {
     let loc = e.locate(0)?;
     let at = loc.offset as usize;
-    let v = match e.vm.terminals.get(&loc.slot).and_then(|t| t.get(at)) {
-        Some(&terminal) => match e.vm.forces.get(&loc.slot) {
-            Some((mask, image)) => {
-                let m = mask.get(at).copied().unwrap_or(0);
-                let f = image.get(at).copied().unwrap_or(0);
-                (terminal & !m) | (f & m)
-            }
-            None => terminal,
-        },
+    let v = match e.terminals.input_byte(loc.slot, at) {
+        Some(byte) => byte,
         // Not an input area with terminals: its memory is all there is.
         None => e.read_at(loc)? as u8,
     };
@@ -53,7 +47,7 @@ fn biw(e: &mut Exec<'_>) -> Result<Control, Fault> {
 
 /// The free-running millisecond clock: the virtual clock modulo 2^32.
 fn clock(e: &Exec<'_>) -> u32 {
-    e.vm.clock_ms as u32
+    e.clock.ms as u32
 }
 
 fn bitim(e: &mut Exec<'_>) -> Result<Control, Fault> {
@@ -71,33 +65,33 @@ fn citim(e: &mut Exec<'_>) -> Result<Control, Fault> {
 
 fn cevnt(e: &mut Exec<'_>) -> Result<Control, Fault> {
     let event = e.get(0)?;
-    e.vm.interrupts.pending.remove(&event);
+    e.interrupts.pending.remove(&event);
     Ok(Control::Next)
 }
 
 // ---- ASCII buffers ----------------------------------------------------------------------
 
 /// The `n` bytes starting at operand `i`'s location, if they lie inside its area.
-fn buffer(e: &Exec<'_>, i: usize, n: usize) -> Result<Option<Location>, Fault> {
+fn buffer(e: &Exec<'_>, i: usize, n: usize) -> Result<Option<Address>, Fault> {
     let loc = e.locate(i)?;
-    let len = e.vm.memory.area(loc.slot).map_or(0, <[u8]>::len);
+    let len = e.machine.memory.area(loc.slot).map_or(0, <[u8]>::len);
     let fits = (loc.offset as usize)
         .checked_add(n)
         .is_some_and(|end| end <= len);
-    Ok(fits.then_some(Location {
+    Ok(fits.then_some(Address {
         width: Width::Byte,
         bit: 0,
         ..loc
     }))
 }
 
-fn read_bytes(e: &Exec<'_>, loc: Location, n: usize) -> Vec<u8> {
-    let area = e.vm.memory.area(loc.slot).unwrap_or(&[]);
+fn read_bytes(e: &Exec<'_>, loc: Address, n: usize) -> Vec<u8> {
+    let area = e.machine.memory.area(loc.slot).unwrap_or(&[]);
     area[loc.offset as usize..loc.offset as usize + n].to_vec()
 }
 
-fn write_bytes(e: &mut Exec<'_>, loc: Location, bytes: &[u8]) {
-    if let Some(area) = e.vm.memory.area_mut(loc.slot) {
+fn write_bytes(e: &mut Exec<'_>, loc: Address, bytes: &[u8]) {
+    if let Some(area) = e.machine.memory.area_mut(loc.slot) {
         let at = loc.offset as usize;
         area[at..at + bytes.len()].copy_from_slice(bytes);
     }

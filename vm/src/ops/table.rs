@@ -7,27 +7,28 @@
 use gutta_catalog::Width;
 
 use super::{Control, Exec, Handler};
-use crate::{Fault, Location};
+use crate::fault::Fault;
+use gutta_catalog::Address;
 
 /// A legal table: where word 0 is, and its count.
 struct Table {
-    base: Location,
+    base: Address,
     count: u32,
 }
 
 impl Table {
-    fn word(&self, byte: u32) -> Location {
-        Location {
+    fn word(&self, byte: u32) -> Address {
+        Address {
             slot: self.base.slot,
             offset: self.base.offset + byte,
             width: Width::Word,
             bit: 0,
         }
     }
-    fn count_at(&self) -> Location {
+    fn count_at(&self) -> Address {
         self.word(2)
     }
-    fn entry(&self, i: u32) -> Location {
+    fn entry(&self, i: u32) -> Address {
         self.word(4 + 2 * i)
     }
 }
@@ -38,7 +39,7 @@ fn table(e: &Exec<'_>, i: usize) -> Result<Option<Table>, Fault> {
     base.width = Width::Word;
     base.bit = 0;
     let t = Table { base, count: 0 };
-    let area = e.vm.memory.area(base.slot).map_or(0, <[u8]>::len) as u64;
+    let area = e.machine.memory.area(base.slot).map_or(0, <[u8]>::len) as u64;
     if u64::from(base.offset) + 4 > area {
         return Ok(None);
     }

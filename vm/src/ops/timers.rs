@@ -15,7 +15,8 @@
 //! - counters: word 0 = flags (`PREV_UP`, `PREV_DOWN`: the previous up/down inputs).
 
 use super::{Control, Exec, Handler};
-use crate::{Fault, Location};
+use crate::fault::Fault;
+use gutta_catalog::Address;
 
 const RUNNING: u32 = 1;
 const ARMED: u32 = 2;
@@ -26,7 +27,7 @@ const PREV_DOWN: u32 = 2;
 const TIMER_MAX: i64 = i16::MAX as i64;
 
 /// The timer operand (operand 0): its location and its resolution in ms.
-fn timer(e: &Exec<'_>) -> Result<(Location, u32), Fault> {
+fn timer(e: &Exec<'_>) -> Result<(Address, u32), Fault> {
     let loc = e.locate(0)?;
     let n = loc.offset / 2;
     let res = e
@@ -38,18 +39,18 @@ fn timer(e: &Exec<'_>) -> Result<(Location, u32), Fault> {
 }
 
 /// The signed current value of a timer or counter word.
-fn current(e: &Exec<'_>, loc: Location) -> Result<i64, Fault> {
+fn current(e: &Exec<'_>, loc: Address) -> Result<i64, Fault> {
     Ok(e.read_at(loc)? as u16 as i16 as i64)
 }
 
-fn store(e: &mut Exec<'_>, loc: Location, v: i64) -> Result<(), Fault> {
+fn store(e: &mut Exec<'_>, loc: Address, v: i64) -> Result<(), Fault> {
     e.write_at(loc, v as i16 as u16 as u32)
 }
 
 /// Advance the timer clock by one execution: returns the whole units elapsed since
 /// the previous advancing execution (0 when this execution starts the clock) and
 /// keeps the uncounted remainder.
-fn advance(e: &mut Exec<'_>, loc: Location, res: u32) -> i64 {
+fn advance(e: &mut Exec<'_>, loc: Address, res: u32) -> i64 {
     let scan = e.scan_ms();
     let st = e.cell_state(loc);
     if st[1] & RUNNING == 0 {
@@ -63,7 +64,7 @@ fn advance(e: &mut Exec<'_>, loc: Location, res: u32) -> i64 {
 }
 
 /// Stop the timer clock: the uncounted fraction of a unit is dropped.
-fn stop(e: &mut Exec<'_>, loc: Location) {
+fn stop(e: &mut Exec<'_>, loc: Address) {
     let st = e.cell_state(loc);
     st[0] = 0;
     st[1] &= !RUNNING;
@@ -136,7 +137,7 @@ fn tonr(e: &mut Exec<'_>) -> Result<Control, Fault> {
 }
 
 /// The counter operand (operand 0), its preset (operand 1) and the upper limit.
-fn counter(e: &Exec<'_>) -> Result<(Location, i64, i64), Fault> {
+fn counter(e: &Exec<'_>) -> Result<(Address, i64, i64), Fault> {
     let loc = e.locate(0)?;
     let pv = e.get_signed(1)?;
     let max = (e.target().memory.counter_max as i64).min(i16::MAX as i64);
@@ -144,7 +145,7 @@ fn counter(e: &Exec<'_>) -> Result<(Location, i64, i64), Fault> {
 }
 
 /// Record the up (or down) input of a counter; true on its rising edge.
-fn edge(e: &mut Exec<'_>, loc: Location, bit: u32, now: bool) -> bool {
+fn edge(e: &mut Exec<'_>, loc: Address, bit: u32, now: bool) -> bool {
     let st = e.cell_state(loc);
     let before = st[0] & bit != 0;
     if now {

@@ -1,0 +1,187 @@
+//! The fast path: pre-decoded operations (`op.rs`) executed directly on the flat
+//! memory bytes and the logic stack, with no lookups and no allocation. Everything else
+//! returns to the engine, which runs it through `ops/`. It must stay free of anything
+//! that is not an instruction's effect on memory and the stack.
+
+use crate::op::{Arith, Bit, ChainStep, Combine, Op, STEP_STORE};
+
+/// Run fast operations from `pc` until one is not (or the ops end). Returns where it
+/// stopped and how many instructions ran (network records do not count).
+#[inline(always)]
+pub(crate) fn run_fast(
+    mem: &mut [u8],
+    ops: &[Op],
+    chain: &[ChainStep],
+    mut pc: usize,
+    st: &mut u32,
+    mask: u32,
+    flags_at: usize,
+) -> (usize, u64) {
+    let (start, mut networks) = (pc, 0u64);
+    let mut s = *st;
+    while let Some(&op) = ops.get(pc) {
+        match op {
+            Op::Network => {
+                s = 0;
+                networks += 1;
+            }
+            Op::Chain {
+                first,
+                records,
+                networks: n,
+            } => {
+                let records = records as usize;
+                if pc + records > ops.len() {
+                    // Past the watchdog's bound: the slow path runs it record by record.
+                    break;
+                }
+                let first = first as usize;
+                let steps = records - usize::from(n);
+                // After a network start the rest of the stack is empty; t is the top.
+                let mut t = s & 1;
+                let rest = if n > 0 { 0 } else { s & !1 };
+                for step in &chain[first..first + steps] {
+                    let at = step.at as usize;
+                    if step.kind == STEP_STORE {
+                        let byte = &mut mem[at];
+                        *byte = (*byte & !(1 << step.bit)) | ((t as u8) << step.bit);
+                    } else {
+                        let v = ((u32::from(mem[at]) >> step.bit) & 1) ^ u32::from(step.invert);
+                        let ko = u32::from(step.keep_or);
+                        t = ((t & ko) + v + (ko >> 1)) >> 1;
+                    }
+                }
+                s = rest | t;
+                networks += u64::from(n);
+                pc += records;
+                continue;
+            }
+            op => {
+                if !fast_op(mem, op, &mut s, mask, flags_at) {
+                    break;
+                }
+            }
+        }
+        pc += 1;
+    }
+    *st = s;
+    (pc, (pc - start) as u64 - networks)
+}
+
+#[inline(always)]
+fn bit(mem: &[u8], b: Bit) -> u32 {
+    u32::from(mem[b.at as usize] & b.mask != 0)
+}
+
+#[inline(always)]
+pub(crate) fn load(mem: &[u8], at: u32, width: u8) -> u32 {
+    let at = at as usize;
+    match width {
+        1 => u32::from(mem[at]),
+        2 => u32::from(u16::from_le_bytes([mem[at], mem[at + 1]])),
+        _ => u32::from_le_bytes([mem[at], mem[at + 1], mem[at + 2], mem[at + 3]]),
+    }
+}
+
+#[inline(always)]
+pub(crate) fn store(mem: &mut [u8], at: u32, width: u8, v: u32) {
+    let at = at as usize;
+    match width {
+        1 => mem[at] = v as u8,
+        2 => mem[at..at + 2].copy_from_slice(&(v as u16).to_le_bytes()),
+        _ => mem[at..at + 4].copy_from_slice(&v.to_le_bytes()),
+    }
+}
+
+/// Execute a fast operation on the flat memory and the logic stack `st`; false (and
+/// nothing done) for an op that is not one (network records, generic, breakpoints).
+#[inline(always)]
+pub(crate) fn fast_op(mem: &mut [u8], op: Op, st: &mut u32, mask: u32, flags_at: usize) -> bool {
+    let s = *st;
+    *st = match op {
+        Op::Ld(b) => ((s << 1) | bit(mem, b)) & mask,
+        Op::Ldn(b) => ((s << 1) | (bit(mem, b) ^ 1)) & mask,
+        Op::A(b) => s & (!1 | bit(mem, b)),
+        Op::An(b) => s & (!1 | (bit(mem, b) ^ 1)),
+        Op::O(b) => s | bit(mem, b),
+        Op::On(b) => s | (bit(mem, b) ^ 1),
+        Op::Not => s ^ 1,
+        Op::Assign(b) => {
+            // Branch-free: the top is data, a branch on it would mispredict.
+            let byte = &mut mem[b.at as usize];
+            let set = (s & 1) as u8 * b.mask;
+            *byte = (*byte & !b.mask) | set;
+            s
+        }
+        Op::Ald => (s >> 1) & (s | !1),
+        Op::Old => (s >> 1) | (s & 1),
+        Op::Lps => ((s << 1) | (s & 1)) & mask,
+        Op::Lrd => (s & !1) | ((s >> 1) & 1),
+        Op::Lpp => s >> 1,
+        Op::Move { src, dst, width } => {
+            if s & 1 == 1 {
+                let v = load(mem, src, width);
+                store(mem, dst, width, v);
+            }
+            s
+        }
+        Op::Math {
+            op,
+            src,
+            dst,
+            width,
+        } => {
+            if s & 1 == 1 {
+                let bits = u32::from(width) * 8;
+                let a = sign_extend(load(mem, dst, width), bits);
+                let b = sign_extend(load(mem, src, width), bits);
+                let exact = match op {
+                    Arith::Add => a + b,
+                    Arith::Sub => a - b,
+                    Arith::Mul => a * b,
+                };
+                let r = sign_extend(exact as u32, bits);
+                store(mem, dst, width, exact as u32);
+                // SM1.0 zero, SM1.1 overflow, SM1.2 negative; the other flags kept.
+                let flags = u8::from(r == 0) | (u8::from(r != exact) << 1) | (u8::from(r < 0) << 2);
+                let f = &mut mem[flags_at];
+                *f = (*f & !0x07) | flags;
+            }
+            s
+        }
+        Op::Compare {
+            combine,
+            rel,
+            a,
+            b,
+            width,
+        } => {
+            let (x, y) = (load(mem, a, width), load(mem, b, width));
+            let r = if width == 1 {
+                rel.holds(x, y)
+            } else {
+                let bits = u32::from(width) * 8;
+                rel.holds(sign_extend(x, bits), sign_extend(y, bits))
+            };
+            let r = u32::from(r);
+            match combine {
+                Combine::Load => ((s << 1) | r) & mask,
+                Combine::And => s & (!1 | r),
+                Combine::Or => s | r,
+            }
+        }
+        Op::Network | Op::Chain { .. } | Op::Call { .. } | Op::Generic { .. } | Op::Break => {
+            return false
+        }
+    };
+    true
+}
+
+#[inline(always)]
+fn sign_extend(v: u32, bits: u32) -> i64 {
+    match bits {
+        8 => v as u8 as i8 as i64,
+        16 => v as u16 as i16 as i64,
+        _ => v as i32 as i64,
+    }
+}

@@ -1,0 +1,110 @@
+//! Fusing: runs of bit logic in a unit's operations become one chain of branch-free
+//! steps (docs/vm.md, "Speed"), and a breakpoint is patched in. Record numbering never
+//! changes, so a scan can stop at any record of a chain.
+
+use crate::op::{ChainStep, Op, STEP_AND, STEP_LOAD, STEP_OR, STEP_STORE};
+
+/// `keep_or` of a kind: keep in bit 0, or in bit 1.
+const fn keep_or(kind: u8) -> u8 {
+    match kind {
+        STEP_AND => 0b01,
+        STEP_OR => 0b11,
+        STEP_LOAD => 0b10,
+        _ => 0,
+    }
+}
+
+fn chain_step(op: Op) -> Option<ChainStep> {
+    let (b, invert, kind) = match op {
+        Op::A(b) => (b, 0, STEP_AND),
+        Op::An(b) => (b, 1, STEP_AND),
+        Op::O(b) => (b, 0, STEP_OR),
+        Op::On(b) => (b, 1, STEP_OR),
+        Op::Assign(b) => (b, 0, STEP_STORE),
+        _ => return None,
+    };
+    Some(ChainStep {
+        at: b.at,
+        bit: b.mask.trailing_zeros() as u8,
+        invert,
+        kind,
+        keep_or: keep_or(kind),
+    })
+}
+
+/// A network record followed by LD/LDN at `k`: the chain step that starts it.
+fn network_start(ops: &[Op], k: usize) -> Option<ChainStep> {
+    if ops.get(k) != Some(&Op::Network) {
+        return None;
+    }
+    let (b, invert) = match ops.get(k + 1) {
+        Some(&Op::Ld(b)) => (b, 0),
+        Some(&Op::Ldn(b)) => (b, 1),
+        _ => return None,
+    };
+    Some(ChainStep {
+        at: b.at,
+        bit: b.mask.trailing_zeros() as u8,
+        invert,
+        kind: STEP_LOAD,
+        keep_or: keep_or(STEP_LOAD),
+    })
+}
+
+/// The operations the fast path runs: `plain` with the breakpoint (if any) patched in,
+/// and fused: runs of bit logic become one chain (steps appended to `chain`). A chain
+/// is A/AN/O/ON/`=` records, and whole networks that are a network record, LD/LDN and
+/// such records; it covers at least two records. Fused operations sit at the first
+/// record they cover; the records after keep their plain operations, so record
+/// numbering is unchanged and a scan can stop at any of them.
+pub(crate) fn build(
+    plain: &[Op],
+    breakpoint: Option<usize>,
+    chain: &mut Vec<ChainStep>,
+) -> Vec<Op> {
+    let mut ops = plain.to_vec();
+    chain.clear();
+    if let Some(op) = breakpoint.and_then(|pc| ops.get_mut(pc)) {
+        *op = Op::Break;
+    }
+    let mut k = 0;
+    while k < ops.len() {
+        let first = chain.len();
+        let mut j = k;
+        loop {
+            if chain.len() - first >= u16::MAX as usize - 1 {
+                break;
+            }
+            if let Some(load) = network_start(&ops, j) {
+                chain.push(load);
+                j += 2;
+            } else if j != k {
+                break;
+            }
+            while let Some(step) = ops.get(j).and_then(|&op| chain_step(op)) {
+                if chain.len() - first >= u16::MAX as usize {
+                    break;
+                }
+                chain.push(step);
+                j += 1;
+            }
+            if network_start(&ops, j).is_none() {
+                break;
+            }
+        }
+        let records = j - k;
+        if records >= 2 {
+            let steps = chain.len() - first;
+            ops[k] = Op::Chain {
+                first: u32::try_from(first).unwrap_or(u32::MAX),
+                records: u32::try_from(records).unwrap_or(u32::MAX),
+                networks: (records - steps) as u16,
+            };
+            k = j;
+        } else {
+            chain.truncate(first);
+            k += 1;
+        }
+    }
+    ops
+}

@@ -1,0 +1,148 @@
+//! The machine an instruction runs on: memory, the logic stack, the frames of the units
+//! being run, the callers' saved L, open FOR loops and the hidden state of instruction
+//! instances. It is what `ops/` semantics change; it knows nothing of scans, the
+//! debugger or the host.
+
+use std::collections::HashMap;
+
+use gutta_catalog::Target;
+use gutta_format::Operand;
+
+use crate::memory::Memory;
+
+/// A unit being run.
+#[derive(Debug, Clone)]
+pub(crate) struct Frame {
+    pub page: u8,
+    /// The next record to run (for a caller: its CALL record while the callee runs).
+    pub pc: usize,
+    /// Set for a subroutine called by CALL: what the return restores.
+    pub call: Option<CallSave>,
+    /// Open FOR loops when the unit was entered.
+    pub loops_at_entry: usize,
+}
+
+/// The caller's state a CALL saves: its L is on `Machine::l_stack` from `l_mark`.
+#[derive(Debug, Clone)]
+pub(crate) struct CallSave {
+    pub l_mark: usize,
+    pub saved_stack: u32,
+    /// A planned CALL: the plan's index in the caller's unit.
+    pub plan: Option<u32>,
+}
+
+/// An open FOR loop.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct LoopFrame {
+    pub page: u8,
+    /// Record index of the first instruction after FOR.
+    pub body: usize,
+    /// The INDX operand (read again at every NEXT).
+    pub indx: Operand,
+    /// FINAL, read once at FOR.
+    pub last: i64,
+    /// The logic stack at FOR; every pass starts with it.
+    pub stack: u32,
+}
+
+/// State the program cannot address, kept per instruction instance or memory cell and
+/// cleared at reset.
+#[derive(Debug, Default)]
+pub(crate) struct HiddenState {
+    /// Edge memory of EU/ED, per (page, record index).
+    pub edges: HashMap<(u8, usize), bool>,
+    /// Per (page, record index): four words a family may use as it documents (e.g. a
+    /// timer's remainder of a time unit).
+    pub instances: HashMap<(u8, usize), [u32; 4]>,
+    /// Per (slot, byte offset): e.g. a counter's previous inputs, shared by every
+    /// instruction driving that counter.
+    pub cells: HashMap<(u8, u32), [u32; 4]>,
+}
+
+/// Memory, logic stack and frames.
+#[derive(Debug)]
+pub(crate) struct Machine {
+    pub memory: Memory,
+    /// Logic stack: bit 0 is the top.
+    pub stack: u32,
+    /// The stack's depth (LogicStackDepth levels) as a mask.
+    pub stack_mask: u32,
+    /// The units being run, innermost last.
+    pub frames: Vec<Frame>,
+    /// The callers' L areas, saved by CALL, innermost last.
+    pub l_stack: Vec<u8>,
+    /// Open FOR loops, innermost last.
+    pub loops: Vec<LoopFrame>,
+    /// A reused buffer of CALL (argument and result values).
+    pub scratch: Vec<u32>,
+    pub hidden: HiddenState,
+}
+
+impl Machine {
+    pub fn new(target: &Target) -> Machine {
+        let depth = target.instructions.logic_stack_depth.min(32) as u32;
+        let stack_mask = if depth >= 32 {
+            u32::MAX
+        } else {
+            (1u32 << depth) - 1
+        };
+        Machine {
+            memory: Memory::new(&target.memory),
+            stack: 0,
+            stack_mask,
+            frames: Vec::new(),
+            l_stack: Vec::new(),
+            loops: Vec::new(),
+            scratch: Vec::new(),
+            hidden: HiddenState::default(),
+        }
+    }
+
+    /// Enter a unit (MAIN, an interrupt routine, or a called subroutine) with an empty
+    /// logic stack.
+    pub fn push_frame(&mut self, page: u8, call: Option<CallSave>) {
+        self.frames.push(Frame {
+            page,
+            pc: 0,
+            call,
+            loops_at_entry: self.loops.len(),
+        });
+        self.stack = 0;
+    }
+
+    /// The top frame continues at record `pc`.
+    pub fn set_pc(&mut self, pc: usize) {
+        if let Some(f) = self.frames.last_mut() {
+            f.pc = pc;
+        }
+    }
+
+    /// Drop the units being run (frames, loops, saved L).
+    pub fn unwind_all(&mut self) {
+        self.frames.clear();
+        self.loops.clear();
+        self.l_stack.clear();
+    }
+
+    /// Save the caller's L (at `local`: start and length in the flat memory) on the L
+    /// stack and clear it; returns where it starts on the L stack.
+    pub fn save_local(&mut self, local: Option<(usize, usize)>) -> usize {
+        let mark = self.l_stack.len();
+        if let Some((start, len)) = local {
+            let area = &mut self.memory.bytes[start..start + len];
+            self.l_stack.extend_from_slice(area);
+            area.fill(0);
+        }
+        mark
+    }
+
+    /// Restore the caller's L saved from `mark` and drop it from the L stack.
+    pub fn restore_local(&mut self, local: Option<(usize, usize)>, mark: usize) {
+        if let Some((start, len)) = local {
+            let saved = self.l_stack.get(mark..).unwrap_or(&[]);
+            let n = saved.len().min(len);
+            self.memory.bytes[start..start + n].copy_from_slice(&saved[..n]);
+        }
+        self.l_stack.truncate(mark);
+    }
+}

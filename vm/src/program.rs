@@ -1,0 +1,112 @@
+//! The loaded program: the target, the verified image's data (constants, data pages,
+//! system block), the run configuration and every unit pre-decoded. It is what the
+//! scan reads, never what it writes (only the debugger patches a breakpoint into a
+//! unit). It holds no run state: that is the machine's (`machine.rs`).
+
+use std::sync::Arc;
+
+use gutta_catalog::{AreaKind, Target};
+use gutta_format::VerifiedImage;
+
+use crate::decode::Unit;
+use crate::memory::Memory;
+
+/// How the VM runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct VmConfig {
+    /// Virtual time per scan, in milliseconds (timers count it).
+    pub scan_ms: u32,
+    /// Instructions one scan may execute before the watchdog stops the VM.
+    pub watchdog: u64,
+    /// Run the frequent instructions as pre-decoded operations (the default). Off,
+    /// every instruction runs its semantic from `ops/`; the tests compare both.
+    pub fast: bool,
+}
+
+impl Default for VmConfig {
+    fn default() -> Self {
+        VmConfig {
+            scan_ms: 10,
+            watchdog: 10_000_000,
+            fast: true,
+        }
+    }
+}
+
+/// Well-known slots, found by area kind.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Slots {
+    pub sm: u8,
+    pub local: u8,
+    pub constant: u8,
+}
+
+impl Slots {
+    pub fn of(target: &Target) -> Slots {
+        let slot = |k: AreaKind| target.memory.area_of_kind(k).map(|a| a.slot).unwrap_or(0);
+        Slots {
+            sm: slot(AreaKind::System),
+            local: slot(AreaKind::Local),
+            constant: slot(AreaKind::Constant),
+        }
+    }
+}
+
+/// A program ready to run.
+#[derive(Debug)]
+pub(crate) struct Program {
+    pub target: Arc<Target>,
+    /// The image without its units (they are decoded into `units`).
+    pub image: VerifiedImage,
+    pub config: VmConfig,
+    pub slots: Slots,
+    /// Each unit (by page) decoded; shared so a running frame does not copy it.
+    pub units: Vec<Option<Arc<Unit>>>,
+    /// Index of SMB1 (the math flags) in the flat memory.
+    pub flags_at: usize,
+}
+
+impl Program {
+    /// Decode `image`'s units for `target` on `memory`'s layout.
+    pub fn new(
+        mut image: VerifiedImage,
+        target: Arc<Target>,
+        config: VmConfig,
+        memory: &Memory,
+    ) -> Program {
+        let slots = Slots::of(&target);
+        let verified_units = image.take_units();
+        let params = |page: u8| {
+            verified_units
+                .get(&page)
+                .map(|u| u.parameters().copied().collect())
+        };
+        let mut units = vec![None; 256];
+        for (page, unit) in &verified_units {
+            units[*page as usize] = Some(Arc::new(crate::decode::decode(
+                unit,
+                &target,
+                memory,
+                config.fast,
+                &params,
+            )));
+        }
+        let flags_at = memory
+            .span(slots.sm)
+            .filter(|&(_, len)| len > 1)
+            .map_or(0, |(start, _)| start + 1);
+        Program {
+            target,
+            image,
+            config,
+            slots,
+            units,
+            flags_at,
+        }
+    }
+
+    /// The decoded unit on `page`.
+    pub fn unit(&self, page: u8) -> Option<&Arc<Unit>> {
+        self.units[page as usize].as_ref()
+    }
+}

@@ -1,0 +1,201 @@
+//! The host's side of the I/O: input terminals (what the host set on I and AI, copied
+//! into the input image at every scan start) and forces (byte-level mask and value
+//! images of the forcing areas, I and Q). docs/vm.md, "Forcing and inputs". It knows
+//! no protocol: the simulator frames UM4001's STATUS_VAR_* payloads from these
+//! operations.
+
+use std::collections::HashMap;
+
+use gutta_catalog::{Address, AreaKind, Target, Width};
+
+use crate::memory::{self, AccessError, Memory};
+
+/// Why a variable cannot be forced.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ForceError(pub String);
+
+impl std::fmt::Display for ForceError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for ForceError {}
+
+/// Input terminals and force images.
+#[derive(Debug, Default)]
+pub(crate) struct Terminals {
+    /// Terminal images of the input areas (I, AI), by slot.
+    inputs: HashMap<u8, Vec<u8>>,
+    /// Force images of the forcing areas (I, Q): slot -> (mask, value), byte per byte.
+    forces: HashMap<u8, (Vec<u8>, Vec<u8>)>,
+}
+
+/// The bits an address covers, per byte from its first.
+fn bit_mask(a: Address) -> Vec<u8> {
+    match a.width {
+        Width::Bit => vec![1 << (a.bit & 7)],
+        w => vec![0xFF; w.bytes() as usize],
+    }
+}
+
+impl Terminals {
+    /// Terminals of `target`'s input areas, all 0; nothing forced.
+    pub fn new(target: &Target) -> Terminals {
+        let inputs = target
+            .memory
+            .areas
+            .iter()
+            .filter(|a| matches!(a.kind, AreaKind::DigitalInput | AreaKind::AnalogInput))
+            .map(|a| (a.slot, vec![0; a.size as usize]))
+            .collect();
+        Terminals {
+            inputs,
+            forces: HashMap::new(),
+        }
+    }
+
+    /// A host write: an input's terminal takes the value too (it holds across scans).
+    pub fn write(
+        &mut self,
+        memory: &mut Memory,
+        address: Address,
+        value: u32,
+    ) -> Result<(), AccessError> {
+        if let Some(terminal) = self.inputs.get_mut(&address.slot) {
+            memory::write_in(terminal, address, value)?;
+        }
+        memory.write(address, value)
+    }
+
+    /// After a host write: the forced bits of `address` take their new memory value as
+    /// their force value, so the write holds.
+    pub fn hold_written(&mut self, memory: &Memory, address: Address) {
+        if let (Some((mask, image)), Some(area)) = (
+            self.forces.get_mut(&address.slot),
+            memory.area(address.slot),
+        ) {
+            for (k, m) in bit_mask(address).iter().enumerate() {
+                let at = address.offset as usize + k;
+                let forced = mask[at] & m;
+                image[at] = (image[at] & !forced) | (area[at] & forced);
+            }
+        }
+    }
+
+    /// Force `address` to `value`, then apply the forces to `memory`.
+    pub fn force(
+        &mut self,
+        memory: &mut Memory,
+        target: &Target,
+        address: Address,
+        value: u32,
+    ) -> Result<(), ForceError> {
+        if !target.memory.can_force(address.slot) {
+            let area = target
+                .memory
+                .area_by_slot(address.slot)
+                .map(|a| a.name.clone())
+                .unwrap_or_default();
+            let forcing = target
+                .memory
+                .forcing
+                .iter()
+                .filter_map(|s| target.memory.area_by_slot(*s))
+                .map(|a| a.name.clone())
+                .collect::<Vec<_>>()
+                .join(", ");
+            return Err(ForceError(format!(
+                "area {area} cannot be forced (only {forcing})"
+            )));
+        }
+        let size = memory.area(address.slot).map(<[u8]>::len).unwrap_or(0);
+        let end = address.offset as usize + address.width.bytes() as usize;
+        if end > size {
+            return Err(ForceError(format!("outside the area ({size} bytes)")));
+        }
+        let (mask, image) = self
+            .forces
+            .entry(address.slot)
+            .or_insert_with(|| (vec![0; size], vec![0; size]));
+        let bytes = value.to_le_bytes();
+        for (k, &byte) in bytes
+            .iter()
+            .enumerate()
+            .take(address.width.bytes() as usize)
+        {
+            let at = address.offset as usize + k;
+            let (m, v) = match address.width {
+                Width::Bit => {
+                    let m = 1u8 << (address.bit & 7);
+                    (m, if value & 1 == 1 { m } else { 0 })
+                }
+                _ => (0xFF, byte),
+            };
+            mask[at] |= m;
+            image[at] = (image[at] & !m) | (v & m);
+        }
+        self.apply_forces(memory);
+        Ok(())
+    }
+
+    /// Remove the force of one variable (its bits; the rest of the byte stays forced).
+    pub fn unforce(&mut self, address: Address) {
+        if let Some((mask, _)) = self.forces.get_mut(&address.slot) {
+            for (k, m) in bit_mask(address).iter().enumerate() {
+                if let Some(b) = mask.get_mut(address.offset as usize + k) {
+                    *b &= !m;
+                }
+            }
+        }
+    }
+
+    pub fn unforce_all(&mut self) {
+        self.forces.clear();
+    }
+
+    /// The force mask and value image of a slot (all zero when nothing is forced; empty
+    /// for a slot without an area).
+    pub fn force_image(&self, memory: &Memory, slot: u8) -> (Vec<u8>, Vec<u8>) {
+        let size = memory.area(slot).map(<[u8]>::len).unwrap_or(0);
+        self.forces
+            .get(&slot)
+            .cloned()
+            .unwrap_or_else(|| (vec![0; size], vec![0; size]))
+    }
+
+    /// The input areas take their terminals' values (start of scan).
+    pub fn refresh_inputs(&self, memory: &mut Memory) {
+        for (slot, terminal) in &self.inputs {
+            if let Some(area) = memory.area_mut(*slot) {
+                let n = area.len().min(terminal.len());
+                area[..n].copy_from_slice(&terminal[..n]);
+            }
+        }
+    }
+
+    /// Forced bits take their force values.
+    pub fn apply_forces(&self, memory: &mut Memory) {
+        for (slot, (mask, image)) in &self.forces {
+            if let Some(area) = memory.area_mut(*slot) {
+                for ((b, m), v) in area.iter_mut().zip(mask).zip(image) {
+                    *b = (*b & !m) | (v & m);
+                }
+            }
+        }
+    }
+
+    /// The physical input byte `at` of `slot` (its terminal with the forces laid over
+    /// it), or None for a slot without terminals.
+    pub fn input_byte(&self, slot: u8, at: usize) -> Option<u8> {
+        let terminal = *self.inputs.get(&slot)?.get(at)?;
+        Some(match self.forces.get(&slot) {
+            Some((mask, image)) => {
+                let m = mask.get(at).copied().unwrap_or(0);
+                let f = image.get(at).copied().unwrap_or(0);
+                (terminal & !m) | (f & m)
+            }
+            None => terminal,
+        })
+    }
+}
