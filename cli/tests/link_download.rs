@@ -5,7 +5,7 @@
 
 use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
 
 use gutta_catalog::stdlib;
@@ -32,21 +32,9 @@ impl Drop for Sim {
     }
 }
 
-fn sim_binary() -> PathBuf {
-    let exe = std::env::current_exe().expect("test binary");
-    let dir = exe.parent().and_then(|d| d.parent()).expect("target dir");
-    let sim = dir.join("gutta-sim");
-    assert!(
-        sim.exists(),
-        "{} is missing: run the tests with `cargo test --workspace` (or `cargo build -p gutta-sim` first)",
-        sim.display()
-    );
-    sim
-}
-
 /// An empty simulated PLC of `plc`.
 fn start(plc: &str) -> Sim {
-    let mut child = Command::new(sim_binary())
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
         .args([
             "--plc",
             plc,
