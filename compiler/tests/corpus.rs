@@ -3,6 +3,8 @@
 //! lines announce (`// error: E0302`, `// warning: W0201, W0203`), and every example
 //! must check clean. A first line `// plc: NAME` selects the PLC type.
 
+#![allow(clippy::disallowed_methods, reason = "tests read their data files")]
+
 mod common;
 
 use common::{lad_files, root};

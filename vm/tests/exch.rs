@@ -1,6 +1,8 @@
 //! EXCH, the PLC as Modbus RTU master (AN2002): sample 3 end to end with an in-process
 //! slave VM, and the table's error numbers, the queue limit and power flow.
 
+#![allow(clippy::disallowed_methods, reason = "tests read their data files")]
+
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 

@@ -2,6 +2,8 @@
 //! pointer example exactly, bit logic and edges, arithmetic flags, CALL with arguments,
 //! data blocks at reset, and the watchdog.
 
+#![allow(clippy::disallowed_methods, reason = "tests read their data files")]
+
 mod common;
 
 use common::{read, set};

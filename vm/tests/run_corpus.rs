@@ -4,6 +4,8 @@
 //! format in docs/testing.md, "VM corpus"). Failures of all files are collected and
 //! reported together. It never adjusts an expectation to what the VM does.
 
+#![allow(clippy::disallowed_methods, reason = "tests read their data files")]
+
 mod common;
 
 use std::path::{Path, PathBuf};
