@@ -1,7 +1,9 @@
-//! Full-compile benchmark: the generated programs of `check_scale` (10k and 100k lines
-//! by default, or the sizes given) compiled in process (check, lower, encode) and by the
-//! `gutta-cc FILE -o DIR` binary (read, check, lower, encode, atomic write). Prints
-//! min/median wall time and lines/s. Bar: 400,000 lines/s at 100k lines, whole pipeline.
+//! Full-compile benchmark: the generated programs of `compiler/benches/check_scale.rs`
+//! (10k and 100k lines by default, or the sizes given) compiled in process (check,
+//! lower, encode) and by the `gutta-cc FILE -o DIR` binary (read, check, lower, encode,
+//! atomic write). Prints min/median wall time and lines/s. Bar: 400,000 lines/s at 100k
+//! lines, whole pipeline. It lives with the binary it runs and shares the program
+//! generator and the bench target with `check_scale` (`#[path]`).
 
 #[path = "../../compiler/benches/scale_program/mod.rs"]
 mod scale_program;

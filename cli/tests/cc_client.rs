@@ -15,19 +15,8 @@ impl Drop for Sim {
     }
 }
 
-fn bin(name: &str) -> PathBuf {
-    let cc = PathBuf::from(env!("CARGO_BIN_EXE_gutta-cc"));
-    let path = cc.with_file_name(name);
-    assert!(
-        path.exists(),
-        "{} is missing: run `cargo test --workspace` (or `cargo build -p gutta-sim`)",
-        path.display()
-    );
-    path
-}
-
 fn sim(plc: &str) -> Sim {
-    let mut child = Command::new(bin("gutta-sim"))
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
         .args(["--plc", plc, "--tcp", "127.0.0.1:0"])
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
@@ -257,7 +246,7 @@ fn download_and_operate_over_a_serial_line() {
         }
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
-    let mut child = Command::new(bin("gutta-sim"))
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
         .args(["--plc", "CPU-EC20", "--serial"])
         .arg(&plc_end)
         .stdout(Stdio::piped())
