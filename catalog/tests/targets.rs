@@ -3,6 +3,12 @@
 //! target-specific addresses and the decided timer and SM layout; and the check that
 //! docs/targets.md is the page generated from the targets.
 
+#![allow(
+    clippy::disallowed_methods,
+    clippy::disallowed_types,
+    reason = "tests read and write their data files"
+)]
+
 use std::path::PathBuf;
 
 use gutta_catalog::docs::target_reference;

@@ -6,6 +6,13 @@
 //! `cargo bench -p gutta-compiler --bench check_scale [-- SIZE...]`. Without `--bench`
 //! (as under `cargo test --benches`) it runs one small size once, as a smoke test.
 
+#![allow(
+    clippy::disallowed_methods,
+    clippy::disallowed_types,
+    clippy::disallowed_macros,
+    reason = "a benchmark is a program: it reads its arguments, runs itself, times and prints"
+)]
+
 mod scale_program;
 
 use std::process::{Command, ExitCode};

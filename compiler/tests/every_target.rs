@@ -2,6 +2,8 @@
 //! the format crate's verifier (what the VM will demand). Where it does not fit, the
 //! reasons must be the target's limits or memory map, never anything else.
 
+#![allow(clippy::disallowed_methods, reason = "tests read their data files")]
+
 mod common;
 
 use gutta_catalog::stdlib;

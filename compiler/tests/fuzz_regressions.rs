@@ -4,6 +4,8 @@
 //! regression means adding a file. Also keeps fuzz/front_end.dict in step with the
 //! instruction set. No fuzzing here: the fuzzer itself runs with `cargo fuzz`.
 
+#![allow(clippy::disallowed_methods, reason = "tests read their data files")]
+
 use std::path::{Path, PathBuf};
 
 use gutta_catalog::stdlib;

@@ -3,6 +3,8 @@
 //! image's disassembly as the decoded view. Any change in encoding shows as a reviewed
 //! snapshot diff (`cargo insta review`, or INSTA_UPDATE=always to accept).
 
+#![allow(clippy::disallowed_methods, reason = "tests read their data files")]
+
 mod common;
 
 use std::path::Path;

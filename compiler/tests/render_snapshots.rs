@@ -2,6 +2,8 @@
 //! one insta snapshot per file in tests/data/render/. A change in wording or layout
 //! shows as a reviewed snapshot diff.
 
+#![allow(clippy::disallowed_methods, reason = "tests read their data files")]
+
 use std::path::Path;
 
 use gutta_compiler::check_source;

@@ -2,6 +2,8 @@
 //! disassemble (`gutta_format::disasm`), compile the text again, and require the same
 //! pages, byte for byte, and the same text from the second image.
 
+#![allow(clippy::disallowed_methods, reason = "tests read their data files")]
+
 mod common;
 
 use std::path::Path;

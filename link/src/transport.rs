@@ -1,6 +1,15 @@
 //! Transports of the client: one request PDU out, its answer PDU back. Modbus TCP
 //! matches answers by transaction id; RTU (over TCP or a serial line) goes through
-//! gutta-protocol's master (timeout, retries, CRC). Blocking, with timeouts.
+//! gutta-protocol's master (timeout, retries, CRC). Blocking, with timeouts. The one
+//! home of serial line configuration ([`configure`]), for the client and `gutta-sim`.
+//! The only module of the libraries that does I/O: connecting, reading and writing a
+//! line is its job (the package's clippy.toml forbids I/O everywhere else).
+
+#![allow(
+    clippy::disallowed_methods,
+    clippy::disallowed_types,
+    reason = "a transport's job is I/O: sockets, serial lines and their clock"
+)]
 
 use std::io::{ErrorKind, Read, Write};
 use std::net::TcpStream;

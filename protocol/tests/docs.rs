@@ -2,6 +2,12 @@
 //! (`registry::reference_markdown`); this test fails when they drift apart
 //! (`UPDATE_DOCS=1` rewrites the table between the markers).
 
+#![allow(
+    clippy::disallowed_methods,
+    clippy::disallowed_types,
+    reason = "tests read and write their data files"
+)]
+
 use std::path::Path;
 
 const BEGIN: &str = "<!-- functions: generated from protocol/src/registry.rs -->\n";

@@ -1,7 +1,8 @@
 //! The simulated GUTTA PLC: the reference VM behind standard Modbus (01-06/15/16, the
 //! memory mapping of the target's ManagerVar.xml) and the GUTTA protocol (UM4001 inside
-//! Modbus function 13). The protocol logic here does no I/O; the `gutta-sim` binary
-//! puts it on TCP and serial transports (docs/simulator.md).
+//! Modbus function 13). Nothing here does I/O (clippy.toml forbids it): the `gutta-sim`
+//! binary (package gutta-cli) puts it on TCP and serial transports and gives it its
+//! serial ports for EXCH through a [`ports::PortFactory`] (docs/simulator.md).
 
 pub mod modbus_data;
 pub mod plc;

@@ -31,6 +31,7 @@ use gutta_protocol::message::{Command, MessageError, Reply, Request, Response};
 use gutta_vm::{ScanEnd, Vm, VmConfig};
 
 use crate::modbus_data;
+use crate::ports::PortFactory;
 
 mod debugger;
 mod flash;
@@ -88,8 +89,8 @@ pub struct Plc {
     image_error: bool,
     /// The last refusal, for logs and tests.
     last_refusal: Option<Refusal>,
-    /// Where the PLC's serial ports lead (for EXCH); attached to every loaded VM.
-    ports: BTreeMap<u8, crate::ports::PortSpec>,
+    /// Makes the PLC's serial ports (for EXCH); they are attached to every loaded VM.
+    port_factory: Option<Box<dyn PortFactory>>,
     /// The ports of the system page as of the last reset (empty: defaults). Writing a
     /// new system page changes nothing until STATUS_RESET; PLC_CLEAR reverts them.
     active_ports: Vec<gutta_format::PortEntry>,
@@ -139,7 +140,7 @@ impl Plc {
             vm,
             image_error: false,
             last_refusal: None,
-            ports: BTreeMap::new(),
+            port_factory: None,
             active_ports: Vec::new(),
         };
         plc.reset();
@@ -215,23 +216,30 @@ impl Plc {
             }
         }
         self.vm.set_attached(false);
-        for (n, spec) in &self.ports {
-            let line = self.line(usize::from(*n));
-            self.vm.attach_port(
-                *n,
-                Box::new(crate::ports::StreamPort::new(spec.clone(), line)),
-            );
-        }
+        self.attach_ports();
     }
 
-    /// Lead serial port `n` to `spec`: EXCH on that port talks through it.
-    pub fn set_port(&mut self, n: u8, spec: crate::ports::PortSpec) {
-        let line = self.line(usize::from(n));
-        self.vm.attach_port(
-            n,
-            Box::new(crate::ports::StreamPort::new(spec.clone(), line)),
-        );
-        self.ports.insert(n, spec);
+    /// Take the PLC's serial ports from `factory`, now and at every reset: EXCH on a
+    /// port talks through what the factory made for it.
+    pub fn set_port_factory(&mut self, factory: Box<dyn PortFactory>) {
+        self.port_factory = Some(factory);
+        self.attach_ports();
+    }
+
+    /// Ask the port factory (if any) for each serial port of the target, with the line
+    /// of the last reset, and attach what it makes to the VM.
+    fn attach_ports(&mut self) {
+        let lines: Vec<LineSettings> = (0..self.target.memory.serial_ports)
+            .map(|n| self.line(usize::from(n)))
+            .collect();
+        let Some(factory) = self.port_factory.as_mut() else {
+            return;
+        };
+        for (n, line) in (0u8..).zip(lines) {
+            if let Some(port) = factory.port(n, line) {
+                self.vm.attach_port(n, port);
+            }
+        }
     }
 
     /// One scan of the program (no-op when stopped or paused).

@@ -6,6 +6,13 @@
 //! Medians of timed batches. `cargo bench -p gutta-vm --bench scan` measures;
 //! `cargo test --benches` (no `--bench`) only runs everything once.
 
+#![allow(
+    clippy::disallowed_methods,
+    clippy::disallowed_types,
+    clippy::disallowed_macros,
+    reason = "a benchmark is a program: it reads its arguments, times and prints"
+)]
+
 use std::hint::black_box;
 use std::sync::Arc;
 use std::time::Instant;

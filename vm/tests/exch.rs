@@ -2,6 +2,8 @@
 //! slave VM served by the simulator's Modbus data service (the toolchain's one Modbus
 //! slave), and the table's error numbers, the queue limit and power flow.
 
+#![allow(clippy::disallowed_methods, reason = "tests read their data files")]
+
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 

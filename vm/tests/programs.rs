@@ -5,6 +5,8 @@
 //! (`Fault::Watchdog`'s limit, `Vm::fault`, `force_image`, refused forces,
 //! `unforce_all`).
 
+#![allow(clippy::disallowed_methods, reason = "tests read their data files")]
+
 mod common;
 
 use common::{read, set};

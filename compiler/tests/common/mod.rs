@@ -1,6 +1,7 @@
 //! Shared helpers of the compiler's integration tests: where the repository is, and
 //! which programs the tests run over.
 
+#![allow(clippy::disallowed_methods, reason = "tests read their data files")]
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};

@@ -6,6 +6,8 @@
 //! together. It uses only the VM's public API and never adjusts an expectation to
 //! what the VM does.
 
+#![allow(clippy::disallowed_methods, reason = "tests read their data files")]
+
 mod header;
 mod language_tests;
 mod run;

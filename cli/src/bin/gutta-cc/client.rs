@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use std::sync::Arc;
 
 use gutta_catalog::{stdlib, Address, Target, Width};
-use gutta_format::{PackedOperand, Use};
+use gutta_format::{Operand, PackedOperand};
 use gutta_link::message::{debug_state, Breakpoint, DebugStep};
 use gutta_link::transport::{rtu_over_tcp, serial, TcpTransport};
 use gutta_link::{Client, LinkError};
@@ -71,7 +71,7 @@ fn plc_target(targets: &TargetArgs, client: &mut Client) -> Result<Arc<Target>, 
 }
 
 fn packed(a: Address) -> u32 {
-    PackedOperand::memory(a, Use::Value, a.width).0
+    PackedOperand::encode(Operand::Value(a)).0
 }
 
 /// A variable's value from the 4 bytes STATUS_VAR_READ returns from its first byte.

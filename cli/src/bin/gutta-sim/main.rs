@@ -1,7 +1,12 @@
 //! `gutta-sim`: a simulated GUTTA PLC on the network. It loads an image directory (or
 //! starts empty), runs the VM in real time, and serves Modbus TCP (`--tcp`) and Modbus
 //! RTU over TCP (`--rtu-tcp`): standard Modbus 01-06/15/16 and the GUTTA protocol in
-//! function 13. All I/O is here; the protocol logic is the library's.
+//! function 13. All I/O is here, including the PLC's serial ports for EXCH (`ports.rs`);
+//! the protocol logic is the library's (gutta-sim).
+
+mod ports;
+#[cfg(test)]
+mod ports_tests;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -17,6 +22,8 @@ use gutta_vm::VmConfig;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::TcpListener;
 use tokio_serial::SerialPortBuilderExt;
+
+use crate::ports::{PortSpec, PortWiring};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -131,11 +138,13 @@ async fn run(cli: Cli) -> Result<(), Fatal> {
     };
     let pages = image.map(|i| i.pages).unwrap_or_default();
     let mut plc = Plc::new(target, pages, config).map_err(Fatal)?;
+    let mut wiring = PortWiring::default();
     for (n, spec) in [(0u8, &cli.port0), (1, &cli.port1)] {
         if let Some(spec) = spec {
-            plc.set_port(n, gutta_sim::ports::PortSpec::parse(spec).map_err(Fatal)?);
+            wiring.lead(n, PortSpec::parse(spec).map_err(Fatal)?);
         }
     }
+    plc.set_port_factory(Box::new(wiring));
     let plc = Arc::new(Mutex::new(plc));
     let start = Instant::now();
 

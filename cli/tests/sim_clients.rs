@@ -1,9 +1,10 @@
 //! `gutta-sim` as a process on loopback TCP, with independent Modbus clients: mbpoll
 //! (Debian) over Modbus TCP and, through a socat pty, over a serial line bridged to the
 //! RTU-over-TCP listener; pymodbus (`tests/clients/pymodbus_check.py`, in a venv) over
-//! both framings, with hand-built function 13 frames. `.ci/run` installs the tools
-//! and sets GUTTA_REQUIRE_TOOLS=1, so there a missing tool fails the test; elsewhere
-//! the test says it skipped. The robustness tests use plain sockets and always run.
+//! both framings, with hand-built function 13 frames. `.ci/run` installs the tools; a
+//! missing tool fails the test with how to install it, unless GUTTA_SKIP_EXTERNAL=1
+//! declares the external tools absent (then the test says it skipped). The robustness
+//! tests use plain sockets and always run.
 
 mod common;
 

@@ -1,9 +1,11 @@
-//! Full-compile benchmark: the generated programs of `check_scale` (10k and 100k lines
-//! by default, or the sizes given) compiled in process (check, lower, encode) and by the
-//! `gutta-cc FILE -o DIR` binary (read, check, lower, encode, atomic write). Prints
-//! min/median wall time and lines/s. Bar: 400,000 lines/s at 100k lines, whole pipeline.
+//! Full-compile benchmark: the generated programs of `compiler/benches/check_scale.rs`
+//! (10k and 100k lines by default, or the sizes given) compiled in process (check,
+//! lower, encode) and by the `gutta-cc FILE -o DIR` binary (read, check, lower, encode,
+//! atomic write). Prints min/median wall time and lines/s. Bar: 400,000 lines/s at 100k
+//! lines, whole pipeline. It lives with the binary it runs and shares the program
+//! generator and the bench target with `check_scale` (`#[path]`).
 
-#[path = "scale_program/mod.rs"]
+#[path = "../../compiler/benches/scale_program/mod.rs"]
 mod scale_program;
 
 use std::path::Path;
@@ -33,7 +35,7 @@ fn main() {
     let target = scale_program::bench_target();
     let dir = std::env::temp_dir().join(format!("gutta-compile-bench-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
-    let target_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("benches/target");
+    let target_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../compiler/benches/target");
     println!(
         "{:>9} {:>10} {:>10} {:>12}   {:>10} {:>10} {:>12}  image bytes  check-only",
         "lines", "lib min", "lib med", "lib lines/s", "cli min", "cli med", "cli lines/s"

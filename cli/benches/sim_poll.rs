@@ -2,7 +2,7 @@
 //! `gutta-sim` (the pointer example on CPU-EC20, 10 ms scans) as fast as they can for
 //! 10 s. Prints requests per second served and the simulator's own scan statistics
 //! (scans per second and the longest scan period of each second), which say whether
-//! the scan period held. `cargo bench -p gutta-sim --bench poll`; without `--bench`
+//! the scan period held. `cargo bench -p gutta-cli --bench sim_poll`; without `--bench`
 //! (as under `cargo test --benches`) 2 clients poll for 1 s.
 
 use std::io::{BufRead, BufReader, Read, Write};

@@ -1,17 +1,33 @@
 //! The PLC's serial ports for EXCH, through the shared master: a device that answers
 //! with a bad CRC makes EXCH end with error 3, one that never answers with error 2.
-
-mod common;
+//! (The unit tests of `ports.rs`: the simulator core takes these ports from the factory.)
 
 use std::io::{Read, Write};
 use std::net::TcpListener;
 
 use gutta_catalog::stdlib;
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{compile, ExplicitTarget};
 use gutta_sim::plc::Plc;
-use gutta_sim::ports::PortSpec;
 use gutta_vm::VmConfig;
 
-const MASTER: &str = include_str!("../../examples/an2002_sample3_master.lad");
+use crate::ports::{PortSpec, PortWiring};
+
+const MASTER: &str = include_str!("../../../../examples/an2002_sample3_master.lad");
+
+/// `text` compiled for CPU-EC20 (it must compile).
+fn image(name: &str, text: &str) -> gutta_format::Image {
+    let target = stdlib::shared("CPU-EC20").expect("target");
+    let c = compile(
+        SourceFile::new(name, text),
+        Some(&ExplicitTarget {
+            target,
+            origin: "test".into(),
+        }),
+    );
+    c.image
+        .unwrap_or_else(|| panic!("{name} does not compile: {:?}", c.checked.diagnostics()))
+}
 
 /// A device on TCP: answers every request with `answer(request)` (None: silence).
 fn device(answer: fn(&[u8]) -> Option<Vec<u8>>) -> String {
@@ -38,9 +54,11 @@ fn device(answer: fn(&[u8]) -> Option<Vec<u8>>) -> String {
 /// in table 1 (MB21) once an exchange has ended.
 fn error_after_poll(address: String) -> u32 {
     let target = stdlib::shared("CPU-EC20").expect("target");
-    let image = common::image("m.lad", MASTER);
+    let image = image("m.lad", MASTER);
     let mut plc = Plc::new(target, image.pages, VmConfig::default()).expect("plc");
-    plc.set_port(0, PortSpec::TcpConnect(address));
+    let mut wiring = PortWiring::default();
+    wiring.lead(0, PortSpec::TcpConnect(address));
+    plc.set_port_factory(Box::new(wiring));
     let at = |plc: &Plc, v: &str| plc.target().memory.parse_address(v).expect("address");
     let i01 = at(&plc, "I0.1");
     plc.vm_mut().write(i01, 1).expect("polling on");

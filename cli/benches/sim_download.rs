@@ -2,7 +2,7 @@
 //! bytes at ProgramBlockInstructionBinarySize, found by compiling ever larger generated
 //! programs) downloaded over loopback Modbus TCP into a `gutta-sim` process with
 //! gutta-link, as `gutta-cc download` does: wall time (median of runs) and requests.
-//! `cargo bench -p gutta-sim --bench download`; without `--bench`, one run.
+//! `cargo bench -p gutta-cli --bench sim_download`; without `--bench`, one run.
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::{TcpListener, TcpStream};

@@ -5,13 +5,13 @@
 
 use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
 
 use gutta_catalog::stdlib;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
-use gutta_format::Image;
+use gutta_format::{Image, Operand, PackedOperand};
 use gutta_link::transport::{rtu_over_tcp, TcpTransport};
 use gutta_link::{download, upload, Client, LinkError, FACTORY_PASSWORD};
 
@@ -32,21 +32,9 @@ impl Drop for Sim {
     }
 }
 
-fn sim_binary() -> PathBuf {
-    let exe = std::env::current_exe().expect("test binary");
-    let dir = exe.parent().and_then(|d| d.parent()).expect("target dir");
-    let sim = dir.join("gutta-sim");
-    assert!(
-        sim.exists(),
-        "{} is missing: run the tests with `cargo test --workspace` (or `cargo build -p gutta-sim` first)",
-        sim.display()
-    );
-    sim
-}
-
 /// An empty simulated PLC of `plc`.
 fn start(plc: &str) -> Sim {
-    let mut child = Command::new(sim_binary())
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
         .args([
             "--plc",
             plc,
@@ -86,9 +74,14 @@ fn compiled(plc: &str, text: &str) -> Image {
     .expect("compiles")
 }
 
-/// The packed address of MW`offset` on CPU-EC20 (M is slot 4).
+/// The packed address of MW`offset` on CPU-EC20.
 fn mw(offset: u32) -> u32 {
-    (offset << 16) | ((gutta_catalog::Width::Word as u32) << 8) | (4 << 4)
+    let target = stdlib::shared("CPU-EC20").expect("target");
+    let a = target
+        .memory
+        .parse_address(&format!("MW{offset}"))
+        .expect("address");
+    PackedOperand::encode(Operand::Value(a)).0
 }
 
 fn exercise(client: &mut Client) {

@@ -1,5 +1,7 @@
 //! `gutta-cc download|upload|status|run|stop|read|write|force|debug` against a
-//! `gutta-sim` process (the workspace's binary, built by `cargo test --workspace`).
+//! `gutta-sim` process (this package's binary). The serial-line test needs socat.
+
+mod common;
 
 use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader};
@@ -15,19 +17,8 @@ impl Drop for Sim {
     }
 }
 
-fn bin(name: &str) -> PathBuf {
-    let cc = PathBuf::from(env!("CARGO_BIN_EXE_gutta-cc"));
-    let path = cc.with_file_name(name);
-    assert!(
-        path.exists(),
-        "{} is missing: run `cargo test --workspace` (or `cargo build -p gutta-sim`)",
-        path.display()
-    );
-    path
-}
-
 fn sim(plc: &str) -> Sim {
-    let mut child = Command::new(bin("gutta-sim"))
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
         .args(["--plc", plc, "--tcp", "127.0.0.1:0"])
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
@@ -221,25 +212,9 @@ fn a_download_for_another_plc_type_changes_nothing() {
     assert!(text(&o).contains("--tcp HOST:PORT"), "{}", text(&o));
 }
 
-/// Whether socat is there; fails when the CI requires the tools (`.ci/run`).
-fn have_socat() -> bool {
-    let found = Command::new("sh")
-        .args(["-c", "command -v socat"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !found {
-        assert!(
-            std::env::var("GUTTA_REQUIRE_TOOLS").is_err(),
-            "socat is required (GUTTA_REQUIRE_TOOLS is set) but not installed"
-        );
-        eprintln!("skipped: socat is not installed (bash .ci/run installs it)");
-    }
-    found
-}
-
 #[test]
 fn download_and_operate_over_a_serial_line() {
-    if !have_socat() {
+    if !common::have("socat") {
         return;
     }
     // A socat pty pair is the serial cable: gutta-sim on one end, gutta-cc on the other.
@@ -257,7 +232,7 @@ fn download_and_operate_over_a_serial_line() {
         }
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
-    let mut child = Command::new(bin("gutta-sim"))
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
         .args(["--plc", "CPU-EC20", "--serial"])
         .arg(&plc_end)
         .stdout(Stdio::piped())

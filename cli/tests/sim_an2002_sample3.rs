@@ -11,7 +11,7 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use gutta_catalog::stdlib;
-use gutta_format::{PackedOperand, Use};
+use gutta_format::{Operand, PackedOperand};
 use gutta_link::transport::TcpTransport;
 use gutta_link::{Client, FACTORY_PASSWORD};
 
@@ -57,7 +57,7 @@ fn client(address: &str) -> Client {
 fn packed(var: &str) -> u32 {
     let target = stdlib::shared("CPU-EC20").expect("target");
     let a = target.memory.parse_address(var).expect("address");
-    PackedOperand::memory(a, Use::Value, a.width).0
+    PackedOperand::encode(Operand::Value(a)).0
 }
 
 #[test]

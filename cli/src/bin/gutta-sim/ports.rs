@@ -1,0 +1,186 @@
+//! The simulated PLC's own serial ports, where EXCH makes it a Modbus RTU master: a
+//! `vm::exch::SerialPort` over a byte stream (a TCP connection to another simulator's
+//! `--rtu-tcp`, or a serial device such as a pty), driven by gutta-protocol's master
+//! (the same state machine as the download client's RTU transport). Blocking: the VM
+//! serves EXCH at the end of its scan. [`PortWiring`] is the port factory `gutta-sim`
+//! gives the simulator core, which opens nothing itself.
+//!
+//! Port specs (`gutta-sim --port0 SPEC`): `tcp-connect:HOST:PORT`, `serial:DEVICE` or
+//! `pty:PATH` (a serial device with the port's line: the system page's settings, 19200
+//! 8E1 without one).
+
+use std::collections::BTreeMap;
+use std::io::{ErrorKind, Read, Write};
+use std::net::TcpStream;
+use std::time::{Duration, Instant};
+
+use gutta_format::LineSettings;
+use gutta_protocol::master::{Master, MasterConfig, MasterEvent};
+use gutta_protocol::rtu::decode_rtu;
+use gutta_sim::ports::PortFactory;
+use gutta_vm::exch::{PortError, SerialPort};
+
+/// How long one read waits before the master's clock is checked.
+const POLL: Duration = Duration::from_millis(5);
+
+/// Where a port leads.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum PortSpec {
+    TcpConnect(String),
+    Serial(String),
+}
+
+impl PortSpec {
+    pub fn parse(text: &str) -> Result<PortSpec, String> {
+        if let Some(a) = text.strip_prefix("tcp-connect:") {
+            Ok(PortSpec::TcpConnect(a.to_string()))
+        } else if let Some(d) = text
+            .strip_prefix("serial:")
+            .or_else(|| text.strip_prefix("pty:"))
+        {
+            Ok(PortSpec::Serial(d.to_string()))
+        } else {
+            Err(format!(
+                "`{text}`: a port is tcp-connect:HOST:PORT, serial:DEVICE or pty:PATH"
+            ))
+        }
+    }
+}
+
+/// Where each serial port of the PLC leads (`--port0`, `--port1`): the port factory of
+/// the simulator core. A port without a spec stays unconnected.
+#[derive(Debug, Default)]
+pub struct PortWiring {
+    leads: BTreeMap<u8, PortSpec>,
+}
+
+impl PortWiring {
+    /// Lead serial port `port` to `spec`.
+    pub fn lead(&mut self, port: u8, spec: PortSpec) {
+        self.leads.insert(port, spec);
+    }
+}
+
+impl PortFactory for PortWiring {
+    fn port(&mut self, port: u8, line: LineSettings) -> Option<Box<dyn SerialPort>> {
+        let spec = self.leads.get(&port)?;
+        Some(Box::new(StreamPort::new(spec.clone(), line)))
+    }
+}
+
+trait Stream: Read + Write + Send + std::fmt::Debug {}
+impl<T: Read + Write + Send + std::fmt::Debug> Stream for T {}
+
+/// A port: connects on first use and again after a failure.
+#[derive(Debug)]
+pub struct StreamPort {
+    spec: PortSpec,
+    line: LineSettings,
+    stream: Option<Box<dyn Stream>>,
+    start: Instant,
+}
+
+impl StreamPort {
+    /// A port leading to `spec`; a serial device runs with `line`.
+    pub fn new(spec: PortSpec, line: LineSettings) -> StreamPort {
+        StreamPort {
+            spec,
+            line,
+            stream: None,
+            start: Instant::now(),
+        }
+    }
+
+    fn open(&self) -> Option<Box<dyn Stream>> {
+        match &self.spec {
+            PortSpec::TcpConnect(a) => {
+                let s = TcpStream::connect(a).ok()?;
+                s.set_nodelay(true).ok()?;
+                s.set_read_timeout(Some(POLL)).ok()?;
+                Some(Box::new(s))
+            }
+            PortSpec::Serial(d) => {
+                let mut p = serialport::new(d, self.line.baud)
+                    .timeout(POLL)
+                    .open()
+                    .ok()?;
+                gutta_link::transport::configure(p.as_mut(), self.line).ok()?;
+                Some(Box::new(p))
+            }
+        }
+    }
+
+    fn now(&self) -> u64 {
+        self.start.elapsed().as_millis() as u64
+    }
+
+    fn exchange(&mut self, request: &[u8], timeout_ms: u32) -> Result<Vec<u8>, PortError> {
+        if self.stream.is_none() {
+            self.stream = self.open();
+        }
+        let frame = decode_rtu(request).map_err(|_| PortError::Timeout)?;
+        let mut master = Master::new(MasterConfig {
+            timeout_ms: u64::from(timeout_ms),
+            retries: 0,
+            ..MasterConfig::default()
+        });
+        let bytes = master
+            .send(frame.station, &frame.pdu, self.now())
+            .map_err(|_| PortError::Timeout)?;
+        let broadcast = frame.station == 0 && frame.pdu.first() != Some(&0x0D);
+        let start = self.now();
+        let Some(stream) = self.stream.as_mut() else {
+            return Err(PortError::Timeout);
+        };
+        if stream.write_all(&bytes).is_err() {
+            self.stream = None;
+            return Err(PortError::Timeout);
+        }
+        if broadcast {
+            return Ok(Vec::new());
+        }
+        let mut buf = [0u8; 512];
+        loop {
+            let now = self.start.elapsed().as_millis() as u64;
+            let Some(stream) = self.stream.as_mut() else {
+                return Err(PortError::Timeout);
+            };
+            let event = match stream.read(&mut buf) {
+                Ok(0) => {
+                    self.stream = None;
+                    return Err(PortError::Timeout);
+                }
+                Ok(n) => master.on_bytes(&buf[..n], now),
+                Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => {
+                    master.on_tick(now).unwrap_or(MasterEvent::Pending)
+                }
+                Err(_) => {
+                    self.stream = None;
+                    return Err(PortError::Timeout);
+                }
+            };
+            match event {
+                MasterEvent::Response(f) => return Ok(f.encode()),
+                MasterEvent::Failed(gutta_protocol::master::MasterError::Crc { .. }) => {
+                    return Err(PortError::Crc)
+                }
+                MasterEvent::Failed(_) => return Err(PortError::Timeout),
+                MasterEvent::Retry(b) => {
+                    if let Some(s) = self.stream.as_mut() {
+                        let _ = s.write_all(&b);
+                    }
+                }
+                MasterEvent::Pending | MasterEvent::Idle => {}
+            }
+            if now.saturating_sub(start) > u64::from(timeout_ms) + 1000 {
+                return Err(PortError::Timeout);
+            }
+        }
+    }
+}
+
+impl SerialPort for StreamPort {
+    fn transact(&mut self, request: &[u8], timeout_ms: u32) -> Result<Vec<u8>, PortError> {
+        self.exchange(request, timeout_ms)
+    }
+}
