@@ -13,6 +13,7 @@ mod instructions;
 mod memory;
 pub mod modbus;
 mod plc_type;
+pub mod rules;
 pub mod stdlib;
 mod text;
 mod types;

@@ -4,14 +4,16 @@
 
 use std::collections::{BTreeMap, HashMap};
 
-use gutta_catalog::{DataType, Flow, InstrId, OperandKind as SpecKind, OperandSpec, Role, Width};
+use gutta_catalog::{
+    BlockKind, DataType, Flow, InstrId, OperandKind as SpecKind, OperandSpec, Role, Width,
+};
 
 use super::{
     CheckedInstruction, CheckedNetwork, CheckedOperand, CheckedUnit, Checker, DefKind, Use,
 };
 use crate::diagnostics::{Code, Diagnostic};
 use crate::source::Span;
-use crate::syntax::ast::{OperandKind, UnitKind, VarSection};
+use crate::syntax::ast::{OperandKind, VarSection};
 
 /// A CALL site, for the call graph.
 struct CallSite {
@@ -34,7 +36,7 @@ impl Checker<'_> {
         }
         self.call_graph(&calls);
         // Order: interrupts by number (MAIN first), then subroutines by number.
-        checked.sort_by_key(|u: &CheckedUnit| (u.kind == UnitKind::Subroutine, u.number));
+        checked.sort_by_key(|u: &CheckedUnit| (u.kind == BlockKind::Subroutine, u.number));
         checked
     }
 
@@ -200,9 +202,9 @@ impl Checker<'_> {
                 // The kinds of block the instruction belongs to.
                 let scope = spec.units;
                 let allowed = match info.kind {
-                    UnitKind::Interrupt if info.number == 0 => scope.main,
-                    UnitKind::Interrupt => scope.interrupt,
-                    UnitKind::Subroutine => scope.subroutine,
+                    BlockKind::Interrupt if info.number == 0 => scope.main,
+                    BlockKind::Interrupt => scope.interrupt,
+                    BlockKind::Subroutine => scope.subroutine,
                 };
                 if !allowed {
                     self.report(
@@ -353,12 +355,12 @@ impl Checker<'_> {
         if spec.call_arguments {
             let callee = match out.first() {
                 Some(CheckedOperand::Unit {
-                    kind: UnitKind::Subroutine,
+                    kind: BlockKind::Subroutine,
                     number,
                 }) => self
                     .units
                     .iter()
-                    .position(|u| u.kind == UnitKind::Subroutine && u.number == *number),
+                    .position(|u| u.kind == BlockKind::Subroutine && u.number == *number),
                 _ => None,
             };
             if let Some(callee) = callee {
@@ -612,7 +614,7 @@ impl Checker<'_> {
             }
             let mut memo = vec![None; n];
             for u in 0..n {
-                if self.units[u].kind == UnitKind::Interrupt {
+                if self.units[u].kind == BlockKind::Interrupt {
                     let d = depth(u, &edges, &mut memo);
                     if d > limit {
                         let span = self.out.definitions[self.units[u].definition].span;
@@ -627,7 +629,7 @@ impl Checker<'_> {
             }
         }
         for u in 0..n {
-            if self.units[u].kind == UnitKind::Subroutine
+            if self.units[u].kind == BlockKind::Subroutine
                 && !calls.iter().any(|c| c.callee == u && c.caller != u)
             {
                 let span = self.out.definitions[self.units[u].definition].span;

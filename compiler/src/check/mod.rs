@@ -13,11 +13,11 @@ mod units;
 
 use std::collections::HashMap;
 
-use gutta_catalog::{Address, Target};
+use gutta_catalog::{Address, BlockKind, Target};
 
 use crate::diagnostics::{Code, Diagnostic};
 use crate::source::Span;
-use crate::syntax::ast::{Program, UnitKind};
+use crate::syntax::ast::Program;
 pub use program::*;
 
 /// What a definition is.
@@ -67,7 +67,7 @@ pub struct CheckOutput {
 /// Per-unit facts gathered before the code is checked.
 #[derive(Debug, Clone)]
 pub(crate) struct UnitInfo {
-    pub kind: UnitKind,
+    pub kind: BlockKind,
     pub number: u32,
     pub name: String,
     /// Index into `ast.units`.

@@ -5,13 +5,14 @@
 use std::sync::OnceLock;
 
 use gutta_catalog::{
-    stdlib, Address, AddressError, DataType, MemoryMap, OperandKind as SpecKind, OperandSpec, Width,
+    stdlib, Address, AddressError, BlockKind, DataType, MemoryMap, OperandKind as SpecKind,
+    OperandSpec, Width,
 };
 
 use super::{CheckedOperand, Checker, ConstValue, Use};
 use crate::diagnostics::{Code, Diagnostic};
 use crate::source::Span;
-use crate::syntax::ast::{Operand, OperandKind, Prefix, UnitKind};
+use crate::syntax::ast::{Operand, OperandKind, Prefix};
 
 /// A variable before its use is applied: where it is, and its declared type if any.
 struct Variable {
@@ -160,7 +161,7 @@ impl Checker<'_> {
             });
         }
         if let Some(&u) = self.unit_names.get(&key) {
-            let what = if self.units[u].kind == UnitKind::Subroutine {
+            let what = if self.units[u].kind == BlockKind::Subroutine {
                 "a subroutine"
             } else {
                 "an interrupt routine"
@@ -376,8 +377,8 @@ impl Checker<'_> {
             return None;
         };
         let want = match spec.block {
-            Some(gutta_catalog::BlockKind::Interrupt) => UnitKind::Interrupt,
-            _ => UnitKind::Subroutine,
+            Some(gutta_catalog::BlockKind::Interrupt) => BlockKind::Interrupt,
+            _ => BlockKind::Subroutine,
         };
         let (kind, number, def) = (
             self.units[u].kind,
@@ -385,12 +386,12 @@ impl Checker<'_> {
             self.units[u].definition,
         );
         self.reference(name, def);
-        if kind != want || (want == UnitKind::Interrupt && number == 0) {
+        if kind != want || (want == BlockKind::Interrupt && number == 0) {
             let msg = match want {
-                UnitKind::Subroutine => {
+                BlockKind::Subroutine => {
                     format!("{mnemonic} calls subroutines; `{text}` is an interrupt routine")
                 }
-                UnitKind::Interrupt => {
+                BlockKind::Interrupt => {
                     format!("{mnemonic} takes an interrupt routine (not MAIN); `{text}` is not one")
                 }
             };

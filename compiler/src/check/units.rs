@@ -1,12 +1,12 @@
 //! Program units: numbering (MAIN = INT0, INTn, SBRn), duplicate names, PlcType
 //! limits on counts and numbers, and the locals of each unit laid out in L.
 
-use gutta_catalog::{Address, AreaKind, DataType, Width};
+use gutta_catalog::{Address, AreaKind, BlockKind, DataType, Width};
 
 use super::{Checker, DefKind, Local, UnitInfo};
 use crate::diagnostics::{Code, Diagnostic};
 use crate::source::Span;
-use crate::syntax::ast::{BlockPrefix, UnitKind, VarSection};
+use crate::syntax::ast::{BlockPrefix, VarSection};
 
 impl Checker<'_> {
     pub(super) fn units(&mut self) {
@@ -17,23 +17,25 @@ impl Checker<'_> {
         for u in &ast.units {
             let name = self.slice(u.header.name);
             let written = match (u.kind, u.header.number) {
-                (_, None) if u.kind == UnitKind::Interrupt && name.eq_ignore_ascii_case("MAIN") => {
+                (_, None)
+                    if u.kind == BlockKind::Interrupt && name.eq_ignore_ascii_case("MAIN") =>
+                {
                     Some(0)
                 }
                 (_, None) => None,
-                (UnitKind::Interrupt, Some((n, _)))
+                (BlockKind::Interrupt, Some((n, _)))
                     if n.prefix == BlockPrefix::Ob && n.number == 1 =>
                 {
                     Some(0)
                 }
-                (UnitKind::Interrupt, Some((n, _))) if n.prefix == BlockPrefix::Int => {
+                (BlockKind::Interrupt, Some((n, _))) if n.prefix == BlockPrefix::Int => {
                     Some(n.number)
                 }
-                (UnitKind::Subroutine, Some((n, _))) if n.prefix == BlockPrefix::Sbr => {
+                (BlockKind::Subroutine, Some((n, _))) if n.prefix == BlockPrefix::Sbr => {
                     Some(n.number)
                 }
                 (kind, Some((n, span))) => {
-                    let want = if kind == UnitKind::Subroutine {
+                    let want = if kind == BlockKind::Subroutine {
                         "SBRn"
                     } else {
                         "OB1, INT0 (MAIN) or INTn"
@@ -57,8 +59,8 @@ impl Checker<'_> {
         }
         // Pass 2: unnumbered units take the next free number, in file order.
         let next_free =
-            |kind: UnitKind, numbers: &[Option<u32>], ast: &crate::syntax::ast::Program| {
-                let first = if kind == UnitKind::Interrupt { 1 } else { 0 };
+            |kind: BlockKind, numbers: &[Option<u32>], ast: &crate::syntax::ast::Program| {
+                let first = if kind == BlockKind::Interrupt { 1 } else { 0 };
                 (first..)
                     .find(|n| {
                         !numbers
@@ -79,17 +81,17 @@ impl Checker<'_> {
             let name_text = self.slice(u.header.name).to_string();
             let name = if name_text.is_empty() {
                 match u.kind {
-                    UnitKind::Interrupt if number == 0 => "MAIN".to_string(),
-                    UnitKind::Interrupt => format!("INT{number}"),
-                    UnitKind::Subroutine => format!("SBR{number}"),
+                    BlockKind::Interrupt if number == 0 => "MAIN".to_string(),
+                    BlockKind::Interrupt => format!("INT{number}"),
+                    BlockKind::Subroutine => format!("SBR{number}"),
                 }
             } else {
                 name_text
             };
             let numbered = match (u.kind, number) {
-                (UnitKind::Interrupt, 0) => "INT0".to_string(),
-                (UnitKind::Interrupt, n) => format!("INT{n}"),
-                (UnitKind::Subroutine, n) => format!("SBR{n}"),
+                (BlockKind::Interrupt, 0) => "INT0".to_string(),
+                (BlockKind::Interrupt, n) => format!("INT{n}"),
+                (BlockKind::Subroutine, n) => format!("SBR{n}"),
             };
             let name_span = if u.header.name.is_empty() {
                 u.header.span
@@ -98,20 +100,22 @@ impl Checker<'_> {
             };
             // Limits by number.
             let (limit, limit_name) = match u.kind {
-                UnitKind::Interrupt => (plc.program_block_page_int_size, "ProgramBlockPageIntSize"),
-                UnitKind::Subroutine => {
+                BlockKind::Interrupt => {
+                    (plc.program_block_page_int_size, "ProgramBlockPageIntSize")
+                }
+                BlockKind::Subroutine => {
                     (plc.program_block_page_sbr_size, "ProgramBlockPageSbrSize")
                 }
             };
-            let kind_ix = usize::from(u.kind == UnitKind::Subroutine);
+            let kind_ix = usize::from(u.kind == BlockKind::Subroutine);
             counts[kind_ix] += 1;
             if counts[kind_ix] > limit {
                 let (code, what) = match u.kind {
-                    UnitKind::Interrupt => (
+                    BlockKind::Interrupt => (
                         Code::TooManyInterrupts,
                         "interrupt routines (MAIN included)",
                     ),
-                    UnitKind::Subroutine => (Code::TooManySubroutines, "subroutines"),
+                    BlockKind::Subroutine => (Code::TooManySubroutines, "subroutines"),
                 };
                 self.report(
                     Diagnostic::new(
@@ -133,7 +137,7 @@ impl Checker<'_> {
                         format!(
                             "{numbered} is out of range: {} allows {} numbers 0..{} ({limit_name})",
                             plc.name,
-                            if u.kind == UnitKind::Subroutine {
+                            if u.kind == BlockKind::Subroutine {
                                 "SBR"
                             } else {
                                 "INT"
@@ -145,14 +149,14 @@ impl Checker<'_> {
                 );
             }
             let detail = match u.kind {
-                UnitKind::Interrupt if number == 0 => format!("MAIN (INT0) {name}"),
+                BlockKind::Interrupt if number == 0 => format!("MAIN (INT0) {name}"),
                 _ => format!("{numbered} {name}"),
             };
             let def = self.define(name.clone(), DefKind::Unit, name_span, detail, None);
             let index = self.units.len();
             // Duplicate names: symbolic and numbered.
             let mut keys = vec![name.to_ascii_uppercase(), numbered.clone()];
-            if number == 0 && u.kind == UnitKind::Interrupt {
+            if number == 0 && u.kind == BlockKind::Interrupt {
                 keys.push("MAIN".into());
                 keys.push("OB1".into());
             }
@@ -187,7 +191,7 @@ impl Checker<'_> {
         if !self
             .units
             .iter()
-            .any(|u| u.kind == UnitKind::Interrupt && u.number == 0)
+            .any(|u| u.kind == BlockKind::Interrupt && u.number == 0)
         {
             self.report(
                 Diagnostic::new(
@@ -205,7 +209,7 @@ impl Checker<'_> {
         &mut self,
         ast_index: usize,
         unit_index: usize,
-        kind: UnitKind,
+        kind: BlockKind,
     ) -> (Vec<Local>, Vec<usize>) {
         let ast = self.ast;
         let u = &ast.units[ast_index];
@@ -215,11 +219,11 @@ impl Checker<'_> {
         let (l_slot, l_size) = (l_area.slot, l_area.size);
         let plc = &self.target.plc;
         let (max_args, max_name) = match kind {
-            UnitKind::Interrupt => (
+            BlockKind::Interrupt => (
                 plc.program_block_page_arg_int_size,
                 "ProgramBlockPageArgIntSize",
             ),
-            UnitKind::Subroutine => (
+            BlockKind::Subroutine => (
                 plc.program_block_page_arg_sbr_size,
                 "ProgramBlockPageArgSbrSize",
             ),
@@ -235,7 +239,7 @@ impl Checker<'_> {
         for (count, i) in order.into_iter().enumerate() {
             let v = &u.vars[i];
             let name = self.slice(v.name).to_string();
-            if kind == UnitKind::Interrupt && v.section != VarSection::Temp {
+            if kind == BlockKind::Interrupt && v.section != VarSection::Temp {
                 self.report(
                     Diagnostic::new(
                         Code::InterruptArguments,
@@ -284,7 +288,7 @@ impl Checker<'_> {
                     format!(
                         "too many locals: {} allows {max_args} per {} ({max_name})",
                         plc.name,
-                        if kind == UnitKind::Subroutine {
+                        if kind == BlockKind::Subroutine {
                             "subroutine"
                         } else {
                             "interrupt routine"

@@ -5,15 +5,15 @@
 
 pub mod consts;
 
-use gutta_catalog::{AreaKind, Target};
+use gutta_catalog::{AreaKind, BlockKind, Target};
 use gutta_format::{
     ArgumentPage, DataItem, LocalEntry, LocalSection, PackedOperand, PortEntry, Record, SystemPage,
-    Use as PackedUse,
+    Use,
 };
 
-use crate::check::{CheckedOperand, CheckedProgram, ConstValue, Parity, SystemConfig, Use};
+use crate::check::{CheckedOperand, CheckedProgram, ConstValue, Parity, SystemConfig};
 use crate::source::Span;
-use crate::syntax::ast::{UnitKind, VarSection};
+use crate::syntax::ast::VarSection;
 use consts::{const_bytes, ConstPool};
 
 /// One unit, ready to encode.
@@ -50,18 +50,10 @@ pub struct Lowered {
 }
 
 /// Page number of a unit: INTn -> n, SBRn -> ProgramBlockPageIntSize + n.
-pub fn page_of(kind: UnitKind, number: u32, target: &Target) -> u32 {
+pub fn page_of(kind: BlockKind, number: u32, target: &Target) -> u32 {
     match kind {
-        UnitKind::Interrupt => number,
-        UnitKind::Subroutine => target.plc.program_block_page_int_size + number,
-    }
-}
-
-fn packed_use(u: Use) -> PackedUse {
-    match u {
-        Use::Value => PackedUse::Value,
-        Use::AddressOf => PackedUse::AddressOf,
-        Use::Pointer => PackedUse::Pointer,
+        BlockKind::Interrupt => number,
+        BlockKind::Subroutine => target.plc.program_block_page_int_size + number,
     }
 }
 
@@ -89,7 +81,7 @@ pub fn lower(program: &CheckedProgram, target: &Target) -> Lowered {
                 address,
                 use_,
                 width,
-            } => PackedOperand::memory(address, packed_use(use_), width),
+            } => PackedOperand::memory(address, use_, width),
             CheckedOperand::Constant { value, width } => {
                 let offset = consts.offset(&const_bytes(value, width)).unwrap_or(0);
                 PackedOperand::memory(
@@ -99,18 +91,18 @@ pub fn lower(program: &CheckedProgram, target: &Target) -> Lowered {
                         offset,
                         bit: 0,
                     },
-                    PackedUse::Value,
+                    Use::Value,
                     width,
                 )
             }
-            CheckedOperand::Label(n) => PackedOperand::special(PackedUse::Label, 0, n),
+            CheckedOperand::Label(n) => PackedOperand::special(Use::Label, 0, n),
             CheckedOperand::Unit { kind, number } => PackedOperand::special(
-                PackedUse::Unit,
-                u8::from(kind == UnitKind::Subroutine),
+                Use::Unit,
+                u8::from(kind == BlockKind::Subroutine),
                 number.min(u16::MAX as u32) as u16,
             ),
             CheckedOperand::Literal(v) => {
-                PackedOperand::special(PackedUse::Literal, 0, v.clamp(0, u16::MAX as i64) as u16)
+                PackedOperand::special(Use::Literal, 0, v.clamp(0, u16::MAX as i64) as u16)
             }
         }
     };
@@ -120,7 +112,7 @@ pub fn lower(program: &CheckedProgram, target: &Target) -> Lowered {
             .locals
             .iter()
             .map(|l| LocalEntry {
-                operand: PackedOperand::memory(l.address, PackedUse::Value, l.address.width),
+                operand: PackedOperand::memory(l.address, Use::Value, l.address.width),
                 section: match l.section {
                     VarSection::Input => LocalSection::Input,
                     VarSection::InOut => LocalSection::InOut,
@@ -131,7 +123,7 @@ pub fn lower(program: &CheckedProgram, target: &Target) -> Lowered {
             })
             .collect();
         let arguments = ArgumentPage {
-            subroutine: u.kind == UnitKind::Subroutine,
+            subroutine: u.kind == BlockKind::Subroutine,
             unit_number: u.number.min(255) as u8,
             locals,
         };
@@ -170,7 +162,7 @@ pub fn lower(program: &CheckedProgram, target: &Target) -> Lowered {
                 .items
                 .iter()
                 .map(|i| DataItem {
-                    operand: PackedOperand::memory(i.address, PackedUse::Value, i.address.width),
+                    operand: PackedOperand::memory(i.address, Use::Value, i.address.width),
                     value: match i.value {
                         ConstValue::Integer(v) => v as u32,
                         ConstValue::Real(r) => r.to_bits(),

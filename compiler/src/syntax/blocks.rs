@@ -356,8 +356,8 @@ impl<'t> BlockParser<'t> {
             State::UnitHead | State::Body => self.program.units.last().map(|u| {
                 let (kw, end) = match (u.kind, self.slice(u.header.span).split_whitespace().next())
                 {
-                    (UnitKind::Subroutine, _) => ("SUBROUTINE_BLOCK", "END_SUBROUTINE_BLOCK"),
-                    (UnitKind::Interrupt, Some(k))
+                    (BlockKind::Subroutine, _) => ("SUBROUTINE_BLOCK", "END_SUBROUTINE_BLOCK"),
+                    (BlockKind::Interrupt, Some(k))
                         if k.eq_ignore_ascii_case("ORGANIZATION_BLOCK") =>
                     {
                         ("ORGANIZATION_BLOCK", "END_ORGANIZATION_BLOCK")
@@ -422,9 +422,9 @@ impl<'t> BlockParser<'t> {
             Kw::Organization | Kw::Interrupt | Kw::Subroutine => {
                 self.open_block(line_span);
                 let kind = if kw == Kw::Subroutine {
-                    UnitKind::Subroutine
+                    BlockKind::Subroutine
                 } else {
-                    UnitKind::Interrupt
+                    BlockKind::Interrupt
                 };
                 let header = self.block_header(kw_span, line_span);
                 self.program.units.push(Unit {
@@ -651,12 +651,12 @@ impl<'t> BlockParser<'t> {
                 .program
                 .units
                 .last()
-                .is_some_and(|u| u.kind == UnitKind::Subroutine),
+                .is_some_and(|u| u.kind == BlockKind::Subroutine),
             (State::UnitHead | State::Body, Kw::EndOrganization | Kw::EndInterrupt) => self
                 .program
                 .units
                 .last()
-                .is_some_and(|u| u.kind == UnitKind::Interrupt),
+                .is_some_and(|u| u.kind == BlockKind::Interrupt),
             _ => false,
         };
         let word = self.slice(sp(self.chum[0].1)).to_ascii_uppercase();
@@ -677,7 +677,7 @@ impl<'t> BlockParser<'t> {
                 State::Data => "DATA_BLOCK",
                 State::System => "SYSTEM_BLOCK",
                 _ => match self.program.units.last().map(|u| u.kind) {
-                    Some(UnitKind::Subroutine) => "SUBROUTINE_BLOCK",
+                    Some(BlockKind::Subroutine) => "SUBROUTINE_BLOCK",
                     _ => "an interrupt or organization block",
                 },
             };
