@@ -5,25 +5,15 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use gutta_catalog::{AreaKind, Target, Width};
+use gutta_catalog::{Target, Width};
 
 use super::error::{Location, VerifyError};
-use super::operand::{malformed, AreaRule, DataRules, OperandChecker, Site};
+use super::operand::{malformed, DataRules, OperandChecker, Site};
 use super::program::kind_range;
 use crate::{
     decode_data, DataItem, Image, PageId, PageKind, SystemPage, Use, BAUD_RATES,
     SYSTEM_LAYOUT_VERSION,
 };
-
-/// Areas a data block may initialise (docs/language.md section 10): not inputs (the
-/// terminals fill them), not K (the compiler's), not L (exists only during a call).
-const INITIALISABLE: &[AreaKind] = &[
-    AreaKind::Memory,
-    AreaKind::DigitalOutput,
-    AreaKind::AnalogOutput,
-    AreaKind::Timer,
-    AreaKind::Counter,
-];
 
 /// Decode and check every data page.
 pub(super) fn verify_data_pages(
@@ -65,15 +55,7 @@ pub(super) fn verify_data_pages(
             let Some(width) = op.width() else {
                 return Err(malformed(at, site, op, "WIDTH is 0..3"));
             };
-            let rules = DataRules {
-                width,
-                writes: true,
-                constant: false,
-                pointer: false,
-                address_of: false,
-                areas: AreaRule::Kinds(INITIALISABLE),
-            };
-            checker.check_data(at, site, op, rules)?;
+            checker.check_data(at, site, op, DataRules::data_item(width))?;
             if !fits(item.value, width) {
                 return Err(VerifyError::DataValue {
                     at: Location {

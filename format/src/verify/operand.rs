@@ -4,7 +4,9 @@
 
 use std::collections::BTreeSet;
 
-use gutta_catalog::{Area, AreaKind, BlockKind, OperandKind, OperandSpec, Target, Width};
+use gutta_catalog::rules::{self, IndirectRefusal, LiteralRefusal};
+pub(super) use gutta_catalog::rules::{AreaRule, DataRules};
+use gutta_catalog::{Area, BlockKind, OperandKind, OperandSpec, Target, Width};
 
 use super::error::{unit_name, Location, VerifyError};
 use crate::{PackedOperand, Use};
@@ -54,52 +56,6 @@ impl Site<'_> {
     }
 }
 
-/// Which areas a memory operand may name (directly, with USE 0).
-#[derive(Debug, Clone, Copy)]
-pub(super) enum AreaRule<'a> {
-    Any,
-    /// Area names from an operand spec; a constant (in K) is accepted as well when the
-    /// operand takes constants.
-    Listed(&'a [String]),
-    Kinds(&'static [AreaKind]),
-}
-
-/// What a memory operand (USE 0, 1 or 2) must be.
-#[derive(Debug, Clone, Copy)]
-pub(super) struct DataRules<'a> {
-    /// Access width of the value.
-    pub width: Width,
-    /// The instruction writes the operand.
-    pub writes: bool,
-    /// A constant (a variable in K) may stand here.
-    pub constant: bool,
-    /// `*pointer` (USE 2) is accepted.
-    pub pointer: bool,
-    /// `&byte` (USE 1) is accepted.
-    pub address_of: bool,
-    pub areas: AreaRule<'a>,
-}
-
-impl<'a> DataRules<'a> {
-    pub(super) fn from_spec(spec: &'a OperandSpec) -> DataRules<'a> {
-        DataRules {
-            width: spec
-                .types
-                .first()
-                .map(|t| t.width())
-                .unwrap_or(Width::Dword),
-            writes: spec.role.writes(),
-            constant: spec.constant,
-            pointer: spec.pointer,
-            address_of: spec.address_of,
-            areas: match &spec.areas {
-                None => AreaRule::Any,
-                Some(list) => AreaRule::Listed(list),
-            },
-        }
-    }
-}
-
 /// The operand checker of one image on one target.
 pub(super) struct OperandChecker<'a> {
     pub target: &'a Target,
@@ -112,10 +68,12 @@ impl OperandChecker<'_> {
     pub(super) fn unit_page(&self, kind: BlockKind, number: u16) -> Option<u8> {
         let plc = &self.target.plc;
         let number = u32::from(number);
+        if !rules::unit_exists(plc, kind, number) {
+            return None;
+        }
         let page = match kind {
-            BlockKind::Interrupt => (number < plc.program_block_page_int_size).then_some(number)?,
-            BlockKind::Subroutine => (number < plc.program_block_page_sbr_size)
-                .then(|| plc.program_block_page_int_size.checked_add(number))??,
+            BlockKind::Interrupt => number,
+            BlockKind::Subroutine => plc.program_block_page_int_size.checked_add(number)?,
         };
         u8::try_from(page).ok()
     }
@@ -133,34 +91,30 @@ impl OperandChecker<'_> {
             OperandKind::Data => self.check_data(at, site, op, DataRules::from_spec(spec))?,
             OperandKind::Label => {
                 self.special(at, site, op, Use::Label)?;
-                let (min, max) = (
-                    spec.min.unwrap_or(0).max(0),
-                    spec.max.unwrap_or(255).min(255),
-                );
-                self.range(at, site, op, min, max)?;
+                let range = rules::label_range(spec);
+                self.range(at, site, op, *range.start(), *range.end())?;
             }
             OperandKind::Literal => {
                 self.special(at, site, op, Use::Literal)?;
-                let min = spec.min.unwrap_or(0);
-                let mut max = spec.max.unwrap_or(i64::from(u16::MAX));
-                // Ports and events are narrowed to the target's, as the checker does.
-                if spec.name.eq_ignore_ascii_case("PORT") {
-                    max = max.min(i64::from(self.target.memory.serial_ports) - 1);
-                }
-                self.range(at, site, op, min, max)?;
-                if spec.name.eq_ignore_ascii_case("EVNT")
-                    && !self
-                        .target
-                        .memory
-                        .events
-                        .iter()
-                        .any(|e| e.number == u32::from(op.offset()))
-                {
-                    return Err(VerifyError::UnknownEvent {
-                        at,
-                        operand: site.describe(),
-                        event: op.offset(),
-                    });
+                let value = op.offset();
+                match rules::check_literal(spec, &self.target.memory, i64::from(value)) {
+                    Ok(()) => {}
+                    Err(LiteralRefusal::NoSuchEvent) => {
+                        return Err(VerifyError::UnknownEvent {
+                            at,
+                            operand: site.describe(),
+                            event: value,
+                        })
+                    }
+                    Err(LiteralRefusal::OutOfRange { min, max }) => {
+                        return Err(VerifyError::ValueOutOfRange {
+                            at,
+                            operand: site.describe(),
+                            value,
+                            min,
+                            max,
+                        })
+                    }
                 }
             }
             OperandKind::Block => return self.check_unit(at, site, op, spec).map(Some),
@@ -198,9 +152,9 @@ impl OperandChecker<'_> {
                 ))
             }
         };
-        let expected = spec.block.unwrap_or(BlockKind::Subroutine);
+        let expected = rules::unit_operand_kind(spec);
         let number = op.offset();
-        if found != expected || (expected == BlockKind::Interrupt && number == 0) {
+        if !rules::unit_operand_accepts(spec, found, u32::from(number)) {
             return Err(VerifyError::BlockKindMismatch {
                 at,
                 operand: site.describe(),
@@ -274,11 +228,7 @@ impl OperandChecker<'_> {
     ) -> Result<(), VerifyError> {
         match op.use_() {
             Some(Use::Value) => self.value(at, site, op, rules),
-            Some(Use::AddressOf)
-                if rules.address_of && !rules.writes && rules.width == Width::Dword =>
-            {
-                self.address_of(at, site, op)
-            }
+            Some(Use::AddressOf) if rules.takes_address_of() => self.address_of(at, site, op),
             Some(Use::Pointer) if rules.pointer => self.pointer(at, site, op, rules.width),
             _ => Err(use_not_allowed(at, site, op)),
         }
@@ -297,15 +247,7 @@ impl OperandChecker<'_> {
         allows(at, site, area, width)?;
         bit(at, site, op, width)?;
         inside(at, site, op, area, width.bytes())?;
-        let accepted = match rules.areas {
-            AreaRule::Any => true,
-            AreaRule::Listed(list) => {
-                (rules.constant && area.kind == AreaKind::Constant)
-                    || list.iter().any(|a| a.eq_ignore_ascii_case(&area.name))
-            }
-            AreaRule::Kinds(kinds) => kinds.contains(&area.kind),
-        };
-        if !accepted {
+        if !rules.accepts_area(area) {
             return Err(VerifyError::AreaNotAllowed {
                 at,
                 operand: site.describe(),
@@ -313,7 +255,7 @@ impl OperandChecker<'_> {
                 allowed: self.describe_areas(rules.areas),
             });
         }
-        if rules.writes && !area.writable {
+        if !rules.may_write(area) {
             return Err(VerifyError::WriteToReadOnly {
                 at,
                 operand: site.describe(),
@@ -331,14 +273,19 @@ impl OperandChecker<'_> {
     ) -> Result<(), VerifyError> {
         let area = self.area(at, site, op)?;
         width_is(at, site, op, Width::Dword)?;
-        if !area.address_of {
-            return Err(VerifyError::NotAddressOfArea {
-                at,
-                operand: site.describe(),
-                area: area.name.clone(),
-            });
+        match rules::address_of_target(area, Width::Byte) {
+            Ok(()) => {}
+            Err(IndirectRefusal::Area) => {
+                return Err(VerifyError::NotAddressOfArea {
+                    at,
+                    operand: site.describe(),
+                    area: area.name.clone(),
+                })
+            }
+            Err(IndirectRefusal::Width) => {
+                return Err(width_not_allowed(at, site, area, Width::Byte))
+            }
         }
-        allows(at, site, area, Width::Byte)?;
         bit(at, site, op, Width::Byte)?;
         inside(at, site, op, area, 1)
     }
@@ -352,14 +299,19 @@ impl OperandChecker<'_> {
     ) -> Result<(), VerifyError> {
         let area = self.area(at, site, op)?;
         width_is(at, site, op, width)?;
-        if !area.holds_pointer {
-            return Err(VerifyError::NotPointerArea {
-                at,
-                operand: site.describe(),
-                area: area.name.clone(),
-            });
+        match rules::pointer_holder(area, Width::Dword) {
+            Ok(()) => {}
+            Err(IndirectRefusal::Area) => {
+                return Err(VerifyError::NotPointerArea {
+                    at,
+                    operand: site.describe(),
+                    area: area.name.clone(),
+                })
+            }
+            Err(IndirectRefusal::Width) => {
+                return Err(width_not_allowed(at, site, area, Width::Dword))
+            }
         }
-        allows(at, site, area, Width::Dword)?;
         bit(at, site, op, width)?;
         inside(at, site, op, area, Width::Dword.bytes())
     }
@@ -436,12 +388,16 @@ fn allows(at: Location, site: Site<'_>, area: &Area, width: Width) -> Result<(),
     if area.allows(width) {
         Ok(())
     } else {
-        Err(VerifyError::WidthNotAllowed {
-            at,
-            operand: site.describe(),
-            area: area.name.clone(),
-            width,
-        })
+        Err(width_not_allowed(at, site, area, width))
+    }
+}
+
+fn width_not_allowed(at: Location, site: Site<'_>, area: &Area, width: Width) -> VerifyError {
+    VerifyError::WidthNotAllowed {
+        at,
+        operand: site.describe(),
+        area: area.name.clone(),
+        width,
     }
 }
 
