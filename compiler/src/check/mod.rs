@@ -3,8 +3,12 @@
 //! ManagerFun.xml, enforces the PlcType limits, and records definitions and references
 //! for the language server. It skips parser error nodes without reporting them again.
 
+mod address;
 mod code;
+mod constants;
 mod data;
+mod memory;
+mod names;
 mod operands;
 pub mod program;
 mod suggest;
@@ -178,7 +182,7 @@ impl Checker<'_> {
                     && letters.ends_with(['B', 'W', 'D']))
         };
         self.target.memory.areas.iter().any(|a| fits(&a.name))
-            || operands::stdlib_memory_maps()
+            || address::stdlib_memory_maps()
                 .iter()
                 .flat_map(|(_, m)| m)
                 .any(|m| m.areas.iter().any(|a| fits(&a.name)))
