@@ -4,9 +4,11 @@
 //! for the language server. It skips parser error nodes without reporting them again.
 
 mod address;
+mod calls;
 mod code;
 mod constants;
 mod data;
+mod instruction;
 mod memory;
 mod names;
 mod operands;
