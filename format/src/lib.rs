@@ -3,6 +3,7 @@
 //! VM and simulator read it. No I/O here: an image is pages in memory; decoders never
 //! panic on any input.
 
+mod crc;
 pub mod disasm;
 mod manifest;
 mod operand;
@@ -11,8 +12,10 @@ mod position;
 mod read;
 mod verify;
 
-pub use manifest::{crc16, Manifest, ManifestError, ManifestPage, FORMAT_VERSION};
-pub use operand::{pointer_value, PackedOperand, Use};
+pub use crc::crc16;
+pub use gutta_catalog::{Address, BlockKind, Width};
+pub use manifest::{Manifest, ManifestError, ManifestPage, FORMAT_VERSION};
+pub use operand::{Operand, OperandError, PackedOperand, Pointer, UnitRef, Use};
 pub use pages::*;
 pub use position::{function_name, parse_position};
 pub use read::{ImageError, MANIFEST_FILE};

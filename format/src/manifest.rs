@@ -11,13 +11,6 @@ use crate::PageKind;
 
 pub const FORMAT_VERSION: u32 = 1;
 
-const CRC16_MODBUS: crc::Crc<u16> = crc::Crc::<u16>::new(&crc::CRC_16_MODBUS);
-
-/// CRC-16/MODBUS of bytes.
-pub fn crc16(bytes: &[u8]) -> u16 {
-    CRC16_MODBUS.checksum(bytes)
-}
-
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ManifestPage {
     pub kind: PageKind,
@@ -142,15 +135,6 @@ impl Manifest {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn crc_of_the_documents_frames() {
-        // AN2002 capture: 01 02 00 04 00 04 + CRC 38 08 (low byte first).
-        assert_eq!(
-            crc16(&[0x01, 0x02, 0x00, 0x04, 0x00, 0x04]).to_le_bytes(),
-            [0x38, 0x08]
-        );
-    }
 
     #[test]
     fn manifest_round_trips() {

@@ -45,6 +45,9 @@ pub struct VerifiedUnit {
     pub records: Vec<UnitRecord>,
     /// Label number -> index in `records` of its `LBL`.
     pub labels: BTreeMap<u16, usize>,
+    /// Index in `records` of each `FOR` -> index of the `NEXT` that closes it (every NEXT
+    /// closes the innermost open FOR of its page; the verifier refuses an unmatched one).
+    pub loops: BTreeMap<usize, usize>,
 }
 
 impl VerifiedUnit {

@@ -468,6 +468,26 @@ rejects! {
         assert!(matches!(e, VerifyError::DuplicateLabel { label: 4, first: 11, .. }), "{e}");
     }
 
+    unmatched_loop => UnmatchedLoop |check| {
+        let t = target();
+        let for_ = || ins(&t, "FOR", vec![val(&t, "MW0"), val(&t, "MW2"), val(&t, "MW4")]);
+        let next = || ins(&t, "NEXT", vec![]);
+        // A FOR never closed: the error is at the FOR (record 2 of MAIN, byte 11).
+        let e = check(&main_with(&t, vec![for_()]).build(), &t);
+        assert_eq!(e.location(), at(PageKind::Instruction, 0, 11));
+        assert!(matches!(&e, VerifyError::UnmatchedLoop { mnemonic, .. } if mnemonic == "FOR"), "{e}");
+        // A NEXT with no open FOR.
+        let e = check(&main_with(&t, vec![next()]).build(), &t);
+        assert!(matches!(&e, VerifyError::UnmatchedLoop { mnemonic, .. } if mnemonic == "NEXT"), "{e}");
+        // Nested: the inner NEXT closes the inner FOR, so the outer one stays open.
+        let e = check(&main_with(&t, vec![for_(), for_(), next()]).build(), &t);
+        assert_eq!(e.location(), at(PageKind::Instruction, 0, 11));
+        // A FOR of another unit does not close this page's NEXT.
+        let spec = main_with(&t, vec![next()])
+            .unit(&t, false, 1, vec![], vec![Record::Network(1), ins(&t, "LD", vec![val(&t, "SM0.0")]), for_()]);
+        check(&spec.build(), &t);
+    }
+
     call_cycle => CallCycle |check| {
         let t = target();
         let call = |n| vec![Record::Network(1), ins(&t, "LD", vec![val(&t, "SM0.0")]), ins(&t, "CALL", vec![sbr(n)])];

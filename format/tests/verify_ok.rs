@@ -131,3 +131,33 @@ fn factory_password_and_limits_at_their_edges_verify() {
     let spec = spec.unit(&t, true, sbr_last, locals, Vec::new());
     verify(&spec.build(), &t).unwrap_or_else(|e| panic!("{e}"));
 }
+
+#[test]
+fn for_next_pairs_are_handed_to_the_vm() {
+    // MAIN: Network, LD, FOR(2), FOR(3), NEXT(4), NEXT(5), FOR(6), NEXT(7): each NEXT
+    // closes the innermost open FOR.
+    let t = target();
+    let for_ = || {
+        ins(
+            &t,
+            "FOR",
+            vec![val(&t, "MW0"), val(&t, "MW2"), val(&t, "MW4")],
+        )
+    };
+    let next = || ins(&t, "NEXT", vec![]);
+    let records = vec![
+        Record::Network(1),
+        ins(&t, "LD", vec![val(&t, "SM0.0")]),
+        for_(),
+        for_(),
+        next(),
+        next(),
+        for_(),
+        next(),
+    ];
+    let image = common::ImageSpec::main(&t, records).build();
+    let v = verify(&image, &t).unwrap_or_else(|e| panic!("{e}"));
+    let main = v.main().expect("MAIN");
+    let pairs: Vec<(usize, usize)> = main.loops.iter().map(|(f, n)| (*f, *n)).collect();
+    assert_eq!(pairs, vec![(2, 5), (3, 4), (6, 7)]);
+}

@@ -7,8 +7,8 @@ mod common;
 use common::*;
 use gutta_catalog::{DataType, Width};
 use gutta_format::{
-    crc16, decode_instructions, encode_data, encode_instructions, pointer_value, verify,
-    ArgumentPage, DataItem, Image, LocalSection, Manifest, ManifestPage, PageId, PageKind, Record,
+    crc16, decode_instructions, encode_data, encode_instructions, verify, Address, ArgumentPage,
+    DataItem, Image, LocalSection, Manifest, ManifestPage, PageId, PageKind, Pointer, Record,
     SystemPage, FORMAT_VERSION, MANIFEST_FILE,
 };
 
@@ -31,8 +31,21 @@ fn documented_operand_examples() {
     assert_eq!(int(1).0, 0x0001_0004);
     assert_eq!(lit(2).0, 0x0002_0005);
     // "MOVD &MB24, MD4 stores 0x0400_0018; +D 2 makes it 0x0400_001A".
-    assert_eq!(pointer_value(4, 24), 0x0400_0018);
-    assert_eq!(pointer_value(4, 24) + 2, pointer_value(4, 26));
+    let m_byte = |offset| Address {
+        slot: 4,
+        width: Width::Byte,
+        offset,
+        bit: 0,
+    };
+    assert_eq!(Pointer::to(m_byte(24)).0, 0x0400_0018);
+    assert_eq!(Pointer::to(m_byte(24)).0 + 2, Pointer::to(m_byte(26)).0);
+    assert_eq!(
+        Pointer(0x0400_001A).target(Width::Word),
+        Address {
+            width: Width::Word,
+            ..m_byte(26)
+        }
+    );
 }
 
 #[test]

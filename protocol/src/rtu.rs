@@ -3,16 +3,12 @@
 
 use std::fmt;
 
-/// CRC-16/MODBUS (poly 0x8005 reflected, init 0xFFFF), as AN2002 requires for RTU.
-const CRC16_MODBUS: crc::Crc<u16> = crc::Crc::<u16>::new(&crc::CRC_16_MODBUS);
+/// CRC-16/MODBUS (poly 0x8005 reflected, init 0xFFFF), as AN2002 requires for RTU: the
+/// toolchain's one implementation, which the image manifest uses too.
+pub use gutta_format::crc16;
 
 /// Smallest RTU frame: station, function code, two CRC bytes.
 pub const MIN_RTU_FRAME: usize = 4;
-
-/// The CRC-16/MODBUS of `bytes`; it goes on the wire low byte first.
-pub fn crc16(bytes: &[u8]) -> u16 {
-    CRC16_MODBUS.checksum(bytes)
-}
 
 /// One RTU frame without its CRC: the station (0 = broadcast) and the PDU
 /// (function code followed by data).

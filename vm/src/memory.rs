@@ -5,7 +5,7 @@
 //! access is bounds-checked.
 
 use gutta_catalog::{MemoryMap, Width};
-use gutta_format::{pointer_value, PackedOperand, Use};
+use gutta_format::{PackedOperand, Pointer, Use};
 
 /// A resolved place in memory.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -186,7 +186,10 @@ impl Memory {
     /// The value an operand stands for: a variable's value, or a pointer value for `&`.
     pub fn value(&self, op: PackedOperand) -> Result<u32, AccessError> {
         match op.use_() {
-            Some(Use::AddressOf) => Ok(pointer_value(op.slot(), op.offset() as u32)),
+            Some(Use::AddressOf) => op
+                .address()
+                .map(|byte| Pointer::to(byte).0)
+                .ok_or_else(|| AccessError(format!("{op:?} has no address"))),
             Some(Use::Value) | Some(Use::Pointer) => self.read(self.locate(op)?),
             Some(Use::Literal) | Some(Use::Label) => Ok(op.offset() as u32),
             _ => Err(AccessError(format!("{op:?} has no value"))),

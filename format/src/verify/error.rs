@@ -92,6 +92,7 @@ codes! {
     SystemPassword = "V0037", "a password that is neither ASCII nor the factory password";
     UnknownEvent = "V0038", "an interrupt event number the target does not have";
     ReservedNotZero = "V0039", "a reserved byte that is not 0";
+    UnmatchedLoop = "V0040", "a FOR without its NEXT, or a NEXT without its FOR, in one page";
 }
 
 impl fmt::Display for VerifyCode {
@@ -268,6 +269,12 @@ pub enum VerifyError {
         /// Offset of the first `LBL` with the number.
         first: usize,
     },
+    /// A `FOR` never closed by a `NEXT` of the same page, or a `NEXT` with no open `FOR`.
+    UnmatchedLoop {
+        at: Location,
+        /// `FOR` or `NEXT`: the instruction at `at`.
+        mnemonic: String,
+    },
     CallCycle {
         /// The `CALL` that closes the cycle.
         at: Location,
@@ -366,6 +373,7 @@ impl VerifyError {
             E::NoSuchUnit { .. } => VerifyCode::NoSuchUnit,
             E::JumpWithoutLabel { .. } => VerifyCode::JumpWithoutLabel,
             E::DuplicateLabel { .. } => VerifyCode::DuplicateLabel,
+            E::UnmatchedLoop { .. } => VerifyCode::UnmatchedLoop,
             E::CallCycle { .. } => VerifyCode::CallCycle,
             E::CallDepth { .. } => VerifyCode::CallDepth,
             E::DataValue { .. } => VerifyCode::DataValue,
@@ -430,6 +438,7 @@ impl VerifyError {
             | E::NoSuchUnit { at, .. }
             | E::JumpWithoutLabel { at, .. }
             | E::DuplicateLabel { at, .. }
+            | E::UnmatchedLoop { at, .. }
             | E::CallCycle { at, .. }
             | E::DataValue { at, .. }
             | E::SystemVersion { at, .. }
@@ -598,6 +607,13 @@ impl VerifyError {
             }
             E::DuplicateLabel { label, first, .. } => {
                 format!("LBL {label} is defined twice (first at byte {first})")
+            }
+            E::UnmatchedLoop { mnemonic, .. } if mnemonic == "NEXT" => {
+                "this NEXT closes no FOR: every NEXT ends the innermost open FOR of its page"
+                    .to_string()
+            }
+            E::UnmatchedLoop { mnemonic, .. } => {
+                format!("this {mnemonic} has no NEXT after it in its page")
             }
             E::CallCycle { callee, .. } => format!(
                 "this CALL closes a cycle through the subroutine of page {callee:02X}: subroutines may not recurse"

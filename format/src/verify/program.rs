@@ -4,7 +4,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use gutta_catalog::{AreaKind, BlockKind, DataType, OperandKind, Target, Width};
+use gutta_catalog::{AreaKind, BlockKind, DataType, InstrId, OperandKind, Target, Width};
 
 use super::error::{unit_name, Location, VerifyError};
 use super::operand::{AreaRule, DataRules, OperandChecker, Site};
@@ -57,6 +57,7 @@ pub(super) fn verify_units(
             locals,
             records: Vec::new(),
             labels: BTreeMap::new(),
+            loops: BTreeMap::new(),
         };
         let edges = verify_code(*id, bytes, &checker, &arguments, &mut unit)?;
         calls.insert(id.number, edges);
@@ -184,6 +185,7 @@ fn verify_code(
     let mut jumps: Vec<(Location, u16)> = Vec::new();
     let mut first_label: BTreeMap<u16, usize> = BTreeMap::new();
     let mut calls = Vec::new();
+    let mut loops = LoopPairing::new(target);
     let unit_text = unit_name(unit.kind, u16::from(unit.number));
     for (offset, record) in records {
         let at = Location { page: id, offset };
@@ -300,18 +302,72 @@ fn verify_code(
                 calls.push((page, at));
             }
         }
+        loops.record(instr_id, at, unit)?;
         unit.records.push(UnitRecord::Instruction {
             offset,
             id: instr_id,
             operands,
         });
     }
+    loops.finish()?;
     for (at, label) in jumps {
         if !first_label.contains_key(&label) {
             return Err(VerifyError::JumpWithoutLabel { at, label });
         }
     }
     Ok(calls)
+}
+
+/// FOR/NEXT pairing within one instruction page: every NEXT closes the innermost open
+/// FOR, and no FOR is left open at the end. The pairs go to `VerifiedUnit::loops`, so the
+/// VM never pairs them itself.
+struct LoopPairing {
+    for_id: Option<InstrId>,
+    next_id: Option<InstrId>,
+    /// Open FORs, innermost last: where, and their record index.
+    open: Vec<(Location, usize)>,
+}
+
+impl LoopPairing {
+    fn new(target: &Target) -> LoopPairing {
+        LoopPairing {
+            for_id: target.instructions.lookup("FOR"),
+            next_id: target.instructions.lookup("NEXT"),
+            open: Vec::new(),
+        }
+    }
+
+    /// Account for the instruction about to become record `unit.records.len()`.
+    fn record(
+        &mut self,
+        id: InstrId,
+        at: Location,
+        unit: &mut VerifiedUnit,
+    ) -> Result<(), VerifyError> {
+        let index = unit.records.len();
+        if Some(id) == self.for_id {
+            self.open.push((at, index));
+        } else if Some(id) == self.next_id {
+            let Some((_, for_index)) = self.open.pop() else {
+                return Err(VerifyError::UnmatchedLoop {
+                    at,
+                    mnemonic: "NEXT".to_string(),
+                });
+            };
+            unit.loops.insert(for_index, index);
+        }
+        Ok(())
+    }
+
+    fn finish(self) -> Result<(), VerifyError> {
+        match self.open.first() {
+            Some(&(at, _)) => Err(VerifyError::UnmatchedLoop {
+                at,
+                mnemonic: "FOR".to_string(),
+            }),
+            None => Ok(()),
+        }
+    }
 }
 
 /// No unit reaches itself through CALLs; from every interrupt routine, calls nest at
