@@ -5,14 +5,14 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
+use gutta_catalog::rules::DataRules;
 use gutta_catalog::{Target, Width};
 
 use super::error::{Location, VerifyError};
-use super::operand::{malformed, DataRules, OperandChecker, Site};
+use super::operand::{malformed, OperandChecker, Site};
 use super::program::kind_range;
 use crate::{
-    decode_data, DataItem, Image, PageId, PageKind, SystemPage, Use, BAUD_RATES,
-    SYSTEM_LAYOUT_VERSION,
+    decode_data, DataItem, Image, PageId, PageKind, SystemPage, BAUD_RATES, SYSTEM_LAYOUT_VERSION,
 };
 
 /// Decode and check every data page.
@@ -45,16 +45,11 @@ pub(super) fn verify_data_pages(
             };
             let site = Site::DataItem { index: i };
             let op = item.operand;
-            if op.use_() != Some(Use::Value) {
-                return Err(VerifyError::UseNotAllowed {
-                    at,
-                    operand: site.describe(),
-                    use_code: op.use_code(),
-                });
-            }
-            let Some(width) = op.width() else {
+            // The item's width is its word's; `check_data` then wants a value (USE 0).
+            let Ok(variable) = op.variable() else {
                 return Err(malformed(at, site, op, "WIDTH is 0..3"));
             };
+            let width = variable.width;
             checker.check_data(at, site, op, DataRules::data_item(width))?;
             if !fits(item.value, width) {
                 return Err(VerifyError::DataValue {
