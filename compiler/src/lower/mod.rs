@@ -5,10 +5,10 @@
 
 pub mod consts;
 
-use gutta_catalog::{AreaKind, BlockKind, Target};
+use gutta_catalog::{Address, AreaKind, BlockKind, Target};
 use gutta_format::{
-    ArgumentPage, DataItem, LocalEntry, LocalSection, PackedOperand, PortEntry, Record, SystemPage,
-    Use,
+    ArgumentPage, DataItem, LocalEntry, LocalSection, Operand, PackedOperand, PortEntry, Record,
+    SystemPage, UnitRef, Use,
 };
 
 use crate::check::{CheckedOperand, CheckedProgram, ConstValue, Parity, SystemConfig};
@@ -49,12 +49,41 @@ pub struct Lowered {
     pub system_span: Option<Span>,
 }
 
-/// Page number of a unit: INTn -> n, SBRn -> ProgramBlockPageIntSize + n.
-pub fn page_of(kind: BlockKind, number: u32, target: &Target) -> u32 {
-    match kind {
-        BlockKind::Interrupt => number,
-        BlockKind::Subroutine => target.plc.program_block_page_int_size + number,
-    }
+/// The packed operand of a checked operand; constants are values in K at `consts`.
+fn packed(o: &CheckedOperand, consts: &ConstPool, k_slot: u8) -> PackedOperand {
+    let operand = match *o {
+        CheckedOperand::Memory {
+            address,
+            use_,
+            width,
+        } => match use_ {
+            Use::AddressOf => Operand::AddressOf {
+                byte: address,
+                width,
+            },
+            Use::Pointer => Operand::Pointer {
+                holder: address,
+                width,
+            },
+            // The checker writes Value, AddressOf or Pointer here.
+            _ => Operand::Value(Address { width, ..address }),
+        },
+        CheckedOperand::Constant { value, width } => Operand::Value(Address {
+            slot: k_slot,
+            width,
+            offset: consts.offset(&const_bytes(value, width)).unwrap_or(0),
+            bit: 0,
+        }),
+        CheckedOperand::Label(n) => Operand::Label(n),
+        CheckedOperand::Unit { kind, number } => Operand::Unit(UnitRef {
+            kind,
+            number: u16::try_from(number).unwrap_or(u16::MAX),
+        }),
+        CheckedOperand::Literal(v) => {
+            Operand::Literal(u16::try_from(v.clamp(0, i64::from(u16::MAX))).unwrap_or(0))
+        }
+    };
+    PackedOperand::encode(operand)
 }
 
 pub fn lower(program: &CheckedProgram, target: &Target) -> Lowered {
@@ -75,44 +104,14 @@ pub fn lower(program: &CheckedProgram, target: &Target) -> Lowered {
             _ => None,
         });
     let consts = ConstPool::build(all_consts);
-    let operand = |o: &CheckedOperand| -> PackedOperand {
-        match *o {
-            CheckedOperand::Memory {
-                address,
-                use_,
-                width,
-            } => PackedOperand::memory(address, use_, width),
-            CheckedOperand::Constant { value, width } => {
-                let offset = consts.offset(&const_bytes(value, width)).unwrap_or(0);
-                PackedOperand::memory(
-                    gutta_catalog::Address {
-                        slot: k_slot,
-                        width,
-                        offset,
-                        bit: 0,
-                    },
-                    Use::Value,
-                    width,
-                )
-            }
-            CheckedOperand::Label(n) => PackedOperand::special(Use::Label, 0, n),
-            CheckedOperand::Unit { kind, number } => PackedOperand::special(
-                Use::Unit,
-                u8::from(kind == BlockKind::Subroutine),
-                number.min(u16::MAX as u32) as u16,
-            ),
-            CheckedOperand::Literal(v) => {
-                PackedOperand::special(Use::Literal, 0, v.clamp(0, u16::MAX as i64) as u16)
-            }
-        }
-    };
+    let operand = |o: &CheckedOperand| packed(o, &consts, k_slot);
     let mut units = Vec::with_capacity(program.units.len());
     for u in &program.units {
         let locals = u
             .locals
             .iter()
             .map(|l| LocalEntry {
-                operand: PackedOperand::memory(l.address, Use::Value, l.address.width),
+                operand: PackedOperand::encode(Operand::Value(l.address)),
                 section: match l.section {
                     VarSection::Input => LocalSection::Input,
                     VarSection::InOut => LocalSection::InOut,
@@ -145,7 +144,13 @@ pub fn lower(program: &CheckedProgram, target: &Target) -> Lowered {
             }
         }
         units.push(LoweredUnit {
-            page: page_of(u.kind, u.number, target),
+            // The checker refused units the target cannot have (E0403, E0413).
+            page: UnitRef {
+                kind: u.kind,
+                number: u16::try_from(u.number).unwrap_or(u16::MAX),
+            }
+            .page(&target.plc)
+            .map_or(u32::MAX, u32::from),
             name: u.numbered_name(),
             arguments,
             records,
@@ -162,7 +167,7 @@ pub fn lower(program: &CheckedProgram, target: &Target) -> Lowered {
                 .items
                 .iter()
                 .map(|i| DataItem {
-                    operand: PackedOperand::memory(i.address, Use::Value, i.address.width),
+                    operand: PackedOperand::encode(Operand::Value(i.address)),
                     value: match i.value {
                         ConstValue::Integer(v) => v as u32,
                         ConstValue::Real(r) => r.to_bits(),
