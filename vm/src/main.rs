@@ -251,7 +251,7 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
 /// step.
 fn parse_breakpoint(target: &Target, text: &str) -> Result<Position, Fatal> {
     let (function, network, step) =
-        gutta_format::parse_position(text, target.plc.program_block_page_int_size)
+        gutta_format::parse_position(text, &target.plc)
             .map_err(|e| Fatal(format!("--break {e}")))?;
     Ok(Position {
         function,
@@ -262,7 +262,7 @@ fn parse_breakpoint(target: &Target, text: &str) -> Result<Position, Fatal> {
 
 /// MAIN, INTn or SBRn for a unit page.
 fn function_name(target: &Target, page: u8) -> String {
-    gutta_format::function_name(page, target.plc.program_block_page_int_size)
+    gutta_format::function_name(page, &target.plc)
 }
 
 /// The fault's variant name (`Watchdog`), for JSON and messages.

@@ -3,11 +3,12 @@
 //! the language cannot reproduce is reported), and the networks and steps of the
 //! instruction page. Operand spelling is in `operands.rs`.
 
-use gutta_catalog::{Address, AreaKind, DataType, Width};
+use gutta_catalog::{Address, AreaKind, BlockKind, DataType, Width};
 
 use super::Disassembler;
 use crate::{
-    decode_instructions, ArgumentPage, LocalSection, PackedOperand, PageId, PageKind, Record, Use,
+    decode_instructions, ArgumentPage, LocalSection, Operand, PackedOperand, PageId, PageKind,
+    Record, UnitRef,
 };
 
 /// One local as the text declares it.
@@ -88,36 +89,35 @@ pub(super) fn locals_of(page: &ArgumentPage, l_slot: u8) -> Vec<Local> {
 impl Disassembler<'_> {
     /// The unit whose argument and instruction pages have this number.
     pub(super) fn unit(&mut self, number: u8) {
-        let plc = &self.target.plc;
-        let (int_size, sbr_size) = (
-            plc.program_block_page_int_size,
-            plc.program_block_page_sbr_size,
-        );
-        let n = number as u32;
-        let (subroutine, unit_number) = if n < int_size {
-            (false, n)
-        } else {
-            (true, n - int_size)
-        };
-        let (keyword, header) = match (subroutine, unit_number) {
-            (false, 0) => ("ORGANIZATION_BLOCK", "MAIN:OB1".to_string()),
-            (false, k) => ("INTERRUPT_BLOCK", format!("INT{k}:INT{k}")),
-            (true, k) => ("SUBROUTINE_BLOCK", format!("SBR{k}:SBR{k}")),
-        };
         let arg_id = PageId::new(PageKind::Argument, number);
         let code_id = PageId::new(PageKind::Instruction, number);
-        if subroutine && unit_number >= sbr_size {
-            let name = self.target.name().to_string();
-            self.error(
-                Some(code_id),
-                0,
-                format!(
-                    "page {number:02X} would be SBR{unit_number}, beyond the {sbr_size} subroutines of {name}"
-                ),
+        let Some(unit) = UnitRef::from_page(number, &self.target.plc) else {
+            let plc = &self.target.plc;
+            let reason = format!(
+                "page {number:02X} is no program unit of {}: it has {} interrupt routines and {} subroutines",
+                plc.name, plc.program_block_page_int_size, plc.program_block_page_sbr_size
             );
-        }
+            self.cannot_decode(
+                "",
+                &format!("program page {number:02X}"),
+                code_id,
+                0,
+                &reason,
+            );
+            return;
+        };
+        let keyword = match unit.kind {
+            BlockKind::Interrupt if unit.number == 0 => "ORGANIZATION_BLOCK",
+            BlockKind::Interrupt => "INTERRUPT_BLOCK",
+            BlockKind::Subroutine => "SUBROUTINE_BLOCK",
+        };
+        let header = if unit == UnitRef::MAIN {
+            "MAIN:OB1".to_string()
+        } else {
+            format!("{unit}:{unit}")
+        };
         self.line(&format!("{keyword} {header}"));
-        let locals = self.locals(arg_id, subroutine, unit_number);
+        let locals = self.locals(arg_id, unit);
         self.line("BEGIN");
         match self.image.page(PageKind::Instruction, number) {
             Some(bytes) => self.code(code_id, bytes, &locals),
@@ -148,7 +148,7 @@ impl Disassembler<'_> {
     }
 
     /// Print the VAR sections of a unit and check its argument page.
-    fn locals(&mut self, id: PageId, subroutine: bool, unit_number: u32) -> Vec<Local> {
+    fn locals(&mut self, id: PageId, unit: UnitRef) -> Vec<Local> {
         let Some(bytes) = self.image.page(PageKind::Argument, id.number) else {
             self.cannot_decode(
                 "",
@@ -167,18 +167,20 @@ impl Disassembler<'_> {
             }
         };
         let locals = locals_of(&page, self.l_slot());
-        if page.subroutine != subroutine || page.unit_number as u32 != unit_number {
-            let says = format!(
-                "{}{}",
-                if page.subroutine { "SBR" } else { "INT" },
-                page.unit_number
-            );
-            let is = format!("{}{unit_number}", if subroutine { "SBR" } else { "INT" });
+        let says = UnitRef {
+            kind: if page.subroutine {
+                BlockKind::Subroutine
+            } else {
+                BlockKind::Interrupt
+            },
+            number: u16::from(page.unit_number),
+        };
+        if says != unit {
             self.error(
                 Some(id),
                 0,
                 format!(
-                    "the page header names {says}, but page {:02X} is {is}",
+                    "the page header names {says}, but page {:02X} is {unit}",
                     id.number
                 ),
             );
@@ -195,7 +197,7 @@ impl Disassembler<'_> {
             );
         }
         for l in &locals {
-            let placed = PackedOperand::memory(l.address, Use::Value, l.address.width);
+            let placed = PackedOperand::encode(Operand::Value(l.address));
             if placed != l.recorded {
                 let reason = format!(
                     "local {} : {} is {} in the argument page, but the language places it at {}",
@@ -227,13 +229,11 @@ impl Disassembler<'_> {
 
     /// An operand for a message: its address if it is a plain one, else its bits.
     pub(super) fn describe(&self, op: PackedOperand) -> String {
-        match (op.use_(), op.width()) {
-            (Some(Use::Value), Some(w)) => {
-                match self.address(op.slot(), w, op.offset(), op.bit()) {
-                    Ok((a, _)) => self.target.memory.format_address(&a),
-                    Err(_) => format!("0x{:08X}", op.0),
-                }
-            }
+        match op.decode() {
+            Ok(Operand::Value(variable)) => match self.address(variable) {
+                Ok((a, _)) => self.target.memory.format_address(&a),
+                Err(_) => format!("0x{:08X}", op.0),
+            },
             _ => format!("0x{:08X}", op.0),
         }
     }
