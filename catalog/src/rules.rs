@@ -275,3 +275,42 @@ pub fn pointer_holder(area: &Area, width: Width) -> Result<(), IndirectRefusal> 
         Ok(())
     }
 }
+
+/// Where locals go in L (docs/language.md): one after another in declaration order
+/// (VAR_INPUT, VAR_IN_OUT, VAR_OUTPUT, VAR), BOOLs packed into bytes from bit 0, every
+/// other type at the next whole byte, without alignment. The checker places locals
+/// with it and the disassembler checks argument pages against it.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct LocalLayout {
+    /// The byte being filled.
+    byte: u32,
+    /// Bits of `byte` already taken by BOOLs (0 when none).
+    bit: u8,
+}
+
+impl LocalLayout {
+    pub fn new() -> LocalLayout {
+        LocalLayout::default()
+    }
+
+    /// The place of the next local of `width`: its byte offset in L and its bit (0
+    /// unless it is a BOOL).
+    pub fn place(&mut self, width: Width) -> (u32, u8) {
+        if width == Width::Bit {
+            if self.bit == 8 {
+                self.byte += 1;
+                self.bit = 0;
+            }
+            self.bit += 1;
+            (self.byte, self.bit - 1)
+        } else {
+            if self.bit > 0 {
+                self.byte += 1;
+                self.bit = 0;
+            }
+            let at = self.byte;
+            self.byte += width.bytes();
+            (at, 0)
+        }
+    }
+}

@@ -227,3 +227,25 @@ fn address_of_and_pointers_follow_the_area_permissions() {
     assert!(!DataRules::from_spec(operand(&t, "MOVD", 1)).takes_address_of());
     assert!(!DataRules::from_spec(operand(&t, "MOVW", 0)).takes_address_of());
 }
+
+#[test]
+fn locals_pack_bools_and_start_other_types_at_the_next_byte() {
+    let mut layout = rules::LocalLayout::new();
+    let places: Vec<(u32, u8)> = [
+        Width::Bit,
+        Width::Bit,
+        Width::Word,
+        Width::Byte,
+        Width::Bit,
+        Width::Dword,
+    ]
+    .into_iter()
+    .map(|w| layout.place(w))
+    .collect();
+    assert_eq!(places, [(0, 0), (0, 1), (1, 0), (3, 0), (4, 0), (5, 0)]);
+    // Nine BOOLs fill a byte and start the next.
+    let mut layout = rules::LocalLayout::new();
+    let last = (0..9).map(|_| layout.place(Width::Bit)).last();
+    assert_eq!(last, Some((1, 0)));
+    assert_eq!(layout.place(Width::Word), (2, 0));
+}

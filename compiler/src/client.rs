@@ -304,8 +304,7 @@ pub(crate) fn debug(
     let arg = action.get(1).map(String::as_str);
     match (action[0].as_str(), arg) {
         ("break", Some(at)) => {
-            let (index, network, step) =
-                gutta_format::parse_position(at, plc).map_err(Fatal)?;
+            let (index, network, step) = gutta_format::parse_position(at, plc).map_err(Fatal)?;
             client.set_breakpoint(Some(Breakpoint {
                 index,
                 network,

@@ -3,20 +3,12 @@
 
 use std::collections::BTreeMap;
 
-use gutta_catalog::{AreaKind, DataType, Width};
+use gutta_catalog::{rules, DataType, Width};
 
 use super::{CheckedDataBlock, Checker, ConstValue, DataItem, DefKind};
 use crate::diagnostics::{Code, Diagnostic};
 use crate::source::Span;
 use crate::syntax::ast::{BlockPrefix, OperandKind};
-
-const INITIALISABLE: [AreaKind; 5] = [
-    AreaKind::Memory,
-    AreaKind::DigitalOutput,
-    AreaKind::AnalogOutput,
-    AreaKind::Timer,
-    AreaKind::Counter,
-];
 
 impl Checker<'_> {
     pub(super) fn data_blocks(&mut self) -> Vec<CheckedDataBlock> {
@@ -160,7 +152,7 @@ impl Checker<'_> {
             None => self.direct_address(row.address, Some("a data row"))?,
         };
         let area = self.target.memory.area_by_slot(address.slot)?.clone();
-        if !INITIALISABLE.contains(&area.kind) {
+        if !rules::INITIALISABLE.contains(&area.kind) {
             self.report(
                 Diagnostic::new(
                     Code::DataArea,

@@ -3,7 +3,8 @@
 //! the language cannot reproduce is reported), and the networks and steps of the
 //! instruction page. Operand spelling is in `operands.rs`.
 
-use gutta_catalog::{Address, AreaKind, BlockKind, DataType, Width};
+use gutta_catalog::rules::LocalLayout;
+use gutta_catalog::{Address, AreaKind, BlockKind, DataType};
 
 use super::Disassembler;
 use crate::{
@@ -34,12 +35,11 @@ const SECTIONS: [(LocalSection, &str, &str); 4] = [
 ];
 
 /// The locals of an argument page in the order the text declares them (section by
-/// section, page order within a section), each placed in L as the language places it:
-/// consecutive BOOLs share a byte from bit 0, every other type starts at the next whole
-/// byte, across section boundaries too.
+/// section, page order within a section), each placed in L as the language places it
+/// (`gutta_catalog::rules::LocalLayout`).
 pub(super) fn locals_of(page: &ArgumentPage, l_slot: u8) -> Vec<Local> {
     let mut out = Vec::with_capacity(page.locals.len());
-    let (mut byte, mut bit) = (0u32, 0u8);
+    let mut layout = LocalLayout::new();
     for (section, _, prefix) in SECTIONS {
         let mut count = 0;
         for (i, entry) in page.locals.iter().enumerate() {
@@ -47,30 +47,12 @@ pub(super) fn locals_of(page: &ArgumentPage, l_slot: u8) -> Vec<Local> {
                 continue;
             }
             let width = entry.data_type.width();
-            let address = if width == Width::Bit {
-                if bit == 8 {
-                    byte += 1;
-                    bit = 0;
-                }
-                bit += 1;
-                Address {
-                    slot: l_slot,
-                    width,
-                    offset: byte,
-                    bit: bit - 1,
-                }
-            } else {
-                if bit > 0 {
-                    byte += 1;
-                    bit = 0;
-                }
-                byte += width.bytes();
-                Address {
-                    slot: l_slot,
-                    width,
-                    offset: byte - width.bytes(),
-                    bit: 0,
-                }
+            let (offset, bit) = layout.place(width);
+            let address = Address {
+                slot: l_slot,
+                width,
+                offset,
+                bit,
             };
             out.push(Local {
                 name: format!("{prefix}{count}"),
