@@ -250,9 +250,8 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
 /// `MAIN:2:0`, `SBR0:1:3`, `INT1:1:0`, `8:1:0`: a function (unit page), network and
 /// step.
 fn parse_breakpoint(target: &Target, text: &str) -> Result<Position, Fatal> {
-    let (function, network, step) =
-        gutta_format::parse_position(text, &target.plc)
-            .map_err(|e| Fatal(format!("--break {e}")))?;
+    let (function, network, step) = gutta_format::parse_position(text, &target.plc)
+        .map_err(|e| Fatal(format!("--break {e}")))?;
     Ok(Position {
         function,
         network,
