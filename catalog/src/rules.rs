@@ -314,3 +314,21 @@ impl LocalLayout {
         }
     }
 }
+
+/// Serial port settings of a system block (docs/language.md section 11), as the
+/// vendor's editor allows them: 8 data bits (RTU), 1 or 2 stop bits, a response
+/// timeout of 1..255 x 100 ms and a frame gap of 1..255 x 1 ms.
+pub mod port {
+    use std::ops::RangeInclusive;
+
+    pub const DATA_BITS: u8 = 8;
+    pub const STOP_BITS: RangeInclusive<u8> = 1..=2;
+    pub const TIMEOUT: RangeInclusive<u8> = 1..=255;
+    pub const FRAME_GAP: RangeInclusive<u8> = 1..=255;
+}
+
+/// Whether a login password may be these bytes: 1..16 ASCII characters, none of
+/// them NUL (the system page pads the password with zeros).
+pub fn password_allowed(password: &[u8]) -> bool {
+    (1..=16).contains(&password.len()) && password.iter().all(|b| (1..=0x7F).contains(b))
+}

@@ -249,3 +249,16 @@ fn locals_pack_bools_and_start_other_types_at_the_next_byte() {
     assert_eq!(last, Some((1, 0)));
     assert_eq!(layout.place(Width::Word), (2, 0));
 }
+
+#[test]
+fn port_settings_and_passwords() {
+    assert!(rules::port::STOP_BITS.contains(&2) && !rules::port::STOP_BITS.contains(&0));
+    assert!(!rules::port::TIMEOUT.contains(&0) && rules::port::FRAME_GAP.contains(&255));
+    assert_eq!(rules::port::DATA_BITS, 8);
+    assert!(rules::password_allowed(b"1234"));
+    assert!(rules::password_allowed(b"0123456789ABCDEF"));
+    assert!(!rules::password_allowed(b""));
+    assert!(!rules::password_allowed(b"0123456789ABCDEFG"));
+    assert!(!rules::password_allowed(b"12\x003"));
+    assert!(!rules::password_allowed("pässword".as_bytes()));
+}

@@ -96,81 +96,90 @@ impl Checker<'_> {
 
     /// Recursion, call depth from each interrupt routine, subroutines never called.
     pub(super) fn call_graph(&mut self, calls: &[CallSite]) {
-        let n = self.units.len();
-        let mut edges: Vec<Vec<(usize, Span)>> = vec![Vec::new(); n];
+        let mut edges: Vec<Vec<(usize, Span)>> = vec![Vec::new(); self.units.len()];
         for c in calls {
             edges[c.caller].push((c.callee, c.span));
         }
-        // Recursion: a cycle through the call graph.
+        // Depths only mean something without cycles.
+        if !self.recursion(&edges) {
+            self.call_depths(&edges);
+        }
+        self.unused_subroutines(calls);
+    }
+
+    /// Report each unit that reaches itself through CALLs; whether there was one.
+    fn recursion(&mut self, edges: &[Vec<(usize, Span)>]) -> bool {
+        let n = edges.len();
         let mut reported = vec![false; n];
         for start in 0..n {
             let mut stack = vec![(start, 0usize)];
             let mut on_path = vec![false; n];
             on_path[start] = true;
             while let Some(&mut (node, ref mut next)) = stack.last_mut() {
-                if *next < edges[node].len() {
-                    let (to, span) = edges[node][*next];
-                    *next += 1;
-                    if to == start && !reported[start] {
-                        reported[start] = true;
-                        let name = self.units[start].name.clone();
-                        self.report(
-                            Diagnostic::new(
-                                Code::CallCycle,
-                                span,
-                                format!(
-                                    "{name} calls itself (directly or through other subroutines)"
-                                ),
-                            )
-                            .help("the PLC cannot run recursive subroutines"),
-                        );
-                    } else if !on_path[to] && stack.len() < n {
-                        on_path[to] = true;
-                        stack.push((to, 0));
-                    }
-                } else {
+                let Some(&(to, span)) = edges[node].get(*next) else {
                     on_path[node] = false;
                     stack.pop();
-                }
-            }
-        }
-        // Depth from each interrupt routine (only without cycles).
-        if !reported.iter().any(|r| *r) {
-            let limit = self.target.instructions.call_depth as usize;
-            fn depth(
-                u: usize,
-                edges: &[Vec<(usize, Span)>],
-                memo: &mut Vec<Option<usize>>,
-            ) -> usize {
-                if let Some(d) = memo[u] {
-                    return d;
-                }
-                memo[u] = Some(0);
-                let d = edges[u]
-                    .iter()
-                    .map(|(v, _)| 1 + depth(*v, edges, memo))
-                    .max()
-                    .unwrap_or(0);
-                memo[u] = Some(d);
-                d
-            }
-            let mut memo = vec![None; n];
-            for u in 0..n {
-                if self.units[u].kind == BlockKind::Interrupt {
-                    let d = depth(u, &edges, &mut memo);
-                    if d > limit {
-                        let span = self.out.definitions[self.units[u].definition].span;
-                        let name = self.units[u].name.clone();
-                        self.report(Diagnostic::new(
+                    continue;
+                };
+                *next += 1;
+                if to == start && !reported[start] {
+                    reported[start] = true;
+                    let name = self.units[start].name.clone();
+                    self.report(
+                        Diagnostic::new(
                             Code::CallCycle,
                             span,
-                            format!("calls from {name} nest {d} deep; the PLC allows {limit}"),
-                        ));
-                    }
+                            format!("{name} calls itself (directly or through other subroutines)"),
+                        )
+                        .help("the PLC cannot run recursive subroutines"),
+                    );
+                } else if !on_path[to] && stack.len() < n {
+                    on_path[to] = true;
+                    stack.push((to, 0));
                 }
             }
         }
-        for u in 0..n {
+        reported.contains(&true)
+    }
+
+    /// Calls from each interrupt routine nest at most `CallDepth` deep (the graph has
+    /// no cycles).
+    fn call_depths(&mut self, edges: &[Vec<(usize, Span)>]) {
+        fn depth(u: usize, edges: &[Vec<(usize, Span)>], memo: &mut Vec<Option<usize>>) -> usize {
+            if let Some(d) = memo[u] {
+                return d;
+            }
+            memo[u] = Some(0);
+            let d = edges[u]
+                .iter()
+                .map(|(v, _)| 1 + depth(*v, edges, memo))
+                .max()
+                .unwrap_or(0);
+            memo[u] = Some(d);
+            d
+        }
+        let limit = self.target.instructions.call_depth as usize;
+        let mut memo = vec![None; edges.len()];
+        for u in 0..edges.len() {
+            if self.units[u].kind != BlockKind::Interrupt {
+                continue;
+            }
+            let d = depth(u, edges, &mut memo);
+            if d > limit {
+                let span = self.out.definitions[self.units[u].definition].span;
+                let name = self.units[u].name.clone();
+                self.report(Diagnostic::new(
+                    Code::CallCycle,
+                    span,
+                    format!("calls from {name} nest {d} deep; the PLC allows {limit}"),
+                ));
+            }
+        }
+    }
+
+    /// W-code: a subroutine no other unit calls.
+    fn unused_subroutines(&mut self, calls: &[CallSite]) {
+        for u in 0..self.units.len() {
             if self.units[u].kind == BlockKind::Subroutine
                 && !calls.iter().any(|c| c.callee == u && c.caller != u)
             {

@@ -4,7 +4,7 @@
 
 use std::collections::BTreeMap;
 
-use gutta_catalog::{BlockKind, Flow, InstrId, OperandSpec, Role, Width};
+use gutta_catalog::{BlockKind, Flow, InstrId, Instruction, OperandSpec, Role, Width};
 
 use super::calls::CallSite;
 use super::code::CodeContext;
@@ -28,48 +28,13 @@ impl Checker<'_> {
         // Borrowed from the target, not from `self` (no clone per instruction).
         let target = self.target;
         let spec = target.instructions.get(id);
-        let m = spec.mnemonic.as_str();
-        let fixed = spec.operands.len();
-        let count_ok = if spec.call_arguments {
-            ops.len() >= fixed
-        } else {
-            ops.len() == fixed
-        };
-        if !count_ok {
-            let names: Vec<&str> = spec.operands.iter().map(|o| o.name.as_str()).collect();
-            let want = if names.is_empty() {
-                "no operands".to_string()
-            } else {
-                format!(
-                    "{} operand{} ({})",
-                    fixed,
-                    if fixed == 1 { "" } else { "s" },
-                    names.join(", ")
-                )
-            };
-            let at = if ops.is_empty() {
-                mnemonic_span
-            } else {
-                ops[0].span.to(ops[ops.len() - 1].span)
-            };
-            self.report(
-                Diagnostic::new(
-                    Code::OperandCount,
-                    at,
-                    format!("`{m}` takes {want}, found {}", ops.len()),
-                )
-                .help(if spec.example.is_empty() {
-                    spec.summary.clone()
-                } else {
-                    format!("for example: {}", spec.example.lines().next().unwrap_or(""))
-                }),
-            );
+        if !self.operand_count(spec, ops, mnemonic_span) {
             return None;
         }
         let mut out = Vec::with_capacity(ops.len());
         let mut ok = true;
         for (op, os) in ops.iter().zip(&spec.operands) {
-            match self.operand(ui, op, os, m) {
+            match self.operand(ui, op, os, &spec.mnemonic) {
                 Some(c) => {
                     if let CheckedOperand::Label(n) = c {
                         if spec.flow != Flow::Always && !cx.labels[ui].contains_key(&n) {
@@ -84,28 +49,11 @@ impl Checker<'_> {
             }
         }
         if spec.call_arguments {
-            let callee = match out.first() {
-                Some(CheckedOperand::Unit {
-                    kind: BlockKind::Subroutine,
-                    number,
-                }) => self
-                    .units
-                    .iter()
-                    .position(|u| u.kind == BlockKind::Subroutine && u.number == *number),
-                _ => None,
-            };
-            if let Some(callee) = callee {
-                cx.calls.push(CallSite {
-                    caller: ui,
-                    callee,
-                    span: ops[0].span,
-                });
-                match self.call_arguments(ui, callee, &ops[fixed..], ops[0].span) {
-                    Some(args) => out.extend(args),
-                    None => ok = false,
-                }
-            } else {
-                ok = false;
+            let callee_span = ops.first().map_or(mnemonic_span, |o| o.span);
+            let args = ops.get(spec.operands.len()..).unwrap_or_default();
+            match self.call(ui, &out, args, callee_span, cx) {
+                Some(args) => out.extend(args),
+                None => ok = false,
             }
         }
         ok.then_some(CheckedInstruction {
@@ -113,6 +61,76 @@ impl Checker<'_> {
             operands: out,
             span,
         })
+    }
+
+    /// The record has the instruction's operands (at least, before CALL arguments).
+    fn operand_count(&mut self, spec: &Instruction, ops: &[Operand], mnemonic_span: Span) -> bool {
+        let fixed = spec.operands.len();
+        let count_ok = if spec.call_arguments {
+            ops.len() >= fixed
+        } else {
+            ops.len() == fixed
+        };
+        if count_ok {
+            return true;
+        }
+        let names: Vec<&str> = spec.operands.iter().map(|o| o.name.as_str()).collect();
+        let want = if names.is_empty() {
+            "no operands".to_string()
+        } else {
+            format!(
+                "{} operand{} ({})",
+                fixed,
+                if fixed == 1 { "" } else { "s" },
+                names.join(", ")
+            )
+        };
+        let at = match (ops.first(), ops.last()) {
+            (Some(first), Some(last)) => first.span.to(last.span),
+            _ => mnemonic_span,
+        };
+        self.report(
+            Diagnostic::new(
+                Code::OperandCount,
+                at,
+                format!("`{}` takes {want}, found {}", spec.mnemonic, ops.len()),
+            )
+            .help(if spec.example.is_empty() {
+                spec.summary.clone()
+            } else {
+                format!("for example: {}", spec.example.lines().next().unwrap_or(""))
+            }),
+        );
+        false
+    }
+
+    /// A CALL of the subroutine its first checked operand names: a call-graph edge and
+    /// the checked arguments; `None` when the callee or an argument is refused.
+    fn call(
+        &mut self,
+        ui: usize,
+        checked: &[CheckedOperand],
+        args: &[Operand],
+        callee_span: Span,
+        cx: &mut CodeContext,
+    ) -> Option<Vec<CheckedOperand>> {
+        let Some(CheckedOperand::Unit {
+            kind: BlockKind::Subroutine,
+            number,
+        }) = checked.first()
+        else {
+            return None;
+        };
+        let callee = self
+            .units
+            .iter()
+            .position(|u| u.kind == BlockKind::Subroutine && u.number == *number)?;
+        cx.calls.push(CallSite {
+            caller: ui,
+            callee,
+            span: callee_span,
+        });
+        self.call_arguments(ui, callee, args, callee_span)
     }
 
     /// A jump to a label its unit does not have (perhaps another unit has it).

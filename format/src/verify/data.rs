@@ -5,7 +5,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use gutta_catalog::rules::DataRules;
+use gutta_catalog::rules::{self, port, DataRules};
 use gutta_catalog::{Target, Width};
 
 use super::error::{Location, VerifyError};
@@ -145,11 +145,11 @@ fn check_port(b: &[u8], p: usize, id: PageId) -> Result<(), VerifyError> {
             |v| usize::from(v) < BAUD_RATES.len(),
             "0..4",
         ),
-        (3, "data bits", |v| v == 8, "8"),
+        (3, "data bits", |v| v == port::DATA_BITS, "8"),
         (4, "parity", |v| v <= 2, "0..2"),
-        (5, "stop bits", |v| (1..=2).contains(&v), "1 or 2"),
-        (6, "timeout", |v| v >= 1, "1..255"),
-        (7, "frame gap", |v| v >= 1, "1..255"),
+        (5, "stop bits", |v| port::STOP_BITS.contains(&v), "1 or 2"),
+        (6, "timeout", |v| port::TIMEOUT.contains(&v), "1..255"),
+        (7, "frame gap", |v| port::FRAME_GAP.contains(&v), "1..255"),
     ];
     for (field_offset, field, ok, allowed) in rules {
         let offset = 2 + 8 * p + field_offset;
@@ -174,14 +174,10 @@ fn check_password(password: &[u8], at: Location) -> Result<(), VerifyError> {
     if password.iter().all(|&b| b == 0xFF) {
         return Ok(());
     }
+    // The characters, then zeros.
     let text = password.iter().take_while(|&&b| b != 0).count();
-    let ascii = password
-        .get(..text)
-        .is_some_and(|t| t.iter().all(|b| (1..=0x7F).contains(b)));
-    let padding = password
-        .get(text..)
-        .is_some_and(|p| p.iter().all(|&b| b == 0));
-    if text >= 1 && ascii && padding {
+    let (chars, padding) = password.split_at(text);
+    if rules::password_allowed(chars) && padding.iter().all(|&b| b == 0) {
         Ok(())
     } else {
         Err(VerifyError::SystemPassword { at })
