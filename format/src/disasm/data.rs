@@ -1,9 +1,9 @@
 //! Data pages as `DATA_BLOCK DATn` rows and the system page as `SYSTEM_BLOCK` keys,
 //! each value spelled so the compiler writes the same bytes back.
 
-use gutta_catalog::Width;
+use gutta_catalog::{DataType, Width};
 
-use super::operands::{bit_string_type, operand_name};
+use super::operands::operand_name;
 use super::Disassembler;
 use crate::{decode_data, DataItem, Operand, PageId, SystemPage};
 
@@ -110,7 +110,7 @@ impl Disassembler<'_> {
             Width::Dword => v.to_string(),
         };
         let at = self.target.memory.format_address(&address);
-        let ty = bit_string_type(width).keyword();
+        let ty = DataType::bit_string(width).keyword();
         Ok(format!("  {at:<8} {ty:<6} {value}"))
     }
 

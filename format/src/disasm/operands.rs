@@ -28,20 +28,6 @@ pub(super) fn operand_name(op: &Operand) -> &'static str {
     }
 }
 
-/// The untyped data type of a width (BOOL, BYTE, WORD, DWORD).
-pub(super) fn bit_string_type(w: Width) -> DataType {
-    match w {
-        Width::Bit => DataType::Bool,
-        Width::Byte => DataType::Byte,
-        Width::Word => DataType::Word,
-        Width::Dword => DataType::Dword,
-    }
-}
-
-fn is_bit_string(t: DataType) -> bool {
-    matches!(t, DataType::Byte | DataType::Word | DataType::Dword)
-}
-
 /// `0`..`9` in decimal, anything larger as `16#` and the width's hex digits.
 pub(super) fn unsigned_text(value: u64, width: Width) -> String {
     if value < 10 {
@@ -74,7 +60,7 @@ pub(super) fn integer_text(raw: u32, width: Width, spec: &OperandSpec) -> String
     };
     let fits = |v: i64| lo <= v && v <= hi;
     let all_signed = !spec.types.is_empty() && spec.types.iter().all(|t| t.is_signed());
-    let any_bits = spec.types.iter().any(|t| is_bit_string(*t));
+    let any_bits = spec.types.iter().any(|t| t.is_bit_string());
     let spell_unsigned = |v: i64| {
         if any_bits {
             unsigned_text(v as u64, width)
