@@ -3,9 +3,12 @@
 //! locals have their place in L. Only a program without errors is ever built.
 
 use gutta_catalog::{Address, BlockKind, DataType, InstrId, Width};
+use gutta_format::UnitRef;
 
 use crate::source::Span;
 use crate::syntax::ast::VarSection;
+
+/// How a memory operand is used: `Value`, `AddressOf` or `Pointer` (the format's USE).
 pub use gutta_format::Use;
 
 /// A constant operand (lives in K after lowering).
@@ -77,13 +80,17 @@ pub struct CheckedUnit {
 }
 
 impl CheckedUnit {
+    /// The unit as the image names it (a checked unit's number fits: E0413).
+    pub fn unit_ref(&self) -> UnitRef {
+        UnitRef {
+            kind: self.kind,
+            number: u16::try_from(self.number).unwrap_or(u16::MAX),
+        }
+    }
+
     /// `MAIN`, `INT1`, `SBR0`.
     pub fn numbered_name(&self) -> String {
-        match (self.kind, self.number) {
-            (BlockKind::Interrupt, 0) => "MAIN".to_string(),
-            (BlockKind::Interrupt, n) => format!("INT{n}"),
-            (BlockKind::Subroutine, n) => format!("SBR{n}"),
-        }
+        self.unit_ref().to_string()
     }
 }
 

@@ -145,12 +145,7 @@ pub fn lower(program: &CheckedProgram, target: &Target) -> Lowered {
         }
         units.push(LoweredUnit {
             // The checker refused units the target cannot have (E0403, E0413).
-            page: UnitRef {
-                kind: u.kind,
-                number: u16::try_from(u.number).unwrap_or(u16::MAX),
-            }
-            .page(&target.plc)
-            .map_or(u32::MAX, u32::from),
+            page: u.unit_ref().page(&target.plc).map_or(u32::MAX, u32::from),
             name: u.numbered_name(),
             arguments,
             records,
