@@ -1,6 +1,6 @@
 //! The checker applies the rules of `gutta_catalog::rules`, the ones the verifier
 //! applies too: operand names such as PORT and EVNT compare case-insensitively, and an
-//! output parameter never takes `&` (a pointer value is only read).
+//! in-out or output parameter never takes `&` (a pointer value is only read).
 
 use std::sync::Arc;
 
@@ -68,18 +68,26 @@ fn port_and_evnt_compare_case_insensitively() {
 }
 
 #[test]
-fn an_output_parameter_takes_no_address_of() {
+fn only_an_input_parameter_takes_an_address() {
     let target = ExplicitTarget {
         target: stdlib::shared(stdlib::DEFAULT).expect("default target"),
         origin: "--plc CPU-EC20".to_string(),
     };
-    let source = |argument: &str| {
+    let source = |section: &str, argument: &str| {
         format!(
             "{MAIN_WITH}CALL GET, {argument}\nEND_ORGANIZATION_BLOCK\n\
-             SUBROUTINE_BLOCK GET:SBR0\nVAR_OUTPUT\n  p : DWORD;\nEND_VAR\nBEGIN\n\
-             NETWORK 1\nLD SM0.0\nMOVD 0, #p\nEND_SUBROUTINE_BLOCK\n"
+             SUBROUTINE_BLOCK GET:SBR0\n{section}\n  p : DWORD;\nEND_VAR\nBEGIN\n\
+             NETWORK 1\nLD SM0.0\nMOVD MD0, #p\nEND_SUBROUTINE_BLOCK\n"
         )
     };
-    assert_eq!(codes(&source("MD4"), &target), []);
-    assert_eq!(codes(&source("&MB24"), &target), [Code::UseNotAllowed]);
+    assert_eq!(codes(&source("VAR_OUTPUT", "MD4"), &target), []);
+    assert_eq!(
+        codes(&source("VAR_OUTPUT", "&MB24"), &target),
+        [Code::UseNotAllowed]
+    );
+    assert_eq!(
+        codes(&source("VAR_IN_OUT", "&MB24"), &target),
+        [Code::UseNotAllowed]
+    );
+    assert_eq!(codes(&source("VAR_INPUT", "&MB24"), &target), []);
 }
