@@ -12,6 +12,15 @@ use crate::diagnostics::{Code, Diagnostic};
 use crate::source::Span;
 use crate::syntax::ast::{self, BlockPrefix, VarSection};
 
+/// Where a unit's locals go in L.
+struct LocalPlacement {
+    slot: u8,
+    size: u32,
+    layout: LocalLayout,
+    /// Locals past the end of L are reported once.
+    reported_size: bool,
+}
+
 /// `INT0`, `INT3`, `SBR0`: the numbered name (MAIN's is INT0).
 fn numbered_name(kind: BlockKind, number: u32) -> String {
     match kind {
@@ -238,17 +247,19 @@ impl Checker<'_> {
         let Some(l_area) = self.target.memory.area_of_kind(AreaKind::Local) else {
             return (Vec::new(), Vec::new());
         };
-        let (l_slot, l_size) = (l_area.slot, l_area.size);
-        let plc = &self.target.plc;
-        let (max_args, max_name) = rules::locals_limit(plc, kind);
+        let mut place = LocalPlacement {
+            slot: l_area.slot,
+            size: l_area.size,
+            layout: LocalLayout::new(),
+            reported_size: false,
+        };
+        let (max_args, max_name) = rules::locals_limit(&self.target.plc, kind);
         // Order in L: inputs, in-outs, outputs, temporaries (stable within a section).
         let mut order: Vec<usize> = (0..u.vars.len()).collect();
         order.sort_by_key(|&i| u.vars[i].section);
         let mut seen: HashMap<String, Span> = HashMap::new();
         let mut locals = Vec::new();
         let mut defs = Vec::new();
-        let mut layout = LocalLayout::new();
-        let mut reported_size = false;
         for (count, i) in order.into_iter().enumerate() {
             let v = &u.vars[i];
             let Some(ty) = self.local_type(v, kind) else {
@@ -269,40 +280,21 @@ impl Checker<'_> {
             }
             seen.insert(key, v.name);
             if count as u32 >= max_args {
+                let plc = &self.target.plc;
+                let per = match kind {
+                    BlockKind::Subroutine => "subroutine",
+                    BlockKind::Interrupt => "interrupt routine",
+                };
                 self.report(Diagnostic::new(
                     Code::TooManyArguments,
                     v.name,
                     format!(
-                        "too many locals: {} allows {max_args} per {} ({max_name})",
-                        plc.name,
-                        if kind == BlockKind::Subroutine {
-                            "subroutine"
-                        } else {
-                            "interrupt routine"
-                        }
+                        "too many locals: {} allows {max_args} per {per} ({max_name})",
+                        plc.name
                     ),
                 ));
             }
-            let width = ty.width();
-            let (offset, bit) = layout.place(width);
-            let address = Address {
-                slot: l_slot,
-                width,
-                offset,
-                bit,
-            };
-            let end = address.offset + width.bytes();
-            if end > l_size && !reported_size {
-                reported_size = true;
-                self.report(
-                    Diagnostic::new(
-                        Code::LocalsTooLarge,
-                        v.name,
-                        format!("locals need {end} bytes of L; {} has {l_size}", plc.name),
-                    )
-                    .label("does not fit"),
-                );
-            }
+            let address = self.place_local(v, ty, &mut place);
             let at = self.target.memory.format_address(&address);
             let detail = format!("#{name} : {ty} ({}, {at})", v.section.keyword());
             let def = self.define(
@@ -322,6 +314,37 @@ impl Checker<'_> {
             defs.push(def);
         }
         (locals, defs)
+    }
+
+    /// The local's place in L; the first local past the end of L is reported.
+    fn place_local(
+        &mut self,
+        v: &ast::VarDecl,
+        ty: DataType,
+        place: &mut LocalPlacement,
+    ) -> Address {
+        let width = ty.width();
+        let (offset, bit) = place.layout.place(width);
+        let address = Address {
+            slot: place.slot,
+            width,
+            offset,
+            bit,
+        };
+        let end = offset + width.bytes();
+        if end > place.size && !place.reported_size {
+            place.reported_size = true;
+            let (plc, size) = (&self.target.plc.name, place.size);
+            self.report(
+                Diagnostic::new(
+                    Code::LocalsTooLarge,
+                    v.name,
+                    format!("locals need {end} bytes of L; {plc} has {size}"),
+                )
+                .label("does not fit"),
+            );
+        }
+        address
     }
 
     /// A local's type, if its section is one the unit may have and the type exists.
