@@ -149,6 +149,34 @@ impl Disassembler<'_> {
             }
         };
         let locals = locals_of(&page, self.l_slot());
+        self.check_argument_page(id, unit, &page, &locals);
+        for (section, keyword, _) in SECTIONS {
+            let mut any = false;
+            for l in locals.iter().filter(|l| l.section == section) {
+                if !any {
+                    self.line(keyword);
+                    any = true;
+                }
+                let decl = format!("  {} : {};", l.name, l.data_type);
+                let at = self.target.memory.format_address(&l.address);
+                self.line(&format!("{decl:<20} // {at}"));
+            }
+            if any {
+                self.line("END_VAR");
+            }
+        }
+        locals
+    }
+
+    /// What the text cannot reproduce of an argument page: a header naming another
+    /// unit, locals out of L order, a local where the language would not place it.
+    fn check_argument_page(
+        &mut self,
+        id: PageId,
+        unit: UnitRef,
+        page: &ArgumentPage,
+        locals: &[Local],
+    ) {
         let says = UnitRef {
             kind: if page.subroutine {
                 BlockKind::Subroutine
@@ -178,7 +206,7 @@ impl Disassembler<'_> {
                 "locals are not in L order (VAR_INPUT, VAR_IN_OUT, VAR_OUTPUT, VAR)",
             );
         }
-        for l in &locals {
+        for l in locals {
             let placed = PackedOperand::encode(Operand::Value(l.address));
             if placed != l.recorded {
                 let reason = format!(
@@ -191,22 +219,6 @@ impl Disassembler<'_> {
                 self.error(Some(id), l.entry, reason);
             }
         }
-        for (section, keyword, _) in SECTIONS {
-            let mut any = false;
-            for l in locals.iter().filter(|l| l.section == section) {
-                if !any {
-                    self.line(keyword);
-                    any = true;
-                }
-                let decl = format!("  {} : {};", l.name, l.data_type);
-                let at = self.target.memory.format_address(&l.address);
-                self.line(&format!("{decl:<20} // {at}"));
-            }
-            if any {
-                self.line("END_VAR");
-            }
-        }
-        locals
     }
 
     /// An operand for a message: its address if it is a plain one, else its bits.
