@@ -360,6 +360,10 @@ rejects! {
         let mb0_bit3 = with_field(val(&t, "MB0"), 0xF000, 0x3000);
         let e = check(&main_with(&t, vec![ins(&t, "MOVB", vec![mb0_bit3, val(&t, "MB1")])]).build(), &t);
         assert!(matches!(e, VerifyError::BitOffset { bit: 3, width: Width::Byte, .. }), "{e}");
+        // A pointer access has BIT_OFFSET 0 whatever it reads.
+        let md4_bit3 = with_field(ptr(&t, "MD4", Width::Word), 0xF000, 0x3000);
+        let e = check(&main_with(&t, vec![ins(&t, "MOVW", vec![md4_bit3, val(&t, "MW8")])]).build(), &t);
+        assert!(matches!(e, VerifyError::BitOffset { bit: 3, .. }), "{e}");
     }
 
     out_of_area => OutOfArea |check| {
