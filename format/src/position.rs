@@ -32,9 +32,8 @@ pub fn parse_position(text: &str, plc: &PlcType) -> Result<(u8, u16, u16), Strin
     } else {
         upper.parse::<u8>().ok()
     };
-    let function = page.ok_or_else(|| {
-        bad("FUNCTION is MAIN, INTn or SBRn of the target, or a page number below 256")
-    })?;
+    let function =
+        page.ok_or_else(|| bad("FUNCTION is MAIN, INTn, SBRn or a page number below 256"))?;
     let network = network
         .parse()
         .map_err(|_| bad("NETWORK is a network number"))?;
