@@ -4,7 +4,8 @@
 //! This crate is the only place in the workspace that reads XML. It does no file or
 //! network I/O itself: callers hand it bytes (see [`TargetSources`]); the stdlib
 //! targets are embedded at build time ([`stdlib`]). The compiler, the VM and the
-//! language server are all driven by the tables it returns.
+//! language server are all driven by the tables it returns; [`rules`] holds the rules
+//! on those tables that both the compiler's checker and the image verifier apply.
 
 mod address;
 pub mod docs;
@@ -13,6 +14,7 @@ mod instructions;
 mod memory;
 pub mod modbus;
 mod plc_type;
+pub mod rules;
 pub mod stdlib;
 mod text;
 mod types;

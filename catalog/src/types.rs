@@ -168,6 +168,16 @@ impl DataType {
 }
 
 impl DataType {
+    /// The untyped type of a width: BOOL, BYTE, WORD or DWORD.
+    pub fn bit_string(width: Width) -> DataType {
+        match width {
+            Width::Bit => DataType::Bool,
+            Width::Byte => DataType::Byte,
+            Width::Word => DataType::Word,
+            Width::Dword => DataType::Dword,
+        }
+    }
+
     /// BYTE, WORD or DWORD: raw bits without a numeric reading.
     pub fn is_bit_string(self) -> bool {
         matches!(self, DataType::Byte | DataType::Word | DataType::Dword)
@@ -210,5 +220,19 @@ impl FromStr for DataType {
             .into_iter()
             .find(|t| t.keyword().eq_ignore_ascii_case(s))
             .ok_or(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bit_strings_have_the_width_they_stand_for() {
+        for width in Width::ALL {
+            let ty = DataType::bit_string(width);
+            assert_eq!(ty.width(), width);
+            assert!(ty == DataType::Bool || ty.is_bit_string());
+        }
     }
 }

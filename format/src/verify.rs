@@ -5,6 +5,7 @@
 //! Order of the checks: identity (PLC type), which pages exist, size limits, argument
 //! pages, instruction pages, the call graph, data pages, the system page.
 
+mod code;
 mod data;
 mod error;
 mod operand;
@@ -17,7 +18,7 @@ use gutta_catalog::{AreaKind, BlockKind, InstrId, Target};
 pub use error::{Location, VerifyCode, VerifyError};
 
 use crate::{DataItem, Image, LocalEntry, PackedOperand, PageId, PageKind, SystemPage};
-use program::{kind_range, unit_of_page};
+use program::kind_range;
 
 /// An image that passed [`verify`] for one target, with its pages decoded for the VM.
 /// Only `verify` makes one. Instruction ids index the instruction set of the target it
@@ -167,7 +168,9 @@ fn verify_page_set(image: &Image, target: &Target) -> Result<(), VerifyError> {
             PageKind::System => (1, "system page 0 only"),
         };
         let exists = match id.kind {
-            PageKind::Argument | PageKind::Instruction => unit_of_page(target, id.number).is_some(),
+            PageKind::Argument | PageKind::Instruction => {
+                crate::UnitRef::from_page(id.number, plc).is_some()
+            }
             _ => u32::from(id.number) < count,
         };
         if !exists {

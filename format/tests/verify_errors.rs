@@ -313,6 +313,11 @@ rejects! {
         assert!(matches!(e, VerifyError::ValueOutOfRange { value: 1, min: 0, max: 0, .. }), "{e}");
         let t2 = target_named("CPU-EC20-M3");
         verify(&main_with(&t2, vec![ins(&t2, "EXCH", vec![val(&t2, "MB0"), lit(1)])]).build(), &t2).expect("two ports");
+        // Operand names compare case-insensitively (gutta_catalog::rules), as in the
+        // checker: a ManagerFun.xml that spells `port` narrows it the same.
+        let lower = target_with_manager_fun(|text| text.replace(r#"Name="PORT""#, r#"Name="port""#));
+        let e = check(&main_with(&lower, vec![ins(&lower, "EXCH", vec![val(&lower, "MB0"), lit(1)])]).build(), &lower);
+        assert!(matches!(e, VerifyError::ValueOutOfRange { value: 1, min: 0, max: 0, .. }), "{e}");
     }
 
     no_such_area => NoSuchArea |check| {
@@ -355,6 +360,10 @@ rejects! {
         let mb0_bit3 = with_field(val(&t, "MB0"), 0xF000, 0x3000);
         let e = check(&main_with(&t, vec![ins(&t, "MOVB", vec![mb0_bit3, val(&t, "MB1")])]).build(), &t);
         assert!(matches!(e, VerifyError::BitOffset { bit: 3, width: Width::Byte, .. }), "{e}");
+        // A pointer access has BIT_OFFSET 0 whatever it reads.
+        let md4_bit3 = with_field(ptr(&t, "MD4", Width::Word), 0xF000, 0x3000);
+        let e = check(&main_with(&t, vec![ins(&t, "MOVW", vec![md4_bit3, val(&t, "MW8")])]).build(), &t);
+        assert!(matches!(e, VerifyError::BitOffset { bit: 3, .. }), "{e}");
     }
 
     out_of_area => OutOfArea |check| {
@@ -565,6 +574,18 @@ rejects! {
             }
         }
         check(&spec.build(), &t);
+        // `evnt` in lower case is an event number all the same.
+        let lower = target_with_manager_fun(|text| text.replace(r#"Name="EVNT""#, r#"Name="evnt""#));
+        let mut spec = full_program(&lower);
+        for r in &mut spec.units.get_mut(&0).expect("MAIN").records {
+            if let Record::Instruction { operands, .. } = r {
+                if operands.first() == Some(&int(1)) {
+                    operands[1] = lit(9);
+                }
+            }
+        }
+        let e = check(&spec.build(), &lower);
+        assert!(matches!(e, VerifyError::UnknownEvent { event: 9, .. }), "{e}");
     }
 
     reserved_not_zero => ReservedNotZero |check| {

@@ -3,26 +3,33 @@
 
 use std::collections::BTreeMap;
 
-use gutta_catalog::{AreaKind, DataType, Width};
+use gutta_catalog::{rules, DataType, Width};
 
 use super::{CheckedDataBlock, Checker, ConstValue, DataItem, DefKind};
 use crate::diagnostics::{Code, Diagnostic};
 use crate::source::Span;
-use crate::syntax::ast::{BlockPrefix, OperandKind};
+use crate::syntax::ast::{self, BlockPrefix, OperandKind};
 
-const INITIALISABLE: [AreaKind; 5] = [
-    AreaKind::Memory,
-    AreaKind::DigitalOutput,
-    AreaKind::AnalogOutput,
-    AreaKind::Timer,
-    AreaKind::Counter,
-];
+/// Memory the data rows initialise: (slot, byte, bit) -> the row that sets it.
+type Initialised = BTreeMap<(u8, u32, u8), Span>;
 
 impl Checker<'_> {
     pub(super) fn data_blocks(&mut self) -> Vec<CheckedDataBlock> {
         let ast = self.ast;
-        let plc = self.target.plc.clone();
+        let numbers = self.data_block_numbers();
         let mut used: BTreeMap<u32, Span> = BTreeMap::new();
+        let mut initialised = Initialised::new();
+        let mut out = Vec::new();
+        for (d, number) in ast.data_blocks.iter().zip(numbers) {
+            out.push(self.data_block(d, number, &mut used, &mut initialised));
+        }
+        out.sort_by_key(|d| d.number);
+        out
+    }
+
+    /// Every data block's number: `DATn` as written, else the next free one from 0.
+    fn data_block_numbers(&mut self) -> Vec<u32> {
+        let ast = self.ast;
         let mut numbers = Vec::new();
         for d in &ast.data_blocks {
             let n = match d.header.number {
@@ -51,105 +58,112 @@ impl Checker<'_> {
                 numbers[i] = (0..).find(|n| !numbers.contains(&Some(*n)));
             }
         }
-        // Bytes already initialised: byte -> row span (bits by (byte, bit)).
-        let mut bytes: BTreeMap<(u8, u32, u8), Span> = BTreeMap::new();
-        let mut out = Vec::new();
-        for (d, number) in ast.data_blocks.iter().zip(numbers) {
-            let number = number.unwrap_or(0);
-            let name_text = self.slice(d.header.name);
-            let name = if name_text.is_empty() {
-                format!("DAT{number}")
-            } else {
-                name_text.to_string()
-            };
-            let span = if d.header.name.is_empty() {
-                d.header.span
-            } else {
-                d.header.name
-            };
-            if let Some(first) = used.get(&number) {
-                let first = *first;
+        numbers.into_iter().map(|n| n.unwrap_or(0)).collect()
+    }
+
+    /// One data block: its number (unique, in range), definition and rows.
+    fn data_block(
+        &mut self,
+        d: &ast::DataBlock,
+        number: u32,
+        used: &mut BTreeMap<u32, Span>,
+        initialised: &mut Initialised,
+    ) -> CheckedDataBlock {
+        let plc = &self.target.plc;
+        let name_text = self.slice(d.header.name);
+        let name = if name_text.is_empty() {
+            format!("DAT{number}")
+        } else {
+            name_text.to_string()
+        };
+        let span = if d.header.name.is_empty() {
+            d.header.span
+        } else {
+            d.header.name
+        };
+        if let Some(&first) = used.get(&number) {
+            self.report(
+                Diagnostic::new(
+                    Code::DuplicateBlock,
+                    span,
+                    format!("DAT{number} is defined twice"),
+                )
+                .with_secondary(first, "first defined here"),
+            );
+        }
+        used.insert(number, span);
+        if number >= plc.data_block_page_size {
+            self.report(Diagnostic::new(Code::BlockNumberRange, span, format!("DAT{number} is out of range: {} allows {} data blocks, DAT0..DAT{} (DataBlockPageSize)", plc.name, plc.data_block_page_size, plc.data_block_page_size.saturating_sub(1))));
+        }
+        let def = self.define(
+            name.clone(),
+            DefKind::DataBlock,
+            span,
+            format!("DAT{number} {name}: {} rows", d.rows.len()),
+            None,
+        );
+        self.data_names.insert(name.to_ascii_uppercase(), def);
+        let mut items = Vec::new();
+        for (k, row) in d.rows.iter().enumerate() {
+            if k as u32 == plc.data_block_page_item_size {
                 self.report(
                     Diagnostic::new(
-                        Code::DuplicateBlock,
-                        span,
-                        format!("DAT{number} is defined twice"),
+                        Code::DataBlockTooLarge,
+                        row.span,
+                        format!(
+                            "a data block holds at most {} rows on {} (DataBlockPageItemSize)",
+                            plc.data_block_page_item_size, plc.name
+                        ),
                     )
-                    .with_secondary(first, "first defined here"),
+                    .label("first row too many"),
                 );
             }
-            used.insert(number, span);
-            if number >= plc.data_block_page_size {
-                self.report(Diagnostic::new(Code::BlockNumberRange, span, format!("DAT{number} is out of range: {} allows {} data blocks, DAT0..DAT{} (DataBlockPageSize)", plc.name, plc.data_block_page_size, plc.data_block_page_size.saturating_sub(1))));
-            }
-            let def = self.define(
-                name.clone(),
-                DefKind::DataBlock,
-                span,
-                format!("DAT{number} {name}: {} rows", d.rows.len()),
-                None,
-            );
-            self.data_names.insert(name.to_ascii_uppercase(), def);
-            let mut items = Vec::new();
-            for (k, row) in d.rows.iter().enumerate() {
-                if k as u32 == plc.data_block_page_item_size {
-                    self.report(
-                        Diagnostic::new(
-                            Code::DataBlockTooLarge,
-                            row.span,
-                            format!(
-                                "a data block holds at most {} rows on {} (DataBlockPageItemSize)",
-                                plc.data_block_page_item_size, plc.name
-                            ),
-                        )
-                        .label("first row too many"),
-                    );
-                }
-                if let Some(item) = self.data_row(row) {
-                    let first_bit = if item.address.width == Width::Bit {
-                        item.address.bit
-                    } else {
-                        0
-                    };
-                    let cells: Vec<(u8, u32, u8)> = if item.address.width == Width::Bit {
-                        vec![(item.address.slot, item.address.offset, first_bit)]
-                    } else {
-                        (0..item.address.width.bytes())
-                            .flat_map(|b| {
-                                (0..8).map(move |bit| {
-                                    (item.address.slot, item.address.offset + b, bit)
-                                })
-                            })
-                            .collect()
-                    };
-                    if let Some(prev) = cells.iter().find_map(|c| bytes.get(c)).copied() {
-                        self.report(
-                            Diagnostic::new(
-                                Code::DataOverlap,
-                                row.address,
-                                "this row initialises memory another row already sets",
-                            )
-                            .with_secondary(prev, "first set here"),
-                        );
-                        continue;
-                    }
-                    for c in cells {
-                        bytes.insert(c, row.span);
-                    }
+            if let Some(item) = self.data_row(row) {
+                if self.no_overlap(row, &item, initialised) {
                     items.push(item);
                 }
             }
-            out.push(CheckedDataBlock {
-                number,
-                name,
-                items,
-            });
         }
-        out.sort_by_key(|d| d.number);
-        out
+        CheckedDataBlock {
+            number,
+            name,
+            items,
+        }
     }
 
-    fn data_row(&mut self, row: &crate::syntax::ast::DataRow) -> Option<DataItem> {
+    /// The row sets no bit another row already sets; marks its bits.
+    fn no_overlap(
+        &mut self,
+        row: &ast::DataRow,
+        item: &DataItem,
+        initialised: &mut Initialised,
+    ) -> bool {
+        let a = item.address;
+        let cells: Vec<(u8, u32, u8)> = if a.width == Width::Bit {
+            vec![(a.slot, a.offset, a.bit)]
+        } else {
+            (0..a.width.bytes())
+                .flat_map(|b| (0..8).map(move |bit| (a.slot, a.offset + b, bit)))
+                .collect()
+        };
+        if let Some(prev) = cells.iter().find_map(|c| initialised.get(c)).copied() {
+            self.report(
+                Diagnostic::new(
+                    Code::DataOverlap,
+                    row.address,
+                    "this row initialises memory another row already sets",
+                )
+                .with_secondary(prev, "first set here"),
+            );
+            return false;
+        }
+        for c in cells {
+            initialised.insert(c, row.span);
+        }
+        true
+    }
+
+    fn data_row(&mut self, row: &ast::DataRow) -> Option<DataItem> {
         // A row names its variable by address or by symbol.
         let key = self.slice(row.address).to_ascii_uppercase();
         let address = match self.symbols.get(&key) {
@@ -160,7 +174,7 @@ impl Checker<'_> {
             None => self.direct_address(row.address, Some("a data row"))?,
         };
         let area = self.target.memory.area_by_slot(address.slot)?.clone();
-        if !INITIALISABLE.contains(&area.kind) {
+        if !rules::INITIALISABLE.contains(&area.kind) {
             self.report(
                 Diagnostic::new(
                     Code::DataArea,
@@ -191,12 +205,7 @@ impl Checker<'_> {
                     }
                 }
             }
-            None => match address.width {
-                Width::Bit => DataType::Bool,
-                Width::Byte => DataType::Byte,
-                Width::Word => DataType::Word,
-                Width::Dword => DataType::Dword,
-            },
+            None => DataType::bit_string(address.width),
         };
         if ty.width() != address.width {
             self.report(
@@ -205,6 +214,17 @@ impl Checker<'_> {
             );
             return None;
         }
+        let value = self.data_value(row, ty)?;
+        Some(DataItem {
+            address,
+            ty,
+            value,
+            span: row.span,
+        })
+    }
+
+    /// A row's value: a number its type holds.
+    fn data_value(&mut self, row: &ast::DataRow, ty: DataType) -> Option<ConstValue> {
         let value = match (row.value.kind, ty) {
             (OperandKind::Error, _) => return None,
             (OperandKind::Real(v), DataType::Real) => ConstValue::Real(v as f32),
@@ -233,11 +253,6 @@ impl Checker<'_> {
                 return None;
             }
         };
-        Some(DataItem {
-            address,
-            ty,
-            value,
-            span: row.span,
-        })
+        Some(value)
     }
 }

@@ -3,8 +3,14 @@
 //! ManagerFun.xml, enforces the PlcType limits, and records definitions and references
 //! for the language server. It skips parser error nodes without reporting them again.
 
+mod address;
+mod calls;
 mod code;
+mod constants;
 mod data;
+mod instruction;
+mod memory;
+mod names;
 mod operands;
 pub mod program;
 mod suggest;
@@ -13,11 +19,11 @@ mod units;
 
 use std::collections::HashMap;
 
-use gutta_catalog::{Address, Target};
+use gutta_catalog::{Address, BlockKind, Target};
 
 use crate::diagnostics::{Code, Diagnostic};
 use crate::source::Span;
-use crate::syntax::ast::{Program, UnitKind};
+use crate::syntax::ast::Program;
 pub use program::*;
 
 /// What a definition is.
@@ -67,7 +73,7 @@ pub struct CheckOutput {
 /// Per-unit facts gathered before the code is checked.
 #[derive(Debug, Clone)]
 pub(crate) struct UnitInfo {
-    pub kind: UnitKind,
+    pub kind: BlockKind,
     pub number: u32,
     pub name: String,
     /// Index into `ast.units`.
@@ -178,7 +184,7 @@ impl Checker<'_> {
                     && letters.ends_with(['B', 'W', 'D']))
         };
         self.target.memory.areas.iter().any(|a| fits(&a.name))
-            || operands::stdlib_memory_maps()
+            || address::stdlib_memory_maps()
                 .iter()
                 .flat_map(|(_, m)| m)
                 .any(|m| m.areas.iter().any(|a| fits(&a.name)))

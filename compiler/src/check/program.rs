@@ -2,21 +2,14 @@
 //! resolved to an address, a constant, a label or a unit; every unit has its number;
 //! locals have their place in L. Only a program without errors is ever built.
 
-use gutta_catalog::{Address, DataType, InstrId, Width};
+use gutta_catalog::{Address, BlockKind, DataType, InstrId, Width};
+use gutta_format::UnitRef;
 
 use crate::source::Span;
-use crate::syntax::ast::{UnitKind, VarSection};
+use crate::syntax::ast::VarSection;
 
-/// How a memory operand is used (the USE field of the packed operand).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Use {
-    /// The variable's value.
-    Value = 0,
-    /// `&MB24`: the address of the byte, as a 32-bit pointer value.
-    AddressOf = 1,
-    /// `*MD4`: the variable the pointer held in MD4 points to.
-    Pointer = 2,
-}
+/// How a memory operand is used: `Value`, `AddressOf` or `Pointer` (the format's USE).
+pub use gutta_format::Use;
 
 /// A constant operand (lives in K after lowering).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -29,7 +22,8 @@ pub enum ConstValue {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum CheckedOperand {
     /// `address` is where the variable (or, for `Pointer`, the pointer) lives;
-    /// `width` is the access width the instruction uses.
+    /// `width` is the access width the instruction uses. `use_` is `Value`,
+    /// `AddressOf` or `Pointer` (the USE values of a memory operand).
     Memory {
         address: Address,
         use_: Use,
@@ -41,7 +35,7 @@ pub enum CheckedOperand {
     },
     Label(u16),
     Unit {
-        kind: UnitKind,
+        kind: BlockKind,
         number: u32,
     },
     Literal(i64),
@@ -75,7 +69,7 @@ pub struct Local {
 
 #[derive(Debug, Clone, PartialEq)]
 pub struct CheckedUnit {
-    pub kind: UnitKind,
+    pub kind: BlockKind,
     /// INTn or SBRn; MAIN is INT0.
     pub number: u32,
     pub name: String,
@@ -86,13 +80,17 @@ pub struct CheckedUnit {
 }
 
 impl CheckedUnit {
+    /// The unit as the image names it (a checked unit's number fits: E0413).
+    pub fn unit_ref(&self) -> UnitRef {
+        UnitRef {
+            kind: self.kind,
+            number: u16::try_from(self.number).unwrap_or(u16::MAX),
+        }
+    }
+
     /// `MAIN`, `INT1`, `SBR0`.
     pub fn numbered_name(&self) -> String {
-        match (self.kind, self.number) {
-            (UnitKind::Interrupt, 0) => "MAIN".to_string(),
-            (UnitKind::Interrupt, n) => format!("INT{n}"),
-            (UnitKind::Subroutine, n) => format!("SBR{n}"),
-        }
+        self.unit_ref().to_string()
     }
 }
 

@@ -1,12 +1,16 @@
 //! The system block: serial port settings per port of the target and the password,
-//! with the ranges the vendor's editor allows.
+//! in the ranges of `gutta_catalog::rules` (the verifier checks the system page by
+//! the same) and the baud rates of `gutta_format::BAUD_RATES`.
 
 use std::collections::HashMap;
+
+use gutta_catalog::rules::{self, port};
+use gutta_format::BAUD_RATES;
 
 use super::{Checker, Parity, PortConfig, SystemConfig};
 use crate::diagnostics::{Code, Diagnostic};
 use crate::source::Span;
-use crate::syntax::ast::SystemValue;
+use crate::syntax::ast::{SystemEntry, SystemValue};
 
 const PORT_KEYS: [&str; 8] = [
     "PROTOCOL",
@@ -18,7 +22,14 @@ const PORT_KEYS: [&str; 8] = [
     "TIMEOUT",
     "FRAME_GAP",
 ];
-const BAUDS: [i64; 5] = [9600, 19200, 38400, 57600, 115200];
+
+/// A port setting's value as written.
+struct SettingValue {
+    int: Option<i64>,
+    /// A word, upper-cased (`MODBUS`, `EVEN`).
+    word: Option<String>,
+    span: Span,
+}
 
 impl Checker<'_> {
     pub(super) fn system_block(&mut self) -> Option<SystemConfig> {
@@ -42,8 +53,7 @@ impl Checker<'_> {
         let mut seen: HashMap<String, Span> = HashMap::new();
         for e in ast.system_blocks.iter().flat_map(|b| &b.entries) {
             let key = self.slice(e.key).to_ascii_uppercase().replace(' ', "");
-            if let Some(prev) = seen.get(&key) {
-                let prev = *prev;
+            if let Some(&prev) = seen.get(&key) {
                 self.report(
                     Diagnostic::new(
                         Code::DuplicateSystemKey,
@@ -59,135 +69,163 @@ impl Checker<'_> {
                 continue;
             }
             if key == "PASSWORD" {
-                match &e.value {
-                    SystemValue::Str(s, span) if s.is_ascii() && s.len() <= 16 && !s.is_empty() => {
-                        let _ = span;
-                        config.password = Some(s.clone());
+                self.password(e, &mut config);
+                continue;
+            }
+            let Some((port, field)) = self.port_key(e, &key) else {
+                continue;
+            };
+            let value = SettingValue {
+                int: match e.value {
+                    SystemValue::Integer(v, _) => Some(v),
+                    _ => None,
+                },
+                word: match e.value {
+                    SystemValue::Word(w) => {
+                        Some(self.text.get(w.range()).unwrap_or("").to_ascii_uppercase())
                     }
-                    SystemValue::Str(_, span) => self.report(Diagnostic::new(
-                        Code::SystemValue,
-                        *span,
-                        "PASSWORD must be 1..16 ASCII characters",
-                    )),
-                    _ => self.report(
-                        Diagnostic::new(Code::SystemValue, e.span, "PASSWORD is a quoted string")
-                            .help("for example `PASSWORD = \"1234\"`"),
-                    ),
-                }
-                continue;
-            }
-            let Some((port, field)) = key
-                .strip_prefix("PORT")
-                .and_then(|r| r.split_once('.'))
-                .and_then(|(n, f)| Some((n.parse::<u8>().ok()?, f)))
-            else {
-                let mut all: Vec<String> = PORT_KEYS.iter().map(|k| format!("PORT0.{k}")).collect();
-                all.push("PASSWORD".into());
-                let hint = super::suggest::closest(&key, all.iter().map(String::as_str))
-                    .map(|s| format!("did you mean `{s}`?"));
-                self.report(
-                    Diagnostic::new(
-                        Code::UnknownSystemKey,
-                        e.key,
-                        format!("unknown system block key `{key}`"),
-                    )
-                    .maybe_help(hint),
-                );
-                continue;
-            };
-            if !PORT_KEYS.contains(&field) {
-                let hint = super::suggest::closest(field, PORT_KEYS)
-                    .map(|s| format!("did you mean `PORT{port}.{s}`?"));
-                self.report(
-                    Diagnostic::new(
-                        Code::UnknownSystemKey,
-                        e.key,
-                        format!("unknown port setting `{field}`"),
-                    )
-                    .maybe_help(hint),
-                );
-                continue;
-            }
-            if port >= ports {
-                self.report(Diagnostic::new(
-                    Code::NoSuchPort,
-                    e.key,
-                    format!(
-                        "{} has {ports} serial port{}: PORT0{}",
-                        self.target.name(),
-                        if ports == 1 { "" } else { "s" },
-                        if ports > 1 {
-                            format!("..PORT{}", ports - 1)
-                        } else {
-                            String::new()
-                        }
-                    ),
-                ));
-                continue;
-            }
-            let p = &mut config.ports[port as usize];
-            let int = match e.value {
-                SystemValue::Integer(v, _) => Some(v),
-                _ => None,
-            };
-            let word = match e.value {
-                SystemValue::Word(w) => {
-                    Some(self.text.get(w.range()).unwrap_or("").to_ascii_uppercase())
-                }
-                _ => None,
-            };
-            let value_span = match &e.value {
-                SystemValue::Integer(_, s) | SystemValue::Word(s) | SystemValue::Str(_, s) => *s,
-                SystemValue::Error => e.span,
-            };
-            let bad = |why: String| Diagnostic::new(Code::SystemValue, value_span, why);
-            let in_range = |v: Option<i64>, lo: i64, hi: i64| v.filter(|v| (lo..=hi).contains(v));
-            match field {
-                "PROTOCOL" => {
-                    if word.as_deref() != Some("MODBUS") {
-                        self.report(bad(
-                            "PROTOCOL must be MODBUS (free port is not implemented on EC20/EC30)"
-                                .into(),
-                        ));
+                    _ => None,
+                },
+                span: match &e.value {
+                    SystemValue::Integer(_, s) | SystemValue::Word(s) | SystemValue::Str(_, s) => {
+                        *s
                     }
-                }
-                "ADDRESS" => match in_range(int, 0, 255) {
-                    Some(v) => p.address = v as u8,
-                    None => self.report(bad("ADDRESS is the station number 0..255".into())),
+                    SystemValue::Error => e.span,
                 },
-                "BAUD" => match int.filter(|v| BAUDS.contains(v)) {
-                    Some(v) => p.baud = v as u32,
-                    None => self.report(bad(
-                        "BAUD must be 9600, 19200, 38400, 57600 or 115200".into()
-                    )),
-                },
-                "DATA_BITS" => {
-                    if int != Some(8) {
-                        self.report(bad(
-                            "DATA_BITS must be 8 (RTU; 7-bit ASCII is not implemented)".into(),
-                        ));
-                    }
-                }
-                "PARITY" => match word.as_deref() {
-                    Some("NONE") => p.parity = Parity::None,
-                    Some("EVEN") => p.parity = Parity::Even,
-                    Some("ODD") => p.parity = Parity::Odd,
-                    _ => self.report(bad("PARITY must be NONE, EVEN or ODD".into())),
-                },
-                "STOP_BITS" => match in_range(int, 1, 2) {
-                    Some(v) => p.stop_bits = v as u8,
-                    None => self.report(bad("STOP_BITS must be 1 or 2".into())),
-                },
-                "TIMEOUT" => match in_range(int, 1, 255) {
-                    Some(v) => p.timeout = v as u8,
-                    None => self.report(bad("TIMEOUT is 1..255 (x 100 ms)".into())),
-                },
-                _ => match in_range(int, 1, 255) {
-                    Some(v) => p.frame_gap = v as u8,
-                    None => self.report(bad("FRAME_GAP is 1..255 (x 1 ms)".into())),
-                },
-            }
+            };
+            self.port_setting(&mut config.ports[usize::from(port)], field, &value);
         }
         Some(config)
+    }
+
+    /// `PASSWORD = "..."`: 1..16 ASCII characters.
+    fn password(&mut self, e: &SystemEntry, config: &mut SystemConfig) {
+        match &e.value {
+            SystemValue::Str(s, _) if rules::password_allowed(s.as_bytes()) => {
+                config.password = Some(s.clone());
+            }
+            SystemValue::Str(_, span) => self.report(Diagnostic::new(
+                Code::SystemValue,
+                *span,
+                "PASSWORD must be 1..16 ASCII characters",
+            )),
+            _ => self.report(
+                Diagnostic::new(Code::SystemValue, e.span, "PASSWORD is a quoted string")
+                    .help("for example `PASSWORD = \"1234\"`"),
+            ),
+        }
+    }
+
+    /// `PORTn.FIELD`: a port the target has and a known field.
+    fn port_key<'k>(&mut self, e: &SystemEntry, key: &'k str) -> Option<(u8, &'k str)> {
+        let Some((port, field)) = key
+            .strip_prefix("PORT")
+            .and_then(|r| r.split_once('.'))
+            .and_then(|(n, f)| Some((n.parse::<u8>().ok()?, f)))
+        else {
+            let mut all: Vec<String> = PORT_KEYS.iter().map(|k| format!("PORT0.{k}")).collect();
+            all.push("PASSWORD".into());
+            let hint = super::suggest::closest(key, all.iter().map(String::as_str))
+                .map(|s| format!("did you mean `{s}`?"));
+            self.report(
+                Diagnostic::new(
+                    Code::UnknownSystemKey,
+                    e.key,
+                    format!("unknown system block key `{key}`"),
+                )
+                .maybe_help(hint),
+            );
+            return None;
+        };
+        if !PORT_KEYS.contains(&field) {
+            let hint = super::suggest::closest(field, PORT_KEYS)
+                .map(|s| format!("did you mean `PORT{port}.{s}`?"));
+            self.report(
+                Diagnostic::new(
+                    Code::UnknownSystemKey,
+                    e.key,
+                    format!("unknown port setting `{field}`"),
+                )
+                .maybe_help(hint),
+            );
+            return None;
+        }
+        let ports = self.target.memory.serial_ports;
+        if port >= ports {
+            self.report(Diagnostic::new(
+                Code::NoSuchPort,
+                e.key,
+                format!(
+                    "{} has {ports} serial port{}: PORT0{}",
+                    self.target.name(),
+                    if ports == 1 { "" } else { "s" },
+                    if ports > 1 {
+                        format!("..PORT{}", ports - 1)
+                    } else {
+                        String::new()
+                    }
+                ),
+            ));
+            return None;
+        }
+        Some((port, field))
+    }
+
+    /// One setting of one port, in its range.
+    fn port_setting(&mut self, p: &mut PortConfig, field: &str, value: &SettingValue) {
+        let bad = |why: &str| Diagnostic::new(Code::SystemValue, value.span, why.to_string());
+        let byte_in = |range: std::ops::RangeInclusive<u8>| {
+            value
+                .int
+                .and_then(|v| u8::try_from(v).ok())
+                .filter(|v| range.contains(v))
+        };
+        let word = value.word.as_deref();
+        match field {
+            "PROTOCOL" => {
+                if word != Some("MODBUS") {
+                    self.report(bad(
+                        "PROTOCOL must be MODBUS (free port is not implemented on EC20/EC30)",
+                    ));
+                }
+            }
+            "ADDRESS" => match byte_in(0..=255) {
+                Some(v) => p.address = v,
+                None => self.report(bad("ADDRESS is the station number 0..255")),
+            },
+            "BAUD" => match value
+                .int
+                .and_then(|v| u32::try_from(v).ok())
+                .filter(|v| BAUD_RATES.contains(v))
+            {
+                Some(v) => p.baud = v,
+                None => self.report(bad("BAUD must be 9600, 19200, 38400, 57600 or 115200")),
+            },
+            "DATA_BITS" => {
+                if value.int != Some(i64::from(port::DATA_BITS)) {
+                    self.report(bad(
+                        "DATA_BITS must be 8 (RTU; 7-bit ASCII is not implemented)",
+                    ));
+                }
+            }
+            "PARITY" => match word {
+                Some("NONE") => p.parity = Parity::None,
+                Some("EVEN") => p.parity = Parity::Even,
+                Some("ODD") => p.parity = Parity::Odd,
+                _ => self.report(bad("PARITY must be NONE, EVEN or ODD")),
+            },
+            "STOP_BITS" => match byte_in(port::STOP_BITS) {
+                Some(v) => p.stop_bits = v,
+                None => self.report(bad("STOP_BITS must be 1 or 2")),
+            },
+            "TIMEOUT" => match byte_in(port::TIMEOUT) {
+                Some(v) => p.timeout = v,
+                None => self.report(bad("TIMEOUT is 1..255 (x 100 ms)")),
+            },
+            _ => match byte_in(port::FRAME_GAP) {
+                Some(v) => p.frame_gap = v,
+                None => self.report(bad("FRAME_GAP is 1..255 (x 1 ms)")),
+            },
+        }
     }
 }

@@ -1,193 +1,46 @@
 //! Program units: numbering (MAIN = INT0, INTn, SBRn), duplicate names, PlcType
-//! limits on counts and numbers, and the locals of each unit laid out in L.
+//! limits on counts and numbers (`gutta_catalog::rules`, as the verifier), and the
+//! locals of each unit laid out in L (`rules::LocalLayout`).
 
-use gutta_catalog::{Address, AreaKind, DataType, Width};
+use std::collections::HashMap;
+
+use gutta_catalog::rules::{self, LocalLayout};
+use gutta_catalog::{Address, AreaKind, BlockKind, DataType};
 
 use super::{Checker, DefKind, Local, UnitInfo};
 use crate::diagnostics::{Code, Diagnostic};
 use crate::source::Span;
-use crate::syntax::ast::{BlockPrefix, UnitKind, VarSection};
+use crate::syntax::ast::{self, BlockPrefix, VarSection};
+
+/// Where a unit's locals go in L.
+struct LocalPlacement {
+    slot: u8,
+    size: u32,
+    layout: LocalLayout,
+    /// Locals past the end of L are reported once.
+    reported_size: bool,
+}
+
+/// `INT0`, `INT3`, `SBR0`: the numbered name (MAIN's is INT0).
+fn numbered_name(kind: BlockKind, number: u32) -> String {
+    match kind {
+        BlockKind::Interrupt => format!("INT{number}"),
+        BlockKind::Subroutine => format!("SBR{number}"),
+    }
+}
 
 impl Checker<'_> {
     pub(super) fn units(&mut self) {
-        let ast = self.ast;
-        let plc = &self.target.plc;
-        // Pass 1: numbers written in headers.
-        let mut numbers: Vec<Option<u32>> = Vec::with_capacity(ast.units.len());
-        for u in &ast.units {
-            let name = self.slice(u.header.name);
-            let written = match (u.kind, u.header.number) {
-                (_, None) if u.kind == UnitKind::Interrupt && name.eq_ignore_ascii_case("MAIN") => {
-                    Some(0)
-                }
-                (_, None) => None,
-                (UnitKind::Interrupt, Some((n, _)))
-                    if n.prefix == BlockPrefix::Ob && n.number == 1 =>
-                {
-                    Some(0)
-                }
-                (UnitKind::Interrupt, Some((n, _))) if n.prefix == BlockPrefix::Int => {
-                    Some(n.number)
-                }
-                (UnitKind::Subroutine, Some((n, _))) if n.prefix == BlockPrefix::Sbr => {
-                    Some(n.number)
-                }
-                (kind, Some((n, span))) => {
-                    let want = if kind == UnitKind::Subroutine {
-                        "SBRn"
-                    } else {
-                        "OB1, INT0 (MAIN) or INTn"
-                    };
-                    self.report(
-                        Diagnostic::new(
-                            Code::BadBlockHeader,
-                            span,
-                            format!(
-                                "`{}{}` does not fit this block",
-                                n.prefix.as_str(),
-                                n.number
-                            ),
-                        )
-                        .help(format!("this block's numbered name is {want}")),
-                    );
-                    None
-                }
-            };
-            numbers.push(written);
-        }
-        // Pass 2: unnumbered units take the next free number, in file order.
-        let next_free =
-            |kind: UnitKind, numbers: &[Option<u32>], ast: &crate::syntax::ast::Program| {
-                let first = if kind == UnitKind::Interrupt { 1 } else { 0 };
-                (first..)
-                    .find(|n| {
-                        !numbers
-                            .iter()
-                            .zip(&ast.units)
-                            .any(|(m, u)| u.kind == kind && *m == Some(*n))
-                    })
-                    .unwrap_or(first)
-            };
-        for i in 0..ast.units.len() {
-            if numbers[i].is_none() {
-                numbers[i] = Some(next_free(ast.units[i].kind, &numbers, ast));
-            }
-        }
+        let numbers = self.unit_numbers();
+        // Units of each kind so far: interrupt routines, subroutines.
         let mut counts = [0u32; 2];
-        for (i, u) in ast.units.iter().enumerate() {
-            let number = numbers[i].unwrap_or(0);
-            let name_text = self.slice(u.header.name).to_string();
-            let name = if name_text.is_empty() {
-                match u.kind {
-                    UnitKind::Interrupt if number == 0 => "MAIN".to_string(),
-                    UnitKind::Interrupt => format!("INT{number}"),
-                    UnitKind::Subroutine => format!("SBR{number}"),
-                }
-            } else {
-                name_text
-            };
-            let numbered = match (u.kind, number) {
-                (UnitKind::Interrupt, 0) => "INT0".to_string(),
-                (UnitKind::Interrupt, n) => format!("INT{n}"),
-                (UnitKind::Subroutine, n) => format!("SBR{n}"),
-            };
-            let name_span = if u.header.name.is_empty() {
-                u.header.span
-            } else {
-                u.header.name
-            };
-            // Limits by number.
-            let (limit, limit_name) = match u.kind {
-                UnitKind::Interrupt => (plc.program_block_page_int_size, "ProgramBlockPageIntSize"),
-                UnitKind::Subroutine => {
-                    (plc.program_block_page_sbr_size, "ProgramBlockPageSbrSize")
-                }
-            };
-            let kind_ix = usize::from(u.kind == UnitKind::Subroutine);
-            counts[kind_ix] += 1;
-            if counts[kind_ix] > limit {
-                let (code, what) = match u.kind {
-                    UnitKind::Interrupt => (
-                        Code::TooManyInterrupts,
-                        "interrupt routines (MAIN included)",
-                    ),
-                    UnitKind::Subroutine => (Code::TooManySubroutines, "subroutines"),
-                };
-                self.report(
-                    Diagnostic::new(
-                        code,
-                        u.header.span,
-                        format!(
-                            "too many {what}: {} allows {limit} ({limit_name})",
-                            plc.name
-                        ),
-                    )
-                    .label(format!("number {} of its kind", counts[kind_ix])),
-                );
-            } else if number >= limit {
-                let span = u.header.number.map(|(_, s)| s).unwrap_or(name_span);
-                self.report(
-                    Diagnostic::new(
-                        Code::BlockNumberRange,
-                        span,
-                        format!(
-                            "{numbered} is out of range: {} allows {} numbers 0..{} ({limit_name})",
-                            plc.name,
-                            if u.kind == UnitKind::Subroutine {
-                                "SBR"
-                            } else {
-                                "INT"
-                            },
-                            limit.saturating_sub(1)
-                        ),
-                    )
-                    .label("number too large"),
-                );
-            }
-            let detail = match u.kind {
-                UnitKind::Interrupt if number == 0 => format!("MAIN (INT0) {name}"),
-                _ => format!("{numbered} {name}"),
-            };
-            let def = self.define(name.clone(), DefKind::Unit, name_span, detail, None);
-            let index = self.units.len();
-            // Duplicate names: symbolic and numbered.
-            let mut keys = vec![name.to_ascii_uppercase(), numbered.clone()];
-            if number == 0 && u.kind == UnitKind::Interrupt {
-                keys.push("MAIN".into());
-                keys.push("OB1".into());
-            }
-            keys.sort();
-            keys.dedup();
-            for key in keys {
-                if let Some(&other) = self.unit_names.get(&key) {
-                    let first = self.out.definitions[self.units[other].definition].span;
-                    self.report(
-                        Diagnostic::new(
-                            Code::DuplicateBlock,
-                            name_span,
-                            format!("block `{key}` is defined twice"),
-                        )
-                        .with_secondary(first, "first defined here"),
-                    );
-                    break;
-                }
-                self.unit_names.insert(key, index);
-            }
-            let (locals, local_defs) = self.locals(i, index, u.kind);
-            self.units.push(UnitInfo {
-                kind: u.kind,
-                number,
-                name,
-                ast_index: i,
-                locals,
-                local_defs,
-                definition: def,
-            });
+        for (i, number) in numbers.into_iter().enumerate() {
+            self.unit(i, number, &mut counts);
         }
         if !self
             .units
             .iter()
-            .any(|u| u.kind == UnitKind::Interrupt && u.number == 0)
+            .any(|u| u.kind == BlockKind::Interrupt && u.number == 0)
         {
             self.report(
                 Diagnostic::new(
@@ -200,72 +53,221 @@ impl Checker<'_> {
         }
     }
 
+    /// Every unit's number: as its header writes it, else the next free number of its
+    /// kind (from 1 for interrupt routines, 0 for subroutines), in file order.
+    fn unit_numbers(&mut self) -> Vec<u32> {
+        let ast = self.ast;
+        let numbers: Vec<Option<u32>> = ast.units.iter().map(|u| self.written_number(u)).collect();
+        let taken = |kind: BlockKind, n: u32, numbers: &[Option<u32>]| {
+            numbers
+                .iter()
+                .zip(&ast.units)
+                .any(|(m, u)| u.kind == kind && *m == Some(n))
+        };
+        let mut numbers = numbers;
+        for i in 0..ast.units.len() {
+            if numbers[i].is_none() {
+                let kind = ast.units[i].kind;
+                let first = if kind == BlockKind::Interrupt { 1 } else { 0 };
+                numbers[i] = (first..).find(|n| !taken(kind, *n, &numbers));
+            }
+        }
+        numbers.into_iter().map(|n| n.unwrap_or(0)).collect()
+    }
+
+    /// The number a unit's header writes (`MAIN`, `OB1`, `INTn`, `SBRn`), if any.
+    fn written_number(&mut self, u: &ast::Unit) -> Option<u32> {
+        let name = self.slice(u.header.name);
+        match (u.kind, u.header.number) {
+            (BlockKind::Interrupt, None) if name.eq_ignore_ascii_case("MAIN") => Some(0),
+            (_, None) => None,
+            (BlockKind::Interrupt, Some((n, _)))
+                if n.prefix == BlockPrefix::Ob && n.number == 1 =>
+            {
+                Some(0)
+            }
+            (BlockKind::Interrupt, Some((n, _))) if n.prefix == BlockPrefix::Int => Some(n.number),
+            (BlockKind::Subroutine, Some((n, _))) if n.prefix == BlockPrefix::Sbr => Some(n.number),
+            (kind, Some((n, span))) => {
+                let want = if kind == BlockKind::Subroutine {
+                    "SBRn"
+                } else {
+                    "OB1, INT0 (MAIN) or INTn"
+                };
+                self.report(
+                    Diagnostic::new(
+                        Code::BadBlockHeader,
+                        span,
+                        format!(
+                            "`{}{}` does not fit this block",
+                            n.prefix.as_str(),
+                            n.number
+                        ),
+                    )
+                    .help(format!("this block's numbered name is {want}")),
+                );
+                None
+            }
+        }
+    }
+
+    /// Unit `i` of the file with its number: limits, definition, names, locals.
+    fn unit(&mut self, i: usize, number: u32, counts: &mut [u32; 2]) {
+        let u = &self.ast.units[i];
+        let name_text = self.slice(u.header.name).to_string();
+        let name = match (name_text.is_empty(), u.kind) {
+            (false, _) => name_text,
+            (true, BlockKind::Interrupt) if number == 0 => "MAIN".to_string(),
+            (true, kind) => numbered_name(kind, number),
+        };
+        let numbered = numbered_name(u.kind, number);
+        let name_span = if u.header.name.is_empty() {
+            u.header.span
+        } else {
+            u.header.name
+        };
+        self.unit_limits(u, number, &numbered, name_span, counts);
+        let detail = match u.kind {
+            BlockKind::Interrupt if number == 0 => format!("MAIN (INT0) {name}"),
+            _ => format!("{numbered} {name}"),
+        };
+        let def = self.define(name.clone(), DefKind::Unit, name_span, detail, None);
+        let index = self.units.len();
+        self.unit_names(index, &name, numbered, u.kind, number, name_span);
+        let (locals, local_defs) = self.locals(i, index, u.kind);
+        self.units.push(UnitInfo {
+            kind: u.kind,
+            number,
+            name,
+            ast_index: i,
+            locals,
+            local_defs,
+            definition: def,
+        });
+    }
+
+    /// The PlcType limits: how many units of a kind, and which numbers.
+    fn unit_limits(
+        &mut self,
+        u: &ast::Unit,
+        number: u32,
+        numbered: &str,
+        name_span: Span,
+        counts: &mut [u32; 2],
+    ) {
+        let plc = &self.target.plc;
+        let (limit, limit_name) = rules::unit_limit(plc, u.kind);
+        let kind_ix = usize::from(u.kind == BlockKind::Subroutine);
+        counts[kind_ix] += 1;
+        if counts[kind_ix] > limit {
+            let (code, what) = match u.kind {
+                BlockKind::Interrupt => (
+                    Code::TooManyInterrupts,
+                    "interrupt routines (MAIN included)",
+                ),
+                BlockKind::Subroutine => (Code::TooManySubroutines, "subroutines"),
+            };
+            self.report(
+                Diagnostic::new(
+                    code,
+                    u.header.span,
+                    format!(
+                        "too many {what}: {} allows {limit} ({limit_name})",
+                        plc.name
+                    ),
+                )
+                .label(format!("number {} of its kind", counts[kind_ix])),
+            );
+        } else if !rules::unit_exists(plc, u.kind, number) {
+            let span = u.header.number.map(|(_, s)| s).unwrap_or(name_span);
+            self.report(
+                Diagnostic::new(
+                    Code::BlockNumberRange,
+                    span,
+                    format!(
+                        "{numbered} is out of range: {} allows {} numbers 0..{} ({limit_name})",
+                        plc.name,
+                        if u.kind == BlockKind::Subroutine {
+                            "SBR"
+                        } else {
+                            "INT"
+                        },
+                        limit.saturating_sub(1)
+                    ),
+                )
+                .label("number too large"),
+            );
+        }
+    }
+
+    /// Register a unit's names (symbolic and numbered; MAIN also as MAIN and OB1),
+    /// reporting the first one another unit has already.
+    fn unit_names(
+        &mut self,
+        index: usize,
+        name: &str,
+        numbered: String,
+        kind: BlockKind,
+        number: u32,
+        name_span: Span,
+    ) {
+        let mut keys = vec![name.to_ascii_uppercase(), numbered];
+        if number == 0 && kind == BlockKind::Interrupt {
+            keys.push("MAIN".into());
+            keys.push("OB1".into());
+        }
+        keys.sort();
+        keys.dedup();
+        for key in keys {
+            if let Some(&other) = self.unit_names.get(&key) {
+                let first = self.out.definitions[self.units[other].definition].span;
+                self.report(
+                    Diagnostic::new(
+                        Code::DuplicateBlock,
+                        name_span,
+                        format!("block `{key}` is defined twice"),
+                    )
+                    .with_secondary(first, "first defined here"),
+                );
+                break;
+            }
+            self.unit_names.insert(key, index);
+        }
+    }
+
     /// Types, duplicates and L layout of a unit's locals.
     fn locals(
         &mut self,
         ast_index: usize,
         unit_index: usize,
-        kind: UnitKind,
+        kind: BlockKind,
     ) -> (Vec<Local>, Vec<usize>) {
         let ast = self.ast;
         let u = &ast.units[ast_index];
         let Some(l_area) = self.target.memory.area_of_kind(AreaKind::Local) else {
             return (Vec::new(), Vec::new());
         };
-        let (l_slot, l_size) = (l_area.slot, l_area.size);
-        let plc = &self.target.plc;
-        let (max_args, max_name) = match kind {
-            UnitKind::Interrupt => (
-                plc.program_block_page_arg_int_size,
-                "ProgramBlockPageArgIntSize",
-            ),
-            UnitKind::Subroutine => (
-                plc.program_block_page_arg_sbr_size,
-                "ProgramBlockPageArgSbrSize",
-            ),
+        let mut place = LocalPlacement {
+            slot: l_area.slot,
+            size: l_area.size,
+            layout: LocalLayout::new(),
+            reported_size: false,
         };
+        let (max_args, max_name) = rules::locals_limit(&self.target.plc, kind);
         // Order in L: inputs, in-outs, outputs, temporaries (stable within a section).
         let mut order: Vec<usize> = (0..u.vars.len()).collect();
         order.sort_by_key(|&i| u.vars[i].section);
-        let mut seen: std::collections::HashMap<String, Span> = std::collections::HashMap::new();
+        let mut seen: HashMap<String, Span> = HashMap::new();
         let mut locals = Vec::new();
         let mut defs = Vec::new();
-        let (mut byte, mut bit) = (0u32, 0u8);
-        let mut reported_size = false;
         for (count, i) in order.into_iter().enumerate() {
             let v = &u.vars[i];
-            let name = self.slice(v.name).to_string();
-            if kind == UnitKind::Interrupt && v.section != VarSection::Temp {
-                self.report(
-                    Diagnostic::new(
-                        Code::InterruptArguments,
-                        v.name,
-                        format!(
-                            "interrupt routines take no {} parameters",
-                            v.section.keyword()
-                        ),
-                    )
-                    .help("declare temporaries in a `VAR` section"),
-                );
-                continue;
-            }
-            let ty_text = self.slice(v.ty);
-            let Ok(ty) = ty_text.parse::<DataType>() else {
-                let known: Vec<&str> = DataType::ALL.iter().map(|t| t.keyword()).collect();
-                let hint = super::suggest::closest(ty_text, known.iter().copied());
-                self.report(
-                    Diagnostic::new(
-                        Code::UnknownDataType,
-                        v.ty,
-                        format!("unknown data type `{ty_text}`"),
-                    )
-                    .maybe_help(hint.map(|h| format!("did you mean `{h}`?"))),
-                );
+            let Some(ty) = self.local_type(v, kind) else {
                 continue;
             };
+            let name = self.slice(v.name).to_string();
             let key = name.to_ascii_uppercase();
-            if let Some(first) = seen.get(&key) {
-                let first = *first;
+            if let Some(&first) = seen.get(&key) {
                 self.report(
                     Diagnostic::new(
                         Code::DuplicateLocal,
@@ -278,60 +280,21 @@ impl Checker<'_> {
             }
             seen.insert(key, v.name);
             if count as u32 >= max_args {
+                let plc = &self.target.plc;
+                let per = match kind {
+                    BlockKind::Subroutine => "subroutine",
+                    BlockKind::Interrupt => "interrupt routine",
+                };
                 self.report(Diagnostic::new(
                     Code::TooManyArguments,
                     v.name,
                     format!(
-                        "too many locals: {} allows {max_args} per {} ({max_name})",
-                        plc.name,
-                        if kind == UnitKind::Subroutine {
-                            "subroutine"
-                        } else {
-                            "interrupt routine"
-                        }
+                        "too many locals: {} allows {max_args} per {per} ({max_name})",
+                        plc.name
                     ),
                 ));
             }
-            let width = ty.width();
-            let address = if width == Width::Bit {
-                if bit == 8 {
-                    byte += 1;
-                    bit = 0;
-                }
-                let a = Address {
-                    slot: l_slot,
-                    width,
-                    offset: byte,
-                    bit,
-                };
-                bit += 1;
-                a
-            } else {
-                if bit > 0 {
-                    byte += 1;
-                    bit = 0;
-                }
-                let a = Address {
-                    slot: l_slot,
-                    width,
-                    offset: byte,
-                    bit: 0,
-                };
-                byte += width.bytes();
-                a
-            };
-            let end = address.offset + width.bytes();
-            if end > l_size && !reported_size {
-                reported_size = true;
-                self.report(
-                    Diagnostic::new(
-                        Code::LocalsTooLarge,
-                        v.name,
-                        format!("locals need {end} bytes of L; {} has {l_size}", plc.name),
-                    )
-                    .label("does not fit"),
-                );
-            }
+            let address = self.place_local(v, ty, &mut place);
             let at = self.target.memory.format_address(&address);
             let detail = format!("#{name} : {ty} ({}, {at})", v.section.keyword());
             let def = self.define(
@@ -351,5 +314,69 @@ impl Checker<'_> {
             defs.push(def);
         }
         (locals, defs)
+    }
+
+    /// The local's place in L; the first local past the end of L is reported.
+    fn place_local(
+        &mut self,
+        v: &ast::VarDecl,
+        ty: DataType,
+        place: &mut LocalPlacement,
+    ) -> Address {
+        let width = ty.width();
+        let (offset, bit) = place.layout.place(width);
+        let address = Address {
+            slot: place.slot,
+            width,
+            offset,
+            bit,
+        };
+        let end = offset + width.bytes();
+        if end > place.size && !place.reported_size {
+            place.reported_size = true;
+            let (plc, size) = (&self.target.plc.name, place.size);
+            self.report(
+                Diagnostic::new(
+                    Code::LocalsTooLarge,
+                    v.name,
+                    format!("locals need {end} bytes of L; {plc} has {size}"),
+                )
+                .label("does not fit"),
+            );
+        }
+        address
+    }
+
+    /// A local's type, if its section is one the unit may have and the type exists.
+    fn local_type(&mut self, v: &ast::VarDecl, kind: BlockKind) -> Option<DataType> {
+        if !rules::takes_parameters(kind) && v.section != VarSection::Temp {
+            self.report(
+                Diagnostic::new(
+                    Code::InterruptArguments,
+                    v.name,
+                    format!(
+                        "interrupt routines take no {} parameters",
+                        v.section.keyword()
+                    ),
+                )
+                .help("declare temporaries in a `VAR` section"),
+            );
+            return None;
+        }
+        let ty_text = self.slice(v.ty);
+        let Ok(ty) = ty_text.parse::<DataType>() else {
+            let known: Vec<&str> = DataType::ALL.iter().map(|t| t.keyword()).collect();
+            let hint = super::suggest::closest(ty_text, known.iter().copied());
+            self.report(
+                Diagnostic::new(
+                    Code::UnknownDataType,
+                    v.ty,
+                    format!("unknown data type `{ty_text}`"),
+                )
+                .maybe_help(hint.map(|h| format!("did you mean `{h}`?"))),
+            );
+            return None;
+        };
+        Some(ty)
     }
 }

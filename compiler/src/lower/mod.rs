@@ -5,15 +5,15 @@
 
 pub mod consts;
 
-use gutta_catalog::{AreaKind, Target};
+use gutta_catalog::{Address, AreaKind, BlockKind, Target};
 use gutta_format::{
-    ArgumentPage, DataItem, LocalEntry, LocalSection, PackedOperand, PortEntry, Record, SystemPage,
-    Use as PackedUse,
+    ArgumentPage, DataItem, LocalEntry, LocalSection, Operand, PackedOperand, PortEntry, Record,
+    SystemPage, UnitRef, Use,
 };
 
-use crate::check::{CheckedOperand, CheckedProgram, ConstValue, Parity, SystemConfig, Use};
+use crate::check::{CheckedOperand, CheckedProgram, ConstValue, Parity, SystemConfig};
 use crate::source::Span;
-use crate::syntax::ast::{UnitKind, VarSection};
+use crate::syntax::ast::VarSection;
 use consts::{const_bytes, ConstPool};
 
 /// One unit, ready to encode.
@@ -49,20 +49,41 @@ pub struct Lowered {
     pub system_span: Option<Span>,
 }
 
-/// Page number of a unit: INTn -> n, SBRn -> ProgramBlockPageIntSize + n.
-pub fn page_of(kind: UnitKind, number: u32, target: &Target) -> u32 {
-    match kind {
-        UnitKind::Interrupt => number,
-        UnitKind::Subroutine => target.plc.program_block_page_int_size + number,
-    }
-}
-
-fn packed_use(u: Use) -> PackedUse {
-    match u {
-        Use::Value => PackedUse::Value,
-        Use::AddressOf => PackedUse::AddressOf,
-        Use::Pointer => PackedUse::Pointer,
-    }
+/// The packed operand of a checked operand; constants are values in K at `consts`.
+fn packed(o: &CheckedOperand, consts: &ConstPool, k_slot: u8) -> PackedOperand {
+    let operand = match *o {
+        CheckedOperand::Memory {
+            address,
+            use_,
+            width,
+        } => match use_ {
+            Use::AddressOf => Operand::AddressOf {
+                byte: address,
+                width,
+            },
+            Use::Pointer => Operand::Pointer {
+                holder: address,
+                width,
+            },
+            // The checker writes Value, AddressOf or Pointer here.
+            _ => Operand::Value(Address { width, ..address }),
+        },
+        CheckedOperand::Constant { value, width } => Operand::Value(Address {
+            slot: k_slot,
+            width,
+            offset: consts.offset(&const_bytes(value, width)).unwrap_or(0),
+            bit: 0,
+        }),
+        CheckedOperand::Label(n) => Operand::Label(n),
+        CheckedOperand::Unit { kind, number } => Operand::Unit(UnitRef {
+            kind,
+            number: u16::try_from(number).unwrap_or(u16::MAX),
+        }),
+        CheckedOperand::Literal(v) => {
+            Operand::Literal(u16::try_from(v.clamp(0, i64::from(u16::MAX))).unwrap_or(0))
+        }
+    };
+    PackedOperand::encode(operand)
 }
 
 pub fn lower(program: &CheckedProgram, target: &Target) -> Lowered {
@@ -83,44 +104,14 @@ pub fn lower(program: &CheckedProgram, target: &Target) -> Lowered {
             _ => None,
         });
     let consts = ConstPool::build(all_consts);
-    let operand = |o: &CheckedOperand| -> PackedOperand {
-        match *o {
-            CheckedOperand::Memory {
-                address,
-                use_,
-                width,
-            } => PackedOperand::memory(address, packed_use(use_), width),
-            CheckedOperand::Constant { value, width } => {
-                let offset = consts.offset(&const_bytes(value, width)).unwrap_or(0);
-                PackedOperand::memory(
-                    gutta_catalog::Address {
-                        slot: k_slot,
-                        width,
-                        offset,
-                        bit: 0,
-                    },
-                    PackedUse::Value,
-                    width,
-                )
-            }
-            CheckedOperand::Label(n) => PackedOperand::special(PackedUse::Label, 0, n),
-            CheckedOperand::Unit { kind, number } => PackedOperand::special(
-                PackedUse::Unit,
-                u8::from(kind == UnitKind::Subroutine),
-                number.min(u16::MAX as u32) as u16,
-            ),
-            CheckedOperand::Literal(v) => {
-                PackedOperand::special(PackedUse::Literal, 0, v.clamp(0, u16::MAX as i64) as u16)
-            }
-        }
-    };
+    let operand = |o: &CheckedOperand| packed(o, &consts, k_slot);
     let mut units = Vec::with_capacity(program.units.len());
     for u in &program.units {
         let locals = u
             .locals
             .iter()
             .map(|l| LocalEntry {
-                operand: PackedOperand::memory(l.address, PackedUse::Value, l.address.width),
+                operand: PackedOperand::encode(Operand::Value(l.address)),
                 section: match l.section {
                     VarSection::Input => LocalSection::Input,
                     VarSection::InOut => LocalSection::InOut,
@@ -131,7 +122,7 @@ pub fn lower(program: &CheckedProgram, target: &Target) -> Lowered {
             })
             .collect();
         let arguments = ArgumentPage {
-            subroutine: u.kind == UnitKind::Subroutine,
+            subroutine: u.kind == BlockKind::Subroutine,
             unit_number: u.number.min(255) as u8,
             locals,
         };
@@ -153,7 +144,8 @@ pub fn lower(program: &CheckedProgram, target: &Target) -> Lowered {
             }
         }
         units.push(LoweredUnit {
-            page: page_of(u.kind, u.number, target),
+            // The checker refused units the target cannot have (E0403, E0413).
+            page: u.unit_ref().page(&target.plc).map_or(u32::MAX, u32::from),
             name: u.numbered_name(),
             arguments,
             records,
@@ -170,7 +162,7 @@ pub fn lower(program: &CheckedProgram, target: &Target) -> Lowered {
                 .items
                 .iter()
                 .map(|i| DataItem {
-                    operand: PackedOperand::memory(i.address, PackedUse::Value, i.address.width),
+                    operand: PackedOperand::encode(Operand::Value(i.address)),
                     value: match i.value {
                         ConstValue::Integer(v) => v as u32,
                         ConstValue::Real(r) => r.to_bits(),

@@ -23,14 +23,10 @@ pub struct SymbolDecl {
     pub comment: Option<Span>,
 }
 
-/// Kind of program unit, as the header names it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum UnitKind {
-    /// `ORGANIZATION_BLOCK` or `INTERRUPT_BLOCK`: an interrupt routine (MAIN is INT0).
-    Interrupt,
-    /// `SUBROUTINE_BLOCK`.
-    Subroutine,
-}
+/// Kind of program unit, as the header names it: `ORGANIZATION_BLOCK` and
+/// `INTERRUPT_BLOCK` are interrupt routines (MAIN is INT0), `SUBROUTINE_BLOCK` a
+/// subroutine. The catalog's type, so the checker, the image and the VM share it.
+pub use gutta_catalog::BlockKind;
 
 /// The `NAME:SBR0` part of a block header.
 #[derive(Debug, Clone)]
@@ -72,7 +68,7 @@ impl BlockPrefix {
 /// A program unit: MAIN, an interrupt routine or a subroutine.
 #[derive(Debug, Clone)]
 pub struct Unit {
-    pub kind: UnitKind,
+    pub kind: BlockKind,
     pub header: BlockHeader,
     pub title: Option<Span>,
     pub vars: Vec<VarDecl>,

@@ -1,11 +1,11 @@
 //! Data pages as `DATA_BLOCK DATn` rows and the system page as `SYSTEM_BLOCK` keys,
 //! each value spelled so the compiler writes the same bytes back.
 
-use gutta_catalog::Width;
+use gutta_catalog::{DataType, Width};
 
-use super::operands::bit_string_type;
+use super::operands::operand_name;
 use super::Disassembler;
-use crate::{decode_data, DataItem, PageId, SystemPage};
+use crate::{decode_data, DataItem, Operand, PageId, SystemPage};
 
 /// The text of a 16-byte password field: `None` for the factory password (16 x 0xFF),
 /// else the characters before the zero padding, quoted; an error (byte, reason) when
@@ -72,21 +72,21 @@ impl Disassembler<'_> {
     /// zero-extended one in unsigned decimal, or a sign-extended one as negative.
     fn data_row(&self, item: &DataItem) -> Result<String, (usize, String)> {
         let op = item.operand;
-        if op.use_code() != 0 {
-            return Err((
-                0,
-                format!(
-                    "USE {} in a data item (must be 0, a variable)",
-                    op.use_code()
-                ),
-            ));
-        }
-        let width = op
-            .width()
-            .ok_or_else(|| (0, format!("WIDTH code {} is not 0..3", op.width_code())))?;
-        let (address, _) = self
-            .address(op.slot(), width, op.offset(), op.bit())
-            .map_err(|r| (0, r))?;
+        let variable = match op.decode() {
+            Ok(Operand::Value(variable)) => variable,
+            Ok(other) => {
+                return Err((
+                    0,
+                    format!(
+                        "{} in a data item (must be a variable)",
+                        operand_name(&other)
+                    ),
+                ))
+            }
+            Err(e) => return Err((0, e.to_string())),
+        };
+        let width = variable.width;
+        let (address, _) = self.address(variable).map_err(|r| (0, r))?;
         let v = item.value;
         let value = match width {
             Width::Bit if v <= 1 => v.to_string(),
@@ -110,7 +110,7 @@ impl Disassembler<'_> {
             Width::Dword => v.to_string(),
         };
         let at = self.target.memory.format_address(&address);
-        let ty = bit_string_type(width).keyword();
+        let ty = DataType::bit_string(width).keyword();
         Ok(format!("  {at:<8} {ty:<6} {value}"))
     }
 

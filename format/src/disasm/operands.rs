@@ -3,40 +3,29 @@
 //! operand types, labels, units and literals. An operand whose bits no text
 //! reproduces is an error string, never a guess.
 
+use gutta_catalog::rules;
 use gutta_catalog::{
-    Address, Area, AreaKind, DataType, Instruction, OperandKind, OperandSpec, Role, Width,
+    Address, Area, AreaKind, BlockKind, DataType, Instruction, OperandKind, OperandSpec, Role,
+    Width,
 };
 
 use super::units::Local;
 use super::Disassembler;
-use crate::{LocalSection, PackedOperand, Use};
+use crate::{LocalSection, Operand, PackedOperand, UnitRef};
 
 /// Where an instruction fails to print: the operand's index (if one is to blame) and why.
 pub(super) type InstructionError = (Option<usize>, String);
 
-fn use_name(u: Use) -> &'static str {
-    match u {
-        Use::Value => "a variable or constant",
-        Use::AddressOf => "an address (&)",
-        Use::Pointer => "a pointer access (*)",
-        Use::Label => "a label",
-        Use::Unit => "a program unit",
-        Use::Literal => "a literal",
+/// What a decoded operand is, for messages.
+pub(super) fn operand_name(op: &Operand) -> &'static str {
+    match op {
+        Operand::Value(_) => "a variable or constant",
+        Operand::AddressOf { .. } => "an address (&)",
+        Operand::Pointer { .. } => "a pointer access (*)",
+        Operand::Label(_) => "a label",
+        Operand::Unit(_) => "a program unit",
+        Operand::Literal(_) => "a literal",
     }
-}
-
-/// The untyped data type of a width (BOOL, BYTE, WORD, DWORD).
-pub(super) fn bit_string_type(w: Width) -> DataType {
-    match w {
-        Width::Bit => DataType::Bool,
-        Width::Byte => DataType::Byte,
-        Width::Word => DataType::Word,
-        Width::Dword => DataType::Dword,
-    }
-}
-
-fn is_bit_string(t: DataType) -> bool {
-    matches!(t, DataType::Byte | DataType::Word | DataType::Dword)
 }
 
 /// `0`..`9` in decimal, anything larger as `16#` and the width's hex digits.
@@ -71,7 +60,7 @@ pub(super) fn integer_text(raw: u32, width: Width, spec: &OperandSpec) -> String
     };
     let fits = |v: i64| lo <= v && v <= hi;
     let all_signed = !spec.types.is_empty() && spec.types.iter().all(|t| t.is_signed());
-    let any_bits = spec.types.iter().any(|t| is_bit_string(*t));
+    let any_bits = spec.types.iter().any(|t| t.is_bit_string());
     let spell_unsigned = |v: i64| {
         if any_bits {
             unsigned_text(v as u64, width)
@@ -110,71 +99,34 @@ pub(super) fn real_text(x: f32) -> Option<String> {
     Some(s)
 }
 
-/// The spec the checker gives a CALL argument for a parameter.
+/// The spec a CALL argument meets (the checker's and the verifier's).
 fn parameter_spec(p: &Local) -> OperandSpec {
     let role = match p.section {
         LocalSection::Input => Role::In,
         LocalSection::InOut => Role::InOut,
         _ => Role::Out,
     };
-    let types = if p.data_type.width() == Width::Bit {
-        vec![DataType::Bool]
-    } else {
-        vec![p.data_type]
-    };
-    OperandSpec {
-        name: p.name.clone(),
-        role,
-        kind: OperandKind::Data,
-        types,
-        areas: None,
-        constant: role == Role::In,
-        pointer: p.data_type != DataType::Bool,
-        address_of: matches!(p.data_type, DataType::Dword | DataType::Udint),
-        min: None,
-        max: None,
-        block: None,
-    }
+    rules::parameter_spec(p.name.clone(), role, p.data_type)
 }
 
 impl<'a> Disassembler<'a> {
-    /// A direct address, if the text `format_address` prints for it reads back as it.
-    pub(super) fn address(
-        &self,
-        slot: u8,
-        width: Width,
-        offset: u16,
-        bit: u8,
-    ) -> Result<(Address, &'a Area), String> {
+    /// A decoded variable, if the text `format_address` prints for it reads back as it.
+    pub(super) fn address(&self, at: Address) -> Result<(Address, &'a Area), String> {
         let target = self.target;
         let area = target
             .memory
-            .area_by_slot(slot)
-            .ok_or_else(|| format!("SLOT {slot} is no memory area of {}", target.name()))?;
-        if !area.allows(width) {
-            return Err(format!("area {} has no {width} access", area.name));
+            .area_by_slot(at.slot)
+            .ok_or_else(|| format!("SLOT {} is no memory area of {}", at.slot, target.name()))?;
+        if !area.allows(at.width) {
+            return Err(format!("area {} has no {} access", area.name, at.width));
         }
-        if area.fixed_width().is_some() && offset as u32 % area.unit.bytes() != 0 {
+        if area.fixed_width().is_some() && at.offset % area.unit.bytes() != 0 {
             return Err(format!(
-                "byte offset {offset} is not a whole {} of area {}",
-                area.unit, area.name
+                "byte offset {} is not a whole {} of area {}",
+                at.offset, area.unit, area.name
             ));
         }
-        if width == Width::Bit && bit > 7 {
-            return Err(format!("BIT_OFFSET {bit} is not 0..7"));
-        }
-        if width != Width::Bit && bit != 0 {
-            return Err(format!("BIT_OFFSET {bit} in a {width} operand"));
-        }
-        Ok((
-            Address {
-                slot,
-                width,
-                offset: offset as u32,
-                bit,
-            },
-            area,
-        ))
+        Ok((at, area))
     }
 
     /// One instruction line without its step comment. Constants it prints are marked
@@ -243,20 +195,22 @@ impl<'a> Disassembler<'a> {
         unit: Option<PackedOperand>,
         passed: usize,
     ) -> Result<Vec<Local>, InstructionError> {
-        let Some(unit) = unit.filter(|u| u.use_() == Some(Use::Unit) && u.slot() == 1) else {
+        let Some(Ok(Operand::Unit(
+            unit @ UnitRef {
+                kind: BlockKind::Subroutine,
+                ..
+            },
+        ))) = unit.map(PackedOperand::decode)
+        else {
             return Err((Some(0), "a CALL that names no subroutine".to_string()));
         };
-        let number = self.target.plc.program_block_page_int_size + unit.offset() as u32;
-        let params: Vec<Local> = u8::try_from(number)
-            .ok()
-            .and_then(|n| self.decoded_locals(n))
+        let params: Vec<Local> = unit
+            .page(&self.target.plc)
+            .and_then(|page| self.decoded_locals(page))
             .ok_or_else(|| {
                 (
                     Some(0),
-                    format!(
-                        "CALL of SBR{}, whose argument page is missing or does not decode",
-                        unit.offset()
-                    ),
+                    format!("CALL of {unit}, whose argument page is missing or does not decode"),
                 )
             })?
             .into_iter()
@@ -266,8 +220,7 @@ impl<'a> Disassembler<'a> {
             return Err((
                 None,
                 format!(
-                    "SBR{} takes {} argument(s), the record passes {passed}",
-                    unit.offset(),
+                    "{unit} takes {} argument(s), the record passes {passed}",
                     params.len()
                 ),
             ));
@@ -282,72 +235,43 @@ impl<'a> Disassembler<'a> {
         locals: &[Local],
         marks: &mut Vec<(usize, usize)>,
     ) -> Result<String, String> {
-        let Some(use_) = op.use_() else {
-            return Err(format!("USE code {} is not 0..5", op.use_code()));
-        };
-        let special = |want: Use, what: &str| -> Result<u16, String> {
-            if use_ != want {
-                return Err(format!("{} where {what} belongs", use_name(use_)));
-            }
-            if op.width_code() != 0 || op.bit() != 0 {
-                return Err(format!(
-                    "{what} with WIDTH {} and BIT_OFFSET {} (both must be 0)",
-                    op.width_code(),
-                    op.bit()
-                ));
-            }
-            Ok(op.offset())
-        };
-        match spec.kind {
-            OperandKind::Label | OperandKind::Literal => {
-                let (want, what) = if spec.kind == OperandKind::Label {
-                    (Use::Label, "a label")
-                } else {
-                    (Use::Literal, "a literal")
+        let operand = op.decode().map_err(|e| e.to_string())?;
+        match (spec.kind, operand) {
+            (OperandKind::Label, Operand::Label(n))
+            | (OperandKind::Literal, Operand::Literal(n)) => Ok(n.to_string()),
+            (OperandKind::Block, Operand::Unit(unit)) => Ok(unit.to_string()),
+            (OperandKind::Data, operand) => self.data_operand(operand, spec, locals, marks),
+            (kind, other) => {
+                let what = match kind {
+                    OperandKind::Label => "a label",
+                    OperandKind::Literal => "a literal",
+                    _ => "a program unit",
                 };
-                let value = special(want, what)?;
-                if op.slot() != 0 {
-                    return Err(format!("{what} with SLOT {} (must be 0)", op.slot()));
-                }
-                Ok(value.to_string())
+                Err(format!("{} where {what} belongs", operand_name(&other)))
             }
-            OperandKind::Block => {
-                let n = special(Use::Unit, "a program unit")?;
-                match op.slot() {
-                    0 => Ok(format!("INT{n}")),
-                    1 => Ok(format!("SBR{n}")),
-                    s => Err(format!(
-                        "program unit SLOT {s} is neither 0 (INT) nor 1 (SBR)"
-                    )),
-                }
-            }
-            OperandKind::Data => self.data_operand(op, use_, spec, locals, marks),
         }
     }
 
     fn data_operand(
         &self,
-        op: PackedOperand,
-        use_: Use,
+        operand: Operand,
         spec: &OperandSpec,
         locals: &[Local],
         marks: &mut Vec<(usize, usize)>,
     ) -> Result<String, String> {
         let memory = &self.target.memory;
-        let want = spec.types.first().map_or(Width::Dword, |t| t.width());
-        let width = || {
-            let w = op
-                .width()
-                .ok_or_else(|| format!("WIDTH code {} is not 0..3", op.width_code()))?;
+        let want = rules::access_width(spec);
+        let width_is = |w: Width| {
             if w == want {
-                Ok(w)
+                Ok(())
             } else {
                 Err(format!("a {w} access where the instruction takes a {want}"))
             }
         };
-        match use_ {
-            Use::Value => {
-                let (address, area) = self.address(op.slot(), width()?, op.offset(), op.bit())?;
+        match operand {
+            Operand::Value(variable) => {
+                width_is(variable.width)?;
+                let (address, area) = self.address(variable)?;
                 if area.kind == AreaKind::Constant && spec.constant {
                     if let Some(text) = self.constant(address, spec, marks)? {
                         return Ok(text);
@@ -361,28 +285,24 @@ impl<'a> Disassembler<'a> {
                     None => memory.format_address(&address),
                 })
             }
-            Use::AddressOf => {
-                if op.width() != Some(Width::Dword) {
+            Operand::AddressOf { byte, width } => {
+                if width != Width::Dword {
                     return Err(format!(
-                        "an address (&) with WIDTH {} (must be 3, DWORD)",
-                        op.width_code()
+                        "an address (&) read as a {width} (must be a DWORD)"
                     ));
                 }
-                let (address, _) = self.address(op.slot(), Width::Byte, op.offset(), op.bit())?;
+                let (address, _) = self.address(byte)?;
                 Ok(format!("&{}", memory.format_address(&address)))
             }
-            Use::Pointer => {
-                width()?;
-                if op.bit() != 0 {
-                    return Err(format!("BIT_OFFSET {} in a pointer access", op.bit()));
-                }
-                let (address, _) = self.address(op.slot(), Width::Dword, op.offset(), 0)?;
+            Operand::Pointer { holder, width } => {
+                width_is(width)?;
+                let (address, _) = self.address(holder)?;
                 Ok(match locals.iter().find(|l| l.address == address) {
                     Some(l) => format!("*#{}", l.name),
                     None => format!("*{}", memory.format_address(&address)),
                 })
             }
-            other => Err(format!("{} where a variable belongs", use_name(other))),
+            other => Err(format!("{} where a variable belongs", operand_name(&other))),
         }
     }
 

@@ -3,11 +3,13 @@
 //! the language cannot reproduce is reported), and the networks and steps of the
 //! instruction page. Operand spelling is in `operands.rs`.
 
-use gutta_catalog::{Address, AreaKind, DataType, Width};
+use gutta_catalog::rules::LocalLayout;
+use gutta_catalog::{Address, AreaKind, BlockKind, DataType};
 
 use super::Disassembler;
 use crate::{
-    decode_instructions, ArgumentPage, LocalSection, PackedOperand, PageId, PageKind, Record, Use,
+    decode_instructions, ArgumentPage, LocalSection, Operand, PackedOperand, PageId, PageKind,
+    Record, UnitRef,
 };
 
 /// One local as the text declares it.
@@ -33,12 +35,11 @@ const SECTIONS: [(LocalSection, &str, &str); 4] = [
 ];
 
 /// The locals of an argument page in the order the text declares them (section by
-/// section, page order within a section), each placed in L as the language places it:
-/// consecutive BOOLs share a byte from bit 0, every other type starts at the next whole
-/// byte, across section boundaries too.
+/// section, page order within a section), each placed in L as the language places it
+/// (`gutta_catalog::rules::LocalLayout`).
 pub(super) fn locals_of(page: &ArgumentPage, l_slot: u8) -> Vec<Local> {
     let mut out = Vec::with_capacity(page.locals.len());
-    let (mut byte, mut bit) = (0u32, 0u8);
+    let mut layout = LocalLayout::new();
     for (section, _, prefix) in SECTIONS {
         let mut count = 0;
         for (i, entry) in page.locals.iter().enumerate() {
@@ -46,30 +47,12 @@ pub(super) fn locals_of(page: &ArgumentPage, l_slot: u8) -> Vec<Local> {
                 continue;
             }
             let width = entry.data_type.width();
-            let address = if width == Width::Bit {
-                if bit == 8 {
-                    byte += 1;
-                    bit = 0;
-                }
-                bit += 1;
-                Address {
-                    slot: l_slot,
-                    width,
-                    offset: byte,
-                    bit: bit - 1,
-                }
-            } else {
-                if bit > 0 {
-                    byte += 1;
-                    bit = 0;
-                }
-                byte += width.bytes();
-                Address {
-                    slot: l_slot,
-                    width,
-                    offset: byte - width.bytes(),
-                    bit: 0,
-                }
+            let (offset, bit) = layout.place(width);
+            let address = Address {
+                slot: l_slot,
+                width,
+                offset,
+                bit,
             };
             out.push(Local {
                 name: format!("{prefix}{count}"),
@@ -88,36 +71,35 @@ pub(super) fn locals_of(page: &ArgumentPage, l_slot: u8) -> Vec<Local> {
 impl Disassembler<'_> {
     /// The unit whose argument and instruction pages have this number.
     pub(super) fn unit(&mut self, number: u8) {
-        let plc = &self.target.plc;
-        let (int_size, sbr_size) = (
-            plc.program_block_page_int_size,
-            plc.program_block_page_sbr_size,
-        );
-        let n = number as u32;
-        let (subroutine, unit_number) = if n < int_size {
-            (false, n)
-        } else {
-            (true, n - int_size)
-        };
-        let (keyword, header) = match (subroutine, unit_number) {
-            (false, 0) => ("ORGANIZATION_BLOCK", "MAIN:OB1".to_string()),
-            (false, k) => ("INTERRUPT_BLOCK", format!("INT{k}:INT{k}")),
-            (true, k) => ("SUBROUTINE_BLOCK", format!("SBR{k}:SBR{k}")),
-        };
         let arg_id = PageId::new(PageKind::Argument, number);
         let code_id = PageId::new(PageKind::Instruction, number);
-        if subroutine && unit_number >= sbr_size {
-            let name = self.target.name().to_string();
-            self.error(
-                Some(code_id),
-                0,
-                format!(
-                    "page {number:02X} would be SBR{unit_number}, beyond the {sbr_size} subroutines of {name}"
-                ),
+        let Some(unit) = UnitRef::from_page(number, &self.target.plc) else {
+            let plc = &self.target.plc;
+            let reason = format!(
+                "page {number:02X} is no program unit of {}: it has {} interrupt routines and {} subroutines",
+                plc.name, plc.program_block_page_int_size, plc.program_block_page_sbr_size
             );
-        }
+            self.cannot_decode(
+                "",
+                &format!("program page {number:02X}"),
+                code_id,
+                0,
+                &reason,
+            );
+            return;
+        };
+        let keyword = match unit.kind {
+            BlockKind::Interrupt if unit.number == 0 => "ORGANIZATION_BLOCK",
+            BlockKind::Interrupt => "INTERRUPT_BLOCK",
+            BlockKind::Subroutine => "SUBROUTINE_BLOCK",
+        };
+        let header = if unit == UnitRef::MAIN {
+            "MAIN:OB1".to_string()
+        } else {
+            format!("{unit}:{unit}")
+        };
         self.line(&format!("{keyword} {header}"));
-        let locals = self.locals(arg_id, subroutine, unit_number);
+        let locals = self.locals(arg_id, unit);
         self.line("BEGIN");
         match self.image.page(PageKind::Instruction, number) {
             Some(bytes) => self.code(code_id, bytes, &locals),
@@ -148,7 +130,7 @@ impl Disassembler<'_> {
     }
 
     /// Print the VAR sections of a unit and check its argument page.
-    fn locals(&mut self, id: PageId, subroutine: bool, unit_number: u32) -> Vec<Local> {
+    fn locals(&mut self, id: PageId, unit: UnitRef) -> Vec<Local> {
         let Some(bytes) = self.image.page(PageKind::Argument, id.number) else {
             self.cannot_decode(
                 "",
@@ -167,46 +149,7 @@ impl Disassembler<'_> {
             }
         };
         let locals = locals_of(&page, self.l_slot());
-        if page.subroutine != subroutine || page.unit_number as u32 != unit_number {
-            let says = format!(
-                "{}{}",
-                if page.subroutine { "SBR" } else { "INT" },
-                page.unit_number
-            );
-            let is = format!("{}{unit_number}", if subroutine { "SBR" } else { "INT" });
-            self.error(
-                Some(id),
-                0,
-                format!(
-                    "the page header names {says}, but page {:02X} is {is}",
-                    id.number
-                ),
-            );
-        }
-        if let Some(i) = page
-            .locals
-            .windows(2)
-            .position(|w| (w[1].section as u8) < (w[0].section as u8))
-        {
-            self.error(
-                Some(id),
-                4 + 8 * (i + 1),
-                "locals are not in L order (VAR_INPUT, VAR_IN_OUT, VAR_OUTPUT, VAR)",
-            );
-        }
-        for l in &locals {
-            let placed = PackedOperand::memory(l.address, Use::Value, l.address.width);
-            if placed != l.recorded {
-                let reason = format!(
-                    "local {} : {} is {} in the argument page, but the language places it at {}",
-                    l.name,
-                    l.data_type,
-                    self.describe(l.recorded),
-                    self.target.memory.format_address(&l.address)
-                );
-                self.error(Some(id), l.entry, reason);
-            }
-        }
+        self.check_argument_page(id, unit, &page, &locals);
         for (section, keyword, _) in SECTIONS {
             let mut any = false;
             for l in locals.iter().filter(|l| l.section == section) {
@@ -225,15 +168,66 @@ impl Disassembler<'_> {
         locals
     }
 
+    /// What the text cannot reproduce of an argument page: a header naming another
+    /// unit, locals out of L order, a local where the language would not place it.
+    fn check_argument_page(
+        &mut self,
+        id: PageId,
+        unit: UnitRef,
+        page: &ArgumentPage,
+        locals: &[Local],
+    ) {
+        let says = UnitRef {
+            kind: if page.subroutine {
+                BlockKind::Subroutine
+            } else {
+                BlockKind::Interrupt
+            },
+            number: u16::from(page.unit_number),
+        };
+        if says != unit {
+            self.error(
+                Some(id),
+                0,
+                format!(
+                    "the page header names {says}, but page {:02X} is {unit}",
+                    id.number
+                ),
+            );
+        }
+        if let Some(i) = page
+            .locals
+            .windows(2)
+            .position(|w| (w[1].section as u8) < (w[0].section as u8))
+        {
+            self.error(
+                Some(id),
+                4 + 8 * (i + 1),
+                "locals are not in L order (VAR_INPUT, VAR_IN_OUT, VAR_OUTPUT, VAR)",
+            );
+        }
+        for l in locals {
+            let placed = PackedOperand::encode(Operand::Value(l.address));
+            if placed != l.recorded {
+                let reason = format!(
+                    "local {} : {} is {} in the argument page, but the language places it at {}",
+                    l.name,
+                    l.data_type,
+                    self.describe(l.recorded),
+                    self.target.memory.format_address(&l.address)
+                );
+                self.error(Some(id), l.entry, reason);
+            }
+        }
+    }
+
     /// An operand for a message: its address if it is a plain one, else its bits.
     pub(super) fn describe(&self, op: PackedOperand) -> String {
-        match (op.use_(), op.width()) {
-            (Some(Use::Value), Some(w)) => {
-                match self.address(op.slot(), w, op.offset(), op.bit()) {
-                    Ok((a, _)) => self.target.memory.format_address(&a),
-                    Err(_) => format!("0x{:08X}", op.0),
-                }
-            }
+        match op.decode() {
+            Ok(Operand::Value(variable)) => match self.address(variable) {
+                Ok((a, _)) => self.target.memory.format_address(&a),
+                Err(_) => format!("0x{:08X}", op.0),
+            },
             _ => format!("0x{:08X}", op.0),
         }
     }

@@ -5,25 +5,15 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use gutta_catalog::{AreaKind, Target, Width};
+use gutta_catalog::rules::{self, port, DataRules};
+use gutta_catalog::{Target, Width};
 
 use super::error::{Location, VerifyError};
-use super::operand::{malformed, AreaRule, DataRules, OperandChecker, Site};
+use super::operand::{malformed, OperandChecker, Site};
 use super::program::kind_range;
 use crate::{
-    decode_data, DataItem, Image, PageId, PageKind, SystemPage, Use, BAUD_RATES,
-    SYSTEM_LAYOUT_VERSION,
+    decode_data, DataItem, Image, PageId, PageKind, SystemPage, BAUD_RATES, SYSTEM_LAYOUT_VERSION,
 };
-
-/// Areas a data block may initialise (docs/language.md section 10): not inputs (the
-/// terminals fill them), not K (the compiler's), not L (exists only during a call).
-const INITIALISABLE: &[AreaKind] = &[
-    AreaKind::Memory,
-    AreaKind::DigitalOutput,
-    AreaKind::AnalogOutput,
-    AreaKind::Timer,
-    AreaKind::Counter,
-];
 
 /// Decode and check every data page.
 pub(super) fn verify_data_pages(
@@ -55,25 +45,12 @@ pub(super) fn verify_data_pages(
             };
             let site = Site::DataItem { index: i };
             let op = item.operand;
-            if op.use_() != Some(Use::Value) {
-                return Err(VerifyError::UseNotAllowed {
-                    at,
-                    operand: site.describe(),
-                    use_code: op.use_code(),
-                });
-            }
-            let Some(width) = op.width() else {
+            // The item's width is its word's; `check_data` then wants a value (USE 0).
+            let Ok(variable) = op.variable() else {
                 return Err(malformed(at, site, op, "WIDTH is 0..3"));
             };
-            let rules = DataRules {
-                width,
-                writes: true,
-                constant: false,
-                pointer: false,
-                address_of: false,
-                areas: AreaRule::Kinds(INITIALISABLE),
-            };
-            checker.check_data(at, site, op, rules)?;
+            let width = variable.width;
+            checker.check_data(at, site, op, DataRules::data_item(width))?;
             if !fits(item.value, width) {
                 return Err(VerifyError::DataValue {
                     at: Location {
@@ -168,11 +145,11 @@ fn check_port(b: &[u8], p: usize, id: PageId) -> Result<(), VerifyError> {
             |v| usize::from(v) < BAUD_RATES.len(),
             "0..4",
         ),
-        (3, "data bits", |v| v == 8, "8"),
+        (3, "data bits", |v| v == port::DATA_BITS, "8"),
         (4, "parity", |v| v <= 2, "0..2"),
-        (5, "stop bits", |v| (1..=2).contains(&v), "1 or 2"),
-        (6, "timeout", |v| v >= 1, "1..255"),
-        (7, "frame gap", |v| v >= 1, "1..255"),
+        (5, "stop bits", |v| port::STOP_BITS.contains(&v), "1 or 2"),
+        (6, "timeout", |v| port::TIMEOUT.contains(&v), "1..255"),
+        (7, "frame gap", |v| port::FRAME_GAP.contains(&v), "1..255"),
     ];
     for (field_offset, field, ok, allowed) in rules {
         let offset = 2 + 8 * p + field_offset;
@@ -197,14 +174,10 @@ fn check_password(password: &[u8], at: Location) -> Result<(), VerifyError> {
     if password.iter().all(|&b| b == 0xFF) {
         return Ok(());
     }
+    // The characters, then zeros.
     let text = password.iter().take_while(|&&b| b != 0).count();
-    let ascii = password
-        .get(..text)
-        .is_some_and(|t| t.iter().all(|b| (1..=0x7F).contains(b)));
-    let padding = password
-        .get(text..)
-        .is_some_and(|p| p.iter().all(|&b| b == 0));
-    if text >= 1 && ascii && padding {
+    let (chars, padding) = password.split_at(text);
+    if rules::password_allowed(chars) && padding.iter().all(|&b| b == 0) {
         Ok(())
     } else {
         Err(VerifyError::SystemPassword { at })

@@ -6,7 +6,7 @@ use std::fmt;
 
 use gutta_catalog::{BlockKind, Width};
 
-use crate::{DecodeError, PackedOperand, PageId};
+use crate::{DecodeError, PackedOperand, PageId, UnitRef};
 
 /// A byte in a page.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -323,13 +323,9 @@ pub enum VerifyError {
     },
 }
 
-/// `INT3` / `SBR0` / `MAIN`.
-pub(crate) fn unit_name(kind: BlockKind, number: u16) -> String {
-    match kind {
-        BlockKind::Interrupt if number == 0 => "MAIN".to_string(),
-        BlockKind::Interrupt => format!("INT{number}"),
-        BlockKind::Subroutine => format!("SBR{number}"),
-    }
+/// `INT3` / `SBR0` / `MAIN`: `UnitRef`'s name.
+fn unit_name(kind: BlockKind, number: u16) -> String {
+    UnitRef { kind, number }.to_string()
 }
 
 fn kind_word(kind: BlockKind) -> &'static str {

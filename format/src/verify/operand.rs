@@ -1,13 +1,16 @@
 //! Checks of one packed operand against what may stand in its place: an instruction's
-//! operand spec, a CALL argument's parameter, a local's type, a data item. Only reads
-//! the target and the set of program units in the image; never panics on any operand.
+//! operand spec, a CALL argument's parameter, a local's type, a data item. The word is
+//! taken apart by `PackedOperand::decode` only; the rules are `gutta_catalog::rules`
+//! (the checker applies the same). Only reads the target and the set of program units
+//! in the image; never panics on any operand.
 
 use std::collections::BTreeSet;
 
-use gutta_catalog::{Area, AreaKind, BlockKind, OperandKind, OperandSpec, Target, Width};
+use gutta_catalog::rules::{self, AreaRule, DataRules, IndirectRefusal, LiteralRefusal};
+use gutta_catalog::{Address, Area, OperandKind, OperandSpec, Target, Width};
 
-use super::error::{unit_name, Location, VerifyError};
-use crate::{PackedOperand, Use};
+use super::error::{Location, VerifyError};
+use crate::{Operand, OperandError, PackedOperand, UnitRef, Use};
 
 /// Which operand a check is about, for messages.
 #[derive(Debug, Clone, Copy)]
@@ -20,7 +23,7 @@ pub(super) enum Site<'a> {
     },
     /// Operand `index` of a CALL, passed to the callee's local `local`.
     Argument {
-        callee: (BlockKind, u8),
+        callee: UnitRef,
         index: usize,
         local: usize,
     },
@@ -44,60 +47,21 @@ impl Site<'_> {
                 callee,
                 index,
                 local,
-            } => format!(
-                "operand {index} of CALL {} (its local {local})",
-                unit_name(callee.0, callee.1 as u16)
-            ),
+            } => format!("operand {index} of CALL {callee} (its local {local})"),
             Site::Local { index } => format!("local {index}"),
             Site::DataItem { index } => format!("data item {index}"),
         }
     }
 }
 
-/// Which areas a memory operand may name (directly, with USE 0).
-#[derive(Debug, Clone, Copy)]
-pub(super) enum AreaRule<'a> {
-    Any,
-    /// Area names from an operand spec; a constant (in K) is accepted as well when the
-    /// operand takes constants.
-    Listed(&'a [String]),
-    Kinds(&'static [AreaKind]),
-}
-
-/// What a memory operand (USE 0, 1 or 2) must be.
-#[derive(Debug, Clone, Copy)]
-pub(super) struct DataRules<'a> {
-    /// Access width of the value.
-    pub width: Width,
-    /// The instruction writes the operand.
-    pub writes: bool,
-    /// A constant (a variable in K) may stand here.
-    pub constant: bool,
-    /// `*pointer` (USE 2) is accepted.
-    pub pointer: bool,
-    /// `&byte` (USE 1) is accepted.
-    pub address_of: bool,
-    pub areas: AreaRule<'a>,
-}
-
-impl<'a> DataRules<'a> {
-    pub(super) fn from_spec(spec: &'a OperandSpec) -> DataRules<'a> {
-        DataRules {
-            width: spec
-                .types
-                .first()
-                .map(|t| t.width())
-                .unwrap_or(Width::Dword),
-            writes: spec.role.writes(),
-            constant: spec.constant,
-            pointer: spec.pointer,
-            address_of: spec.address_of,
-            areas: match &spec.areas {
-                None => AreaRule::Any,
-                Some(list) => AreaRule::Listed(list),
-            },
-        }
-    }
+/// What an operand that met its spec names, for the unit's records.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Checked {
+    Data,
+    Label(u16),
+    Literal(u16),
+    /// A unit of the image, and its page.
+    Unit(UnitRef, u8),
 }
 
 /// The operand checker of one image on one target.
@@ -108,159 +72,88 @@ pub(super) struct OperandChecker<'a> {
 }
 
 impl OperandChecker<'_> {
-    /// The page of a unit, if the target can have it.
-    pub(super) fn unit_page(&self, kind: BlockKind, number: u16) -> Option<u8> {
-        let plc = &self.target.plc;
-        let number = u32::from(number);
-        let page = match kind {
-            BlockKind::Interrupt => (number < plc.program_block_page_int_size).then_some(number)?,
-            BlockKind::Subroutine => (number < plc.program_block_page_sbr_size)
-                .then(|| plc.program_block_page_int_size.checked_add(number))??,
-        };
-        u8::try_from(page).ok()
-    }
-
-    /// Check an operand against an instruction's operand spec. For a unit operand,
-    /// returns the unit's page.
+    /// Check an operand against an instruction's operand spec.
     pub(super) fn check_spec(
         &self,
         at: Location,
         site: Site<'_>,
         op: PackedOperand,
         spec: &OperandSpec,
-    ) -> Result<Option<u8>, VerifyError> {
+    ) -> Result<Checked, VerifyError> {
         match spec.kind {
-            OperandKind::Data => self.check_data(at, site, op, DataRules::from_spec(spec))?,
-            OperandKind::Label => {
-                self.special(at, site, op, Use::Label)?;
-                let (min, max) = (
-                    spec.min.unwrap_or(0).max(0),
-                    spec.max.unwrap_or(255).min(255),
-                );
-                self.range(at, site, op, min, max)?;
+            OperandKind::Data => {
+                self.check_data(at, site, op, DataRules::from_spec(spec))?;
+                Ok(Checked::Data)
             }
-            OperandKind::Literal => {
-                self.special(at, site, op, Use::Literal)?;
-                let min = spec.min.unwrap_or(0);
-                let mut max = spec.max.unwrap_or(i64::from(u16::MAX));
-                // Ports and events are narrowed to the target's, as the checker does.
-                if spec.name.eq_ignore_ascii_case("PORT") {
-                    max = max.min(i64::from(self.target.memory.serial_ports) - 1);
+            OperandKind::Label => match special(at, site, op, Use::Label)? {
+                Operand::Label(label) => {
+                    let range = rules::label_range(spec);
+                    in_range(at, site, label, *range.start(), *range.end())?;
+                    Ok(Checked::Label(label))
                 }
-                self.range(at, site, op, min, max)?;
-                if spec.name.eq_ignore_ascii_case("EVNT")
-                    && !self
-                        .target
-                        .memory
-                        .events
-                        .iter()
-                        .any(|e| e.number == u32::from(op.offset()))
-                {
-                    return Err(VerifyError::UnknownEvent {
-                        at,
-                        operand: site.describe(),
-                        event: op.offset(),
-                    });
+                _ => Err(use_not_allowed(at, site, op)),
+            },
+            OperandKind::Literal => match special(at, site, op, Use::Literal)? {
+                Operand::Literal(value) => {
+                    self.literal(at, site, value, spec)?;
+                    Ok(Checked::Literal(value))
                 }
-            }
-            OperandKind::Block => return self.check_unit(at, site, op, spec).map(Some),
+                _ => Err(use_not_allowed(at, site, op)),
+            },
+            OperandKind::Block => match special(at, site, op, Use::Unit)? {
+                Operand::Unit(unit) => {
+                    let page = self.check_unit(at, site, unit, spec)?;
+                    Ok(Checked::Unit(unit, page))
+                }
+                _ => Err(use_not_allowed(at, site, op)),
+            },
         }
-        Ok(None)
     }
 
+    /// A literal in its range on this target (`PORT`, `EVNT` narrowed).
+    fn literal(
+        &self,
+        at: Location,
+        site: Site<'_>,
+        value: u16,
+        spec: &OperandSpec,
+    ) -> Result<(), VerifyError> {
+        match rules::check_literal(spec, &self.target.memory, i64::from(value)) {
+            Ok(()) => Ok(()),
+            Err(LiteralRefusal::NoSuchEvent) => Err(VerifyError::UnknownEvent {
+                at,
+                operand: site.describe(),
+                event: value,
+            }),
+            Err(LiteralRefusal::OutOfRange { min, max }) => in_range(at, site, value, min, max),
+        }
+    }
+
+    /// A unit of the kind the spec names, which the image has; returns its page.
     fn check_unit(
         &self,
         at: Location,
         site: Site<'_>,
-        op: PackedOperand,
+        unit: UnitRef,
         spec: &OperandSpec,
     ) -> Result<u8, VerifyError> {
-        if op.use_code() != Use::Unit as u8 {
-            return Err(use_not_allowed(at, site, op));
-        }
-        if op.width_code() != 0 || op.bit() != 0 {
-            return Err(malformed(
-                at,
-                site,
-                op,
-                "a unit operand has WIDTH 0 and BIT_OFFSET 0",
-            ));
-        }
-        let found = match op.slot() {
-            0 => BlockKind::Interrupt,
-            1 => BlockKind::Subroutine,
-            _ => {
-                return Err(malformed(
-                    at,
-                    site,
-                    op,
-                    "the SLOT of a unit operand is 0 (interrupt) or 1 (subroutine)",
-                ))
-            }
-        };
-        let expected = spec.block.unwrap_or(BlockKind::Subroutine);
-        let number = op.offset();
-        if found != expected || (expected == BlockKind::Interrupt && number == 0) {
+        if !rules::unit_operand_accepts(spec, unit.kind, u32::from(unit.number)) {
             return Err(VerifyError::BlockKindMismatch {
                 at,
                 operand: site.describe(),
-                expected,
-                found,
-                number,
+                expected: rules::unit_operand_kind(spec),
+                found: unit.kind,
+                number: unit.number,
             });
         }
-        match self.unit_page(found, number) {
+        match unit.page(&self.target.plc) {
             Some(page) if self.unit_pages.contains(&page) => Ok(page),
             _ => Err(VerifyError::NoSuchUnit {
                 at,
                 operand: site.describe(),
-                kind: found,
-                number,
+                kind: unit.kind,
+                number: unit.number,
             }),
-        }
-    }
-
-    /// A label or literal: the right USE, and SLOT, WIDTH, BIT_OFFSET 0.
-    fn special(
-        &self,
-        at: Location,
-        site: Site<'_>,
-        op: PackedOperand,
-        use_: Use,
-    ) -> Result<(), VerifyError> {
-        if op.use_code() != use_ as u8 {
-            return Err(use_not_allowed(at, site, op));
-        }
-        if op.slot() != 0 || op.width_code() != 0 || op.bit() != 0 {
-            return Err(malformed(
-                at,
-                site,
-                op,
-                "a label or literal has SLOT, WIDTH and BIT_OFFSET 0",
-            ));
-        }
-        Ok(())
-    }
-
-    fn range(
-        &self,
-        at: Location,
-        site: Site<'_>,
-        op: PackedOperand,
-        min: i64,
-        max: i64,
-    ) -> Result<(), VerifyError> {
-        let value = op.offset();
-        if (min..=max).contains(&i64::from(value)) {
-            Ok(())
-        } else {
-            Err(VerifyError::ValueOutOfRange {
-                at,
-                operand: site.describe(),
-                value,
-                min,
-                max,
-            })
         }
     }
 
@@ -272,14 +165,31 @@ impl OperandChecker<'_> {
         op: PackedOperand,
         rules: DataRules<'_>,
     ) -> Result<(), VerifyError> {
-        match op.use_() {
-            Some(Use::Value) => self.value(at, site, op, rules),
-            Some(Use::AddressOf)
-                if rules.address_of && !rules.writes && rules.width == Width::Dword =>
-            {
-                self.address_of(at, site, op)
+        let operand = op.decode().map_err(|error| match error {
+            OperandError::Width(found) => VerifyError::WidthMismatch {
+                at,
+                operand: site.describe(),
+                expected: rules.width,
+                found,
+            },
+            OperandError::Bit { bit } => VerifyError::BitOffset {
+                at,
+                operand: site.describe(),
+                bit,
+                width: rules.width,
+            },
+            OperandError::Use(_) | OperandError::NotZero { .. } | OperandError::UnitSlot(_) => {
+                use_not_allowed(at, site, op)
             }
-            Some(Use::Pointer) if rules.pointer => self.pointer(at, site, op, rules.width),
+        })?;
+        match operand {
+            Operand::Value(variable) => self.value(at, site, variable, rules),
+            Operand::AddressOf { byte, width } if rules.takes_address_of() => {
+                self.address_of(at, site, byte, width)
+            }
+            Operand::Pointer { holder, width } if rules.pointer => {
+                self.pointer(at, site, holder, width, rules.width)
+            }
             _ => Err(use_not_allowed(at, site, op)),
         }
     }
@@ -288,24 +198,15 @@ impl OperandChecker<'_> {
         &self,
         at: Location,
         site: Site<'_>,
-        op: PackedOperand,
+        variable: Address,
         rules: DataRules<'_>,
     ) -> Result<(), VerifyError> {
-        let area = self.area(at, site, op)?;
+        let area = self.area(at, site, variable.slot)?;
         let width = rules.width;
-        width_is(at, site, op, width)?;
+        width_is(at, site, variable.width, width)?;
         allows(at, site, area, width)?;
-        bit(at, site, op, width)?;
-        inside(at, site, op, area, width.bytes())?;
-        let accepted = match rules.areas {
-            AreaRule::Any => true,
-            AreaRule::Listed(list) => {
-                (rules.constant && area.kind == AreaKind::Constant)
-                    || list.iter().any(|a| a.eq_ignore_ascii_case(&area.name))
-            }
-            AreaRule::Kinds(kinds) => kinds.contains(&area.kind),
-        };
-        if !accepted {
+        inside(at, site, variable.offset, area, width.bytes())?;
+        if !rules.accepts_area(area) {
             return Err(VerifyError::AreaNotAllowed {
                 at,
                 operand: site.describe(),
@@ -313,7 +214,7 @@ impl OperandChecker<'_> {
                 allowed: self.describe_areas(rules.areas),
             });
         }
-        if rules.writes && !area.writable {
+        if !rules.may_write(area) {
             return Err(VerifyError::WriteToReadOnly {
                 at,
                 operand: site.describe(),
@@ -323,55 +224,67 @@ impl OperandChecker<'_> {
         Ok(())
     }
 
+    /// `&byte`, read as a DWORD pointer value.
     fn address_of(
         &self,
         at: Location,
         site: Site<'_>,
-        op: PackedOperand,
+        byte: Address,
+        width: Width,
     ) -> Result<(), VerifyError> {
-        let area = self.area(at, site, op)?;
-        width_is(at, site, op, Width::Dword)?;
-        if !area.address_of {
-            return Err(VerifyError::NotAddressOfArea {
-                at,
-                operand: site.describe(),
-                area: area.name.clone(),
-            });
+        let area = self.area(at, site, byte.slot)?;
+        width_is(at, site, width, Width::Dword)?;
+        match rules::address_of_target(area, Width::Byte) {
+            Ok(()) => {}
+            Err(IndirectRefusal::Area) => {
+                return Err(VerifyError::NotAddressOfArea {
+                    at,
+                    operand: site.describe(),
+                    area: area.name.clone(),
+                })
+            }
+            Err(IndirectRefusal::Width) => {
+                return Err(width_not_allowed(at, site, area, Width::Byte))
+            }
         }
-        allows(at, site, area, Width::Byte)?;
-        bit(at, site, op, Width::Byte)?;
-        inside(at, site, op, area, 1)
+        inside(at, site, byte.offset, area, 1)
     }
 
+    /// `*holder`, accessed as `width` where the instruction needs `expected`.
     fn pointer(
         &self,
         at: Location,
         site: Site<'_>,
-        op: PackedOperand,
+        holder: Address,
         width: Width,
+        expected: Width,
     ) -> Result<(), VerifyError> {
-        let area = self.area(at, site, op)?;
-        width_is(at, site, op, width)?;
-        if !area.holds_pointer {
-            return Err(VerifyError::NotPointerArea {
-                at,
-                operand: site.describe(),
-                area: area.name.clone(),
-            });
+        let area = self.area(at, site, holder.slot)?;
+        width_is(at, site, width, expected)?;
+        match rules::pointer_holder(area, Width::Dword) {
+            Ok(()) => {}
+            Err(IndirectRefusal::Area) => {
+                return Err(VerifyError::NotPointerArea {
+                    at,
+                    operand: site.describe(),
+                    area: area.name.clone(),
+                })
+            }
+            Err(IndirectRefusal::Width) => {
+                return Err(width_not_allowed(at, site, area, Width::Dword))
+            }
         }
-        allows(at, site, area, Width::Dword)?;
-        bit(at, site, op, width)?;
-        inside(at, site, op, area, Width::Dword.bytes())
+        inside(at, site, holder.offset, area, Width::Dword.bytes())
     }
 
-    fn area(&self, at: Location, site: Site<'_>, op: PackedOperand) -> Result<&Area, VerifyError> {
+    fn area(&self, at: Location, site: Site<'_>, slot: u8) -> Result<&Area, VerifyError> {
         self.target
             .memory
-            .area_by_slot(op.slot())
+            .area_by_slot(slot)
             .ok_or_else(|| VerifyError::NoSuchArea {
                 at,
                 operand: site.describe(),
-                slot: op.slot(),
+                slot,
             })
     }
 
@@ -389,6 +302,55 @@ impl OperandChecker<'_> {
                 .collect::<Vec<_>>()
                 .join(", "),
         }
+    }
+}
+
+/// A label, literal or unit operand, decoded: the word has the `expected` USE (else
+/// UseNotAllowed) and no field it must not have (else MalformedOperand).
+fn special(
+    at: Location,
+    site: Site<'_>,
+    op: PackedOperand,
+    expected: Use,
+) -> Result<Operand, VerifyError> {
+    op.decode().map_err(|error| match error {
+        OperandError::NotZero { use_ } if use_ == expected => malformed(
+            at,
+            site,
+            op,
+            if use_ == Use::Unit {
+                "a unit operand has WIDTH 0 and BIT_OFFSET 0"
+            } else {
+                "a label or literal has SLOT, WIDTH and BIT_OFFSET 0"
+            },
+        ),
+        OperandError::UnitSlot(_) if expected == Use::Unit => malformed(
+            at,
+            site,
+            op,
+            "the SLOT of a unit operand is 0 (interrupt) or 1 (subroutine)",
+        ),
+        _ => use_not_allowed(at, site, op),
+    })
+}
+
+fn in_range(
+    at: Location,
+    site: Site<'_>,
+    value: u16,
+    min: i64,
+    max: i64,
+) -> Result<(), VerifyError> {
+    if (min..=max).contains(&i64::from(value)) {
+        Ok(())
+    } else {
+        Err(VerifyError::ValueOutOfRange {
+            at,
+            operand: site.describe(),
+            value,
+            min,
+            max,
+        })
     }
 }
 
@@ -414,21 +376,16 @@ pub(super) fn malformed(
     }
 }
 
-/// The operand's WIDTH field is the one the instruction accesses with.
-fn width_is(
-    at: Location,
-    site: Site<'_>,
-    op: PackedOperand,
-    width: Width,
-) -> Result<(), VerifyError> {
-    if op.width_code() == width as u8 {
+/// The access width of the operand is the one the instruction uses.
+fn width_is(at: Location, site: Site<'_>, found: Width, width: Width) -> Result<(), VerifyError> {
+    if found == width {
         return Ok(());
     }
     Err(VerifyError::WidthMismatch {
         at,
         operand: site.describe(),
         expected: width,
-        found: op.width_code(),
+        found: found as u8,
     })
 }
 
@@ -436,59 +393,45 @@ fn allows(at: Location, site: Site<'_>, area: &Area, width: Width) -> Result<(),
     if area.allows(width) {
         Ok(())
     } else {
-        Err(VerifyError::WidthNotAllowed {
-            at,
-            operand: site.describe(),
-            area: area.name.clone(),
-            width,
-        })
+        Err(width_not_allowed(at, site, area, width))
     }
 }
 
-/// BIT_OFFSET is 0..7 for a bit, 0 otherwise.
-fn bit(at: Location, site: Site<'_>, op: PackedOperand, width: Width) -> Result<(), VerifyError> {
-    let ok = if width == Width::Bit {
-        op.bit() <= 7
-    } else {
-        op.bit() == 0
-    };
-    if ok {
-        Ok(())
-    } else {
-        Err(VerifyError::BitOffset {
-            at,
-            operand: site.describe(),
-            bit: op.bit(),
-            width,
-        })
+fn width_not_allowed(at: Location, site: Site<'_>, area: &Area, width: Width) -> VerifyError {
+    VerifyError::WidthNotAllowed {
+        at,
+        operand: site.describe(),
+        area: area.name.clone(),
+        width,
     }
 }
 
-/// `bytes` bytes at the operand's offset lie inside the area, at a whole unit.
+/// `bytes` bytes at `offset` lie inside the area, at a whole unit.
 fn inside(
     at: Location,
     site: Site<'_>,
-    op: PackedOperand,
+    offset: u32,
     area: &Area,
     bytes: u32,
 ) -> Result<(), VerifyError> {
-    let offset = op.offset();
-    if u32::from(offset) + bytes > area.size {
+    // Decoded offsets come from the 16-bit OFFSET field.
+    let shown = u16::try_from(offset).unwrap_or(u16::MAX);
+    if offset + bytes > area.size {
         return Err(VerifyError::OutOfArea {
             at,
             operand: site.describe(),
             area: area.name.clone(),
-            offset,
+            offset: shown,
             bytes,
             size: area.size,
         });
     }
-    if u32::from(offset) % area.unit.bytes() != 0 {
+    if offset % area.unit.bytes() != 0 {
         return Err(VerifyError::Misaligned {
             at,
             operand: site.describe(),
             area: area.name.clone(),
-            offset,
+            offset: shown,
             unit: area.unit,
         });
     }

@@ -20,6 +20,20 @@ pub fn target_named(name: &str) -> Arc<Target> {
     stdlib::shared(name).expect("a stdlib target loads")
 }
 
+/// The default target with its ManagerFun.xml edited (`edit` gets and returns the text),
+/// to test what the stdlib files do not show, such as operand names in lower case.
+pub fn target_with_manager_fun(edit: impl Fn(&str) -> String) -> Target {
+    let (_, plc_type, manager_var) = stdlib::TARGETS[0];
+    let text = std::str::from_utf8(stdlib::MANAGER_FUN).expect("UTF-8");
+    let manager_fun = edit(text);
+    Target::load(gutta_catalog::TargetSources {
+        plc_type,
+        manager_var,
+        manager_fun: manager_fun.as_bytes(),
+    })
+    .expect("the edited target loads")
+}
+
 /// `MW20` as a value operand (USE 0) with the address's width.
 pub fn val(t: &Target, text: &str) -> PackedOperand {
     let a = t.memory.parse_address(text).expect("a valid address");

@@ -300,12 +300,11 @@ pub(crate) fn debug(
 ) -> Result<ExitCode, Fatal> {
     let mut client = login(args)?;
     let target = plc_target(targets, &mut client)?;
-    let int_size = target.plc.program_block_page_int_size;
+    let plc = &target.plc;
     let arg = action.get(1).map(String::as_str);
     match (action[0].as_str(), arg) {
         ("break", Some(at)) => {
-            let (index, network, step) =
-                gutta_format::parse_position(at, int_size).map_err(Fatal)?;
+            let (index, network, step) = gutta_format::parse_position(at, plc).map_err(Fatal)?;
             client.set_breakpoint(Some(Breakpoint {
                 index,
                 network,
@@ -339,7 +338,7 @@ pub(crate) fn debug(
         if f == 0xFF {
             "none".to_string()
         } else {
-            format!("{}:{n}:{s}", gutta_format::function_name(f, int_size))
+            format!("{}:{n}:{s}", gutta_format::function_name(f, plc))
         }
     };
     let b = info.breakpoint;

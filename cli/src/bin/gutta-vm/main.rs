@@ -250,9 +250,8 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
 /// `MAIN:2:0`, `SBR0:1:3`, `INT1:1:0`, `8:1:0`: a function (unit page), network and
 /// step.
 fn parse_breakpoint(target: &Target, text: &str) -> Result<Position, Fatal> {
-    let (function, network, step) =
-        gutta_format::parse_position(text, target.plc.program_block_page_int_size)
-            .map_err(|e| Fatal(format!("--break {e}")))?;
+    let (function, network, step) = gutta_format::parse_position(text, &target.plc)
+        .map_err(|e| Fatal(format!("--break {e}")))?;
     Ok(Position {
         function,
         network,
@@ -262,7 +261,7 @@ fn parse_breakpoint(target: &Target, text: &str) -> Result<Position, Fatal> {
 
 /// MAIN, INTn or SBRn for a unit page.
 fn function_name(target: &Target, page: u8) -> String {
-    gutta_format::function_name(page, target.plc.program_block_page_int_size)
+    gutta_format::function_name(page, &target.plc)
 }
 
 /// The fault's variant name (`Watchdog`), for JSON and messages.

@@ -9,7 +9,7 @@ use chumsky::prelude::*;
 
 use crate::diagnostics::{Code, Diagnostic};
 use crate::source::Span;
-use crate::syntax::ast::{Program, UnitKind, VarSection};
+use crate::syntax::ast::{BlockKind, Program, VarSection};
 use crate::syntax::lexer::{LineLexer, Spanned, Tok};
 use crate::syntax::lines::span as sp;
 
@@ -324,10 +324,10 @@ impl<'t> BlockParser<'t> {
             (State::Data, Kw::EndData) => true,
             (State::System, Kw::EndSystem) => true,
             (State::UnitHead | State::Body, Kw::EndSubroutine) => {
-                open_unit == Some(UnitKind::Subroutine)
+                open_unit == Some(BlockKind::Subroutine)
             }
             (State::UnitHead | State::Body, Kw::EndOrganization | Kw::EndInterrupt) => {
-                open_unit == Some(UnitKind::Interrupt)
+                open_unit == Some(BlockKind::Interrupt)
             }
             _ => false,
         }
@@ -339,7 +339,7 @@ impl<'t> BlockParser<'t> {
             State::Data => "DATA_BLOCK",
             State::System => "SYSTEM_BLOCK",
             _ => match self.program.units.last().map(|u| u.kind) {
-                Some(UnitKind::Subroutine) => "SUBROUTINE_BLOCK",
+                Some(BlockKind::Subroutine) => "SUBROUTINE_BLOCK",
                 _ => "an interrupt or organization block",
             },
         };

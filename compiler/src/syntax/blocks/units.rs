@@ -8,7 +8,7 @@ use super::keywords::Kw;
 use super::{BlockParser, State};
 use crate::diagnostics::{Code, Diagnostic};
 use crate::source::Span;
-use crate::syntax::ast::{Network, Unit, UnitKind, VarDecl, VarSection};
+use crate::syntax::ast::{BlockKind, Network, Unit, VarDecl, VarSection};
 use crate::syntax::lines;
 
 /// Why a VAR section closes when another line comes before its END_VAR.
@@ -19,9 +19,9 @@ impl BlockParser<'_> {
     pub(super) fn unit_header(&mut self, kw: Kw, kw_span: Span, line_span: Span) {
         self.open_block(line_span);
         let kind = if kw == Kw::Subroutine {
-            UnitKind::Subroutine
+            BlockKind::Subroutine
         } else {
-            UnitKind::Interrupt
+            BlockKind::Interrupt
         };
         let header = self.block_header(kw_span, line_span);
         self.program.units.push(Unit {
@@ -41,8 +41,8 @@ impl BlockParser<'_> {
             unit.kind,
             self.slice(unit.header.span).split_whitespace().next(),
         ) {
-            (UnitKind::Subroutine, _) => ("SUBROUTINE_BLOCK", "END_SUBROUTINE_BLOCK"),
-            (UnitKind::Interrupt, Some(k)) if k.eq_ignore_ascii_case("ORGANIZATION_BLOCK") => {
+            (BlockKind::Subroutine, _) => ("SUBROUTINE_BLOCK", "END_SUBROUTINE_BLOCK"),
+            (BlockKind::Interrupt, Some(k)) if k.eq_ignore_ascii_case("ORGANIZATION_BLOCK") => {
                 ("ORGANIZATION_BLOCK", "END_ORGANIZATION_BLOCK")
             }
             _ => ("INTERRUPT_BLOCK", "END_INTERRUPT_BLOCK"),

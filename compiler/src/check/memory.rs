@@ -1,0 +1,295 @@
+//! Variables in data operands, by prefix: `&byte` (address-of), `*holder` (through a
+//! pointer) and the plain variable (area, width, declared type, writability). The
+//! rules are `gutta_catalog::rules` (the verifier applies the same); this file only
+//! says, in diagnostics, why a variable is refused. Names are resolved in `names.rs`.
+
+use gutta_catalog::rules::{self, DataRules, IndirectRefusal};
+use gutta_catalog::{Area, AreaKind, DataType, OperandSpec, Width};
+
+use super::names::Variable;
+use super::operands::types_text;
+use super::{CheckedOperand, Checker, Use};
+use crate::diagnostics::{Code, Diagnostic};
+use crate::source::Span;
+use crate::syntax::ast::Prefix;
+
+/// What a variable operand is checked against, for the per-prefix checks.
+struct VariableSite<'s> {
+    /// The whole operand (with its prefix).
+    span: Span,
+    /// The name without prefix.
+    name: Span,
+    /// The name as written, `#` included for a local.
+    shown: String,
+    spec: &'s OperandSpec,
+    rules: DataRules<'s>,
+    mnemonic: &'s str,
+}
+
+impl Checker<'_> {
+    /// A variable operand: resolve the name, then check it for its prefix.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn variable_operand(
+        &mut self,
+        unit: usize,
+        span: Span,
+        prefix: Prefix,
+        local: bool,
+        name: Span,
+        spec: &OperandSpec,
+        mnemonic: &str,
+    ) -> Option<CheckedOperand> {
+        let var = self.variable(unit, local, name)?;
+        // Borrowed from the target, not from `self` (no clone per operand).
+        let target = self.target;
+        let area = target.memory.area_by_slot(var.address.slot)?;
+        let text = self.slice(name);
+        let site = VariableSite {
+            span,
+            name,
+            shown: if local {
+                format!("#{text}")
+            } else {
+                text.to_string()
+            },
+            spec,
+            rules: DataRules::from_spec(spec),
+            mnemonic,
+        };
+        match prefix {
+            Prefix::AddressOf => self.address_of_operand(&site, &var, area),
+            Prefix::Pointer => self.pointer_operand(&site, &var, area),
+            Prefix::None => self.value_operand(&site, &var, area),
+        }
+    }
+
+    /// `&MB24`: the pointer value of a byte, where the operand reads a DWORD.
+    fn address_of_operand(
+        &mut self,
+        site: &VariableSite<'_>,
+        var: &Variable,
+        area: &Area,
+    ) -> Option<CheckedOperand> {
+        let (spec, mnemonic, shown) = (site.spec, site.mnemonic, &site.shown);
+        if !site.rules.takes_address_of() {
+            self.report(
+                Diagnostic::new(
+                    Code::UseNotAllowed,
+                    site.span,
+                    format!("{} of {mnemonic} does not take an address (`&`)", spec.name),
+                )
+                .help("`&` is accepted where a pointer value is expected, as in `MOVD &MB24, MD4`"),
+            );
+            return None;
+        }
+        if let Err(refusal) = rules::address_of_target(area, var.address.width) {
+            let why = match refusal {
+                IndirectRefusal::Area => {
+                    format!("area {} does not allow taking addresses", area.name)
+                }
+                IndirectRefusal::Width => format!(
+                    "`{shown}` is a {}, and only BYTE variables have addresses",
+                    var.address.width
+                ),
+            };
+            self.report(
+                Diagnostic::new(
+                    Code::UseNotAllowed,
+                    site.span,
+                    format!("cannot take the address of `{shown}`"),
+                )
+                .label(why)
+                .help("take the address of a byte in M, V, SM or L: `&MB24`"),
+            );
+            return None;
+        }
+        Some(CheckedOperand::Memory {
+            address: var.address,
+            use_: Use::AddressOf,
+            width: Width::Dword,
+        })
+    }
+
+    /// `*MD4`: the variable the pointer held in a DWORD points to.
+    fn pointer_operand(
+        &mut self,
+        site: &VariableSite<'_>,
+        var: &Variable,
+        area: &Area,
+    ) -> Option<CheckedOperand> {
+        let (spec, mnemonic, shown) = (site.spec, site.mnemonic, &site.shown);
+        if !site.rules.pointer {
+            self.report(Diagnostic::new(
+                Code::UseNotAllowed,
+                site.span,
+                format!(
+                    "{} of {mnemonic} cannot be accessed through a pointer (`*`)",
+                    spec.name
+                ),
+            ));
+            return None;
+        }
+        if let Err(refusal) = rules::pointer_holder(area, var.address.width) {
+            let why = match refusal {
+                IndirectRefusal::Area => format!("area {} cannot hold pointers", area.name),
+                IndirectRefusal::Width => {
+                    format!("`{shown}` is a {}; a pointer is a DWORD", var.address.width)
+                }
+            };
+            self.report(
+                Diagnostic::new(
+                    Code::UseNotAllowed,
+                    site.span,
+                    format!("`{shown}` cannot hold a pointer"),
+                )
+                .label(why)
+                .help("a pointer lives in a DWORD of M, V or L: `*MD4`"),
+            );
+            return None;
+        }
+        Some(CheckedOperand::Memory {
+            address: var.address,
+            use_: Use::Pointer,
+            width: site.rules.width,
+        })
+    }
+
+    /// A plain variable: an area the operand accepts, the access width, a declared
+    /// type the operand takes, and writable where the instruction writes.
+    fn value_operand(
+        &mut self,
+        site: &VariableSite<'_>,
+        var: &Variable,
+        area: &Area,
+    ) -> Option<CheckedOperand> {
+        let accepted = self.area_accepted(site, area)
+            && self.width_matches(site, var, area)
+            && self.type_accepted(site, var)
+            && self.writable(site, area);
+        accepted.then_some(CheckedOperand::Memory {
+            address: var.address,
+            use_: Use::Value,
+            width: site.rules.width,
+        })
+    }
+
+    fn area_accepted(&mut self, site: &VariableSite<'_>, area: &Area) -> bool {
+        if site.rules.accepts_area(area) {
+            return true;
+        }
+        let list = site.spec.areas.as_deref().unwrap_or_default().join(", ");
+        self.report(
+            Diagnostic::new(
+                Code::AreaNotAllowed,
+                site.name,
+                format!(
+                    "{} of {} must be in area {list}",
+                    site.spec.name, site.mnemonic
+                ),
+            )
+            .label(format!("`{}` is in area {}", site.shown, area.name)),
+        );
+        false
+    }
+
+    fn width_matches(&mut self, site: &VariableSite<'_>, var: &Variable, area: &Area) -> bool {
+        let want = site.rules.width;
+        let (spec, mnemonic, shown) = (site.spec, site.mnemonic, &site.shown);
+        if var.address.width == want {
+            return true;
+        }
+        if want == Width::Bit && !area.allows(Width::Bit) {
+            let help = if area.kind == AreaKind::Timer || area.kind == AreaKind::Counter {
+                format!(
+                    "{} holds only words; test it with a compare such as `LDW>= {shown}, 10`",
+                    area.name
+                )
+            } else {
+                let widths: Vec<&str> = area.widths.iter().map(|w| w.keyword()).collect();
+                format!("{} allows {}", area.name, widths.join(", "))
+            };
+            self.report(
+                Diagnostic::new(
+                    Code::AreaNotAllowed,
+                    site.name,
+                    format!(
+                        "{mnemonic} needs a bit, and area {} has no bit access",
+                        area.name
+                    ),
+                )
+                .label("not a bit")
+                .help(help),
+            );
+        } else {
+            self.report(
+                Diagnostic::new(
+                    Code::WidthMismatch,
+                    site.name,
+                    format!(
+                        "{} of {mnemonic} is {}; `{shown}` is a {}",
+                        spec.name,
+                        want_text(want, &spec.types),
+                        var.address.width
+                    ),
+                )
+                .label(format!(
+                    "{} bits, expected {}",
+                    var.address.width.bits(),
+                    want.bits()
+                )),
+            );
+        }
+        false
+    }
+
+    fn type_accepted(&mut self, site: &VariableSite<'_>, var: &Variable) -> bool {
+        let Some(ty) = var.ty else { return true };
+        if ty.accepted_by(&site.spec.types) {
+            return true;
+        }
+        self.report(
+            Diagnostic::new(
+                Code::TypeMismatch,
+                site.name,
+                format!(
+                    "{} of {} takes {}; `{}` is {ty}",
+                    site.spec.name,
+                    site.mnemonic,
+                    types_text(&site.spec.types),
+                    site.shown
+                ),
+            )
+            .label(format!("declared {ty}")),
+        );
+        false
+    }
+
+    fn writable(&mut self, site: &VariableSite<'_>, area: &Area) -> bool {
+        if site.rules.may_write(area) {
+            return true;
+        }
+        self.report(
+            Diagnostic::new(
+                Code::WriteToReadOnly,
+                site.name,
+                format!(
+                    "{} writes {}, but area {} is read-only for programs",
+                    site.mnemonic, site.spec.name, area.name
+                ),
+            )
+            .label(format!("`{}` cannot be written", site.shown))
+            .help(match area.kind {
+                AreaKind::Constant => "K holds the program's constants".to_string(),
+                _ => format!("{} is refreshed from the terminals every scan", area.name),
+            }),
+        );
+        false
+    }
+}
+
+fn want_text(w: Width, types: &[DataType]) -> String {
+    match w {
+        Width::Bit => "a BOOL".to_string(),
+        _ => format!("a {} ({})", w.keyword(), types_text(types)),
+    }
+}
