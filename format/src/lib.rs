@@ -15,7 +15,7 @@ mod verify;
 pub use crc::crc16;
 pub use gutta_catalog::{Address, BlockKind, Width};
 pub use manifest::{Manifest, ManifestError, ManifestPage, FORMAT_VERSION};
-pub use operand::{Operand, OperandError, PackedOperand, Pointer, UnitRef, Use};
+pub use operand::{Operand, OperandError, PackedOperand, Pointer, UnitRef, Use, RELEASE_USE};
 pub use pages::*;
 pub use position::{function_name, parse_position};
 pub use read::{ImageError, MANIFEST_FILE};

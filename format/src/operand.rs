@@ -50,6 +50,9 @@ impl Use {
     }
 }
 
+/// The USE code of a force-release address word (`PackedOperand::force_release`).
+pub const RELEASE_USE: u8 = 0xF;
+
 /// One packed operand, as stored (little-endian) in pages.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct PackedOperand(pub u32);
@@ -288,6 +291,14 @@ impl PackedOperand {
         }
     }
 
+    /// The address word that releases the force of a variable: USE 15, our extension of
+    /// STATUS_VAR_FORCE_WRITE (UM4001 has no unforce; docs/simulator.md). A PLC that
+    /// ignores USE forces the value sent instead.
+    pub fn force_release(variable: Address) -> PackedOperand {
+        let word = PackedOperand::encode(Operand::Value(variable)).0;
+        PackedOperand((word & !0xF) | u32::from(RELEASE_USE))
+    }
+
     /// The variable an address word of STATUS_VAR_* / STATUS_FORCE_* names: USE is
     /// ignored, as the PLC reads these words, and only the low three bits of BIT_OFFSET
     /// count on a bit. Fails only on a bad WIDTH.
@@ -512,6 +523,10 @@ mod decode_tests {
         // A STATUS_VAR address word ignores USE and the high bit-offset bit.
         let a = PackedOperand(0x0002_B047).variable().expect("a bit");
         assert_eq!((a.slot, a.offset, a.width, a.bit), (4, 2, Width::Bit, 3));
+        // The force-release word names the same variable with USE 15.
+        let release = PackedOperand::force_release(a);
+        assert_eq!(release.0, 0x0002_304F);
+        assert_eq!(release.variable(), Ok(a));
     }
 
     #[test]

@@ -9,7 +9,7 @@ use std::sync::Arc;
 use gutta_catalog::{stdlib, DataType, Target, Width};
 use gutta_format::{
     encode_data, encode_instructions, ArgumentPage, DataItem, Image, LocalEntry, LocalSection,
-    PackedOperand, PageId, PageKind, PortEntry, Record, SystemPage, Use,
+    PackedOperand, PageId, PageKind, PortEntry, Record, SystemPage, UnitRef, Use,
 };
 
 pub fn target() -> Arc<Target> {
@@ -135,11 +135,12 @@ impl ImageSpec {
         locals: Vec<LocalEntry>,
         records: Vec<Record>,
     ) -> ImageSpec {
-        let page = if subroutine {
-            t.plc.program_block_page_int_size as u8 + number
+        let unit = if subroutine {
+            UnitRef::subroutine(u16::from(number))
         } else {
-            number
+            UnitRef::interrupt(u16::from(number))
         };
+        let page = unit.page(&t.plc).expect("the target has the unit");
         self.units.insert(
             page,
             UnitSpec {

@@ -10,7 +10,7 @@ use crate::vm_access;
 
 /// The USE field value that makes STATUS_VAR_FORCE_WRITE release a force (our
 /// extension; docs/simulator.md).
-pub const RELEASE_USE: u8 = 0xF;
+pub use gutta_format::RELEASE_USE;
 
 impl Plc {
     /// STATUS_VAR_READ: the 4 bytes at each address.

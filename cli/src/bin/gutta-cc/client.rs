@@ -377,7 +377,7 @@ pub(crate) fn unforce(
     let pairs: Vec<(u32, u32)> = addresses
         .iter()
         .zip(current)
-        .map(|(a, bytes)| ((packed(*a) & !0xF) | 0xF, value_of(a, bytes)))
+        .map(|(a, bytes)| (PackedOperand::force_release(*a).0, value_of(a, bytes)))
         .collect();
     client.write_vars(&pairs, true).map_err(link_error)?;
     Ok(ExitCode::SUCCESS)
