@@ -1,6 +1,6 @@
-//! File I/O shared by the command-line tools (gutta-cc, gutta-vm, and the simulator to
-//! come): reading a target folder, reading an image directory, writing one atomically.
-//! The libraries (catalog, format, compiler, vm) do no I/O; only binaries use this.
+//! File I/O shared by the command-line tools (gutta-cc, gutta-vm and gutta-sim, in
+//! cli/): reading a target folder, reading an image directory, writing one atomically.
+//! The libraries do no I/O (their clippy.toml forbids it); only the binaries use this.
 
 mod image_dir;
 
