@@ -244,6 +244,33 @@ rejects! {
         assert_eq!(check(&spec.build(), &t).location(), at(PageKind::Argument, 8, 16));
     }
 
+    overlapping_locals => OverlappingLocals |check| {
+        // SBR0's locals: LW0 in, LW2 in/out, LD4 out, L8.0 temp. Moving the output to
+        // LD0 makes it share L with both parameters before it (the fuzzer's find: a
+        // CALL then depended on the order its parameters were copied in).
+        let t = target();
+        let mut spec = full_program(&t);
+        let sbr0 = &mut spec.units.get_mut(&8).expect("SBR0").arguments.locals;
+        sbr0[2].operand = val(&t, "LD0");
+        let e = check(&spec.build(), &t);
+        assert_eq!(e.location(), at(PageKind::Argument, 8, 4 + 8 * 2));
+        assert!(matches!(e, VerifyError::OverlappingLocals { local: 2, other: 0, .. }), "{e}");
+        // A BOOL on a bit of a byte local overlaps it; one on its own byte does not.
+        let mut spec = full_program(&t);
+        spec.units.get_mut(&8).expect("SBR0").arguments.locals[3].operand = val(&t, "L5.1");
+        let e = check(&spec.build(), &t);
+        assert!(matches!(e, VerifyError::OverlappingLocals { local: 3, other: 2, .. }), "{e}");
+        // A long local holding a later, shorter one that is not its neighbour in order.
+        let mut spec = full_program(&t);
+        let locals = &mut spec.units.get_mut(&8).expect("SBR0").arguments.locals;
+        locals[0].operand = val(&t, "LW10");
+        locals[1].operand = val(&t, "LW12");
+        locals[2].operand = val(&t, "LD8");
+        locals[3].operand = val(&t, "L20.0");
+        let e = check(&spec.build(), &t);
+        assert!(matches!(e, VerifyError::OverlappingLocals { local: 2, other: 0, .. }), "{e}");
+    }
+
     unknown_opcode => UnknownOpcode |check| {
         let t = target();
         let spec = main_with(&t, vec![Record::Instruction { opcode: 0xFFFF, operands: vec![] }]);

@@ -93,6 +93,7 @@ codes! {
     UnknownEvent = "V0038", "an interrupt event number the target does not have";
     ReservedNotZero = "V0039", "a reserved byte that is not 0";
     UnmatchedLoop = "V0040", "a FOR without its NEXT, or a NEXT without its FOR, in one page";
+    OverlappingLocals = "V0041", "two locals of one unit share bits of L";
 }
 
 impl fmt::Display for VerifyCode {
@@ -269,6 +270,14 @@ pub enum VerifyError {
         /// Offset of the first `LBL` with the number.
         first: usize,
     },
+    /// Two locals of one argument page cover the same bits of L (a CALL would pass two
+    /// parameters through one variable).
+    OverlappingLocals {
+        at: Location,
+        local: usize,
+        /// The earlier local it overlaps.
+        other: usize,
+    },
     /// A `FOR` never closed by a `NEXT` of the same page, or a `NEXT` with no open `FOR`.
     UnmatchedLoop {
         at: Location,
@@ -370,6 +379,7 @@ impl VerifyError {
             E::JumpWithoutLabel { .. } => VerifyCode::JumpWithoutLabel,
             E::DuplicateLabel { .. } => VerifyCode::DuplicateLabel,
             E::UnmatchedLoop { .. } => VerifyCode::UnmatchedLoop,
+            E::OverlappingLocals { .. } => VerifyCode::OverlappingLocals,
             E::CallCycle { .. } => VerifyCode::CallCycle,
             E::CallDepth { .. } => VerifyCode::CallDepth,
             E::DataValue { .. } => VerifyCode::DataValue,
@@ -435,6 +445,7 @@ impl VerifyError {
             | E::JumpWithoutLabel { at, .. }
             | E::DuplicateLabel { at, .. }
             | E::UnmatchedLoop { at, .. }
+            | E::OverlappingLocals { at, .. }
             | E::CallCycle { at, .. }
             | E::DataValue { at, .. }
             | E::SystemVersion { at, .. }
@@ -604,6 +615,9 @@ impl VerifyError {
             E::DuplicateLabel { label, first, .. } => {
                 format!("LBL {label} is defined twice (first at byte {first})")
             }
+            E::OverlappingLocals { local, other, .. } => format!(
+                "local {local} shares bits of L with local {other}: every local is its own variable"
+            ),
             E::UnmatchedLoop { mnemonic, .. } if mnemonic == "NEXT" => {
                 "this NEXT closes no FOR: every NEXT ends the innermost open FOR of its page"
                     .to_string()

@@ -6,13 +6,13 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use gutta_catalog::rules::{self, DataRules};
-use gutta_catalog::{BlockKind, PlcType, Target};
+use gutta_catalog::{BlockKind, PlcType, Target, Width};
 
 use super::code;
 use super::error::{Location, VerifyError};
 use super::operand::{OperandChecker, Site};
 use super::VerifiedUnit;
-use crate::{ArgumentPage, Image, LocalSection, PageId, PageKind, UnitRef};
+use crate::{ArgumentPage, Image, LocalSection, Operand, PageId, PageKind, UnitRef};
 
 /// The unit a program page stands for on the target, with its number as a byte (a
 /// page number is a byte, so the unit's number is one too).
@@ -145,7 +145,50 @@ fn verify_argument_page(
         let rules = DataRules::local(local.data_type.width());
         checker.check_data(at(0), Site::Local { index: i }, local.operand, rules)?;
     }
+    verify_locals_apart(id, &page)?;
     Ok(page)
+}
+
+/// No two locals share a bit of L (the checker's layout never makes them overlap; a
+/// CALL passing two parameters through one variable would depend on the copy order).
+/// Runs after every local has been checked to be a variable in L.
+fn verify_locals_apart(id: PageId, page: &ArgumentPage) -> Result<(), VerifyError> {
+    // (first bit, end bit, local index), sorted by first bit.
+    let mut spans: Vec<(u64, u64, usize)> = page
+        .locals
+        .iter()
+        .enumerate()
+        .filter_map(|(i, local)| match local.operand.decode() {
+            Ok(Operand::Value(a)) => {
+                let first = u64::from(a.offset) * 8;
+                Some(match a.width {
+                    Width::Bit => (first + u64::from(a.bit), first + u64::from(a.bit) + 1, i),
+                    w => (first, first + 8 * u64::from(w.bytes()), i),
+                })
+            }
+            _ => None,
+        })
+        .collect();
+    spans.sort_unstable();
+    // The span reaching furthest so far: any later span starting before its end overlaps.
+    let mut reach: Option<(u64, usize)> = None;
+    for &(start, end, b) in &spans {
+        if let Some((_, a)) = reach.filter(|&(furthest, _)| start < furthest) {
+            let (other, local) = (a.min(b), a.max(b));
+            return Err(VerifyError::OverlappingLocals {
+                at: Location {
+                    page: id,
+                    offset: 4 + 8 * local,
+                },
+                local,
+                other,
+            });
+        }
+        if reach.is_none_or(|(furthest, _)| end > furthest) {
+            reach = Some((end, b));
+        }
+    }
+    Ok(())
 }
 
 /// No unit reaches itself through CALLs; from every interrupt routine, calls nest at

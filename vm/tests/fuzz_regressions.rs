@@ -1,0 +1,91 @@
+//! Inputs the `vm_run` fuzz target (fuzz/fuzz_targets/vm_run.rs) found, replayed as it
+//! replays them: byte edits of the format tests' full program; an image that verifies
+//! runs with the fast operations on and off, which must agree on every scan's outcome
+//! and on all memory. Adding a regression means adding a file to
+//! vm/tests/data/fuzz/vm_run/ (and, when the fix was in the verifier, a row below).
+
+#![allow(
+    clippy::disallowed_methods,
+    clippy::disallowed_types,
+    reason = "tests read their data files"
+)]
+
+#[path = "../../fuzz/fuzz_targets/shared/mod.rs"]
+mod shared;
+
+use std::path::Path;
+use std::sync::Arc;
+
+use gutta_format::{verify, VerifyCode};
+use gutta_vm::{Vm, VmConfig};
+use shared::{base_image, default_target, mutate};
+
+/// Files whose image the verifier must refuse, with the code: the bug was that it
+/// verified.
+const REFUSED: &[(&str, VerifyCode)] = &[
+    // SBR0's output moved onto LD0, over both parameters before it: the planned CALL
+    // and the general CALL copied the parameters in different orders and disagreed.
+    (
+        "call_parameters_sharing_l.bin",
+        VerifyCode::OverlappingLocals,
+    ),
+];
+
+/// What a replay did: refused by the verifier (with its code), or ran.
+fn replay(data: &[u8]) -> Result<(), VerifyCode> {
+    let Some((&inputs, rest)) = data.split_first() else {
+        return Ok(());
+    };
+    let mut image = base_image().clone();
+    mutate(&mut image, rest, false);
+    let verified = verify(&image, default_target()).map_err(|e| e.code())?;
+    let config = VmConfig {
+        watchdog: 20_000,
+        ..VmConfig::default()
+    };
+    let load = |fast| {
+        Vm::new(
+            verified.clone(),
+            Arc::clone(default_target()),
+            VmConfig { fast, ..config },
+        )
+    };
+    let (Ok(mut fast), Ok(mut slow)) = (load(true), load(false)) else {
+        return Ok(());
+    };
+    let ib0 = default_target().memory.parse_address("IB0").expect("IB0");
+    for vm in [&mut fast, &mut slow] {
+        let _ = vm.write(ib0, u32::from(inputs));
+    }
+    for scan in 0..3 {
+        assert_eq!(fast.scan(), slow.scan(), "scan {scan}: outcomes differ");
+        assert_eq!(fast.memory(), slow.memory(), "scan {scan}: memory differs");
+    }
+    Ok(())
+}
+
+#[test]
+fn vm_run_finds_replay_clean() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fuzz/vm_run");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .expect("vm/tests/data/fuzz/vm_run")
+        .map(|e| e.expect("a directory entry").path())
+        .collect();
+    files.sort();
+    assert!(
+        !files.is_empty(),
+        "no regression inputs in {}",
+        dir.display()
+    );
+    for path in files {
+        let name = path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .unwrap_or_default();
+        let data = std::fs::read(&path).expect("a regression input");
+        let outcome = replay(&data);
+        if let Some((_, code)) = REFUSED.iter().find(|(file, _)| *file == name) {
+            assert_eq!(outcome, Err(*code), "{name}");
+        }
+    }
+}
