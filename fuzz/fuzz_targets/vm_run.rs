@@ -5,13 +5,12 @@
 //! also agree on memory and on the fault.
 #![no_main]
 
-use std::sync::Arc;
-
 use gutta_format::verify;
-use gutta_vm::{Position, Step, Vm, VmConfig};
+use gutta_vm::{Position, Step};
 use libfuzzer_sys::fuzz_target;
 
 mod shared;
+mod vm_pair;
 
 use shared::{base_image, default_target, mutate};
 
@@ -24,36 +23,9 @@ fuzz_target!(|data: &[u8]| {
     let Ok(verified) = verify(&image, default_target()) else {
         return;
     };
-    let config = VmConfig {
-        watchdog: 20_000,
-        ..VmConfig::default()
-    };
-    let load = |fast| {
-        Vm::new(
-            verified.clone(),
-            Arc::clone(default_target()),
-            VmConfig { fast, ..config },
-        )
-    };
-    let (Ok(mut fast), Ok(mut slow)) = (load(true), load(false)) else {
+    let Some(mut fast) = vm_pair::scan_both(&verified, default_target(), inputs) else {
         return;
     };
-    let ib0 = default_target()
-        .memory
-        .parse_address("IB0")
-        .expect("IB0 exists");
-    for vm in [&mut fast, &mut slow] {
-        let _ = vm.write(ib0, u32::from(inputs));
-    }
-    for _ in 0..3 {
-        let (a, b) = (fast.scan(), slow.scan());
-        assert_eq!(a, b, "fast and generic agree on the outcome");
-        assert_eq!(
-            fast.memory(),
-            slow.memory(),
-            "fast and generic agree on memory"
-        );
-    }
     // Debugging on whatever survived: a breakpoint on MAIN's first networks, steps.
     let _ = fast.set_breakpoint(Some(Position {
         function: 0,

@@ -12,12 +12,12 @@
 
 #[path = "../../fuzz/fuzz_targets/shared/mod.rs"]
 mod shared;
+#[path = "../../fuzz/fuzz_targets/vm_pair/mod.rs"]
+mod vm_pair;
 
 use std::path::Path;
-use std::sync::Arc;
 
 use gutta_format::{verify, VerifyCode};
-use gutta_vm::{Vm, VmConfig};
 use shared::{base_image, default_target, mutate};
 
 /// Files whose image the verifier must refuse, with the code: the bug was that it
@@ -39,28 +39,7 @@ fn replay(data: &[u8]) -> Result<(), VerifyCode> {
     let mut image = base_image().clone();
     mutate(&mut image, rest, false);
     let verified = verify(&image, default_target()).map_err(|e| e.code())?;
-    let config = VmConfig {
-        watchdog: 20_000,
-        ..VmConfig::default()
-    };
-    let load = |fast| {
-        Vm::new(
-            verified.clone(),
-            Arc::clone(default_target()),
-            VmConfig { fast, ..config },
-        )
-    };
-    let (Ok(mut fast), Ok(mut slow)) = (load(true), load(false)) else {
-        return Ok(());
-    };
-    let ib0 = default_target().memory.parse_address("IB0").expect("IB0");
-    for vm in [&mut fast, &mut slow] {
-        let _ = vm.write(ib0, u32::from(inputs));
-    }
-    for scan in 0..3 {
-        assert_eq!(fast.scan(), slow.scan(), "scan {scan}: outcomes differ");
-        assert_eq!(fast.memory(), slow.memory(), "scan {scan}: memory differs");
-    }
+    vm_pair::scan_both(&verified, default_target(), inputs);
     Ok(())
 }
 
