@@ -8,9 +8,14 @@
 use std::ops::RangeInclusive;
 
 use crate::{
-    Area, AreaKind, BlockKind, DataType, MemoryMap, OperandKind, OperandSpec, PlcType, Role,
-    UnitScope, Width,
+    Area, AreaKind, BlockKind, DataType, InstructionSet, MemoryMap, OperandKind, OperandSpec,
+    PlcType, Role, UnitScope, Width,
 };
+
+/// Whether FOR loops may be open `depth` deep at once (ForDepth of ManagerFun.xml).
+pub fn for_depth_allowed(set: &InstructionSet, depth: usize) -> bool {
+    depth <= usize::from(set.for_depth)
+}
 
 /// Whether an operand has the given name (names compare case-insensitively).
 fn is_named(spec: &OperandSpec, name: &str) -> bool {

@@ -262,3 +262,18 @@ fn port_settings_and_passwords() {
     assert!(!rules::password_allowed(b"12\x003"));
     assert!(!rules::password_allowed("pässword".as_bytes()));
 }
+
+#[test]
+fn for_loops_nest_at_most_for_depth_deep() {
+    let t = gutta_catalog::stdlib::default_target().expect("the default target loads");
+    let max = usize::from(t.instructions.for_depth);
+    assert_eq!(max, 8, "ManagerFun.xml's ForDepth");
+    assert!(gutta_catalog::rules::for_depth_allowed(
+        &t.instructions,
+        max
+    ));
+    assert!(!gutta_catalog::rules::for_depth_allowed(
+        &t.instructions,
+        max + 1
+    ));
+}

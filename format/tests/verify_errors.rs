@@ -244,6 +244,22 @@ rejects! {
         assert_eq!(check(&spec.build(), &t).location(), at(PageKind::Argument, 8, 16));
     }
 
+    loop_depth => LoopDepth |check| {
+        // ForDepth FORs may be open at once; one more is refused at that FOR.
+        let t = target();
+        let max = usize::from(t.instructions.for_depth);
+        let for_ = || ins(&t, "FOR", vec![val(&t, "MW0"), val(&t, "MW2"), val(&t, "MW4")]);
+        let nest = |depth: usize| {
+            let mut records: Vec<Record> = (0..depth).map(|_| for_()).collect();
+            records.extend((0..depth).map(|_| ins(&t, "NEXT", vec![])));
+            main_with(&t, records).build()
+        };
+        assert!(verify(&nest(max), &t).is_ok(), "{max} nested loops are allowed");
+        let e = check(&nest(max + 1), &t);
+        // Each FOR record is 3 + 3 x 4 bytes; the first one is at byte 11.
+        assert_eq!(e.location(), at(PageKind::Instruction, 0, 11 + 15 * max));
+    }
+
     overlapping_locals => OverlappingLocals |check| {
         // SBR0's locals: LW0 in, LW2 in/out, LD4 out, L8.0 temp. Moving the output to
         // LD0 makes it share L with both parameters before it (the fuzzer's find: a

@@ -334,7 +334,7 @@ impl Checker<'_> {
     fn for_next(&mut self, id: InstrId, at: Span, loops: &mut ForLoops) {
         if Some(id) == loops.for_id {
             loops.open.push(at);
-            if loops.open.len() > loops.max_depth {
+            if !rules::for_depth_allowed(&self.target.instructions, loops.open.len()) {
                 self.report(Diagnostic::new(
                     Code::ForNext,
                     at,

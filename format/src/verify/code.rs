@@ -6,7 +6,7 @@
 use std::collections::BTreeMap;
 
 use gutta_catalog::rules::{self, DataRules};
-use gutta_catalog::{BlockKind, InstrId, Instruction, Role, Target};
+use gutta_catalog::{BlockKind, InstrId, Instruction, InstructionSet, Role, Target};
 
 use super::error::{Location, VerifyError};
 use super::operand::{Checked, OperandChecker, Site};
@@ -241,16 +241,18 @@ impl InstructionCode<'_> {
 /// FOR/NEXT pairing within one instruction page: every NEXT closes the innermost open
 /// FOR, and no FOR is left open at the end. The pairs go to `VerifiedUnit::loops`, so the
 /// VM never pairs them itself.
-struct LoopPairing {
+struct LoopPairing<'t> {
+    set: &'t InstructionSet,
     for_id: Option<InstrId>,
     next_id: Option<InstrId>,
     /// Open FORs, innermost last: where, and their record index.
     open: Vec<(Location, usize)>,
 }
 
-impl LoopPairing {
-    fn new(target: &Target) -> LoopPairing {
+impl<'t> LoopPairing<'t> {
+    fn new(target: &'t Target) -> LoopPairing<'t> {
         LoopPairing {
+            set: &target.instructions,
             for_id: target.instructions.lookup("FOR"),
             next_id: target.instructions.lookup("NEXT"),
             open: Vec::new(),
@@ -267,6 +269,13 @@ impl LoopPairing {
         let index = unit.records.len();
         if Some(id) == self.for_id {
             self.open.push((at, index));
+            if !rules::for_depth_allowed(self.set, self.open.len()) {
+                return Err(VerifyError::LoopDepth {
+                    at,
+                    depth: self.open.len(),
+                    max: self.set.for_depth,
+                });
+            }
         } else if Some(id) == self.next_id {
             let Some((_, for_index)) = self.open.pop() else {
                 return Err(VerifyError::UnmatchedLoop {

@@ -94,6 +94,7 @@ codes! {
     ReservedNotZero = "V0039", "a reserved byte that is not 0";
     UnmatchedLoop = "V0040", "a FOR without its NEXT, or a NEXT without its FOR, in one page";
     OverlappingLocals = "V0041", "two locals of one unit share bits of L";
+    LoopDepth = "V0042", "FOR loops nested deeper than ForDepth";
 }
 
 impl fmt::Display for VerifyCode {
@@ -278,6 +279,14 @@ pub enum VerifyError {
         /// The earlier local it overlaps.
         other: usize,
     },
+    /// A `FOR` opened while ForDepth loops are already open.
+    LoopDepth {
+        at: Location,
+        /// Loops open with this one.
+        depth: usize,
+        /// ForDepth of the instruction set.
+        max: u8,
+    },
     /// A `FOR` never closed by a `NEXT` of the same page, or a `NEXT` with no open `FOR`.
     UnmatchedLoop {
         at: Location,
@@ -380,6 +389,7 @@ impl VerifyError {
             E::DuplicateLabel { .. } => VerifyCode::DuplicateLabel,
             E::UnmatchedLoop { .. } => VerifyCode::UnmatchedLoop,
             E::OverlappingLocals { .. } => VerifyCode::OverlappingLocals,
+            E::LoopDepth { .. } => VerifyCode::LoopDepth,
             E::CallCycle { .. } => VerifyCode::CallCycle,
             E::CallDepth { .. } => VerifyCode::CallDepth,
             E::DataValue { .. } => VerifyCode::DataValue,
@@ -446,6 +456,7 @@ impl VerifyError {
             | E::DuplicateLabel { at, .. }
             | E::UnmatchedLoop { at, .. }
             | E::OverlappingLocals { at, .. }
+            | E::LoopDepth { at, .. }
             | E::CallCycle { at, .. }
             | E::DataValue { at, .. }
             | E::SystemVersion { at, .. }
@@ -614,6 +625,9 @@ impl VerifyError {
             }
             E::DuplicateLabel { label, first, .. } => {
                 format!("LBL {label} is defined twice (first at byte {first})")
+            }
+            E::LoopDepth { depth, max, .. } => {
+                format!("this FOR opens loop {depth}; FOR loops nest at most {max} deep (ForDepth)")
             }
             E::OverlappingLocals { local, other, .. } => format!(
                 "local {local} shares bits of L with local {other}: every local is its own variable"
