@@ -44,7 +44,10 @@ fn ctrl_c_stops_the_simulator_with_status_0() {
         if let Some(status) = sim.0.try_wait().expect("wait") {
             break status;
         }
-        assert!(Instant::now() < deadline, "gutta-sim still runs 10 s after SIGINT");
+        assert!(
+            Instant::now() < deadline,
+            "gutta-sim still runs 10 s after SIGINT"
+        );
         std::thread::sleep(Duration::from_millis(20));
     };
     let mut rest = String::new();

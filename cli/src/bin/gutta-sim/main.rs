@@ -122,8 +122,8 @@ fn target_for(cli: &Cli, image_plc: Option<&str>) -> Result<Arc<Target>, Fatal> 
 #[cfg(unix)]
 fn interrupted() -> Result<impl std::future::Future<Output = ()>, Fatal> {
     use tokio::signal::unix::{signal, SignalKind};
-    let mut sigint = signal(SignalKind::interrupt())
-        .map_err(|e| Fatal(format!("cannot handle Ctrl-C: {e}")))?;
+    let mut sigint =
+        signal(SignalKind::interrupt()).map_err(|e| Fatal(format!("cannot handle Ctrl-C: {e}")))?;
     Ok(async move {
         sigint.recv().await;
     })
