@@ -20,6 +20,37 @@ pub enum CatalogErrorCode {
 }
 
 impl CatalogErrorCode {
+    /// Every code, in number order.
+    pub const ALL: &'static [CatalogErrorCode] = &[
+        CatalogErrorCode::Encoding,
+        CatalogErrorCode::Syntax,
+        CatalogErrorCode::Value,
+        CatalogErrorCode::Duplicate,
+        CatalogErrorCode::Mismatch,
+        CatalogErrorCode::NotFound,
+    ];
+
+    /// What the code means, in one line: docs/diagnostics.md's "T codes" table is
+    /// generated from it.
+    pub fn summary(self) -> &'static str {
+        match self {
+            CatalogErrorCode::Encoding => "the file is not valid UTF-8 or UTF-16 text",
+            CatalogErrorCode::Syntax => {
+                "the XML is malformed or lacks a required element or attribute"
+            }
+            CatalogErrorCode::Value => "a value is out of range or malformed",
+            CatalogErrorCode::Duplicate => {
+                "two entries collide (slot, area, mnemonic, opcode, Modbus object)"
+            }
+            CatalogErrorCode::Mismatch => {
+                "the files disagree (PLC type names, areas an instruction names)"
+            }
+            CatalogErrorCode::NotFound => {
+                "a target folder, file or stdlib PLC type cannot be found"
+            }
+        }
+    }
+
     pub fn as_str(self) -> &'static str {
         match self {
             CatalogErrorCode::Encoding => "T0001",
@@ -68,3 +99,16 @@ impl fmt::Display for CatalogError {
 }
 
 impl std::error::Error for CatalogError {}
+
+#[cfg(test)]
+mod tests {
+    use super::CatalogErrorCode;
+
+    #[test]
+    fn all_lists_the_codes_in_number_order_each_with_a_summary() {
+        for (i, code) in CatalogErrorCode::ALL.iter().enumerate() {
+            assert_eq!(code.as_str(), format!("T{:04}", i + 1));
+            assert!(!code.summary().is_empty());
+        }
+    }
+}

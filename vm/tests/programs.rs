@@ -1,6 +1,6 @@
 //! VM tests that are not run-corpus data (tests/data/run holds the programs that are):
 //! the programs of examples/ (the memory document's pointer example, CALL with
-//! arguments and data blocks in blink.lad, AN2002 sample 2), which live in examples/
+//! arguments, data blocks and the blinking lamp in blink.lad, AN2002 sample 2), which live in examples/
 //! and are run here rather than copied, and the Rust API of faults and forces
 //! (`Fault::Watchdog`'s limit, `Vm::fault`, `force_image`, refused forces,
 //! `unforce_all`).
@@ -69,6 +69,34 @@ fn call_passes_arguments_through_l() {
         ),
         (6, 1, -70000)
     );
+}
+
+/// blink.lad's first comment line: Lamp (Q0.0) blinks at 1 Hz, 0.5 s on and 0.5 s off,
+/// from the first scan on (SM0.5: off while (ms / 500) is even, docs/vm.md). At the
+/// default 10 ms a scan, scans 0..49 see it off, 50..99 on, and so on for 3 s.
+#[test]
+fn blink_toggles_q0_0_every_half_second() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../examples/blink.lad"
+    ))
+    .expect("example");
+    let mut vm = vm_with(
+        &text,
+        VmConfig {
+            scan_ms: 10,
+            ..VmConfig::default()
+        },
+    );
+    let mut lamp = Vec::new();
+    for _ in 0..300 {
+        vm.scan().expect("scan");
+        lamp.push(read(&vm, "Q0.0"));
+    }
+    let expected: Vec<u32> = (0..300u32).map(|scan| (scan / 50) % 2).collect();
+    assert_eq!(lamp, expected, "Q0.0 after each scan");
+    let toggles = lamp.windows(2).filter(|w| w[0] != w[1]).count();
+    assert_eq!(toggles, 5, "on at 0.5 s, off at 1 s, ... on at 2.5 s");
 }
 
 /// The fault API: the `Fault` value with its limit and `Vm::fault`. The run-time

@@ -13,7 +13,7 @@ mod memory;
 mod names;
 mod operands;
 pub mod program;
-mod suggest;
+pub mod suggest;
 mod system;
 mod units;
 

@@ -117,7 +117,8 @@ pub fn reference_markdown() -> String {
     let mut out = String::from(
         "# Diagnostic codes\n\n<!-- Generated from compiler/src/diagnostics/codes.rs by `UPDATE_DOCS=1 cargo test -p gutta-compiler --test docs`. Do not edit by hand. -->\n\n\
          Every problem `gutta-cc` reports carries a stable code. `E` codes are errors (exit status 1), \
-         `W` codes warnings (the program still compiles). `gutta-cc explain CODE` prints an entry. \
+         `W` codes warnings (the program still compiles). `gutta-cc explain CODE` prints an entry (also for the T codes below \
+         and the V codes of image verification, docs/image-format.md). \
          With `--message-format json` each diagnostic is one JSON object per line on stdout with the fields \
          `code`, `severity`, `message`, `file`, `line`, `column`, `end_line`, `end_column` (1-based, columns count characters), \
          `help` (string or null), `start_offset`/`end_offset` (bytes) and `labels` (secondary spans).\n\n\
@@ -144,13 +145,10 @@ pub fn reference_markdown() -> String {
     out.push_str(
         "\n## Target description errors (T codes)\n\n\
          A malformed `--target` folder stops the compiler with exit status 2 and one of these codes:\n\n\
-         | code | meaning |\n| --- | --- |\n\
-         | T0001 | the file is not valid UTF-8 or UTF-16 text |\n\
-         | T0002 | the XML is malformed or lacks a required element or attribute |\n\
-         | T0003 | a value is out of range or malformed |\n\
-         | T0004 | two entries collide (slot, area, mnemonic, opcode, Modbus object) |\n\
-         | T0005 | the files disagree (PLC type names, areas an instruction names) |\n\
-         | T0006 | a target folder, file or stdlib PLC type cannot be found |\n",
+         | code | meaning |\n| --- | --- |\n",
     );
+    for t in gutta_catalog::CatalogErrorCode::ALL {
+        out.push_str(&format!("| {} | {} |\n", t.as_str(), t.summary()));
+    }
     out
 }

@@ -114,13 +114,14 @@ pub(crate) fn download(
 ) -> Result<ExitCode, Fatal> {
     let (image, target) = crate::image_and_target(targets, dir)?;
     gutta_format::verify(&image, &target).map_err(|e| Fatal(format!("{}: {e}", dir.display())))?;
-    // Every byte is written, then read back and compared.
+    // Every byte is written, then read back and compared: the bar and the summary both
+    // count the bytes transferred, the image's bytes twice.
     let total: usize = 2 * image.pages.values().map(Vec::len).sum::<usize>();
     let mut client = connect(args)?;
     // A progress bar on a terminal; nothing when stderr is a file or a pipe (CI logs).
     let bar = if std::io::stderr().is_terminal() {
         let style = ProgressStyle::with_template(
-            "{prefix} [{bar:32}] {bytes}/{total_bytes} {binary_bytes_per_sec} {elapsed}",
+            "{prefix} [{bar:32}] {pos}/{len} bytes {binary_bytes_per_sec}",
         )
         .map_err(|e| Fatal(format!("progress bar: {e}")))?
         .progress_chars("=> ");
@@ -150,10 +151,12 @@ pub(crate) fn download(
             "download failed: {e}. The PLC was not reset: it does not run a partial image"
         ))
     })?;
+    // The bar's own count (a hidden bar counts too), so the two cannot disagree.
     println!(
-        "downloaded {} pages, {} bytes in {} requests ({:.2} s); the PLC verified and runs the image",
+        "downloaded {} pages of {} bytes: {} bytes written and read back in {} requests ({:.2} s); the PLC verified and runs the image",
         report.pages,
         report.bytes,
+        bar.position(),
         report.requests,
         start.elapsed().as_secs_f64()
     );
@@ -206,6 +209,15 @@ pub(crate) fn upload(targets: &TargetArgs, dir: &Path, args: &LinkArgs) -> Resul
     // The PLC type decides the packet size; log in first to ask it.
     client.attach(&password).map_err(link_error)?;
     let target = plc_target(targets, &mut client)?;
+    // A fresh or cleared PLC has no program pages (and then no const page to read):
+    // say so, exit 1, and write nothing.
+    let program = client
+        .page_list(gutta_protocol::function::PageArea::Program)
+        .map_err(link_error)?;
+    if program.is_empty() {
+        eprintln!("gutta-cc: no program: the PLC holds no program to upload");
+        return Ok(ExitCode::from(1));
+    }
     let image = gutta_link::upload(&mut client, &password, target.plc.exch_pack_size as usize)
         .map_err(link_error)?;
     if let Err(e) = gutta_format::verify(&image, &target) {

@@ -8,8 +8,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use gutta_catalog::stdlib;
+use gutta_compiler::diagnostics::json;
 use gutta_compiler::diagnostics::render::{render, RenderStyle};
-use gutta_compiler::diagnostics::{json, Code};
 use gutta_compiler::encode::{listing, summary};
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{check_source, compile, ExplicitTarget};
@@ -67,7 +67,8 @@ enum Command {
         /// The image directory (holding manifest.json).
         image: PathBuf,
     },
-    /// Explain a diagnostic code (E0302, W0201, ...).
+    /// Explain a code the tools print: E and W (compiler diagnostics), V (image
+    /// verification), T (target description files), e.g. E0302, V0040, T0003.
     Explain { code: String },
     /// Download an image directory into a PLC (UM4001: the PLC type must match; the PLC
     /// is cleared, every page written and read back, then reset to run the image).
@@ -204,6 +205,7 @@ enum ColorChoice {
 }
 
 mod client;
+mod explain;
 
 /// A usage or I/O failure: printed, exit 2.
 struct Fatal(String);
@@ -416,16 +418,10 @@ fn modbus(args: &TargetArgs, variable: &str) -> Result<ExitCode, Fatal> {
     }
 }
 
+/// `explain CODE`: the registry's text; an unknown code is a usage error (exit 2).
 fn explain(code: &str) -> Result<ExitCode, Fatal> {
-    let c =
-        Code::parse(code.trim()).ok_or_else(|| Fatal(format!("no diagnostic code `{code}`")))?;
-    println!(
-        "{} ({}): {}\n\n{}",
-        c.as_str(),
-        c.severity().as_str(),
-        c.title(),
-        c.explanation()
-    );
+    let text = explain::explanation(code).map_err(Fatal)?;
+    println!("{text}");
     Ok(ExitCode::SUCCESS)
 }
 

@@ -117,12 +117,34 @@ fn target_for(cli: &Cli, image_plc: Option<&str>) -> Result<Arc<Target>, Fatal> 
     stdlib::shared(name).map_err(|e| Fatal(format!("PLC type {name}: {e}")))
 }
 
+/// Ctrl-C: SIGINT on Unix, its handler installed now (before the listeners announce
+/// themselves, so a signal sent after that line is never the default, fatal one).
+#[cfg(unix)]
+fn interrupted() -> Result<impl std::future::Future<Output = ()>, Fatal> {
+    use tokio::signal::unix::{signal, SignalKind};
+    let mut sigint =
+        signal(SignalKind::interrupt()).map_err(|e| Fatal(format!("cannot handle Ctrl-C: {e}")))?;
+    Ok(async move {
+        sigint.recv().await;
+    })
+}
+
+/// Ctrl-C: the console's Ctrl-C event elsewhere.
+#[cfg(not(unix))]
+fn interrupted() -> Result<impl std::future::Future<Output = ()>, Fatal> {
+    Ok(async {
+        let _ = tokio::signal::ctrl_c().await;
+    })
+}
+
 async fn run(cli: Cli) -> Result<(), Fatal> {
     if cli.tcp.is_empty() && cli.rtu_tcp.is_empty() && cli.serial.is_empty() {
         return Err(Fatal(
             "nothing to serve: give --tcp ADDR, --rtu-tcp ADDR and/or --serial DEVICE".into(),
         ));
     }
+    let ctrl_c = interrupted()?;
+    tokio::pin!(ctrl_c);
     let image = match &cli.image {
         Some(dir) => Some(gutta_io::read_image_dir(dir).map_err(Fatal)?),
         None => None,
@@ -220,7 +242,14 @@ async fn run(cli: Cli) -> Result<(), Fatal> {
     let (mut window_start, mut last_scan) = (Instant::now(), Instant::now());
     let (mut window_scans, mut window_max) = (0u64, Duration::ZERO);
     loop {
-        tick.tick().await;
+        tokio::select! {
+            _ = tick.tick() => {}
+            () = &mut ctrl_c => {
+                // A clean stop (the help's exit status 0): the PLC's state is not kept.
+                say("gutta-sim: stopped by Ctrl-C");
+                return Ok(());
+            }
+        }
         let now = Instant::now();
         window_max = window_max.max(now - last_scan);
         last_scan = now;
