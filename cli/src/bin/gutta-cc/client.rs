@@ -145,10 +145,12 @@ pub(crate) fn download(
     } else {
         bar.abandon();
     }
-    let report = result.map_err(|e| {
-        Fatal(format!(
+    let report = result.map_err(|e| match e {
+        // Refused before anything changed: the other client's download goes on.
+        LinkError::Busy { .. } => link_error(e),
+        e => Fatal(format!(
             "download failed: {e}. The PLC was not reset: it does not run a partial image"
-        ))
+        )),
     })?;
     println!(
         "downloaded {} pages, {} bytes in {} requests ({:.2} s); the PLC verified and runs the image",
