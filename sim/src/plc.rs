@@ -199,49 +199,6 @@ impl Plc {
             .map_or(LineSettings::DEFAULT, |p| p.line())
     }
 
-    /// The open download window, if any.
-    pub fn download_window(&self) -> Option<&DownloadWindow> {
-        self.window.as_ref()
-    }
-
-    /// `connection` has closed: a download window it owns ends unfinished (its pages
-    /// are erased; the PLC stays cleared and stopped).
-    pub fn disconnect(&mut self, connection: ConnectionId) {
-        if self.window.is_some_and(|w| w.owner == connection) {
-            self.abandon_window();
-        }
-    }
-
-    /// A window that ends without its owner's STATUS_RESET: the pages it wrote may be
-    /// half an image, so they are erased and the flash locked. The PLC stays stopped
-    /// as PLC_CLEAR left it.
-    fn abandon_window(&mut self) {
-        self.window = None;
-        self.pages.clear();
-        self.image_error = false;
-    }
-
-    /// Every request: a window whose owner has been silent for the timeout ends; one
-    /// from the owner keeps its window alive.
-    fn track_window(&mut self, from: ConnectionId, now_ms: u64) {
-        if self.window.is_some_and(|w| w.expired(now_ms)) {
-            self.abandon_window();
-        }
-        if let Some(window) = self.window.as_mut().filter(|w| w.owner == from) {
-            window.last_request_ms = now_ms;
-        }
-    }
-
-    /// The busy refusal `from` gets while another connection's window is open.
-    fn busy_for(&self, from: ConnectionId) -> Option<Refusal> {
-        self.window
-            .filter(|w| w.owner != from)
-            .map(|w| Refusal::Busy {
-                owner: w.owner,
-                opened_ms: w.opened_ms,
-            })
-    }
-
     /// STATUS_RESET (and power-on): close the download window (locking the flash),
     /// drop the login, load the pages. An image that verifies runs; otherwise the PLC
     /// is stopped, with ERROR set when pages were there.

@@ -2,10 +2,13 @@
 //! that cleared, and until that connection's STATUS_RESET (or its connection closes, or
 //! [`WINDOW_TIMEOUT_MS`] pass without a request from it) every other connection may
 //! look but not touch. This module only decides who may do what and when a window
-//! ends; `Plc` keeps the window and acts on the decisions. No I/O, no clock: connection
-//! identities come from the binary, time as `now_ms`.
+//! ends, and how the PLC tracks it; `Plc::dispatch` asks `busy_for` before any
+//! function. No I/O, no clock: connection identities come from the binary, time as
+//! `now_ms`.
 
 use gutta_protocol::function::Function;
+
+use super::{Plc, Refusal};
 
 /// Who a request comes from: a number the binary gives each connection it serves (a
 /// Modbus TCP connection, an RTU-over-TCP connection, a serial line), unique for the
@@ -79,5 +82,50 @@ pub(super) fn open_to_others(function: Function) -> bool {
         | Function::DebugScan
         | Function::DebugReset
         | Function::DebugInforWrite => false,
+    }
+}
+
+impl Plc {
+    /// The open download window, if any.
+    pub fn download_window(&self) -> Option<&DownloadWindow> {
+        self.window.as_ref()
+    }
+
+    /// `connection` has closed: a download window it owns ends unfinished (its pages
+    /// are erased; the PLC stays cleared and stopped).
+    pub fn disconnect(&mut self, connection: ConnectionId) {
+        if self.window.is_some_and(|w| w.owner == connection) {
+            self.abandon_window();
+        }
+    }
+
+    /// A window that ends without its owner's STATUS_RESET: the pages it wrote may be
+    /// half an image, so they are erased and the flash locked. The PLC stays stopped
+    /// as PLC_CLEAR left it.
+    fn abandon_window(&mut self) {
+        self.window = None;
+        self.pages.clear();
+        self.image_error = false;
+    }
+
+    /// Every request: a window whose owner has been silent for the timeout ends; one
+    /// from the owner keeps its window alive.
+    pub(super) fn track_window(&mut self, from: ConnectionId, now_ms: u64) {
+        if self.window.is_some_and(|w| w.expired(now_ms)) {
+            self.abandon_window();
+        }
+        if let Some(window) = self.window.as_mut().filter(|w| w.owner == from) {
+            window.last_request_ms = now_ms;
+        }
+    }
+
+    /// The busy refusal `from` gets while another connection's window is open.
+    pub(super) fn busy_for(&self, from: ConnectionId) -> Option<Refusal> {
+        self.window
+            .filter(|w| w.owner != from)
+            .map(|w| Refusal::Busy {
+                owner: w.owner,
+                opened_ms: w.opened_ms,
+            })
     }
 }
