@@ -1,7 +1,7 @@
 //! Fuzz target of the simulated PLC (`gutta-sim`'s `Plc` and `Session`): a PLC holding
 //! the format tests' full program (every operand kind) gets an arbitrary sequence of
-//! GUTTA requests, Modbus data requests, raw bytes on a Modbus TCP and an RTU session,
-//! and scans. Panics are the bugs it looks for, and three rules must hold throughout:
+//! GUTTA requests from two connections (so download windows open, refuse and end),
+//! Modbus data requests, raw bytes on a Modbus TCP and an RTU session, and scans. Panics are the bugs it looks for, and three rules must hold throughout:
 //! - every GUTTA answer echoes the request's packet number and its function code, or the
 //!   code with bit 15 and no payload (the failure form);
 //! - every Modbus data answer is the request's function or its exception (2 bytes);
@@ -14,7 +14,7 @@ use std::sync::Arc;
 use gutta_format::SystemPage;
 use gutta_format::{PageId, PageKind};
 use gutta_protocol::GuttaFrame;
-use gutta_sim::plc::Plc;
+use gutta_sim::plc::{ConnectionId, Plc};
 use gutta_sim::session::{Framing, Session};
 use gutta_vm::VmConfig;
 use libfuzzer_sys::fuzz_target;
@@ -23,6 +23,11 @@ use libfuzzer_sys::fuzz_target;
 mod shared;
 
 use shared::{base_image, default_target};
+
+/// The connections: two that send GUTTA requests straight to the PLC, the two sessions,
+/// and the fresh one of the final check.
+const TCP: ConnectionId = ConnectionId(3);
+const RTU: ConnectionId = ConnectionId(4);
 
 /// Reads records off the input: each takes its bytes or stops the run.
 struct Input<'a>(&'a [u8]);
@@ -85,8 +90,8 @@ fuzz_target!(|data: &[u8]| {
         .get(&PageId::new(PageKind::System, 0))
         .and_then(|b| SystemPage::decode(b).ok())
         .map_or([0xFF; 16], |s| s.password);
-    let mut tcp = Session::new(Framing::Tcp);
-    let mut rtu = Session::new(Framing::Rtu);
+    let mut tcp = Session::new(Framing::Tcp, TCP);
+    let mut rtu = Session::new(Framing::Rtu, RTU);
     let mut input = Input(data);
     let mut now = 0u64;
     while let Some(kind) = input.byte() {
@@ -108,7 +113,9 @@ fuzz_target!(|data: &[u8]| {
                     input.bytes(usize::from(len)).to_vec()
                 };
                 let request = GuttaFrame::new(function, packet, payload);
-                let answer = plc.answer(&request, now);
+                // Bit 7 of the record's kind picks one of two connections.
+                let from = ConnectionId(u64::from(kind >> 7) + 1);
+                let answer = plc.answer(from, &request, now);
                 check_gutta(&request, &answer);
             }
             // A Modbus data request straight to the PLC.
@@ -125,7 +132,8 @@ fuzz_target!(|data: &[u8]| {
                 if kind % 6 == 3 {
                     if tcp.on_bytes(&mut plc, bytes, now).is_err() {
                         // A TCP stream that cannot be framed is closed by the server.
-                        tcp = Session::new(Framing::Tcp);
+                        plc.disconnect(TCP);
+                        tcp = Session::new(Framing::Tcp, TCP);
                     }
                 } else {
                     // RTU drops what does not frame and resynchronises: never an error.
@@ -142,7 +150,7 @@ fuzz_target!(|data: &[u8]| {
         }
     }
     // Still serving: read holding register 0 on a fresh connection.
-    let mut fresh = Session::new(Framing::Tcp);
+    let mut fresh = Session::new(Framing::Tcp, ConnectionId(5));
     let answer = fresh
         .on_bytes(
             &mut plc,

@@ -12,6 +12,7 @@ use gutta_protocol::gutta::GuttaFrame;
 use gutta_protocol::message::{
     Breakpoint, Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response,
 };
+use gutta_protocol::modbus::ExceptionCode;
 use gutta_protocol::transfer::{split_page, PackSize};
 
 /// The typed GUTTA messages the client's operations take and return.
@@ -38,6 +39,10 @@ pub enum LinkError {
     WrongPlc { plc: String, image: String },
     /// A page read back differs from what was written.
     Mismatch { page: String },
+    /// Another client is downloading into the PLC: the simulator refused `what` with
+    /// Modbus exception 06, Server Device Busy (docs/simulator.md, the download safety
+    /// rule). Nothing was changed by the refused request.
+    Busy { what: String },
 }
 
 impl std::fmt::Display for LinkError {
@@ -58,6 +63,10 @@ impl std::fmt::Display for LinkError {
             LinkError::Mismatch { page } => {
                 write!(f, "{page} reads back different from what was written")
             }
+            LinkError::Busy { .. } => f.write_str(
+                "busy: another client is downloading into this PLC; \
+                 try again when it has finished",
+            ),
         }
     }
 }
@@ -111,6 +120,12 @@ impl Client {
             .map_err(|e| LinkError::Protocol(e.to_string()))?;
         let answer = self.transport.exchange(self.station, &pdu)?;
         if let [f, code] = answer[..] {
+            let busy = ExceptionCode::ServerDeviceBusy.byte();
+            if f & 0x80 != 0 && pdu.first() == Some(&(f & 0x7F)) && code == busy {
+                return Err(LinkError::Busy {
+                    what: what.to_string(),
+                });
+            }
             if f & 0x80 != 0 {
                 return Err(LinkError::Exception {
                     function: f & 0x7F,

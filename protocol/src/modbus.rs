@@ -36,6 +36,10 @@ pub enum ExceptionCode {
     IllegalDataAddress,
     /// 03: a value in the request is not allowed (quantity, byte count, coil value).
     IllegalDataValue,
+    /// 06: Server Device Busy, "engaged in processing a long-duration program command;
+    /// retransmit later": gutta-sim's answer to a GUTTA request another connection's
+    /// download forbids (docs/simulator.md, the download safety rule).
+    ServerDeviceBusy,
 }
 
 impl ExceptionCode {
@@ -44,6 +48,7 @@ impl ExceptionCode {
             ExceptionCode::IllegalFunction => 1,
             ExceptionCode::IllegalDataAddress => 2,
             ExceptionCode::IllegalDataValue => 3,
+            ExceptionCode::ServerDeviceBusy => 6,
         }
     }
 }

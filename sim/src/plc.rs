@@ -10,10 +10,14 @@
 //! Rules (UM4001, and what we decided where it is silent; docs/simulator.md):
 //! - A function needs a login (ATTACH) when its registry row says so: everything but
 //!   PLC_CLEAR, PLC_ATTACH, PLC_DETACH, STATUS_RESET and DEBUG_RESET.
-//! - PLC_CLEAR erases the pages and the password, stops the PLC and unlocks the flash;
-//!   STATUS_RESET locks it again. Page writes need the flash unlocked and the PLC
-//!   stopped. STATUS_RESET then loads the pages: an image that verifies runs; one that
-//!   does not leaves the PLC stopped with ERROR set.
+//! - PLC_CLEAR erases the pages and the password, stops the PLC and opens a download
+//!   window owned by the connection that cleared (`window`, the download safety rule):
+//!   only that connection writes pages, and until its STATUS_RESET (or its connection
+//!   closes, or 30 s pass without a request from it) other connections may only look;
+//!   what would change the PLC is refused as busy. A window that ends without its
+//!   owner's reset erases the pages. Page writes also need the PLC stopped.
+//!   STATUS_RESET then loads the pages: an image that verifies runs; one that does not
+//!   leaves the PLC stopped with ERROR set.
 //! - A failed ATTACH counts; from the third failure in a row every ATTACH is refused
 //!   for a lockout that doubles from 1 s up to 60 s; a good password resets it.
 //! - Requests are decoded with gutta-protocol's `message::Request`. One the target's
@@ -38,8 +42,10 @@ mod flash;
 mod identity;
 mod run_state;
 mod variables;
+mod window;
 
 pub use variables::RELEASE_USE;
+pub use window::{ConnectionId, DownloadWindow, WINDOW_TIMEOUT_MS};
 
 /// The factory password: 16 x 0xFF (gutta-protocol's).
 pub use gutta_protocol::message::FACTORY_PASSWORD;
@@ -62,6 +68,13 @@ pub enum Refusal {
     Unsupported,
     UnknownFunction,
     Running,
+    /// Another connection's download window is open (the download safety rule): the
+    /// session answers Modbus exception 06, Server Device Busy.
+    Busy {
+        owner: ConnectionId,
+        opened_ms: u64,
+    },
+    /// A page write outside a download window of the requesting connection.
     FlashLocked,
     NoSuchPage,
     BadPacket,
@@ -77,8 +90,9 @@ pub struct Plc {
     config: VmConfig,
     /// User flash: the pages last written.
     pages: BTreeMap<PageId, Vec<u8>>,
-    /// PLC_CLEAR unlocks the flash for writing; STATUS_RESET locks it.
-    unlocked: bool,
+    /// The download window PLC_CLEAR opened (the flash is unlocked for its owner only);
+    /// STATUS_RESET closes it.
+    window: Option<DownloadWindow>,
     attached: bool,
     password: [u8; 16],
     guard: identity::LoginGuard,
@@ -133,7 +147,7 @@ impl Plc {
             target,
             config,
             pages,
-            unlocked: false,
+            window: None,
             attached: false,
             password: FACTORY_PASSWORD,
             guard: identity::LoginGuard::default(),
@@ -185,11 +199,11 @@ impl Plc {
             .map_or(LineSettings::DEFAULT, |p| p.line())
     }
 
-    /// STATUS_RESET (and power-on): lock the flash, drop the login, load the pages. An
-    /// image that verifies runs; otherwise the PLC is stopped, with ERROR set when
-    /// pages were there.
+    /// STATUS_RESET (and power-on): close the download window (locking the flash),
+    /// drop the login, load the pages. An image that verifies runs; otherwise the PLC
+    /// is stopped, with ERROR set when pages were there.
     pub fn reset(&mut self) {
-        self.unlocked = false;
+        self.window = None;
         self.attached = false;
         let image = Image {
             plc_type: self.target.name().to_string(),
@@ -261,15 +275,18 @@ impl Plc {
         status.byte()
     }
 
-    /// Answer one GUTTA request at time `now_ms` (for the login lockout): the answer
-    /// frame, the request's function with bit 15 set and no payload on failure.
-    pub fn answer(&mut self, request: &GuttaFrame, now_ms: u64) -> GuttaFrame {
+    /// Answer one GUTTA request from connection `from` at time `now_ms` (for the login
+    /// lockout and the download window's timeout): the answer frame, the request's
+    /// function with bit 15 set and no payload on failure (`last_refusal` says why; a
+    /// `Refusal::Busy` the session turns into Modbus exception 06).
+    pub fn answer(&mut self, from: ConnectionId, request: &GuttaFrame, now_ms: u64) -> GuttaFrame {
+        self.track_window(from, now_ms);
         let result = if !self.target.plc.exch_support.supports(request.function) {
             Err(Refusal::Unsupported)
         } else {
             Request::decode(request)
                 .map_err(Refusal::from)
-                .and_then(|r| self.dispatch(r, now_ms))
+                .and_then(|r| self.dispatch(from, r, now_ms))
                 .and_then(|reply| {
                     Response {
                         packet: request.packet,
@@ -292,14 +309,43 @@ impl Plc {
     }
 
     /// `answer` for a request given by its fields.
-    pub fn gutta(&mut self, function: u16, packet: u16, payload: &[u8], now_ms: u64) -> GuttaFrame {
-        self.answer(&GuttaFrame::new(function, packet, payload.to_vec()), now_ms)
+    pub fn gutta(
+        &mut self,
+        from: ConnectionId,
+        function: u16,
+        packet: u16,
+        payload: &[u8],
+        now_ms: u64,
+    ) -> GuttaFrame {
+        self.answer(
+            from,
+            &GuttaFrame::new(function, packet, payload.to_vec()),
+            now_ms,
+        )
     }
 
-    /// One decoded request: the registry's login and stop conditions first, then the
-    /// function's family (`identity`, `flash`, `run_state`, `variables`, `debugger`).
-    fn dispatch(&mut self, request: Request, now_ms: u64) -> Result<Reply, Refusal> {
+    /// One decoded request: another connection's download window first, the registry's
+    /// login and stop conditions next, then the function's family (`identity`,
+    /// `flash`, `run_state`, `variables`, `debugger`).
+    fn dispatch(
+        &mut self,
+        from: ConnectionId,
+        request: Request,
+        now_ms: u64,
+    ) -> Result<Reply, Refusal> {
         let function = request.function();
+        if let Some(busy) = self.busy_for(from) {
+            let refused = match &request.command {
+                // Another client's login with the password the window's CLEAR erased
+                // is not a wrong password: it came during a download (and it does not
+                // count towards the lockout).
+                Command::PlcAttach { password } => *password != self.password,
+                _ => !window::open_to_others(function),
+            };
+            if refused {
+                return Err(busy);
+            }
+        }
         if function.needs_login() && !self.attached {
             return Err(Refusal::NotAttached);
         }
@@ -310,7 +356,7 @@ impl Plc {
         let packet = request.packet;
         match request.command {
             Command::PlcClear => {
-                self.clear();
+                self.clear(from, now_ms);
                 Ok(ack)
             }
             Command::PlcAttach { password } => self.attach(password, now_ms).map(|()| ack),
@@ -323,7 +369,9 @@ impl Plc {
             Command::PageList(area) => Ok(Reply::PageList(area, self.page_list(area))),
             Command::PageAsk(page) => Ok(Reply::PageLength(page, self.page_length(page)?)),
             Command::PageRead(page) => Ok(Reply::PageData(page, self.read_page(page, packet)?)),
-            Command::PageWrite(page, data) => self.write_page(page, packet, &data).map(|()| ack),
+            Command::PageWrite(page, data) => {
+                self.write_page(from, page, packet, &data).map(|()| ack)
+            }
             Command::StatusRead => Ok(Reply::Status(self.status_byte())),
             Command::StatusWrite { run } => self.set_running(run != 0).map(|()| ack),
             Command::StatusScan { count } => self.scan_stopped(count).map(|()| ack),

@@ -9,7 +9,12 @@
 //! - TCP: every unit id is answered (the simulator is the only device behind its
 //!   address); a frame whose MBAP header is malformed (protocol id not 0, impossible
 //!   length) ends the connection.
-//! - Function 13 with malformed GUTTA data answers exception 03.
+//! - Function 13 with malformed GUTTA data answers exception 03; one the download
+//!   safety rule refuses (another connection's download window is open) answers
+//!   exception 06, Server Device Busy, so the client can tell "busy" from the failure
+//!   form UM4001 gives every other refusal.
+//! - Each session carries the `ConnectionId` the binary gave its connection; the PLC
+//!   keys download windows on it.
 
 use gutta_protocol::gutta::GuttaFrame;
 use gutta_protocol::rtu::{decode_rtu, encode_rtu};
@@ -17,7 +22,7 @@ use gutta_protocol::stream::{RtuSplitter, Side, TcpSplitter};
 use gutta_protocol::tcp::{decode_tcp, encode_tcp};
 
 use crate::modbus_data::{exception, is_data_function};
-use crate::plc::Plc;
+use crate::plc::{ConnectionId, Plc, Refusal};
 use gutta_protocol::modbus::ExceptionCode;
 
 /// Modbus function 13: the GUTTA protocol.
@@ -48,20 +53,40 @@ impl std::error::Error for SessionError {}
 #[derive(Debug)]
 pub struct Session {
     framing: Framing,
+    connection: ConnectionId,
     rtu: RtuSplitter,
     tcp: TcpSplitter,
     /// Frames dropped (bad CRC, resynchronisation), for logs.
     pub dropped: u64,
+    /// Requests refused as busy (another connection's download window), for logs.
+    pub busy: u64,
 }
 
-/// The answer PDU to a request PDU (`None`: no answer).
-pub fn answer(plc: &mut Plc, pdu: &[u8], now_ms: u64) -> Vec<u8> {
+/// The answer PDU to a request PDU from `from`.
+pub fn answer(plc: &mut Plc, from: ConnectionId, pdu: &[u8], now_ms: u64) -> Vec<u8> {
+    answer_counting(plc, from, pdu, now_ms, &mut 0)
+}
+
+/// `answer`, counting busy refusals in `busy`.
+fn answer_counting(
+    plc: &mut Plc,
+    from: ConnectionId,
+    pdu: &[u8],
+    now_ms: u64,
+    busy: &mut u64,
+) -> Vec<u8> {
     match pdu.first() {
         Some(&GUTTA_FUNCTION) => match GuttaFrame::from_pdu(pdu) {
-            Ok(request) => plc
-                .answer(&request, now_ms)
-                .to_pdu()
-                .unwrap_or_else(|_| exception(GUTTA_FUNCTION, ExceptionCode::IllegalDataValue)),
+            Ok(request) => {
+                let frame = plc.answer(from, &request, now_ms);
+                if matches!(plc.last_refusal(), Some(Refusal::Busy { .. })) {
+                    *busy += 1;
+                    return exception(GUTTA_FUNCTION, ExceptionCode::ServerDeviceBusy);
+                }
+                frame
+                    .to_pdu()
+                    .unwrap_or_else(|_| exception(GUTTA_FUNCTION, ExceptionCode::IllegalDataValue))
+            }
             Err(_) => exception(GUTTA_FUNCTION, ExceptionCode::IllegalDataValue),
         },
         Some(&f) if is_data_function(f) => plc.modbus(pdu),
@@ -71,12 +96,19 @@ pub fn answer(plc: &mut Plc, pdu: &[u8], now_ms: u64) -> Vec<u8> {
 }
 
 impl Session {
-    pub fn new(framing: Framing) -> Session {
+    pub fn connection(&self) -> ConnectionId {
+        self.connection
+    }
+
+    /// A session of connection `connection` (the binary numbers its connections).
+    pub fn new(framing: Framing, connection: ConnectionId) -> Session {
         Session {
             framing,
+            connection,
             rtu: RtuSplitter::new(Side::Slave),
             tcp: TcpSplitter::new(260),
             dropped: 0,
+            busy: 0,
         }
     }
 
@@ -94,7 +126,8 @@ impl Session {
                 while let Some(frame) = self.tcp.next_frame() {
                     let frame = frame.map_err(|e| SessionError(e.to_string()))?;
                     let frame = decode_tcp(&frame).map_err(|e| SessionError(e.to_string()))?;
-                    let pdu = answer(plc, &frame.pdu, now_ms);
+                    let pdu =
+                        answer_counting(plc, self.connection, &frame.pdu, now_ms, &mut self.busy);
                     if let Some(bytes) = encode_tcp(frame.transaction, frame.unit, &pdu) {
                         out.extend(bytes);
                     }
@@ -116,7 +149,8 @@ impl Session {
                     if frame.station != station && !broadcast {
                         continue;
                     }
-                    let pdu = answer(plc, &frame.pdu, now_ms);
+                    let pdu =
+                        answer_counting(plc, self.connection, &frame.pdu, now_ms, &mut self.busy);
                     if !broadcast || frame.function() == Some(GUTTA_FUNCTION) {
                         // A broadcast is answered with the PLC's own station.
                         out.extend(encode_rtu(station, &pdu));

@@ -9,10 +9,13 @@ use std::sync::Arc;
 use gutta_catalog::stdlib;
 use gutta_format::{Image, LineSettings, PageId, PageKind};
 use gutta_protocol::gutta::GuttaFrame;
-use gutta_sim::plc::{Plc, Refusal, FACTORY_PASSWORD, LAST_PACKET};
+use gutta_sim::plc::{ConnectionId, Plc, Refusal, FACTORY_PASSWORD, LAST_PACKET};
 use gutta_vm::VmConfig;
 
 const POINTERS: &str = include_str!("../../examples/in1001_pointers.lad");
+
+/// The one connection of the single-client tests.
+const A: ConnectionId = ConnectionId(1);
 
 fn image(text: &str) -> Image {
     common::image("t.lad", text)
@@ -57,20 +60,20 @@ fn write_page(plc: &mut Plc, id: PageId, bytes: &[u8]) {
         } else {
             0
         };
-        ok(plc.gutta(codes(id).2, i as u16 | last, chunk, 0));
+        ok(plc.gutta(A, codes(id).2, i as u16 | last, chunk, 0));
     }
 }
 
 fn read_page(plc: &mut Plc, id: PageId) -> Vec<u8> {
     let (ask, read, _) = codes(id);
-    let len = ok(plc.gutta(ask, LAST_PACKET, &[], 0));
+    let len = ok(plc.gutta(A, ask, LAST_PACKET, &[], 0));
     let len = usize::from(u16::from_be_bytes([len[0], len[1]]));
     let size = plc.target().plc.exch_pack_size as usize;
     let packets = len.div_ceil(size).max(1);
     let mut out = Vec::new();
     for i in 0..packets {
         let last = if i + 1 == packets { LAST_PACKET } else { 0 };
-        out.extend(ok(plc.gutta(read, i as u16 | last, &[], 0)));
+        out.extend(ok(plc.gutta(A, read, i as u16 | last, &[], 0)));
     }
     out
 }
@@ -80,9 +83,9 @@ fn a_download_runs_the_image() {
     let image = image(POINTERS);
     let mut plc = blank_plc();
     // CLEAR needs no login; the factory password then logs in.
-    ok(plc.gutta(0x0100, LAST_PACKET, &[], 0));
-    ok(plc.gutta(0x0110, LAST_PACKET, &FACTORY_PASSWORD, 0));
-    let name = ok(plc.gutta(0x0120, LAST_PACKET, &[], 0));
+    ok(plc.gutta(A, 0x0100, LAST_PACKET, &[], 0));
+    ok(plc.gutta(A, 0x0110, LAST_PACKET, &FACTORY_PASSWORD, 0));
+    let name = ok(plc.gutta(A, 0x0120, LAST_PACKET, &[], 0));
     assert_eq!(&name[..8], b"CPU-EC20");
     assert_eq!(name.len(), 16);
     assert!(name[8..].iter().all(|&b| b == 0));
@@ -92,17 +95,17 @@ fn a_download_runs_the_image() {
     for (id, bytes) in &image.pages {
         assert_eq!(&read_page(&mut plc, *id), bytes, "{id:?} reads back");
     }
-    assert_eq!(ok(plc.gutta(0x0300, LAST_PACKET, &[], 0)), [0]);
-    ok(plc.gutta(0x0A03, LAST_PACKET, &[], 0));
+    assert_eq!(ok(plc.gutta(A, 0x0300, LAST_PACKET, &[], 0)), [0]);
+    ok(plc.gutta(A, 0x0A03, LAST_PACKET, &[], 0));
     assert!(!plc.is_attached(), "a reset ends the login");
     plc.scan().expect("scan");
-    ok(plc.gutta(0x0110, LAST_PACKET, &FACTORY_PASSWORD, 0));
+    ok(plc.gutta(A, 0x0110, LAST_PACKET, &FACTORY_PASSWORD, 0));
     // RUN and ATTACH.
-    assert_eq!(ok(plc.gutta(0x0A00, LAST_PACKET, &[], 0)), [0b0101]);
+    assert_eq!(ok(plc.gutta(A, 0x0A00, LAST_PACKET, &[], 0)), [0b0101]);
     // STATUS_VAR_READ MW24 (slot 4, offset 24): 4 bytes from MB24, low byte first.
     let mb24 = (24u32 << 16) | (1 << 8) | (4 << 4);
     assert_eq!(
-        ok(plc.gutta(0x0A10, LAST_PACKET, &mb24.to_le_bytes(), 0)),
+        ok(plc.gutta(A, 0x0A10, LAST_PACKET, &mb24.to_le_bytes(), 0)),
         [0x01, 0x0E, 0x02, 0x0E]
     );
 }
@@ -112,30 +115,30 @@ fn login_rules() {
     let mut plc = blank_plc();
     // Without ATTACH: refused, except CLEAR, RESET and DEBUG_RESET.
     for f in [0x0120, 0x0A00, 0x0210] {
-        assert!(plc.gutta(f, LAST_PACKET, &[], 0).is_failure());
+        assert!(plc.gutta(A, f, LAST_PACKET, &[], 0).is_failure());
         assert_eq!(plc.last_refusal(), Some(&Refusal::NotAttached));
     }
-    assert!(!plc.gutta(0x0A03, LAST_PACKET, &[], 0).is_failure());
+    assert!(!plc.gutta(A, 0x0A03, LAST_PACKET, &[], 0).is_failure());
     // The failure form echoes the function with bit 15 and no payload.
     assert_eq!(
-        plc.gutta(0x0A00, LAST_PACKET, &[], 0),
+        plc.gutta(A, 0x0A00, LAST_PACKET, &[], 0),
         GuttaFrame::new(0x8A00, LAST_PACKET, vec![])
     );
     // Two wrong passwords are free; the third locks ATTACH for 1 s, then 2 s ...
     let wrong = [0u8; 16];
     for _ in 0..3 {
-        assert!(plc.gutta(0x0110, LAST_PACKET, &wrong, 100).is_failure());
+        assert!(plc.gutta(A, 0x0110, LAST_PACKET, &wrong, 100).is_failure());
     }
     assert!(plc
-        .gutta(0x0110, LAST_PACKET, &FACTORY_PASSWORD, 500)
+        .gutta(A, 0x0110, LAST_PACKET, &FACTORY_PASSWORD, 500)
         .is_failure());
     assert_eq!(
         plc.last_refusal(),
         Some(&Refusal::LockedOut { until_ms: 1100 })
     );
-    ok(plc.gutta(0x0110, LAST_PACKET, &FACTORY_PASSWORD, 1100));
+    ok(plc.gutta(A, 0x0110, LAST_PACKET, &FACTORY_PASSWORD, 1100));
     assert!(plc
-        .gutta(0x0110, LAST_PACKET, &[0xFF; 15], 1100)
+        .gutta(A, 0x0110, LAST_PACKET, &[0xFF; 15], 1100)
         .is_failure());
     assert_eq!(plc.last_refusal(), Some(&Refusal::BadLength));
 }
@@ -149,36 +152,36 @@ fn page_writes_need_clear_and_stop() {
         VmConfig::default(),
     )
     .expect("plc");
-    ok(plc.gutta(0x0110, LAST_PACKET, &FACTORY_PASSWORD, 0));
+    ok(plc.gutta(A, 0x0110, LAST_PACKET, &FACTORY_PASSWORD, 0));
     assert!(plc.vm().is_running());
     let id = PageId::new(PageKind::Const, 0);
-    assert!(plc.gutta(0x0312, LAST_PACKET, &[1, 2], 0).is_failure());
+    assert!(plc.gutta(A, 0x0312, LAST_PACKET, &[1, 2], 0).is_failure());
     assert_eq!(plc.last_refusal(), Some(&Refusal::Running));
-    ok(plc.gutta(0x0A01, LAST_PACKET, &[0], 0));
-    assert!(plc.gutta(0x0312, LAST_PACKET, &[1, 2], 0).is_failure());
+    ok(plc.gutta(A, 0x0A01, LAST_PACKET, &[0], 0));
+    assert!(plc.gutta(A, 0x0312, LAST_PACKET, &[1, 2], 0).is_failure());
     assert_eq!(plc.last_refusal(), Some(&Refusal::FlashLocked));
     // After CLEAR: the pages are gone and writes go in, packet by packet in order.
-    ok(plc.gutta(0x0100, LAST_PACKET, &[], 0));
+    ok(plc.gutta(A, 0x0100, LAST_PACKET, &[], 0));
     assert!(plc.pages().is_empty());
     let size = plc.target().plc.exch_pack_size as usize;
     assert!(
-        plc.gutta(0x0312, 1, &vec![0; size], 0).is_failure(),
+        plc.gutta(A, 0x0312, 1, &vec![0; size], 0).is_failure(),
         "packet 1 first"
     );
     assert_eq!(plc.last_refusal(), Some(&Refusal::BadPacket));
     assert!(
-        plc.gutta(0x0312, 0, &[1, 2], 0).is_failure(),
+        plc.gutta(A, 0x0312, 0, &[1, 2], 0).is_failure(),
         "a short non-last packet"
     );
-    ok(plc.gutta(0x0312, LAST_PACKET, &[1, 2], 0));
+    ok(plc.gutta(A, 0x0312, LAST_PACKET, &[1, 2], 0));
     assert_eq!(plc.pages()[&id], [1, 2]);
     // A reset with an image that does not verify: stopped, ERROR set.
-    ok(plc.gutta(0x0A03, LAST_PACKET, &[], 0));
-    ok(plc.gutta(0x0110, LAST_PACKET, &FACTORY_PASSWORD, 0));
-    let status = ok(plc.gutta(0x0A00, LAST_PACKET, &[], 0))[0];
+    ok(plc.gutta(A, 0x0A03, LAST_PACKET, &[], 0));
+    ok(plc.gutta(A, 0x0110, LAST_PACKET, &FACTORY_PASSWORD, 0));
+    let status = ok(plc.gutta(A, 0x0A00, LAST_PACKET, &[], 0))[0];
     assert_eq!(status & 0b1001, 0b1000, "ERROR, not RUN");
     assert!(
-        plc.gutta(0x0A01, LAST_PACKET, &[1], 0).is_failure(),
+        plc.gutta(A, 0x0A01, LAST_PACKET, &[1], 0).is_failure(),
         "cannot run it"
     );
 }
@@ -190,35 +193,37 @@ fn exch_support_limits_the_functions() {
     target.plc.exch_support =
         gutta_catalog::ExchSupport::parse("FF00|0100|FFFF|0A03").expect("rules");
     let mut plc = Plc::new(Arc::new(target), BTreeMap::new(), VmConfig::default()).expect("plc");
-    ok(plc.gutta(0x0110, LAST_PACKET, &FACTORY_PASSWORD, 0));
-    assert!(plc.gutta(0x0A00, LAST_PACKET, &[], 0).is_failure());
+    ok(plc.gutta(A, 0x0110, LAST_PACKET, &FACTORY_PASSWORD, 0));
+    assert!(plc.gutta(A, 0x0A00, LAST_PACKET, &[], 0).is_failure());
     assert_eq!(plc.last_refusal(), Some(&Refusal::Unsupported));
-    ok(plc.gutta(0x0A03, LAST_PACKET, &[], 0));
+    ok(plc.gutta(A, 0x0A03, LAST_PACKET, &[], 0));
 }
 
 #[test]
 fn malformed_requests_fail_with_the_failure_form() {
     let mut plc = blank_plc();
-    ok(plc.gutta(0x0110, LAST_PACKET, &FACTORY_PASSWORD, 0));
+    ok(plc.gutta(A, 0x0110, LAST_PACKET, &FACTORY_PASSWORD, 0));
     // A single-packet function must carry packet 0x8000.
-    let r = plc.gutta(0x0A00, 0, &[], 0);
+    let r = plc.gutta(A, 0x0A00, 0, &[], 0);
     assert_eq!(r, GuttaFrame::new(0x8A00, 0, vec![]));
     assert!(matches!(plc.last_refusal(), Some(Refusal::Malformed(_))));
     // STATUS_DEBUG_SCAN knows steps 1, 2 and 3 only.
-    assert!(plc.gutta(0x0A32, LAST_PACKET, &[4], 0).is_failure());
+    assert!(plc.gutta(A, 0x0A32, LAST_PACKET, &[4], 0).is_failure());
     assert!(matches!(plc.last_refusal(), Some(Refusal::Malformed(_))));
     // Payload lengths: STATUS_VAR_READ takes whole addresses, ATTACH 16 bytes.
-    assert!(plc.gutta(0x0A10, LAST_PACKET, &[0; 5], 0).is_failure());
+    assert!(plc.gutta(A, 0x0A10, LAST_PACKET, &[0; 5], 0).is_failure());
     assert_eq!(plc.last_refusal(), Some(&Refusal::BadLength));
-    assert!(plc.gutta(0x0110, LAST_PACKET, &[0xFF; 15], 0).is_failure());
+    assert!(plc
+        .gutta(A, 0x0110, LAST_PACKET, &[0xFF; 15], 0)
+        .is_failure());
     assert_eq!(plc.last_refusal(), Some(&Refusal::BadLength));
     // Codes UM4001 does not define, and requests with the failure bit.
     for code in [0x0B00, 0x8A00] {
-        assert!(plc.gutta(code, LAST_PACKET, &[], 0).is_failure());
+        assert!(plc.gutta(A, code, LAST_PACKET, &[], 0).is_failure());
         assert_eq!(plc.last_refusal(), Some(&Refusal::UnknownFunction));
     }
     // After all that the PLC still answers.
-    assert_eq!(ok(plc.gutta(0x0A00, LAST_PACKET, &[], 0)).len(), 1);
+    assert_eq!(ok(plc.gutta(A, 0x0A00, LAST_PACKET, &[], 0)).len(), 1);
 }
 
 #[test]
@@ -226,14 +231,14 @@ fn the_system_page_sets_station_and_lines_at_reset_and_clear_reverts_them() {
     let blink = image(include_str!("../../examples/blink.lad"));
     let mut plc = blank_plc();
     assert_eq!((plc.station(), plc.line(0)), (1, LineSettings::DEFAULT));
-    ok(plc.gutta(0x0100, LAST_PACKET, &[], 0));
-    ok(plc.gutta(0x0110, LAST_PACKET, &FACTORY_PASSWORD, 0));
+    ok(plc.gutta(A, 0x0100, LAST_PACKET, &[], 0));
+    ok(plc.gutta(A, 0x0110, LAST_PACKET, &FACTORY_PASSWORD, 0));
     for (id, bytes) in &blink.pages {
         write_page(&mut plc, *id, bytes);
     }
     // Written but not yet reset: the PLC still answers as before.
     assert_eq!((plc.station(), plc.line(0)), (1, LineSettings::DEFAULT));
-    ok(plc.gutta(0x0A03, LAST_PACKET, &[], 0));
+    ok(plc.gutta(A, 0x0A03, LAST_PACKET, &[], 0));
     let port0 = LineSettings {
         baud: 38400,
         data_bits: 8,
@@ -243,6 +248,6 @@ fn the_system_page_sets_station_and_lines_at_reset_and_clear_reverts_them() {
     assert_eq!((plc.station(), plc.line(0)), (20, port0));
     assert_eq!(plc.line(1), LineSettings::DEFAULT, "blink sets port 0 only");
     // PLC_CLEAR erases the system page: station 1, 19200 8E1 (UM4001).
-    ok(plc.gutta(0x0100, LAST_PACKET, &[], 0));
+    ok(plc.gutta(A, 0x0100, LAST_PACKET, &[], 0));
     assert_eq!((plc.station(), plc.line(0)), (1, LineSettings::DEFAULT));
 }

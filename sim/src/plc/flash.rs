@@ -6,6 +6,7 @@
 use gutta_format::{PageId, PageKind};
 use gutta_protocol::function::{PageArea, PageRef};
 
+use super::window::ConnectionId;
 use super::{Plc, Refusal, LAST_PACKET};
 
 impl Plc {
@@ -47,15 +48,17 @@ impl Plc {
         Ok(bytes[start..end].to_vec())
     }
 
-    /// A page WRITE: only while PLC_CLEAR has unlocked the flash (the registry's stop
-    /// condition was checked before).
+    /// A page WRITE: only inside the download window `from`'s PLC_CLEAR opened (the
+    /// registry's stop condition was checked before), so every page in flash at a
+    /// reset was written by one connection in one window.
     pub(super) fn write_page(
         &mut self,
+        from: ConnectionId,
         page: PageRef,
         packet: u16,
         data: &[u8],
     ) -> Result<(), Refusal> {
-        if !self.unlocked {
+        if self.window.map(|w| w.owner) != Some(from) {
             return Err(Refusal::FlashLocked);
         }
         self.write_packet(page.page_id(), packet, data)

@@ -2,6 +2,7 @@
 //! GET_PLC_NAME, GET_PLC_INFOR. Only `Plc::dispatch` calls these, after the registry's
 //! conditions; they do not check the login themselves.
 
+use super::window::{ConnectionId, DownloadWindow};
 use super::{Plc, Refusal, FACTORY_PASSWORD};
 
 /// Login failures and the lockout after them.
@@ -26,13 +27,14 @@ impl LoginGuard {
 }
 
 impl Plc {
-    /// PLC_CLEAR: erase the pages and the password, stop, unlock the flash.
-    pub(super) fn clear(&mut self) {
+    /// PLC_CLEAR: erase the pages and the password, stop, and open a download window
+    /// owned by `from` (only it writes pages until its STATUS_RESET).
+    pub(super) fn clear(&mut self, from: ConnectionId, now_ms: u64) {
         self.pages.clear();
         self.password = FACTORY_PASSWORD;
         // The station and the serial lines revert to their defaults (UM4001).
         self.active_ports.clear();
-        self.unlocked = true;
+        self.window = Some(DownloadWindow::open(from, now_ms));
         self.image_error = false;
         self.vm.set_running(false);
     }

@@ -146,10 +146,12 @@ pub(crate) fn download(
     } else {
         bar.abandon();
     }
-    let report = result.map_err(|e| {
-        Fatal(format!(
+    let report = result.map_err(|e| match e {
+        // Refused before anything changed: the other client's download goes on.
+        LinkError::Busy { .. } => link_error(e),
+        e => Fatal(format!(
             "download failed: {e}. The PLC was not reset: it does not run a partial image"
-        ))
+        )),
     })?;
     // The bar's own count (a hidden bar counts too), so the two cannot disagree.
     println!(

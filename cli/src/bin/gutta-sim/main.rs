@@ -10,13 +10,14 @@ mod ports_tests;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use clap::Parser;
 use gutta_catalog::{stdlib, Target};
 use gutta_format::LineSettings;
-use gutta_sim::plc::Plc;
+use gutta_sim::plc::{ConnectionId, Plc};
 use gutta_sim::session::{Framing, Session};
 use gutta_vm::VmConfig;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
@@ -80,6 +81,14 @@ fn say(line: &str) {
     let mut out = std::io::stdout().lock();
     let _ = writeln!(out, "{line}");
     let _ = out.flush();
+}
+
+/// The identity of the next connection or serial line: the PLC grants a download
+/// window to the connection whose PLC_CLEAR opened it (docs/simulator.md, the download
+/// safety rule), so every connection gets its own number for the life of the process.
+fn next_connection() -> ConnectionId {
+    static NEXT: AtomicU64 = AtomicU64::new(1);
+    ConnectionId(NEXT.fetch_add(1, Ordering::Relaxed))
 }
 
 /// A start-up failure: printed, exit 2.
@@ -285,18 +294,40 @@ async fn run(cli: Cli) -> Result<(), Fatal> {
     }
 }
 
-/// One connection or serial line: read, answer, until the client closes or sends
-/// garbage.
+/// One connection or serial line under a new connection identity: read, answer, until
+/// the client closes or sends garbage; then a download window it left open ends.
 async fn serve<S>(
-    mut stream: S,
+    stream: S,
     framing: Framing,
     plc: Arc<Mutex<Plc>>,
+    start: Instant,
+    follow: Option<Follow<S>>,
+) where
+    S: tokio::io::AsyncRead + tokio::io::AsyncWrite + Unpin,
+{
+    let connection = next_connection();
+    serve_until_closed(
+        stream,
+        Session::new(framing, connection),
+        &plc,
+        start,
+        follow,
+    )
+    .await;
+    if let Ok(mut plc) = plc.lock() {
+        plc.disconnect(connection);
+    }
+}
+
+async fn serve_until_closed<S>(
+    mut stream: S,
+    mut session: Session,
+    plc: &Mutex<Plc>,
     start: Instant,
     mut follow: Option<Follow<S>>,
 ) where
     S: tokio::io::AsyncRead + tokio::io::AsyncWrite + Unpin,
 {
-    let mut session = Session::new(framing);
     let mut buf = vec![0u8; 4096];
     loop {
         let n = match stream.read(&mut buf).await {
@@ -305,7 +336,21 @@ async fn serve<S>(
         };
         let now_ms = start.elapsed().as_millis() as u64;
         let answer = match plc.lock() {
-            Ok(mut plc) => session.on_bytes(&mut plc, &buf[..n], now_ms),
+            Ok(mut plc) => {
+                let refused_before = session.busy;
+                let answer = session.on_bytes(&mut plc, &buf[..n], now_ms);
+                if let (true, Some(window)) = (session.busy > refused_before, plc.download_window())
+                {
+                    eprintln!(
+                        "gutta-sim: busy: refused {} a change while {} downloads \
+                         (its window opened {:.1} s ago)",
+                        session.connection(),
+                        window.owner,
+                        now_ms.saturating_sub(window.opened_ms) as f64 / 1e3
+                    );
+                }
+                answer
+            }
             Err(_) => return,
         };
         match answer {
