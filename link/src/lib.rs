@@ -43,6 +43,10 @@ pub enum LinkError {
     /// Modbus exception 06, Server Device Busy (docs/simulator.md, the download safety
     /// rule). Nothing was changed by the refused request.
     Busy { what: String },
+    /// The PLC refuses every login for a while after repeated wrong passwords: the
+    /// simulator answers a locked PLC_ATTACH with Modbus exception 04, Server Device
+    /// Failure (docs/simulator.md, password policy). A wrong password is `Refused`.
+    LockedOut,
 }
 
 impl std::fmt::Display for LinkError {
@@ -66,6 +70,10 @@ impl std::fmt::Display for LinkError {
             LinkError::Busy { .. } => f.write_str(
                 "busy: another client is downloading into this PLC; \
                  try again when it has finished",
+            ),
+            LinkError::LockedOut => f.write_str(
+                "locked: the PLC refuses logins for a while after repeated wrong passwords; \
+                 wait and retry",
             ),
         }
     }
@@ -182,13 +190,20 @@ impl Client {
         }
     }
 
+    /// PLC_ATTACH, the login. A wrong password is `Refused` (function 0110); a PLC
+    /// that locks logins after repeated failures answers `LockedOut` meanwhile, even to
+    /// the right password.
     pub fn attach(&mut self, password: &[u8; 16]) -> Result<(), LinkError> {
-        self.ack(
+        let locked = ExceptionCode::ServerDeviceFailure.byte();
+        match self.ack(
             Command::PlcAttach {
                 password: *password,
             },
-            "the login (PLC_ATTACH: wrong password?)",
-        )
+            "the login (PLC_ATTACH): wrong password",
+        ) {
+            Err(LinkError::Exception { code, .. }) if code == locked => Err(LinkError::LockedOut),
+            other => other,
+        }
     }
 
     pub fn detach(&mut self) -> Result<(), LinkError> {

@@ -36,6 +36,9 @@ pub enum ExceptionCode {
     IllegalDataAddress,
     /// 03: a value in the request is not allowed (quantity, byte count, coil value).
     IllegalDataValue,
+    /// 04: Server Device Failure: gutta-sim's answer to a PLC_ATTACH while the login is
+    /// locked out after repeated wrong passwords (docs/simulator.md, password policy).
+    ServerDeviceFailure,
     /// 06: Server Device Busy, "engaged in processing a long-duration program command;
     /// retransmit later": gutta-sim's answer to a GUTTA request another connection's
     /// download forbids (docs/simulator.md, the download safety rule).
@@ -48,6 +51,7 @@ impl ExceptionCode {
             ExceptionCode::IllegalFunction => 1,
             ExceptionCode::IllegalDataAddress => 2,
             ExceptionCode::IllegalDataValue => 3,
+            ExceptionCode::ServerDeviceFailure => 4,
             ExceptionCode::ServerDeviceBusy => 6,
         }
     }

@@ -79,9 +79,17 @@ fn answer_counting(
         Some(&GUTTA_FUNCTION) => match GuttaFrame::from_pdu(pdu) {
             Ok(request) => {
                 let frame = plc.answer(from, &request, now_ms);
-                if matches!(plc.last_refusal(), Some(Refusal::Busy { .. })) {
-                    *busy += 1;
-                    return exception(GUTTA_FUNCTION, ExceptionCode::ServerDeviceBusy);
+                match plc.last_refusal() {
+                    Some(Refusal::Busy { .. }) => {
+                        *busy += 1;
+                        return exception(GUTTA_FUNCTION, ExceptionCode::ServerDeviceBusy);
+                    }
+                    // The failure form cannot say why; the lockout must not read as a
+                    // wrong password (docs/simulator.md, password policy).
+                    Some(Refusal::LockedOut { .. }) => {
+                        return exception(GUTTA_FUNCTION, ExceptionCode::ServerDeviceFailure);
+                    }
+                    _ => {}
                 }
                 frame
                     .to_pdu()

@@ -144,6 +144,35 @@ fn login_rules() {
 }
 
 #[test]
+fn a_locked_out_attach_is_modbus_exception_04_on_the_wire() {
+    let mut plc = blank_plc();
+    // PLC_ATTACH as a PDU: function 13, byte count, code 0110, packet 8000, password.
+    let attach = |password: [u8; 16]| {
+        let mut pdu = vec![0x0D, 0x00, 0x14, 0x01, 0x10, 0x80, 0x00];
+        pdu.extend(password);
+        pdu
+    };
+    // A wrong password keeps UM4001's failure form, even the one that starts the lockout.
+    for _ in 0..3 {
+        assert_eq!(
+            gutta_sim::session::answer(&mut plc, A, &attach([0; 16]), 100),
+            [0x0D, 0x00, 0x04, 0x81, 0x10, 0x80, 0x00]
+        );
+    }
+    // Locked: exception 04 (Server Device Failure), even to the right password, so a
+    // client can tell the lockout from a wrong password.
+    assert_eq!(
+        gutta_sim::session::answer(&mut plc, A, &attach(FACTORY_PASSWORD), 500),
+        [0x8D, 0x04]
+    );
+    // After it, the right password logs in.
+    assert_eq!(
+        gutta_sim::session::answer(&mut plc, A, &attach(FACTORY_PASSWORD), 1100),
+        [0x0D, 0x00, 0x04, 0x01, 0x10, 0x80, 0x00]
+    );
+}
+
+#[test]
 fn page_writes_need_clear_and_stop() {
     let image = image(POINTERS);
     let mut plc = Plc::new(

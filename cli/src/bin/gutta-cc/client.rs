@@ -51,9 +51,7 @@ fn connect(args: &LinkArgs) -> Result<Client, Fatal> {
 /// Connect and log in.
 fn login(args: &LinkArgs) -> Result<Client, Fatal> {
     let mut client = connect(args)?;
-    client
-        .attach(&gutta_format::password_bytes(args.password.as_deref()))
-        .map_err(link_error)?;
+    crate::login::log_in(&mut client, args)?;
     Ok(client)
 }
 
@@ -118,6 +116,8 @@ pub(crate) fn download(
     // count the bytes transferred, the image's bytes twice.
     let total: usize = 2 * image.pages.values().map(Vec::len).sum::<usize>();
     let mut client = connect(args)?;
+    // Log in first: the password (perhaps typed at a prompt) the download logs in with.
+    let password = crate::login::log_in(&mut client, args)?;
     // A progress bar on a terminal; nothing when stderr is a file or a pipe (CI logs).
     let bar = if std::io::stderr().is_terminal() {
         let style = ProgressStyle::with_template(
@@ -133,7 +133,6 @@ pub(crate) fn download(
     };
     let start = std::time::Instant::now();
     let mut progress = |n: usize| bar.inc(n as u64);
-    let password = gutta_format::password_bytes(args.password.as_deref());
     let result = gutta_link::download(
         &mut client,
         &image,
@@ -149,6 +148,7 @@ pub(crate) fn download(
     let report = result.map_err(|e| match e {
         // Refused before anything changed: the other client's download goes on.
         LinkError::Busy { .. } => link_error(e),
+        LinkError::LockedOut => crate::login::failure(e),
         e => Fatal(format!(
             "download failed: {e}. The PLC was not reset: it does not run a partial image"
         )),
@@ -207,9 +207,8 @@ fn parity_name(parity: u8) -> &'static str {
 
 pub(crate) fn upload(targets: &TargetArgs, dir: &Path, args: &LinkArgs) -> Result<ExitCode, Fatal> {
     let mut client = connect(args)?;
-    let password = gutta_format::password_bytes(args.password.as_deref());
     // The PLC type decides the packet size; log in first to ask it.
-    client.attach(&password).map_err(link_error)?;
+    let password = crate::login::log_in(&mut client, args)?;
     let target = plc_target(targets, &mut client)?;
     // A fresh or cleared PLC has no program pages (and then no const page to read):
     // say so, exit 1, and write nothing.

@@ -172,7 +172,8 @@ struct LinkArgs {
     /// Parity for --serial: the PLC's port 0 (its system block), even without one.
     #[arg(long, value_name = "PARITY", default_value = "even")]
     parity: Parity,
-    /// The PLC's login password (the system block's); none is the factory password.
+    /// The PLC's login password (the system block's). Visible to other users: prefer
+    /// GUTTA_PASSWORD, or the prompt a terminal gets when the factory password is refused.
     #[arg(long, value_name = "TEXT")]
     password: Option<String>,
     /// The PLC's station address.
@@ -206,6 +207,7 @@ enum ColorChoice {
 
 mod client;
 mod explain;
+mod login;
 
 /// A usage or I/O failure: printed, exit 2.
 struct Fatal(String);
