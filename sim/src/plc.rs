@@ -19,7 +19,8 @@
 //!   STATUS_RESET then loads the pages: an image that verifies runs; one that does not
 //!   leaves the PLC stopped with ERROR set.
 //! - A failed ATTACH counts; from the third failure in a row every ATTACH is refused
-//!   for a lockout that doubles from 1 s up to 60 s; a good password resets it.
+//!   for a lockout that doubles from 1 s up to 60 s (answered as Modbus exception 04,
+//!   a wrong password as the failure form); a good password resets it.
 //! - Requests are decoded with gutta-protocol's `message::Request`. One the target's
 //!   ExchSupport does not allow, or that does not decode (payload length, packet
 //!   number 0x8000 for single-packet functions, debug step 1..3), fails: function
@@ -58,6 +59,8 @@ pub const LAST_PACKET: u16 = gutta_protocol::gutta::LAST_PACKET;
 pub enum Refusal {
     NotAttached,
     WrongPassword,
+    /// PLC_ATTACH during the lockout: the session answers Modbus exception 04, Server
+    /// Device Failure, so a client can tell it from a wrong password.
     LockedOut {
         until_ms: u64,
     },
@@ -278,7 +281,7 @@ impl Plc {
     /// Answer one GUTTA request from connection `from` at time `now_ms` (for the login
     /// lockout and the download window's timeout): the answer frame, the request's
     /// function with bit 15 set and no payload on failure (`last_refusal` says why; a
-    /// `Refusal::Busy` the session turns into Modbus exception 06).
+    /// `Refusal::Busy` the session turns into Modbus exception 06, `LockedOut` into 04).
     pub fn answer(&mut self, from: ConnectionId, request: &GuttaFrame, now_ms: u64) -> GuttaFrame {
         self.track_window(from, now_ms);
         let result = if !self.target.plc.exch_support.supports(request.function) {
