@@ -166,8 +166,8 @@ pub fn compile(file: SourceFile, explicit: Option<&ExplicitTarget>) -> Compiled 
         }
     };
     let source_map = image
-        .is_some()
-        .then(|| encode::source_map(&lowered, &checked.file, &checked.index));
+        .as_ref()
+        .map(|image| encode::source_map(&lowered, image, &checked.file, &checked.index));
     if image.is_some() {
         checked.output.program = Some(program);
     }

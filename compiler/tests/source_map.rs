@@ -21,8 +21,15 @@ END_ORGANIZATION_BLOCK
 
 fn map_json(text: &str) -> String {
     let compiled = compile(SourceFile::new("main.lad", text), None);
-    assert!(compiled.image.is_some(), "{:?}", compiled.checked.diagnostics());
-    compiled.source_map.expect("a map beside the image").to_json()
+    assert!(
+        compiled.image.is_some(),
+        "{:?}",
+        compiled.checked.diagnostics()
+    );
+    compiled
+        .source_map
+        .expect("a map beside the image")
+        .to_json()
 }
 
 #[test]
@@ -30,6 +37,7 @@ fn two_networks_map_exactly() {
     let expected = r#"{
   "format": 1,
   "file": "main.lad",
+  "manifest_crc": 15653,
   "instructions": [
     {
       "page": 0,
@@ -94,6 +102,12 @@ fn bytes_are_the_instruction_records_of_the_page() {
         .map(|i| i.byte)
         .collect();
     assert_eq!(mapped, records);
+    let compiled = compile(SourceFile::new("main.lad", TWO_NETWORKS), None);
+    let (image, map) = (
+        compiled.image.expect("an image"),
+        compiled.source_map.expect("a map"),
+    );
+    assert!(map.describes(&image.manifest()));
 }
 
 #[test]
@@ -104,7 +118,10 @@ fn same_source_same_map() {
 #[test]
 fn no_image_no_map() {
     let compiled = compile(
-        SourceFile::new("bad.lad", "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD Z9.9\n"),
+        SourceFile::new(
+            "bad.lad",
+            "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD Z9.9\n",
+        ),
         None,
     );
     assert!(compiled.image.is_none());

@@ -20,7 +20,7 @@ pub use operand::{Operand, OperandError, PackedOperand, Pointer, UnitRef, Use, R
 pub use pages::*;
 pub use position::{function_name, parse_position};
 pub use read::{ImageError, MANIFEST_FILE};
-pub use sourcemap::{LineMatch, MappedInstruction, SourceMap, SOURCE_MAP_FILE, SOURCE_MAP_FORMAT};
+pub use sourcemap::{LineMatch, MappedInstruction, SourceMap, SOURCE_MAP_FORMAT};
 pub use verify::{
     verify, Location, UnitRecord, VerifiedImage, VerifiedUnit, VerifyCode, VerifyError,
 };

@@ -1,15 +1,14 @@
 //! The source map: each instruction of an image, by (unit page, network, step) and by
 //! (page, byte offset), to where it is written (file, line, column) and its source text.
-//! The compiler writes it beside the image (docs/image-format.md, "The source map"); it
-//! is never downloaded. No I/O here, and nothing about the image's bytes.
+//! The compiler writes it beside the image directory (docs/image-format.md, "The source
+//! map"); it is never downloaded. No I/O here, and nothing about the image's bytes.
 
 use serde::{Deserialize, Serialize};
 
+use crate::{crc16, Manifest};
+
 /// The `format` field of `sourcemap.json`.
 pub const SOURCE_MAP_FORMAT: u32 = 1;
-
-/// The file name of the source map inside an image directory.
-pub const SOURCE_MAP_FILE: &str = "sourcemap.json";
 
 /// One instruction of an instruction page and where its source is.
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
@@ -36,6 +35,9 @@ pub struct SourceMap {
     pub format: u32,
     /// The source file's name as given to the compiler (`main.lad`).
     pub file: String,
+    /// `crc16` of the image's manifest.json: a map is only used with the image it
+    /// was written for (`describes`).
+    pub manifest_crc: u16,
     pub instructions: Vec<MappedInstruction>,
 }
 
@@ -57,13 +59,35 @@ impl LineMatch<'_> {
 
 impl SourceMap {
     /// A map of `file`; the instructions are sorted here.
-    pub fn new(file: impl Into<String>, mut instructions: Vec<MappedInstruction>) -> SourceMap {
+    pub fn new(
+        file: impl Into<String>,
+        manifest: &Manifest,
+        instructions: Vec<MappedInstruction>,
+    ) -> SourceMap {
+        SourceMap::sorted(
+            file.into(),
+            crc16(manifest.to_json().as_bytes()),
+            instructions,
+        )
+    }
+
+    fn sorted(
+        file: String,
+        manifest_crc: u16,
+        mut instructions: Vec<MappedInstruction>,
+    ) -> SourceMap {
         instructions.sort();
         SourceMap {
             format: SOURCE_MAP_FORMAT,
-            file: file.into(),
+            file,
+            manifest_crc,
             instructions,
         }
+    }
+
+    /// Whether this map was written for the image with that manifest.
+    pub fn describes(&self, manifest: &Manifest) -> bool {
+        self.manifest_crc == crc16(manifest.to_json().as_bytes())
     }
 
     /// Pretty JSON with a final newline.
@@ -83,7 +107,11 @@ impl SourceMap {
                 map.format
             ));
         }
-        Ok(SourceMap::new(map.file, map.instructions))
+        Ok(SourceMap::sorted(
+            map.file,
+            map.manifest_crc,
+            map.instructions,
+        ))
     }
 
     /// The instruction at (unit page, network, step).
@@ -133,10 +161,7 @@ impl SourceMap {
                     self.file
                 )
             })?;
-        Ok(Some(LineMatch {
-            asked,
-            instruction,
-        }))
+        Ok(Some(LineMatch { asked, instruction }))
     }
 
     /// Whether `file` names this map's source: the same path, or the same last component.
@@ -162,9 +187,18 @@ mod tests {
         }
     }
 
+    fn manifest(plc_type: &str) -> Manifest {
+        crate::Image {
+            plc_type: plc_type.into(),
+            pages: Default::default(),
+        }
+        .manifest()
+    }
+
     fn map() -> SourceMap {
         SourceMap::new(
             "dir/main.lad",
+            &manifest("CPU-EC20"),
             vec![
                 instruction(0, 11, 1, 1, 5),
                 instruction(0, 4, 1, 0, 4),
@@ -181,6 +215,8 @@ mod tests {
             [4, 11, 22]
         );
         assert_eq!(SourceMap::from_json(&m.to_json()), Ok(m.clone()));
+        assert!(m.describes(&manifest("CPU-EC20")));
+        assert!(!m.describes(&manifest("CPU-EC30")));
         let mut other = m.to_json().replace("\"format\": 1", "\"format\": 9");
         assert!(SourceMap::from_json(&other).is_err());
         other.clear();

@@ -2,13 +2,18 @@
 //! network and step, with the line, column and text of the source it came from. Byte
 //! offsets follow the records' encoded lengths, as the encoder lays them out. No I/O.
 
-use gutta_format::{MappedInstruction, Record, SourceMap};
+use gutta_format::{Image, MappedInstruction, Record, SourceMap};
 
 use crate::lower::Lowered;
 use crate::source::{LineIndex, SourceFile};
 
-/// The map of `lowered`, compiled from `file`.
-pub fn source_map(lowered: &Lowered, file: &SourceFile, index: &LineIndex) -> SourceMap {
+/// The map of `image`, encoded from `lowered`, compiled from `file`.
+pub fn source_map(
+    lowered: &Lowered,
+    image: &Image,
+    file: &SourceFile,
+    index: &LineIndex,
+) -> SourceMap {
     let mut instructions = Vec::new();
     for unit in &lowered.units {
         let Ok(page) = u8::try_from(unit.page) else {
@@ -35,7 +40,7 @@ pub fn source_map(lowered: &Lowered, file: &SourceFile, index: &LineIndex) -> So
             byte += record.len();
         }
     }
-    SourceMap::new(file.name.clone(), instructions)
+    SourceMap::new(file.name.clone(), &image.manifest(), instructions)
 }
 
 /// The instruction's first source line, without a trailing comment or blanks.
