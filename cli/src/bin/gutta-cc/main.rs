@@ -300,13 +300,13 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
                     let _ = stdout.lock().write_all(text.as_bytes());
                 }
             }
-            (compiled.checked, compiled.image)
+            (compiled.checked, compiled.image.zip(compiled.source_map))
         } else {
             (check_source(file, explicit.as_ref()), None)
         };
         any_errors |= checked.has_errors();
-        if let (Some(image), Some(dir)) = (&image, &cli.output) {
-            gutta_io::write_image(dir, image).map_err(|e| Fatal(e.0))?;
+        if let (Some((image, map)), Some(dir)) = (&image, &cli.output) {
+            gutta_io::write_image_with_map(dir, image, map).map_err(|e| Fatal(e.0))?;
         }
         match cli.message_format {
             MessageFormat::Json => {
@@ -328,7 +328,7 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
                         plural(errors),
                         plural(warnings)
                     );
-                } else if let (Some(image), Some(dir)) = (&image, &cli.output) {
+                } else if let (Some((image, _)), Some(dir)) = (&image, &cli.output) {
                     eprintln!(
                         "{name}: wrote {} for {}: {}",
                         dir.display(),
