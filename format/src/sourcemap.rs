@@ -135,7 +135,13 @@ impl SourceMap {
     /// last instruction.
     pub fn resolve_line(&self, text: &str) -> Result<Option<LineMatch<'_>>, String> {
         let (file, line) = match text.rsplit_once(':') {
-            Some((file, line)) if !file.contains(':') => (Some(file), line),
+            // A file has a name with a `.` or a directory, or is this map's file; `MAIN:1`
+            // is a position missing its step.
+            Some((file, line))
+                if !file.contains(':') && (file.contains(['.', '/', '\\']) || self.names(file)) =>
+            {
+                (Some(file), line)
+            }
             Some(_) => return Ok(None),
             None => (None, text),
         };
@@ -244,5 +250,7 @@ mod tests {
         assert!(m.resolve_line("other.lad:5").is_err());
         assert_eq!(m.resolve_line("MAIN:2:0"), Ok(None));
         assert_eq!(m.resolve_line("MAIN"), Ok(None));
+        assert_eq!(m.resolve_line("MAIN:1"), Ok(None));
+        assert!(m.resolve_line("dir/other.lad:1").is_err());
     }
 }
