@@ -18,7 +18,7 @@ pub use gutta_catalog::{Address, BlockKind, Width};
 pub use manifest::{Manifest, ManifestError, ManifestPage, FORMAT_VERSION};
 pub use operand::{Operand, OperandError, PackedOperand, Pointer, UnitRef, Use, RELEASE_USE};
 pub use pages::*;
-pub use position::{function_name, parse_position};
+pub use position::{function_name, parse_breakpoint, parse_position, Breakpoint};
 pub use read::{ImageError, MANIFEST_FILE};
 pub use sourcemap::{LineMatch, MappedInstruction, SourceMap, SOURCE_MAP_FORMAT};
 pub use verify::{

@@ -335,52 +335,27 @@ fn logic_stack(vm: &Vm, target: &Target) -> String {
         .collect()
 }
 
-/// `main.lad:12` or `12`, with the source map: the first instruction on that line or the
-/// next line that has one (a note says which). Else `MAIN:2:0`, `SBR0:1:3`, `INT1:1:0`,
-/// `8:1:0`: a function (unit page), network and step.
+/// `MAIN:2:0`, `SBR0:1:3`, `INT1:1:0`, `8:1:0` (a function (unit page), network and
+/// step) or, with the source map, `main.lad:12` or `12` (a note says when the line had no
+/// instruction and the next one is taken).
 fn parse_breakpoint(
     target: &Target,
     map: Option<&SourceMap>,
     image: &std::path::Path,
     text: &str,
 ) -> Result<Position, Fatal> {
-    if let Some(map) = map {
-        let found = map
-            .resolve_line(text)
-            .map_err(|e| Fatal(format!("--break {e}")))?;
-        if let Some(found) = found {
-            let i = found.instruction;
-            if found.moved() {
-                eprintln!(
-                    "gutta-vm: note: --break {text}: line {} has no instruction; breaking at line {}",
-                    found.asked, i.line
-                );
-            }
-            return Ok(Position {
-                function: i.page,
-                network: i.network,
-                step: i.step,
-            });
-        }
-    } else if names_a_line(text) {
-        return Err(Fatal(format!(
-            "--break {text}: a source line needs the source map {} that `gutta-cc -o` writes beside the image; without it give FUNCTION:NETWORK:STEP",
-            gutta_io::source_map_path(image).display()
-        )));
-    }
-    let (function, network, step) = gutta_format::parse_position(text, &target.plc)
+    let map_name = gutta_io::source_map_path(image).display().to_string();
+    let at = gutta_format::parse_breakpoint(text, &target.plc, map, &map_name)
         .map_err(|e| Fatal(format!("--break {e}")))?;
+    if let Some(note) = at.note {
+        eprintln!("gutta-vm: note: --break {note}");
+    }
+    let (function, network, step) = at.position;
     Ok(Position {
         function,
         network,
         step,
     })
-}
-
-/// `12` or `main.lad:12` (a file has a `.` or a directory in its name).
-fn names_a_line(text: &str) -> bool {
-    let (file, line) = text.rsplit_once(':').unwrap_or(("", text));
-    line.parse::<u32>().is_ok() && (file.is_empty() || file.contains(['.', '/', '\\']))
 }
 
 /// MAIN, INTn or SBRn for a unit page.
