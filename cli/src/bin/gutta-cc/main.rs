@@ -125,12 +125,18 @@ enum Command {
         #[command(flatten)]
         link: LinkArgs,
     },
-    /// Debug the running program: `break MAIN:2:0`, `clear`, `stop` (single-step stop),
-    /// `run`, `step in|over|out`, `reset` (reset into single-step stop), `info`.
+    /// Debug the running program: `break MAIN:2:0` (or `break main.lad:12` with a source
+    /// map), `clear`, `stop` (single-step stop), `run`, `step in|over|out`, `reset` (reset
+    /// into single-step stop), `info`.
     Debug {
-        /// The action, then its argument (a position for `break`, in/over/out for `step`).
+        /// The action, then its argument (a position or FILE:LINE for `break`, in/over/out
+        /// for `step`).
         #[arg(required = true, num_args = 1..=2)]
         action: Vec<String>,
+        /// The image directory the PLC runs, whose source map (DIR.map.json) shows file:line
+        /// and instruction text [default: `image` when image.map.json exists].
+        #[arg(long, value_name = "DIR")]
+        image: Option<PathBuf>,
         #[command(flatten)]
         link: LinkArgs,
     },
@@ -238,7 +244,11 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
             return client::write(&cli.target, assignments, link, false)
         }
         Some(Command::Unforce { vars, link }) => return client::unforce(&cli.target, vars, link),
-        Some(Command::Debug { action, link }) => return client::debug(&cli.target, action, link),
+        Some(Command::Debug {
+            action,
+            image,
+            link,
+        }) => return client::debug(&cli.target, action, image.as_deref(), link),
         Some(Command::Force { assignments, link }) => {
             return client::write(&cli.target, assignments, link, true)
         }
