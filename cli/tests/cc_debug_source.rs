@@ -114,7 +114,11 @@ fn debug_shows_file_line_and_instruction() {
     // A line past the last instruction is refused before anything is sent.
     let o = run(&["debug", "break", "main.lad:40"]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
-    assert!(text(&o).contains("no instruction on line 40"), "{}", text(&o));
+    assert!(
+        text(&o).contains("no instruction on line 40"),
+        "{}",
+        text(&o)
+    );
     // Without a map: positions as today, and a line is refused.
     std::fs::remove_file(root.join("image.map.json")).expect("map");
     let o = run(&["debug", "info"]);

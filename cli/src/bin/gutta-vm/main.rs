@@ -222,8 +222,7 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
                 &vm,
                 &reads,
                 &values,
-                &changes,
-                cli.trace,
+                cli.trace.then_some(changes.as_slice()),
                 fault.as_ref(),
                 paused,
                 &Source {
@@ -375,8 +374,7 @@ fn json_report(
     vm: &Vm,
     reads: &[Var],
     values: &[u32],
-    changes: &[Change],
-    trace: bool,
+    trace: Option<&[Change]>,
     fault: Option<&(u64, Fault)>,
     paused: Option<(u64, Position)>,
     source: &Source,
@@ -417,7 +415,7 @@ fn json_report(
             "logic_stack": logic_stack(vm, source.target),
         })),
     });
-    if trace {
+    if let Some(changes) = trace {
         report["trace"] = changes
             .iter()
             .map(
