@@ -136,6 +136,8 @@ pub struct Compiled {
     pub image: Option<gutta_format::Image>,
     /// The lowered program (for listings), when the program checked.
     pub lowered: Option<lower::Lowered>,
+    /// Where each instruction of `image` comes from; set exactly when `image` is.
+    pub source_map: Option<gutta_format::SourceMap>,
 }
 
 /// The whole pipeline: parse, check, lower, encode. Limit errors of the encoder join the
@@ -147,6 +149,7 @@ pub fn compile(file: SourceFile, explicit: Option<&ExplicitTarget>) -> Compiled 
             checked,
             image: None,
             lowered: None,
+            source_map: None,
         };
     };
     let lowered = lower::lower(&program, &checked.target);
@@ -162,6 +165,9 @@ pub fn compile(file: SourceFile, explicit: Option<&ExplicitTarget>) -> Compiled 
             None
         }
     };
+    let source_map = image
+        .as_ref()
+        .map(|image| encode::source_map(&lowered, image, &checked.file, &checked.index));
     if image.is_some() {
         checked.output.program = Some(program);
     }
@@ -169,5 +175,6 @@ pub fn compile(file: SourceFile, explicit: Option<&ExplicitTarget>) -> Compiled 
         checked,
         image,
         lowered: Some(lowered),
+        source_map,
     }
 }

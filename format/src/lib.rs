@@ -10,6 +10,7 @@ mod operand;
 mod pages;
 mod position;
 mod read;
+mod sourcemap;
 mod verify;
 
 pub use crc::crc16;
@@ -17,8 +18,9 @@ pub use gutta_catalog::{Address, BlockKind, Width};
 pub use manifest::{Manifest, ManifestError, ManifestPage, FORMAT_VERSION};
 pub use operand::{Operand, OperandError, PackedOperand, Pointer, UnitRef, Use, RELEASE_USE};
 pub use pages::*;
-pub use position::{function_name, parse_position};
+pub use position::{function_name, parse_breakpoint, parse_position, Breakpoint};
 pub use read::{ImageError, MANIFEST_FILE};
+pub use sourcemap::{LineMatch, MappedInstruction, SourceMap, SOURCE_MAP_FORMAT};
 pub use verify::{
     verify, Location, UnitRecord, VerifiedImage, VerifiedUnit, VerifyCode, VerifyError,
 };

@@ -95,6 +95,8 @@ pub(crate) struct Engine {
     /// STATUS_RESET was requested; the next scan resets first.
     pub reset_requested: bool,
     pub fault: Option<Fault>,
+    /// The instruction that faulted, when the fault happened in one.
+    pub fault_at: Option<Position>,
 }
 
 impl Engine {
@@ -121,6 +123,7 @@ impl Engine {
         self.reset_requested = false;
         self.clock = Clock::default();
         self.fault = None;
+        self.fault_at = None;
     }
 
     /// Drop a scan in progress (frames, loops, saved L, pause).
@@ -142,6 +145,7 @@ impl Engine {
         if self.phase != Phase::Idle {
             self.clock.end_scan(self.program.config.scan_ms);
         }
+        self.fault_at = self.current_instruction();
         self.abandon_scan();
         self.fault = Some(f);
     }
@@ -167,6 +171,11 @@ impl Engine {
         if !self.paused {
             return None;
         }
+        self.current_instruction()
+    }
+
+    /// The instruction the top frame is at (running or about to run).
+    fn current_instruction(&self) -> Option<Position> {
         let f = self.machine.frames.last()?;
         let unit = self.program.unit(f.page)?;
         let &(network, step) = unit.positions.get(f.pc)?;

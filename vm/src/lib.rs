@@ -90,6 +90,12 @@ impl Vm {
         self.engine.fault.as_ref()
     }
 
+    /// The instruction the fault stopped in, when it stopped in one (a watchdog, a bad
+    /// access, a call too deep); `None` without a fault.
+    pub fn fault_position(&self) -> Option<Position> {
+        self.engine.fault_at
+    }
+
     /// Whether the PLC is in RUN (false after STOP).
     pub fn is_running(&self) -> bool {
         !self.engine.stopped

@@ -87,6 +87,7 @@ pub(crate) fn load(
         stopped: false,
         reset_requested: false,
         fault: None,
+        fault_at: None,
     };
     engine.reset();
     Ok(engine)

@@ -2,7 +2,7 @@
 //! the programs of examples/ (the memory document's pointer example, CALL with
 //! arguments, data blocks and the blinking lamp in blink.lad, AN2002 sample 2), which live in examples/
 //! and are run here rather than copied, and the Rust API of faults and forces
-//! (`Fault::Watchdog`'s limit, `Vm::fault`, `force_image`, refused forces,
+//! (`Fault::Watchdog`'s limit, `Vm::fault`, `Vm::fault_position`, `force_image`, refused forces,
 //! `unforce_all`).
 
 #![allow(clippy::disallowed_methods, reason = "tests read their data files")]
@@ -114,9 +114,14 @@ fn a_runaway_loop_trips_the_watchdog() {
     );
     assert!(matches!(vm.scan(), Err(Fault::Watchdog { limit: 10_000 })));
     assert!(vm.fault().is_some());
+    // The fault names the loop's instruction it stopped in (for file:line in gutta-vm).
+    let at = vm.fault_position().expect("the faulting instruction");
+    assert_eq!((at.function, at.network), (0, 1));
+    assert!(at.step < 3, "{at}");
     assert!(vm.scan().is_err(), "a faulted VM stays stopped until reset");
     vm.reset();
     assert!(vm.fault().is_none());
+    assert!(vm.fault_position().is_none());
 }
 
 /// The force API (what a corpus header cannot reach): the force image, a refused

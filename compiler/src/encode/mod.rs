@@ -8,8 +8,10 @@ use gutta_catalog::{AreaKind, Target};
 use gutta_format::{encode_data, encode_instructions, Image, PageId, PageKind, Record};
 
 mod listing;
+mod sourcemap;
 
 pub use listing::listing;
+pub use sourcemap::source_map;
 
 use crate::diagnostics::{Code, Diagnostic};
 use crate::lower::Lowered;

@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use std::sync::Arc;
 
 use gutta_catalog::{stdlib, Address, Target, Width};
-use gutta_format::{Operand, PackedOperand};
+use gutta_format::{Operand, PackedOperand, SourceMap};
 use gutta_link::message::{debug_state, Breakpoint, DebugStep};
 use gutta_link::transport::{rtu_over_tcp, serial, TcpTransport};
 use gutta_link::{Client, LinkError};
@@ -305,19 +305,60 @@ pub(crate) fn write(
     Ok(ExitCode::SUCCESS)
 }
 
+/// The image directory `debug` takes its source map from when `--image` is not given.
+const DEFAULT_DEBUG_IMAGE: &str = "image";
+
+/// The source map for `debug`: beside `--image DIR` (an error when it is missing or stale),
+/// else beside `image/` when there is one (a warning when it cannot be used).
+fn debug_source_map(image: Option<&Path>) -> Result<Option<SourceMap>, Fatal> {
+    let (dir, explicit) = match image {
+        Some(dir) => (dir, true),
+        None => (Path::new(DEFAULT_DEBUG_IMAGE), false),
+    };
+    let map_path = gutta_io::source_map_path(dir);
+    if !explicit && !map_path.is_file() {
+        return Ok(None);
+    }
+    let map = gutta_io::read_image_dir(dir)
+        .and_then(|image| gutta_io::read_source_map(dir, &image))
+        .and_then(|map| map.ok_or_else(|| format!("no source map {}", map_path.display())));
+    match map {
+        Ok(map) => Ok(Some(map)),
+        Err(e) if explicit => Err(Fatal(format!("--image {}: {e}", dir.display()))),
+        Err(e) => {
+            eprintln!("gutta-cc: warning: {e}; showing positions without source lines");
+            Ok(None)
+        }
+    }
+}
+
 /// `gutta-cc debug ACTION [ARG]`: UM4001's DEBUG_* functions.
 pub(crate) fn debug(
     targets: &TargetArgs,
     action: &[String],
+    image: Option<&Path>,
     args: &LinkArgs,
 ) -> Result<ExitCode, Fatal> {
+    let map = debug_source_map(image)?;
     let mut client = login(args)?;
     let target = plc_target(targets, &mut client)?;
     let plc = &target.plc;
     let arg = action.get(1).map(String::as_str);
     match (action[0].as_str(), arg) {
         ("break", Some(at)) => {
-            let (index, network, step) = gutta_format::parse_position(at, plc).map_err(Fatal)?;
+            let map_name =
+                gutta_io::source_map_path(image.unwrap_or(Path::new(DEFAULT_DEBUG_IMAGE)));
+            let at = gutta_format::parse_breakpoint(
+                at,
+                plc,
+                map.as_ref(),
+                &map_name.display().to_string(),
+            )
+            .map_err(Fatal)?;
+            if let Some(note) = at.note {
+                eprintln!("gutta-cc: note: {note}");
+            }
+            let (index, network, step) = at.position;
             client.set_breakpoint(Some(Breakpoint {
                 index,
                 network,
@@ -347,11 +388,21 @@ pub(crate) fn debug(
     .map_err(link_error)?;
     // Every action ends by showing where the program is.
     let (state, info) = client.debug_info().map_err(link_error)?;
+    // `MAIN:2:1`, or with the map `main.lad:11:1 (MAIN:2:1): MOVW   16#BEEF, MW10`.
     let place = |f: u8, n: u16, s: u16| {
         if f == 0xFF {
-            "none".to_string()
-        } else {
-            format!("{}:{n}:{s}", gutta_format::function_name(f, plc))
+            return "none".to_string();
+        }
+        let position = format!("{}:{n}:{s}", gutta_format::function_name(f, plc));
+        match map
+            .as_ref()
+            .and_then(|m| Some((m, m.at_position(f, n, s)?)))
+        {
+            Some((m, i)) => format!(
+                "{}:{}:{} ({position}): {}",
+                m.file, i.line, i.column, i.text
+            ),
+            None => position,
         }
     };
     let b = info.breakpoint;

@@ -125,12 +125,18 @@ enum Command {
         #[command(flatten)]
         link: LinkArgs,
     },
-    /// Debug the running program: `break MAIN:2:0`, `clear`, `stop` (single-step stop),
-    /// `run`, `step in|over|out`, `reset` (reset into single-step stop), `info`.
+    /// Debug the running program: `break MAIN:2:0` (or `break main.lad:12` with a source
+    /// map), `clear`, `stop` (single-step stop), `run`, `step in|over|out`, `reset` (reset
+    /// into single-step stop), `info`.
     Debug {
-        /// The action, then its argument (a position for `break`, in/over/out for `step`).
+        /// The action, then its argument (a position or FILE:LINE for `break`, in/over/out
+        /// for `step`).
         #[arg(required = true, num_args = 1..=2)]
         action: Vec<String>,
+        /// The image directory the PLC runs, whose source map (DIR.map.json) shows file:line
+        /// and instruction text [default: `image` when image.map.json exists].
+        #[arg(long, value_name = "DIR")]
+        image: Option<PathBuf>,
         #[command(flatten)]
         link: LinkArgs,
     },
@@ -240,7 +246,11 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
             return client::write(&cli.target, assignments, link, false)
         }
         Some(Command::Unforce { vars, link }) => return client::unforce(&cli.target, vars, link),
-        Some(Command::Debug { action, link }) => return client::debug(&cli.target, action, link),
+        Some(Command::Debug {
+            action,
+            image,
+            link,
+        }) => return client::debug(&cli.target, action, image.as_deref(), link),
         Some(Command::Force { assignments, link }) => {
             return client::write(&cli.target, assignments, link, true)
         }
@@ -302,13 +312,13 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
                     let _ = stdout.lock().write_all(text.as_bytes());
                 }
             }
-            (compiled.checked, compiled.image)
+            (compiled.checked, compiled.image.zip(compiled.source_map))
         } else {
             (check_source(file, explicit.as_ref()), None)
         };
         any_errors |= checked.has_errors();
-        if let (Some(image), Some(dir)) = (&image, &cli.output) {
-            gutta_io::write_image(dir, image).map_err(|e| Fatal(e.0))?;
+        if let (Some((image, map)), Some(dir)) = (&image, &cli.output) {
+            gutta_io::write_image_with_map(dir, image, map).map_err(|e| Fatal(e.0))?;
         }
         match cli.message_format {
             MessageFormat::Json => {
@@ -330,7 +340,7 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
                         plural(errors),
                         plural(warnings)
                     );
-                } else if let (Some(image), Some(dir)) = (&image, &cli.output) {
+                } else if let (Some((image, _)), Some(dir)) = (&image, &cli.output) {
                     eprintln!(
                         "{name}: wrote {} for {}: {}",
                         dir.display(),

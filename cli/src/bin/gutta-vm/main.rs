@@ -10,6 +10,7 @@ use std::sync::Arc;
 
 use clap::Parser;
 use gutta_catalog::{stdlib, Address, Target, Width};
+use gutta_format::{MappedInstruction, SourceMap};
 use gutta_vm::{Fault, Position, ScanEnd, Vm, VmConfig};
 
 #[derive(Debug, Parser)]
@@ -52,10 +53,13 @@ struct Cli {
     /// Write a Value Change Dump of the --read variables, one sample per scan.
     #[arg(long, value_name = "FILE", requires = "read")]
     vcd: Option<PathBuf>,
-    /// Pause before an instruction and stop the run there, printing the --read values
-    /// as they are at that moment. FUNCTION is MAIN, INTn, SBRn or a page number; NETWORK
-    /// the network number; STEP the 0-based instruction in the network (MAIN:2:0).
-    #[arg(long = "break", value_name = "FUNCTION:NETWORK:STEP")]
+    /// Pause before an instruction and stop the run there, printing where (with the
+    /// source line when IMAGE.map.json is beside the image), the logic stack and the
+    /// --read values as they are at that moment. FUNCTION is MAIN, INTn, SBRn or a page
+    /// number; NETWORK the network number; STEP the 0-based instruction in the network
+    /// (MAIN:2:0). With the source map: FILE:LINE, or LINE alone (main.lad:12, 12); a
+    /// line without an instruction stands for the next line that has one.
+    #[arg(long = "break", value_name = "FUNCTION:NETWORK:STEP|FILE:LINE")]
     breakpoint: Option<String>,
     /// PLC type from the stdlib (instead of the image's PLC type).
     #[arg(long, value_name = "NAME")]
@@ -106,6 +110,13 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
     };
     let verified = gutta_format::verify(&image, &target)
         .map_err(|e| Fatal(format!("{}: {e}", cli.image.display())))?;
+    let map = match gutta_io::read_source_map(&cli.image, &image) {
+        Ok(map) => map,
+        Err(e) => {
+            eprintln!("gutta-vm: warning: {e}; going on without source lines");
+            None
+        }
+    };
     let config = VmConfig {
         scan_ms: cli.scan_ms,
         watchdog: cli.watchdog,
@@ -130,7 +141,7 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
             .map_err(|e| Fatal(format!("--force {}: {e}", var.name)))?;
     }
     if let Some(text) = &cli.breakpoint {
-        let at = parse_breakpoint(&target, text)?;
+        let at = parse_breakpoint(&target, map.as_ref(), &cli.image, text)?;
         vm.set_breakpoint(Some(at))
             .map_err(|e| Fatal(format!("--break {text}: {e}")))?;
     }
@@ -211,10 +222,13 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
                 &vm,
                 &reads,
                 &values,
-                &changes,
-                cli.trace,
+                cli.trace.then_some(changes.as_slice()),
                 fault.as_ref(),
-                paused
+                paused,
+                &Source {
+                    map: map.as_ref(),
+                    target: &target,
+                }
             )
         );
     } else {
@@ -223,13 +237,27 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
             let _ = writeln!(out, "{} = {value}", v.name);
         }
         let _ = stdout.lock().write_all(out.as_bytes());
+        let source = Source {
+            map: map.as_ref(),
+            target: &target,
+        };
         if let Some((n, at)) = paused {
+            match source.instruction(at) {
+                Some(i) => eprintln!(
+                    "gutta-vm: paused at {} in scan {n}; values are before that instruction",
+                    source.describe(at, i)
+                ),
+                None => eprintln!(
+                    "gutta-vm: paused at breakpoint {} (function {}) network {} step {} in scan {n}; values are before that instruction",
+                    function_name(&target, at.function),
+                    at.function,
+                    at.network,
+                    at.step
+                ),
+            }
             eprintln!(
-                "gutta-vm: paused at breakpoint {} (function {}) network {} step {} in scan {n}; values are before that instruction",
-                function_name(&target, at.function),
-                at.function,
-                at.network,
-                at.step
+                "gutta-vm: logic stack (top first): {}",
+                logic_stack(&vm, &target)
             );
         }
         if let Some((n, f)) = &fault {
@@ -238,6 +266,18 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
                 f.code(),
                 fault_kind(f)
             );
+            if let Some(at) = vm.fault_position() {
+                let place = match source.instruction(at) {
+                    Some(i) => source.describe(at, i),
+                    None => format!(
+                        "{} network {} step {}",
+                        function_name(&target, at.function),
+                        at.network,
+                        at.step
+                    ),
+                };
+                eprintln!("gutta-vm: the fault is in {place}");
+            }
         }
     }
     Ok(if fault.is_some() {
@@ -247,11 +287,69 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
     })
 }
 
-/// `MAIN:2:0`, `SBR0:1:3`, `INT1:1:0`, `8:1:0`: a function (unit page), network and
-/// step.
-fn parse_breakpoint(target: &Target, text: &str) -> Result<Position, Fatal> {
-    let (function, network, step) = gutta_format::parse_position(text, &target.plc)
+/// Where instructions are in the source, when the image has its source map.
+struct Source<'a> {
+    map: Option<&'a SourceMap>,
+    target: &'a Target,
+}
+
+impl Source<'_> {
+    fn instruction(&self, at: Position) -> Option<&MappedInstruction> {
+        self.map?.at_position(at.function, at.network, at.step)
+    }
+
+    /// `main.lad:12:1 (MAIN network 2 step 0): MOVW  MW10, MW20`.
+    fn describe(&self, at: Position, i: &MappedInstruction) -> String {
+        let file = self.map.map_or("", |m| m.file.as_str());
+        format!(
+            "{file}:{}:{} ({} network {} step {}): {}",
+            i.line,
+            i.column,
+            function_name(self.target, at.function),
+            at.network,
+            at.step,
+            i.text
+        )
+    }
+
+    /// `{"file", "line", "column", "text"}` of the instruction, or null.
+    fn json(&self, at: Option<Position>) -> serde_json::Value {
+        match (self.map, at.and_then(|at| self.instruction(at))) {
+            (Some(map), Some(i)) => serde_json::json!({
+                "file": map.file,
+                "line": i.line,
+                "column": i.column,
+                "text": i.text,
+            }),
+            _ => serde_json::Value::Null,
+        }
+    }
+}
+
+/// The logic stack as bits, top first, as deep as the target's stack.
+fn logic_stack(vm: &Vm, target: &Target) -> String {
+    let stack = vm.debug_state().logic_stack;
+    (0..u32::from(target.instructions.logic_stack_depth).min(32))
+        .map(|level| if stack >> level & 1 == 1 { '1' } else { '0' })
+        .collect()
+}
+
+/// `MAIN:2:0`, `SBR0:1:3`, `INT1:1:0`, `8:1:0` (a function (unit page), network and
+/// step) or, with the source map, `main.lad:12` or `12` (a note says when the line had no
+/// instruction and the next one is taken).
+fn parse_breakpoint(
+    target: &Target,
+    map: Option<&SourceMap>,
+    image: &std::path::Path,
+    text: &str,
+) -> Result<Position, Fatal> {
+    let map_name = gutta_io::source_map_path(image).display().to_string();
+    let at = gutta_format::parse_breakpoint(text, &target.plc, map, &map_name)
         .map_err(|e| Fatal(format!("--break {e}")))?;
+    if let Some(note) = at.note {
+        eprintln!("gutta-vm: note: --break {note}");
+    }
+    let (function, network, step) = at.position;
     Ok(Position {
         function,
         network,
@@ -276,10 +374,10 @@ fn json_report(
     vm: &Vm,
     reads: &[Var],
     values: &[u32],
-    changes: &[Change],
-    trace: bool,
+    trace: Option<&[Change]>,
     fault: Option<&(u64, Fault)>,
     paused: Option<(u64, Position)>,
+    source: &Source,
 ) -> serde_json::Value {
     use serde_json::{json, Map, Value};
     let mut map = Map::new();
@@ -292,6 +390,8 @@ fn json_report(
             "code": f.code(),
             "message": f.to_string(),
             "scan": scan,
+            "position": vm.fault_position().map(|at| at.to_string()),
+            "source": source.json(vm.fault_position()),
         }),
         None => Value::Null,
     };
@@ -311,9 +411,11 @@ fn json_report(
             "network": at.network,
             "step": at.step,
             "scan": scan,
+            "source": source.json(Some(at)),
+            "logic_stack": logic_stack(vm, source.target),
         })),
     });
-    if trace {
+    if let Some(changes) = trace {
         report["trace"] = changes
             .iter()
             .map(
