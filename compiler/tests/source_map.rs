@@ -34,49 +34,12 @@ fn map_json(text: &str) -> String {
 
 #[test]
 fn two_networks_map_exactly() {
-    let expected = r#"{
-  "format": 1,
-  "file": "main.lad",
-  "manifest_crc": 15653,
-  "instructions": [
-    {
-      "page": 0,
-      "byte": 4,
-      "network": 1,
-      "step": 0,
-      "line": 6,
-      "column": 1,
-      "text": "LD     I0.0"
-    },
-    {
-      "page": 0,
-      "byte": 11,
-      "network": 1,
-      "step": 1,
-      "line": 7,
-      "column": 1,
-      "text": "=      Q0.0"
-    },
-    {
-      "page": 0,
-      "byte": 22,
-      "network": 2,
-      "step": 0,
-      "line": 10,
-      "column": 1,
-      "text": "LD     SM0.0"
-    },
-    {
-      "page": 0,
-      "byte": 29,
-      "network": 2,
-      "step": 1,
-      "line": 11,
-      "column": 1,
-      "text": "MOVW   MW10, MW20"
-    }
-  ]
-}
+    let expected = r#"{"format":1,"file":"main.lad","manifest_crc":15653,"instructions":[
+{"page":0,"byte":4,"network":1,"step":0,"line":6,"column":1,"text":"LD     I0.0"},
+{"page":0,"byte":11,"network":1,"step":1,"line":7,"column":1,"text":"=      Q0.0"},
+{"page":0,"byte":22,"network":2,"step":0,"line":10,"column":1,"text":"LD     SM0.0"},
+{"page":0,"byte":29,"network":2,"step":1,"line":11,"column":1,"text":"MOVW   MW10, MW20"}
+]}
 "#;
     assert_eq!(map_json(TWO_NETWORKS), expected);
 }

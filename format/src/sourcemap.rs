@@ -90,11 +90,24 @@ impl SourceMap {
         self.manifest_crc == crc16(manifest.to_json().as_bytes())
     }
 
-    /// Pretty JSON with a final newline.
+    /// JSON with one instruction per line (compact, so a large program's map stays
+    /// small and quick to write, yet a diff shows which instructions moved) and a final
+    /// newline.
     pub fn to_json(&self) -> String {
-        let mut text = serde_json::to_string_pretty(self).unwrap_or_default();
-        text.push('\n');
-        text
+        let mut out: Vec<u8> = Vec::with_capacity(96 * self.instructions.len() + 128);
+        out.extend_from_slice(b"{\"format\":");
+        out.extend_from_slice(self.format.to_string().as_bytes());
+        out.extend_from_slice(b",\"file\":");
+        let _ = serde_json::to_writer(&mut out, &self.file);
+        out.extend_from_slice(b",\"manifest_crc\":");
+        out.extend_from_slice(self.manifest_crc.to_string().as_bytes());
+        out.extend_from_slice(b",\"instructions\":[");
+        for (k, instruction) in self.instructions.iter().enumerate() {
+            out.extend_from_slice(if k == 0 { b"\n" } else { b",\n" });
+            let _ = serde_json::to_writer(&mut out, instruction);
+        }
+        out.extend_from_slice(b"\n]}\n");
+        String::from_utf8(out).unwrap_or_default()
     }
 
     /// Parse `sourcemap.json`; refuses another format version.
