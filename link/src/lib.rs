@@ -439,10 +439,7 @@ pub fn download(
     pack: usize,
     progress: &mut dyn FnMut(usize),
 ) -> Result<DownloadReport, LinkError> {
-    let mut requests = 0;
-    client.attach(password)?;
-    let name = client.plc_name()?;
-    requests += 2;
+    let (name, mut requests) = log_in_and_name(client, password)?;
     if name != image.plc_type {
         return Err(LinkError::WrongPlc {
             plc: name,
@@ -486,14 +483,30 @@ pub fn download(
     })
 }
 
+/// PLC_ATTACH, then GET_PLC_NAME: the PLC type and the requests it took. A login
+/// belongs to the PLC, not to a connection, so another client's STATUS_RESET or
+/// PLC_DETACH can end it between the two (two clients downloading one after the other
+/// do exactly that); a GET_PLC_NAME refused right after a successful login therefore
+/// logs in once more before it counts as refused.
+fn log_in_and_name(client: &mut Client, password: &[u8; 16]) -> Result<(String, usize), LinkError> {
+    client.attach(password)?;
+    match client.plc_name() {
+        Ok(name) => Ok((name, 2)),
+        Err(LinkError::Refused { .. }) => {
+            client.attach(password)?;
+            Ok((client.plc_name()?, 4))
+        }
+        Err(e) => Err(e),
+    }
+}
+
 /// Upload the program in the PLC: its PLC type (GET_PLC_NAME), the page lists (data,
 /// system, program), and every page present (the const page, and for every program
 /// page its argument and instruction pages), each read in packets of `pack` bytes. The
 /// image holds only what the PLC holds, so written out it is byte for byte the image
 /// directory that was downloaded, `manifest.json` included.
 pub fn upload(client: &mut Client, password: &[u8; 16], pack: usize) -> Result<Image, LinkError> {
-    client.attach(password)?;
-    let plc_type = client.plc_name()?;
+    let (plc_type, _) = log_in_and_name(client, password)?;
     let data = client.page_list(PageArea::Data)?;
     let system = client.page_list(PageArea::System)?;
     let program = client.page_list(PageArea::Program)?;
