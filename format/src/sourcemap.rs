@@ -236,7 +236,8 @@ mod tests {
         assert_eq!(SourceMap::from_json(&m.to_json()), Ok(m.clone()));
         assert!(m.describes(&manifest("CPU-EC20")));
         assert!(!m.describes(&manifest("CPU-EC30")));
-        let mut other = m.to_json().replace("\"format\": 1", "\"format\": 9");
+        let mut other = m.to_json().replace("\"format\":1", "\"format\":9");
+        assert_ne!(other, m.to_json(), "the edit took");
         assert!(SourceMap::from_json(&other).is_err());
         other.clear();
         assert!(SourceMap::from_json(&other).is_err());
