@@ -27,7 +27,7 @@ fn map_json(text: &str) -> String {
         compiled.checked.diagnostics()
     );
     compiled
-        .source_map
+        .source_map()
         .expect("a map beside the image")
         .to_json()
 }
@@ -47,7 +47,7 @@ fn two_networks_map_exactly() {
 #[test]
 fn bytes_are_the_instruction_records_of_the_page() {
     let compiled = compile(SourceFile::new("main.lad", TWO_NETWORKS), None);
-    let image = compiled.image.expect("compiles");
+    let image = compiled.image.clone().expect("compiles");
     let page = image
         .page(gutta_format::PageKind::Instruction, 0)
         .expect("MAIN's page");
@@ -58,7 +58,7 @@ fn bytes_are_the_instruction_records_of_the_page() {
         .map(|(at, _)| at as u32)
         .collect();
     let mapped: Vec<u32> = compiled
-        .source_map
+        .source_map()
         .expect("a map")
         .instructions
         .iter()
@@ -66,10 +66,8 @@ fn bytes_are_the_instruction_records_of_the_page() {
         .collect();
     assert_eq!(mapped, records);
     let compiled = compile(SourceFile::new("main.lad", TWO_NETWORKS), None);
-    let (image, map) = (
-        compiled.image.expect("an image"),
-        compiled.source_map.expect("a map"),
-    );
+    let map = compiled.source_map().expect("a map");
+    let image = compiled.image.expect("an image");
     assert!(map.describes(&image.manifest()));
 }
 
@@ -88,5 +86,5 @@ fn no_image_no_map() {
         None,
     );
     assert!(compiled.image.is_none());
-    assert!(compiled.source_map.is_none());
+    assert!(compiled.source_map().is_none());
 }

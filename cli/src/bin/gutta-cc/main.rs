@@ -312,7 +312,8 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
                     let _ = stdout.lock().write_all(text.as_bytes());
                 }
             }
-            (compiled.checked, compiled.image.zip(compiled.source_map))
+            let map = compiled.source_map();
+            (compiled.checked, compiled.image.zip(map))
         } else {
             (check_source(file, explicit.as_ref()), None)
         };
