@@ -3,53 +3,12 @@
 
 mod common;
 
+use common::{cc, text, Sim};
+
 use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
-
-struct Sim(Child, String);
-
-impl Drop for Sim {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-fn sim(plc: &str) -> Sim {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
-        .args(["--plc", plc, "--tcp", "127.0.0.1:0"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("gutta-sim starts");
-    let line = BufReader::new(child.stdout.take().expect("stdout"))
-        .lines()
-        .next()
-        .expect("listener")
-        .expect("text");
-    let address = line.rsplit(' ').next().expect("address").to_string();
-    Sim(child, address)
-}
-
-fn cc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gutta-cc"))
-        .args(args)
-        // The simulators here keep the factory password: a developer's own
-        // GUTTA_PASSWORD must not be tried on them.
-        .env_remove("GUTTA_PASSWORD")
-        .output()
-        .expect("gutta-cc runs")
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
+use std::process::{Command, Stdio};
 
 fn compile(plc: &str, tag: &str) -> PathBuf {
     compile_example(plc, "in1001_pointers.lad", tag)
@@ -78,7 +37,7 @@ fn files_under(dir: &Path) -> BTreeMap<String, Vec<u8>> {
 
 #[test]
 fn download_then_operate_the_plc() {
-    let sim = sim("CPU-EC20");
+    let sim = common::sim("CPU-EC20", None);
     let image = compile("CPU-EC20", "ok");
     let at = ["--tcp", sim.1.as_str()];
     let run = |args: &[&str]| {
@@ -200,7 +159,7 @@ fn download_then_operate_the_plc() {
 
 #[test]
 fn a_download_for_another_plc_type_changes_nothing() {
-    let sim = sim("CPU-EC20");
+    let sim = common::sim("CPU-EC20", None);
     let image = compile("EC30-EK51", "other");
     let o = cc(&["download", image.to_str().expect("path"), "--tcp", &sim.1]);
     assert_eq!(o.status.code(), Some(2));

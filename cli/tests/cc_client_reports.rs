@@ -3,57 +3,14 @@
 //! and read back, so twice the image's page bytes); an upload from a PLC without a
 //! program (fresh, or after PLC_CLEAR) says "no program", exits 1 and writes nothing.
 
-use std::collections::BTreeMap;
-use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
+mod common;
 
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use common::{cc, stderr, stdout, Sim};
 use gutta_link::transport::TcpTransport;
 use gutta_link::{Client, FACTORY_PASSWORD};
-
-/// A running simulator and its Modbus TCP address, killed on drop.
-struct Sim(Child, String);
-
-impl Drop for Sim {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-fn empty_sim() -> Sim {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
-        .args(["--plc", "CPU-EC20", "--tcp", "127.0.0.1:0"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("gutta-sim starts");
-    let line = BufReader::new(child.stdout.take().expect("stdout"))
-        .lines()
-        .next()
-        .expect("listener")
-        .expect("text");
-    let address = line.rsplit(' ').next().expect("address").to_string();
-    Sim(child, address)
-}
-
-fn cc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gutta-cc"))
-        .args(args)
-        // The simulators here keep the factory password: a developer's own
-        // GUTTA_PASSWORD must not be tried on them.
-        .env_remove("GUTTA_PASSWORD")
-        .output()
-        .expect("gutta-cc runs")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
 
 /// A fresh scratch path for this test (not created).
 fn scratch(tag: &str) -> PathBuf {
@@ -90,7 +47,7 @@ fn number_after(text: &str, before: &str) -> usize {
 
 #[test]
 fn the_download_summary_counts_the_bytes_the_bar_counts() {
-    let sim = empty_sim();
+    let sim = common::sim("CPU-EC20", None);
     // blink.lad has every kind of page: const, argument and instruction pages of three
     // units, a data block and a system block.
     let dir = compiled_example("blink.lad", "summary");
@@ -165,7 +122,7 @@ fn assert_no_program(sim: &Sim, tag: &str) {
 
 #[test]
 fn an_empty_plc_has_no_program_to_upload() {
-    let sim = empty_sim();
+    let sim = common::sim("CPU-EC20", None);
     assert_no_program(&sim, "fresh");
 
     // A downloaded program uploads; after PLC_CLEAR there is none again.

@@ -2,9 +2,10 @@
 //! beside the image directory (`--image DIR`, or `image/` in the working directory),
 //! `break FILE:LINE` works and breakpoints and pauses show file:line and the instruction.
 
-use std::io::{BufRead, BufReader};
+mod common;
+
+use common::{cc_in, text};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
 
 const PROGRAM: &str = "\
 PLC_TYPE CPU-EC20
@@ -21,48 +22,6 @@ MOVW   16#BEEF, MW10
 END_ORGANIZATION_BLOCK
 ";
 
-struct Sim(Child, String);
-
-impl Drop for Sim {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-fn sim() -> Sim {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
-        .args(["--plc", "CPU-EC20", "--tcp", "127.0.0.1:0"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("gutta-sim starts");
-    let line = BufReader::new(child.stdout.take().expect("stdout"))
-        .lines()
-        .next()
-        .expect("listener")
-        .expect("text");
-    let address = line.rsplit(' ').next().expect("address").to_string();
-    Sim(child, address)
-}
-
-/// `gutta-cc ARGS` run in `dir`.
-fn cc(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gutta-cc"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("gutta-cc runs")
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
-
 /// A fresh directory holding main.lad, compiled to image/ (and image.map.json).
 fn project() -> PathBuf {
     let root = Path::new(env!("CARGO_TARGET_TMPDIR"))
@@ -70,20 +29,20 @@ fn project() -> PathBuf {
     let _ = std::fs::remove_dir_all(&root);
     std::fs::create_dir_all(&root).expect("temp dir");
     std::fs::write(root.join("main.lad"), PROGRAM).expect("source");
-    let o = cc(&root, &["main.lad", "-o", "image"]);
+    let o = cc_in(&root, &["main.lad", "-o", "image"]);
     assert!(o.status.success(), "{}", text(&o));
     root
 }
 
 #[test]
 fn debug_shows_file_line_and_instruction() {
-    let sim = sim();
+    let sim = common::sim("CPU-EC20", None);
     let root = project();
     let at = ["--tcp", sim.1.as_str()];
     let run = |args: &[&str]| {
         let mut all = args.to_vec();
         all.extend_from_slice(&at);
-        cc(&root, &all)
+        cc_in(&root, &all)
     };
     let o = run(&["download", "image"]);
     assert!(o.status.success(), "{}", text(&o));

@@ -6,24 +6,16 @@
 
 mod common;
 
-use std::io::{BufRead, BufReader};
+use common::{stderr, Sim};
+
 use std::path::PathBuf;
-use std::process::{Child, Command, Output, Stdio};
+use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 const PASSWORD: &str = "s3cret";
 const PASSWORD_ENV: &str = "GUTTA_PASSWORD";
 const REFUSED: &str = "refused: wrong password";
 const LOCKED: &str = "locked: the PLC refuses logins";
-
-struct Sim(Child, String);
-
-impl Drop for Sim {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
 
 /// A simulated CPU-EC20 that runs a program whose system block sets PASSWORD.
 fn sim(tag: &str) -> Sim {
@@ -36,20 +28,7 @@ fn sim(tag: &str) -> Sim {
         &format!("password-{tag}"),
         &common::image("password.lad", &source),
     );
-    let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
-        .arg(&dir)
-        .args(["--plc", "CPU-EC20", "--tcp", "127.0.0.1:0"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("gutta-sim starts");
-    let line = BufReader::new(child.stdout.take().expect("stdout"))
-        .lines()
-        .next()
-        .expect("listener")
-        .expect("text");
-    let address = line.rsplit(' ').next().expect("address").to_string();
-    Sim(child, address)
+    common::sim("CPU-EC20", Some(&dir))
 }
 
 /// `gutta-cc status` at `sim`, stdin not a terminal, GUTTA_PASSWORD as given.
@@ -64,10 +43,6 @@ fn status(sim: &Sim, env: Option<&str>, extra: &[&str]) -> Output {
         command.env(PASSWORD_ENV, value);
     }
     command.output().expect("gutta-cc runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 fn logged_in(o: &Output) -> bool {

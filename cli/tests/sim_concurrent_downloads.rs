@@ -8,10 +8,11 @@
 
 mod common;
 
+use common::{cc, text, Sim};
+
 use std::collections::BTreeMap;
-use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
+use std::process::Output;
 use std::sync::{Arc, Barrier};
 use std::time::{Duration, Instant};
 
@@ -24,49 +25,6 @@ const BUSY: &str = "busy: another client is downloading into this PLC; \
 
 /// Rounds of two concurrent downloads.
 const ROUNDS: usize = 12;
-
-struct Sim(Child, String);
-
-impl Drop for Sim {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-fn sim() -> Sim {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
-        .args(["--plc", "CPU-EC20", "--tcp", "127.0.0.1:0"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("gutta-sim starts");
-    let line = BufReader::new(child.stdout.take().expect("stdout"))
-        .lines()
-        .next()
-        .expect("listener")
-        .expect("text");
-    let address = line.rsplit(' ').next().expect("address").to_string();
-    Sim(child, address)
-}
-
-fn cc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_gutta-cc"))
-        .args(args)
-        // The simulators here keep the factory password: a developer's own
-        // GUTTA_PASSWORD must not be tried on them.
-        .env_remove("GUTTA_PASSWORD")
-        .output()
-        .expect("gutta-cc runs")
-}
-
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
 
 /// Two different images without a password (so either can follow the other): a long
 /// MAIN (so downloads take long enough to overlap) and blink (MAIN, a subroutine, an
@@ -137,7 +95,7 @@ fn assert_busy(o: &Output) {
 
 #[test]
 fn two_concurrent_downloads_never_leave_a_mix() {
-    let sim = sim();
+    let sim = common::sim("CPU-EC20", None);
     let dirs = two_image_dirs("concurrent");
     let expected = [files_under(&dirs[0]), files_under(&dirs[1])];
     let mut contended = 0;
@@ -189,7 +147,7 @@ fn two_concurrent_downloads_never_leave_a_mix() {
 
 #[test]
 fn a_download_during_another_connections_window_is_busy_and_changes_nothing() {
-    let sim = sim();
+    let sim = common::sim("CPU-EC20", None);
     let dirs = two_image_dirs("held-window");
     let dir = dirs[0].to_str().expect("path");
     // Another client has cleared the PLC and holds its window (its connection is open).

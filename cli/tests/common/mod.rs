@@ -1,6 +1,7 @@
 //! Shared by the tests that run the binaries: compile a program for CPU-EC20, write it
-//! as an image directory for a `gutta-sim` process, read its listener lines, and check
-//! for the external tools (Modbus clients) some tests drive.
+//! as an image directory, start a `gutta-sim` process and run `gutta-cc` against it,
+//! read its listener lines, and check for the external tools (Modbus clients) some
+//! tests drive.
 
 #![allow(dead_code)]
 
@@ -84,4 +85,71 @@ pub fn listener_port(line: &str, what: &str) -> u16 {
         .next()
         .and_then(|p| p.parse().ok())
         .unwrap_or_else(|| panic!("no port in `{line}`"))
+}
+
+/// A `gutta-sim` process, killed when dropped: the child and its Modbus TCP address (or,
+/// for a serial one, its listener line).
+pub struct Sim(pub std::process::Child, pub String);
+
+impl Drop for Sim {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// `gutta-sim [IMAGE] --plc PLC --tcp 127.0.0.1:0` on a free loopback port; its address
+/// comes from the first listener line.
+pub fn sim(plc: &str, image: Option<&std::path::Path>) -> Sim {
+    use std::io::BufRead;
+    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_gutta-sim"));
+    if let Some(dir) = image {
+        command.arg(dir);
+    }
+    let mut child = command
+        .args(["--plc", plc, "--tcp", "127.0.0.1:0"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("gutta-sim starts");
+    let line = std::io::BufReader::new(child.stdout.take().expect("stdout"))
+        .lines()
+        .next()
+        .expect("listener")
+        .expect("text");
+    let address = line.rsplit(' ').next().expect("address").to_string();
+    Sim(child, address)
+}
+
+/// `gutta-cc ARGS`. The simulators of these tests keep their own passwords: a
+/// developer's GUTTA_PASSWORD is never passed on.
+pub fn cc(args: &[&str]) -> std::process::Output {
+    cc_command(args).output().expect("gutta-cc runs")
+}
+
+/// `gutta-cc ARGS` run in `dir`.
+pub fn cc_in(dir: &std::path::Path, args: &[&str]) -> std::process::Output {
+    cc_command(args)
+        .current_dir(dir)
+        .output()
+        .expect("gutta-cc runs")
+}
+
+fn cc_command(args: &[&str]) -> std::process::Command {
+    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_gutta-cc"));
+    command.args(args).env_remove("GUTTA_PASSWORD");
+    command
+}
+
+pub fn stdout(o: &std::process::Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+pub fn stderr(o: &std::process::Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Standard output then standard error.
+pub fn text(o: &std::process::Output) -> String {
+    stdout(o) + &stderr(o)
 }
