@@ -5,20 +5,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-const PROGRAM: &str = "\
-PLC_TYPE CPU-EC20
-
-ORGANIZATION_BLOCK MAIN:OB1
-BEGIN
-NETWORK 1 // start
-LD     I0.0
-=      Q0.0   // lamp
-
-NETWORK 2
-LD     SM0.0
-MOVW   16#BEEF, MW10
-END_ORGANIZATION_BLOCK
-";
+/// Two networks whose lines the tests name (main.lad:6 is `LD I0.0`, :10 `LD SM0.0`).
+const PROGRAM: &str = include_str!("data/two_networks.lad");
 
 /// `PROGRAM` written as `main.lad` in a fresh directory and compiled to `image/` there.
 fn compiled(tag: &str) -> PathBuf {
