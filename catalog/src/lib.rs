@@ -18,6 +18,7 @@ pub mod rules;
 pub mod stdlib;
 mod text;
 mod types;
+mod value;
 mod xml_util;
 
 pub use address::{is_address_shaped, parse_value, Address, AddressError};
@@ -34,6 +35,7 @@ pub use modbus::{ModbusCell, ModbusLocation, ModbusPiece, ModbusSpan};
 pub use plc_type::{ExchSupport, PlcType};
 pub use text::decode_xml_text;
 pub use types::{DataType, Width};
+pub use value::ValueFormat;
 
 /// The three description files of one PLC type, as raw bytes (UTF-8 or UTF-16 with BOM).
 #[derive(Debug, Clone, Copy)]

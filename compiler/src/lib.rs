@@ -186,3 +186,72 @@ pub fn compile(file: SourceFile, explicit: Option<&ExplicitTarget>) -> Compiled 
         lowered: Some(lowered),
     }
 }
+
+/// The files of one program: its sources (several files are ONE program, e.g. one block
+/// per file) and its symbol tables (CSV `Symbol,Address,Comment` or Micro/WIN's
+/// tab-separated rows), whose symbols share one namespace with the `SYMBOLS` blocks.
+#[derive(Debug, Clone, Default)]
+pub struct ProgramSources {
+    pub sources: Vec<SourceFile>,
+    pub symbol_tables: Vec<SourceFile>,
+}
+
+impl ProgramSources {
+    /// One source file and no tables: what `gutta-cc FILE` compiles.
+    pub fn single(file: SourceFile) -> ProgramSources {
+        ProgramSources {
+            sources: vec![file],
+            symbol_tables: Vec::new(),
+        }
+    }
+}
+
+/// Parse and check a whole program (see [`ProgramSources`]).
+pub fn check_program(program: ProgramSources, explicit: Option<&ExplicitTarget>) -> CheckedFile {
+    match <[SourceFile; 1]>::try_from(program.sources) {
+        Ok([file]) if program.symbol_tables.is_empty() => check_source(file, explicit),
+        _ => unimplemented!("several sources and symbol tables: issue 11's multi-file programs"),
+    }
+}
+
+/// The whole pipeline on a whole program (see [`ProgramSources`]).
+pub fn compile_program(program: ProgramSources, explicit: Option<&ExplicitTarget>) -> Compiled {
+    match <[SourceFile; 1]>::try_from(program.sources) {
+        Ok([file]) if program.symbol_tables.is_empty() => compile(file, explicit),
+        _ => unimplemented!("several sources and symbol tables: issue 11's multi-file programs"),
+    }
+}
+
+impl CheckedFile {
+    /// Every symbol the program declares, for the tools (`gutta_format::SymbolTable`).
+    /// Declarations whose address does not parse on the target are left out (the
+    /// checker reports them).
+    pub fn symbols(&self) -> gutta_format::SymbolTable {
+        let text = &self.file.text;
+        let slice = |s: source::Span| &text[s.start as usize..s.end as usize];
+        let symbols = self
+            .ast
+            .symbols
+            .iter()
+            .filter_map(|d| {
+                let address = self
+                    .target
+                    .memory
+                    .parse_address(slice(d.address).trim())
+                    .ok()?;
+                let line = self.index.line_of(d.name.start as usize) + 1;
+                Some(gutta_format::Symbol {
+                    name: slice(d.name).to_string(),
+                    address: self.target.memory.format_address(&address),
+                    data_type: None,
+                    comment: d
+                        .comment
+                        .map(|c| slice(c).trim().to_string())
+                        .unwrap_or_default(),
+                    origin: format!("{}:{line}", self.file.name),
+                })
+            })
+            .collect();
+        gutta_format::SymbolTable::new(symbols)
+    }
+}

@@ -11,6 +11,7 @@ mod pages;
 mod position;
 mod read;
 mod sourcemap;
+pub mod symbols;
 mod verify;
 
 pub use crc::crc16;
@@ -21,6 +22,7 @@ pub use pages::*;
 pub use position::{function_name, parse_breakpoint, parse_position, Breakpoint};
 pub use read::{ImageError, MANIFEST_FILE};
 pub use sourcemap::{LineMatch, MappedInstruction, SourceMap, SOURCE_MAP_FORMAT};
+pub use symbols::{Symbol, SymbolTable};
 pub use verify::{
     verify, Location, UnitRecord, VerifiedImage, VerifiedUnit, VerifyCode, VerifyError,
 };
