@@ -37,11 +37,12 @@ struct Cli {
     emit: Option<Emit>,
     #[command(flatten)]
     target: TargetArgs,
-    /// How to print diagnostics.
-    #[arg(long, value_enum, default_value_t = MessageFormat::Human)]
+    /// How to print diagnostics, errors and results: human text, or JSON (one object per
+    /// line on stdout).
+    #[arg(long, global = true, value_enum, default_value_t = MessageFormat::Human)]
     message_format: MessageFormat,
-    /// Colour in human diagnostics.
-    #[arg(long, value_enum, default_value_t = ColorChoice::Auto)]
+    /// Colour in human output.
+    #[arg(long, global = true, value_enum, default_value_t = ColorChoice::Auto)]
     color: ColorChoice,
 }
 
