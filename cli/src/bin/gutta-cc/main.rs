@@ -37,6 +37,11 @@ struct Cli {
     emit: Option<Emit>,
     #[command(flatten)]
     target: TargetArgs,
+    /// A symbol table (CSV `Symbol,Address,Comment`, or Micro/WIN's tab-separated rows)
+    /// or a program source (.lad) whose symbols the command may use (repeatable). When
+    /// compiling, a table's symbols join the program's.
+    #[arg(long, global = true, value_name = "FILE")]
+    symbols: Vec<PathBuf>,
     /// How to print diagnostics, errors and results: human text, or JSON (one object per
     /// line on stdout).
     #[arg(long, global = true, value_enum, default_value_t = MessageFormat::Human)]
