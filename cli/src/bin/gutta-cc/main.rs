@@ -2,12 +2,16 @@
 //! library does the work. Exit status: 0 clean (warnings allowed), 1 errors in the
 //! program, 2 usage or I/O errors.
 
+use std::ffi::OsString;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand, ValueEnum};
 use gutta_catalog::stdlib;
+use gutta_cli::color::ColorChoice;
+use gutta_cli::fatal::{report_clap_error, Fatal, MessageFormat};
+use gutta_cli::shell::Shell;
 use gutta_compiler::diagnostics::json;
 use gutta_compiler::diagnostics::render::{render, RenderStyle};
 use gutta_compiler::encode::{listing, summary};
@@ -18,8 +22,16 @@ use gutta_compiler::{check_source, compile, ExplicitTarget};
 #[command(
     name = "gutta-cc",
     version,
-    about = "Compiler for GUTTA PLC ladder/STL programs",
-    args_conflicts_with_subcommands = true
+    about = "Compiler and PLC client for GUTTA PLC ladder/STL programs",
+    args_conflicts_with_subcommands = true,
+    after_help = "Examples:
+  gutta-cc --check main.lad                       # check a program (exit 1 on errors)
+  gutta-cc main.lad -o image/                     # compile it into an image directory
+  gutta-cc main.lad -o image/ --emit listing      # ... and print the listing
+  gutta-cc download image/ --tcp 127.0.0.1:5020   # download it into a PLC
+
+`gutta-cc COMMAND --help` shows a command's options and examples; `gutta-cc man` its manual.
+Exit status: 0 clean (warnings allowed), 1 errors in the program, 2 usage, I/O or PLC errors."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -44,10 +56,10 @@ struct Cli {
     symbols: Vec<PathBuf>,
     /// How to print diagnostics, errors and results: human text, or JSON (one object per
     /// line on stdout).
-    #[arg(long, global = true, value_enum, default_value_t = MessageFormat::Human)]
+    #[arg(long, global = true, value_name = "FORMAT", value_enum, default_value_t = MessageFormat::Human)]
     message_format: MessageFormat,
-    /// Colour in human output.
-    #[arg(long, global = true, value_enum, default_value_t = ColorChoice::Auto)]
+    /// Colour in human output (auto: on a terminal, unless NO_COLOR is set and not empty).
+    #[arg(long, global = true, value_name = "WHEN", value_enum, default_value_t = ColorChoice::Auto)]
     color: ColorChoice,
 }
 
@@ -64,20 +76,35 @@ struct TargetArgs {
 #[derive(Debug, Subcommand)]
 enum Command {
     /// Print the Modbus address of a variable (the vendor editor's Modbus query).
+    #[command(
+        after_help = "Examples:\n  gutta-cc modbus MW20                 # 40011\n  gutta-cc modbus Q0.0 --plc CPU-EC20   # a coil"
+    )]
     Modbus {
         /// A direct address such as MW20, MB31, Q3.0, I0.4.
         variable: String,
     },
     /// Print an image directory as STL that compiles back to the same pages.
+    #[command(
+        after_help = "Examples:\n  gutta-cc dis image/\n  gutta-cc dis image/ > back.lad && gutta-cc back.lad -o again/"
+    )]
     Dis {
         /// The image directory (holding manifest.json).
         image: PathBuf,
     },
     /// Explain a code the tools print: E and W (compiler diagnostics), V (image
     /// verification), T (target description files), e.g. E0302, V0040, T0003.
-    Explain { code: String },
+    #[command(
+        after_help = "Examples:\n  gutta-cc explain E0302\n  gutta-cc explain V0040\n  gutta-cc explain T0003"
+    )]
+    Explain {
+        /// The code, e.g. E0302.
+        code: String,
+    },
     /// Download an image directory into a PLC (UM4001: the PLC type must match; the PLC
     /// is cleared, every page written and read back, then reset to run the image).
+    #[command(
+        after_help = "Examples:\n  gutta-cc download image/ --tcp 127.0.0.1:5020\n  gutta-cc download image/ --serial /dev/ttyUSB0 --baud 9600 --parity even\n  GUTTA_PASSWORD=secret gutta-cc download image/ --tcp 127.0.0.1:5020"
+    )]
     Download {
         /// The image directory (holding manifest.json).
         image: PathBuf,
@@ -85,6 +112,9 @@ enum Command {
         link: LinkArgs,
     },
     /// Upload the PLC's program into an image directory (the pages the PLC holds).
+    #[command(
+        after_help = "Examples:\n  gutta-cc upload -o backup/ --tcp 127.0.0.1:5020\n  gutta-cc upload -o backup/ --tcp 127.0.0.1:5020 && gutta-cc dis backup/"
+    )]
     Upload {
         /// The directory to write (created; written atomically).
         #[arg(short, long, value_name = "DIR")]
@@ -93,21 +123,33 @@ enum Command {
         link: LinkArgs,
     },
     /// Print the PLC's status (RUN, RESET, ATTACH, ERROR) and PLC type.
+    #[command(
+        after_help = "Examples:\n  gutta-cc status --tcp 127.0.0.1:5020\n  gutta-cc status --rtu-tcp 127.0.0.1:5021 --station 2\n  gutta-cc status --tcp 127.0.0.1:5020 --message-format json"
+    )]
     Status {
         #[command(flatten)]
         link: LinkArgs,
     },
     /// Put the PLC in RUN.
+    #[command(
+        after_help = "Examples:\n  gutta-cc run --tcp 127.0.0.1:5020\n  gutta-cc run --serial /dev/ttyUSB0"
+    )]
     Run {
         #[command(flatten)]
         link: LinkArgs,
     },
     /// Put the PLC in STOP.
+    #[command(
+        after_help = "Examples:\n  gutta-cc stop --tcp 127.0.0.1:5020\n  gutta-cc stop --serial /dev/ttyUSB0"
+    )]
     Stop {
         #[command(flatten)]
         link: LinkArgs,
     },
     /// Read variables (`VAR = VALUE` lines, unsigned decimal; bits 0 or 1).
+    #[command(
+        after_help = "Examples:\n  gutta-cc read MW24 Q0.0 --tcp 127.0.0.1:5020\n  gutta-cc read MD4 AIW0 --tcp 127.0.0.1:5020 --message-format json"
+    )]
     Read {
         /// Direct addresses: MW24, Q0.0, AIW0, MD4.
         #[arg(required = true)]
@@ -116,6 +158,9 @@ enum Command {
         link: LinkArgs,
     },
     /// Write variables (an input's terminal holds the value across scans).
+    #[command(
+        after_help = "Examples:\n  gutta-cc write MW0=16#FF Q0.0=1 --tcp 127.0.0.1:5020\n  gutta-cc write I0.0=1 AIW0=100 --tcp 127.0.0.1:5020"
+    )]
     Write {
         /// VAR=VALUE: MW0=16#FF, Q0.0=1, AIW0=100.
         #[arg(required = true)]
@@ -124,6 +169,9 @@ enum Command {
         link: LinkArgs,
     },
     /// Release forced variables (they follow the program and inputs again).
+    #[command(
+        after_help = "Examples:\n  gutta-cc unforce Q0.0 --tcp 127.0.0.1:5020\n  gutta-cc unforce Q0.0 IB0 --tcp 127.0.0.1:5020"
+    )]
     Unforce {
         /// Direct addresses that were forced: Q0.0, IB0.
         #[arg(required = true)]
@@ -134,6 +182,9 @@ enum Command {
     /// Debug the running program: `break MAIN:2:0` (or `break main.lad:12` with a source
     /// map), `clear`, `stop` (single-step stop), `run`, `step in|over|out`, `reset` (reset
     /// into single-step stop), `info`.
+    #[command(
+        after_help = "Examples:\n  gutta-cc debug break main.lad:12 --image image/ --tcp 127.0.0.1:5020\n  gutta-cc debug step over --tcp 127.0.0.1:5020\n  gutta-cc debug info --tcp 127.0.0.1:5020\n  gutta-cc debug run --tcp 127.0.0.1:5020"
+    )]
     Debug {
         /// The action, then its argument (a position or FILE:LINE for `break`, in/over/out
         /// for `step`).
@@ -147,6 +198,9 @@ enum Command {
         link: LinkArgs,
     },
     /// Force I or Q variables to values (they keep them every scan).
+    #[command(
+        after_help = "Examples:\n  gutta-cc force Q0.0=1 --tcp 127.0.0.1:5020\n  gutta-cc force IB0=16#0F --tcp 127.0.0.1:5020"
+    )]
     Force {
         /// VAR=VALUE: Q0.0=1, IB0=16#0F.
         #[arg(required = true)]
@@ -155,7 +209,31 @@ enum Command {
         link: LinkArgs,
     },
     /// List the stdlib PLC types.
+    #[command(
+        after_help = "Examples:\n  gutta-cc list-targets\n  gutta-cc list-targets | grep EC20"
+    )]
     ListTargets,
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
+    #[command(
+        after_help = "Examples:\n  source <(gutta-cc completions bash)                 # in ~/.bashrc\n  gutta-cc completions zsh > _gutta-cc                # into a directory of $fpath\n  gutta-cc completions fish > gutta-cc.fish           # into ~/.config/fish/completions/"
+    )]
+    Completions {
+        /// The shell.
+        #[arg(value_name = "SHELL")]
+        shell: Shell,
+    },
+    /// Print the man page of gutta-cc or of one command, or write them all (--output).
+    #[command(
+        after_help = "Examples:\n  gutta-cc man | man -l -\n  gutta-cc man download > gutta-cc-download.1\n  gutta-cc man --output man/                          # gutta-cc.1, gutta-cc-download.1, ..."
+    )]
+    Man {
+        /// The command whose page to print (default: gutta-cc's own).
+        #[arg(value_name = "COMMAND", conflicts_with = "output")]
+        command: Option<String>,
+        /// Write gutta-cc.1 and one page per command into this directory.
+        #[arg(short, long, value_name = "DIR")]
+        output: Option<PathBuf>,
+    },
 }
 
 /// Serial parity, as a system block's PORTn.PARITY.
@@ -204,34 +282,44 @@ enum Emit {
     Listing,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum MessageFormat {
-    Human,
-    Json,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-enum ColorChoice {
-    Auto,
-    Always,
-    Never,
-}
-
 mod client;
 mod explain;
 mod login;
 
-/// A usage or I/O failure: printed, exit 2.
-struct Fatal(String);
+mod completions;
+mod help;
+mod typo;
 
+/// The name errors start with and JSON errors carry.
+const TOOL: &str = "gutta-cc";
+
+/// The command line as the parser, the help, the completions and the man pages see it.
+fn cli_command() -> clap::Command {
+    help::grouped(Cli::command())
+}
+
+/// Parse (typos first, then clap), run, and print a fatal error as --message-format
+/// asks: human on stderr, one JSON object on stdout (docs/cli.md); exit 2.
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let args: Vec<OsString> = std::env::args_os().collect();
+    let format = MessageFormat::from_raw_args(&args, &[]);
+    let command = cli_command().color(gutta_cli::color::clap_color(
+        gutta_cli::color::from_raw_args(&args),
+    ));
+    if let Err(e) = typo::check_first_word(&command, &args) {
+        return e.report(TOOL, format);
+    }
+    let cli = match command
+        .try_get_matches_from(&args)
+        .and_then(|mut m| Cli::from_arg_matches_mut(&mut m))
+    {
+        Ok(cli) => cli,
+        Err(e) => return report_clap_error(e, TOOL, format),
+    };
+    let format = cli.message_format;
     match run(cli) {
         Ok(code) => code,
-        Err(Fatal(message)) => {
-            eprintln!("gutta-cc: error: {message}");
-            ExitCode::from(2)
-        }
+        Err(e) => e.report(TOOL, format),
     }
 }
 
@@ -260,9 +348,13 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
         Some(Command::Force { assignments, link }) => {
             return client::write(&cli.target, assignments, link, true)
         }
+        Some(Command::Completions { shell }) => return completions::completions(*shell),
+        Some(Command::Man { command, output }) => {
+            return completions::man(command.as_deref(), output.as_deref())
+        }
         Some(Command::ListTargets) => {
             for name in stdlib::names() {
-                let t = stdlib::load(name).map_err(|e| Fatal(e.to_string()))?;
+                let t = stdlib::load(name).map_err(|e| Fatal::target(e.to_string()))?;
                 // A closed pipe (`| head`) ends the listing quietly.
                 if writeln!(std::io::stdout(), "{:<16} {}", name, t.plc.information).is_err() {
                     break;
@@ -273,22 +365,16 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
         None => {}
     }
     if cli.files.is_empty() {
-        return Err(Fatal(
-            "no input files (try `gutta-cc main.lad -o image/`, `gutta-cc --check main.lad`, or --help)".into(),
+        return Err(Fatal::usage("no input files").with_hint(
+            "try `gutta-cc main.lad -o image/`, `gutta-cc --check main.lad`, or --help",
         ));
     }
     let compiling = cli.output.is_some() || cli.emit.is_some();
     if compiling && cli.files.len() != 1 {
-        return Err(Fatal("-o and --emit take exactly one source file".into()));
+        return Err(Fatal::usage("-o and --emit take exactly one source file"));
     }
     let explicit = explicit_target(&cli.target)?;
-    let color = match cli.color {
-        ColorChoice::Always => true,
-        ColorChoice::Never => false,
-        ColorChoice::Auto => {
-            std::io::stderr().is_terminal() && std::env::var_os("NO_COLOR").is_none()
-        }
-    };
+    let color = gutta_cli::color::use_color(cli.color, std::io::stderr().is_terminal());
     let style = RenderStyle {
         color,
         unicode: color,
@@ -297,10 +383,10 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
     let stdout = std::io::stdout();
     for path in &cli.files {
         let bytes = std::fs::read(path)
-            .map_err(|e| Fatal(format!("cannot read {}: {e}", path.display())))?;
+            .map_err(|e| Fatal::io(format!("cannot read {}: {e}", path.display())))?;
         let name = path.display().to_string();
         let file = SourceFile::from_bytes(&name, bytes).map_err(|e| {
-            Fatal(format!(
+            Fatal::io(format!(
                 "{name} is not UTF-8 text (invalid byte at offset {})",
                 e.offset
             ))
@@ -325,7 +411,7 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
         };
         any_errors |= checked.has_errors();
         if let (Some((image, map)), Some(dir)) = (&image, &cli.output) {
-            gutta_io::write_image_with_map(dir, image, map).map_err(|e| Fatal(e.0))?;
+            gutta_io::write_image_with_map(dir, image, map).map_err(|e| Fatal::io(e.0))?;
         }
         match cli.message_format {
             MessageFormat::Json => {
@@ -393,14 +479,14 @@ fn plural(n: usize) -> &'static str {
 
 fn explicit_target(args: &TargetArgs) -> Result<Option<ExplicitTarget>, Fatal> {
     if let Some(name) = &args.plc {
-        let target = stdlib::shared(name).map_err(|e| Fatal(e.to_string()))?;
+        let target = stdlib::shared(name).map_err(|e| Fatal::target(e.to_string()))?;
         return Ok(Some(ExplicitTarget {
             target,
             origin: format!("--plc {name}"),
         }));
     }
     if let Some(dir) = &args.target {
-        let target = std::sync::Arc::new(gutta_io::load_target_dir(dir).map_err(Fatal)?);
+        let target = std::sync::Arc::new(gutta_io::load_target_dir(dir).map_err(Fatal::target)?);
         return Ok(Some(ExplicitTarget {
             target,
             origin: format!("--target {}", dir.display()),
@@ -412,12 +498,12 @@ fn explicit_target(args: &TargetArgs) -> Result<Option<ExplicitTarget>, Fatal> {
 fn modbus(args: &TargetArgs, variable: &str) -> Result<ExitCode, Fatal> {
     let target = match explicit_target(args)? {
         Some(e) => e.target,
-        None => stdlib::shared(stdlib::DEFAULT).map_err(|e| Fatal(e.to_string()))?,
+        None => stdlib::shared(stdlib::DEFAULT).map_err(|e| Fatal::target(e.to_string()))?,
     };
     let address = target
         .memory
         .parse_address(variable.trim())
-        .map_err(|e| Fatal(format!("`{variable}` on {}: {e}", target.name())))?;
+        .map_err(|e| Fatal::usage(format!("`{variable}` on {}: {e}", target.name())))?;
     match target.memory.modbus_location(&address) {
         Some(loc) => {
             println!("{loc}");
@@ -429,7 +515,7 @@ fn modbus(args: &TargetArgs, variable: &str) -> Result<ExitCode, Fatal> {
                 .area_by_slot(address.slot)
                 .map(|a| a.name.clone())
                 .unwrap_or_default();
-            Err(Fatal(format!(
+            Err(Fatal::usage(format!(
                 "`{variable}`: area {area} has no Modbus address on {}",
                 target.name()
             )))
@@ -439,7 +525,7 @@ fn modbus(args: &TargetArgs, variable: &str) -> Result<ExitCode, Fatal> {
 
 /// `explain CODE`: the registry's text; an unknown code is a usage error (exit 2).
 fn explain(code: &str) -> Result<ExitCode, Fatal> {
-    let text = explain::explanation(code).map_err(Fatal)?;
+    let text = explain::explanation(code).map_err(Fatal::usage)?;
     println!("{text}");
     Ok(ExitCode::SUCCESS)
 }
@@ -449,11 +535,11 @@ fn image_and_target(
     args: &TargetArgs,
     dir: &Path,
 ) -> Result<(gutta_format::Image, std::sync::Arc<gutta_catalog::Target>), Fatal> {
-    let image = gutta_io::read_image_dir(dir).map_err(Fatal)?;
+    let image = gutta_io::read_image_dir(dir).map_err(Fatal::io)?;
     let target = match explicit_target(args)? {
         Some(e) => e.target,
         None => stdlib::shared(&image.plc_type).map_err(|e| {
-            Fatal(format!(
+            Fatal::target(format!(
                 "the image is for {}: {e} (pass --target DIR for a vendor PLC type)",
                 image.plc_type
             ))

@@ -14,8 +14,9 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use clap::Parser;
+use clap::{CommandFactory, FromArgMatches, Parser};
 use gutta_catalog::{stdlib, Target};
+use gutta_cli::fatal::{report_clap_error, Fatal, MessageFormat};
 use gutta_format::LineSettings;
 use gutta_sim::plc::{ConnectionId, Plc};
 use gutta_sim::session::{Framing, Session};
@@ -32,8 +33,17 @@ use crate::ports::{PortSpec, PortWiring};
     version,
     about = "A simulated GUTTA PLC: the reference VM behind Modbus and the GUTTA protocol",
     after_help = "Each listener prints `gutta-sim: LISTENER on ADDRESS` once it listens \
-                  (port 0 picks a free port). Exit status: 0 after a clean stop, 2 for \
-                  usage, image or network errors."
+                  (port 0 picks a free port). Ctrl-C (SIGINT) stops the simulator cleanly: \
+                  it says so and exits 0.
+
+Examples:
+  gutta-sim --tcp 127.0.0.1:5020                        # an empty CPU-EC20
+  gutta-sim image/ --tcp 127.0.0.1:5020 --rtu-tcp 127.0.0.1:5021
+  gutta-sim image/ --serial /dev/pts/3 --baud 9600
+  gutta-sim --plc CPU-EC20 --tcp 0.0.0.0:502 --stats-every 5
+
+--completions SHELL prints a completion script, --man the man page.
+Exit status: 0 after a clean stop (Ctrl-C included), 2 for usage, image or network errors."
 )]
 struct Cli {
     /// An image directory written by `gutta-cc -o` (the PLC starts empty without one).
@@ -45,10 +55,10 @@ struct Cli {
     #[arg(long, value_name = "DIR", conflicts_with = "plc")]
     target: Option<PathBuf>,
     /// Serve Modbus TCP on this address (repeatable).
-    #[arg(long = "tcp", value_name = "ADDR")]
+    #[arg(long = "tcp", value_name = "HOST:PORT")]
     tcp: Vec<String>,
     /// Serve Modbus RTU frames over TCP on this address (repeatable).
-    #[arg(long = "rtu-tcp", value_name = "ADDR")]
+    #[arg(long = "rtu-tcp", value_name = "HOST:PORT")]
     rtu_tcp: Vec<String>,
     /// Serve Modbus RTU on a serial device (repeatable), e.g. /dev/ttyUSB0 or one end of
     /// a socat pty pair.
@@ -73,6 +83,10 @@ struct Cli {
     /// (`gutta-sim: stats: 100 scans in 1.00 s, period max 10.4 ms`).
     #[arg(long, value_name = "SECS")]
     stats_every: Option<f64>,
+    /// `json`: a start-up error is one JSON error object on stdout (docs/cli.md); the
+    /// listener lines stay text.
+    #[arg(long, value_name = "FORMAT", value_enum, default_value_t = MessageFormat::Human)]
+    message_format: MessageFormat,
 }
 
 /// A line on stdout; a closed stdout is not an error of the simulator.
@@ -91,28 +105,38 @@ fn next_connection() -> ConnectionId {
     ConnectionId(NEXT.fetch_add(1, Ordering::Relaxed))
 }
 
-/// A start-up failure: printed, exit 2.
-struct Fatal(String);
+/// The name errors start with and JSON errors carry.
+const TOOL: &str = "gutta-sim";
 
+/// Parse (`--completions`/`--man` stand alone), run until Ctrl-C, and print a start-up
+/// failure as --message-format asks; exit 2.
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    let format = MessageFormat::from_raw_args(&args, &[]);
+    let command = gutta_cli::shell::with_shell_flags(Cli::command());
+    let mut matches = match command.clone().try_get_matches_from(&args) {
+        Ok(m) => m,
+        Err(e) => return report_clap_error(e, TOOL, format),
+    };
+    if let Some(done) = gutta_cli::shell::run_shell_flags(&matches, command) {
+        return done.map_or_else(|e| e.report(TOOL, format), |()| ExitCode::SUCCESS);
+    }
+    let cli = match Cli::from_arg_matches_mut(&mut matches) {
+        Ok(cli) => cli,
+        Err(e) => return report_clap_error(e, TOOL, format),
+    };
+    let format = cli.message_format;
     let runtime = match tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
         .build()
     {
         Ok(r) => r,
-        Err(e) => {
-            eprintln!("gutta-sim: error: cannot start the runtime: {e}");
-            return ExitCode::from(2);
-        }
+        Err(e) => return Fatal::io(format!("cannot start the runtime: {e}")).report(TOOL, format),
     };
     match runtime.block_on(run(cli)) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(Fatal(message)) => {
-            eprintln!("gutta-sim: error: {message}");
-            ExitCode::from(2)
-        }
+        Err(e) => e.report(TOOL, format),
     }
 }
 
@@ -148,8 +172,8 @@ fn interrupted() -> Result<impl std::future::Future<Output = ()>, Fatal> {
 
 async fn run(cli: Cli) -> Result<(), Fatal> {
     if cli.tcp.is_empty() && cli.rtu_tcp.is_empty() && cli.serial.is_empty() {
-        return Err(Fatal(
-            "nothing to serve: give --tcp ADDR, --rtu-tcp ADDR and/or --serial DEVICE".into(),
+        return Err(Fatal::usage(
+            "nothing to serve: give --tcp HOST:PORT, --rtu-tcp HOST:PORT and/or --serial DEVICE",
         ));
     }
     let ctrl_c = interrupted()?;

@@ -8,8 +8,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
 
-use clap::Parser;
+use clap::{CommandFactory, FromArgMatches, Parser};
 use gutta_catalog::{stdlib, Address, Target, Width};
+use gutta_cli::fatal::{report_clap_error, Fatal, MessageFormat};
 use gutta_format::{MappedInstruction, SourceMap};
 use gutta_vm::{Fault, Position, ScanEnd, Vm, VmConfig};
 
@@ -19,8 +20,16 @@ use gutta_vm::{Fault, Position, ScanEnd, Vm, VmConfig};
     version,
     about = "Run a GUTTA PLC image on the reference VM",
     after_help = "Values: decimal, 16#FF, 2#1010, negative allowed (-1). Variables: \
-                  direct addresses such as I0.0, Q3.0, MW24, MD4, AIW0.\n\
-                  Exit status: 0 ok, 1 the program faulted, 2 usage, I/O or verification errors."
+                  direct addresses such as I0.0, Q3.0, MW24, MD4, AIW0.
+
+Examples:
+  gutta-vm image/ --scans 100 --read Q0.0 --read MW24
+  gutta-vm image/ --scans 50 --set I0.0=1 --read Q0.0 --trace
+  gutta-vm image/ --scans 1000 --read Q0.0 --vcd run.vcd
+  gutta-vm image/ --break MAIN:2:0 --read MW24 --message-format json
+
+--completions SHELL prints a completion script, --man the man page.
+Exit status: 0 ok, 1 the program faulted, 2 usage, I/O or verification errors."
 )]
 struct Cli {
     /// The image directory (holding manifest.json), as written by `gutta-cc -o`.
@@ -44,8 +53,12 @@ struct Cli {
     /// Print a variable after the last scan (repeatable): `VAR = VALUE`, unsigned decimal.
     #[arg(long = "read", value_name = "VAR")]
     read: Vec<String>,
-    /// Print one JSON object (scans, values, status, error) instead of text.
-    #[arg(long)]
+    /// `json`: print one JSON object (scans, values, status, error) instead of text; a
+    /// fatal error is one JSON error object on stdout too (docs/cli.md).
+    #[arg(long, value_name = "FORMAT", value_enum, default_value_t = MessageFormat::Human)]
+    message_format: MessageFormat,
+    /// The old spelling of `--message-format json`.
+    #[arg(long, hide = true)]
     json: bool,
     /// Print, per scan, the --read variables whose value changed (`scan 3: Q0.0 0 -> 1`).
     #[arg(long, requires = "read")]
@@ -69,17 +82,35 @@ struct Cli {
     target: Option<PathBuf>,
 }
 
-/// A usage, I/O, verification or load failure: printed, exit 2.
-struct Fatal(String);
+/// The name errors start with and JSON errors carry.
+const TOOL: &str = "gutta-vm";
 
+/// Parse (`--completions`/`--man` stand alone), run, and print a fatal error (a usage,
+/// I/O, verification or load failure) as --message-format asks; exit 2.
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    let format = MessageFormat::from_raw_args(&args, &["--json"]);
+    let command = gutta_cli::shell::with_shell_flags(Cli::command());
+    let mut matches = match command.clone().try_get_matches_from(&args) {
+        Ok(m) => m,
+        Err(e) => return report_clap_error(e, TOOL, format),
+    };
+    if let Some(done) = gutta_cli::shell::run_shell_flags(&matches, command) {
+        return done.map_or_else(|e| e.report(TOOL, format), |()| ExitCode::SUCCESS);
+    }
+    let mut cli = match Cli::from_arg_matches_mut(&mut matches) {
+        Ok(cli) => cli,
+        Err(e) => return report_clap_error(e, TOOL, format),
+    };
+    cli.json |= cli.message_format == MessageFormat::Json;
+    let format = if cli.json {
+        MessageFormat::Json
+    } else {
+        MessageFormat::Human
+    };
     match run(&cli) {
         Ok(code) => code,
-        Err(Fatal(message)) => {
-            eprintln!("gutta-vm: error: {message}");
-            ExitCode::from(2)
-        }
+        Err(e) => e.report(TOOL, format),
     }
 }
 

@@ -1,0 +1,153 @@
+//! Mistyped subcommands. `gutta-cc` takes source files without a subcommand
+//! (`gutta-cc main.lad -o image/`), so clap reads any unknown first word as a file and
+//! its own did-you-mean never fires; this looks at the first positional word before
+//! clap does. It must not reject a word that names an existing path or looks like a
+//! file (an extension or a path separator).
+
+use std::ffi::OsString;
+use std::path::Path;
+
+use clap::Command;
+use gutta_cli::fatal::Fatal;
+
+/// Check the first positional word of `args` (the program name first) against the
+/// subcommands of `command`: a word close to one is `unknown command 'donwload'; did you
+/// mean 'download'?`, a word far from all and not a file `no such file or command`.
+pub(crate) fn check_first_word(command: &Command, args: &[OsString]) -> Result<(), Fatal> {
+    let mut command = command.clone();
+    command.build();
+    let Some(word) = first_positional(&command, args) else {
+        return Ok(());
+    };
+    let names: Vec<&str> = command.get_subcommands().map(|s| s.get_name()).collect();
+    let is_command = command
+        .get_subcommands()
+        .any(|s| s.get_name() == word || s.get_all_aliases().any(|a| a == word));
+    if is_command || looks_like_a_file(&word) {
+        return Ok(());
+    }
+    let lower = word.to_lowercase();
+    let closest = names
+        .iter()
+        .map(|name| (edit_distance(&lower, name), *name))
+        .min();
+    match closest {
+        Some((distance, name)) if distance <= allowed_distance(&word) => Err(Fatal::usage(
+            format!("unknown command '{word}'; did you mean '{name}'?"),
+        )
+        .with_hint(format!("`gutta-cc {name} --help` shows its usage"))),
+        _ => Err(
+            Fatal::usage(format!("no such file or command '{word}'")).with_hint(format!(
+                "commands: {}; a source file needs its path or extension (main.lad)",
+                names.join(", ")
+            )),
+        ),
+    }
+}
+
+/// A word that is a path, or could only be one.
+fn looks_like_a_file(word: &str) -> bool {
+    Path::new(word).exists() || word.contains(['/', '\\', '.']) || word == "-" || word.is_empty()
+}
+
+/// How many edits a typo may have: one in a short word, two in a longer one.
+fn allowed_distance(word: &str) -> usize {
+    if word.chars().count() <= 4 {
+        1
+    } else {
+        2
+    }
+}
+
+/// The first argument that is neither an option nor an option's value, up to `--`.
+fn first_positional(command: &Command, args: &[OsString]) -> Option<String> {
+    let takes_value = |arg: &clap::Arg| arg.get_action().takes_values();
+    let mut words = args
+        .iter()
+        .skip(1)
+        .map(|a| a.to_string_lossy().into_owned());
+    while let Some(word) = words.next() {
+        if word == "--" {
+            return words.next();
+        }
+        if let Some(long) = word.strip_prefix("--") {
+            let wants_value = !long.contains('=')
+                && command
+                    .get_arguments()
+                    .any(|a| a.get_long() == Some(long) && takes_value(a));
+            if wants_value {
+                words.next();
+            }
+        } else if let Some(shorts) = word.strip_prefix('-').filter(|s| !s.is_empty()) {
+            let mut chars = shorts.chars();
+            let wants_value = chars.next().is_some_and(|c| {
+                command
+                    .get_arguments()
+                    .any(|a| a.get_short() == Some(c) && takes_value(a))
+            }) && chars.next().is_none();
+            if wants_value {
+                words.next();
+            }
+        } else {
+            return Some(word);
+        }
+    }
+    None
+}
+
+/// Edits (insert, delete, substitute, swap two neighbours) from `a` to `b`.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let a: Vec<char> = a.chars().collect();
+    let b: Vec<char> = b.chars().collect();
+    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
+    for (i, row) in d.iter_mut().enumerate() {
+        row[0] = i;
+    }
+    for (j, cell) in d[0].iter_mut().enumerate() {
+        *cell = j;
+    }
+    for i in 1..=a.len() {
+        for j in 1..=b.len() {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            let mut best = (d[i - 1][j] + 1)
+                .min(d[i][j - 1] + 1)
+                .min(d[i - 1][j - 1] + cost);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                best = best.min(d[i - 2][j - 2] + 1);
+            }
+            d[i][j] = best;
+        }
+    }
+    d[a.len()][b.len()]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_swap_is_one_edit() {
+        assert_eq!(edit_distance("donwload", "download"), 1);
+        assert_eq!(edit_distance("stats", "status"), 1);
+        assert_eq!(edit_distance("xyz", "dis"), 3);
+    }
+
+    #[test]
+    fn option_values_are_not_the_first_word() {
+        let command = clap::Command::new("t")
+            .arg(clap::Arg::new("plc").long("plc"))
+            .arg(clap::Arg::new("o").short('o'))
+            .arg(
+                clap::Arg::new("check")
+                    .long("check")
+                    .action(clap::ArgAction::SetTrue),
+            )
+            .arg(clap::Arg::new("files").num_args(0..));
+        let args = |s: &str| -> Vec<OsString> { s.split(' ').map(OsString::from).collect() };
+        let first = |s: &str| first_positional(&command, &args(s));
+        assert_eq!(first("t --plc X donwload").as_deref(), Some("donwload"));
+        assert_eq!(first("t -o DIR --check main").as_deref(), Some("main"));
+        assert_eq!(first("t --plc=X -- file").as_deref(), Some("file"));
+        assert_eq!(first("t --check"), None);
+    }
+}
