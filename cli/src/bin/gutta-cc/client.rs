@@ -16,7 +16,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use crate::{explicit_target, Fatal, LinkArgs, TargetArgs};
 
 fn link_error(e: LinkError) -> Fatal {
-    Fatal(e.to_string())
+    Fatal::link(e.to_string())
 }
 
 /// The serial line the options ask for.

@@ -77,7 +77,7 @@ struct TargetArgs {
 enum Command {
     /// Print the Modbus address of a variable (the vendor editor's Modbus query).
     #[command(
-        after_help = "Examples:\n  gutta-cc modbus MW20                 # 40011\n  gutta-cc modbus Q0.0 --plc CPU-EC20   # a coil"
+        after_help = "Examples:\n  gutta-cc modbus MW20                 # holding register 400019\n  gutta-cc modbus Q0.0 --plc CPU-EC20"
     )]
     Modbus {
         /// A direct address such as MW20, MB31, Q3.0, I0.4.
@@ -309,6 +309,7 @@ fn main() -> ExitCode {
     if let Err(e) = typo::check_first_word(&command, &args) {
         return e.report(TOOL, format);
     }
+    let args = typo::subcommand_first(&command, &args);
     let cli = match command
         .try_get_matches_from(&args)
         .and_then(|mut m| Cli::from_arg_matches_mut(&mut m))

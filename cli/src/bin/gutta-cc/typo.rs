@@ -1,7 +1,9 @@
 //! Mistyped subcommands. `gutta-cc` takes source files without a subcommand
 //! (`gutta-cc main.lad -o image/`), so clap reads any unknown first word as a file and
 //! its own did-you-mean never fires; this looks at the first positional word before
-//! clap does. It must not reject a word that names an existing path or looks like a
+//! clap does. For the same reason clap takes a command after a global flag
+//! (`gutta-cc --plc X modbus MW0`) for a file, so such flags move after the command. It
+//! must not reject a word that names an existing path or looks like a
 //! file (an extension or a path separator).
 
 use std::ffi::OsString;
@@ -16,9 +18,10 @@ use gutta_cli::fatal::Fatal;
 pub(crate) fn check_first_word(command: &Command, args: &[OsString]) -> Result<(), Fatal> {
     let mut command = command.clone();
     command.build();
-    let Some(word) = first_positional(&command, args) else {
+    let Some(word) = first_positional(&command, args).map(|i| args[i].to_string_lossy()) else {
         return Ok(());
     };
+    let word = word.into_owned();
     let names: Vec<&str> = command.get_subcommands().map(|s| s.get_name()).collect();
     let is_command = command
         .get_subcommands()
@@ -59,16 +62,55 @@ fn allowed_distance(word: &str) -> usize {
     }
 }
 
-/// The first argument that is neither an option nor an option's value, up to `--`.
-fn first_positional(command: &Command, args: &[OsString]) -> Option<String> {
+/// `args` with the global flags before a subcommand moved after it (`--plc X modbus
+/// MW0` becomes `modbus --plc X MW0`), since clap takes a top-level flag to rule out a
+/// subcommand; other arguments as they are.
+pub(crate) fn subcommand_first(command: &Command, args: &[OsString]) -> Vec<OsString> {
+    let mut command = command.clone();
+    command.build();
+    let Some(i) = first_positional(&command, args) else {
+        return args.to_vec();
+    };
+    let word = args[i].to_string_lossy();
+    let is_command = command
+        .get_subcommands()
+        .any(|s| s.get_name() == word || s.get_all_aliases().any(|a| a == word));
+    // Only global flags may come before a command; anything else (`--check stop`, a
+    // file named like a command) stays for clap to judge.
+    let all_global = args[1..i].iter().all(|a| {
+        let a = a.to_string_lossy();
+        match a.strip_prefix("--") {
+            Some(long) => {
+                let long = long.split('=').next().unwrap_or(long);
+                command
+                    .get_arguments()
+                    .any(|arg| arg.get_long() == Some(long) && arg.is_global_set())
+            }
+            // An option's value.
+            None => !a.starts_with('-'),
+        }
+    });
+    if i <= 1 || !is_command || !all_global {
+        return args.to_vec();
+    }
+    let mut moved = vec![args[0].clone(), args[i].clone()];
+    moved.extend_from_slice(&args[1..i]);
+    moved.extend_from_slice(&args[i + 1..]);
+    moved
+}
+
+/// The index in `args` of the first argument that is neither an option nor an option's
+/// value (the word after a `--` counts).
+fn first_positional(command: &Command, args: &[OsString]) -> Option<usize> {
     let takes_value = |arg: &clap::Arg| arg.get_action().takes_values();
     let mut words = args
         .iter()
+        .enumerate()
         .skip(1)
-        .map(|a| a.to_string_lossy().into_owned());
-    while let Some(word) = words.next() {
+        .map(|(i, a)| (i, a.to_string_lossy().into_owned()));
+    while let Some((i, word)) = words.next() {
         if word == "--" {
-            return words.next();
+            return words.next().map(|(i, _)| i);
         }
         if let Some(long) = word.strip_prefix("--") {
             let wants_value = !long.contains('=')
@@ -89,7 +131,7 @@ fn first_positional(command: &Command, args: &[OsString]) -> Option<String> {
                 words.next();
             }
         } else {
-            return Some(word);
+            return Some(i);
         }
     }
     None
@@ -145,9 +187,9 @@ mod tests {
             .arg(clap::Arg::new("files").num_args(0..));
         let args = |s: &str| -> Vec<OsString> { s.split(' ').map(OsString::from).collect() };
         let first = |s: &str| first_positional(&command, &args(s));
-        assert_eq!(first("t --plc X donwload").as_deref(), Some("donwload"));
-        assert_eq!(first("t -o DIR --check main").as_deref(), Some("main"));
-        assert_eq!(first("t --plc=X -- file").as_deref(), Some("file"));
+        assert_eq!(first("t --plc X donwload"), Some(3));
+        assert_eq!(first("t -o DIR --check main"), Some(4));
+        assert_eq!(first("t --plc=X -- file"), Some(3));
         assert_eq!(first("t --check"), None);
     }
 }
