@@ -103,7 +103,7 @@ enum Command {
     /// Download an image directory into a PLC (UM4001: the PLC type must match; the PLC
     /// is cleared, every page written and read back, then reset to run the image).
     #[command(
-        after_help = "Examples:\n  gutta-cc download image/ --tcp 127.0.0.1:5020\n  gutta-cc download image/ --serial /dev/ttyUSB0 --baud 9600 --parity even\n  GUTTA_PASSWORD=secret gutta-cc download image/ --tcp 127.0.0.1:5020"
+        after_help = "Examples:\n  gutta-cc download image/ --tcp 127.0.0.1:5020\n  gutta-cc download image/ --serial /dev/ttyUSB0 --baud 9600 --parity even\n  gutta-cc download image/ --tcp 127.0.0.1:5020 --station 1 --message-format json"
     )]
     Download {
         /// The image directory (holding manifest.json).
@@ -183,7 +183,7 @@ enum Command {
     /// map), `clear`, `stop` (single-step stop), `run`, `step in|over|out`, `reset` (reset
     /// into single-step stop), `info`.
     #[command(
-        after_help = "Examples:\n  gutta-cc debug break main.lad:12 --image image/ --tcp 127.0.0.1:5020\n  gutta-cc debug step over --tcp 127.0.0.1:5020\n  gutta-cc debug info --tcp 127.0.0.1:5020\n  gutta-cc debug run --tcp 127.0.0.1:5020"
+        after_help = "Examples:\n  gutta-cc debug reset --tcp 127.0.0.1:5020                   # single-step stop before the first scan\n  gutta-cc debug step over --image image/ --tcp 127.0.0.1:5020\n  gutta-cc debug break main.lad:12 --image image/ --tcp 127.0.0.1:5020\n  gutta-cc debug run --tcp 127.0.0.1:5020"
     )]
     Debug {
         /// The action, then its argument (a position or FILE:LINE for `break`, in/over/out
