@@ -144,10 +144,10 @@ fn target_for(cli: &Cli, image_plc: Option<&str>) -> Result<Arc<Target>, Fatal> 
     if let Some(dir) = &cli.target {
         return gutta_io::load_target_dir(dir)
             .map(Arc::new)
-            .map_err(|e| Fatal(format!("--target {}: {e}", dir.display())));
+            .map_err(|e| Fatal::target(format!("--target {}: {e}", dir.display())));
     }
     let name = cli.plc.as_deref().or(image_plc).unwrap_or(stdlib::DEFAULT);
-    stdlib::shared(name).map_err(|e| Fatal(format!("PLC type {name}: {e}")))
+    stdlib::shared(name).map_err(|e| Fatal::target(format!("PLC type {name}: {e}")))
 }
 
 /// Ctrl-C: SIGINT on Unix, its handler installed now (before the listeners announce
@@ -155,8 +155,8 @@ fn target_for(cli: &Cli, image_plc: Option<&str>) -> Result<Arc<Target>, Fatal> 
 #[cfg(unix)]
 fn interrupted() -> Result<impl std::future::Future<Output = ()>, Fatal> {
     use tokio::signal::unix::{signal, SignalKind};
-    let mut sigint =
-        signal(SignalKind::interrupt()).map_err(|e| Fatal(format!("cannot handle Ctrl-C: {e}")))?;
+    let mut sigint = signal(SignalKind::interrupt())
+        .map_err(|e| Fatal::io(format!("cannot handle Ctrl-C: {e}")))?;
     Ok(async move {
         sigint.recv().await;
     })
@@ -179,24 +179,24 @@ async fn run(cli: Cli) -> Result<(), Fatal> {
     let ctrl_c = interrupted()?;
     tokio::pin!(ctrl_c);
     let image = match &cli.image {
-        Some(dir) => Some(gutta_io::read_image_dir(dir).map_err(Fatal)?),
+        Some(dir) => Some(gutta_io::read_image_dir(dir).map_err(Fatal::io)?),
         None => None,
     };
     let target = target_for(&cli, image.as_ref().map(|i| i.plc_type.as_str()))?;
     if let Some(image) = &image {
         gutta_format::verify(image, &target)
-            .map_err(|e| Fatal(format!("the image does not verify: {e}")))?;
+            .map_err(|e| Fatal::program(format!("the image does not verify: {e}")))?;
     }
     let config = VmConfig {
         scan_ms: cli.scan_ms,
         ..VmConfig::default()
     };
     let pages = image.map(|i| i.pages).unwrap_or_default();
-    let mut plc = Plc::new(target, pages, config).map_err(Fatal)?;
+    let mut plc = Plc::new(target, pages, config).map_err(Fatal::program)?;
     let mut wiring = PortWiring::default();
     for (n, spec) in [(0u8, &cli.port0), (1, &cli.port1)] {
         if let Some(spec) = spec {
-            wiring.lead(n, PortSpec::parse(spec).map_err(Fatal)?);
+            wiring.lead(n, PortSpec::parse(spec).map_err(Fatal::usage)?);
         }
     }
     plc.set_port_factory(Box::new(wiring));
@@ -208,10 +208,10 @@ async fn run(cli: Cli) -> Result<(), Fatal> {
         for address in addresses {
             let listener = TcpListener::bind(address)
                 .await
-                .map_err(|e| Fatal(format!("cannot listen on {address}: {e}")))?;
+                .map_err(|e| Fatal::io(format!("cannot listen on {address}: {e}")))?;
             let local = listener
                 .local_addr()
-                .map_err(|e| Fatal(format!("{address}: {e}")))?;
+                .map_err(|e| Fatal::io(format!("{address}: {e}")))?;
             let name = match framing {
                 Framing::Tcp => "modbus-tcp",
                 Framing::Rtu => "rtu-over-tcp",
@@ -254,9 +254,9 @@ async fn run(cli: Cli) -> Result<(), Fatal> {
         };
         let mut port = tokio_serial::new(&path, line.baud)
             .open_native_async()
-            .map_err(|e| Fatal(format!("cannot open {path}: {e}")))?;
+            .map_err(|e| Fatal::io(format!("cannot open {path}: {e}")))?;
         gutta_link::transport::configure(&mut port, line)
-            .map_err(|e| Fatal(format!("{path}: {e}")))?;
+            .map_err(|e| Fatal::io(format!("{path}: {e}")))?;
         say(&format!("gutta-sim: rtu-serial on {path} ({line})"));
         let plc = Arc::clone(&plc);
         tokio::spawn(serve(
