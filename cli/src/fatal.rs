@@ -207,3 +207,49 @@ pub fn usage_from_clap(error: &clap::Error) -> Fatal {
         hint,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(line: &str) -> Vec<OsString> {
+        line.split(' ').map(OsString::from).collect()
+    }
+
+    #[test]
+    fn the_raw_flag_is_found_anywhere_before_a_double_dash() {
+        let format = |line: &str| MessageFormat::from_raw_args(&args(line), &["--json"]);
+        assert_eq!(format("t read --message-format json"), MessageFormat::Json);
+        assert_eq!(format("t --message-format=json x"), MessageFormat::Json);
+        assert_eq!(format("t --json x"), MessageFormat::Json);
+        assert_eq!(
+            format("t --message-format json --message-format human"),
+            MessageFormat::Human
+        );
+        assert_eq!(format("t -- --message-format json"), MessageFormat::Human);
+        assert_eq!(format("t x"), MessageFormat::Human);
+    }
+
+    #[test]
+    fn a_clap_error_becomes_a_usage_error_with_a_hint() {
+        let error = clap::Command::new("t")
+            .try_get_matches_from(["t", "--bogus"])
+            .expect_err("unknown flag");
+        let fatal = usage_from_clap(&error);
+        assert_eq!(fatal.kind, ErrorKind::Usage);
+        assert_eq!(fatal.message, "unexpected argument '--bogus' found");
+        assert!(fatal.hint.is_some_and(|h| h.starts_with("Usage: t")));
+        let json = Fatal::io("cannot read x")
+            .with_hint("check the path")
+            .to_json("t");
+        assert_eq!(json["type"], "error");
+        assert_eq!(json["kind"], "io");
+        assert_eq!(json["hint"], "check the path");
+    }
+
+    fn fatal_json() -> serde_json::Value {
+        Fatal::io("cannot read x")
+            .with_hint("check the path")
+            .to_json("t")
+    }
+}
