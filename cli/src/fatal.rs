@@ -246,10 +246,4 @@ mod tests {
         assert_eq!(json["kind"], "io");
         assert_eq!(json["hint"], "check the path");
     }
-
-    fn fatal_json() -> serde_json::Value {
-        Fatal::io("cannot read x")
-            .with_hint("check the path")
-            .to_json("t")
-    }
 }
