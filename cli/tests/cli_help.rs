@@ -145,7 +145,8 @@ fn scratch(tag: &str) -> PathBuf {
     dir
 }
 
-/// Run one example line with bash in `dir`, the tools first on PATH.
+/// Run one example line with bash in `dir`, the tools first on PATH; each line is its
+/// own shell (`gutta-cc new demo && cd demo && gutta-cc build` for a project).
 fn run_example(dir: &Path, line: &str) -> Output {
     let bin = Path::new(CC).parent().expect("bin dir");
     let path = format!(
@@ -153,8 +154,9 @@ fn run_example(dir: &Path, line: &str) -> Output {
         bin.display(),
         std::env::var("PATH").unwrap_or_default()
     );
-    std::process::Command::new("bash")
-        .args(["-c", &format!("set -o pipefail; {line}")])
+    // An example must end by itself (a `watch` example takes --once): a minute at most.
+    std::process::Command::new("timeout")
+        .args(["60", "bash", "-c", &format!("set -o pipefail; {line}")])
         .current_dir(dir)
         .env("PATH", path)
         .env("MANPAGER", "cat")
