@@ -65,6 +65,7 @@ impl Var {
     }
 
     /// `{"name", "address", "format", "value", "raw"}`: one value in JSON output.
+    #[allow(dead_code)] // gutta-cc's (this file is shared)
     pub fn json(&self, raw: u32) -> serde_json::Value {
         serde_json::json!({
             "name": self.symbol,
