@@ -112,7 +112,7 @@ impl ValueFormat {
                 "TRUE" | "ON" => Ok(1),
                 "FALSE" | "OFF" => Ok(0),
                 _ => parse_value(text, width)
-                    .map_err(|_| format!("`{text}` is not a BOOL (0, 1, TRUE, FALSE, ON, OFF)")),
+                    .map_err(|e| format!("{e}; a BOOL is 0, 1, TRUE, FALSE, ON or OFF")),
             },
             ValueFormat::Real if raw_bits => parse_value(text, width),
             ValueFormat::Real => parse_real(text),
