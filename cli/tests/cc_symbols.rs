@@ -100,7 +100,10 @@ fn unknown_names_and_misfit_formats_are_usage_errors() {
     let (source, sim) = setup("errors");
     for (args, says) in [
         (vec!["read", "Sped"], "did you mean `Speed`?"),
-        (vec!["read", "Speed:real"], "a `real` value needs a double word"),
+        (
+            vec!["read", "Speed:real"],
+            "a `real` value needs a double word",
+        ),
         (vec!["read", "MW2:flt"], "unknown format `:flt`"),
         (vec!["write", "Speed=70000"], "-32768..65535"),
         (vec!["write", "Speed=1.5"], "not an integer"),
@@ -150,7 +153,10 @@ fn every_client_command_prints_json() {
     assert_eq!(v["values"][1]["name"], serde_json::Value::Null);
     assert_eq!(v["values"][1]["value"], -7);
     let v = json(&["force", "Motor=1"]);
-    assert_eq!((&v["command"], &v["values"][0]["value"]), (&"force".into(), &1.into()));
+    assert_eq!(
+        (&v["command"], &v["values"][0]["value"]),
+        (&"force".into(), &1.into())
+    );
     let v = json(&["unforce", "Motor"]);
     assert_eq!(v["command"], "unforce");
     let v = json(&["debug", "info", "--watch", "Speed"]);
@@ -176,7 +182,9 @@ fn every_client_command_prints_json() {
 #[test]
 fn debug_watch_shows_values_in_their_formats() {
     let (source, sim) = setup("debug");
-    assert!(run(&source, &sim, &["write", "Level=-70000"]).status.success());
+    assert!(run(&source, &sim, &["write", "Level=-70000"])
+        .status
+        .success());
     let o = run(
         &source,
         &sim,
