@@ -120,7 +120,7 @@ fn unknown_names_and_misfit_formats_are_usage_errors() {
 }
 
 fn json_line(o: &std::process::Output) -> serde_json::Value {
-    assert!(o.status.success(), "{}", text(&o));
+    assert!(o.status.success(), "{}", text(o));
     let out = stdout(o);
     let lines: Vec<&str> = out.lines().collect();
     assert_eq!(lines.len(), 1, "one JSON object per line: {out}");

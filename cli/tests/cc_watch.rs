@@ -9,7 +9,7 @@ mod common;
 use common::{cc, stderr, stdout, text, Sim};
 
 use std::io::BufRead;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -26,7 +26,7 @@ fn setup(tag: &str) -> (PathBuf, Sim) {
     (source, sim)
 }
 
-fn watch_args<'a>(source: &'a PathBuf, sim: &'a Sim, extra: &[&'a str]) -> Vec<&'a str> {
+fn watch_args<'a>(source: &'a Path, sim: &'a Sim, extra: &[&'a str]) -> Vec<&'a str> {
     let mut args = vec!["watch", "Lamp", "Speed", "Speed:hex"];
     args.extend_from_slice(extra);
     args.extend_from_slice(&["--tcp", &sim.1, "--symbols", source.to_str().expect("path")]);

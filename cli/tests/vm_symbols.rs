@@ -6,7 +6,7 @@ mod common;
 
 use common::{stderr, stdout, text};
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 const PROGRAM: &str = "PLC_TYPE CPU-EC20\n\nSYMBOLS\n  Lamp  : Q0.0\n  Pump  : Q0.1\n  \
@@ -25,7 +25,7 @@ fn setup(tag: &str) -> (PathBuf, PathBuf) {
     (dir, source)
 }
 
-fn vm(dir: &PathBuf, source: &PathBuf, args: &[&str]) -> Output {
+fn vm(dir: &Path, source: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_gutta-vm"))
         .arg(dir)
         .args(["--symbols", source.to_str().expect("path")])
