@@ -247,6 +247,7 @@ enum ColorChoice {
 }
 
 mod client;
+mod debug;
 mod explain;
 mod login;
 mod vars;
@@ -291,7 +292,7 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
             image,
             watch,
             link,
-        }) => return client::debug(&online, action, image.as_deref(), watch, link),
+        }) => return debug::debug(&online, action, image.as_deref(), watch, link),
         Some(Command::Force { assignments, link }) => {
             return client::write(&online, assignments, link, true)
         }

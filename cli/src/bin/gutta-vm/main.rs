@@ -9,7 +9,7 @@ use std::process::ExitCode;
 use std::sync::Arc;
 
 use clap::Parser;
-use gutta_catalog::{stdlib, Target, ValueFormat, Width};
+use gutta_catalog::{stdlib, Target};
 use gutta_format::{MappedInstruction, SourceMap};
 use gutta_vm::{Fault, Position, ScanEnd, Vm, VmConfig};
 
@@ -94,6 +94,7 @@ fn main() -> ExitCode {
 
 #[path = "../gutta-cc/vars.rs"]
 mod vars;
+mod vcd;
 
 use vars::Var;
 
@@ -172,7 +173,7 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
             .collect()
     };
     let mut values = sample(&vm)?;
-    let mut vcd = cli.vcd.as_ref().map(|_| vcd_header(&reads, &values));
+    let mut vcd = cli.vcd.as_ref().map(|_| vcd::header(&reads, &values));
     let mut changes: Vec<Change> = Vec::new();
     // The last timestamp written to the VCD.
     let mut last_time = 0;
@@ -192,7 +193,7 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
                 last_time = vm.clock_ms();
                 let _ = writeln!(text, "#{last_time}");
                 for &i in &changed {
-                    vcd_value(text, &reads[i], now[i], i);
+                    vcd::value(text, &reads[i], now[i], i);
                 }
             }
         }
@@ -446,62 +447,6 @@ fn json_report(
     report
 }
 
-/// VCD identifier of the i-th variable: printable ASCII `!`..`~`, base 94.
-fn vcd_id(mut i: usize) -> String {
-    let mut id = String::new();
-    loop {
-        id.push(char::from(b'!' + (i % 94) as u8));
-        i /= 94;
-        if i == 0 {
-            return id;
-        }
-        i -= 1;
-    }
-}
-
-fn vcd_header(reads: &[Var], initial: &[u32]) -> String {
-    let mut s = String::new();
-    let _ = writeln!(s, "$version gutta-vm {} $end", env!("CARGO_PKG_VERSION"));
-    let _ = writeln!(s, "$timescale 1 ms $end");
-    let _ = writeln!(s, "$scope module plc $end");
-    for (i, v) in reads.iter().enumerate() {
-        // `.` separates scopes in wave viewers: Q0.0 is written Q0_0; blanks would end
-        // the name. A symbol's name stands for its address.
-        let name = v.name().replace(['.', ' '], "_");
-        let kind = if v.format == ValueFormat::Real {
-            "real"
-        } else {
-            "wire"
-        };
-        // Wave viewers take REAL signals as 64-bit `real` vars.
-        let size = if kind == "real" {
-            64
-        } else {
-            v.address.width.bits()
-        };
-        let _ = writeln!(s, "$var {kind} {size} {} {name} $end", vcd_id(i));
-    }
-    let _ = writeln!(s, "$upscope $end");
-    let _ = writeln!(s, "$enddefinitions $end");
-    let _ = writeln!(s, "#0");
-    let _ = writeln!(s, "$dumpvars");
-    for (i, (v, value)) in reads.iter().zip(initial).enumerate() {
-        vcd_value(&mut s, v, *value, i);
-    }
-    let _ = writeln!(s, "$end");
-    s
-}
-
-fn vcd_value(s: &mut String, var: &Var, value: u32, i: usize) {
-    if var.format == ValueFormat::Real {
-        let _ = writeln!(s, "r{} {}", var.show(value), vcd_id(i));
-    } else if var.address.width == Width::Bit {
-        let _ = writeln!(s, "{}{}", value & 1, vcd_id(i));
-    } else {
-        let _ = writeln!(s, "b{value:b} {}", vcd_id(i));
-    }
-}
-
 fn parse_assignments(
     target: &Target,
     symbols: &gutta_format::SymbolTable,
@@ -529,15 +474,4 @@ fn explicit_target(cli: &Cli) -> Result<Option<Arc<Target>>, Fatal> {
             .map_err(Fatal);
     }
     Ok(None)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn vcd_ids_are_unique() {
-        let ids: std::collections::HashSet<String> = (0..20_000).map(vcd_id).collect();
-        assert_eq!(ids.len(), 20_000);
-    }
 }
