@@ -208,3 +208,44 @@ pub fn symbol_context(
     }
     Ok(SymbolTable::new(symbols))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table() -> SymbolTable {
+        let sym = |name: &str, address: &str, t: Option<&str>| Symbol {
+            name: name.into(),
+            address: address.into(),
+            data_type: t.map(Into::into),
+            comment: String::new(),
+            origin: "symbols.csv:2".into(),
+        };
+        SymbolTable::new(vec![
+            sym("Temp", "MD8", Some("REAL")),
+            sym("Count", "MW10", Some("WORD")),
+            sym("Lamp", "Q0.0", None),
+        ])
+    }
+
+    #[test]
+    fn the_suffix_then_the_declared_type_then_the_width_decide_the_format() {
+        let target = gutta_catalog::stdlib::shared(gutta_catalog::stdlib::DEFAULT)
+            .expect("the default target");
+        let symbols = table();
+        let format = |text: &str| resolve(text, &symbols, &target).map(|v| v.format);
+        assert_eq!(format("temp"), Ok(ValueFormat::Real));
+        assert_eq!(format("Temp:hex"), Ok(ValueFormat::Hex));
+        assert_eq!(format("Count"), Ok(ValueFormat::Unsigned));
+        assert_eq!(format("MW10"), Ok(ValueFormat::Signed));
+        assert_eq!(format("Lamp"), Ok(ValueFormat::Bool));
+        let temp = resolve("Temp", &symbols, &target).expect("Temp");
+        assert_eq!(temp.label(), "Temp (MD8)");
+        assert_eq!(temp.parse("-3.5"), Ok((-3.5f32).to_bits()));
+        assert_eq!(temp.json_value(21.5f32.to_bits()), serde_json::json!(21.5));
+        assert!(format("Count:real").is_err_and(|e| e.contains("double word")));
+        assert!(format("Lmap").is_err_and(|e| e.contains("did you mean `Lamp`?")));
+        let (var, raw) = resolve_assignment("Count=-1", &symbols, &target).expect("fits");
+        assert_eq!((var.canonical.as_str(), raw), ("MW10", 0xFFFF));
+    }
+}
