@@ -8,6 +8,7 @@
 
 use std::fmt;
 
+use crate::address::parse_value;
 use crate::{DataType, Width};
 
 /// How a value is printed and parsed.
@@ -93,6 +94,126 @@ impl ValueFormat {
             _ => width != Width::Bit,
         }
     }
+
+    /// `text` as the raw bits of a variable of `width` in this format.
+    ///
+    /// Every format takes raw bits as `16#..` or `2#..`. BOOL takes 0/1, TRUE/FALSE and
+    /// ON/OFF; the integer formats a decimal that fits the width either signed or
+    /// unsigned (`-1` into a word is 16#FFFF); REAL (double words only) a decimal or
+    /// exponent (`-3.5`, `1e3`, `inf`, `nan`). Errors name the range.
+    pub fn parse(self, text: &str, width: Width) -> Result<u32, String> {
+        let text = text.trim();
+        if !self.fits(width) {
+            return Err(self.misfit(width));
+        }
+        let raw_bits = text.starts_with("16#") || text.starts_with("2#");
+        match self {
+            ValueFormat::Bool => match text.to_ascii_uppercase().as_str() {
+                "TRUE" | "ON" => Ok(1),
+                "FALSE" | "OFF" => Ok(0),
+                _ => parse_value(text, width)
+                    .map_err(|e| format!("{e}; a BOOL is 0, 1, TRUE, FALSE, ON or OFF")),
+            },
+            ValueFormat::Real if raw_bits => parse_value(text, width),
+            ValueFormat::Real => parse_real(text),
+            ValueFormat::Signed | ValueFormat::Unsigned | ValueFormat::Hex => {
+                parse_value(text, width).map_err(|e| {
+                    if text.parse::<i64>().is_err() && text.parse::<f64>().is_ok() {
+                        format!(
+                            "`{text}` is not an integer (a REAL needs a double word and `:real`)"
+                        )
+                    } else {
+                        e
+                    }
+                })
+            }
+        }
+    }
+
+    /// The raw bits of a variable of `width` as text in this format: `1`, `-1`,
+    /// `65535`, `16#FFFF`, `21.5` (REAL: the shortest text that reads back to the same
+    /// value; `nan`, `inf`, `-inf`). A format that does not fit the width shows the
+    /// width's default format.
+    pub fn show(self, raw: u32, width: Width) -> String {
+        let format = if self.fits(width) {
+            self
+        } else {
+            ValueFormat::default_for(width)
+        };
+        let bits = width.bits();
+        let raw = if bits == 32 {
+            raw
+        } else {
+            raw & ((1u32 << bits) - 1)
+        };
+        match format {
+            ValueFormat::Bool | ValueFormat::Unsigned => raw.to_string(),
+            ValueFormat::Signed => {
+                let shift = 32 - bits;
+                (((raw << shift) as i32) >> shift).to_string()
+            }
+            ValueFormat::Hex => format!("16#{raw:0digits$X}", digits = width.bytes() as usize * 2),
+            ValueFormat::Real => show_real(f32::from_bits(raw)),
+        }
+    }
+
+    /// Why this format cannot be used on a variable of `width`.
+    pub fn misfit(self, width: Width) -> String {
+        let needs = match self {
+            ValueFormat::Bool => "a bit (I0.0, Q0.0, M0.0)",
+            ValueFormat::Real => "a double word (MD, VD...)",
+            _ => "a byte, word or double word",
+        };
+        format!(
+            "a `{}` value needs {needs}, not a {}",
+            self.name(),
+            width_name(width)
+        )
+    }
+}
+
+fn width_name(width: Width) -> &'static str {
+    match width {
+        Width::Bit => "bit",
+        Width::Byte => "byte",
+        Width::Word => "word",
+        Width::Dword => "double word",
+    }
+}
+
+/// A REAL from decimal or exponent text; a finite text beyond REAL's range is an error.
+fn parse_real(text: &str) -> Result<u32, String> {
+    let value: f32 = text.parse().map_err(|_| {
+        format!("`{text}` is not a REAL (e.g. 21.5, -3.5, 1e3, or raw bits 16#41AC0000)")
+    })?;
+    let spelled_infinite = text.to_ascii_lowercase().contains("inf");
+    if value.is_infinite() && !spelled_infinite {
+        return Err(format!(
+            "{text} does not fit a REAL (-3.4028235e38..3.4028235e38)"
+        ));
+    }
+    Ok(value.to_bits())
+}
+
+/// The shortest text that reads back to `value`: plain decimals between 1e-5 and 1e7,
+/// exponents outside; a whole number keeps `.0` so it reads as a REAL.
+fn show_real(value: f32) -> String {
+    if value.is_nan() {
+        return "nan".into();
+    }
+    if value.is_infinite() {
+        return if value > 0.0 { "inf" } else { "-inf" }.into();
+    }
+    let magnitude = value.abs();
+    if magnitude != 0.0 && !(1e-5..1e7).contains(&magnitude) {
+        return format!("{value:e}");
+    }
+    let text = value.to_string();
+    if text.contains('.') {
+        text
+    } else {
+        text + ".0"
+    }
 }
 
 impl fmt::Display for ValueFormat {
@@ -131,5 +252,56 @@ mod tests {
         assert!(ValueFormat::Real.fits(Width::Dword));
         assert!(!ValueFormat::Real.fits(Width::Word));
         assert!(!ValueFormat::Hex.fits(Width::Bit));
+    }
+
+    #[test]
+    fn values_parse_and_show_in_their_formats() {
+        use ValueFormat::*;
+        assert_eq!(Signed.show(0xFFFF, Width::Word), "-1");
+        assert_eq!(Unsigned.show(0xFFFF, Width::Word), "65535");
+        assert_eq!(Hex.show(0xFF, Width::Word), "16#00FF");
+        assert_eq!(Signed.show(4_294_897_296, Width::Dword), "-70000");
+        assert_eq!(Real.show(21.5f32.to_bits(), Width::Dword), "21.5");
+        assert_eq!(Real.show(1.0f32.to_bits(), Width::Dword), "1.0");
+        assert_eq!(Real.show(1e30f32.to_bits(), Width::Dword), "1e30");
+        assert_eq!(Real.show(f32::NAN.to_bits(), Width::Dword), "nan");
+        assert_eq!(Real.show(f32::NEG_INFINITY.to_bits(), Width::Dword), "-inf");
+        assert_eq!(Bool.show(1, Width::Bit), "1");
+        assert_eq!(Signed.parse("-1", Width::Word), Ok(0xFFFF));
+        assert_eq!(Unsigned.parse("-1", Width::Word), Ok(0xFFFF));
+        assert_eq!(Signed.parse("-70000", Width::Dword), Ok(4_294_897_296));
+        assert_eq!(Real.parse("21.5", Width::Dword), Ok(21.5f32.to_bits()));
+        assert_eq!(Real.parse("1e3", Width::Dword), Ok(1000f32.to_bits()));
+        assert_eq!(Real.parse("16#41AC0000", Width::Dword), Ok(0x41AC_0000));
+        assert_eq!(Bool.parse("on", Width::Bit), Ok(1));
+        assert_eq!(Bool.parse("FALSE", Width::Bit), Ok(0));
+        let range = Signed.parse("65536", Width::Word).unwrap_err();
+        assert!(range.contains("-32768..65535"), "{range}");
+        let real = Signed.parse("21.5", Width::Dword).unwrap_err();
+        assert!(real.contains(":real"), "{real}");
+        assert!(Real.parse("1e39", Width::Dword).is_err());
+        let misfit = Real.parse("1.5", Width::Word).unwrap_err();
+        assert!(misfit.contains("double word"), "{misfit}");
+        assert!(Bool.parse("2", Width::Bit).is_err());
+    }
+
+    fn width() -> impl proptest::strategy::Strategy<Value = Width> {
+        proptest::sample::select(vec![Width::Bit, Width::Byte, Width::Word, Width::Dword])
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn every_value_reads_back_in_every_format_that_fits(raw: u32, w in width()) {
+            let raw = if w.bits() == 32 { raw } else { raw & ((1 << w.bits()) - 1) };
+            for f in ValueFormat::ALL.into_iter().filter(|f| f.fits(w)) {
+                let text = f.show(raw, w);
+                let back = f.parse(&text, w);
+                if f == ValueFormat::Real && f32::from_bits(raw).is_nan() {
+                    proptest::prop_assert!(back.is_ok_and(|b| f32::from_bits(b).is_nan()));
+                } else {
+                    proptest::prop_assert_eq!(back, Ok(raw), "{} as {}", text, f);
+                }
+            }
+        }
     }
 }

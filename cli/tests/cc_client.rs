@@ -60,10 +60,11 @@ fn download_then_operate_the_plc() {
     assert!(text(&run(&["status"])).starts_with("CPU-EC20: STOP"));
     let o = run(&["write", "MW40=16#BEEF", "AIW0=100", "Q0.1=1"]);
     assert!(o.status.success(), "{}", text(&o));
-    let o = run(&["read", "MW40", "AIW0", "Q0.1"]);
+    // Words read signed (issue 11): 16#BEEF is -16657; `:hex` shows the bits.
+    let o = run(&["read", "MW40", "AIW0", "Q0.1", "MW40:hex"]);
     assert_eq!(
         String::from_utf8_lossy(&o.stdout),
-        "MW40 = 48879\nAIW0 = 100\nQ0.1 = 1\n"
+        "MW40 = -16657\nAIW0 = 100\nQ0.1 = 1\nMW40 = 16#BEEF\n"
     );
     // Forcing M is refused; a bad value is a usage error before anything is sent.
     let o = run(&["force", "MW0=1"]);

@@ -135,11 +135,24 @@ fn set_drives_an_input_before_the_first_scan() {
         let o = gutta_vm(&dir, &["--set", &format!("AIW0={value}"), "--read", "MW10"]);
         assert_eq!(stdout(&o), "MW10 = 100\n", "AIW0={value}");
     }
-    let o = gutta_vm(&dir, &["--set", "AIW0=-1", "--read", "MW10"]);
+    // Words print signed (issue 11); `:uint` and `:hex` show the same bits otherwise.
+    let o = gutta_vm(
+        &dir,
+        &[
+            "--set",
+            "AIW0=-1",
+            "--read",
+            "MW10",
+            "--read",
+            "MW10:uint",
+            "--read",
+            "MW10:hex",
+        ],
+    );
     assert_eq!(
         stdout(&o),
-        "MW10 = 65535\n",
-        "negative values, printed unsigned"
+        "MW10 = -1\nMW10 = 65535\nMW10 = 16#FFFF\n",
+        "negative values, printed signed"
     );
 }
 

@@ -1,21 +1,54 @@
-//! `gutta-cc download|status|run|stop|read|write|force`: the client commands, over
-//! gutta-link. All printing and exit codes are here.
+//! `gutta-cc download|upload|status|run|stop|read|write|force|unforce`: the client
+//! commands, over gutta-link, with their human and JSON output (one object per line on
+//! stdout); `debug.rs` and `watch.rs` build on the connection helpers here. Variables and
+//! values go through `vars.rs`; this file does not parse them.
 
 use std::io::IsTerminal;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 
 use gutta_catalog::{stdlib, Address, Target, Width};
-use gutta_format::{Operand, PackedOperand, SourceMap};
-use gutta_link::message::{debug_state, Breakpoint, DebugStep};
+use gutta_format::{Operand, PackedOperand, SymbolTable};
 use gutta_link::transport::{rtu_over_tcp, serial, TcpTransport};
 use gutta_link::{Client, LinkError};
 use indicatif::{ProgressBar, ProgressStyle};
+use serde_json::json;
 
+use crate::vars::{self, Var};
 use crate::{explicit_target, Fatal, LinkArgs, TargetArgs};
 
-fn link_error(e: LinkError) -> Fatal {
+/// What every client command needs besides the link: the target options, where symbols
+/// come from, and whether to print JSON. A project passes its own sources here.
+pub(crate) struct Online<'a> {
+    pub targets: &'a TargetArgs,
+    /// `--symbols` files: program sources and symbol tables.
+    pub symbol_files: &'a [PathBuf],
+    /// One JSON object per line on stdout instead of text.
+    pub json: bool,
+}
+
+impl Online<'_> {
+    /// The symbols of `symbol_files` and of `tables` (an image's source map).
+    pub fn symbols(&self, tables: Vec<SymbolTable>) -> Result<SymbolTable, Fatal> {
+        let explicit = explicit_target(self.targets)?;
+        vars::symbol_context(self.symbol_files, tables, explicit.as_ref()).map_err(Fatal)
+    }
+
+    /// Print one result: `object` as a JSON line, or `human` as text.
+    pub fn print(&self, object: serde_json::Value, human: impl FnOnce() -> String) {
+        if self.json {
+            println!("{object}");
+        } else {
+            let text = human();
+            if !text.is_empty() {
+                println!("{text}");
+            }
+        }
+    }
+}
+
+pub(crate) fn link_error(e: LinkError) -> Fatal {
     Fatal::link(e.to_string())
 }
 
@@ -49,14 +82,14 @@ fn connect(args: &LinkArgs) -> Result<Client, Fatal> {
 }
 
 /// Connect and log in.
-fn login(args: &LinkArgs) -> Result<Client, Fatal> {
+pub(crate) fn login(args: &LinkArgs) -> Result<Client, Fatal> {
     let mut client = connect(args)?;
     crate::login::log_in(&mut client, args)?;
     Ok(client)
 }
 
 /// The PLC's target: --plc/--target, else its GET_PLC_NAME from the stdlib.
-fn plc_target(targets: &TargetArgs, client: &mut Client) -> Result<Arc<Target>, Fatal> {
+pub(crate) fn plc_target(targets: &TargetArgs, client: &mut Client) -> Result<Arc<Target>, Fatal> {
     if let Some(e) = explicit_target(targets)? {
         return Ok(e.target);
     }
@@ -83,34 +116,71 @@ fn value_of(a: &Address, bytes: [u8; 4]) -> u32 {
     }
 }
 
-/// Connect, log in, find the target and parse the variables.
-fn login_with_vars(
-    targets: &TargetArgs,
+/// Connect, log in, find the target and resolve the variables.
+pub(crate) fn login_with_vars(
+    online: &Online,
     vars: &[String],
     args: &LinkArgs,
-) -> Result<(Client, Arc<Target>, Vec<Address>), Fatal> {
+) -> Result<(Client, Arc<Target>, Vec<Var>), Fatal> {
+    let symbols = online.symbols(vec![])?;
     let mut client = login(args)?;
-    let target = plc_target(targets, &mut client)?;
-    let addresses = vars
+    let target = plc_target(online.targets, &mut client)?;
+    let vars = resolve_all(vars, &symbols, &target)?;
+    Ok((client, target, vars))
+}
+
+pub(crate) fn resolve_all(
+    texts: &[String],
+    symbols: &SymbolTable,
+    target: &Target,
+) -> Result<Vec<Var>, Fatal> {
+    texts
         .iter()
-        .map(|v| parse_var(&target, v))
-        .collect::<Result<_, _>>()?;
-    Ok((client, target, addresses))
+        .map(|v| vars::resolve(v, symbols, target).map_err(Fatal))
+        .collect()
 }
 
-fn parse_var(target: &Target, text: &str) -> Result<Address, Fatal> {
-    target
-        .memory
-        .parse_address(text.trim())
-        .map_err(|e| Fatal(format!("`{text}` on {}: {e}", target.name())))
+/// The raw values of `vars`, in as few STATUS_VAR_READ requests as the PLC's packet
+/// size allows.
+pub(crate) fn read_values(
+    client: &mut Client,
+    target: &Target,
+    vars: &[Var],
+) -> Result<Vec<u32>, LinkError> {
+    let per_request = (target.plc.exch_pack_size as usize / 4).max(1);
+    let mut values = Vec::with_capacity(vars.len());
+    for chunk in vars.chunks(per_request) {
+        let packed: Vec<u32> = chunk.iter().map(|v| packed(v.address)).collect();
+        let bytes = client.read_vars(&packed)?;
+        values.extend(
+            chunk
+                .iter()
+                .zip(bytes)
+                .map(|(v, b)| value_of(&v.address, b)),
+        );
+    }
+    Ok(values)
 }
 
-pub(crate) fn download(
-    targets: &TargetArgs,
-    dir: &Path,
-    args: &LinkArgs,
-) -> Result<ExitCode, Fatal> {
-    let (image, target) = crate::image_and_target(targets, dir)?;
+/// `NAME (ADDR) = VALUE` lines, or `{"command", "values": [...]}`.
+fn print_values(online: &Online, command: &str, vars: &[Var], raw: &[u32]) {
+    online.print(
+        json!({
+            "command": command,
+            "values": vars.iter().zip(raw).map(|(v, r)| v.json(*r)).collect::<Vec<_>>(),
+        }),
+        || {
+            vars.iter()
+                .zip(raw)
+                .map(|(v, r)| format!("{} = {}", v.label(), v.show(*r)))
+                .collect::<Vec<_>>()
+                .join("\n")
+        },
+    );
+}
+
+pub(crate) fn download(online: &Online, dir: &Path, args: &LinkArgs) -> Result<ExitCode, Fatal> {
+    let (image, target) = crate::image_and_target(online.targets, dir)?;
     gutta_format::verify(&image, &target).map_err(|e| Fatal(format!("{}: {e}", dir.display())))?;
     // Every byte is written, then read back and compared: the bar and the summary both
     // count the bytes transferred, the image's bytes twice.
@@ -119,7 +189,7 @@ pub(crate) fn download(
     // Log in first: the password (perhaps typed at a prompt) the download logs in with.
     let password = crate::login::log_in(&mut client, args)?;
     // A progress bar on a terminal; nothing when stderr is a file or a pipe (CI logs).
-    let bar = if std::io::stderr().is_terminal() {
+    let bar = if std::io::stderr().is_terminal() && !online.json {
         let style = ProgressStyle::with_template(
             "{prefix} [{bar:32}] {pos}/{len} bytes {binary_bytes_per_sec}",
         )
@@ -154,14 +224,23 @@ pub(crate) fn download(
         )),
     })?;
     // The bar's own count (a hidden bar counts too), so the two cannot disagree.
-    println!(
-        "downloaded {} pages of {} bytes: {} bytes written and read back in {} requests ({:.2} s); the PLC verified and runs the image",
+    let seconds = start.elapsed().as_secs_f64();
+    let summary = json!({
+        "command": "download",
+        "plc": image.plc_type,
+        "pages": report.pages,
+        "bytes": report.bytes,
+        "transferred": bar.position(),
+        "requests": report.requests,
+        "seconds": seconds,
+    });
+    online.print(summary, || format!(
+        "downloaded {} pages of {} bytes: {} bytes written and read back in {} requests ({seconds:.2} s); the PLC verified and runs the image",
         report.pages,
         report.bytes,
         bar.position(),
         report.requests,
-        start.elapsed().as_secs_f64()
-    );
+    ));
     // The reset applied the image's system block: say where the PLC answers now, when
     // that differs from how this download reached it.
     let port0 = image
@@ -172,7 +251,18 @@ pub(crate) fn download(
         let line = port.line();
         let moved = port.address != args.station && args.station != 0;
         let serial = args.serial.is_some() && line != client_line(args);
-        if moved || serial {
+        if (moved || serial) && online.json {
+            println!(
+                "{}",
+                json!({
+                    "command": "download",
+                    "note": "station moved",
+                    "station": port.address,
+                    "baud": line.baud,
+                    "parity": parity_name(line.parity),
+                })
+            );
+        } else if moved || serial {
             println!(
                 "the PLC now answers as station {}{} (its system block): use --station {}{}",
                 port.address,
@@ -205,17 +295,23 @@ fn parity_name(parity: u8) -> &'static str {
     }
 }
 
-pub(crate) fn upload(targets: &TargetArgs, dir: &Path, args: &LinkArgs) -> Result<ExitCode, Fatal> {
+pub(crate) fn upload(online: &Online, dir: &Path, args: &LinkArgs) -> Result<ExitCode, Fatal> {
     let mut client = connect(args)?;
     // The PLC type decides the packet size; log in first to ask it.
     let password = crate::login::log_in(&mut client, args)?;
-    let target = plc_target(targets, &mut client)?;
+    let target = plc_target(online.targets, &mut client)?;
     // A fresh or cleared PLC has no program pages (and then no const page to read):
     // say so, exit 1, and write nothing.
     let program = client
         .page_list(gutta_protocol::function::PageArea::Program)
         .map_err(link_error)?;
     if program.is_empty() {
+        if online.json {
+            println!(
+                "{}",
+                json!({"command": "upload", "program": false, "message": "the PLC holds no program to upload"})
+            );
+        }
         eprintln!("gutta-cc: no program: the PLC holds no program to upload");
         return Ok(ExitCode::from(1));
     }
@@ -225,17 +321,29 @@ pub(crate) fn upload(targets: &TargetArgs, dir: &Path, args: &LinkArgs) -> Resul
         eprintln!("gutta-cc: warning: the uploaded program does not verify: {e}");
     }
     gutta_io::write_image(dir, &image).map_err(|e| Fatal(e.0))?;
-    println!(
-        "uploaded {} pages ({} bytes) of a {} into {}",
-        image.pages.len(),
-        image.pages.values().map(Vec::len).sum::<usize>(),
-        image.plc_type,
-        dir.display()
+    let bytes = image.pages.values().map(Vec::len).sum::<usize>();
+    online.print(
+        json!({
+            "command": "upload",
+            "program": true,
+            "plc": image.plc_type,
+            "pages": image.pages.len(),
+            "bytes": bytes,
+            "output": dir.display().to_string(),
+        }),
+        || {
+            format!(
+                "uploaded {} pages ({bytes} bytes) of a {} into {}",
+                image.pages.len(),
+                image.plc_type,
+                dir.display()
+            )
+        },
     );
     Ok(ExitCode::SUCCESS)
 }
 
-pub(crate) fn status(args: &LinkArgs) -> Result<ExitCode, Fatal> {
+pub(crate) fn status(online: &Online, args: &LinkArgs) -> Result<ExitCode, Fatal> {
     let mut client = login(args)?;
     let name = client.plc_name().map_err(link_error)?;
     let s = client.status().map_err(link_error)?;
@@ -245,183 +353,72 @@ pub(crate) fn status(args: &LinkArgs) -> Result<ExitCode, Fatal> {
         .filter(|(bit, _)| s & bit != 0)
         .map(|(_, n)| *n)
         .collect();
-    println!(
-        "{name}: {} (status byte {s:#04X}: {})",
-        if s & 1 != 0 { "RUN" } else { "STOP" },
-        if on.is_empty() {
-            "none".to_string()
-        } else {
-            on.join(" ")
-        }
+    online.print(
+        json!({
+            "command": "status",
+            "plc": name,
+            "run": s & 1 != 0,
+            "status_byte": s,
+            "flags": on,
+        }),
+        || {
+            format!(
+                "{name}: {} (status byte {s:#04X}: {})",
+                if s & 1 != 0 { "RUN" } else { "STOP" },
+                if on.is_empty() {
+                    "none".to_string()
+                } else {
+                    on.join(" ")
+                }
+            )
+        },
     );
     Ok(ExitCode::SUCCESS)
 }
 
-pub(crate) fn run_stop(args: &LinkArgs, run: bool) -> Result<ExitCode, Fatal> {
+pub(crate) fn run_stop(online: &Online, args: &LinkArgs, run: bool) -> Result<ExitCode, Fatal> {
     let mut client = login(args)?;
     client.set_running(run).map_err(link_error)?;
+    let command = if run { "run" } else { "stop" };
+    online.print(json!({"command": command, "ok": true}), String::new);
     Ok(ExitCode::SUCCESS)
 }
 
-pub(crate) fn read(
-    targets: &TargetArgs,
-    vars: &[String],
-    args: &LinkArgs,
-) -> Result<ExitCode, Fatal> {
-    let (mut client, target, addresses) = login_with_vars(targets, vars, args)?;
-    let packed: Vec<u32> = addresses.iter().map(|a| packed(*a)).collect();
-    let values = client.read_vars(&packed).map_err(link_error)?;
-    for (a, bytes) in addresses.iter().zip(values) {
-        println!(
-            "{} = {}",
-            target.memory.format_address(a),
-            value_of(a, bytes)
-        );
-    }
+pub(crate) fn read(online: &Online, vars: &[String], args: &LinkArgs) -> Result<ExitCode, Fatal> {
+    let (mut client, target, vars) = login_with_vars(online, vars, args)?;
+    let values = read_values(&mut client, &target, &vars).map_err(link_error)?;
+    print_values(online, "read", &vars, &values);
     Ok(ExitCode::SUCCESS)
 }
 
+/// `write` or `force` `VAR=VALUE...`: each value parsed in its variable's format; prints
+/// what was written as `read` prints it.
 pub(crate) fn write(
-    targets: &TargetArgs,
+    online: &Online,
     assignments: &[String],
     args: &LinkArgs,
     force: bool,
 ) -> Result<ExitCode, Fatal> {
+    let symbols = online.symbols(vec![])?;
     let mut client = login(args)?;
-    let target = plc_target(targets, &mut client)?;
-    let pairs: Vec<(u32, u32)> = assignments
+    let target = plc_target(online.targets, &mut client)?;
+    let (vars, values): (Vec<Var>, Vec<u32>) = assignments
         .iter()
-        .map(|item| {
-            let (var, value) = item
-                .split_once('=')
-                .ok_or_else(|| Fatal(format!("`{item}`: expected VAR=VALUE")))?;
-            let a = parse_var(&target, var)?;
-            let v = gutta_catalog::parse_value(value.trim(), a.width)
-                .map_err(|e| Fatal(format!("`{item}`: {e}")))?;
-            Ok((packed(a), v))
-        })
-        .collect::<Result<_, Fatal>>()?;
+        .map(|item| vars::resolve_assignment(item, &symbols, &target).map_err(Fatal))
+        .collect::<Result<Vec<_>, Fatal>>()?
+        .into_iter()
+        .unzip();
+    let pairs: Vec<(u32, u32)> = vars
+        .iter()
+        .zip(&values)
+        .map(|(v, raw)| (packed(v.address), *raw))
+        .collect();
     client.write_vars(&pairs, force).map_err(link_error)?;
-    Ok(ExitCode::SUCCESS)
-}
-
-/// The image directory `debug` takes its source map from when `--image` is not given.
-const DEFAULT_DEBUG_IMAGE: &str = "image";
-
-/// The source map for `debug`: beside `--image DIR` (an error when it is missing or stale),
-/// else beside `image/` when there is one (a warning when it cannot be used).
-fn debug_source_map(image: Option<&Path>) -> Result<Option<SourceMap>, Fatal> {
-    let (dir, explicit) = match image {
-        Some(dir) => (dir, true),
-        None => (Path::new(DEFAULT_DEBUG_IMAGE), false),
-    };
-    let map_path = gutta_io::source_map_path(dir);
-    if !explicit && !map_path.is_file() {
-        return Ok(None);
-    }
-    let map = gutta_io::read_image_dir(dir)
-        .and_then(|image| gutta_io::read_source_map(dir, &image))
-        .and_then(|map| map.ok_or_else(|| format!("no source map {}", map_path.display())));
-    match map {
-        Ok(map) => Ok(Some(map)),
-        Err(e) if explicit => Err(Fatal(format!("--image {}: {e}", dir.display()))),
-        Err(e) => {
-            eprintln!("gutta-cc: warning: {e}; showing positions without source lines");
-            Ok(None)
-        }
-    }
-}
-
-/// `gutta-cc debug ACTION [ARG]`: UM4001's DEBUG_* functions.
-pub(crate) fn debug(
-    targets: &TargetArgs,
-    action: &[String],
-    image: Option<&Path>,
-    args: &LinkArgs,
-) -> Result<ExitCode, Fatal> {
-    let map = debug_source_map(image)?;
-    let mut client = login(args)?;
-    let target = plc_target(targets, &mut client)?;
-    let plc = &target.plc;
-    let arg = action.get(1).map(String::as_str);
-    match (action[0].as_str(), arg) {
-        ("break", Some(at)) => {
-            let map_name =
-                gutta_io::source_map_path(image.unwrap_or(Path::new(DEFAULT_DEBUG_IMAGE)));
-            let at = gutta_format::parse_breakpoint(
-                at,
-                plc,
-                map.as_ref(),
-                &map_name.display().to_string(),
-            )
-            .map_err(Fatal)?;
-            if let Some(note) = at.note {
-                eprintln!("gutta-cc: note: {note}");
-            }
-            let (index, network, step) = at.position;
-            client.set_breakpoint(Some(Breakpoint {
-                index,
-                network,
-                step,
-            }))
-        }
-        ("clear", None) => client.set_breakpoint(None),
-        ("stop", None) => client.debug_run(false),
-        ("run", None) => client.debug_run(true),
-        ("reset", None) => client.debug_reset(),
-        ("step", Some(kind)) => {
-            let step = match kind {
-                "in" => DebugStep::In,
-                "over" => DebugStep::Over,
-                "out" => DebugStep::Out,
-                other => return Err(Fatal(format!("step `{other}`: in, over or out"))),
-            };
-            client.debug_step(step)
-        }
-        ("info", None) => Ok(()),
-        (other, _) => {
-            return Err(Fatal(format!(
-                "debug `{other}`: break POSITION, clear, stop, run, step in|over|out, reset or info"
-            )))
-        }
-    }
-    .map_err(link_error)?;
-    // Every action ends by showing where the program is.
-    let (state, info) = client.debug_info().map_err(link_error)?;
-    // `MAIN:2:1`, or with the map `main.lad:11:1 (MAIN:2:1): MOVW   16#BEEF, MW10`.
-    let place = |f: u8, n: u16, s: u16| {
-        if f == 0xFF {
-            return "none".to_string();
-        }
-        let position = format!("{}:{n}:{s}", gutta_format::function_name(f, plc));
-        match map
-            .as_ref()
-            .and_then(|m| Some((m, m.at_position(f, n, s)?)))
-        {
-            Some((m, i)) => format!(
-                "{}:{}:{} ({position}): {}",
-                m.file, i.line, i.column, i.text
-            ),
-            None => position,
-        }
-    };
-    let b = info.breakpoint;
-    println!("breakpoint: {}", place(b.index, b.network, b.step));
-    println!(
-        "paused at:  {}",
-        place(info.state_index, info.state_network, info.state_step)
-    );
-    println!(
-        "mode: {}; logic stack {:#06X}; call depth {}; saved L {} bytes; error {}",
-        if state & debug_state::RUN != 0 {
-            "run until a breakpoint"
-        } else {
-            "single-step stop"
-        },
-        info.stack_logic,
-        info.sp,
-        info.stack_data,
-        info.error
+    print_values(
+        online,
+        if force { "force" } else { "write" },
+        &vars,
+        &values,
     );
     Ok(ExitCode::SUCCESS)
 }
@@ -430,19 +427,29 @@ pub(crate) fn debug(
 /// reads as "release" (UM4001 has no unforce). The value sent is the variable's current
 /// value, so a PLC that ignores USE keeps it where it is rather than jumping.
 pub(crate) fn unforce(
-    targets: &TargetArgs,
+    online: &Online,
     vars: &[String],
     args: &LinkArgs,
 ) -> Result<ExitCode, Fatal> {
-    let (mut client, _, addresses) = login_with_vars(targets, vars, args)?;
-    let current = client
-        .read_vars(&addresses.iter().map(|a| packed(*a)).collect::<Vec<_>>())
-        .map_err(link_error)?;
-    let pairs: Vec<(u32, u32)> = addresses
+    let (mut client, target, vars) = login_with_vars(online, vars, args)?;
+    let current = read_values(&mut client, &target, &vars).map_err(link_error)?;
+    let pairs: Vec<(u32, u32)> = vars
         .iter()
-        .zip(current)
-        .map(|(a, bytes)| (PackedOperand::force_release(*a).0, value_of(a, bytes)))
+        .zip(&current)
+        .map(|(v, raw)| (PackedOperand::force_release(v.address).0, *raw))
         .collect();
     client.write_vars(&pairs, true).map_err(link_error)?;
+    online.print(
+        json!({
+            "command": "unforce",
+            "values": vars.iter().zip(&current).map(|(v, r)| v.json(*r)).collect::<Vec<_>>(),
+        }),
+        || {
+            vars.iter()
+                .map(|v| format!("{} released", v.label()))
+                .collect::<Vec<_>>()
+                .join("\n")
+        },
+    );
     Ok(ExitCode::SUCCESS)
 }

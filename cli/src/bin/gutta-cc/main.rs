@@ -146,23 +146,28 @@ enum Command {
         #[command(flatten)]
         link: LinkArgs,
     },
-    /// Read variables (`VAR = VALUE` lines, unsigned decimal; bits 0 or 1).
+    /// Read variables: `NAME (ADDR) = VALUE` for a symbol, `ADDR = VALUE` for an address,
+    /// each in its format (a symbol's type; bits 0/1, bytes unsigned, words and double
+    /// words signed; a `:bool|int|uint|hex|real` suffix overrides).
     #[command(
         after_help = "Examples:\n  gutta-cc read MW24 Q0.0 --tcp 127.0.0.1:5020\n  gutta-cc read MD4 AIW0 --tcp 127.0.0.1:5020 --message-format json"
     )]
     Read {
-        /// Direct addresses: MW24, Q0.0, AIW0, MD4.
+        /// Symbols or direct addresses, each with an optional `:fmt`: Speed, MW24, Q0.0,
+        /// MD4:hex, MD8:real.
         #[arg(required = true)]
         vars: Vec<String>,
         #[command(flatten)]
         link: LinkArgs,
     },
-    /// Write variables (an input's terminal holds the value across scans).
+    /// Write variables (an input's terminal holds the value across scans); prints what
+    /// was written as `read` does.
     #[command(
         after_help = "Examples:\n  gutta-cc write MW0=16#FF Q0.0=1 --tcp 127.0.0.1:5020\n  gutta-cc write I0.0=1 AIW0=100 --tcp 127.0.0.1:5020"
     )]
     Write {
-        /// VAR=VALUE: MW0=16#FF, Q0.0=1, AIW0=100.
+        /// VAR=VALUE, VAR a symbol or an address with an optional `:fmt`, VALUE in its
+        /// format or raw bits: MW0=16#FF, Q0.0=1, Speed=-5, MD8:real=21.5.
         #[arg(required = true)]
         assignments: Vec<String>,
         #[command(flatten)]
@@ -173,7 +178,7 @@ enum Command {
         after_help = "Examples:\n  gutta-cc unforce Q0.0 --tcp 127.0.0.1:5020\n  gutta-cc unforce Q0.0 IB0 --tcp 127.0.0.1:5020"
     )]
     Unforce {
-        /// Direct addresses that were forced: Q0.0, IB0.
+        /// Symbols or direct addresses that were forced: Q0.0, IB0, Lamp.
         #[arg(required = true)]
         vars: Vec<String>,
         #[command(flatten)]
@@ -194,6 +199,10 @@ enum Command {
         /// and instruction text [default: `image` when image.map.json exists].
         #[arg(long, value_name = "DIR")]
         image: Option<PathBuf>,
+        /// A variable whose value every report shows (repeatable): a symbol or an address
+        /// with an optional `:fmt`.
+        #[arg(long, value_name = "VAR")]
+        watch: Vec<String>,
         #[command(flatten)]
         link: LinkArgs,
     },
@@ -202,9 +211,29 @@ enum Command {
         after_help = "Examples:\n  gutta-cc force Q0.0=1 --tcp 127.0.0.1:5020\n  gutta-cc force IB0=16#0F --tcp 127.0.0.1:5020"
     )]
     Force {
-        /// VAR=VALUE: Q0.0=1, IB0=16#0F.
+        /// VAR=VALUE: Q0.0=1, IB0=16#0F, Lamp=ON.
         #[arg(required = true)]
         assignments: Vec<String>,
+        #[command(flatten)]
+        link: LinkArgs,
+    },
+    /// Watch variables live: a table (name, address, format, value, when it last
+    /// changed) redrawn every --interval on a terminal, q, Esc or Ctrl-C to quit; one line
+    /// per sample when stdout is not a terminal.
+    Watch {
+        /// Symbols or direct addresses, each with an optional `:fmt`: Lamp, MW10:hex.
+        #[arg(required = true)]
+        vars: Vec<String>,
+        /// Milliseconds between samples.
+        #[arg(long, value_name = "MS", default_value_t = 200)]
+        interval: u64,
+        /// Print one sample and exit.
+        #[arg(long)]
+        once: bool,
+        /// One JSON object per sample (`{"time_ms", "values": [...]}`), as with
+        /// --message-format json.
+        #[arg(long)]
+        json: bool,
         #[command(flatten)]
         link: LinkArgs,
     },
@@ -283,8 +312,11 @@ enum Emit {
 }
 
 mod client;
+mod debug;
 mod explain;
 mod login;
+mod vars;
+mod watch;
 
 mod completions;
 mod help;
@@ -325,29 +357,47 @@ fn main() -> ExitCode {
 }
 
 fn run(cli: Cli) -> Result<ExitCode, Fatal> {
+    let online = client::Online {
+        targets: &cli.target,
+        symbol_files: &cli.symbols,
+        json: cli.message_format == MessageFormat::Json,
+    };
     match &cli.command {
         Some(Command::Modbus { variable }) => return modbus(&cli.target, variable),
         Some(Command::Explain { code }) => return explain(code),
         Some(Command::Dis { image }) => return dis(&cli.target, image),
-        Some(Command::Download { image, link }) => {
-            return client::download(&cli.target, image, link)
-        }
-        Some(Command::Status { link }) => return client::status(link),
-        Some(Command::Upload { output, link }) => return client::upload(&cli.target, output, link),
-        Some(Command::Run { link }) => return client::run_stop(link, true),
-        Some(Command::Stop { link }) => return client::run_stop(link, false),
-        Some(Command::Read { vars, link }) => return client::read(&cli.target, vars, link),
+        Some(Command::Download { image, link }) => return client::download(&online, image, link),
+        Some(Command::Status { link }) => return client::status(&online, link),
+        Some(Command::Upload { output, link }) => return client::upload(&online, output, link),
+        Some(Command::Run { link }) => return client::run_stop(&online, link, true),
+        Some(Command::Stop { link }) => return client::run_stop(&online, link, false),
+        Some(Command::Read { vars, link }) => return client::read(&online, vars, link),
         Some(Command::Write { assignments, link }) => {
-            return client::write(&cli.target, assignments, link, false)
+            return client::write(&online, assignments, link, false)
         }
-        Some(Command::Unforce { vars, link }) => return client::unforce(&cli.target, vars, link),
+        Some(Command::Unforce { vars, link }) => return client::unforce(&online, vars, link),
         Some(Command::Debug {
             action,
             image,
+            watch,
             link,
-        }) => return client::debug(&cli.target, action, image.as_deref(), link),
+        }) => return debug::debug(&online, action, image.as_deref(), watch, link),
         Some(Command::Force { assignments, link }) => {
-            return client::write(&cli.target, assignments, link, true)
+            return client::write(&online, assignments, link, true)
+        }
+        Some(Command::Watch {
+            vars,
+            interval,
+            once,
+            json,
+            link,
+        }) => {
+            let options = watch::Options {
+                interval_ms: *interval,
+                once: *once,
+                json: *json || online.json,
+            };
+            return watch::watch(&online, vars, &options, link);
         }
         Some(Command::Completions { shell }) => return completions::completions(*shell),
         Some(Command::Man { command, output }) => {

@@ -9,7 +9,7 @@ use std::process::ExitCode;
 use std::sync::Arc;
 
 use clap::{CommandFactory, FromArgMatches, Parser};
-use gutta_catalog::{stdlib, Address, Target, Width};
+use gutta_catalog::{stdlib, Target};
 use gutta_cli::fatal::{report_clap_error, Fatal, MessageFormat};
 use gutta_format::{MappedInstruction, SourceMap};
 use gutta_vm::{Fault, Position, ScanEnd, Vm, VmConfig};
@@ -19,8 +19,10 @@ use gutta_vm::{Fault, Position, ScanEnd, Vm, VmConfig};
     name = "gutta-vm",
     version,
     about = "Run a GUTTA PLC image on the reference VM",
-    after_help = "Values: decimal, 16#FF, 2#1010, negative allowed (-1). Variables: \
-                  direct addresses such as I0.0, Q3.0, MW24, MD4, AIW0.
+    after_help = "Variables: symbols (from IMAGE.map.json or --symbols FILE) or direct \
+                  addresses such as I0.0, Q3.0, MW24, MD4, AIW0, each with an optional \
+                  :bool|int|uint|hex|real (Speed, MD8:real). Values in the variable's format \
+                  (-1, 21.5, ON) or raw bits (16#FF, 2#1010).
 
 Examples:
   gutta-vm image/ --scans 100 --read Q0.0 --read MW24
@@ -50,9 +52,16 @@ struct Cli {
     /// Force a variable of a forcing area (I, Q) for the whole run (repeatable).
     #[arg(long = "force", value_name = "VAR=VALUE")]
     force: Vec<String>,
-    /// Print a variable after the last scan (repeatable): `VAR = VALUE`, unsigned decimal.
+    /// Print a variable after the last scan (repeatable): `NAME (ADDR) = VALUE` for a
+    /// symbol, `ADDR = VALUE` for an address, in its format (bits 0/1, bytes unsigned,
+    /// words and double words signed, a symbol's type, or the `:fmt` suffix).
     #[arg(long = "read", value_name = "VAR")]
     read: Vec<String>,
+    /// A symbol table (CSV `Symbol,Address,Comment`, or Micro/WIN's tab-separated rows)
+    /// or a program source (.lad) whose symbols --set, --force and --read may use
+    /// (repeatable), besides the symbols of IMAGE.map.json.
+    #[arg(long, value_name = "FILE")]
+    symbols: Vec<PathBuf>,
     /// `json`: print one JSON object (scans, values, status, error) instead of text; a
     /// fatal error is one JSON error object on stdout too (docs/cli.md).
     #[arg(long, value_name = "FORMAT", value_enum, default_value_t = MessageFormat::Human)]
@@ -114,11 +123,11 @@ fn main() -> ExitCode {
     }
 }
 
-/// A variable the user named: its canonical name and address.
-struct Var {
-    name: String,
-    address: Address,
-}
+#[path = "../gutta-cc/vars.rs"]
+mod vars;
+mod vcd;
+
+use vars::Var;
 
 /// One change seen by --trace.
 struct Change {
@@ -156,20 +165,28 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
     let mut vm = Vm::new(verified, Arc::clone(&target), config)
         .map_err(|e| Fatal(format!("{}: cannot load: {e}", cli.image.display())))?;
 
+    // The lead adds the source map's own symbols here once the map carries them.
+    let explicit = explicit_target(cli)?.map(|target| gutta_compiler::ExplicitTarget {
+        target,
+        origin: "--plc/--target".into(),
+    });
+    let symbols = vars::symbol_context(&cli.symbols, vec![], explicit.as_ref()).map_err(Fatal)?;
     let reads: Vec<Var> = cli
         .read
         .iter()
-        .map(|text| parse_var(&target, "--read", text))
+        .map(|text| {
+            vars::resolve(text, &symbols, &target).map_err(|e| Fatal(format!("--read {e}")))
+        })
         .collect::<Result<_, _>>()?;
-    let sets = parse_assignments(&target, "--set", &cli.set)?;
-    let forces = parse_assignments(&target, "--force", &cli.force)?;
+    let sets = parse_assignments(&target, &symbols, "--set", &cli.set)?;
+    let forces = parse_assignments(&target, &symbols, "--force", &cli.force)?;
     for (var, value) in &sets {
         vm.write(var.address, *value)
-            .map_err(|e| Fatal(format!("--set {}: {}", var.name, e.0)))?;
+            .map_err(|e| Fatal(format!("--set {}: {}", var.label(), e.0)))?;
     }
     for (var, value) in &forces {
         vm.force(var.address, *value)
-            .map_err(|e| Fatal(format!("--force {}: {e}", var.name)))?;
+            .map_err(|e| Fatal(format!("--force {}: {e}", var.label())))?;
     }
     if let Some(text) = &cli.breakpoint {
         let at = parse_breakpoint(&target, map.as_ref(), &cli.image, text)?;
@@ -182,12 +199,12 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
             .iter()
             .map(|v| {
                 vm.read(v.address)
-                    .map_err(|e| Fatal(format!("--read {}: {}", v.name, e.0)))
+                    .map_err(|e| Fatal(format!("--read {}: {}", v.label(), e.0)))
             })
             .collect()
     };
     let mut values = sample(&vm)?;
-    let mut vcd = cli.vcd.as_ref().map(|_| vcd_header(&reads, &values));
+    let mut vcd = cli.vcd.as_ref().map(|_| vcd::header(&reads, &values));
     let mut changes: Vec<Change> = Vec::new();
     // The last timestamp written to the VCD.
     let mut last_time = 0;
@@ -207,7 +224,7 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
                 last_time = vm.clock_ms();
                 let _ = writeln!(text, "#{last_time}");
                 for &i in &changed {
-                    vcd_value(text, &reads[i], now[i], i);
+                    vcd::value(text, &reads[i], now[i], i);
                 }
             }
         }
@@ -220,12 +237,13 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
                     to: now[i],
                 };
                 if !cli.json {
+                    let v = &reads[i];
                     let _ = writeln!(
                         stdout.lock(),
                         "scan {n}: {} {} -> {}",
-                        reads[i].name,
-                        c.from,
-                        c.to
+                        v.label(),
+                        v.show(c.from),
+                        v.show(c.to)
                     );
                 }
                 changes.push(c);
@@ -265,7 +283,7 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
     } else {
         let mut out = String::new();
         for (v, value) in reads.iter().zip(&values) {
-            let _ = writeln!(out, "{} = {value}", v.name);
+            let _ = writeln!(out, "{} = {}", v.label(), v.show(*value));
         }
         let _ = stdout.lock().write_all(out.as_bytes());
         let source = Source {
@@ -413,7 +431,7 @@ fn json_report(
     use serde_json::{json, Map, Value};
     let mut map = Map::new();
     for (v, value) in reads.iter().zip(values) {
-        map.insert(v.name.clone(), json!(value));
+        map.insert(v.name().to_string(), v.json_value(*value));
     }
     let error = match fault {
         Some((scan, f)) => json!({
@@ -450,88 +468,27 @@ fn json_report(
         report["trace"] = changes
             .iter()
             .map(
-                |c| json!({ "scan": c.scan, "var": reads[c.var].name, "from": c.from, "to": c.to }),
+                |c| {
+                    let v = &reads[c.var];
+                    json!({ "scan": c.scan, "var": v.name(), "from": v.json_value(c.from), "to": v.json_value(c.to) })
+                },
             )
             .collect();
     }
     report
 }
 
-/// VCD identifier of the i-th variable: printable ASCII `!`..`~`, base 94.
-fn vcd_id(mut i: usize) -> String {
-    let mut id = String::new();
-    loop {
-        id.push(char::from(b'!' + (i % 94) as u8));
-        i /= 94;
-        if i == 0 {
-            return id;
-        }
-        i -= 1;
-    }
-}
-
-fn vcd_header(reads: &[Var], initial: &[u32]) -> String {
-    let mut s = String::new();
-    let _ = writeln!(s, "$version gutta-vm {} $end", env!("CARGO_PKG_VERSION"));
-    let _ = writeln!(s, "$timescale 1 ms $end");
-    let _ = writeln!(s, "$scope module plc $end");
-    for (i, v) in reads.iter().enumerate() {
-        // `.` separates scopes in wave viewers: Q0.0 is written Q0_0.
-        let name = v.name.replace('.', "_");
-        let _ = writeln!(
-            s,
-            "$var wire {} {} {name} $end",
-            v.address.width.bits(),
-            vcd_id(i)
-        );
-    }
-    let _ = writeln!(s, "$upscope $end");
-    let _ = writeln!(s, "$enddefinitions $end");
-    let _ = writeln!(s, "#0");
-    let _ = writeln!(s, "$dumpvars");
-    for (i, (v, value)) in reads.iter().zip(initial).enumerate() {
-        vcd_value(&mut s, v, *value, i);
-    }
-    let _ = writeln!(s, "$end");
-    s
-}
-
-fn vcd_value(s: &mut String, var: &Var, value: u32, i: usize) {
-    if var.address.width == Width::Bit {
-        let _ = writeln!(s, "{}{}", value & 1, vcd_id(i));
-    } else {
-        let _ = writeln!(s, "b{value:b} {}", vcd_id(i));
-    }
-}
-
-fn parse_var(target: &Target, option: &str, text: &str) -> Result<Var, Fatal> {
-    let address = target
-        .memory
-        .parse_address(text.trim())
-        .map_err(|e| Fatal(format!("{option} `{text}` on {}: {e}", target.name())))?;
-    Ok(Var {
-        name: target.memory.format_address(&address),
-        address,
-    })
-}
-
 fn parse_assignments(
     target: &Target,
+    symbols: &gutta_format::SymbolTable,
     option: &str,
     items: &[String],
 ) -> Result<Vec<(Var, u32)>, Fatal> {
     items
         .iter()
         .map(|item| {
-            let (var, value) = item.split_once('=').ok_or_else(|| {
-                Fatal(format!(
-                    "{option} `{item}`: expected VAR=VALUE (e.g. I0.0=1)"
-                ))
-            })?;
-            let var = parse_var(target, option, var)?;
-            let value = gutta_catalog::parse_value(value.trim(), var.address.width)
-                .map_err(|e| Fatal(format!("{option} `{item}`: {e}")))?;
-            Ok((var, value))
+            vars::resolve_assignment(item, symbols, target)
+                .map_err(|e| Fatal(format!("{option} {e}")))
         })
         .collect()
 }
@@ -548,15 +505,4 @@ fn explicit_target(cli: &Cli) -> Result<Option<Arc<Target>>, Fatal> {
             .map_err(Fatal);
     }
     Ok(None)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn vcd_ids_are_unique() {
-        let ids: std::collections::HashSet<String> = (0..20_000).map(vcd_id).collect();
-        assert_eq!(ids.len(), 20_000);
-    }
 }

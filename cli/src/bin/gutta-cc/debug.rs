@@ -1,0 +1,183 @@
+//! `gutta-cc debug ACTION [ARG] [--watch VAR...]`: UM4001's DEBUG_* functions, and the
+//! report every action ends with: where the program is (file:line and the instruction
+//! text with the image's source map), the logic stack and the watched values in their
+//! formats, as text or one JSON object. The connection comes from `client.rs`.
+
+use std::path::Path;
+use std::process::ExitCode;
+
+use gutta_format::SourceMap;
+use gutta_link::message::{debug_state, Breakpoint, DebugStep};
+use serde_json::json;
+
+use crate::client::{link_error, login, plc_target, read_values, resolve_all, Online};
+use crate::{Fatal, LinkArgs};
+
+/// The image directory `debug` takes its source map from when `--image` is not given.
+const DEFAULT_DEBUG_IMAGE: &str = "image";
+
+/// The source map for `debug`: beside `--image DIR` (an error when it is missing or stale),
+/// else beside `image/` when there is one (a warning when it cannot be used).
+fn debug_source_map(image: Option<&Path>) -> Result<Option<SourceMap>, Fatal> {
+    let (dir, explicit) = match image {
+        Some(dir) => (dir, true),
+        None => (Path::new(DEFAULT_DEBUG_IMAGE), false),
+    };
+    let map_path = gutta_io::source_map_path(dir);
+    if !explicit && !map_path.is_file() {
+        return Ok(None);
+    }
+    let map = gutta_io::read_image_dir(dir)
+        .and_then(|image| gutta_io::read_source_map(dir, &image))
+        .and_then(|map| map.ok_or_else(|| format!("no source map {}", map_path.display())));
+    match map {
+        Ok(map) => Ok(Some(map)),
+        Err(e) if explicit => Err(Fatal(format!("--image {}: {e}", dir.display()))),
+        Err(e) => {
+            eprintln!("gutta-cc: warning: {e}; showing positions without source lines");
+            Ok(None)
+        }
+    }
+}
+
+/// `gutta-cc debug ACTION [ARG] [--watch VAR...]`: UM4001's DEBUG_* functions; every
+/// action ends with a report of where the program is: file:line and the instruction
+/// (with a source map), the logic stack and the watched values.
+pub(crate) fn debug(
+    online: &Online,
+    action: &[String],
+    image: Option<&Path>,
+    watch: &[String],
+    args: &LinkArgs,
+) -> Result<ExitCode, Fatal> {
+    let map = debug_source_map(image)?;
+    // The lead adds the source map's own symbols here once the map carries them.
+    let symbols = online.symbols(vec![])?;
+    let mut client = login(args)?;
+    let target = plc_target(online.targets, &mut client)?;
+    let watched = resolve_all(watch, &symbols, &target)?;
+    let plc = &target.plc;
+    let arg = action.get(1).map(String::as_str);
+    match (action[0].as_str(), arg) {
+        ("break", Some(at)) => {
+            let map_name =
+                gutta_io::source_map_path(image.unwrap_or(Path::new(DEFAULT_DEBUG_IMAGE)));
+            let at = gutta_format::parse_breakpoint(
+                at,
+                plc,
+                map.as_ref(),
+                &map_name.display().to_string(),
+            )
+            .map_err(Fatal)?;
+            if let Some(note) = at.note {
+                eprintln!("gutta-cc: note: {note}");
+            }
+            let (index, network, step) = at.position;
+            client.set_breakpoint(Some(Breakpoint {
+                index,
+                network,
+                step,
+            }))
+        }
+        ("clear", None) => client.set_breakpoint(None),
+        ("stop", None) => client.debug_run(false),
+        ("run", None) => client.debug_run(true),
+        ("reset", None) => client.debug_reset(),
+        ("step", Some(kind)) => {
+            let step = match kind {
+                "in" => DebugStep::In,
+                "over" => DebugStep::Over,
+                "out" => DebugStep::Out,
+                other => return Err(Fatal(format!("step `{other}`: in, over or out"))),
+            };
+            client.debug_step(step)
+        }
+        ("info", None) => Ok(()),
+        (other, _) => {
+            return Err(Fatal(format!(
+                "debug `{other}`: break POSITION, clear, stop, run, step in|over|out, reset or info"
+            )))
+        }
+    }
+    .map_err(link_error)?;
+    // Every action ends by showing where the program is.
+    let (state, info) = client.debug_info().map_err(link_error)?;
+    let values = read_values(&mut client, &target, &watched).map_err(link_error)?;
+    let at = |f: u8, n: u16, s: u16| Place {
+        position: (f != 0xFF).then(|| format!("{}:{n}:{s}", gutta_format::function_name(f, plc))),
+        source: map.as_ref().and_then(|m| {
+            let i = m.at_position(f, n, s)?;
+            Some((m.file.clone(), i.line, i.column, i.text.clone()))
+        }),
+    };
+    let b = info.breakpoint;
+    let breakpoint = at(b.index, b.network, b.step);
+    let paused = at(info.state_index, info.state_network, info.state_step);
+    let mode = if state & debug_state::RUN != 0 {
+        "run until a breakpoint"
+    } else {
+        "single-step stop"
+    };
+    online.print(
+        json!({
+            "command": "debug",
+            "action": action[0],
+            "breakpoint": breakpoint.json(),
+            "paused_at": paused.json(),
+            "mode": if state & debug_state::RUN != 0 { "run" } else { "step" },
+            "logic_stack": info.stack_logic,
+            "call_depth": info.sp,
+            "saved_l_bytes": info.stack_data,
+            "error": info.error,
+            "watch": watched.iter().zip(&values).map(|(v, r)| v.json(*r)).collect::<Vec<_>>(),
+        }),
+        || {
+            let mut lines = vec![
+                format!("breakpoint: {}", breakpoint.text()),
+                format!("paused at:  {}", paused.text()),
+                format!(
+                    "mode: {mode}; logic stack {:#06X}; call depth {}; saved L {} bytes; error {}",
+                    info.stack_logic, info.sp, info.stack_data, info.error
+                ),
+            ];
+            lines.extend(
+                watched
+                    .iter()
+                    .zip(&values)
+                    .map(|(v, r)| format!("watch: {} = {}", v.label(), v.show(*r))),
+            );
+            lines.join("\n")
+        },
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// A position the debugger reports: `MAIN:2:1` (none when the PLC says 0xFF) and, with
+/// the source map, its file, line, column and instruction text.
+struct Place {
+    position: Option<String>,
+    source: Option<(String, u32, u32, String)>,
+}
+
+impl Place {
+    /// `MAIN:2:1`, or `main.lad:11:1 (MAIN:2:1): MOVW   16#BEEF, MW10`.
+    fn text(&self) -> String {
+        match (&self.position, &self.source) {
+            (None, _) => "none".into(),
+            (Some(p), Some((file, line, column, text))) => {
+                format!("{file}:{line}:{column} ({p}): {text}")
+            }
+            (Some(p), None) => p.clone(),
+        }
+    }
+
+    fn json(&self) -> serde_json::Value {
+        match (&self.position, &self.source) {
+            (None, _) => serde_json::Value::Null,
+            (Some(p), Some((file, line, column, text))) => json!({
+                "position": p, "file": file, "line": line, "column": column, "text": text,
+            }),
+            (Some(p), None) => json!({ "position": p }),
+        }
+    }
+}

@@ -1,0 +1,251 @@
+//! What a variable named on the command line stands for: `NAME` (a symbol) or a direct
+//! address, with an optional `:fmt` suffix (`MW2:int`, `Temp:hex`), resolved to an
+//! address and the format its values print and parse in; and the symbol context those
+//! names come from (program sources and symbol tables). Shared by gutta-cc and gutta-vm
+//! (which includes this file): it neither prints nor talks to a PLC, and its errors are
+//! plain messages the caller prefixes.
+
+use std::path::PathBuf;
+
+use gutta_catalog::{Address, Target, ValueFormat};
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{check_program, ExplicitTarget, ProgramSources};
+use gutta_format::{Symbol, SymbolTable};
+
+/// Where symbols come from, for the hint of an unknown name.
+pub const SYMBOL_SOURCES: &str =
+    "symbols come from --symbols FILE (a .lad program or a symbol table) or an image's source map";
+
+/// A resolved variable.
+#[derive(Debug, Clone)]
+pub struct Var {
+    /// The symbol's name as declared, when a symbol was used.
+    pub symbol: Option<String>,
+    pub address: Address,
+    /// The address in canonical form (`MW10`, `Q0.0`).
+    pub canonical: String,
+    pub format: ValueFormat,
+}
+
+impl Var {
+    /// `Speed (MW10)` for a symbol, `MW10` for an address.
+    pub fn label(&self) -> String {
+        match &self.symbol {
+            Some(name) => format!("{name} ({})", self.canonical),
+            None => self.canonical.clone(),
+        }
+    }
+
+    /// The symbol's name, else the address: a short name for tables and VCD signals.
+    #[allow(dead_code)] // gutta-vm's (this file is shared)
+    pub fn name(&self) -> &str {
+        self.symbol.as_deref().unwrap_or(&self.canonical)
+    }
+
+    /// A raw value as text in the variable's format.
+    pub fn show(&self, raw: u32) -> String {
+        self.format.show(raw, self.address.width)
+    }
+
+    /// Text as the raw bits to write.
+    pub fn parse(&self, text: &str) -> Result<u32, String> {
+        self.format
+            .parse(text, self.address.width)
+            .map_err(|e| format!("{}: {e}", self.label()))
+    }
+
+    /// The value as JSON: a number when the text is one (`-1`, `21.5`), else the text
+    /// (`16#00FF`, `nan`).
+    pub fn json_value(&self, raw: u32) -> serde_json::Value {
+        let text = self.show(raw);
+        match serde_json::from_str::<serde_json::Value>(&text) {
+            Ok(v @ serde_json::Value::Number(_)) => v,
+            _ => serde_json::Value::String(text),
+        }
+    }
+
+    /// `{"name", "address", "format", "value", "raw"}`: one value in JSON output.
+    #[allow(dead_code)] // gutta-cc's (this file is shared)
+    pub fn json(&self, raw: u32) -> serde_json::Value {
+        serde_json::json!({
+            "name": self.symbol,
+            "address": self.canonical,
+            "format": self.format.name(),
+            "value": self.json_value(raw),
+            "raw": raw,
+        })
+    }
+}
+
+/// `NAME[:fmt]` or `ADDR[:fmt]` on `target`, symbols from `symbols`.
+pub fn resolve(text: &str, symbols: &SymbolTable, target: &Target) -> Result<Var, String> {
+    let text = text.trim();
+    let (name, suffix) = match text.split_once(':') {
+        Some((name, suffix)) => (name.trim(), Some(suffix.trim())),
+        None => (text, None),
+    };
+    let (symbol, address) = match symbols.get(name) {
+        Some(s) => (Some(s), symbol_address(s, target)?),
+        None => (None, address(name, symbols, target)?),
+    };
+    let canonical = target.memory.format_address(&address);
+    let format = match suffix {
+        Some(s) => {
+            let f = ValueFormat::from_suffix(s).ok_or_else(|| {
+                format!("`{text}`: unknown format `:{s}` (bool, int, uint, hex, real, or a type such as DINT)")
+            })?;
+            if !f.fits(address.width) {
+                return Err(format!(
+                    "`{text}`: {} ({canonical})",
+                    f.misfit(address.width)
+                ));
+            }
+            f
+        }
+        None => symbol.map_or(ValueFormat::default_for(address.width), |s| {
+            s.format(address.width)
+        }),
+    };
+    Ok(Var {
+        symbol: symbol.map(|s| s.name.clone()),
+        address,
+        canonical,
+        format,
+    })
+}
+
+/// `NAME[:fmt]=VALUE`: the variable and the raw bits to write.
+pub fn resolve_assignment(
+    item: &str,
+    symbols: &SymbolTable,
+    target: &Target,
+) -> Result<(Var, u32), String> {
+    let (var, value) = item
+        .split_once('=')
+        .ok_or_else(|| format!("`{item}`: expected VAR=VALUE (Q0.0=1, Speed=-5, MD8:real=21.5)"))?;
+    let var = resolve(var, symbols, target)?;
+    let raw = var.parse(value)?;
+    Ok((var, raw))
+}
+
+fn symbol_address(s: &Symbol, target: &Target) -> Result<Address, String> {
+    target.memory.parse_address(&s.address).map_err(|e| {
+        format!(
+            "symbol `{}` ({}) is {}, not an address on {}: {e}",
+            s.name,
+            s.origin,
+            s.address,
+            target.name()
+        )
+    })
+}
+
+/// A direct address, or the error for a name that is neither a symbol nor an address.
+fn address(name: &str, symbols: &SymbolTable, target: &Target) -> Result<Address, String> {
+    let error = match target.memory.parse_address(name) {
+        Ok(a) => return Ok(a),
+        Err(e) => e,
+    };
+    if gutta_catalog::is_address_shaped(name) {
+        return Err(format!("`{name}` on {}: {error}", target.name()));
+    }
+    let similar = symbols.similar(name);
+    Err(if !similar.is_empty() {
+        format!(
+            "`{name}` is neither a symbol nor an address: did you mean {}?",
+            similar
+                .iter()
+                .map(|s| format!("`{s}`"))
+                .collect::<Vec<_>>()
+                .join(" or ")
+        )
+    } else if symbols.is_empty() {
+        format!(
+            "`{name}` is not an address on {}, and no symbols are known: {SYMBOL_SOURCES}",
+            target.name()
+        )
+    } else {
+        format!(
+            "`{name}` is neither a symbol ({} known) nor an address on {}",
+            symbols.symbols.len(),
+            target.name()
+        )
+    })
+}
+
+/// The symbols of `files` (program sources `.lad`, whose SYMBOLS blocks count; any other
+/// file a symbol table) and of `tables` (e.g. an image's source map), one namespace. A
+/// source with errors is refused: its symbols may be wrong.
+pub fn symbol_context(
+    files: &[PathBuf],
+    tables: Vec<SymbolTable>,
+    explicit: Option<&ExplicitTarget>,
+) -> Result<SymbolTable, String> {
+    let mut symbols: Vec<Symbol> = tables.into_iter().flat_map(|t| t.symbols).collect();
+    for path in files {
+        let name = path.display().to_string();
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("--symbols {name}: cannot read it: {e}"))?;
+        let file = SourceFile::new(&name, &text);
+        let is_source = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("lad"));
+        let program = if is_source {
+            ProgramSources::single(file)
+        } else {
+            ProgramSources {
+                sources: vec![],
+                symbol_tables: vec![file],
+            }
+        };
+        let checked = check_program(program, explicit);
+        if checked.has_errors() {
+            return Err(format!(
+                "--symbols {name} has errors (`gutta-cc --check {name}` shows them)"
+            ));
+        }
+        symbols.extend(checked.symbols().symbols);
+    }
+    Ok(SymbolTable::new(symbols))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table() -> SymbolTable {
+        let sym = |name: &str, address: &str, t: Option<&str>| Symbol {
+            name: name.into(),
+            address: address.into(),
+            data_type: t.map(Into::into),
+            comment: String::new(),
+            origin: "symbols.csv:2".into(),
+        };
+        SymbolTable::new(vec![
+            sym("Temp", "MD8", Some("REAL")),
+            sym("Count", "MW10", Some("WORD")),
+            sym("Lamp", "Q0.0", None),
+        ])
+    }
+
+    #[test]
+    fn the_suffix_then_the_declared_type_then_the_width_decide_the_format() {
+        let target = gutta_catalog::stdlib::shared(gutta_catalog::stdlib::DEFAULT)
+            .expect("the default target");
+        let symbols = table();
+        let format = |text: &str| resolve(text, &symbols, &target).map(|v| v.format);
+        assert_eq!(format("temp"), Ok(ValueFormat::Real));
+        assert_eq!(format("Temp:hex"), Ok(ValueFormat::Hex));
+        assert_eq!(format("Count"), Ok(ValueFormat::Unsigned));
+        assert_eq!(format("MW10"), Ok(ValueFormat::Signed));
+        assert_eq!(format("Lamp"), Ok(ValueFormat::Bool));
+        let temp = resolve("Temp", &symbols, &target).expect("Temp");
+        assert_eq!(temp.label(), "Temp (MD8)");
+        assert_eq!(temp.parse("-3.5"), Ok((-3.5f32).to_bits()));
+        assert_eq!(temp.json_value(21.5f32.to_bits()), serde_json::json!(21.5));
+        assert!(format("Count:real").is_err_and(|e| e.contains("double word")));
+        assert!(format("Lmap").is_err_and(|e| e.contains("did you mean `Lamp`?")));
+        let (var, raw) = resolve_assignment("Count=-1", &symbols, &target).expect("fits");
+        assert_eq!((var.canonical.as_str(), raw), ("MW10", 0xFFFF));
+    }
+}
