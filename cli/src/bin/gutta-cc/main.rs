@@ -6,7 +6,7 @@ use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{ArgMatches, CommandFactory, FromArgMatches, Parser, Subcommand, ValueEnum};
 use gutta_catalog::stdlib;
 use gutta_compiler::diagnostics::json;
 use gutta_compiler::diagnostics::render::{render, RenderStyle};
@@ -14,7 +14,7 @@ use gutta_compiler::encode::{listing, summary};
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{check_source, compile, ExplicitTarget};
 
-#[derive(Debug, Parser)]
+#[derive(Debug, Clone, Parser)]
 #[command(
     name = "gutta-cc",
     version,
@@ -49,9 +49,13 @@ struct Cli {
     /// Colour in human output.
     #[arg(long, global = true, value_enum, default_value_t = ColorChoice::Auto)]
     color: ColorChoice,
+    /// The project (gutta.toml) found from the current directory, when the command uses
+    /// one (`apply_project`).
+    #[arg(skip)]
+    project: Option<gutta_io::Project>,
 }
 
-#[derive(Debug, clap::Args)]
+#[derive(Debug, Clone, clap::Args)]
 struct TargetArgs {
     /// PLC type from the stdlib (overrides PLC_TYPE in the file).
     #[arg(long, global = true, value_name = "NAME")]
@@ -61,8 +65,21 @@ struct TargetArgs {
     target: Option<PathBuf>,
 }
 
-#[derive(Debug, Subcommand)]
+#[derive(Debug, Clone, Subcommand)]
 enum Command {
+    /// Create a project: NAME/ with gutta.toml, src/main.lad, symbols.csv, .gitignore and
+    /// a README (`--plc NAME` for another PLC type than the stdlib default).
+    New {
+        /// The project folder to create (its last part names the project).
+        name: PathBuf,
+    },
+    /// Compile the project (gutta.toml, found from the current directory upwards) into
+    /// its image directory: its sources as one program, with its symbol tables.
+    Build {
+        /// The image directory [default: gutta.toml's [build] output, else target/image].
+        #[arg(short, long, value_name = "DIR")]
+        output: Option<PathBuf>,
+    },
     /// Print the Modbus address of a variable (the vendor editor's Modbus query).
     Modbus {
         /// A direct address such as MW20, MB31, Q3.0, I0.4.
@@ -79,8 +96,9 @@ enum Command {
     /// Download an image directory into a PLC (UM4001: the PLC type must match; the PLC
     /// is cleared, every page written and read back, then reset to run the image).
     Download {
-        /// The image directory (holding manifest.json).
-        image: PathBuf,
+        /// The image directory (holding manifest.json) [in a project: the project,
+        /// built first].
+        image: Option<PathBuf>,
         #[command(flatten)]
         link: LinkArgs,
     },
@@ -167,7 +185,7 @@ enum Parity {
 }
 
 /// How to reach a PLC.
-#[derive(Debug, clap::Args)]
+#[derive(Debug, Clone, clap::Args)]
 struct LinkArgs {
     /// Modbus TCP, e.g. 127.0.0.1:502.
     #[arg(long, value_name = "HOST:PORT", group = "endpoint")]
@@ -220,13 +238,15 @@ enum ColorChoice {
 mod client;
 mod explain;
 mod login;
+mod project;
 
 /// A usage or I/O failure: printed, exit 2.
 struct Fatal(String);
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
-    match run(cli) {
+    let matches = Cli::command().get_matches();
+    let mut cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    match apply_project(&mut cli, &matches).and_then(|()| run(cli)) {
         Ok(code) => code,
         Err(Fatal(message)) => {
             eprintln!("gutta-cc: error: {message}");
@@ -235,14 +255,106 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(cli: Cli) -> Result<ExitCode, Fatal> {
+impl Command {
+    /// The link flags of a command that talks to a PLC.
+    fn link_mut(&mut self) -> Option<&mut LinkArgs> {
+        match self {
+            Command::Download { link, .. }
+            | Command::Upload { link, .. }
+            | Command::Status { link }
+            | Command::Run { link }
+            | Command::Stop { link }
+            | Command::Read { link, .. }
+            | Command::Write { link, .. }
+            | Command::Unforce { link, .. }
+            | Command::Debug { link, .. }
+            | Command::Force { link, .. } => Some(link),
+            Command::New { .. }
+            | Command::Build { .. }
+            | Command::Modbus { .. }
+            | Command::Dis { .. }
+            | Command::Explain { .. }
+            | Command::ListTargets => None,
+        }
+    }
+}
+
+/// Inside a project (docs/projects.md), what the command line leaves out comes from
+/// gutta.toml: the link flags not given on the command line from `[connection]`,
+/// --plc/--target from `[program]`, the symbol context (--symbols) from the project's
+/// sources and tables, and `debug`'s image from the build output. Compiling files, `new`,
+/// `dis`, `explain` and `list-targets` do not look for a project; outside one, nothing
+/// changes.
+fn apply_project(cli: &mut Cli, matches: &ArgMatches) -> Result<(), Fatal> {
+    let uses_project = !matches!(
+        cli.command,
+        None | Some(
+            Command::New { .. }
+                | Command::Dis { .. }
+                | Command::Explain { .. }
+                | Command::ListTargets
+        )
+    );
+    if !uses_project {
+        return Ok(());
+    }
+    let Some(project) = project::find()? else {
+        return Ok(());
+    };
+    project::apply_target(&mut cli.target, &project);
+    let link = cli.command.as_mut().and_then(Command::link_mut);
+    if let (Some(link), Some((_, sub))) = (link, matches.subcommand()) {
+        project::apply_connection(link, sub, &project.connection);
+    }
+    let building = matches!(cli.command, Some(Command::Build { .. }));
+    if cli.symbols.is_empty() && !building {
+        cli.symbols = project::context_files(&project);
+    }
+    if let Some(Command::Debug {
+        image: image @ None,
+        ..
+    }) = &mut cli.command
+    {
+        if project.output.is_dir() {
+            *image = Some(project::shown(&project.output));
+        }
+    }
+    cli.project = Some(project);
+    Ok(())
+}
+
+fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
     match &cli.command {
+        Some(Command::New { name }) => {
+            if cli.target.target.is_some() {
+                return Err(Fatal(
+                    "`gutta-cc new` takes --plc NAME; for a target folder, set [program] target in gutta.toml".into(),
+                ));
+            }
+            return project::new(name, cli.target.plc.as_deref());
+        }
+        Some(Command::Build { output }) => {
+            let project = project::required(cli.project.as_ref(), "build")?;
+            let output = output.clone();
+            project::build_command(&mut cli, &project, output);
+            return run(cli);
+        }
+        Some(Command::Download { image: None, link }) => {
+            let project = cli.project.as_ref().ok_or_else(|| {
+                Fatal("download needs an IMAGE directory (or run it inside a project: `gutta-cc new NAME`)".into())
+            })?;
+            return match project::build_for_download(&cli, project)? {
+                Some(image) => client::download(&cli.target, &image, link),
+                None => Ok(ExitCode::from(1)),
+            };
+        }
         Some(Command::Modbus { variable }) => return modbus(&cli.target, variable),
         Some(Command::Explain { code }) => return explain(code),
         Some(Command::Dis { image }) => return dis(&cli.target, image),
-        Some(Command::Download { image, link }) => {
-            return client::download(&cli.target, image, link)
-        }
+        Some(Command::Download {
+            image: Some(image),
+            link,
+        }) => return client::download(&cli.target, image, link),
         Some(Command::Status { link }) => return client::status(link),
         Some(Command::Upload { output, link }) => return client::upload(&cli.target, output, link),
         Some(Command::Run { link }) => return client::run_stop(link, true),
