@@ -136,22 +136,11 @@ impl Project {
         let text = std::fs::read_to_string(manifest)
             .map_err(|e| format!("cannot read {}: {e}", manifest.display()))?;
         let root = manifest.parent().map(Path::to_path_buf).unwrap_or_default();
-        let project = Project::parse(&root, manifest, &text)?;
-        for file in project.sources.iter().chain(&project.symbols) {
-            if !file.is_file() {
-                return Err(format!(
-                    "{}: {} does not exist (paths are relative to the project folder {})",
-                    manifest.display(),
-                    file.display(),
-                    root.display()
-                ));
-            }
-        }
-        Ok(project)
+        Project::parse(&root, manifest, &text)
     }
 
-    /// Parse and validate `text`, the manifest `manifest` of the folder `root`, without
-    /// touching the files it names.
+    /// Parse and validate `text`, the manifest `manifest` of the folder `root` (the files
+    /// it names must exist).
     pub fn parse(root: &Path, manifest: &Path, text: &str) -> Result<Project, String> {
         let at = |span: Range<usize>, message: String| {
             let (line, column) = line_column(text, span.start);
@@ -159,10 +148,9 @@ impl Project {
         };
         let parsed: Manifest = toml::from_str(text).map_err(|e| {
             let span = e.span().unwrap_or(0..0);
-            match unknown_key(text, span.clone(), e.message()) {
-                Some(message) => at(span, message),
-                None => at(span, e.message().trim_end().to_string()),
-            }
+            let message = unknown_key(text, span.clone(), e.message())
+                .unwrap_or_else(|| explained(text, span.start, e.message()));
+            at(span, message)
         })?;
         let program = parsed.program;
         let plc = match (program.plc, program.target) {
@@ -188,6 +176,27 @@ impl Project {
                 "[program] sources is empty: list the program's .lad files, e.g. sources = [\"src/main.lad\"]".into(),
             ));
         }
+        let files = |list: Vec<Spanned<String>>, key: &str| {
+            list.into_iter()
+                .map(|file| {
+                    let path = root.join(file.get_ref());
+                    if path.is_file() {
+                        Ok(path)
+                    } else {
+                        Err(at(
+                            file.span(),
+                            format!(
+                                "[program] {key}: {} does not exist (paths are relative to the project folder {})",
+                                path.display(),
+                                root.display()
+                            ),
+                        ))
+                    }
+                })
+                .collect::<Result<Vec<_>, _>>()
+        };
+        let sources = files(program.sources.into_inner(), "sources")?;
+        let symbols = files(program.symbols, "symbols")?;
         let name = match program.name {
             Some(n) if n.get_ref().trim().is_empty() => {
                 return Err(at(n.span(), "[program] name is empty".into()))
@@ -211,17 +220,8 @@ impl Project {
             manifest: manifest.to_path_buf(),
             name,
             plc,
-            sources: program
-                .sources
-                .into_inner()
-                .into_iter()
-                .map(|s| root.join(s.get_ref()))
-                .collect(),
-            symbols: program
-                .symbols
-                .into_iter()
-                .map(|s| root.join(s.get_ref()))
-                .collect(),
+            sources,
+            symbols,
             output: root.join(output),
             connection,
         })
@@ -275,21 +275,22 @@ fn connection(
             ));
         }
     }
-    let parity =
-        match c.parity {
-            None => None,
-            Some(p) => Some(match p.get_ref().to_ascii_lowercase().as_str() {
-                "none" => Parity::None,
-                "even" => Parity::Even,
-                "odd" => Parity::Odd,
-                other => return Err(at(
+    let parity = match c.parity {
+        None => None,
+        Some(p) => Some(match p.get_ref().to_ascii_lowercase().as_str() {
+            "none" => Parity::None,
+            "even" => Parity::Even,
+            "odd" => Parity::Odd,
+            other => {
+                return Err(at(
                     p.span(),
                     format!(
                         "[connection] parity = \"{other}\": expected \"none\", \"even\" or \"odd\""
                     ),
-                )),
-            }),
-        };
+                ))
+            }
+        }),
+    };
     let station = match c.station {
         None => None,
         Some(s) => Some(
@@ -339,6 +340,43 @@ fn unknown_key(text: &str, span: Range<usize>, message: &str) -> Option<String> 
         None => message.push_str(&format!("; expected one of: {}", known.join(", "))),
     }
     Some(message)
+}
+
+/// Any other error of toml's, said in gutta.toml's terms: which section lacks which
+/// key, or which key's value is wrong.
+fn explained(text: &str, offset: usize, message: &str) -> String {
+    let message = message.trim_end();
+    if let Some(key) = message
+        .strip_prefix("missing field `")
+        .and_then(|m| m.strip_suffix('`'))
+    {
+        return match key {
+            "program" => {
+                "no [program] section: a project needs one, with sources = [\"src/main.lad\"]"
+                    .into()
+            }
+            "sources" => {
+                "[program] needs sources = [\"src/main.lad\", ...]: the program's files".into()
+            }
+            other => format!("missing key `{other}`"),
+        };
+    }
+    let line_start = text[..offset.min(text.len())]
+        .rfind('\n')
+        .map_or(0, |i| i + 1);
+    let line = text[line_start..].lines().next().unwrap_or("");
+    match line.split_once('=') {
+        Some((key, _)) if !line.trim_start().starts_with('[') => {
+            let section = section_at(text, offset);
+            let key = key.trim();
+            if section.is_empty() {
+                format!("`{key}`: {message}")
+            } else {
+                format!("[{section}] {key}: {message}")
+            }
+        }
+        _ => message.to_string(),
+    }
 }
 
 /// The `[section]` whose table holds byte `offset` ("" before the first heading).
