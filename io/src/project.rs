@@ -380,15 +380,16 @@ fn explained(text: &str, offset: usize, message: &str) -> String {
 }
 
 /// The `[section]` whose table holds byte `offset` ("" before the first heading).
-fn section_at<'a>(text: &'a str, offset: usize) -> &'a str {
+fn section_at(text: &str, offset: usize) -> &str {
     text[..offset.min(text.len())]
         .lines()
+        .rev()
         .filter_map(|line| {
             let line = line.trim();
             let inner = line.strip_prefix('[')?;
             Some(inner.split(']').next()?.trim())
         })
-        .last()
+        .next()
         .unwrap_or("")
 }
 
