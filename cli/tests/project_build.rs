@@ -122,7 +122,7 @@ fn build_finds_the_project_from_a_subfolder() {
     let o = cc_in(&sub, &["build"]);
     assert!(o.status.success(), "{}", text(&o));
     assert!(
-        stderr(&o).contains("../main.lad: wrote ../../target/image for CPU-EC20"),
+        stderr(&o).contains("src/main.lad: wrote target/image for CPU-EC20"),
         "{}",
         stderr(&o)
     );

@@ -1,7 +1,7 @@
 //! A project online, through the real binaries: `gutta-cc download` in a new project
 //! builds it and downloads into a `gutta-sim` at gutta.toml's `[connection]`; client
-//! commands reach the PLC from there, flags override it, and a build error stops before
-//! connecting. Under tmux, the download's progress bar and its summary agree on the
+//! commands reach the PLC from there (`debug` with the project's source map), flags
+//! override it, and a build error stops before connecting. Under tmux, the download's progress bar and its summary agree on the
 //! byte count.
 
 mod common;
@@ -57,6 +57,24 @@ fn download_builds_the_project_and_reaches_the_plc_of_gutta_toml() {
         );
         std::thread::sleep(Duration::from_millis(50));
     }
+
+    // `debug` finds the project's image and its source map: breakpoints by the file
+    // names of gutta.toml, from anywhere in the project.
+    let line = read(&dir.join("src/main.lad"))
+        .lines()
+        .position(|l| l.starts_with("AN     Stop"))
+        .expect("the latch's AN")
+        + 1;
+    let at = format!("src/main.lad:{line}");
+    let o = cc_in(&dir.join("src"), &["debug", "break", &at]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        stdout(&o).contains(&format!("{at}:1 (MAIN:1:2)")),
+        "{}",
+        stdout(&o)
+    );
+    let o = cc_in(&dir, &["debug", "clear"]);
+    assert!(o.status.success(), "{}", text(&o));
 
     // From a subfolder, with an image given: no build, the same PLC.
     let o = cc_in(&dir.join("src"), &["download", "../target/image"]);

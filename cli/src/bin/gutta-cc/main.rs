@@ -336,7 +336,7 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
         Some(Command::Build { output }) => {
             let project = project::required(cli.project.as_ref(), "build")?;
             let output = output.clone();
-            project::build_command(&mut cli, &project, output);
+            project::build_command(&mut cli, &project, output)?;
             return run(cli);
         }
         Some(Command::Download { image: None, link }) => {

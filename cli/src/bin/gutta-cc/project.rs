@@ -27,9 +27,7 @@ const TEMPLATES: &[(&str, &str)] = &[
 
 /// The project around the current directory, if any.
 pub(crate) fn find() -> Result<Option<Project>, Fatal> {
-    let cwd = std::env::current_dir()
-        .map_err(|e| Fatal(format!("cannot read the current directory: {e}")))?;
-    Project::find(&cwd).map_err(Fatal)
+    Project::find(&current_dir()?).map_err(Fatal)
 }
 
 /// The project a project command needs: found, or an error saying how to make one.
@@ -115,13 +113,47 @@ fn check_name(name: &str) -> Result<(), Fatal> {
 }
 
 /// `gutta-cc build [--output DIR]` as the compile path runs it: the project's sources as
-/// the files, its tables as --symbols, the output directory as -o.
-pub(crate) fn build_command(cli: &mut Cli, project: &Project, output: Option<PathBuf>) {
+/// the files, its tables (then the user's --symbols) as --symbols, the output directory
+/// as -o. The build runs in the project folder, as cargo builds in its workspace's:
+/// diagnostics, the summary and the source map name files as gutta.toml does
+/// (`src/main.lad`), wherever in the project the command was given; paths from the
+/// command line keep meaning what they meant where it was given.
+pub(crate) fn build_command(
+    cli: &mut Cli,
+    project: &Project,
+    output: Option<PathBuf>,
+) -> Result<(), Fatal> {
+    let cwd = current_dir()?;
+    let output = output.map_or_else(|| project.output.clone(), |o| cwd.join(o));
+    let user_tables: Vec<PathBuf> = cli.symbols.iter().map(|s| cwd.join(s)).collect();
+    if let Some(dir) = &mut cli.target.target {
+        *dir = cwd.join(&*dir);
+    }
+    std::env::set_current_dir(&project.root).map_err(|e| {
+        Fatal(format!(
+            "cannot enter the project folder {}: {e}",
+            project.root.display()
+        ))
+    })?;
+    let in_project = |p: &PathBuf| {
+        p.strip_prefix(&project.root)
+            .map(Path::to_path_buf)
+            .unwrap_or_else(|_| p.clone())
+    };
     cli.command = None;
-    cli.files = project.sources.iter().map(|p| shown(p)).collect();
-    let tables: Vec<PathBuf> = project.symbols.iter().map(|p| shown(p)).collect();
-    cli.symbols.splice(0..0, tables);
-    cli.output = Some(output.unwrap_or_else(|| shown(&project.output)));
+    cli.files = project.sources.iter().map(in_project).collect();
+    cli.symbols = project
+        .symbols
+        .iter()
+        .chain(&user_tables)
+        .map(in_project)
+        .collect();
+    cli.output = Some(in_project(&output));
+    Ok(())
+}
+
+fn current_dir() -> Result<PathBuf, Fatal> {
+    std::env::current_dir().map_err(|e| Fatal(format!("cannot read the current directory: {e}")))
 }
 
 /// A project path as diagnostics and summaries show it: relative to the current
@@ -212,12 +244,10 @@ pub(crate) fn build_for_download(cli: &Cli, project: &Project) -> Result<Option<
             .chain(&project.symbols)
             .any(|p| shown(p) == *s)
     });
-    build_command(&mut build, project, None);
-    let output = build.output.clone();
+    let cwd = current_dir()?;
+    build_command(&mut build, project, None)?;
     let code = crate::run(build)?;
-    Ok(if code == ExitCode::SUCCESS {
-        output
-    } else {
-        None
-    })
+    std::env::set_current_dir(&cwd)
+        .map_err(|e| Fatal(format!("cannot return to {}: {e}", cwd.display())))?;
+    Ok((code == ExitCode::SUCCESS).then(|| project.output.clone()))
 }
