@@ -108,6 +108,9 @@ fn new_refuses_a_non_empty_folder_an_invalid_name_and_an_unknown_plc() {
             stderr(&o)
         );
     }
+    let o = cc_in(&parent.join("empty"), &["new", "."]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(stderr(&o).contains("takes the new project's folder"), "{}", stderr(&o));
     let o = cc_in(&parent, &["new", "x", "--plc", "CPU-NOPE"]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     assert!(stderr(&o).contains("--plc CPU-NOPE"), "{}", stderr(&o));

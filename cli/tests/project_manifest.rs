@@ -66,6 +66,18 @@ fn unknown_keys_name_the_key_its_place_and_the_key_meant() {
         "unknown key `programm` at the top level; did you mean `program`?",
     );
     build_fails(
+        "dotted",
+        "program.sources = [\"src/main.lad\"]\nprogram.plcc = \"CPU-EC20\"\n",
+        ":2:9",
+        "unknown key `plcc` in [program]; did you mean `plc`?",
+    );
+    build_fails(
+        "subtable",
+        &format!("{PROGRAM}[connection.extra]\nx = 1\n"),
+        ":3:13",
+        "unknown key `extra` in [connection]; expected one of: tcp, rtu-tcp, serial, baud, parity, station, timeout, retries",
+    );
+    build_fails(
         "whatever",
         &format!("{PROGRAM}whatever = 1\n"),
         ":3:1",

@@ -327,7 +327,8 @@ fn unknown_key(text: &str, span: Range<usize>, message: &str) -> Option<String> 
         .get(span.clone())?
         .trim()
         .trim_matches(|c| c == '"' || c == '\'');
-    let section = section_at(text, span.start);
+    let section = table_of_key(text, span.start);
+    let section = section.as_str();
     let known = SECTIONS.iter().find(|(name, _)| *name == section)?.1;
     let heading = if section.is_empty() {
         "at the top level".to_string()
@@ -376,6 +377,25 @@ fn explained(text: &str, offset: usize, message: &str) -> String {
             }
         }
         _ => message.to_string(),
+    }
+}
+
+/// The table (dotted path) the key at byte `offset` belongs to: the last `[section]`
+/// heading before its line, then any dotted prefix on the line itself (`program.plcc = 1`,
+/// `[program.sub]`).
+fn table_of_key(text: &str, offset: usize) -> String {
+    let offset = offset.min(text.len());
+    let line_start = text[..offset].rfind('\n').map_or(0, |i| i + 1);
+    let prefix = text[line_start..offset].trim();
+    let (base, dotted) = match prefix.strip_prefix('[') {
+        Some(heading) => ("", heading.trim_start_matches('[')),
+        None => (section_at(text, line_start), prefix),
+    };
+    let dotted = dotted.trim_end_matches('.').trim();
+    match (base.is_empty(), dotted.is_empty()) {
+        (_, true) => base.to_string(),
+        (true, false) => dotted.to_string(),
+        (false, false) => format!("{base}.{dotted}"),
     }
 }
 

@@ -53,6 +53,11 @@ pub(crate) fn new(path: &Path, plc: Option<&str>) -> Result<ExitCode, Fatal> {
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
+    if name.is_empty() {
+        return Err(Fatal(
+            "`gutta-cc new` takes the new project's folder, e.g. `gutta-cc new blinky`".into(),
+        ));
+    }
     check_name(&name)?;
     let plc = plc.unwrap_or(stdlib::DEFAULT);
     stdlib::load(plc).map_err(|e| {
