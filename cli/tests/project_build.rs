@@ -110,7 +110,11 @@ fn new_refuses_a_non_empty_folder_an_invalid_name_and_an_unknown_plc() {
     }
     let o = cc_in(&parent.join("empty"), &["new", "."]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
-    assert!(stderr(&o).contains("takes the new project's folder"), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("takes the new project's folder"),
+        "{}",
+        stderr(&o)
+    );
     let o = cc_in(&parent, &["new", "x", "--plc", "CPU-NOPE"]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     assert!(stderr(&o).contains("--plc CPU-NOPE"), "{}", stderr(&o));
@@ -157,6 +161,22 @@ fn a_plc_on_the_command_line_wins_over_gutta_toml() {
     assert!(stderr(&o).contains("for EC30-EKSTM32-XC"), "{}", stderr(&o));
     let manifest = read(&dir.join("target/image/manifest.json"));
     assert!(manifest.contains("EC30-EKSTM32-XC"), "{manifest}");
+}
+
+#[test]
+fn a_plc_type_line_that_gutta_toml_overrides_is_a_warning_naming_it() {
+    let dir = new_project("plc-line", "line");
+    let main = dir.join("src/main.lad");
+    write(&main, &format!("PLC_TYPE EC30-EKSTM32-XC\n{}", read(&main)));
+    let o = cc_in(&dir, &["build", "--color", "never"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        stderr(&o).contains(
+            "the file names EC30-EKSTM32-XC; [program] plc in gutta.toml selects CPU-EC20"
+        ),
+        "{}",
+        stderr(&o)
+    );
 }
 
 #[test]

@@ -63,6 +63,10 @@ struct TargetArgs {
     /// A target folder holding PlcType.xml, ManagerVar.xml and ManagerFun.xml.
     #[arg(long, global = true, value_name = "DIR", conflicts_with = "plc")]
     target: Option<PathBuf>,
+    /// Where --plc/--target came from when not the command line (gutta.toml), for
+    /// diagnostics.
+    #[arg(skip)]
+    origin: Option<String>,
 }
 
 #[derive(Debug, Clone, Subcommand)]
@@ -508,14 +512,20 @@ fn explicit_target(args: &TargetArgs) -> Result<Option<ExplicitTarget>, Fatal> {
         let target = stdlib::shared(name).map_err(|e| Fatal(e.to_string()))?;
         return Ok(Some(ExplicitTarget {
             target,
-            origin: format!("--plc {name}"),
+            origin: args
+                .origin
+                .clone()
+                .unwrap_or_else(|| format!("--plc {name}")),
         }));
     }
     if let Some(dir) = &args.target {
         let target = std::sync::Arc::new(gutta_io::load_target_dir(dir).map_err(Fatal)?);
         return Ok(Some(ExplicitTarget {
             target,
-            origin: format!("--target {}", dir.display()),
+            origin: args
+                .origin
+                .clone()
+                .unwrap_or_else(|| format!("--target {}", dir.display())),
         }));
     }
     Ok(None)

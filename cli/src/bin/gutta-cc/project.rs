@@ -194,11 +194,18 @@ pub(crate) fn apply_target(target: &mut TargetArgs, project: &Project) {
     if target.plc.is_some() || target.target.is_some() {
         return;
     }
-    match &project.plc {
-        ProjectTarget::Stdlib(name) => target.plc = Some(name.clone()),
-        ProjectTarget::Folder(dir) => target.target = Some(dir.clone()),
-        ProjectTarget::Unspecified => {}
-    }
+    let key = match &project.plc {
+        ProjectTarget::Stdlib(name) => {
+            target.plc = Some(name.clone());
+            "plc"
+        }
+        ProjectTarget::Folder(dir) => {
+            target.target = Some(dir.clone());
+            "target"
+        }
+        ProjectTarget::Unspecified => return,
+    };
+    target.origin = Some(format!("[program] {key} in gutta.toml"));
 }
 
 /// `[connection]` into the link flags the command line did not give (`matches`: the
