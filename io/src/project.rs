@@ -447,3 +447,61 @@ fn edit_distance(a: &str, b: &str) -> usize {
     }
     row[b.len()]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A folder of this test holding src/main.lad, and its gutta.toml's path.
+    fn folder(tag: &str) -> (PathBuf, PathBuf) {
+        let root =
+            std::env::temp_dir().join(format!("gutta-io-project-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&root);
+        std::fs::create_dir_all(root.join("src")).expect("mkdir");
+        std::fs::write(root.join("src/main.lad"), "").expect("writes");
+        let manifest = root.join(MANIFEST);
+        (root, manifest)
+    }
+
+    #[test]
+    fn paths_join_the_project_folder_and_absent_keys_take_their_defaults() {
+        let (root, manifest) = folder("defaults");
+        let p = Project::parse(
+            &root,
+            &manifest,
+            "[program]\nsources = [\"src/main.lad\"]\n",
+        )
+        .expect("valid");
+        assert_eq!(p.sources, vec![root.join("src/main.lad")]);
+        assert!(p.symbols.is_empty());
+        assert_eq!(p.output, root.join(DEFAULT_OUTPUT));
+        assert_eq!(p.plc, ProjectTarget::Unspecified);
+        assert_eq!(p.connection, Connection::default());
+        assert_eq!(
+            Some(p.name.as_str()),
+            root.file_name().and_then(|n| n.to_str())
+        );
+    }
+
+    #[test]
+    fn find_walks_up_to_the_first_manifest() {
+        let (root, manifest) = folder("find");
+        std::fs::write(&manifest, "[program]\nsources = [\"src/main.lad\"]\n[connection]\nrtu-tcp = \"h:1\"\nstation = 9\n")
+            .expect("writes");
+        let deep = root.join("src/a/b");
+        std::fs::create_dir_all(&deep).expect("mkdir");
+        let p = Project::find(&deep).expect("valid").expect("found");
+        assert_eq!(p.root, root);
+        assert_eq!(p.connection.endpoint, Some(Endpoint::RtuTcp("h:1".into())));
+        assert_eq!(p.connection.station, Some(9));
+    }
+
+    #[test]
+    fn close_keys_are_suggested_and_far_ones_are_not() {
+        assert_eq!(closest("sorces", &["plc", "sources"]), Some("sources"));
+        assert_eq!(closest("SOURCES", &["plc", "sources"]), Some("sources"));
+        assert_eq!(closest("whatever", &["plc", "sources"]), None);
+        assert_eq!(line_column("ab\ncdé f", 8), (2, 5));
+        assert_eq!(table_of_key("[a]\nb.c = 1", 6), "a.b");
+    }
+}
