@@ -1,9 +1,10 @@
 //! File I/O shared by the command-line tools (gutta-cc, gutta-vm and gutta-sim, in
 //! cli/): reading a target folder, reading an image directory, writing one atomically,
-//! and the source map beside it.
+//! the source map beside it, and projects (gutta.toml).
 //! The libraries do no I/O (their clippy.toml forbids it); only the binaries use this.
 
 mod image_dir;
+mod project;
 mod source_map;
 
 use std::path::Path;
@@ -12,6 +13,9 @@ use gutta_catalog::{stdlib, CatalogErrorCode, Target, TargetSources};
 use gutta_format::Image;
 
 pub use image_dir::{write_image, WriteError};
+pub use project::{
+    find_manifest, Connection, Endpoint, Parity, Project, ProjectTarget, DEFAULT_OUTPUT, MANIFEST,
+};
 pub use source_map::{read_source_map, source_map_path, write_image_with_map};
 
 /// Read a target folder: PlcType.xml and ManagerVar.xml, and ManagerFun.xml if present

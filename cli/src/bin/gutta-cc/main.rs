@@ -7,7 +7,7 @@ use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{CommandFactory, FromArgMatches, Parser, Subcommand, ValueEnum};
+use clap::{ArgMatches, CommandFactory, FromArgMatches, Parser, Subcommand, ValueEnum};
 use gutta_catalog::stdlib;
 use gutta_cli::color::ColorChoice;
 use gutta_cli::fatal::{report_clap_error, Fatal, MessageFormat};
@@ -18,7 +18,7 @@ use gutta_compiler::encode::{listing, summary};
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{check_source, compile, ExplicitTarget};
 
-#[derive(Debug, Parser)]
+#[derive(Debug, Clone, Parser)]
 #[command(
     name = "gutta-cc",
     version,
@@ -61,9 +61,13 @@ struct Cli {
     /// Colour in human output (auto: on a terminal, unless NO_COLOR is set and not empty).
     #[arg(long, global = true, value_name = "WHEN", value_enum, default_value_t = ColorChoice::Auto)]
     color: ColorChoice,
+    /// The project (gutta.toml) found from the current directory, when the command uses
+    /// one (`apply_project`).
+    #[arg(skip)]
+    project: Option<gutta_io::Project>,
 }
 
-#[derive(Debug, clap::Args)]
+#[derive(Debug, Clone, clap::Args)]
 struct TargetArgs {
     /// PLC type from the stdlib (overrides PLC_TYPE in the file).
     #[arg(long, global = true, value_name = "NAME")]
@@ -71,10 +75,33 @@ struct TargetArgs {
     /// A target folder holding PlcType.xml, ManagerVar.xml and ManagerFun.xml.
     #[arg(long, global = true, value_name = "DIR", conflicts_with = "plc")]
     target: Option<PathBuf>,
+    /// Where --plc/--target came from when not the command line (gutta.toml), for
+    /// diagnostics.
+    #[arg(skip)]
+    origin: Option<String>,
 }
 
-#[derive(Debug, Subcommand)]
+#[derive(Debug, Clone, Subcommand)]
 enum Command {
+    /// Create a project: NAME/ with gutta.toml, src/main.lad, symbols.csv, .gitignore and
+    /// a README (`--plc NAME` for another PLC type than the stdlib default).
+    #[command(
+        after_help = "Examples:\n  gutta-cc new demo && cd demo && gutta-cc build\n  gutta-cc new pump --plc EC30-EKSTM32"
+    )]
+    New {
+        /// The project folder to create (its last part names the project).
+        name: PathBuf,
+    },
+    /// Compile the project (gutta.toml, found from the current directory upwards) into
+    /// its image directory: its sources as one program, with its symbol tables.
+    #[command(
+        after_help = "Examples:\n  gutta-cc new demo && cd demo && gutta-cc build\n  gutta-cc new demo2 && cd demo2 && gutta-cc build --output out/ --message-format json"
+    )]
+    Build {
+        /// The image directory [default: gutta.toml's [build] output, else target/image].
+        #[arg(short, long, value_name = "DIR")]
+        output: Option<PathBuf>,
+    },
     /// Print the Modbus address of a variable (the vendor editor's Modbus query).
     #[command(
         after_help = "Examples:\n  gutta-cc modbus MW20                 # holding register 400019\n  gutta-cc modbus Q0.0 --plc CPU-EC20"
@@ -106,8 +133,9 @@ enum Command {
         after_help = "Examples:\n  gutta-cc download image/ --tcp 127.0.0.1:5020\n  gutta-cc download image/ --serial /dev/ttyUSB0 --baud 9600 --parity even\n  gutta-cc download image/ --tcp 127.0.0.1:5020 --station 1 --message-format json"
     )]
     Download {
-        /// The image directory (holding manifest.json).
-        image: PathBuf,
+        /// The image directory (holding manifest.json) [in a project: the project,
+        /// built first].
+        image: Option<PathBuf>,
         #[command(flatten)]
         link: LinkArgs,
     },
@@ -220,6 +248,9 @@ enum Command {
     /// Watch variables live: a table (name, address, format, value, when it last
     /// changed) redrawn every --interval on a terminal, q, Esc or Ctrl-C to quit; one line
     /// per sample when stdout is not a terminal.
+    #[command(
+        after_help = "Examples:\n  gutta-cc watch Q0.0 MW24 --tcp 127.0.0.1:5020 --once\n  gutta-cc watch MD4:hex MD8:real --tcp 127.0.0.1:5020 --once --json\n  gutta-cc watch Q0.0 --interval 500 --tcp 127.0.0.1:5020 --once"
+    )]
     Watch {
         /// Symbols or direct addresses, each with an optional `:fmt`: Lamp, MW10:hex.
         #[arg(required = true)]
@@ -274,7 +305,7 @@ enum Parity {
 }
 
 /// How to reach a PLC.
-#[derive(Debug, clap::Args)]
+#[derive(Debug, Clone, clap::Args)]
 struct LinkArgs {
     /// Modbus TCP, e.g. 127.0.0.1:502.
     #[arg(long, value_name = "HOST:PORT", group = "endpoint")]
@@ -317,6 +348,7 @@ mod explain;
 mod login;
 mod vars;
 mod watch;
+mod project;
 
 mod completions;
 mod help;
@@ -342,31 +374,141 @@ fn main() -> ExitCode {
         return e.report(TOOL, format);
     }
     let args = typo::subcommand_first(&command, &args);
-    let cli = match command
-        .try_get_matches_from(&args)
-        .and_then(|mut m| Cli::from_arg_matches_mut(&mut m))
-    {
+    let matches = match command.try_get_matches_from(&args) {
+        Ok(m) => m,
+        Err(e) => return report_clap_error(e, TOOL, format),
+    };
+    let mut cli = match Cli::from_arg_matches(&matches) {
         Ok(cli) => cli,
         Err(e) => return report_clap_error(e, TOOL, format),
     };
     let format = cli.message_format;
-    match run(cli) {
+    match apply_project(&mut cli, &matches).and_then(|()| run(cli)) {
         Ok(code) => code,
         Err(e) => e.report(TOOL, format),
     }
 }
 
-fn run(cli: Cli) -> Result<ExitCode, Fatal> {
-    let online = client::Online {
+impl Command {
+    /// The link flags of a command that talks to a PLC.
+    fn link_mut(&mut self) -> Option<&mut LinkArgs> {
+        match self {
+            Command::Download { link, .. }
+            | Command::Upload { link, .. }
+            | Command::Status { link }
+            | Command::Run { link }
+            | Command::Stop { link }
+            | Command::Read { link, .. }
+            | Command::Write { link, .. }
+            | Command::Unforce { link, .. }
+            | Command::Debug { link, .. }
+            | Command::Force { link, .. }
+            | Command::Watch { link, .. } => Some(link),
+            Command::New { .. }
+            | Command::Build { .. }
+            | Command::Modbus { .. }
+            | Command::Dis { .. }
+            | Command::Explain { .. }
+            | Command::ListTargets
+            | Command::Completions { .. }
+            | Command::Man { .. } => None,
+        }
+    }
+}
+
+/// Inside a project (docs/projects.md), what the command line leaves out comes from
+/// gutta.toml: the link flags not given on the command line from `[connection]`,
+/// --plc/--target from `[program]`, the symbol context (--symbols) from the project's
+/// sources and tables, and `debug`'s image from the build output. Compiling files, `new`,
+/// `dis`, `explain` and `list-targets` do not look for a project; outside one, nothing
+/// changes.
+fn apply_project(cli: &mut Cli, matches: &ArgMatches) -> Result<(), Fatal> {
+    let uses_project = !matches!(
+        cli.command,
+        None | Some(
+            Command::New { .. }
+                | Command::Dis { .. }
+                | Command::Explain { .. }
+                | Command::ListTargets
+                | Command::Completions { .. }
+                | Command::Man { .. }
+        )
+    );
+    if !uses_project {
+        return Ok(());
+    }
+    let Some(project) = project::find()? else {
+        return Ok(());
+    };
+    project::apply_target(&mut cli.target, &project);
+    let link = cli.command.as_mut().and_then(Command::link_mut);
+    if let (Some(link), Some((_, sub))) = (link, matches.subcommand()) {
+        project::apply_connection(link, sub, &project.connection);
+    }
+    let building = matches!(cli.command, Some(Command::Build { .. }));
+    if cli.symbols.is_empty() && !building {
+        cli.symbols = project::context_files(&project);
+    }
+    if let Some(Command::Debug {
+        image: image @ None,
+        ..
+    }) = &mut cli.command
+    {
+        if project.output.is_dir() {
+            *image = Some(project::shown(&project.output));
+        }
+    }
+    cli.project = Some(project);
+    Ok(())
+}
+
+/// What every client command takes from the command line besides its link.
+fn online(cli: &Cli) -> client::Online<'_> {
+    client::Online {
         targets: &cli.target,
         symbol_files: &cli.symbols,
         json: cli.message_format == MessageFormat::Json,
-    };
+    }
+}
+
+fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
+    // The commands that build first or make a project; then the rest, which only read `cli`.
+    match &cli.command {
+        Some(Command::New { name }) => {
+            if cli.target.target.is_some() {
+                return Err(Fatal::usage(
+                    "`gutta-cc new` takes --plc NAME; for a target folder, set [program] target in gutta.toml",
+                ));
+            }
+            return project::new(name, cli.target.plc.as_deref());
+        }
+        Some(Command::Build { output }) => {
+            let project = project::required(cli.project.as_ref(), "build")?;
+            let output = output.clone();
+            project::build_command(&mut cli, &project, output)?;
+            return run(cli);
+        }
+        Some(Command::Download { image: None, link }) => {
+            let project = cli.project.as_ref().ok_or_else(|| {
+                Fatal::usage("download needs an IMAGE directory (or run it inside a project: `gutta-cc new NAME`)")
+            })?;
+            let Some(image) = project::build_for_download(&cli, project)? else {
+                return Ok(ExitCode::from(1));
+            };
+            let online = online(&cli);
+            return client::download(&online, &image, link);
+        }
+        _ => {}
+    }
+    let online = online(&cli);
     match &cli.command {
         Some(Command::Modbus { variable }) => return modbus(&cli.target, variable),
         Some(Command::Explain { code }) => return explain(code),
         Some(Command::Dis { image }) => return dis(&cli.target, image),
-        Some(Command::Download { image, link }) => return client::download(&online, image, link),
+        Some(Command::Download {
+            image: Some(image),
+            link,
+        }) => return client::download(&online, image, link),
         Some(Command::Status { link }) => return client::status(&online, link),
         Some(Command::Upload { output, link }) => return client::upload(&online, output, link),
         Some(Command::Run { link }) => return client::run_stop(&online, link, true),
@@ -413,7 +555,9 @@ fn run(cli: Cli) -> Result<ExitCode, Fatal> {
             }
             return Ok(ExitCode::SUCCESS);
         }
-        None => {}
+        // new, build and a project's download returned above.
+        Some(Command::New { .. } | Command::Build { .. } | Command::Download { image: None, .. })
+        | None => {}
     }
     if cli.files.is_empty() {
         return Err(Fatal::usage("no input files").with_hint(
@@ -533,14 +677,20 @@ fn explicit_target(args: &TargetArgs) -> Result<Option<ExplicitTarget>, Fatal> {
         let target = stdlib::shared(name).map_err(|e| Fatal::target(e.to_string()))?;
         return Ok(Some(ExplicitTarget {
             target,
-            origin: format!("--plc {name}"),
+            origin: args
+                .origin
+                .clone()
+                .unwrap_or_else(|| format!("--plc {name}")),
         }));
     }
     if let Some(dir) = &args.target {
         let target = std::sync::Arc::new(gutta_io::load_target_dir(dir).map_err(Fatal::target)?);
         return Ok(Some(ExplicitTarget {
             target,
-            origin: format!("--target {}", dir.display()),
+            origin: args
+                .origin
+                .clone()
+                .unwrap_or_else(|| format!("--target {}", dir.display())),
         }));
     }
     Ok(None)
