@@ -299,4 +299,30 @@ mod tests {
         let end = f.text.find('\r').unwrap();
         assert_eq!(idx.line_col(&f.text, end), LineCol { line: 1, column: 6 });
     }
+
+    #[test]
+    fn joined_files_locate_in_their_own_file() {
+        let joined = SourceFile::join(
+            vec![
+                SourceFile::new("a.lad", "x\ny"),
+                SourceFile::new("b.lad", "\u{FEFF}z\n"),
+            ],
+            vec![SourceFile::new("s.csv", "Symbol,Address\n")],
+        );
+        assert_eq!(joined.text, "x\ny\nz\n\nSymbol,Address\n\n");
+        let idx = LineIndex::new(&joined.text);
+        let at = |offset| {
+            let l = joined.locate(&idx, offset);
+            (l.file, l.line, l.column, l.offset)
+        };
+        assert_eq!(at(2), ("a.lad", 2, 1, 2));
+        // The end of a.lad (its separator) is still a.lad.
+        assert_eq!(at(3), ("a.lad", 2, 2, 3));
+        assert_eq!(at(4), ("b.lad", 1, 1, 0));
+        assert_eq!(at(7), ("s.csv", 1, 1, 0));
+        assert_eq!(joined.part_range(5), 4..7);
+        let single = SourceFile::join(vec![SourceFile::new("m.lad", "a")], Vec::new());
+        assert!(!single.is_joined());
+        assert_eq!(single.parts().len(), 1);
+    }
 }

@@ -272,12 +272,10 @@ fn quoted(
 mod tests {
     use super::*;
 
-    fn table(
-        text: &str,
-    ) -> (
-        Vec<(String, String, Option<String>, Option<String>)>,
-        Vec<Code>,
-    ) {
+    /// A declaration as text: name, address, type, comment.
+    type Row = (String, String, Option<String>, Option<String>);
+
+    fn table(text: &str) -> (Vec<Row>, Vec<Code>) {
         let (decls, diags) = parse_table(text, 0, text.len());
         let slice = |s: Span| text[s.range()].to_string();
         let rows = decls
@@ -294,12 +292,7 @@ mod tests {
         (rows, diags.iter().map(|d| d.code).collect())
     }
 
-    fn row(
-        n: &str,
-        a: &str,
-        t: Option<&str>,
-        c: Option<&str>,
-    ) -> (String, String, Option<String>, Option<String>) {
+    fn row(n: &str, a: &str, t: Option<&str>, c: Option<&str>) -> Row {
         (n.into(), a.into(), t.map(Into::into), c.map(Into::into))
     }
 
