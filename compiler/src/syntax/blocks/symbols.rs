@@ -1,5 +1,6 @@
 //! The `SYMBOLS ... END_SYMBOLS` block: global names for addresses, one
-//! `Name : ADDRESS // comment` (or `Name : ADDRESS : TYPE // comment`) per line. Parsing only; names are resolved by the checker.
+//! `Name : ADDRESS // comment` (or `Name : ADDRESS : TYPE // comment`) per line.
+//! Parsing only; names and types are resolved by the checker.
 
 use chumsky::prelude::*;
 
