@@ -1,6 +1,8 @@
 //! The GUTTA compiler: .lad source to a checked program and the download image.
-//! [`check_source`] reads as the front-end pipeline, [`compile`] as the whole one. The library does
-//! no I/O: sources and targets come in as data; the `gutta-cc` binary does the I/O.
+//! [`check_source`] reads as the front-end pipeline, [`compile`] as the whole one; a
+//! program of several files and symbol tables ([`check_program`], [`compile_program`]) is
+//! one joined text with a file table (`SourceFile::join`) through the same pipeline. The
+//! library does no I/O: sources and targets come in as data; `gutta-cc` does the I/O.
 
 pub mod analysis;
 pub mod check;
@@ -16,7 +18,7 @@ use gutta_catalog::{stdlib, Target};
 
 use crate::check::CheckOutput;
 use crate::diagnostics::{Code, Diagnostic};
-use crate::source::{LineIndex, SourceFile};
+use crate::source::{LineIndex, PartKind, SourceFile};
 use crate::syntax::ast::Program;
 
 /// Where the target comes from when the command line chose one.
@@ -27,8 +29,8 @@ pub struct ExplicitTarget {
     pub origin: String,
 }
 
-/// The result of checking one file: its text, tree, the target used, and every
-/// diagnostic (parse and check), sorted by position.
+/// The result of checking one file or program: its text (joined, for several files),
+/// tree, the target used, and every diagnostic (parse and check), sorted by position.
 #[derive(Debug, Clone)]
 pub struct CheckedFile {
     pub file: SourceFile,
@@ -51,7 +53,11 @@ impl CheckedFile {
 /// Parse and check one source file. The target is the explicit one if given, else the
 /// file's `PLC_TYPE`, else the stdlib default.
 pub fn check_source(file: SourceFile, explicit: Option<&ExplicitTarget>) -> CheckedFile {
-    let parsed = syntax::parse(&file.text);
+    let parsed = if file.is_joined() {
+        parse_joined(&file)
+    } else {
+        syntax::parse(&file.text)
+    };
     let mut diagnostics = parsed.diagnostics;
     let target = resolve_target(&parsed.program, explicit, &mut diagnostics);
     let mut output = check::check(&file.text, &parsed.program, &target);
@@ -69,6 +75,24 @@ pub fn check_source(file: SourceFile, explicit: Option<&ExplicitTarget>) -> Chec
         ast: parsed.program,
         output,
     }
+}
+
+/// The sources of a joined text parsed as one program, then its symbol tables' rows
+/// added to its symbols (after the SYMBOLS blocks', as they follow in the text).
+fn parse_joined(file: &SourceFile) -> syntax::ParseOutput {
+    let parts = file.parts();
+    let ends: Vec<usize> = parts
+        .iter()
+        .filter(|p| p.kind == PartKind::Source)
+        .map(|p| p.end)
+        .collect();
+    let mut parsed = syntax::parse_files(&file.text, &ends);
+    for table in parts.iter().filter(|p| p.kind == PartKind::SymbolTable) {
+        let (decls, mut diags) = syntax::table::parse_table(&file.text, table.start, table.end);
+        parsed.program.symbols.extend(decls);
+        parsed.diagnostics.append(&mut diags);
+    }
+    parsed
 }
 
 fn resolve_target(
@@ -149,6 +173,7 @@ impl Compiled {
             image,
             &self.checked.file,
             &self.checked.index,
+            self.checked.symbols(),
         ))
     }
 }
@@ -206,29 +231,32 @@ impl ProgramSources {
     }
 }
 
-/// Parse and check a whole program (see [`ProgramSources`]).
-pub fn check_program(program: ProgramSources, explicit: Option<&ExplicitTarget>) -> CheckedFile {
-    match <[SourceFile; 1]>::try_from(program.sources) {
-        Ok([file]) if program.symbol_tables.is_empty() => check_source(file, explicit),
-        _ => unimplemented!("several sources and symbol tables: issue 11's multi-file programs"),
+impl ProgramSources {
+    /// The program as one text with a file table; one source alone stays as it is.
+    pub fn join(self) -> SourceFile {
+        SourceFile::join(self.sources, self.symbol_tables)
     }
+}
+
+/// Parse and check a whole program (see [`ProgramSources`]): its files are one program
+/// (one namespace, MAIN once, one PLC type), each diagnostic in its own file.
+pub fn check_program(program: ProgramSources, explicit: Option<&ExplicitTarget>) -> CheckedFile {
+    check_source(program.join(), explicit)
 }
 
 /// The whole pipeline on a whole program (see [`ProgramSources`]).
 pub fn compile_program(program: ProgramSources, explicit: Option<&ExplicitTarget>) -> Compiled {
-    match <[SourceFile; 1]>::try_from(program.sources) {
-        Ok([file]) if program.symbol_tables.is_empty() => compile(file, explicit),
-        _ => unimplemented!("several sources and symbol tables: issue 11's multi-file programs"),
-    }
+    compile(program.join(), explicit)
 }
 
 impl CheckedFile {
-    /// Every symbol the program declares, for the tools (`gutta_format::SymbolTable`).
+    /// Every symbol the program declares (SYMBOLS blocks and symbol tables), for the
+    /// tools (`gutta_format::SymbolTable`), with its declared type and `file:line`.
     /// Declarations whose address does not parse on the target are left out (the
-    /// checker reports them).
+    /// checker reports them), and so is a type that is not a known keyword.
     pub fn symbols(&self) -> gutta_format::SymbolTable {
         let text = &self.file.text;
-        let slice = |s: source::Span| &text[s.start as usize..s.end as usize];
+        let slice = |s: source::Span| text.get(s.range()).unwrap_or("");
         let symbols = self
             .ast
             .symbols
@@ -239,16 +267,17 @@ impl CheckedFile {
                     .memory
                     .parse_address(slice(d.address).trim())
                     .ok()?;
-                let line = self.index.line_of(d.name.start as usize) + 1;
+                let at = self.file.locate(&self.index, d.name.start as usize);
+                let data_type = d
+                    .data_type
+                    .and_then(|t| slice(t).parse::<gutta_catalog::DataType>().ok())
+                    .map(|t| t.keyword().to_string());
                 Some(gutta_format::Symbol {
                     name: slice(d.name).to_string(),
                     address: self.target.memory.format_address(&address),
-                    data_type: None,
-                    comment: d
-                        .comment
-                        .map(|c| slice(c).trim().to_string())
-                        .unwrap_or_default(),
-                    origin: format!("{}:{line}", self.file.name),
+                    data_type,
+                    comment: d.comment_text(text).unwrap_or_default(),
+                    origin: format!("{}:{}", at.file, at.line),
                 })
             })
             .collect();

@@ -1,6 +1,8 @@
 //! Source text as the compiler sees it: decoded UTF-8 (BOM dropped), with a line
-//! index that turns byte offsets into 1-based lines and character columns. Spans are
-//! byte offsets everywhere; this is the only place that converts them.
+//! index that turns byte offsets into 1-based lines and character columns. A program of
+//! several files is one text with a file table (each file appended, then one separator
+//! newline), so spans stay plain byte offsets everywhere; this is the only place that
+//! turns them into (file, line, column).
 
 use std::ops::Range;
 
@@ -40,11 +42,46 @@ impl Span {
     }
 }
 
-/// One source file: its name (for messages) and its text.
+/// One source file (its name, for messages, and its text), or the joined text of a
+/// program in several files ([`SourceFile::join`]): then `name` is the first source's
+/// and `parts` says where each file lies in `text`.
 #[derive(Debug, Clone)]
 pub struct SourceFile {
     pub name: String,
     pub text: String,
+    /// Empty for one file; else every file in order, starting at offset 0.
+    parts: Vec<FilePart>,
+}
+
+/// What a file of a program holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PartKind {
+    /// A .lad source.
+    Source,
+    /// A symbol table (CSV or tab-separated rows).
+    SymbolTable,
+}
+
+/// One file in a joined text.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FilePart {
+    pub name: String,
+    pub kind: PartKind,
+    /// Byte offset of the file's first byte in the joined text (a line start).
+    pub start: usize,
+    /// Byte offset of the separator newline after the file's text: where "the file
+    /// ends" is reported.
+    pub end: usize,
+}
+
+/// A position resolved to its file: 1-based line and character column in that file,
+/// and the byte offset within that file.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Location<'a> {
+    pub file: &'a str,
+    pub line: u32,
+    pub column: u32,
+    pub offset: usize,
 }
 
 /// Why source bytes are not a program text.
@@ -63,6 +100,112 @@ impl SourceFile {
         SourceFile {
             name: name.into(),
             text,
+            parts: Vec::new(),
+        }
+    }
+
+    /// One text of several files: the sources in order, then the symbol tables, each
+    /// followed by one separator newline. One source and no table stays as it is.
+    pub fn join(sources: Vec<SourceFile>, tables: Vec<SourceFile>) -> SourceFile {
+        if sources.len() == 1 && tables.is_empty() {
+            if let Some(single) = sources.into_iter().next() {
+                return single;
+            }
+            return SourceFile::new("", "");
+        }
+        let name = sources
+            .first()
+            .or(tables.first())
+            .map(|f| f.name.clone())
+            .unwrap_or_default();
+        let total: usize = sources
+            .iter()
+            .chain(&tables)
+            .map(|f| f.text.len() + 1)
+            .sum();
+        let mut text = String::with_capacity(total);
+        let mut parts = Vec::with_capacity(sources.len() + tables.len());
+        let kinds = sources
+            .into_iter()
+            .map(|f| (f, PartKind::Source))
+            .chain(tables.into_iter().map(|f| (f, PartKind::SymbolTable)));
+        for (file, kind) in kinds {
+            let start = text.len();
+            text.push_str(&file.text);
+            let end = text.len();
+            text.push('\n');
+            parts.push(FilePart {
+                name: file.name,
+                kind,
+                start,
+                end,
+            });
+        }
+        SourceFile { name, text, parts }
+    }
+
+    /// Every file of the text (one part for a single file).
+    pub fn parts(&self) -> Vec<FilePart> {
+        if self.parts.is_empty() {
+            return vec![FilePart {
+                name: self.name.clone(),
+                kind: PartKind::Source,
+                start: 0,
+                end: self.text.len(),
+            }];
+        }
+        self.parts.clone()
+    }
+
+    /// Whether the text joins several files.
+    pub fn is_joined(&self) -> bool {
+        !self.parts.is_empty()
+    }
+
+    /// Index into [`SourceFile::parts`] of the file holding `offset` (0 for one file).
+    pub fn part_index(&self, offset: usize) -> usize {
+        if self.parts.is_empty() {
+            return 0;
+        }
+        self.parts
+            .partition_point(|p| p.start <= offset)
+            .saturating_sub(1)
+    }
+
+    /// The name of the file holding `offset`.
+    pub fn file_name_at(&self, offset: usize) -> &str {
+        match self.parts.get(self.part_index(offset)) {
+            Some(p) => &p.name,
+            None => &self.name,
+        }
+    }
+
+    /// Byte range in `text` of the file holding `offset`, separator included (so a
+    /// span at the file's end lies inside it).
+    pub fn part_range(&self, offset: usize) -> Range<usize> {
+        match self.parts.get(self.part_index(offset)) {
+            Some(p) => p.start..(p.end + 1).min(self.text.len()),
+            None => 0..self.text.len(),
+        }
+    }
+
+    /// `offset` as file, line and column of the file it lies in.
+    pub fn locate(&self, index: &LineIndex, offset: usize) -> Location<'_> {
+        let at = index.line_col(&self.text, offset);
+        let Some(part) = self.parts.get(self.part_index(offset)) else {
+            return Location {
+                file: &self.name,
+                line: at.line,
+                column: at.column,
+                offset: offset.min(self.text.len()),
+            };
+        };
+        let first_line = index.line_of(part.start) as u32;
+        Location {
+            file: &part.name,
+            line: at.line - first_line,
+            column: at.column,
+            offset: offset.min(self.text.len()).saturating_sub(part.start),
         }
     }
 
@@ -155,5 +298,31 @@ mod tests {
         assert_eq!(idx.line_col(&f.text, q), LineCol { line: 2, column: 3 });
         let end = f.text.find('\r').unwrap();
         assert_eq!(idx.line_col(&f.text, end), LineCol { line: 1, column: 6 });
+    }
+
+    #[test]
+    fn joined_files_locate_in_their_own_file() {
+        let joined = SourceFile::join(
+            vec![
+                SourceFile::new("a.lad", "x\ny"),
+                SourceFile::new("b.lad", "\u{FEFF}z\n"),
+            ],
+            vec![SourceFile::new("s.csv", "Symbol,Address\n")],
+        );
+        assert_eq!(joined.text, "x\ny\nz\n\nSymbol,Address\n\n");
+        let idx = LineIndex::new(&joined.text);
+        let at = |offset| {
+            let l = joined.locate(&idx, offset);
+            (l.file, l.line, l.column, l.offset)
+        };
+        assert_eq!(at(2), ("a.lad", 2, 1, 2));
+        // The end of a.lad (its separator) is still a.lad.
+        assert_eq!(at(3), ("a.lad", 2, 2, 3));
+        assert_eq!(at(4), ("b.lad", 1, 1, 0));
+        assert_eq!(at(7), ("s.csv", 1, 1, 0));
+        assert_eq!(joined.part_range(5), 4..7);
+        let single = SourceFile::join(vec![SourceFile::new("m.lad", "a")], Vec::new());
+        assert!(!single.is_joined());
+        assert_eq!(single.parts().len(), 1);
     }
 }

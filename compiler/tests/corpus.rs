@@ -139,6 +139,18 @@ fn every_diagnostic_code_is_exercised_by_the_corpus() {
         let text = std::fs::read_to_string(&path).expect("read");
         seen.extend(expected(&text).into_keys().map(|(_, c)| c));
     }
+    // Programs in several files (tests/programs.rs): `FILE:LINE CODE` lines.
+    let programs = root().join("tests/data/check/programs");
+    for entry in std::fs::read_dir(&programs).expect("the programs corpus") {
+        let expected = entry.expect("dir entry").path().join("expected");
+        if let Ok(text) = std::fs::read_to_string(expected) {
+            seen.extend(
+                text.lines()
+                    .filter_map(|l| l.split_whitespace().nth(1))
+                    .map(String::from),
+            );
+        }
+    }
     // Image limits need programs too large for a corpus file: `gutta-cc -o`'s tests
     // (cli/tests/cc_image_write.rs) assert them.
     let image_tests = std::fs::read_to_string(

@@ -34,7 +34,7 @@ fn map_json(text: &str) -> String {
 
 #[test]
 fn two_networks_map_exactly() {
-    let expected = r#"{"format":1,"file":"main.lad","manifest_crc":15653,"instructions":[
+    let expected = r#"{"format":2,"file":"main.lad","files":["main.lad"],"manifest_crc":15653,"symbols":[],"instructions":[
 {"page":0,"byte":4,"network":1,"step":0,"line":6,"column":1,"text":"LD     I0.0"},
 {"page":0,"byte":11,"network":1,"step":1,"line":7,"column":1,"text":"=      Q0.0"},
 {"page":0,"byte":22,"network":2,"step":0,"line":10,"column":1,"text":"LD     SM0.0"},

@@ -152,6 +152,7 @@ mod tests {
                 byte: 4,
                 network: 1,
                 step: 0,
+                file: 0,
                 line: 6,
                 column: 1,
                 text: "LD I0.0".into(),

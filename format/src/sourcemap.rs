@@ -1,14 +1,15 @@
 //! The source map: each instruction of an image, by (unit page, network, step) and by
-//! (page, byte offset), to where it is written (file, line, column) and its source text.
-//! The compiler writes it beside the image directory (docs/image-format.md, "The source
-//! map"); it is never downloaded. No I/O here, and nothing about the image's bytes.
+//! (page, byte offset), to where it is written (file, line, column) and its source text,
+//! and the program's symbols. The compiler writes it beside the image directory
+//! (docs/image-format.md, "The source map"); it is never downloaded. No I/O here, and
+//! nothing about the image's bytes.
 
-use serde::{Deserialize, Serialize};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-use crate::{crc16, Manifest};
+use crate::{crc16, Manifest, Symbol, SymbolTable};
 
-/// The `format` field of `sourcemap.json`.
-pub const SOURCE_MAP_FORMAT: u32 = 1;
+/// The `format` field of `sourcemap.json` (2: several files, `files`, `symbols`).
+pub const SOURCE_MAP_FORMAT: u32 = 2;
 
 /// One instruction of an instruction page and where its source is.
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
@@ -21,24 +22,50 @@ pub struct MappedInstruction {
     pub network: u16,
     /// 0-based index of the instruction in its network.
     pub step: u16,
-    /// 1-based source line and column.
+    /// Index into [`SourceMap::files`] of the file the instruction is written in; the
+    /// JSON leaves out 0 (the first file).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub file: u16,
+    /// 1-based source line and column in that file.
     pub line: u32,
     pub column: u32,
     /// The instruction as written (`MOVW  VW100, VW200`).
     pub text: String,
 }
 
-/// The whole map of one compiled source file. Instructions are sorted by (page, byte),
+fn is_zero(n: &u16) -> bool {
+    *n == 0
+}
+
+/// The whole map of one compiled program. Instructions are sorted by (page, byte),
 /// so equal programs give byte-identical JSON.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct SourceMap {
     pub format: u32,
-    /// The source file's name as given to the compiler (`main.lad`).
+    /// The (first) source file's name as given to the compiler (`main.lad`).
     pub file: String,
+    /// Every source file of the program, in the order given; `files[0]` is `file`.
+    #[serde(default)]
+    pub files: Vec<String>,
     /// `crc16` of the image's manifest.json: a map is only used with the image it
     /// was written for (`describes`).
     pub manifest_crc: u16,
+    /// The program's symbols (SYMBOLS blocks and symbol tables), a JSON list.
+    #[serde(
+        default,
+        serialize_with = "symbols_as_list",
+        deserialize_with = "symbols_from_list"
+    )]
+    pub symbols: SymbolTable,
     pub instructions: Vec<MappedInstruction>,
+}
+
+fn symbols_as_list<S: Serializer>(table: &SymbolTable, s: S) -> Result<S::Ok, S::Error> {
+    table.symbols.serialize(s)
+}
+
+fn symbols_from_list<'de, D: Deserializer<'de>>(d: D) -> Result<SymbolTable, D::Error> {
+    Vec::<Symbol>::deserialize(d).map(SymbolTable::new)
 }
 
 /// What a `FILE:LINE` or `LINE` breakpoint resolved to.
@@ -58,31 +85,52 @@ impl LineMatch<'_> {
 }
 
 impl SourceMap {
-    /// A map of `file`; the instructions are sorted here.
+    /// A map of one file `file` without symbols; the instructions are sorted here.
     pub fn new(
         file: impl Into<String>,
         manifest: &Manifest,
         instructions: Vec<MappedInstruction>,
     ) -> SourceMap {
-        SourceMap::sorted(
-            file.into(),
-            crc16(manifest.to_json().as_bytes()),
+        let file = file.into();
+        SourceMap::sorted(SourceMap {
+            format: SOURCE_MAP_FORMAT,
+            files: vec![file.clone()],
+            file,
+            manifest_crc: crc16(manifest.to_json().as_bytes()),
+            symbols: SymbolTable::default(),
             instructions,
-        )
+        })
     }
 
-    fn sorted(
-        file: String,
-        manifest_crc: u16,
-        mut instructions: Vec<MappedInstruction>,
-    ) -> SourceMap {
-        instructions.sort();
-        SourceMap {
-            format: SOURCE_MAP_FORMAT,
-            file,
-            manifest_crc,
-            instructions,
+    /// The same map for a program of several files: `files[0]` becomes `file`, and each
+    /// instruction's `file` indexes `files`.
+    pub fn with_files(mut self, files: Vec<String>) -> SourceMap {
+        if let Some(first) = files.first() {
+            self.file = first.clone();
+            self.files = files;
         }
+        self
+    }
+
+    /// The same map carrying the program's symbols.
+    pub fn with_symbols(mut self, symbols: SymbolTable) -> SourceMap {
+        self.symbols = symbols;
+        self
+    }
+
+    fn sorted(mut map: SourceMap) -> SourceMap {
+        map.instructions.sort();
+        if map.files.is_empty() {
+            map.files.push(map.file.clone());
+        }
+        map
+    }
+
+    /// The name of the file `instruction` is written in.
+    pub fn file_of(&self, instruction: &MappedInstruction) -> &str {
+        self.files
+            .get(usize::from(instruction.file))
+            .unwrap_or(&self.file)
     }
 
     /// Whether this map was written for the image with that manifest.
@@ -99,9 +147,16 @@ impl SourceMap {
         out.extend_from_slice(self.format.to_string().as_bytes());
         out.extend_from_slice(b",\"file\":");
         let _ = serde_json::to_writer(&mut out, &self.file);
+        out.extend_from_slice(b",\"files\":");
+        let _ = serde_json::to_writer(&mut out, &self.files);
         out.extend_from_slice(b",\"manifest_crc\":");
         out.extend_from_slice(self.manifest_crc.to_string().as_bytes());
-        out.extend_from_slice(b",\"instructions\":[");
+        out.extend_from_slice(b",\"symbols\":[");
+        for (k, symbol) in self.symbols.symbols.iter().enumerate() {
+            out.extend_from_slice(if k == 0 { b"\n" } else { b",\n" });
+            let _ = serde_json::to_writer(&mut out, symbol);
+        }
+        out.extend_from_slice(b"],\"instructions\":[");
         for (k, instruction) in self.instructions.iter().enumerate() {
             out.extend_from_slice(if k == 0 { b"\n" } else { b",\n" });
             let _ = serde_json::to_writer(&mut out, instruction);
@@ -120,11 +175,7 @@ impl SourceMap {
                 map.format
             ));
         }
-        Ok(SourceMap::sorted(
-            map.file,
-            map.manifest_crc,
-            map.instructions,
-        ))
+        Ok(SourceMap::sorted(map))
     }
 
     /// The instruction at (unit page, network, step).
@@ -143,15 +194,17 @@ impl SourceMap {
     }
 
     /// `FILE:LINE` or `LINE`: the first instruction (lowest page, then byte) on that line
-    /// or on the next line that has one. `Ok(None)` when the text is not of that form
-    /// (e.g. `MAIN:2:0`); an error when it is but names another file or a line past the
-    /// last instruction.
+    /// of that file or on the next line that has one. `Ok(None)` when the text is not of
+    /// that form (e.g. `MAIN:2:0`); an error when it is but names no file of the program,
+    /// a line past the file's last instruction, or a bare `LINE` when the program has
+    /// several files.
     pub fn resolve_line(&self, text: &str) -> Result<Option<LineMatch<'_>>, String> {
         let (file, line) = match text.rsplit_once(':') {
-            // A file has a name with a `.` or a directory, or is this map's file; `MAIN:1`
-            // is a position missing its step.
+            // A file has a name with a `.` or a directory, or is one of this map's files;
+            // `MAIN:1` is a position missing its step.
             Some((file, line))
-                if !file.contains(':') && (file.contains(['.', '/', '\\']) || self.names(file)) =>
+                if !file.contains(':')
+                    && (file.contains(['.', '/', '\\']) || self.file_index(file).is_ok()) =>
             {
                 (Some(file), line)
             }
@@ -161,32 +214,55 @@ impl SourceMap {
         let Ok(asked) = line.parse::<u32>() else {
             return Ok(None);
         };
-        if let Some(file) = file {
-            if !self.names(file) {
+        let index = match file {
+            Some(file) => self
+                .file_index(file)
+                .map_err(|why| format!("{text}: {why}"))?,
+            None if self.files.len() > 1 => {
                 return Err(format!(
-                    "{text}: the image was compiled from {}, not {file}",
-                    self.file
-                ));
+                    "{text}: the program has several files ({}); write FILE:LINE, e.g. {}:{asked}",
+                    self.files.join(", "),
+                    self.files[0]
+                ))
             }
-        }
+            None => 0,
+        };
+        let name = self.files.get(index).unwrap_or(&self.file);
         let instruction = self
             .instructions
             .iter()
-            .filter(|i| i.line >= asked)
+            .filter(|i| usize::from(i.file) == index && i.line >= asked)
             .min_by_key(|i| (i.line, i.page, i.byte))
             .ok_or_else(|| {
-                format!(
-                    "{text}: no instruction on line {asked} or after it in {}",
-                    self.file
-                )
+                format!("{text}: no instruction on line {asked} or after it in {name}")
             })?;
         Ok(Some(LineMatch { asked, instruction }))
     }
 
-    /// Whether `file` names this map's source: the same path, or the same last component.
-    fn names(&self, file: &str) -> bool {
+    /// The index in `files` of the file `file` names: the same path, else the only file
+    /// with the same last component.
+    fn file_index(&self, file: &str) -> Result<usize, String> {
+        if let Some(i) = self.files.iter().position(|f| f == file) {
+            return Ok(i);
+        }
         let last = |p: &str| p.rsplit(['/', '\\']).next().unwrap_or(p).to_string();
-        file == self.file || last(file) == last(&self.file)
+        let same: Vec<usize> = (0..self.files.len())
+            .filter(|&i| last(&self.files[i]) == last(file))
+            .collect();
+        match same[..] {
+            [i] => Ok(i),
+            [] => Err(format!(
+                "the image was compiled from {}, not {file}",
+                self.files.join(", ")
+            )),
+            _ => Err(format!(
+                "{file} may be any of {}; write the path as compiled",
+                same.iter()
+                    .map(|&i| self.files[i].as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )),
+        }
     }
 }
 
@@ -200,6 +276,7 @@ mod tests {
             byte,
             network,
             step,
+            file: 0,
             line,
             column: 5,
             text: format!("LD I0.{step}"),
@@ -236,7 +313,7 @@ mod tests {
         assert_eq!(SourceMap::from_json(&m.to_json()), Ok(m.clone()));
         assert!(m.describes(&manifest("CPU-EC20")));
         assert!(!m.describes(&manifest("CPU-EC30")));
-        let mut other = m.to_json().replace("\"format\":1", "\"format\":9");
+        let mut other = m.to_json().replace("\"format\":2", "\"format\":9");
         assert_ne!(other, m.to_json(), "the edit took");
         assert!(SourceMap::from_json(&other).is_err());
         other.clear();
@@ -266,5 +343,50 @@ mod tests {
         assert_eq!(m.resolve_line("MAIN"), Ok(None));
         assert_eq!(m.resolve_line("MAIN:1"), Ok(None));
         assert!(m.resolve_line("dir/other.lad:1").is_err());
+    }
+
+    fn two_files() -> SourceMap {
+        let mut second = instruction(8, 4, 1, 0, 3);
+        second.file = 1;
+        SourceMap::new(
+            "a.lad",
+            &manifest("CPU-EC20"),
+            vec![instruction(0, 4, 1, 0, 3), second],
+        )
+        .with_files(vec!["dir/a.lad".into(), "b.lad".into()])
+        .with_symbols(SymbolTable::new(vec![Symbol {
+            name: "Temp".into(),
+            address: "MD8".into(),
+            data_type: Some("REAL".into()),
+            comment: "tank".into(),
+            origin: "s.csv:2".into(),
+        }]))
+    }
+
+    #[test]
+    fn several_files_and_symbols() {
+        let m = two_files();
+        let json = m.to_json();
+        assert!(json.starts_with(
+            "{\"format\":2,\"file\":\"dir/a.lad\",\"files\":[\"dir/a.lad\",\"b.lad\"],"
+        ));
+        assert_eq!(json.matches("\"file\":1").count(), 1, "{json}");
+        assert_eq!(SourceMap::from_json(&json), Ok(m.clone()));
+        assert_eq!(m.symbols.get("TEMP").map(|s| &*s.address), Some("MD8"));
+        let b = m.resolve_line("b.lad:2").expect("ok").expect("a line");
+        assert_eq!((b.instruction.page, m.file_of(b.instruction)), (8, "b.lad"));
+        let a = m.resolve_line("a.lad:3").expect("ok").expect("a line");
+        assert_eq!(
+            (a.instruction.page, m.file_of(a.instruction)),
+            (0, "dir/a.lad")
+        );
+        let bare = m.resolve_line("3").expect_err("ambiguous");
+        assert!(bare.contains("dir/a.lad, b.lad"), "{bare}");
+        assert!(m
+            .resolve_line("c.lad:3")
+            .is_err_and(|e| e.contains("dir/a.lad, b.lad")));
+        assert!(m
+            .resolve_line("b.lad:4")
+            .is_err_and(|e| e.contains("in b.lad")));
     }
 }

@@ -14,6 +14,7 @@ mod names;
 mod operands;
 pub mod program;
 pub mod suggest;
+mod symbols;
 mod system;
 mod units;
 
@@ -21,7 +22,7 @@ use std::collections::HashMap;
 
 use gutta_catalog::{Address, BlockKind, Target};
 
-use crate::diagnostics::{Code, Diagnostic};
+use crate::diagnostics::Diagnostic;
 use crate::source::Span;
 use crate::syntax::ast::Program;
 pub use program::*;
@@ -188,44 +189,5 @@ impl Checker<'_> {
                 .iter()
                 .flat_map(|(_, m)| m)
                 .any(|m| m.areas.iter().any(|a| fits(&a.name)))
-    }
-
-    fn symbols(&mut self) {
-        let ast = self.ast;
-        for decl in &ast.symbols {
-            let name = self.slice(decl.name);
-            let key = name.to_ascii_uppercase();
-            let address_like = self.looks_like_address(name);
-            if address_like || crate::syntax::is_reserved(name) {
-                self.report(
-                    Diagnostic::new(Code::BadSymbolName, decl.name, format!("symbol name `{name}` is not allowed"))
-                        .label(if address_like { "has the shape of an address" } else { "reserved word" })
-                        .help("choose a name that starts with a letter and is not an address such as M0 or VB100"),
-                );
-                continue;
-            }
-            let Some(address) = self.direct_address(decl.address, None) else {
-                continue;
-            };
-            if let Some((_, first)) = self.symbols.get(&key) {
-                let first_span = self.out.definitions[*first].span;
-                self.report(
-                    Diagnostic::new(
-                        Code::DuplicateSymbol,
-                        decl.name,
-                        format!("symbol `{name}` is declared twice"),
-                    )
-                    .with_secondary(first_span, "first declared here"),
-                );
-                continue;
-            }
-            let text = self.target.memory.format_address(&address);
-            let detail = match decl.comment {
-                Some(c) if !c.is_empty() => format!("{name} : {text}  // {}", self.slice(c)),
-                _ => format!("{name} : {text}"),
-            };
-            let def = self.define(name.to_string(), DefKind::Symbol, decl.name, detail, None);
-            self.symbols.insert(key, (address, def));
-        }
     }
 }

@@ -63,7 +63,13 @@ codes! {
     E0110 BadBlockHeader Error "malformed block header"
         "A block header is `KEYWORD NAME:NUMBERED` (`SUBROUTINE_BLOCK ADD3:SBR0`), `KEYWORD NUMBERED` (`SUBROUTINE_BLOCK SBR0`) or `KEYWORD NAME` (numbered automatically). The numbered name's prefix must fit the block: OB1 or INT0 for MAIN, INTn for interrupt routines, SBRn for subroutines, DATn for data blocks.";
     E0111 BadPlcType Error "bad PLC_TYPE line"
-        "`PLC_TYPE NAME` may appear once, before any block, and must name a known PLC type (see `gutta-cc list-targets`) unless `--plc` or `--target` chooses the target.";
+        "`PLC_TYPE NAME` may appear once per file, before the file's blocks, and must name a known PLC type (see `gutta-cc list-targets`) unless `--plc` or `--target` chooses the target.";
+    E0112 PlcTypeConflict Error "files name different PLC types"
+        "A program in several files names its PLC type in more than one file, and the names differ (the label shows the first). Name one type in every file that has a `PLC_TYPE` line, or in one file only, or choose the target with `--plc`/`--target`.";
+    E0113 BadSymbolTable Error "malformed symbol table"
+        "A CSV symbol table starts with the header row `Symbol,Address,Comment` (any case; the format STEP 7-Micro/WIN SMART exports). Tab-separated tables (Micro/WIN's pasted rows, `Symbol<TAB>Address<TAB>Comment`) may omit the header. A file is read as tab-separated when its first non-empty line holds a tab.";
+    E0114 BadSymbolTableRow Error "malformed symbol table row"
+        "A symbol table row is `Symbol,Address,Comment` (CSV) or the same separated by tabs: a name that is one word (letters, digits, `_`), a direct address optionally followed by `:TYPE` (`MD8:REAL`), and an optional comment. The message says what is wrong: a missing name or address, extra fields, a quote that is not closed, or text after a closing quote.";
 
     // ---- E02xx: names --------------------------------------------------------------
     E0201 UnknownMnemonic Error "unknown mnemonic"
@@ -71,7 +77,7 @@ codes! {
     E0202 UndefinedSymbol Error "undefined symbol"
         "A name that is neither a direct address of the target, a symbol of the SYMBOLS section, nor a block name. Declare it in SYMBOLS (`Start : I0.0`) or fix the spelling; the help line suggests the closest symbol.";
     E0203 DuplicateSymbol Error "duplicate symbol"
-        "A symbol is declared twice in SYMBOLS (names are case-insensitive).";
+        "A symbol is declared twice (names are case-insensitive): in one SYMBOLS block, in two blocks or files of the program, or in a symbol table as well. The label shows the first declaration, also when it is in another file.";
     E0204 UndefinedLocal Error "undefined local variable"
         "`#name` refers to a local that the enclosing block does not declare in its VAR sections.";
     E0205 DuplicateLocal Error "duplicate local variable"
@@ -92,6 +98,8 @@ codes! {
         "A symbol name has the shape of a direct address (`M0`, `VB100`) or is a reserved word, so uses of it would be ambiguous.";
     E0213 UnknownDataType Error "unknown data type"
         "Data types are BOOL, BYTE, WORD, DWORD, SINT, INT, DINT, USINT, UINT, UDINT and REAL.";
+    E0214 SymbolTypeWidth Error "symbol type does not fit its address"
+        "A typed symbol (`Temp : MD8 : REAL`, or `MD8:REAL` in a table) names a type whose width differs from the address's: REAL, DINT, DWORD and UDINT need a double word (`MD8`), INT, WORD and UINT a word (`MW4`), BYTE, SINT and USINT a byte (`MB2`), BOOL a bit (`M0.0`).";
 
     // ---- E03xx: operands -----------------------------------------------------------
     E0301 OperandCount Error "wrong number of operands"

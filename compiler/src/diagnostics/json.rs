@@ -1,5 +1,5 @@
 //! `--message-format json`: one JSON object per diagnostic, one per line, with
-//! 1-based lines and character columns.
+//! 1-based lines and character columns, each position in its own file.
 
 use serde::Serialize;
 
@@ -17,7 +17,7 @@ pub struct JsonDiagnostic<'a> {
     pub end_line: u32,
     pub end_column: u32,
     pub help: Option<&'a str>,
-    /// Byte offsets of the primary span.
+    /// Byte offsets of the primary span in its file.
     pub start_offset: u32,
     pub end_offset: u32,
     pub labels: Vec<JsonLabel<'a>>,
@@ -25,6 +25,8 @@ pub struct JsonDiagnostic<'a> {
 
 #[derive(Debug, Serialize)]
 pub struct JsonLabel<'a> {
+    /// The label's file: another one than the diagnostic's when a program has several.
+    pub file: &'a str,
     pub line: u32,
     pub column: u32,
     pub end_line: u32,
@@ -36,7 +38,7 @@ pub struct JsonLabel<'a> {
 pub fn to_json_lines(file: &SourceFile, index: &LineIndex, diagnostics: &[Diagnostic]) -> String {
     let mut out = String::new();
     for d in diagnostics {
-        let at = |off: u32| index.line_col(&file.text, off as usize);
+        let at = |off: u32| file.locate(index, off as usize);
         let (s, e) = (at(d.primary.span.start), at(d.primary.span.end));
         let labels = d
             .secondary
@@ -44,6 +46,7 @@ pub fn to_json_lines(file: &SourceFile, index: &LineIndex, diagnostics: &[Diagno
             .map(|l| {
                 let (s, e) = (at(l.span.start), at(l.span.end));
                 JsonLabel {
+                    file: s.file,
                     line: s.line,
                     column: s.column,
                     end_line: e.line,
@@ -56,14 +59,14 @@ pub fn to_json_lines(file: &SourceFile, index: &LineIndex, diagnostics: &[Diagno
             code: d.code.as_str(),
             severity: d.severity.as_str(),
             message: &d.message,
-            file: &file.name,
+            file: s.file,
             line: s.line,
             column: s.column,
             end_line: e.line,
             end_column: e.column,
             help: d.help.as_deref(),
-            start_offset: d.primary.span.start,
-            end_offset: d.primary.span.end,
+            start_offset: s.offset as u32,
+            end_offset: e.offset as u32,
             labels,
         };
         if let Ok(line) = serde_json::to_string(&j) {

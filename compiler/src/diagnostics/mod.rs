@@ -121,7 +121,8 @@ pub fn reference_markdown() -> String {
          and the V codes of image verification, docs/image-format.md). \
          With `--message-format json` each diagnostic is one JSON object per line on stdout with the fields \
          `code`, `severity`, `message`, `file`, `line`, `column`, `end_line`, `end_column` (1-based, columns count characters), \
-         `help` (string or null), `start_offset`/`end_offset` (bytes) and `labels` (secondary spans).\n\n\
+         `help` (string or null), `start_offset`/`end_offset` (bytes in `file`) and `labels` (secondary spans, each with its own `file`, \
+         which differs from the diagnostic's when a program in several files points at another one).\n\n\
          | code | severity | title |\n| --- | --- | --- |\n",
     );
     for c in Code::ALL {

@@ -2,7 +2,7 @@
 //! Colour is decided by the caller (off when stderr is not a terminal or NO_COLOR is
 //! set); the ASCII style is used for snapshots.
 
-use ariadne::{CharSet, Config, IndexType, Label, Report, ReportKind, Source};
+use ariadne::{sources, CharSet, Config, IndexType, Label, Report, ReportKind, Source};
 
 use crate::diagnostics::{Diagnostic, Severity};
 use crate::source::SourceFile;
@@ -23,30 +23,41 @@ impl RenderStyle {
     };
 }
 
-/// Render diagnostics of one file to a string.
-pub fn render(file: &SourceFile, diagnostics: &[Diagnostic], style: RenderStyle) -> String {
-    let mut out = Vec::new();
-    let name = file.name.as_str();
-    let source = Source::from(file.text.as_str());
-    let config = Config::default()
+fn config(style: RenderStyle) -> Config {
+    Config::default()
         .with_color(style.color)
         .with_char_set(if style.unicode {
             CharSet::Unicode
         } else {
             CharSet::Ascii
         })
-        .with_index_type(IndexType::Byte);
+        .with_index_type(IndexType::Byte)
+}
+
+fn kind(d: &Diagnostic) -> ReportKind<'static> {
+    match d.severity {
+        Severity::Error => ReportKind::Error,
+        Severity::Warning => ReportKind::Warning,
+    }
+}
+
+/// Render diagnostics of one file, or of a program in several files (each label in
+/// its own file), to a string.
+pub fn render(file: &SourceFile, diagnostics: &[Diagnostic], style: RenderStyle) -> String {
+    if file.is_joined() {
+        return render_joined(file, diagnostics, style);
+    }
+    let mut out = Vec::new();
+    let name = file.name.as_str();
+    let source = Source::from(file.text.as_str());
+    let config = config(style);
     let clamp = |r: std::ops::Range<usize>| {
         let end = r.end.min(file.text.len());
         r.start.min(end)..end
     };
     for d in diagnostics {
-        let kind = match d.severity {
-            Severity::Error => ReportKind::Error,
-            Severity::Warning => ReportKind::Warning,
-        };
         let primary = clamp(d.primary.span.range());
-        let mut report = Report::build(kind, (name, primary.clone()))
+        let mut report = Report::build(kind(d), (name, primary.clone()))
             .with_config(config)
             .with_code(d.code.as_str())
             .with_message(&d.message);
@@ -66,6 +77,46 @@ pub fn render(file: &SourceFile, diagnostics: &[Diagnostic], style: RenderStyle)
         }
         // Writing to a Vec cannot fail; a failure would only lose this report's text.
         let _ = report.finish().write((name, &source), &mut out);
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+/// `render` for a joined text: every span becomes (its file's name, range in that file).
+fn render_joined(file: &SourceFile, diagnostics: &[Diagnostic], style: RenderStyle) -> String {
+    let parts = file.parts();
+    let mut cache = sources(parts.iter().map(|p| {
+        let end = (p.end + 1).min(file.text.len());
+        (p.name.clone(), file.text.get(p.start..end).unwrap_or(""))
+    }));
+    let place = |span: crate::source::Span| {
+        let range = file.part_range(span.start as usize);
+        let end = (span.end as usize).clamp(range.start, range.end);
+        let start = (span.start as usize).min(end);
+        (
+            file.file_name_at(span.start as usize).to_string(),
+            start - range.start..end - range.start,
+        )
+    };
+    let mut out = Vec::new();
+    for d in diagnostics {
+        let primary = place(d.primary.span);
+        let mut report = Report::build(kind(d), primary.clone())
+            .with_config(config(style))
+            .with_code(d.code.as_str())
+            .with_message(&d.message);
+        let text = d.primary.message.as_deref().unwrap_or("here");
+        report = report.with_label(Label::new(primary).with_message(text).with_order(0));
+        for (i, s) in d.secondary.iter().enumerate() {
+            let mut label = Label::new(place(s.span)).with_order(i as i32 + 1);
+            if let Some(m) = &s.message {
+                label = label.with_message(m);
+            }
+            report = report.with_label(label);
+        }
+        if let Some(h) = &d.help {
+            report = report.with_help(h);
+        }
+        let _ = report.finish().write(&mut cache, &mut out);
     }
     String::from_utf8_lossy(&out).into_owned()
 }

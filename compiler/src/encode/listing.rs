@@ -1,5 +1,6 @@
 //! `--emit listing`: every source line that produced bytes, with the page, offset and
-//! bytes, in source order, plus the const page. For reading what the encoder did.
+//! bytes, in source order (a `; file NAME` line where the next file of a program in
+//! several files starts), plus the const page. For reading what the encoder did.
 
 use gutta_format::Record;
 
@@ -70,9 +71,10 @@ pub fn listing(lowered: &Lowered, file: &SourceFile, index: &LineIndex, plc_type
         });
     }
     entries.sort_by_key(|e| (e.span.start, e.page.clone(), e.offset));
+    let names: Vec<String> = file.parts().into_iter().map(|p| p.name).collect();
     let mut out = format!(
         "; listing of {} for {plc_type}\n; page offset  bytes{}line  source\n",
-        file.name,
+        names.join(", "),
         " ".repeat(32)
     );
     out.push_str(&format!(
@@ -83,9 +85,18 @@ pub fn listing(lowered: &Lowered, file: &SourceFile, index: &LineIndex, plc_type
             hex(&lowered.consts.bytes)
         }
     ));
+    let mut current_file = None;
     for e in entries {
         let lc = index.line_col(&file.text, e.span.start as usize);
         let line_start = index.line_start(lc.line as usize - 1);
+        if file.is_joined() {
+            let part = file.part_index(e.span.start as usize);
+            if current_file != Some(part) {
+                current_file = Some(part);
+                out.push_str(&format!("; file {}\n", names[part]));
+            }
+        }
+        let lc = file.locate(index, e.span.start as usize);
         let source = file.text[line_start..]
             .lines()
             .next()

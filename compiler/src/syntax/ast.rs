@@ -15,12 +15,29 @@ pub struct Program {
     pub system_blocks: Vec<SystemBlock>,
 }
 
-/// `Name : ADDRESS // comment` in a SYMBOLS section.
+/// `Name : ADDRESS // comment` or `Name : ADDRESS : TYPE // comment` in a SYMBOLS
+/// section, or a row of a symbol table (`Name,ADDRESS:TYPE,comment`).
 #[derive(Debug, Clone)]
 pub struct SymbolDecl {
     pub name: Span,
     pub address: Span,
+    /// The declared data type's keyword, when written.
+    pub data_type: Option<Span>,
     pub comment: Option<Span>,
+    /// The comment is a quoted CSV field whose `""` stand for `"`.
+    pub comment_escaped: bool,
+}
+
+impl SymbolDecl {
+    /// The comment's text (`""` unescaped in a quoted CSV field), trimmed.
+    pub fn comment_text(&self, text: &str) -> Option<String> {
+        let raw = text.get(self.comment?.range())?.trim();
+        Some(if self.comment_escaped {
+            raw.replace("\"\"", "\"")
+        } else {
+            raw.to_string()
+        })
+    }
 }
 
 /// Kind of program unit, as the header names it: `ORGANIZATION_BLOCK` and

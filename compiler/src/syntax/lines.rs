@@ -156,14 +156,20 @@ pub fn simple_operand_list(toks: &[(Tok, SimpleSpan)]) -> Option<Vec<RawOperand>
     }
 }
 
-/// `Name : ADDRESS` in SYMBOLS.
-pub fn symbol_decl<'t, I>() -> impl Parser<'t, I, (Span, Span), Extra<'t>>
+/// `Name : ADDRESS` or `Name : ADDRESS : TYPE` in SYMBOLS.
+pub fn symbol_decl<'t, I>() -> impl Parser<'t, I, (Span, Span, Option<Span>), Extra<'t>>
 where
     I: ValueInput<'t, Token = Tok, Span = SimpleSpan>,
 {
     word()
         .then_ignore(just(Tok::Colon))
         .then(word().labelled("address"))
+        .then(
+            just(Tok::Colon)
+                .ignore_then(word().labelled("data type"))
+                .or_not(),
+        )
+        .map(|((name, address), ty)| (name, address, ty))
         .then_ignore(just(Tok::Semi).or_not())
         .then_ignore(end())
 }

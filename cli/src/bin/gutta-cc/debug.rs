@@ -51,8 +51,8 @@ pub(crate) fn debug(
     args: &LinkArgs,
 ) -> Result<ExitCode, Fatal> {
     let map = debug_source_map(image)?;
-    // The lead adds the source map's own symbols here once the map carries them.
-    let symbols = online.symbols(vec![])?;
+    // The image's own symbols (its source map's), then --symbols files.
+    let symbols = online.symbols(map.iter().map(|m| m.symbols.clone()).collect())?;
     let mut client = login(args)?;
     let target = plc_target(online.targets, &mut client)?;
     let watched = resolve_all(watch, &symbols, &target)?;
@@ -107,7 +107,7 @@ pub(crate) fn debug(
         position: (f != 0xFF).then(|| format!("{}:{n}:{s}", gutta_format::function_name(f, plc))),
         source: map.as_ref().and_then(|m| {
             let i = m.at_position(f, n, s)?;
-            Some((m.file.clone(), i.line, i.column, i.text.clone()))
+            Some((m.file_of(i).to_string(), i.line, i.column, i.text.clone()))
         }),
     };
     let b = info.breakpoint;

@@ -16,7 +16,7 @@ use gutta_compiler::diagnostics::json;
 use gutta_compiler::diagnostics::render::{render, RenderStyle};
 use gutta_compiler::encode::{listing, summary};
 use gutta_compiler::source::SourceFile;
-use gutta_compiler::{check_source, compile, ExplicitTarget};
+use gutta_compiler::{check_program, compile_program, ExplicitTarget, ProgramSources};
 
 #[derive(Debug, Clone, Parser)]
 #[command(
@@ -36,12 +36,12 @@ Exit status: 0 clean (warnings allowed), 1 errors in the program, 2 usage, I/O o
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
-    /// Source files (.lad) to check.
+    /// Source files (.lad): together, one program to check or compile.
     files: Vec<PathBuf>,
     /// Check only (parse and check; write nothing).
     #[arg(long, conflicts_with = "output")]
     check: bool,
-    /// Compile and write the download image into this directory (one source file).
+    /// Compile and write the download image into this directory.
     #[arg(short, long, value_name = "DIR")]
     output: Option<PathBuf>,
     /// Also print a listing (every source line with its page, offset and bytes) on stdout.
@@ -346,9 +346,9 @@ mod client;
 mod debug;
 mod explain;
 mod login;
+mod project;
 mod vars;
 mod watch;
-mod project;
 
 mod completions;
 mod help;
@@ -556,7 +556,9 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
             return Ok(ExitCode::SUCCESS);
         }
         // new, build and a project's download returned above.
-        Some(Command::New { .. } | Command::Build { .. } | Command::Download { image: None, .. })
+        Some(
+            Command::New { .. } | Command::Build { .. } | Command::Download { image: None, .. },
+        )
         | None => {}
     }
     if cli.files.is_empty() {
@@ -565,94 +567,83 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
         ));
     }
     let compiling = cli.output.is_some() || cli.emit.is_some();
-    if compiling && cli.files.len() != 1 {
-        return Err(Fatal::usage("-o and --emit take exactly one source file"));
-    }
+    let program = read_program(&cli.files, &cli.symbols)?;
+    let name = match program.sources.len() {
+        1 => program.sources[0].name.clone(),
+        n => format!("{n} files"),
+    };
     let explicit = explicit_target(&cli.target)?;
     let color = gutta_cli::color::use_color(cli.color, std::io::stderr().is_terminal());
     let style = RenderStyle {
         color,
         unicode: color,
     };
-    let mut any_errors = false;
     let stdout = std::io::stdout();
-    for path in &cli.files {
-        let bytes = std::fs::read(path)
-            .map_err(|e| Fatal::io(format!("cannot read {}: {e}", path.display())))?;
-        let name = path.display().to_string();
-        let file = SourceFile::from_bytes(&name, bytes).map_err(|e| {
-            Fatal::io(format!(
-                "{name} is not UTF-8 text (invalid byte at offset {})",
-                e.offset
-            ))
-        })?;
-        let (checked, image) = if compiling {
-            let compiled = compile(file, explicit.as_ref());
-            if let (Some(Emit::Listing), Some(lowered)) = (cli.emit, &compiled.lowered) {
-                if compiled.image.is_some() {
-                    let text = listing(
-                        lowered,
-                        &compiled.checked.file,
-                        &compiled.checked.index,
-                        compiled.checked.target.name(),
-                    );
-                    let _ = stdout.lock().write_all(text.as_bytes());
-                }
-            }
-            let map = compiled.source_map();
-            (compiled.checked, compiled.image.zip(map))
-        } else {
-            (check_source(file, explicit.as_ref()), None)
-        };
-        any_errors |= checked.has_errors();
-        if let (Some((image, map)), Some(dir)) = (&image, &cli.output) {
-            gutta_io::write_image_with_map(dir, image, map).map_err(|e| Fatal::io(e.0))?;
-        }
-        match cli.message_format {
-            MessageFormat::Json => {
-                let text =
-                    json::to_json_lines(&checked.file, &checked.index, checked.diagnostics());
+    let (checked, image) = if compiling {
+        let compiled = compile_program(program, explicit.as_ref());
+        if let (Some(Emit::Listing), Some(lowered)) = (cli.emit, &compiled.lowered) {
+            if compiled.image.is_some() {
+                let text = listing(
+                    lowered,
+                    &compiled.checked.file,
+                    &compiled.checked.index,
+                    compiled.checked.target.name(),
+                );
                 let _ = stdout.lock().write_all(text.as_bytes());
             }
-            MessageFormat::Human => {
-                eprint!("{}", render(&checked.file, checked.diagnostics(), style));
-                let errors = checked
-                    .diagnostics()
+        }
+        let map = compiled.source_map();
+        (compiled.checked, compiled.image.zip(map))
+    } else {
+        (check_program(program, explicit.as_ref()), None)
+    };
+    let any_errors = checked.has_errors();
+    if let (Some((image, map)), Some(dir)) = (&image, &cli.output) {
+        gutta_io::write_image_with_map(dir, image, map).map_err(|e| Fatal::io(e.0))?;
+    }
+    match cli.message_format {
+        MessageFormat::Json => {
+            let text = json::to_json_lines(&checked.file, &checked.index, checked.diagnostics());
+            let _ = stdout.lock().write_all(text.as_bytes());
+        }
+        MessageFormat::Human => {
+            eprint!("{}", render(&checked.file, checked.diagnostics(), style));
+            let errors = checked
+                .diagnostics()
+                .iter()
+                .filter(|d| d.is_error())
+                .count();
+            let warnings = checked.diagnostics().len() - errors;
+            if errors > 0 {
+                eprintln!(
+                    "{name}: {errors} error{}, {warnings} warning{}",
+                    plural(errors),
+                    plural(warnings)
+                );
+            } else if let (Some((image, _)), Some(dir)) = (&image, &cli.output) {
+                eprintln!(
+                    "{name}: wrote {} for {}: {}",
+                    dir.display(),
+                    image.plc_type,
+                    summary(image, &checked.target)
+                );
+            } else if let Some(p) = &checked.output.program {
+                let instructions: usize = p
+                    .units
                     .iter()
-                    .filter(|d| d.is_error())
-                    .count();
-                let warnings = checked.diagnostics().len() - errors;
-                if errors > 0 {
-                    eprintln!(
-                        "{name}: {errors} error{}, {warnings} warning{}",
-                        plural(errors),
-                        plural(warnings)
-                    );
-                } else if let (Some((image, _)), Some(dir)) = (&image, &cli.output) {
-                    eprintln!(
-                        "{name}: wrote {} for {}: {}",
-                        dir.display(),
-                        image.plc_type,
-                        summary(image, &checked.target)
-                    );
-                } else if let Some(p) = &checked.output.program {
-                    let instructions: usize = p
-                        .units
-                        .iter()
-                        .flat_map(|u| &u.networks)
-                        .map(|n| n.instructions.len())
-                        .sum();
-                    eprintln!(
-                        "{name}: ok on {} ({} block{}, {instructions} instruction{}, {} data block{}{})",
-                        p.target_name,
-                        p.units.len(),
-                        plural(p.units.len()),
-                        plural(instructions),
-                        p.data_blocks.len(),
-                        plural(p.data_blocks.len()),
-                        if warnings > 0 { format!(", {warnings} warning{}", plural(warnings)) } else { String::new() }
-                    );
-                }
+                    .flat_map(|u| &u.networks)
+                    .map(|n| n.instructions.len())
+                    .sum();
+                eprintln!(
+                    "{name}: ok on {} ({} block{}, {instructions} instruction{}, {} data block{}{})",
+                    p.target_name,
+                    p.units.len(),
+                    plural(p.units.len()),
+                    plural(instructions),
+                    p.data_blocks.len(),
+                    plural(p.data_blocks.len()),
+                    if warnings > 0 { format!(", {warnings} warning{}", plural(warnings)) } else { String::new() }
+                );
             }
         }
     }
@@ -661,6 +652,41 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS
+    })
+}
+
+/// The program: every source file, and the `--symbols` files that are tables (a `.lad`
+/// there is a usage error: its blocks would be half a program).
+fn read_program(files: &[PathBuf], tables: &[PathBuf]) -> Result<ProgramSources, Fatal> {
+    if let Some(lad) = tables
+        .iter()
+        .find(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("lad")))
+    {
+        return Err(Fatal::usage(format!(
+            "--symbols {0}: a .lad file is a source of the program; list it with the sources instead (`gutta-cc ... {0}`)",
+            lad.display()
+        )));
+    }
+    let mut program = ProgramSources::default();
+    for path in files {
+        program.sources.push(read_source(path)?);
+    }
+    for path in tables {
+        program.symbol_tables.push(read_source(path)?);
+    }
+    Ok(program)
+}
+
+/// A file as UTF-8 text (BOM dropped), named as given.
+fn read_source(path: &Path) -> Result<SourceFile, Fatal> {
+    let bytes = std::fs::read(path)
+        .map_err(|e| Fatal::io(format!("cannot read {}: {e}", path.display())))?;
+    let name = path.display().to_string();
+    SourceFile::from_bytes(&name, bytes).map_err(|e| {
+        Fatal::io(format!(
+            "{name} is not UTF-8 text (invalid byte at offset {})",
+            e.offset
+        ))
     })
 }
 

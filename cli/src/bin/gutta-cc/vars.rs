@@ -8,6 +8,7 @@
 use std::path::PathBuf;
 
 use gutta_catalog::{Address, Target, ValueFormat};
+use gutta_compiler::diagnostics::Code;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{check_program, ExplicitTarget, ProgramSources};
 use gutta_format::{Symbol, SymbolTable};
@@ -176,32 +177,58 @@ fn address(name: &str, symbols: &SymbolTable, target: &Target) -> Result<Address
 /// The symbols of `files` (program sources `.lad`, whose SYMBOLS blocks count; any other
 /// file a symbol table) and of `tables` (e.g. an image's source map), one namespace. A
 /// source with errors is refused: its symbols may be wrong.
+/// The errors of symbol declarations and tables: these make a symbol context wrong.
+const SYMBOL_CODES: [Code; 6] = [
+    Code::BadSymbolTable,
+    Code::BadSymbolTableRow,
+    Code::DuplicateSymbol,
+    Code::BadSymbolName,
+    Code::UnknownDataType,
+    Code::SymbolTypeWidth,
+];
+
 pub fn symbol_context(
     files: &[PathBuf],
     tables: Vec<SymbolTable>,
     explicit: Option<&ExplicitTarget>,
 ) -> Result<SymbolTable, String> {
     let mut symbols: Vec<Symbol> = tables.into_iter().flat_map(|t| t.symbols).collect();
+    // The .lad files are one program (a project's sources), the others its tables: they
+    // are checked together, as `gutta-cc build` compiles them, so a symbol declared in one
+    // file and a duplicate in another are seen. Only the declarations' own errors stop the
+    // command; a program being edited still lends its symbols.
+    let mut program = ProgramSources::default();
     for path in files {
         let name = path.display().to_string();
         let text = std::fs::read_to_string(path)
             .map_err(|e| format!("--symbols {name}: cannot read it: {e}"))?;
         let file = SourceFile::new(&name, &text);
-        let is_source = path
+        if path
             .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("lad"));
-        let program = if is_source {
-            ProgramSources::single(file)
+            .is_some_and(|e| e.eq_ignore_ascii_case("lad"))
+        {
+            program.sources.push(file);
         } else {
-            ProgramSources {
-                sources: vec![],
-                symbol_tables: vec![file],
-            }
-        };
+            program.symbol_tables.push(file);
+        }
+    }
+    if !files.is_empty() {
         let checked = check_program(program, explicit);
-        if checked.has_errors() {
+        if let Some(d) = checked
+            .diagnostics()
+            .iter()
+            .find(|d| d.is_error() && SYMBOL_CODES.contains(&d.code))
+        {
+            let at = checked
+                .file
+                .locate(&checked.index, d.primary.span.start as usize);
             return Err(format!(
-                "--symbols {name} has errors (`gutta-cc --check {name}` shows them)"
+                "{}:{}:{}: [{}] {} (`gutta-cc --check` shows every error)",
+                at.file,
+                at.line,
+                at.column,
+                d.code.as_str(),
+                d.message
             ));
         }
         symbols.extend(checked.symbols().symbols);

@@ -165,12 +165,17 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
     let mut vm = Vm::new(verified, Arc::clone(&target), config)
         .map_err(|e| Fatal(format!("{}: cannot load: {e}", cli.image.display())))?;
 
-    // The lead adds the source map's own symbols here once the map carries them.
+    // The image's own symbols (its source map's), then --symbols files.
     let explicit = explicit_target(cli)?.map(|target| gutta_compiler::ExplicitTarget {
         target,
         origin: "--plc/--target".into(),
     });
-    let symbols = vars::symbol_context(&cli.symbols, vec![], explicit.as_ref()).map_err(Fatal)?;
+    let symbols = vars::symbol_context(
+        &cli.symbols,
+        map.iter().map(|m| m.symbols.clone()).collect(),
+        explicit.as_ref(),
+    )
+    .map_err(Fatal)?;
     let reads: Vec<Var> = cli
         .read
         .iter()
@@ -349,7 +354,7 @@ impl Source<'_> {
 
     /// `main.lad:12:1 (MAIN network 2 step 0): MOVW  MW10, MW20`.
     fn describe(&self, at: Position, i: &MappedInstruction) -> String {
-        let file = self.map.map_or("", |m| m.file.as_str());
+        let file = self.map.map_or("", |m| m.file_of(i));
         format!(
             "{file}:{}:{} ({} network {} step {}): {}",
             i.line,
@@ -365,7 +370,7 @@ impl Source<'_> {
     fn json(&self, at: Option<Position>) -> serde_json::Value {
         match (self.map, at.and_then(|at| self.instruction(at))) {
             (Some(map), Some(i)) => serde_json::json!({
-                "file": map.file,
+                "file": map.file_of(i),
                 "line": i.line,
                 "column": i.column,
                 "text": i.text,

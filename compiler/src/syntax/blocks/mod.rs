@@ -53,10 +53,26 @@ pub struct ParseOutput {
 
 /// Parse a whole file. Never fails.
 pub fn parse(text: &str) -> ParseOutput {
+    parse_files(text, &[text.len()])
+}
+
+/// Parse the sources of a program joined into one text (`SourceFile::join`): `ends`
+/// holds the offset where each file ends, in order (the last is where parsing stops).
+/// A block open at a file's end is reported there, and `PLC_TYPE` may start each file.
+pub fn parse_files(text: &str, ends: &[usize]) -> ParseOutput {
+    let stop = ends.last().copied().unwrap_or(0).min(text.len());
+    let text = text.get(..stop).unwrap_or(text);
     let mut parser = BlockParser::new(text);
     let mut lexer = LineLexer::new(text);
     let mut line = Vec::new();
+    let mut file = 0;
     while lexer.next_line(&mut line) {
+        if let Some(&(_, first)) = line.first() {
+            while file + 1 < ends.len() && first.start as usize >= ends[file] {
+                parser.end_file(ends[file]);
+                file += 1;
+            }
+        }
         parser.line(&line);
     }
     parser.finish()
@@ -97,6 +113,11 @@ struct BlockParser<'t> {
     line_reported: bool,
     /// Tokens of the current line without error tokens (reused buffer).
     filtered: Vec<Spanned>,
+    /// Blocks and symbols parsed before the current file (PLC_TYPE must precede the
+    /// file's own).
+    blocks_before_file: usize,
+    /// The current file's PLC_TYPE line, once seen.
+    file_plc_type: Option<Span>,
 }
 
 impl<'t> BlockParser<'t> {
@@ -112,7 +133,26 @@ impl<'t> BlockParser<'t> {
             chum: Vec::new(),
             line_reported: false,
             filtered: Vec::new(),
+            blocks_before_file: 0,
+            file_plc_type: None,
         }
+    }
+
+    /// How many blocks and symbols are parsed so far.
+    fn blocks_so_far(&self) -> usize {
+        self.program.units.len()
+            + self.program.data_blocks.len()
+            + self.program.system_blocks.len()
+            + self.program.symbols.len()
+    }
+
+    /// A file of a joined program ends at `at`: what is open there is reported there;
+    /// the next file starts at the top level.
+    fn end_file(&mut self, at: usize) {
+        self.close_open(Span::new(at, at), "the file ends here");
+        self.junk_run = false;
+        self.blocks_before_file = self.blocks_so_far();
+        self.file_plc_type = None;
     }
 
     fn slice(&self, s: Span) -> &'t str {

@@ -1,5 +1,6 @@
-//! The `PLC_TYPE NAME` line: which target the program is for. It stands once, before
-//! every block; whether the name is a known target is decided by the front end.
+//! The `PLC_TYPE NAME` line: which target the program is for. It stands once per file,
+//! before the file's blocks; the files of one program must agree on it. Whether the name
+//! is a known target is decided by the front end.
 
 use super::{BlockParser, State};
 use crate::diagnostics::{Code, Diagnostic};
@@ -33,19 +34,15 @@ impl BlockParser<'_> {
             );
             return;
         }
-        if let Some((_, first)) = &self.program.plc_type {
-            let first = *first;
+        if let Some(first) = self.file_plc_type {
             self.report(
                 Diagnostic::new(Code::BadPlcType, line_span, "PLC_TYPE given twice")
                     .with_secondary(first, "first given here"),
             );
             return;
         }
-        let blocks = self.program.units.len()
-            + self.program.data_blocks.len()
-            + self.program.system_blocks.len()
-            + self.program.symbols.len();
-        if blocks > 0 {
+        self.file_plc_type = Some(line_span);
+        if self.blocks_so_far() > self.blocks_before_file {
             self.report(
                 Diagnostic::new(
                     Code::BadPlcType,
@@ -55,6 +52,22 @@ impl BlockParser<'_> {
                 .label("move it to the top of the file"),
             );
         }
-        self.program.plc_type = Some((name, name_span));
+        match &self.program.plc_type {
+            // Another file of the program named one already.
+            Some((first, first_span)) => {
+                if !first.eq_ignore_ascii_case(&name) {
+                    let d = Diagnostic::new(
+                        Code::PlcTypeConflict,
+                        name_span,
+                        format!("this file names PLC type {name}, another file {first}"),
+                    )
+                    .label("differs")
+                    .with_secondary(*first_span, format!("{first} named here"))
+                    .help("the files of one program name one PLC type (or none)");
+                    self.report(d);
+                }
+            }
+            None => self.program.plc_type = Some((name, name_span)),
+        }
     }
 }

@@ -1,5 +1,6 @@
 //! The `SYMBOLS ... END_SYMBOLS` block: global names for addresses, one
-//! `Name : ADDRESS // comment` per line. Parsing only; names are resolved by the checker.
+//! `Name : ADDRESS // comment` (or `Name : ADDRESS : TYPE // comment`) per line.
+//! Parsing only; names and types are resolved by the checker.
 
 use chumsky::prelude::*;
 
@@ -20,15 +21,20 @@ impl BlockParser<'_> {
     pub(super) fn symbol_line(&mut self, line_span: Span, comment: Option<Span>) {
         let eoi = self.eoi(line_span);
         match run_grammar!(self.chum[..], eoi, lines::symbol_decl()) {
-            Ok((name, address)) => {
+            Ok((name, address, data_type)) => {
                 let comment = comment.map(|c| self.comment_text(c));
                 self.program.symbols.push(SymbolDecl {
                     name,
                     address,
+                    data_type,
                     comment,
+                    comment_escaped: false,
                 });
             }
-            Err(e) => self.syntax_error(e, "symbol declaration (`Name : ADDRESS`)"),
+            Err(e) => self.syntax_error(
+                e,
+                "symbol declaration (`Name : ADDRESS` or `Name : ADDRESS : TYPE`)",
+            ),
         }
     }
 }
