@@ -95,7 +95,7 @@ enum Command {
     /// Compile the project (gutta.toml, found from the current directory upwards) into
     /// its image directory: its sources as one program, with its symbol tables.
     #[command(
-        after_help = "Examples:\n  gutta-cc new demo && cd demo && gutta-cc build\n  gutta-cc new demo2 && cd demo2 && gutta-cc build --output out/ --message-format json"
+        after_help = "Examples:\n  gutta-cc new lamp && cd lamp && gutta-cc build\n  gutta-cc new mixer && cd mixer && gutta-cc build --output out/ --message-format json"
     )]
     Build {
         /// The image directory [default: gutta.toml's [build] output, else target/image].
