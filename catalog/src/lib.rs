@@ -16,6 +16,7 @@ pub mod modbus;
 mod plc_type;
 pub mod rules;
 pub mod stdlib;
+mod suggest;
 mod text;
 mod types;
 mod value;
@@ -33,6 +34,7 @@ pub use memory::{
 };
 pub use modbus::{ModbusCell, ModbusLocation, ModbusPiece, ModbusSpan};
 pub use plc_type::{ExchSupport, PlcType};
+pub use suggest::edit_distance;
 pub use text::decode_xml_text;
 pub use types::{DataType, Width};
 pub use value::ValueFormat;

@@ -84,29 +84,13 @@ impl SymbolTable {
             .iter()
             .filter_map(|s| {
                 let upper = s.name.to_uppercase();
-                let d = edit_distance(&key, &upper);
+                let d = gutta_catalog::edit_distance(&key, &upper);
                 (d <= 2 || (key.len() >= 3 && upper.starts_with(&key))).then_some((d, &*s.name))
             })
             .collect();
         found.sort();
         found.into_iter().take(3).map(|(_, n)| n).collect()
     }
-}
-
-fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut prev = row[0];
-        row[0] = i + 1;
-        for (j, cb) in b.iter().enumerate() {
-            let cost = usize::from(ca != *cb);
-            let next = (row[j + 1] + 1).min(row[j] + 1).min(prev + cost);
-            prev = row[j + 1];
-            row[j + 1] = next;
-        }
-    }
-    row[b.len()]
 }
 
 #[cfg(test)]

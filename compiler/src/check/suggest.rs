@@ -1,31 +1,8 @@
 //! "Did you mean" suggestions: the closest candidate by edit distance.
 
-/// Edit distance with adjacent transpositions (optimal string alignment), on
-/// ASCII-uppercased characters: `MOWV` is one edit from `MOVW`.
+/// Edit distance on ASCII-uppercased text: names and mnemonics are case-insensitive.
 fn distance(a: &str, b: &str) -> usize {
-    let a: Vec<char> = a.chars().map(|c| c.to_ascii_uppercase()).collect();
-    let b: Vec<char> = b.chars().map(|c| c.to_ascii_uppercase()).collect();
-    let w = b.len() + 1;
-    let mut d = vec![0usize; (a.len() + 1) * w];
-    for i in 0..=a.len() {
-        d[i * w] = i;
-    }
-    for (j, cell) in d.iter_mut().enumerate().take(w) {
-        *cell = j;
-    }
-    for i in 1..=a.len() {
-        for j in 1..=b.len() {
-            let cost = usize::from(a[i - 1] != b[j - 1]);
-            let mut v = (d[(i - 1) * w + j] + 1)
-                .min(d[i * w + j - 1] + 1)
-                .min(d[(i - 1) * w + j - 1] + cost);
-            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
-                v = v.min(d[(i - 2) * w + j - 2] + 1);
-            }
-            d[i * w + j] = v;
-        }
-    }
-    d[a.len() * w + b.len()]
+    gutta_catalog::edit_distance(&a.to_ascii_uppercase(), &b.to_ascii_uppercase())
 }
 
 /// The closest candidate within a third of the word's length (at least 1, at most 3 edits).

@@ -119,24 +119,6 @@ impl Header {
     }
 }
 
-/// Levenshtein distance of two short ASCII words.
-fn distance(a: &str, b: &str) -> usize {
-    let b = b.as_bytes();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.bytes().enumerate() {
-        let mut diagonal = row[0];
-        row[0] = i + 1;
-        for (j, &cb) in b.iter().enumerate() {
-            let next = (diagonal + usize::from(ca != cb))
-                .min(row[j] + 1)
-                .min(row[j + 1] + 1);
-            diagonal = row[j + 1];
-            row[j + 1] = next;
-        }
-    }
-    row[b.len()]
-}
-
 /// The text before a trailing `// comment`, outside double quotes.
 fn strip_comment(value: &str) -> &str {
     let mut quoted = false;
@@ -166,7 +148,11 @@ fn directive(line: &str) -> Option<(&str, &str)> {
     let is_directive = match key.split_once(' ') {
         None => {
             word(key)
-                && (key == "then" || key == "after" || KEYS.iter().any(|k| distance(k, key) <= 2))
+                && (key == "then"
+                    || key == "after"
+                    || KEYS
+                        .iter()
+                        .any(|k| gutta_catalog::edit_distance(k, key) <= 2))
         }
         Some((first, _)) => (first == "then" || first == "after") && key.split(' ').all(word),
     };

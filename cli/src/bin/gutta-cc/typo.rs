@@ -32,7 +32,7 @@ pub(crate) fn check_first_word(command: &Command, args: &[OsString]) -> Result<(
     let lower = word.to_lowercase();
     let closest = names
         .iter()
-        .map(|name| (edit_distance(&lower, name), *name))
+        .map(|name| (gutta_catalog::edit_distance(&lower, name), *name))
         .min();
     match closest {
         Some((distance, name)) if distance <= allowed_distance(&word) => Err(Fatal::usage(
@@ -137,41 +137,15 @@ fn first_positional(command: &Command, args: &[OsString]) -> Option<usize> {
     None
 }
 
-/// Edits (insert, delete, substitute, swap two neighbours) from `a` to `b`.
-fn edit_distance(a: &str, b: &str) -> usize {
-    let a: Vec<char> = a.chars().collect();
-    let b: Vec<char> = b.chars().collect();
-    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
-    for (i, row) in d.iter_mut().enumerate() {
-        row[0] = i;
-    }
-    for (j, cell) in d[0].iter_mut().enumerate() {
-        *cell = j;
-    }
-    for i in 1..=a.len() {
-        for j in 1..=b.len() {
-            let cost = usize::from(a[i - 1] != b[j - 1]);
-            let mut best = (d[i - 1][j] + 1)
-                .min(d[i][j - 1] + 1)
-                .min(d[i - 1][j - 1] + cost);
-            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
-                best = best.min(d[i - 2][j - 2] + 1);
-            }
-            d[i][j] = best;
-        }
-    }
-    d[a.len()][b.len()]
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn a_swap_is_one_edit() {
-        assert_eq!(edit_distance("donwload", "download"), 1);
-        assert_eq!(edit_distance("stats", "status"), 1);
-        assert_eq!(edit_distance("xyz", "dis"), 3);
+        assert_eq!(gutta_catalog::edit_distance("donwload", "download"), 1);
+        assert_eq!(gutta_catalog::edit_distance("stats", "status"), 1);
+        assert_eq!(gutta_catalog::edit_distance("xyz", "dis"), 3);
     }
 
     #[test]
