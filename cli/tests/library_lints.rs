@@ -13,7 +13,7 @@ const LIBRARIES: [&str; 7] = [
 
 /// The packages whose job is I/O: the binaries, the binaries' shared file I/O, and the
 /// benchmark programs (their build script writes the generated sources).
-const DOING_IO: [&str; 3] = ["cli", "io", "bench-native"];
+const DOING_IO: [&str; 4] = ["cli", "io", "bench-native", "lsp"];
 
 fn root() -> &'static Path {
     Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
