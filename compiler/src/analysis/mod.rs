@@ -1,6 +1,11 @@
 //! The analysis API for editors: text in; diagnostics, definitions, references and
 //! hover text out, all with byte spans. Plain data only; no LSP types, no I/O.
 
+pub mod folding;
+pub mod format;
+pub mod inlay;
+pub mod tokens;
+
 use gutta_catalog::Address;
 
 use crate::check::{DefKind, Definition};

@@ -1,0 +1,145 @@
+//! The formatter over the repository's programs (examples/, tests/data/**): idempotent,
+//! and the formatted text compiles to the same image (or the same diagnostic codes)
+//! as the text it came from, also after its blanks were shuffled by proptest. The
+//! in-process `textDocument/formatting` tests follow. Reads files; changes none.
+
+use std::path::{Path, PathBuf};
+
+use gutta_compiler::analysis::format::format;
+use gutta_compiler::source::SourceFile;
+use proptest::prelude::*;
+
+fn corpus() -> Vec<(String, String)> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut files = Vec::new();
+    for dir in ["examples", "tests/data"] {
+        collect(&root.join(dir), &mut files);
+    }
+    files.sort();
+    let read: Vec<(String, String)> = files
+        .into_iter()
+        .filter_map(|p| {
+            let text = std::fs::read_to_string(&p).ok()?;
+            Some((p.display().to_string(), text))
+        })
+        .collect();
+    assert!(
+        read.len() > 50,
+        "the corpus went missing: {} files",
+        read.len()
+    );
+    read
+}
+
+fn collect(dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            collect(&p, out);
+        } else if p.extension().is_some_and(|x| x == "lad") {
+            out.push(p);
+        }
+    }
+}
+
+/// What a text compiles to: its image, or its diagnostic codes when it has none.
+fn meaning(name: &str, text: &str) -> Result<gutta_format::Image, Vec<String>> {
+    let compiled = gutta_compiler::compile(SourceFile::new(name, text), None);
+    match compiled.image {
+        Some(image) => Ok(image),
+        None => Err(compiled
+            .checked
+            .diagnostics()
+            .iter()
+            .map(|d| d.code.as_str().to_string())
+            .collect()),
+    }
+}
+
+/// Formats `text` if it parses; checks idempotence and meaning. Whether it was formatted.
+fn holds(name: &str, text: &str) -> bool {
+    let Ok(once) = format(text) else {
+        return false;
+    };
+    assert_eq!(
+        format(&once).as_deref(),
+        Ok(once.as_str()),
+        "{name}: not idempotent"
+    );
+    assert_eq!(
+        meaning(name, text),
+        meaning(name, &once),
+        "{name}: meaning changed"
+    );
+    true
+}
+
+#[test]
+fn every_program_formats_idempotently_to_the_same_image() {
+    let corpus = corpus();
+    let formatted = corpus.iter().filter(|(n, t)| holds(n, t)).count();
+    // Only the programs of the syntax-error corpus are refused.
+    assert!(
+        formatted * 10 > corpus.len() * 8,
+        "{formatted} of {}",
+        corpus.len()
+    );
+}
+
+/// `text` with its layout shuffled: indentation, the gap after a line's first token,
+/// trailing blanks and runs of blank lines, from `noise`. Never inside a comment or string.
+fn shuffle(text: &str, noise: &[u8]) -> String {
+    let (mut out, text) = match text.strip_prefix('\u{FEFF}') {
+        Some(rest) => ("\u{FEFF}".to_string(), rest),
+        None => (String::new(), text),
+    };
+    for (i, line) in text.split_inclusive('\n').enumerate() {
+        let n = noise.get(i % noise.len().max(1)).copied().unwrap_or(0);
+        let (body, end) = match line.strip_suffix('\n') {
+            Some(b) => (b, "\n"),
+            None => (line, ""),
+        };
+        let trimmed = body.trim_start();
+        out.push_str(&" ".repeat((n & 3) as usize));
+        let first_gap = trimmed.find([' ', '\t']);
+        let title = trimmed.to_ascii_uppercase().starts_with("TITLE");
+        match first_gap {
+            Some(g) if !trimmed.starts_with("//") && !trimmed[..g].contains('"') && !title => {
+                let rest = trimmed[g..].trim_start();
+                out.push_str(&trimmed[..g]);
+                out.push_str(&" ".repeat(1 + ((n >> 2) & 7) as usize));
+                out.push_str(rest);
+            }
+            _ => out.push_str(trimmed),
+        }
+        if n & 0x20 != 0 && !title && !trimmed.contains("//") {
+            out.push_str("   ");
+        }
+        out.push_str(end);
+        // Blank lines the formatter keeps (one of a run) stay; a run grows.
+        if n & 0x40 != 0 && trimmed.is_empty() {
+            out.push('\n');
+        }
+    }
+    out
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, failure_persistence: None, ..ProptestConfig::default() })]
+    #[test]
+    fn shuffled_layouts_format_to_the_same_program(
+        pick in any::<prop::sample::Index>(),
+        noise in prop::collection::vec(any::<u8>(), 1..40),
+    ) {
+        let corpus = corpus();
+        let (name, text) = &corpus[pick.index(corpus.len())];
+        let shuffled = shuffle(text, &noise);
+        if holds(name, &shuffled) {
+            // The shuffle does not reach the layout the formatter chose.
+            prop_assert_eq!(format(&shuffled), format(text));
+        }
+    }
+}
