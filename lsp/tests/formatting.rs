@@ -3,10 +3,16 @@
 //! as the text it came from, also after its blanks were shuffled by proptest. The
 //! in-process `textDocument/formatting` tests follow. Reads files; changes none.
 
+mod common;
+
 use std::path::{Path, PathBuf};
+
+use common::{uri, TestServer};
 
 use gutta_compiler::analysis::format::format;
 use gutta_compiler::source::SourceFile;
+use lsp_types::request::Formatting;
+use lsp_types::{DocumentFormattingParams, FormattingOptions, TextDocumentIdentifier};
 use proptest::prelude::*;
 
 fn corpus() -> Vec<(String, String)> {
@@ -142,4 +148,44 @@ proptest! {
             prop_assert_eq!(format(&shuffled), format(text));
         }
     }
+}
+
+fn format_request(s: &mut TestServer, u: &lsp_types::Uri) -> Option<Vec<lsp_types::TextEdit>> {
+    s.request::<Formatting>(DocumentFormattingParams {
+        text_document: TextDocumentIdentifier::new(u.clone()),
+        options: FormattingOptions::default(),
+        work_done_progress_params: Default::default(),
+    })
+}
+
+#[test]
+fn the_server_answers_one_edit_of_the_whole_text() {
+    let mut s = TestServer::start();
+    let u = uri("main.lad");
+    let text = "SYMBOLS\r\nStart:I0.0 // go\r\n  Lamp : Q0.0\r\nEND_SYMBOLS\r\nORGANIZATION_BLOCK MAIN:OB1\r\nBEGIN\r\nNetwork 1 // latch\r\nLD Start\r\nO   Lamp   // hold\r\n=  Lamp\r\nEND_ORGANIZATION_BLOCK\r\n";
+    s.open(&u, text);
+    insta::assert_snapshot!(common::redact(&format_request(&mut s, &u), &[]));
+    // Formatted text: no edits.
+    let edits = format_request(&mut s, &u).unwrap_or_default();
+    let formatted = edits[0].new_text.clone();
+    s.replace(&u, 2, &formatted);
+    assert_eq!(format_request(&mut s, &u), Some(vec![]));
+}
+
+#[test]
+fn a_text_with_syntax_errors_is_left_alone() {
+    let mut s = TestServer::start();
+    let u = uri("broken.lad");
+    s.open(
+        &u,
+        "ORGANIZATION_BLOCK MAIN\nBEGIN\nNETWORK 1\nLD ?\nEND_ORGANIZATION_BLOCK\n",
+    );
+    assert_eq!(format_request(&mut s, &u), None);
+    let logged = s.received("window/logMessage");
+    assert!(
+        logged
+            .iter()
+            .any(|n| n.params.to_string().contains("line 4")),
+        "{logged:?}"
+    );
 }

@@ -185,7 +185,7 @@ pub fn semantic_tokens(checked: &CheckedFile, part: Span, range: Span) -> Vec<Se
             Tok::Eq => before_eq = false,
             _ => {}
         }
-        if span.start < covered_to || span.end < range.start || span.start > range.end {
+        if span.start < covered_to || span.end <= range.start || span.start >= range.end {
             continue;
         }
         let word = &text[span.range()];
@@ -195,14 +195,16 @@ pub fn semantic_tokens(checked: &CheckedFile, part: Span, range: Span) -> Vec<Se
             match tok {
                 Tok::Comment | Tok::Title => Some((span, TokenKind::Comment, 0)),
                 Tok::Str => Some((span, TokenKind::Str, 0)),
-                Tok::Int | Tok::Based | Tok::Real => Some((span, TokenKind::Number, 0)),
-                Tok::Word => {
+                Tok::Int | Tok::Based | Tok::Real | Tok::Word => {
+                    // Labels are numbers; every other name is a word.
                     let named = references.get(&span.start).map(|d| (*d, 0)).or_else(|| {
                         definitions
                             .get(&span.start)
                             .map(|d| (*d, modifier::DECLARATION))
                     });
-                    if let Some((def, decl)) = named {
+                    if tok != Tok::Word && named.is_none() {
+                        Some((span, TokenKind::Number, 0))
+                    } else if let Some((def, decl)) = named {
                         let (kind, mods) = match out.definitions[def].kind {
                             DefKind::Symbol => (
                                 TokenKind::Variable,

@@ -4,14 +4,25 @@
 //! gutta-compiler's analysis.
 
 pub mod diagnostics;
+pub mod folding;
+pub mod formatting;
+pub mod inlay;
+pub mod tokens;
 
 use lsp_types::notification as note;
+use lsp_types::request as req;
 
-use crate::server::{notification, Row};
+use crate::server::{notification, request, Row};
 
 /// Every request the server answers.
 pub fn requests() -> Vec<Row> {
-    vec![]
+    vec![
+        request::<req::Formatting>(formatting::formatting),
+        request::<req::FoldingRangeRequest>(folding::folding_range),
+        request::<req::SemanticTokensFullRequest>(tokens::full),
+        request::<req::SemanticTokensRangeRequest>(tokens::range),
+        request::<req::InlayHintRequest>(inlay::inlay_hint),
+    ]
 }
 
 /// Every notification the server acts on.

@@ -1,0 +1,76 @@
+//! textDocument/inlayHint over the in-process server: symbol addresses and Modbus
+//! references, in a lone file and across a project's files and symbol table, and the
+//! `initializationOptions.inlayHints` switch.
+
+mod common;
+
+use common::{uri, TestServer};
+use lsp_types::request::InlayHintRequest;
+use lsp_types::{
+    InitializeParams, InlayHintLabel, InlayHintParams, Position, Range, TextDocumentIdentifier, Uri,
+};
+
+const TEXT: &str = "SYMBOLS\n  Start : I0.0 // go\n  Speed : MW20\nEND_SYMBOLS\nORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD     Start\nMOVW   Speed, MW30\n=      Q0.0\nEND_ORGANIZATION_BLOCK\n";
+
+fn hints(s: &mut TestServer, u: &Uri) -> Vec<String> {
+    let answer = s.request::<InlayHintRequest>(InlayHintParams {
+        text_document: TextDocumentIdentifier::new(u.clone()),
+        range: Range::new(Position::new(0, 0), Position::new(100, 0)),
+        work_done_progress_params: Default::default(),
+    });
+    answer
+        .unwrap_or_default()
+        .iter()
+        .map(|h| {
+            let label = match &h.label {
+                InlayHintLabel::String(s) => s.clone(),
+                InlayHintLabel::LabelParts(parts) => {
+                    parts.iter().map(|p| p.value.as_str()).collect()
+                }
+            };
+            format!(
+                "{}:{} {label:?} {:?}",
+                h.position.line + 1,
+                h.position.character,
+                h.kind
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn symbol_uses_show_addresses_and_words_their_modbus_register() {
+    let mut s = TestServer::start();
+    let u = uri("main.lad");
+    s.open(&u, TEXT);
+    insta::assert_snapshot!(hints(&mut s, &u).join("\n"));
+}
+
+#[test]
+fn symbols_of_a_project_table_show_their_address_in_every_file() {
+    let p = common::ProjectDir::new();
+    let mut s = TestServer::start();
+    let motor = p.uri("src/motor.lad");
+    s.open(&motor, common::MOTOR_LAD);
+    assert_eq!(hints(&mut s, &motor), ["8:12 \": Q0.1\" Some(Type)"]);
+}
+
+#[test]
+fn initialization_options_turn_hints_off() {
+    let start = |options: serde_json::Value| {
+        TestServer::start_with(InitializeParams {
+            initialization_options: Some(options),
+            ..InitializeParams::default()
+        })
+    };
+    let u = uri("main.lad");
+    let mut off = start(serde_json::json!({ "inlayHints": false }));
+    off.open(&u, TEXT);
+    assert_eq!(hints(&mut off, &u), Vec::<String>::new());
+    let mut no_modbus = start(serde_json::json!({ "inlayHints": { "modbus": false } }));
+    no_modbus.open(&u, TEXT);
+    assert_eq!(
+        hints(&mut no_modbus, &u),
+        ["8:12 \": I0.0\" Some(Type)", "9:12 \": MW20\" Some(Type)"]
+    );
+}
