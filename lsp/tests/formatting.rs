@@ -189,3 +189,20 @@ fn a_text_with_syntax_errors_is_left_alone() {
         "{logged:?}"
     );
 }
+
+#[test]
+fn the_layout_example_of_the_docs_is_formatted() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/language.md");
+    let docs = std::fs::read_to_string(path).unwrap_or_default();
+    let example = docs
+        .split("## 14. Layout")
+        .nth(1)
+        .and_then(|s| s.split("```\n").nth(1))
+        .unwrap_or_default();
+    assert!(example.contains("Network 1"), "the example went missing");
+    assert_eq!(format(example).as_deref(), Ok(example));
+    assert!(
+        meaning("layout.lad", example).is_ok(),
+        "the example compiles"
+    );
+}
