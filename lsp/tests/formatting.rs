@@ -159,15 +159,17 @@ fn format_request(s: &mut TestServer, u: &lsp_types::Uri) -> Option<Vec<lsp_type
 }
 
 #[test]
-fn the_server_answers_one_edit_of_the_whole_text() {
+fn the_server_answers_one_edit_of_the_changed_lines() {
     let mut s = TestServer::start();
     let u = uri("main.lad");
-    let text = "SYMBOLS\r\nStart:I0.0 // go\r\n  Lamp : Q0.0\r\nEND_SYMBOLS\r\nORGANIZATION_BLOCK MAIN:OB1\r\nBEGIN\r\nNetwork 1 // latch\r\nLD Start\r\nO   Lamp   // hold\r\n=  Lamp\r\nEND_ORGANIZATION_BLOCK\r\n";
+    let text = "// a program\r\nSYMBOLS\r\nStart:I0.0 // go\r\n  Lamp : Q0.0\r\nEND_SYMBOLS\r\nORGANIZATION_BLOCK MAIN:OB1\r\nBEGIN\r\nNetwork 1 // latch\r\nLD Start\r\nO   Lamp   // hold\r\n=  Lamp\r\nEND_ORGANIZATION_BLOCK\r\n";
     s.open(&u, text);
     insta::assert_snapshot!(common::redact(&format_request(&mut s, &u), &[]));
-    // Formatted text: no edits.
+    // The edit applied is the formatted text; formatted text needs no edits.
     let edits = format_request(&mut s, &u).unwrap_or_default();
-    let formatted = edits[0].new_text.clone();
+    let (start, end) = gutta_lsp::documents::byte_range(text, edits[0].range);
+    let formatted = format!("{}{}{}", &text[..start], edits[0].new_text, &text[end..]);
+    assert_eq!(format(text).as_deref(), Ok(formatted.as_str()));
     s.replace(&u, 2, &formatted);
     assert_eq!(format_request(&mut s, &u), Some(vec![]));
 }

@@ -13,8 +13,12 @@ use serde_json::Value;
 
 const TEXT: &str = "PLC_TYPE CPU-EC20\nSYMBOLS\n  启动 : I0.0 // start\n  Speed : MW10 : INT\nEND_SYMBOLS\nSUBROUTINE_BLOCK ADD:SBR0\nVAR_INPUT\n  a : INT;\nEND_VAR\nBEGIN\nNETWORK 1 // add\nLD     启动\nMOVW   #a, Speed\n+I     3, AQW0\nLDW>=  C2, -5\nJMP    1\nLBL    1\nEND_SUBROUTINE_BLOCK\nORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD     SM0.0\nCALL   ADD, T3\nEND_ORGANIZATION_BLOCK\nDATA_BLOCK D:DAT0\n  MW22 UINT 6\nEND_DATA_BLOCK\nSYSTEM_BLOCK\n  PASSWORD = \"1234\"\nEND_SYSTEM_BLOCK\n";
 
-/// Tokens as lines, through the legend the server announced.
+/// Tokens of `TEXT` as lines, through the legend the server announced.
 fn decode(s: &TestServer, tokens: &SemanticTokens) -> Vec<String> {
+    decode_in(s, tokens, TEXT)
+}
+
+fn decode_in(s: &TestServer, tokens: &SemanticTokens, text: &str) -> Vec<String> {
     let legend = &s.initialize_result["capabilities"]["semanticTokensProvider"]["legend"];
     let names = |key: &str| -> Vec<String> {
         legend[key]
@@ -26,7 +30,7 @@ fn decode(s: &TestServer, tokens: &SemanticTokens) -> Vec<String> {
             .collect()
     };
     let (types, modifiers) = (names("tokenTypes"), names("tokenModifiers"));
-    let lines: Vec<&str> = TEXT.lines().collect();
+    let lines: Vec<&str> = text.lines().collect();
     let (mut line, mut col) = (0u32, 0u32);
     tokens
         .data
@@ -96,4 +100,28 @@ fn a_range_gives_its_lines_only() {
             "13:11 Speed variable symbolic+memory",
         ]
     );
+}
+
+#[test]
+fn project_files_and_symbol_tables_get_their_own_tokens() {
+    let p = common::ProjectDir::new();
+    let mut s = TestServer::start();
+    let motor = p.uri("src/motor.lad");
+    let table = p.uri("symbols.csv");
+    s.open(&motor, common::MOTOR_LAD);
+    s.open(&table, common::SYMBOLS_CSV);
+    let mut shown = Vec::new();
+    for (u, text) in [(&motor, common::MOTOR_LAD), (&table, common::SYMBOLS_CSV)] {
+        let Some(SemanticTokensResult::Tokens(tokens)) =
+            s.request::<SemanticTokensFullRequest>(SemanticTokensParams {
+                text_document: TextDocumentIdentifier::new(u.clone()),
+                work_done_progress_params: Default::default(),
+                partial_result_params: Default::default(),
+            })
+        else {
+            panic!("no tokens");
+        };
+        shown.extend(decode_in(&s, &tokens, text));
+    }
+    insta::assert_snapshot!(shown.join("\n"));
 }

@@ -9,7 +9,7 @@ use gutta_catalog::{Address, AreaKind, DataType};
 
 use crate::analysis::inlay::symbol_addresses;
 use crate::check::DefKind;
-use crate::source::Span;
+use crate::source::{PartKind, Span};
 use crate::syntax::lexer::{lex, Tok};
 use crate::CheckedFile;
 
@@ -165,6 +165,11 @@ pub fn semantic_tokens(checked: &CheckedFile, part: Span, range: Span) -> Vec<Se
         .collect();
     let symbols = symbol_addresses(checked);
     let memory = &checked.target.memory;
+    // A symbol table's rows: only names, addresses and types mean something there.
+    let parts = checked.file.parts();
+    let table = parts
+        .get(checked.file.part_index(part.start as usize))
+        .is_some_and(|p| p.kind == PartKind::SymbolTable);
     let area_of = |a: &Address| {
         memory
             .area_by_slot(a.slot)
@@ -235,6 +240,9 @@ pub fn semantic_tokens(checked: &CheckedFile, part: Span, range: Span) -> Vec<Se
                 _ => None,
             }
         };
+        let classified = classified.filter(|(_, kind, _)| {
+            !table || matches!(kind, TokenKind::Variable | TokenKind::DataType)
+        });
         if let Some((span, kind, modifiers)) = classified {
             covered_to = span.end;
             tokens.push(SemanticToken {

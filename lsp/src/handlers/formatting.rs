@@ -1,13 +1,12 @@
 //! textDocument/formatting: the open document's text through the compiler's formatter
-//! (gutta_compiler::analysis::format), answered as one edit of the whole text. A text
+//! (gutta_compiler::analysis::format), answered as one edit of the lines that
+//! change (so the editor keeps the cursor and folds elsewhere). A text
 //! with syntax errors is left as it is (no edits) and the reason logged. No layout
 //! rule lives here.
 
 use gutta_compiler::analysis::format::format;
 use lsp_types::notification::LogMessage;
-use lsp_types::{
-    DocumentFormattingParams, LogMessageParams, MessageType, Position, Range, TextEdit,
-};
+use lsp_types::{DocumentFormattingParams, LogMessageParams, MessageType, Range, TextEdit};
 
 use crate::documents::Lines;
 use crate::server::{HandlerError, State};
@@ -26,13 +25,7 @@ pub fn formatting(
     let text = &doc.text;
     match format(text) {
         Ok(formatted) if formatted == *text => Ok(Some(Vec::new())),
-        Ok(formatted) => {
-            let end = Lines::new(text).position(text, text.len());
-            Ok(Some(vec![TextEdit::new(
-                Range::new(Position::new(0, 0), end),
-                formatted,
-            )]))
-        }
+        Ok(formatted) => Ok(Some(vec![changed_lines(text, &formatted)])),
         Err(refusal) => {
             let at = Lines::new(text).position(text, refusal.span.start as usize);
             state.notify::<LogMessage>(LogMessageParams {
@@ -47,4 +40,29 @@ pub fn formatting(
             Ok(None)
         }
     }
+}
+
+/// One edit that turns `old` into `new`: the lines between their common first and last
+/// lines replaced.
+fn changed_lines(old: &str, new: &str) -> TextEdit {
+    let prefix = common_lines(old.split_inclusive('\n'), new.split_inclusive('\n'));
+    let (old_rest, new_rest) = (&old[prefix..], &new[prefix..]);
+    let suffix = common_lines(
+        old_rest.split_inclusive('\n').rev(),
+        new_rest.split_inclusive('\n').rev(),
+    );
+    let lines = Lines::new(old);
+    let range = Range::new(
+        lines.position(old, prefix),
+        lines.position(old, old.len() - suffix),
+    );
+    TextEdit::new(range, new_rest[..new_rest.len() - suffix].to_string())
+}
+
+/// Bytes of the whole lines two line sequences share at their start.
+fn common_lines<'a>(a: impl Iterator<Item = &'a str>, b: impl Iterator<Item = &'a str>) -> usize {
+    a.zip(b)
+        .take_while(|(x, y)| x == y && x.ends_with('\n'))
+        .map(|(x, _)| x.len())
+        .sum()
 }
