@@ -74,3 +74,40 @@ fn initialization_options_turn_hints_off() {
         ["8:12 \": I0.0\" Some(Type)", "9:12 \": MW20\" Some(Type)"]
     );
 }
+
+#[test]
+fn visible_operands_are_the_live_values_hook() {
+    let u = uri("main.lad");
+    let mut docs = gutta_lsp::documents::Documents::default();
+    docs.open(
+        u.clone(),
+        gutta_lsp::documents::Document {
+            text: TEXT.to_string(),
+            version: 1,
+            language_id: "gutta".into(),
+        },
+    );
+    let mut ws = gutta_lsp::workspace::Workspace::default();
+    ws.opened(&docs, &u);
+    let program = ws.program_of(&u).expect("analysed");
+    let shown: Vec<String> = gutta_lsp::handlers::inlay::visible_operands(
+        program,
+        &u,
+        Range::new(Position::new(7, 0), Position::new(10, 0)),
+    )
+    .iter()
+    .map(|(r, a)| {
+        format!(
+            "{}:{}-{} {}",
+            r.start.line + 1,
+            r.start.character,
+            r.end.character,
+            program.checked.target.memory.format_address(a)
+        )
+    })
+    .collect();
+    assert_eq!(
+        shown,
+        ["8:7-12 I0.0", "9:7-12 MW20", "9:14-18 MW30", "10:7-11 Q0.0"]
+    );
+}

@@ -2,13 +2,18 @@
 //! for the requested range, converted to LSP positions. Which hints are shown comes from
 //! `initializationOptions.inlayHints` (docs/editors.md): `false` for none, or
 //! `{ "symbolAddresses": bool, "modbus": bool }` (both default true).
+//! `visible_operands` is the hook for live values: operands of a range and their
+//! addresses.
 
-use gutta_compiler::analysis::inlay::{inlay_hints, InlayKind, InlayOptions};
+use gutta_catalog::Address;
+use gutta_compiler::analysis::inlay::{inlay_hints, operand_addresses, InlayKind, InlayOptions};
 use gutta_compiler::source::Span;
-use lsp_types::{InlayHint, InlayHintKind, InlayHintLabel, InlayHintParams};
+use lsp_types::{InlayHint, InlayHintKind, InlayHintLabel, InlayHintParams, Range, Uri};
 use serde_json::Value;
 
+use crate::convert;
 use crate::server::{HandlerError, State};
+use crate::workspace::Program;
 
 pub fn inlay_hint(
     state: &mut State,
@@ -19,13 +24,24 @@ pub fn inlay_hint(
     let Some(program) = state.workspace.program_of(uri) else {
         return Ok(None);
     };
-    let (Some(start), Some(end)) = (
-        program.offset(uri, params.range.start),
-        program.offset(uri, params.range.end),
-    ) else {
+    let Some(range) = span_of(program, uri, params.range) else {
         return Ok(None);
     };
-    let hints = inlay_hints(&program.checked, Span::new(start, end), options)
+    // Live values (another feature) append their hints here, from `visible_operands`.
+    Ok(Some(address_hints(program, range, options)))
+}
+
+/// The byte span in the program's text of `range` in `uri`.
+fn span_of(program: &Program, uri: &Uri, range: Range) -> Option<Span> {
+    Some(Span::new(
+        program.offset(uri, range.start)?,
+        program.offset(uri, range.end)?,
+    ))
+}
+
+/// Symbol addresses and Modbus references for `range` (bytes of the program's text).
+fn address_hints(program: &Program, range: Span, options: InlayOptions) -> Vec<InlayHint> {
+    inlay_hints(&program.checked, range, options)
         .into_iter()
         .map(|h| InlayHint {
             position: program.position(h.offset).1,
@@ -40,8 +56,19 @@ pub fn inlay_hint(
             padding_right: None,
             data: None,
         })
-        .collect();
-    Ok(Some(hints))
+        .collect()
+}
+
+/// The operands visible in `range` of `uri` with the address each reads, as LSP ranges:
+/// the hook live values attach their values to (one hint at each range's end).
+pub fn visible_operands(program: &Program, uri: &Uri, range: Range) -> Vec<(Range, Address)> {
+    let Some(span) = span_of(program, uri, range) else {
+        return Vec::new();
+    };
+    operand_addresses(&program.checked, span)
+        .into_iter()
+        .map(|(s, a)| (convert::range(program, s).1, a))
+        .collect()
 }
 
 /// The hints asked for at `initialize` (all when nothing was said).
