@@ -331,9 +331,8 @@ fn symbol_hover(checked: &CheckedFile, d: &Definition) -> String {
 }
 
 fn unit_hover(checked: &CheckedFile, d: &Definition) -> String {
-    let mut out = format!("{}", d.detail);
     let Some(unit) = unit_defined_at(checked, d.span) else {
-        return out;
+        return format!("program block `{}`\n\n{}", d.name, d.detail);
     };
     let kind = match unit.kind {
         gutta_catalog::BlockKind::Subroutine => "subroutine",
@@ -342,7 +341,7 @@ fn unit_hover(checked: &CheckedFile, d: &Definition) -> String {
             false => "interrupt routine",
         },
     };
-    out = format!("{kind} `{}`\n\n{}", d.name, d.detail);
+    let mut out = format!("{kind} `{}`\n\n{}", d.name, d.detail);
     let text = &checked.file.text;
     if let Some(title) = unit.title.and_then(|t| text.get(t.range())) {
         let _ = write!(out, "\n\n{}", title.trim());
@@ -367,7 +366,10 @@ fn unit_hover(checked: &CheckedFile, d: &Definition) -> String {
         }
         out.push_str("\nEND_VAR\n```");
     }
-    let _ = write!(out, "\n\n{} networks", unit.networks.len());
+    let _ = match unit.networks.len() {
+        1 => write!(out, "\n\n1 network"),
+        n => write!(out, "\n\n{n} networks"),
+    };
     out
 }
 
