@@ -7,6 +7,8 @@ pub mod diagnostics;
 pub mod folding;
 pub mod formatting;
 pub mod inlay;
+pub mod navigation;
+pub mod symbols;
 pub mod tokens;
 
 use lsp_types::notification as note;
@@ -17,6 +19,12 @@ use crate::server::{notification, request, Row};
 /// Every request the server answers.
 pub fn requests() -> Vec<Row> {
     vec![
+        request::<req::HoverRequest>(navigation::hover),
+        request::<req::GotoDefinition>(navigation::definition),
+        request::<req::References>(navigation::references),
+        request::<req::DocumentHighlightRequest>(navigation::highlight),
+        request::<req::DocumentSymbolRequest>(symbols::document_symbols),
+        request::<req::WorkspaceSymbolRequest>(symbols::workspace_symbols),
         request::<req::Formatting>(formatting::formatting),
         request::<req::FoldingRangeRequest>(folding::folding_range),
         request::<req::SemanticTokensFullRequest>(tokens::full),
