@@ -164,6 +164,16 @@ pub fn semantic_tokens(checked: &CheckedFile, part: Span, range: Span) -> Vec<Se
         .map(|(i, d)| (d.span.start, i))
         .collect();
     let symbols = symbol_addresses(checked);
+    // The numbered names of block headers (`SBR0` in `ADD:SBR0`).
+    let ast = &checked.ast;
+    let numbered: HashMap<u32, Span> = ast
+        .units
+        .iter()
+        .map(|u| &u.header)
+        .chain(ast.data_blocks.iter().map(|d| &d.header))
+        .filter_map(|h| h.number.map(|(_, s)| (s.start, s)))
+        .filter(|(_, s)| !definitions.contains_key(&s.start))
+        .collect();
     let memory = &checked.target.memory;
     // A symbol table's rows: only names, addresses and types mean something there.
     let parts = checked.file.parts();
@@ -180,6 +190,7 @@ pub fn semantic_tokens(checked: &CheckedFile, part: Span, range: Span) -> Vec<Se
     let mut covered_to = 0u32;
     let mut system_block = false;
     let mut before_eq = true;
+    let mut minus: Option<Span> = None;
     for (tok, s) in lex(doc) {
         let span = Span::new(
             part.start as usize + s.start as usize,
@@ -190,6 +201,7 @@ pub fn semantic_tokens(checked: &CheckedFile, part: Span, range: Span) -> Vec<Se
             Tok::Eq => before_eq = false,
             _ => {}
         }
+        let sign = std::mem::replace(&mut minus, (tok == Tok::Minus).then_some(span));
         if span.start < covered_to || span.end <= range.start || span.start >= range.end {
             continue;
         }
@@ -208,7 +220,11 @@ pub fn semantic_tokens(checked: &CheckedFile, part: Span, range: Span) -> Vec<Se
                             .map(|d| (*d, modifier::DECLARATION))
                     });
                     if tok != Tok::Word && named.is_none() {
-                        Some((span, TokenKind::Number, 0))
+                        // `-5`: the sign belongs to the number.
+                        let signed = sign
+                            .filter(|m| m.end == span.start && m.start >= covered_to)
+                            .map_or(span, |m| m.to(span));
+                        Some((signed, TokenKind::Number, 0))
                     } else if let Some((def, decl)) = named {
                         let (kind, mods) = match out.definitions[def].kind {
                             DefKind::Symbol => (
@@ -220,6 +236,8 @@ pub fn semantic_tokens(checked: &CheckedFile, part: Span, range: Span) -> Vec<Se
                             DefKind::Label => (TokenKind::Label, 0),
                         };
                         Some((span, kind, mods | decl))
+                    } else if let Some(n) = numbered.get(&span.start) {
+                        Some((*n, TokenKind::Block, modifier::DECLARATION))
                     } else if let Some(a) = addresses.get(&span.start) {
                         Some((span, TokenKind::Variable, area_of(a)))
                     } else if crate::syntax::is_reserved(word) {
@@ -293,6 +311,7 @@ mod tests {
                 "END_SYMBOLS keyword ",
                 "ORGANIZATION_BLOCK keyword ",
                 "MAIN namespace declaration",
+                "OB1 namespace declaration",
                 "BEGIN keyword ",
                 "NETWORK keyword ",
                 "1 number ",

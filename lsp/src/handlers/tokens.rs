@@ -62,9 +62,9 @@ fn encode(state: &State, uri: &Uri, range: Option<Range>) -> Option<SemanticToke
     for t in semantic_tokens(&program.checked, part_span, wanted) {
         let (_, at) = program.position(t.span.start as usize);
         let length = text[t.span.range()].encode_utf16().count() as u32;
-        let delta_line = at.line - line;
+        let delta_line = at.line.saturating_sub(line);
         let delta_start = if delta_line == 0 {
-            at.character - character
+            at.character.saturating_sub(character)
         } else {
             at.character
         };
