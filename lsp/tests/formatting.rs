@@ -9,10 +9,13 @@ use std::path::{Path, PathBuf};
 
 use common::{uri, TestServer};
 
-use gutta_compiler::analysis::format::format;
+use gutta_compiler::analysis::format::{format, format_edits};
 use gutta_compiler::source::SourceFile;
-use lsp_types::request::Formatting;
-use lsp_types::{DocumentFormattingParams, FormattingOptions, TextDocumentIdentifier};
+use lsp_types::request::{Formatting, RangeFormatting};
+use lsp_types::{
+    DocumentFormattingParams, DocumentRangeFormattingParams, FormattingOptions, Position, Range,
+    TextDocumentIdentifier,
+};
 use proptest::prelude::*;
 
 fn corpus() -> Vec<(String, String)> {
@@ -74,6 +77,14 @@ fn holds(name: &str, text: &str) -> bool {
         format(&once).as_deref(),
         Ok(once.as_str()),
         "{name}: not idempotent"
+    );
+    let mut edited = text.to_string();
+    for e in format_edits(text).unwrap_or_default().iter().rev() {
+        edited.replace_range(e.span.range(), &e.text);
+    }
+    assert_eq!(
+        edited, once,
+        "{name}: the line edits are not the formatted text"
     );
     assert_eq!(
         meaning(name, text),
@@ -207,4 +218,33 @@ fn the_layout_example_of_the_docs_is_formatted() {
         meaning("layout.lad", example).is_ok(),
         "the example compiles"
     );
+}
+
+#[test]
+fn range_formatting_edits_only_the_lines_of_the_range() {
+    let mut s = TestServer::start();
+    let u = uri("main.lad");
+    let text = "ORGANIZATION_BLOCK MAIN\nBEGIN\nNETWORK 1\nLD   I0.0\n=  Q0.0\nNETWORK 2\nLD   I0.1\n=  Q0.1\nEND_ORGANIZATION_BLOCK\n";
+    s.open(&u, text);
+    let edits = s.request::<RangeFormatting>(DocumentRangeFormattingParams {
+        text_document: TextDocumentIdentifier::new(u.clone()),
+        range: Range::new(Position::new(6, 0), Position::new(6, 4)),
+        options: FormattingOptions::default(),
+        work_done_progress_params: Default::default(),
+    });
+    let shown: Vec<String> = edits
+        .unwrap_or_default()
+        .iter()
+        .map(|e| {
+            format!(
+                "{}:{}-{}:{} {:?}",
+                e.range.start.line,
+                e.range.start.character,
+                e.range.end.line,
+                e.range.end.character,
+                e.new_text
+            )
+        })
+        .collect();
+    assert_eq!(shown, ["6:0-6:9 \"LD     I0.1\""]);
 }

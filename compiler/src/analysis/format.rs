@@ -226,6 +226,49 @@ pub fn format(text: &str) -> Result<String, FormatRefusal> {
     Ok(out)
 }
 
+/// A replacement of `span` (bytes of the original text) by `text`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Edit {
+    pub span: Span,
+    pub text: String,
+}
+
+/// [`format`] as small edits, one per line that changes: each covers the line and the
+/// blank lines before it (the blank lines at the end of the file are one more edit).
+/// The formatter keeps every non-blank line, in order, so line n of the text is the
+/// n-th non-blank line of the result. For range formatting: apply those that touch it.
+pub fn format_edits(text: &str) -> Result<Vec<Edit>, FormatRefusal> {
+    let formatted = format(text)?;
+    let old = regions(text);
+    let new = regions(&formatted);
+    Ok(old
+        .iter()
+        .zip(&new)
+        .filter(|(o, n)| text[o.range()] != formatted[n.range()])
+        .map(|(o, n)| Edit {
+            span: *o,
+            text: formatted[n.range()].to_string(),
+        })
+        .collect())
+}
+
+/// Each non-blank line with the blank lines before it (from the end of the previous
+/// non-blank line's line end to the end of its own text), then the rest of the text.
+fn regions(text: &str) -> Vec<Span> {
+    let mut regions = Vec::new();
+    let (mut from, mut at) = (0, 0);
+    for line in text.split_inclusive('\n') {
+        let body = line.trim_end_matches(['\n', '\r']);
+        if !body.trim().is_empty() {
+            regions.push(Span::new(from, at + body.len()));
+            from = at + line.len();
+        }
+        at += line.len();
+    }
+    regions.push(Span::new(from, text.len()));
+    regions
+}
+
 /// A line's code, in cells that a group aligns.
 #[derive(Debug, Clone)]
 enum Cells {
@@ -522,6 +565,22 @@ mod tests {
         let text = "\u{FEFF}ORGANIZATION_BLOCK MAIN\r\nBEGIN\r\nNETWORK 1  \r\nLD   SM0.0\r\n\r\n\r\nEND_ORGANIZATION_BLOCK\r\n";
         let expected = "\u{FEFF}ORGANIZATION_BLOCK MAIN\r\nBEGIN\r\nNETWORK 1\r\nLD     SM0.0\r\nEND_ORGANIZATION_BLOCK\r\n";
         assert_eq!(fmt(text), expected);
+    }
+
+    #[test]
+    fn edits_cover_the_lines_that_change() {
+        let text = "ORGANIZATION_BLOCK MAIN\n\n\nBEGIN\nNETWORK 1\nLD     SM0.0\n=  Q0.0\nEND_ORGANIZATION_BLOCK\n\n";
+        let edits = format_edits(text).map(|e| {
+            e.iter()
+                .map(|e| (text[e.span.range()].to_string(), e.text.clone()))
+                .collect::<Vec<_>>()
+        });
+        let expected = vec![
+            ("\n\nBEGIN".to_string(), "BEGIN".to_string()),
+            ("=  Q0.0".to_string(), "=      Q0.0".to_string()),
+            ("\n".to_string(), String::new()),
+        ];
+        assert_eq!(edits, Ok(expected));
     }
 
     #[test]

@@ -1,12 +1,15 @@
 //! textDocument/formatting: the open document's text through the compiler's formatter
-//! (gutta_compiler::analysis::format), answered as one edit of the lines that
-//! change (so the editor keeps the cursor and folds elsewhere). A text
-//! with syntax errors is left as it is (no edits) and the reason logged. No layout
-//! rule lives here.
+//! (gutta_compiler::analysis::format), answered as one edit of the lines that change
+//! (so the editor keeps the cursor and folds elsewhere); textDocument/rangeFormatting:
+//! the formatter's line edits that touch the range. A text with syntax errors is left
+//! as it is (no edits) and the reason logged. No layout rule lives here.
 
-use gutta_compiler::analysis::format::format;
+use gutta_compiler::analysis::format::{format, format_edits, FormatRefusal};
 use lsp_types::notification::LogMessage;
-use lsp_types::{DocumentFormattingParams, LogMessageParams, MessageType, Range, TextEdit};
+use lsp_types::{
+    DocumentFormattingParams, DocumentRangeFormattingParams, LogMessageParams, MessageType, Range,
+    TextEdit, Uri,
+};
 
 use crate::documents::Lines;
 use crate::server::{HandlerError, State};
@@ -27,16 +30,8 @@ pub fn formatting(
         Ok(formatted) if formatted == *text => Ok(Some(Vec::new())),
         Ok(formatted) => Ok(Some(vec![changed_lines(text, &formatted)])),
         Err(refusal) => {
-            let at = Lines::new(text).position(text, refusal.span.start as usize);
-            state.notify::<LogMessage>(LogMessageParams {
-                typ: MessageType::INFO,
-                message: format!(
-                    "gutta-lsp: not formatting {}: line {}: {}",
-                    uri.as_str(),
-                    at.line + 1,
-                    refusal.message
-                ),
-            });
+            let message = refused(&uri, text, &refusal);
+            state.notify::<LogMessage>(message);
             Ok(None)
         }
     }
@@ -65,4 +60,57 @@ fn common_lines<'a>(a: impl Iterator<Item = &'a str>, b: impl Iterator<Item = &'
         .take_while(|(x, y)| x == y && x.ends_with('\n'))
         .map(|(x, _)| x.len())
         .sum()
+}
+
+pub fn range_formatting(
+    state: &mut State,
+    params: DocumentRangeFormattingParams,
+) -> Result<Option<Vec<TextEdit>>, HandlerError> {
+    let uri = params.text_document.uri;
+    let Some(doc) = state.documents.get(&uri) else {
+        return Err(HandlerError::invalid_params(format!(
+            "formatting {} which is not open",
+            uri.as_str()
+        )));
+    };
+    let text = &doc.text;
+    let lines = Lines::new(text);
+    let (start, end) = (
+        lines.offset(text, params.range.start),
+        lines.offset(text, params.range.end),
+    );
+    match format_edits(text) {
+        Ok(edits) => Ok(Some(
+            edits
+                .into_iter()
+                .filter(|e| e.span.end as usize >= start && e.span.start as usize <= end)
+                .map(|e| {
+                    let range = Range::new(
+                        lines.position(text, e.span.start as usize),
+                        lines.position(text, e.span.end as usize),
+                    );
+                    TextEdit::new(range, e.text)
+                })
+                .collect(),
+        )),
+        Err(refusal) => {
+            let message = refused(&uri, text, &refusal);
+            state.notify::<LogMessage>(message);
+            Ok(None)
+        }
+    }
+}
+
+/// The log line for a text the formatter refused.
+fn refused(uri: &Uri, text: &str, refusal: &FormatRefusal) -> LogMessageParams {
+    let at = Lines::new(text).position(text, refusal.span.start as usize);
+    LogMessageParams {
+        typ: MessageType::INFO,
+        message: format!(
+            "gutta-lsp: not formatting {}: line {}: {}",
+            uri.as_str(),
+            at.line + 1,
+            refusal.message
+        ),
+    }
 }

@@ -26,6 +26,7 @@ pub fn requests() -> Vec<Row> {
         request::<req::DocumentSymbolRequest>(symbols::document_symbols),
         request::<req::WorkspaceSymbolRequest>(symbols::workspace_symbols),
         request::<req::Formatting>(formatting::formatting),
+        request::<req::RangeFormatting>(formatting::range_formatting),
         request::<req::FoldingRangeRequest>(folding::folding_range),
         request::<req::SemanticTokensFullRequest>(tokens::full),
         request::<req::SemanticTokensRangeRequest>(tokens::range),
