@@ -289,3 +289,60 @@ fn run_guarded(state: &mut State, row: &Row, params: Value) -> Result<Value, Han
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lsp_types::request::{HoverRequest, Shutdown};
+
+    fn state() -> State {
+        let (sender, _receiver) = crossbeam_channel::unbounded();
+        State::new(InitializeParams::default(), sender)
+    }
+
+    fn panicking(_: &mut State, _: ()) -> Result<(), HandlerError> {
+        panic!("deliberate")
+    }
+
+    #[test]
+    fn a_panicking_handler_answers_internal_error_and_bad_params_invalid_params() {
+        let mut state = state();
+        let table = table(vec![
+            request::<Shutdown>(panicking),
+            request::<HoverRequest>(crate::handlers::navigation::hover),
+        ]);
+        let ask = |method: &str, params: Value| Request {
+            id: RequestId::from(1),
+            method: method.into(),
+            params,
+        };
+        let r = answer(&mut state, &table, ask("shutdown", Value::Null));
+        let e = r.error.expect("an error");
+        assert_eq!(e.code, ErrorCode::InternalError as i32);
+        assert!(e.message.contains("deliberate"), "{}", e.message);
+        let r = answer(
+            &mut state,
+            &table,
+            ask("textDocument/hover", serde_json::json!({"textDocument": 5})),
+        );
+        assert_eq!(
+            r.error.expect("an error").code,
+            ErrorCode::InvalidParams as i32
+        );
+        let r = answer(&mut state, &table, ask("gutta/none", Value::Null));
+        assert_eq!(
+            r.error.expect("an error").code,
+            ErrorCode::MethodNotFound as i32
+        );
+        // The state survives: a valid request still answers.
+        let r = answer(
+            &mut state,
+            &table,
+            ask(
+                "textDocument/hover",
+                serde_json::json!({"textDocument": {"uri": "file:///x.lad"}, "position": {"line": 0, "character": 0}}),
+            ),
+        );
+        assert_eq!(r.result, Some(Value::Null));
+    }
+}

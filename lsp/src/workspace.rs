@@ -207,10 +207,17 @@ impl Workspace {
         explicit: Option<ExplicitTarget>,
         update: &mut Update,
     ) {
-        let open_paths: HashMap<PathBuf, Uri> = documents
-            .uris()
-            .filter_map(|u| Some((uri_to_path(u)?, u.clone())))
-            .collect();
+        // Open documents by path, also canonical (a symlinked folder is the same file).
+        let mut open_paths: HashMap<PathBuf, Uri> = HashMap::new();
+        if project.is_some() {
+            for u in documents.uris() {
+                let Some(path) = uri_to_path(u) else { continue };
+                if let Ok(canonical) = std::fs::canonicalize(&path) {
+                    open_paths.insert(canonical, u.clone());
+                }
+                open_paths.insert(path, u.clone());
+            }
+        }
         let mut files = Vec::new();
         let mut sources = ProgramSources::default();
         match (&key, &project) {
@@ -295,9 +302,7 @@ fn load(
         .replace('\\', "/");
     let open_uri = open.get(path).cloned().or_else(|| {
         let canonical = std::fs::canonicalize(path).ok()?;
-        open.iter()
-            .find(|(p, _)| std::fs::canonicalize(p).ok().as_ref() == Some(&canonical))
-            .map(|(_, u)| u.clone())
+        open.get(&canonical).cloned()
     });
     if let Some(uri) = open_uri {
         if let Some(doc) = documents.get(&uri) {

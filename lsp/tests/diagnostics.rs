@@ -1,5 +1,6 @@
 //! Diagnostics as published: code, severity, message with help, related information
 //! for secondary labels, the code's documentation link, source "gutta".
+#![allow(clippy::unwrap_used)] // test helpers outside #[test] functions
 
 mod common;
 

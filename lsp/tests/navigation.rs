@@ -1,6 +1,7 @@
 //! Hover, go to definition, references and document highlight through the server: in
 //! one file (with CRLF and non-ASCII text before the positions), and across the files
 //! of a project on disk, into its CSV symbol table.
+#![allow(clippy::unwrap_used)] // test helpers outside #[test] functions
 
 mod common;
 
