@@ -200,6 +200,7 @@ pub fn run(connection: &Connection) -> Result<(), String> {
     let requests = table(handlers::requests());
     let notifications = table(handlers::notifications());
     let mut state = State::new(init, connection.sender.clone());
+    handlers::initialized(&mut state);
     for message in &connection.receiver {
         match message {
             Message::Request(request) => {

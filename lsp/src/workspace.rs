@@ -119,44 +119,83 @@ impl Workspace {
     /// `uri` was opened (or saved): find its project again and analyse its program.
     pub fn opened(&mut self, documents: &Documents, uri: &Uri) -> Update {
         let mut update = Update::default();
-        let path = uri_to_path(uri);
-        let project = match path.as_deref().and_then(Path::parent) {
-            Some(folder) => match Project::find(folder) {
-                Ok(found) => found.filter(|p| lists(p, path.as_deref())),
-                Err(e) => {
-                    update.warnings.push(e);
-                    None
-                }
-            },
-            None => None,
-        };
-        let is_table = path
-            .as_deref()
-            .and_then(Path::extension)
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| e.eq_ignore_ascii_case("csv") || e.eq_ignore_ascii_case("tsv"));
-        let (key, explicit) = match project {
-            Some(p) => {
-                let explicit = project_target(&p, &mut update.warnings);
-                (ProgramKey::Project(p.manifest.clone()), Some((p, explicit)))
-            }
+        let Some(found) = resolve(uri, &mut update.warnings) else {
             // A symbol table outside a project is not a program.
-            None if is_table => return self.closed(documents, uri),
-            None => (ProgramKey::Alone(uri.clone()), None),
+            let mut closed = self.closed(documents, uri);
+            closed.warnings.append(&mut update.warnings);
+            return closed;
         };
+        self.join(uri, &found.key, &mut update);
+        self.analyse(
+            documents,
+            found.key,
+            found.project,
+            found.explicit,
+            &mut update,
+        );
+        update
+    }
+
+    /// Files on disk changed (`changed`: their URIs): every open document finds its
+    /// project again when a gutta.toml changed; each program that holds a changed file
+    /// or whose membership changed is analysed once.
+    pub fn files_changed(&mut self, documents: &Documents, changed: &[Uri]) -> Vec<Update> {
+        let manifest_changed = changed.iter().any(|u| {
+            uri_to_path(u)
+                .and_then(|p| p.file_name().map(|n| n == gutta_io::MANIFEST))
+                .unwrap_or(false)
+        });
+        let mut updates = Vec::new();
+        let mut to_analyse: Vec<(ProgramKey, Option<Project>, Option<ExplicitTarget>)> = Vec::new();
+        if manifest_changed {
+            let mut update = Update::default();
+            let members: Vec<Uri> = self.members.keys().cloned().collect();
+            for uri in members {
+                match resolve(&uri, &mut update.warnings) {
+                    Some(found) => {
+                        self.join(&uri, &found.key, &mut update);
+                        if !to_analyse.iter().any(|(k, _, _)| *k == found.key) {
+                            to_analyse.push((found.key, found.project, found.explicit));
+                        }
+                    }
+                    None => updates.push(self.closed(documents, &uri)),
+                }
+            }
+            updates.push(update);
+        } else {
+            let changed: HashSet<&str> = changed.iter().map(|u| u.as_str()).collect();
+            for program in self.programs.values() {
+                let touched = program
+                    .files
+                    .iter()
+                    .any(|f| changed.contains(f.as_str()) && !documents.is_open(f));
+                if touched {
+                    to_analyse.push((
+                        program.key.clone(),
+                        program.project.clone(),
+                        program.explicit.clone(),
+                    ));
+                }
+            }
+        }
+        for (key, project, explicit) in to_analyse {
+            let mut update = Update::default();
+            self.analyse(documents, key, project, explicit, &mut update);
+            updates.push(update);
+        }
+        updates
+    }
+
+    /// Make `uri` a member of `key`, dropping the program it leaves if that one has no
+    /// open document left.
+    fn join(&mut self, uri: &Uri, key: &ProgramKey, update: &mut Update) {
         if let Some(old) = self.members.insert(uri.clone(), key.clone()) {
-            if old != key && !self.members.values().any(|k| *k == old) {
+            if old != *key && !self.members.values().any(|k| *k == old) {
                 if let Some(p) = self.programs.remove(&old) {
                     update.cleared.extend(p.files);
                 }
             }
         }
-        let (project, explicit) = match explicit {
-            Some((p, e)) => (Some(p), e),
-            None => (None, None),
-        };
-        self.analyse(documents, key, project, explicit, &mut update);
-        update
     }
 
     /// `uri` changed: analyse its program again.
@@ -274,6 +313,46 @@ impl Workspace {
         }
         update.analysed = Some(key);
     }
+}
+
+/// Where a document belongs.
+struct Resolution {
+    key: ProgramKey,
+    project: Option<Project>,
+    explicit: Option<ExplicitTarget>,
+}
+
+/// The program `uri` belongs to: its project's when the nearest gutta.toml lists it,
+/// else itself alone; `None` for a symbol table outside a project.
+fn resolve(uri: &Uri, warnings: &mut Vec<String>) -> Option<Resolution> {
+    let path = uri_to_path(uri);
+    let project = match path.as_deref().and_then(Path::parent) {
+        Some(folder) => match Project::find(folder) {
+            Ok(found) => found.filter(|p| lists(p, path.as_deref())),
+            Err(e) => {
+                warnings.push(e);
+                None
+            }
+        },
+        None => None,
+    };
+    if let Some(p) = project {
+        return Some(Resolution {
+            key: ProgramKey::Project(p.manifest.clone()),
+            explicit: project_target(&p, warnings),
+            project: Some(p),
+        });
+    }
+    let is_table = path
+        .as_deref()
+        .and_then(Path::extension)
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("csv") || e.eq_ignore_ascii_case("tsv"));
+    (!is_table).then(|| Resolution {
+        key: ProgramKey::Alone(uri.clone()),
+        project: None,
+        explicit: None,
+    })
 }
 
 /// Whether project `p` lists `path` as a source or a symbol table.
