@@ -50,14 +50,18 @@ impl TestServer {
 
     /// A server whose client can register file watchers (as VS Code can).
     pub fn start_watching() -> TestServer {
-        let mut capabilities = ClientCapabilities::default();
-        capabilities.workspace = Some(lsp_types::WorkspaceClientCapabilities {
-            did_change_watched_files: Some(lsp_types::DidChangeWatchedFilesClientCapabilities {
-                dynamic_registration: Some(true),
-                relative_pattern_support: None,
+        let capabilities = ClientCapabilities {
+            workspace: Some(lsp_types::WorkspaceClientCapabilities {
+                did_change_watched_files: Some(
+                    lsp_types::DidChangeWatchedFilesClientCapabilities {
+                        dynamic_registration: Some(true),
+                        relative_pattern_support: None,
+                    },
+                ),
+                ..Default::default()
             }),
             ..Default::default()
-        });
+        };
         TestServer::start_with(InitializeParams {
             capabilities,
             ..InitializeParams::default()
