@@ -6,7 +6,7 @@
 //! ignored (every request is answered before the next message is read). It holds the
 //! server's state but knows no feature: features are rows in handlers/mod.rs.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
 
@@ -33,6 +33,8 @@ pub struct State {
     pub init: InitializeParams,
     /// Where docs/diagnostics.md is installed, as a `file:` URI (for `codeDescription`).
     pub diagnostics_doc: Option<String>,
+    /// Warnings already shown to the person (each is shown once per session).
+    pub warned: HashSet<String>,
     sender: Sender<Message>,
     next_request: i32,
 }
@@ -121,6 +123,7 @@ impl State {
             workspace: Workspace::default(),
             init,
             diagnostics_doc: crate::convert::find_diagnostics_doc(),
+            warned: HashSet::new(),
             sender,
             next_request: 0,
         }

@@ -200,16 +200,10 @@ impl Workspace {
 
     /// `uri` changed: analyse its program again.
     pub fn changed(&mut self, documents: &Documents, uri: &Uri) -> Update {
-        let mut update = Update::default();
-        let Some(key) = self.members.get(uri).cloned() else {
-            return update;
-        };
-        let (project, explicit) = match self.programs.get(&key) {
-            Some(p) => (p.project.clone(), p.explicit.clone()),
-            None => (None, None),
-        };
-        self.analyse(documents, key, project, explicit, &mut update);
-        update
+        match self.members.get(uri).cloned() {
+            Some(key) => self.changed_key(documents, key),
+            None => Update::default(),
+        }
     }
 
     /// `uri` was closed (already gone from `documents`): its program is dropped when no
@@ -228,6 +222,7 @@ impl Workspace {
         update
     }
 
+    /// Analyse the program `key` again with the project it was found with.
     fn changed_key(&mut self, documents: &Documents, key: ProgramKey) -> Update {
         let mut update = Update::default();
         let (project, explicit) = match self.programs.get(&key) {
@@ -263,7 +258,8 @@ impl Workspace {
             (ProgramKey::Project(_), Some(p)) => {
                 for (paths, tables) in [(&p.sources, false), (&p.symbols, true)] {
                     for path in paths {
-                        let (uri, file) = load(documents, &open_paths, &p.root, path);
+                        let (uri, file) =
+                            load(documents, &open_paths, &p.root, path, &mut update.warnings);
                         files.push(uri);
                         if tables {
                             sources.symbol_tables.push(file);
@@ -365,14 +361,15 @@ fn lists(p: &Project, path: Option<&Path>) -> bool {
         .any(|f| f == path || (canonical.is_some() && std::fs::canonicalize(f).ok() == canonical))
 }
 
-/// A project file: the open document's text if it is open, else the disk's (empty if
-/// unreadable: the checker then reports what is missing). Named by its path relative
+/// A project file: the open document's text if it is open, else the disk's (empty, and
+/// a warning, if unreadable). Named by its path relative
 /// to the project's folder.
 fn load(
     documents: &Documents,
     open: &HashMap<PathBuf, Uri>,
     root: &Path,
     path: &Path,
+    warnings: &mut Vec<String>,
 ) -> (Uri, SourceFile) {
     let name = path
         .strip_prefix(root)
@@ -389,10 +386,19 @@ fn load(
         }
     }
     let uri = path_to_uri(path).unwrap_or_else(|| fallback_uri(&name));
-    let file = std::fs::read(path)
-        .ok()
-        .and_then(|bytes| SourceFile::from_bytes(name.clone(), bytes).ok())
-        .unwrap_or_else(|| SourceFile::new(name, ""));
+    let file = match std::fs::read(path) {
+        Ok(bytes) => match SourceFile::from_bytes(name.clone(), bytes) {
+            Ok(file) => file,
+            Err(e) => {
+                warnings.push(format!("{name}: not UTF-8 at byte {}", e.offset));
+                SourceFile::new(name, "")
+            }
+        },
+        Err(e) => {
+            warnings.push(format!("cannot read {}: {e}", path.display()));
+            SourceFile::new(name, "")
+        }
+    };
     (uri, file)
 }
 

@@ -111,3 +111,24 @@ fn files_changed_on_disk_reach_the_programs_that_hold_them() {
         "{codes:?}"
     );
 }
+
+#[test]
+fn a_broken_gutta_toml_is_shown_once_and_the_file_is_analysed_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = std::fs::canonicalize(dir.path()).unwrap();
+    std::fs::write(
+        root.join("gutta.toml"),
+        "[program]\nsourcs = [\"main.lad\"]\n",
+    )
+    .unwrap();
+    std::fs::write(root.join("main.lad"), "LDX I0.0\n").unwrap();
+    let mut s = TestServer::start();
+    let main = common::file_uri(&root.join("main.lad"));
+    s.open(&main, "LDX I0.0\n");
+    s.replace(&main, 2, "LDX I0.1\n");
+    let shown = s.received("window/showMessage");
+    assert_eq!(shown.len(), 1, "one warning, not one per change");
+    let message = shown[0].params["message"].as_str().unwrap();
+    assert!(message.contains("gutta.toml"), "{message}");
+    assert!(!s.diagnostics_of(&main).is_empty(), "analysed alone");
+}

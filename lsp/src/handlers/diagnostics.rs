@@ -119,10 +119,12 @@ pub fn watch_project_files(state: &mut State) {
 }
 
 /// Publish what `update` changed: every file of the analysed program, and empty lists
-/// for the files it cleared; warnings go to the person.
+/// for the files it cleared; warnings go to the person, each once.
 pub fn publish(state: &mut State, update: Update) {
-    for warning in &update.warnings {
-        state.show_message(MessageType::WARNING, format!("gutta-lsp: {warning}"));
+    for warning in update.warnings {
+        if state.warned.insert(warning.clone()) {
+            state.show_message(MessageType::WARNING, format!("gutta-lsp: {warning}"));
+        }
     }
     for uri in update.cleared {
         state.notify::<PublishDiagnostics>(PublishDiagnosticsParams::new(uri, Vec::new(), None));
