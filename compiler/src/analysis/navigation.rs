@@ -74,12 +74,34 @@ pub fn uses(checked: &CheckedFile) -> Vec<Reference> {
 }
 
 /// The definition and every use of the definition at `offset`, the definition first,
-/// then the uses in text order (across every file of the program).
+/// then the uses in text order (across every file of the program). For a direct
+/// address: every operand naming the same address, in text order.
 pub fn references_at(checked: &CheckedFile, offset: usize) -> Vec<(Span, Access)> {
-    let Some((_, def)) = definition_at(checked, offset) else {
-        return Vec::new();
-    };
     let writes = written_operands(checked);
+    let access = |span: Span| {
+        if writes
+            .get(&span.end)
+            .is_some_and(|start| *start <= span.start)
+        {
+            Access::Write
+        } else {
+            Access::Read
+        }
+    };
+    let Some((_, def)) = definition_at(checked, offset) else {
+        let addresses = &checked.output.addresses;
+        let Some((_, a)) = addresses.iter().find(|(s, _)| s.contains(offset)) else {
+            return Vec::new();
+        };
+        let mut found: Vec<(Span, Access)> = addresses
+            .iter()
+            .filter(|(_, x)| x == a)
+            .map(|(s, _)| (*s, access(*s)))
+            .collect();
+        found.sort_by_key(|(s, _)| (s.start, s.end));
+        found.dedup_by_key(|(s, _)| *s);
+        return found;
+    };
     let mut found: Vec<(Span, Access)> = uses(checked)
         .into_iter()
         .filter(|r| r.definition == def)
@@ -459,6 +481,9 @@ mod tests {
         let r = references_at(&c, at(&c, "#r", 0, 1));
         let kinds: Vec<Access> = r.iter().map(|(_, a)| *a).collect();
         assert_eq!(kinds, [Access::Declaration, Access::Write, Access::Write]);
+        // A direct address: its operands (`=` writes it).
+        let m = references_at(&c, at(&c, "Q0.0", 0, 1));
+        assert_eq!(slices(&c, &m), [("Q0.0".into(), "main", Access::Write)]);
         // The call names the subroutine in the other file.
         let (span, def) = definition_at(&c, at(&c, "ADD3", 0, 1)).unwrap();
         assert_eq!(c.file.slice(span), "ADD3");
