@@ -9,7 +9,7 @@ use gutta_catalog::{Address, InstrId, OperandKind as SpecKind};
 
 use crate::check::{DefKind, Definition, Reference};
 use crate::source::Span;
-use crate::syntax::ast::{OperandKind, SymbolDecl, Unit};
+use crate::syntax::ast::{OperandKind, SymbolDecl, Unit, VarSection};
 use crate::CheckedFile;
 
 /// What the text at an offset is.
@@ -132,15 +132,41 @@ pub fn hover(checked: &CheckedFile, offset: usize) -> Option<(Span, String)> {
 }
 
 /// Operands an instruction writes, by the end of their span (a name's span ends
-/// where its operand's does, after any `#`, `&` or `*`) -> the operand's start.
+/// where its operand's does, after any `#`, `&` or `*`) -> the operand's start. A
+/// CALL's arguments are written where the callee's parameter is VAR_OUTPUT or
+/// VAR_IN_OUT.
 fn written_operands(checked: &CheckedFile) -> HashMap<u32, u32> {
     let set = &checked.target.instructions;
+    let defs = &checked.output.definitions;
+    // Uses by the end of their span (which is their operand's end).
+    let use_at: HashMap<u32, usize> = checked
+        .output
+        .references
+        .iter()
+        .map(|r| (r.span.end, r.definition))
+        .collect();
     let mut spans = HashMap::new();
     for_each_instruction(checked, |id, operands| {
         let ins = set.get(id);
         for (spec, op) in ins.operands.iter().zip(operands) {
             if spec.role.writes() {
                 spans.insert(op.span.end, op.span.start);
+            }
+        }
+        if !ins.call_arguments {
+            return;
+        }
+        // The callee: the block the first operand names.
+        let callee = operands.first().and_then(|op| {
+            let def = defs.get(*use_at.get(&op.span.end)?)?;
+            unit_defined_at(checked, def.span)
+        });
+        let Some(callee) = callee else { return };
+        let params = callee.vars.iter().filter(|v| v.section != VarSection::Temp);
+        let args = operands.iter().skip(ins.operands.len());
+        for (param, arg) in params.zip(args) {
+            if matches!(param.section, VarSection::Output | VarSection::InOut) {
+                spans.insert(arg.span.end, arg.span.start);
             }
         }
     });
@@ -484,6 +510,9 @@ mod tests {
         // A direct address: its operands (`=` writes it).
         let m = references_at(&c, at(&c, "Q0.0", 0, 1));
         assert_eq!(slices(&c, &m), [("Q0.0".into(), "main", Access::Write)]);
+        // A CALL's argument for a VAR_OUTPUT is written, one for a VAR_INPUT read.
+        let out = references_at(&c, at(&c, "MW12", 0, 1));
+        assert_eq!(slices(&c, &out), [("MW12".into(), "main", Access::Write)]);
         // The call names the subroutine in the other file.
         let (span, def) = definition_at(&c, at(&c, "ADD3", 0, 1)).unwrap();
         assert_eq!(c.file.slice(span), "ADD3");
