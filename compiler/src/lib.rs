@@ -133,11 +133,11 @@ fn resolve_target(
                     })
                     .copied();
                 let d = Diagnostic::new(
-                        Code::BadPlcType,
-                        *span,
-                        format!("unknown PLC type `{name}`"),
-                    )
-                    .label("not a stdlib PLC type");
+                    Code::BadPlcType,
+                    *span,
+                    format!("unknown PLC type `{name}`"),
+                )
+                .label("not a stdlib PLC type");
                 diags.push(match hint {
                     Some(h) => d.suggest(Suggestion::new(*span, h)),
                     None => d.help(format!(

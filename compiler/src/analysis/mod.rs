@@ -1,6 +1,12 @@
 //! The analysis API for editors: text in; diagnostics, definitions, references and
 //! hover text out, all with byte spans. Plain data only; no LSP types, no I/O.
 
+pub mod actions;
+pub mod completion;
+mod place;
+pub mod rename;
+pub mod signature;
+
 use gutta_catalog::Address;
 
 use crate::check::{DefKind, Definition};

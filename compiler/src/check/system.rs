@@ -12,7 +12,7 @@ use crate::diagnostics::{Code, Diagnostic, Suggestion};
 use crate::source::Span;
 use crate::syntax::ast::{SystemEntry, SystemValue};
 
-const PORT_KEYS: [&str; 8] = [
+pub const PORT_KEYS: [&str; 8] = [
     "PROTOCOL",
     "ADDRESS",
     "BAUD",
