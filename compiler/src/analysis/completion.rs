@@ -157,11 +157,22 @@ pub fn completions(checked: &CheckedFile, offset: usize) -> Completions {
         Place::SystemKey => system_keys(target, &mut items),
         Place::SystemValue(key) => system_values(key, &mut items),
     }
-    let mut list = items.list;
-    list.sort_by(|a, b| a.0.cmp(&b.0).then_with(|| a.1.label.cmp(&b.1.label)));
+    // Within a group, labels that start with the word typed so far come first.
+    let typed = checked
+        .file
+        .text
+        .get(cursor.word.range())
+        .unwrap_or("")
+        .to_uppercase();
+    let mut list: Vec<(u8, bool, CompletionItem)> = items
+        .list
+        .into_iter()
+        .map(|(g, i)| (g, !i.label.to_uppercase().starts_with(&typed), i))
+        .collect();
+    list.sort_by(|a, b| (a.0, a.1, &a.2.label).cmp(&(b.0, b.1, &b.2.label)));
     Completions {
         replace: cursor.word,
-        items: list.into_iter().map(|(_, i)| i).collect(),
+        items: list.into_iter().map(|(_, _, i)| i).collect(),
     }
 }
 
@@ -235,7 +246,7 @@ fn mnemonics(checked: &CheckedFile, cursor: &Cursor, items: &mut Items) {
             )
             .documentation(doc);
     }
-    items.add(0, CompletionKind::Keyword, "NETWORK");
+    items.add(1, CompletionKind::Keyword, "NETWORK");
     let end = match unit.map(|u| (u.kind, is_main(checked, u))) {
         Some((BlockKind::Subroutine, _)) => "END_SUBROUTINE_BLOCK",
         Some((_, true)) => "END_ORGANIZATION_BLOCK",
@@ -350,6 +361,12 @@ fn data_operand(checked: &CheckedFile, cursor: &Cursor, spec: &OperandSpec, item
     }
     let filter = AddressFilter::Operand(rules, access);
     locals(checked, cursor, spec, access, items);
+    if text
+        .get(cursor.word.range())
+        .is_some_and(|w| w.starts_with('#'))
+    {
+        return;
+    }
     symbols(checked, &filter, items);
     addresses(&checked.target, &filter, items);
     if access == Access::Direct && rules.constant {
@@ -440,7 +457,9 @@ fn symbols(checked: &CheckedFile, filter: &AddressFilter, items: &mut Items) {
 /// range the target has; and the named system bits where a bit fits.
 fn addresses(target: &Target, filter: &AddressFilter, items: &mut Items) {
     let memory = &target.memory;
-    for area in memory.areas.iter().filter(|a| a.size > 0) {
+    // K is the compiler's constant pool: programs write constants, not K addresses.
+    let offered = |a: &&Area| a.size > 0 && a.kind != gutta_catalog::AreaKind::Constant;
+    for area in memory.areas.iter().filter(offered) {
         for width in filter.widths(area) {
             let name = &area.name;
             let (label, range) = if area.fixed_width().is_some() {
@@ -657,7 +676,7 @@ mod tests {
     fn mnemonics_fit_the_block() {
         let main = complete("@MAIN", "MO|");
         let l = labels(&main);
-        assert_eq!(l[0], "NETWORK");
+        assert_eq!(l[0], "MOVB");
         assert!(has(&l, "MOVW") && !has(&l, "RET"), "{l:?}");
         assert_eq!(main.replace.end - main.replace.start, 2);
         let movw = main.items.iter().find(|i| i.label == "MOVW").expect("MOVW");

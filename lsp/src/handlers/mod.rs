@@ -3,15 +3,26 @@
 //! `capabilities()` in lib.rs. Handlers only convert: the logic lives in
 //! gutta-compiler's analysis.
 
+pub mod actions;
+pub mod completion;
 pub mod diagnostics;
+pub mod rename;
+pub mod signature;
 
 use lsp_types::notification as note;
+use lsp_types::request as req;
 
-use crate::server::{notification, Row};
+use crate::server::{notification, request, Row};
 
 /// Every request the server answers.
 pub fn requests() -> Vec<Row> {
-    vec![]
+    vec![
+        request::<req::Completion>(completion::completion),
+        request::<req::SignatureHelpRequest>(signature::signature_help),
+        request::<req::PrepareRenameRequest>(rename::prepare_rename),
+        request::<req::Rename>(rename::rename),
+        request::<req::CodeActionRequest>(actions::code_action),
+    ]
 }
 
 /// Every notification the server acts on.
