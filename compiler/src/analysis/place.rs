@@ -3,7 +3,7 @@
 //! place) and its position in the line (a mnemonic, the n-th operand, a system key...).
 //! Completion and signature help share it. No items, no messages here.
 
-use crate::source::Span;
+use crate::source::{PartKind, Span};
 use crate::CheckedFile;
 
 /// The block the cursor's line belongs to.
@@ -25,7 +25,7 @@ pub enum Block {
 /// The cursor's position in its line.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Place {
-    /// In a comment or a string: nothing to offer.
+    /// In a comment, a string or a symbol table: nothing to offer.
     Comment,
     /// The first word of a line at the top level.
     TopKeyword,
@@ -81,7 +81,17 @@ pub fn cursor_at(checked: &CheckedFile, offset: usize) -> Cursor {
         .map_or(offset, |(i, _)| line_start + i);
     let mut word = Span::new(word_start, offset);
     let unit = unit_at(checked, offset);
-    let place = line_place(block, before, line_start);
+    let in_table = checked
+        .file
+        .parts()
+        .get(checked.file.part_index(offset))
+        .is_some_and(|p| p.kind == PartKind::SymbolTable);
+    let place = if in_table {
+        // A symbol table is CSV or tab-separated rows, not the language.
+        Place::Comment
+    } else {
+        line_place(block, before, line_start)
+    };
     if let Place::Mnemonic = place {
         // A mnemonic is the whole first word, operator characters and all.
         word = Span::new(
@@ -271,5 +281,19 @@ mod tests {
         assert_eq!(at("DATA_BLOCK D\n  MW0 |").place, Place::DataField(1));
         assert_eq!(at("DATA_BLOCK D\n  MW0 UI|").place, Place::DataField(1));
         assert_eq!(at("SYMBOLS\nEND_SYMBOLS\n|").place, Place::TopKeyword);
+    }
+
+    #[test]
+    fn nothing_in_a_symbol_table() {
+        let program = crate::ProgramSources {
+            sources: vec![SourceFile::new(
+                "a.lad",
+                "ORGANIZATION_BLOCK MAIN\nEND_ORGANIZATION_BLOCK\n",
+            )],
+            symbol_tables: vec![SourceFile::new("t.csv", "Symbol,Address,Comment\nS")],
+        };
+        let checked = crate::check_program(program, None);
+        let end = checked.file.text.len() - 1;
+        assert_eq!(cursor_at(&checked, end).place, Place::Comment);
     }
 }

@@ -397,6 +397,18 @@ mod tests {
     }
 
     #[test]
+    fn data_blocks_by_their_name() {
+        let text =
+            "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.0\nEND_ORGANIZATION_BLOCK\n\
+            DATA_BLOCK Init:DAT0\n  MW0 INT 5\nEND_DATA_BLOCK\n";
+        let c = crate::check_source(SourceFile::new("t.lad", text), None);
+        assert!(c.diagnostics().is_empty(), "{:?}", c.diagnostics());
+        let out = apply(&c, "Init", 0, "Start_values").expect("renamed");
+        assert!(out.contains("DATA_BLOCK Start_values:DAT0"));
+        assert!(apply(&c, "Init", 0, "DAT3").is_err());
+    }
+
+    #[test]
     fn a_header_with_only_its_number_gets_a_name() {
         let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.0\nCALL SBR0\n\
             END_ORGANIZATION_BLOCK\nSUBROUTINE_BLOCK SBR0\nBEGIN\nNETWORK 1\nLD SM0.0\n\
