@@ -13,32 +13,18 @@ pub mod workspace;
 
 use lsp_server::Connection;
 use lsp_types::{
-    CodeActionKind, CodeActionOptions, CodeActionProviderCapability, CompletionOptions, OneOf,
-    RenameOptions, SaveOptions, ServerCapabilities, SignatureHelpOptions,
-    TextDocumentSyncCapability, TextDocumentSyncKind, TextDocumentSyncOptions,
-    TextDocumentSyncSaveOptions, WorkDoneProgressOptions,
+    SaveOptions, ServerCapabilities, TextDocumentSyncCapability, TextDocumentSyncKind,
+    TextDocumentSyncOptions, TextDocumentSyncSaveOptions,
 };
 
 /// What the server can do, as told to the client in `initialize`: one line per feature.
 pub fn capabilities() -> ServerCapabilities {
     ServerCapabilities {
         text_document_sync: Some(text_sync()),
-        completion_provider: Some(CompletionOptions {
-            trigger_characters: Some(handlers::completion::TRIGGERS.map(String::from).to_vec()),
-            ..CompletionOptions::default()
-        }),
-        signature_help_provider: Some(SignatureHelpOptions {
-            trigger_characters: Some(handlers::signature::TRIGGERS.map(String::from).to_vec()),
-            ..SignatureHelpOptions::default()
-        }),
-        rename_provider: Some(OneOf::Right(RenameOptions {
-            prepare_provider: Some(true),
-            work_done_progress_options: WorkDoneProgressOptions::default(),
-        })),
-        code_action_provider: Some(CodeActionProviderCapability::Options(CodeActionOptions {
-            code_action_kinds: Some(vec![CodeActionKind::QUICKFIX]),
-            ..CodeActionOptions::default()
-        })),
+        completion_provider: Some(handlers::completion::capability()),
+        signature_help_provider: Some(handlers::signature::capability()),
+        rename_provider: Some(handlers::rename::capability()),
+        code_action_provider: Some(handlers::actions::capability()),
         ..ServerCapabilities::default()
     }
 }

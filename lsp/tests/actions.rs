@@ -45,6 +45,8 @@ fn actions(s: &mut TestServer, u: &lsp_types::Uri, range: Range) -> Vec<String> 
 fn quick_fixes_for_typos_undefined_symbols_and_missing_ends() {
     let text = "SYMBOLS\n  Start : I0.0\nEND_SYMBOLS\nORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD     Strat\nMOWV   MW0, MW2\n=      Pump\n";
     let mut s = TestServer::start();
+    let kinds = &s.initialize_result["capabilities"]["codeActionProvider"]["codeActionKinds"];
+    assert_eq!(kinds, &serde_json::json!(["quickfix"]));
     let u = uri("main.lad");
     s.open(&u, text);
     let on = |needle: &str| {

@@ -63,6 +63,11 @@ fn table(items: &[CompletionItem], first: usize) -> String {
 #[test]
 fn operands_mnemonics_and_system_values() {
     let mut s = TestServer::start();
+    let triggers = &s.initialize_result["capabilities"]["completionProvider"]["triggerCharacters"];
+    assert!(
+        triggers.as_array().is_some_and(|t| t.len() == 5),
+        "{triggers}"
+    );
     let u = uri("main.lad");
     s.open(&u, PROGRAM);
     let operand = complete(&mut s, &u, find(PROGRAM, "Sp,", 0, 2));

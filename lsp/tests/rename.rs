@@ -39,6 +39,8 @@ fn sorted(edit: &WorkspaceEdit) -> Vec<(String, Vec<lsp_types::TextEdit>)> {
 fn a_symbol_of_the_table_is_renamed_in_every_file() {
     let p = ProjectDir::new();
     let mut s = TestServer::start();
+    let announced = &s.initialize_result["capabilities"]["renameProvider"]["prepareProvider"];
+    assert_eq!(announced, &serde_json::Value::Bool(true));
     let main = p.uri("src/main.lad");
     let motor = p.uri("src/motor.lad");
     s.open(&main, MAIN_LAD);

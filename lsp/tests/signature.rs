@@ -24,6 +24,7 @@ fn help(s: &mut TestServer, u: &lsp_types::Uri, needle: &str, shift: u32) -> Opt
 #[test]
 fn operands_roles_types_and_the_active_one() {
     let mut s = TestServer::start();
+    assert!(s.initialize_result["capabilities"]["signatureHelpProvider"].is_object());
     let u = uri("main.lad");
     s.open(&u, PROGRAM);
     insta::assert_snapshot!("movw_second", redact(&help(&mut s, &u, "MW2", 1), &[]));

@@ -5,12 +5,21 @@
 use gutta_compiler::analysis::actions;
 use gutta_compiler::source::Span;
 use lsp_types::{
-    CodeAction, CodeActionKind, CodeActionOrCommand, CodeActionParams, CodeActionResponse,
+    CodeAction, CodeActionKind, CodeActionOptions, CodeActionOrCommand, CodeActionParams,
+    CodeActionProviderCapability, CodeActionResponse,
 };
 
 use super::rename::workspace_edit;
 use crate::convert;
 use crate::server::{HandlerError, State};
+
+/// What `initialize` announces: quick fixes.
+pub fn capability() -> CodeActionProviderCapability {
+    CodeActionProviderCapability::Options(CodeActionOptions {
+        code_action_kinds: Some(vec![CodeActionKind::QUICKFIX]),
+        ..CodeActionOptions::default()
+    })
+}
 
 pub fn code_action(
     state: &mut State,

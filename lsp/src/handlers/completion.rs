@@ -4,15 +4,22 @@
 
 use gutta_compiler::analysis::completion::{self, CompletionKind};
 use lsp_types::{
-    CompletionItem, CompletionItemKind, CompletionList, CompletionParams, CompletionResponse,
-    CompletionTextEdit, Documentation, InsertTextFormat, MarkupContent, MarkupKind, TextEdit,
+    CompletionItem, CompletionItemKind, CompletionList, CompletionOptions, CompletionParams,
+    CompletionResponse, CompletionTextEdit, Documentation, InsertTextFormat, MarkupContent,
+    MarkupKind, TextEdit,
 };
 
 use crate::convert;
 use crate::server::{HandlerError, State};
 
-/// Characters after which the client asks again without the person asking.
-pub const TRIGGERS: [&str; 5] = [" ", ",", "#", "&", "*"];
+/// What `initialize` announces: completion, asked for again after a blank, a comma,
+/// `#`, `&` or `*`.
+pub fn capability() -> CompletionOptions {
+    CompletionOptions {
+        trigger_characters: Some([" ", ",", "#", "&", "*"].map(String::from).to_vec()),
+        ..CompletionOptions::default()
+    }
+}
 
 pub fn completion(
     state: &mut State,

@@ -8,12 +8,21 @@ use std::collections::HashMap;
 use gutta_compiler::analysis::rename;
 use gutta_compiler::source::Span;
 use lsp_types::{
-    PrepareRenameResponse, RenameParams, TextDocumentPositionParams, TextEdit, Uri, WorkspaceEdit,
+    OneOf, PrepareRenameResponse, RenameOptions, RenameParams, TextDocumentPositionParams,
+    TextEdit, Uri, WorkDoneProgressOptions, WorkspaceEdit,
 };
 
 use crate::convert;
 use crate::server::{HandlerError, State};
 use crate::workspace::Program;
+
+/// What `initialize` announces: rename, with prepareRename.
+pub fn capability() -> OneOf<bool, RenameOptions> {
+    OneOf::Right(RenameOptions {
+        prepare_provider: Some(true),
+        work_done_progress_options: WorkDoneProgressOptions::default(),
+    })
+}
 
 pub fn prepare_rename(
     state: &mut State,

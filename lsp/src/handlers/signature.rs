@@ -3,14 +3,19 @@
 
 use gutta_compiler::analysis::signature;
 use lsp_types::{
-    Documentation, ParameterInformation, ParameterLabel, SignatureHelp, SignatureHelpParams,
-    SignatureInformation,
+    Documentation, ParameterInformation, ParameterLabel, SignatureHelp, SignatureHelpOptions,
+    SignatureHelpParams, SignatureInformation,
 };
 
 use crate::server::{HandlerError, State};
 
-/// Characters after which the client asks for signature help.
-pub const TRIGGERS: [&str; 2] = [" ", ","];
+/// What `initialize` announces: signature help after a blank or a comma.
+pub fn capability() -> SignatureHelpOptions {
+    SignatureHelpOptions {
+        trigger_characters: Some([" ", ","].map(String::from).to_vec()),
+        ..SignatureHelpOptions::default()
+    }
+}
 
 pub fn signature_help(
     state: &mut State,
