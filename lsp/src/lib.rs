@@ -13,8 +13,8 @@ pub mod workspace;
 
 use lsp_server::Connection;
 use lsp_types::{
-    SaveOptions, ServerCapabilities, TextDocumentSyncCapability, TextDocumentSyncKind,
-    TextDocumentSyncOptions, TextDocumentSyncSaveOptions,
+    HoverProviderCapability, OneOf, SaveOptions, ServerCapabilities, TextDocumentSyncCapability,
+    TextDocumentSyncKind, TextDocumentSyncOptions, TextDocumentSyncSaveOptions,
 };
 
 /// What the server can do, as told to the client in `initialize`: one line per feature.
@@ -25,6 +25,12 @@ pub fn capabilities() -> ServerCapabilities {
         signature_help_provider: Some(handlers::signature::capability()),
         rename_provider: Some(handlers::rename::capability()),
         code_action_provider: Some(handlers::actions::capability()),
+        hover_provider: Some(HoverProviderCapability::Simple(true)),
+        definition_provider: Some(OneOf::Left(true)),
+        references_provider: Some(OneOf::Left(true)),
+        document_highlight_provider: Some(OneOf::Left(true)),
+        document_symbol_provider: Some(OneOf::Left(true)),
+        workspace_symbol_provider: Some(OneOf::Left(true)),
         ..ServerCapabilities::default()
     }
 }

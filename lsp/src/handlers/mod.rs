@@ -6,8 +6,10 @@
 pub mod actions;
 pub mod completion;
 pub mod diagnostics;
+pub mod navigation;
 pub mod rename;
 pub mod signature;
+pub mod symbols;
 
 use lsp_types::notification as note;
 use lsp_types::request as req;
@@ -22,6 +24,12 @@ pub fn requests() -> Vec<Row> {
         request::<req::PrepareRenameRequest>(rename::prepare_rename),
         request::<req::Rename>(rename::rename),
         request::<req::CodeActionRequest>(actions::code_action),
+        request::<req::HoverRequest>(navigation::hover),
+        request::<req::GotoDefinition>(navigation::definition),
+        request::<req::References>(navigation::references),
+        request::<req::DocumentHighlightRequest>(navigation::highlight),
+        request::<req::DocumentSymbolRequest>(symbols::document_symbols),
+        request::<req::WorkspaceSymbolRequest>(symbols::workspace_symbols),
     ]
 }
 
