@@ -501,8 +501,8 @@ fn addresses(target: &Target, filter: &AddressFilter, items: &mut Items) {
     }
 }
 
-/// Labels of the cursor's unit: the defined ones for a jump, for `LBL` the numbers
-/// jumped to that no `LBL` defines yet.
+/// Labels of the cursor's unit for a jump; for `LBL`, the lowest number its block does
+/// not use yet.
 fn labels(checked: &CheckedFile, cursor: &Cursor, ins: &Instruction, items: &mut Items) {
     let Some(ui) = cursor.unit else { return };
     let set = &checked.target.instructions;
@@ -516,26 +516,18 @@ fn labels(checked: &CheckedFile, cursor: &Cursor, ins: &Instruction, items: &mut
         .filter(|d| d.kind == DefKind::Label && d.unit == Some(ui))
         .filter_map(|d| d.name.strip_prefix("LBL ")?.parse().ok())
         .collect();
-    let numbers: Vec<u16> = if defines {
-        let mut jumped: Vec<u16> = super::rename::label_uses(checked, ui)
-            .into_iter()
-            .filter(|u| !u.defines && !defined.contains(&u.number))
-            .map(|u| u.number)
-            .collect();
-        jumped.sort_unstable();
-        jumped.dedup();
-        jumped
-    } else {
-        defined
-    };
-    for n in numbers {
+    if defines {
+        if let Some(free) = (0..=255u16).find(|n| !defined.contains(n)) {
+            items
+                .add(0, CompletionKind::Label, free.to_string())
+                .detail("the lowest label number this block does not use");
+        }
+        return;
+    }
+    for n in defined {
         items
             .add(0, CompletionKind::Label, n.to_string())
-            .detail(if defines {
-                "jumped to, not defined yet"
-            } else {
-                "label of this block"
-            });
+            .detail("label of this block");
     }
 }
 
@@ -715,6 +707,7 @@ mod tests {
         assert_eq!(labels(&complete("@MAIN", "CALL |")), ["ADD3"]);
         assert_eq!(labels(&complete("@MAIN", "ATCH |")), ["TICK"]);
         assert_eq!(labels(&complete("@MAIN", "JMP |")), ["2"]);
+        assert_eq!(labels(&complete("@MAIN", "LBL |")), ["0"]);
         assert!(has(&labels(&complete("@MAIN", "ATCH TICK, |")), "10"));
         let args = labels(&complete("@MAIN", "CALL ADD3, MW0, |"));
         assert!(has(&args, "M") && !has(&args, "MW"), "{args:?}");

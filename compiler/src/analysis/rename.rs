@@ -6,11 +6,9 @@
 
 use std::fmt;
 
-use gutta_catalog::OperandKind as SpecKind;
-
+use super::navigation;
 use crate::check::{reads_as_address, DefKind, Definition};
 use crate::source::Span;
-use crate::syntax::ast::OperandKind;
 use crate::syntax::{is_reserved, table::is_word};
 use crate::CheckedFile;
 
@@ -59,23 +57,12 @@ impl fmt::Display for RenameError {
     }
 }
 
-/// What a rename renames.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Renamed {
-    /// Index into `output.definitions` (symbol, local, unit, data block).
-    Definition(usize),
-    /// Label `number` of unit `unit` (index into `ast.units`).
-    Label { unit: usize, number: u16 },
-}
-
 /// The span of the name under `offset` and its text, when it can be renamed.
 pub fn prepare_rename(checked: &CheckedFile, offset: usize) -> Result<(Span, String), RenameError> {
-    let (renamed, span) = renamed_at(checked, offset)?;
-    if let Renamed::Definition(d) = renamed {
-        let def = &checked.output.definitions[d];
-        if matches!(def.kind, DefKind::Unit | DefKind::DataBlock) {
-            fixed_block_name(checked, def, span)?;
-        }
+    let (span, d) = renamed_at(checked, offset)?;
+    let def = &checked.output.definitions[d];
+    if matches!(def.kind, DefKind::Unit | DefKind::DataBlock) {
+        fixed_block_name(checked, def, span)?;
     }
     let text = checked
         .file
@@ -93,60 +80,36 @@ pub fn rename(
     offset: usize,
     new_name: &str,
 ) -> Result<Vec<(Span, String)>, RenameError> {
-    let (renamed, at) = renamed_at(checked, offset)?;
-    let mut edits = match renamed {
-        Renamed::Label { unit, number } => rename_label(checked, unit, number, new_name)?,
-        Renamed::Definition(d) => {
-            let def = &checked.output.definitions[d];
-            if matches!(def.kind, DefKind::Unit | DefKind::DataBlock) {
-                fixed_block_name(checked, def, at)?;
-            }
-            let name = match def.kind {
-                DefKind::Local => new_name.strip_prefix('#').unwrap_or(new_name),
-                _ => new_name,
-            };
-            check_name(checked, d, name)?;
-            definition_edits(checked, d, name)
-        }
+    let (at, d) = renamed_at(checked, offset)?;
+    let def = &checked.output.definitions[d];
+    let name = match def.kind {
+        DefKind::Local => new_name.strip_prefix('#').unwrap_or(new_name),
+        _ => new_name,
     };
+    match def.kind {
+        DefKind::Label => check_label(checked, d, name)?,
+        DefKind::Unit | DefKind::DataBlock => {
+            fixed_block_name(checked, def, at)?;
+            check_name(checked, d, name)?;
+        }
+        _ => check_name(checked, d, name)?,
+    }
+    let mut edits = definition_edits(checked, d, name.trim());
     edits.sort_by_key(|(s, _)| (s.start, s.end));
     edits.dedup();
     Ok(edits)
 }
 
-/// What is renamed at `offset` and the span of the name there.
-fn renamed_at(checked: &CheckedFile, offset: usize) -> Result<(Renamed, Span), RenameError> {
-    let out = &checked.output;
+/// The definition named at `offset` (as navigation finds it: a use, `JMP n` of a
+/// label included, or the definition itself) and the span of the name there.
+fn renamed_at(checked: &CheckedFile, offset: usize) -> Result<(Span, usize), RenameError> {
     // On the `#` of a local: its name.
-    let offset = offset
-        + usize::from(
-            checked
-                .file
-                .text
-                .get(offset..)
-                .is_some_and(|t| t.starts_with('#')),
-        );
-    for unit in 0..checked.ast.units.len() {
-        if let Some(u) = label_uses(checked, unit)
-            .into_iter()
-            .find(|u| u.span.contains(offset))
-        {
-            return Ok((
-                Renamed::Label {
-                    unit,
-                    number: u.number,
-                },
-                u.span,
-            ));
-        }
-    }
-    if let Some(r) = out.references.iter().find(|r| r.span.contains(offset)) {
-        return Ok((Renamed::Definition(r.definition), r.span));
-    }
-    out.definitions
-        .iter()
-        .position(|d| d.span.contains(offset) && !d.span.is_empty() && d.kind != DefKind::Label)
-        .map(|d| (Renamed::Definition(d), out.definitions[d].span))
+    let on_hash = checked
+        .file
+        .text
+        .get(offset..)
+        .is_some_and(|t| t.starts_with('#'));
+    navigation::definition_at(checked, offset + usize::from(on_hash))
         .ok_or(RenameError::NothingHere)
 }
 
@@ -236,7 +199,10 @@ fn definition_edits(checked: &CheckedFile, d: usize, name: &str) -> Vec<(Span, S
     } else {
         edits.push((def.span, name.to_string()));
     }
-    for r in out.references.iter().filter(|r| r.definition == d) {
+    for r in navigation::uses(checked)
+        .iter()
+        .filter(|r| r.definition == d)
+    {
         let used = text.get(r.span.range()).unwrap_or("");
         if block && block_number_shaped(used) {
             continue;
@@ -246,67 +212,26 @@ fn definition_edits(checked: &CheckedFile, d: usize, name: &str) -> Vec<(Span, S
     edits
 }
 
-/// Label `number` of `unit` becomes `new`: every `LBL` and jump to it in the unit.
-fn rename_label(
-    checked: &CheckedFile,
-    unit: usize,
-    number: u16,
-    new: &str,
-) -> Result<Vec<(Span, String)>, RenameError> {
-    let uses = label_uses(checked, unit);
-    let Ok(n) = new.trim().parse::<u16>() else {
-        return Err(RenameError::BadLabel(new.into()));
-    };
-    if n > 255 {
-        return Err(RenameError::BadLabel(new.into()));
-    }
-    if n != number && uses.iter().any(|u| u.defines && u.number == n) {
+/// A label's new number: a number 0..255 no other label of its block has.
+fn check_label(checked: &CheckedFile, d: usize, new: &str) -> Result<(), RenameError> {
+    let n = new
+        .trim()
+        .parse::<u16>()
+        .ok()
+        .filter(|n| *n <= 255)
+        .ok_or_else(|| RenameError::BadLabel(new.into()))?;
+    let defs = &checked.output.definitions;
+    let name = format!("LBL {n}");
+    let taken = defs.iter().enumerate().any(|(i, o)| {
+        i != d && o.kind == DefKind::Label && o.unit == defs[d].unit && o.name == name
+    });
+    if taken {
         return Err(RenameError::Taken {
             name: n.to_string(),
             what: "a label of this block",
         });
     }
-    Ok(uses
-        .into_iter()
-        .filter(|u| u.number == number)
-        .map(|u| (u.span, n.to_string()))
-        .collect())
-}
-
-/// A label number written in a unit: by `LBL` (`defines`) or by a jump.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) struct LabelUse {
-    pub number: u16,
-    pub span: Span,
-    pub defines: bool,
-}
-
-/// Every label operand of unit `unit` (index into `ast.units`), in text order.
-pub(super) fn label_uses(checked: &CheckedFile, unit: usize) -> Vec<LabelUse> {
-    let set = &checked.target.instructions;
-    let text = &checked.file.text;
-    let lbl = set.lookup("LBL");
-    let mut uses = Vec::new();
-    for net in &checked.ast.units[unit].networks {
-        for ins in &net.instructions {
-            let Some(id) = text.get(ins.mnemonic.range()).and_then(|m| set.lookup(m)) else {
-                continue;
-            };
-            let specs = &set.get(id).operands;
-            for (spec, op) in specs.iter().zip(net.operands_of(ins)) {
-                if let (SpecKind::Label, OperandKind::Integer(n)) = (spec.kind, op.kind) {
-                    if let Ok(number) = u16::try_from(n) {
-                        uses.push(LabelUse {
-                            number,
-                            span: op.span,
-                            defines: Some(id) == lbl,
-                        });
-                    }
-                }
-            }
-        }
-    }
-    uses
+    Ok(())
 }
 
 #[cfg(test)]
