@@ -27,10 +27,7 @@ pub fn completion(
 ) -> Result<Option<CompletionResponse>, HandlerError> {
     let at = &params.text_document_position;
     let uri = &at.text_document.uri;
-    let Some(program) = state.workspace.program_of(uri) else {
-        return Ok(None);
-    };
-    let Some(offset) = program.offset(uri, at.position) else {
+    let Some((program, offset)) = state.workspace.at(uri, at.position) else {
         return Ok(None);
     };
     let found = completion::completions(&program.checked, offset);

@@ -29,10 +29,7 @@ pub fn prepare_rename(
     params: TextDocumentPositionParams,
 ) -> Result<Option<PrepareRenameResponse>, HandlerError> {
     let uri = &params.text_document.uri;
-    let Some(program) = state.workspace.program_of(uri) else {
-        return Ok(None);
-    };
-    let Some(offset) = program.offset(uri, params.position) else {
+    let Some((program, offset)) = state.workspace.at(uri, params.position) else {
         return Ok(None);
     };
     let (span, placeholder) = rename::prepare_rename(&program.checked, offset)
@@ -50,10 +47,7 @@ pub fn rename(
 ) -> Result<Option<WorkspaceEdit>, HandlerError> {
     let at = &params.text_document_position;
     let uri = &at.text_document.uri;
-    let Some(program) = state.workspace.program_of(uri) else {
-        return Ok(None);
-    };
-    let Some(offset) = program.offset(uri, at.position) else {
+    let Some((program, offset)) = state.workspace.at(uri, at.position) else {
         return Ok(None);
     };
     let edits = rename::rename(&program.checked, offset, &params.new_name)

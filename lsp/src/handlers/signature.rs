@@ -23,10 +23,7 @@ pub fn signature_help(
 ) -> Result<Option<SignatureHelp>, HandlerError> {
     let at = &params.text_document_position_params;
     let uri = &at.text_document.uri;
-    let Some(program) = state.workspace.program_of(uri) else {
-        return Ok(None);
-    };
-    let Some(offset) = program.offset(uri, at.position) else {
+    let Some((program, offset)) = state.workspace.at(uri, at.position) else {
         return Ok(None);
     };
     let Some(s) = signature::signature_help(&program.checked, offset) else {
