@@ -17,7 +17,7 @@ use std::sync::Arc;
 use gutta_catalog::{stdlib, Target};
 
 use crate::check::CheckOutput;
-use crate::diagnostics::{Code, Diagnostic};
+use crate::diagnostics::{Code, Diagnostic, Suggestion};
 use crate::source::{LineIndex, PartKind, SourceFile};
 use crate::syntax::ast::Program;
 
@@ -132,18 +132,19 @@ fn resolve_target(
                             .eq_ignore_ascii_case(&name.replace(['-', ' ', '(', ')', ','], ""))
                     })
                     .copied();
-                diags.push(
-                    Diagnostic::new(
-                        Code::BadPlcType,
-                        *span,
-                        format!("unknown PLC type `{name}`"),
-                    )
-                    .label("not a stdlib PLC type")
-                    .help(match hint {
-                        Some(h) => format!("did you mean `{h}`?"),
-                        None => format!("known types: {}; or pass --target DIR", names.join(", ")),
-                    }),
-                );
+                let d = Diagnostic::new(
+                    Code::BadPlcType,
+                    *span,
+                    format!("unknown PLC type `{name}`"),
+                )
+                .label("not a stdlib PLC type");
+                diags.push(match hint {
+                    Some(h) => d.suggest(Suggestion::new(*span, h)),
+                    None => d.help(format!(
+                        "known types: {}; or pass --target DIR",
+                        names.join(", ")
+                    )),
+                });
             }
         }
     }

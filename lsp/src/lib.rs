@@ -22,6 +22,10 @@ use lsp_types::{
 pub fn capabilities() -> ServerCapabilities {
     ServerCapabilities {
         text_document_sync: Some(text_sync()),
+        completion_provider: Some(handlers::completion::capability()),
+        signature_help_provider: Some(handlers::signature::capability()),
+        rename_provider: Some(handlers::rename::capability()),
+        code_action_provider: Some(handlers::actions::capability()),
         hover_provider: Some(HoverProviderCapability::Simple(true)),
         definition_provider: Some(OneOf::Left(true)),
         references_provider: Some(OneOf::Left(true)),

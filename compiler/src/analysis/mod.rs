@@ -2,11 +2,16 @@
 //! hover text out, all with byte spans. Plain data only; no LSP types, no I/O. Each
 //! editor feature has its own module here over `&CheckedFile` and byte offsets.
 
+pub mod actions;
+pub mod completion;
 pub mod folding;
 pub mod format;
 pub mod inlay;
 pub mod navigation;
 pub mod outline;
+mod place;
+pub mod rename;
+pub mod signature;
 pub mod tokens;
 pub mod workspace_symbols;
 

@@ -9,7 +9,7 @@ use gutta_catalog::{rules, BlockKind, InstrId, Instruction};
 
 use super::calls::CallSite;
 use super::{CheckedNetwork, CheckedUnit, Checker, DefKind, UnitInfo};
-use crate::diagnostics::{Code, Diagnostic};
+use crate::diagnostics::{Code, Diagnostic, Suggestion};
 use crate::source::Span;
 use crate::syntax::ast::{self, Operand, OperandKind};
 
@@ -241,7 +241,7 @@ impl Checker<'_> {
         }
         if !ins.syntax_error {
             let hint = super::suggest::closest(text, set.names().map(|(n, _)| n))
-                .map(|s| format!("did you mean `{s}`?"));
+                .map(|s| Suggestion::new(ins.mnemonic, s));
             self.report(
                 Diagnostic::new(
                     Code::UnknownMnemonic,
@@ -249,7 +249,7 @@ impl Checker<'_> {
                     format!("unknown instruction `{text}`"),
                 )
                 .label(format!("not in {}'s instruction set", self.target.name()))
-                .maybe_help(hint),
+                .maybe_suggest(hint),
             );
         }
         None

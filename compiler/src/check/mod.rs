@@ -26,6 +26,7 @@ use crate::diagnostics::Diagnostic;
 use crate::source::Span;
 use crate::syntax::ast::Program;
 pub use program::*;
+pub use system::PORT_KEYS;
 
 /// What a definition is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -166,10 +167,17 @@ pub fn check(text: &str, ast: &Program, target: &Target) -> CheckOutput {
 }
 
 impl Checker<'_> {
-    /// Whether a name reads as a direct address of this or any stdlib target: an area
-    /// name, an optional width letter, digits, an optional `.bit` (`M0`, `VB100`).
-    /// `Pump1` is a name, not an address.
+    /// Whether a name reads as a direct address (see [`reads_as_address`]).
     pub(crate) fn looks_like_address(&self, name: &str) -> bool {
+        reads_as_address(self.target, name)
+    }
+}
+
+/// Whether a name reads as a direct address of `target` or any stdlib target: an area
+/// name, an optional width letter, digits, an optional `.bit` (`M0`, `VB100`). `Pump1`
+/// is a name, not an address. Such names cannot be symbols (E0212).
+pub fn reads_as_address(target: &Target, name: &str) -> bool {
+    {
         if !gutta_catalog::is_address_shaped(name) {
             return false;
         }
@@ -184,7 +192,7 @@ impl Checker<'_> {
                     && letters.starts_with(area)
                     && letters.ends_with(['B', 'W', 'D']))
         };
-        self.target.memory.areas.iter().any(|a| fits(&a.name))
+        target.memory.areas.iter().any(|a| fits(&a.name))
             || address::stdlib_memory_maps()
                 .iter()
                 .flat_map(|(_, m)| m)

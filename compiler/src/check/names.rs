@@ -5,7 +5,7 @@
 use gutta_catalog::{Address, BlockKind, DataType};
 
 use super::Checker;
-use crate::diagnostics::{Code, Diagnostic};
+use crate::diagnostics::{Code, Diagnostic, Suggestion};
 use crate::source::Span;
 
 /// A variable before its use is applied: where it is, and its declared type if any.
@@ -61,13 +61,13 @@ impl Checker<'_> {
                     .map(|l| l.name.clone())
                     .collect();
                 let hint = super::suggest::closest(text, cands.iter().map(String::as_str))
-                    .map(|s| format!("did you mean `#{s}`?"));
+                    .map(|s| Suggestion::new(name, s).shown_as(format!("#{s}")));
                 Diagnostic::new(
                     Code::UndefinedLocal,
                     name,
                     format!("this block declares no local `{text}`"),
                 )
-                .maybe_help(hint)
+                .maybe_suggest(hint)
             }
         };
         self.report(d);
@@ -116,16 +116,16 @@ impl Checker<'_> {
             .values()
             .map(|(_, d)| self.out.definitions[*d].name.clone())
             .collect();
-        let hint = super::suggest::closest(text, names.iter().map(String::as_str))
-            .map(|s| format!("did you mean `{s}`?"));
-        self.report(
-            Diagnostic::new(
-                Code::UndefinedSymbol,
-                name,
-                format!("undefined symbol `{text}`"),
-            )
-            .label("not a symbol, local or address")
-            .help(hint.unwrap_or_else(|| "declare it in SYMBOLS: `Name : ADDRESS`".to_string())),
-        );
+        let hint = super::suggest::closest(text, names.iter().map(String::as_str));
+        let d = Diagnostic::new(
+            Code::UndefinedSymbol,
+            name,
+            format!("undefined symbol `{text}`"),
+        )
+        .label("not a symbol, local or address");
+        self.report(match hint {
+            Some(s) => d.suggest(Suggestion::new(name, s)),
+            None => d.help("declare it in SYMBOLS: `Name : ADDRESS`"),
+        });
     }
 }

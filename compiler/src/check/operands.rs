@@ -7,7 +7,7 @@ use gutta_catalog::rules::{self, LiteralRefusal};
 use gutta_catalog::{BlockKind, DataType, OperandKind as SpecKind, OperandSpec};
 
 use super::{CheckedOperand, Checker};
-use crate::diagnostics::{Code, Diagnostic};
+use crate::diagnostics::{Code, Diagnostic, Suggestion};
 use crate::source::Span;
 use crate::syntax::ast::{Operand, OperandKind, Prefix};
 
@@ -182,14 +182,14 @@ impl Checker<'_> {
         let Some(&u) = self.unit_names.get(&key) else {
             let cands: Vec<String> = self.units.iter().map(|u| u.name.clone()).collect();
             let hint = super::suggest::closest(text, cands.iter().map(String::as_str))
-                .map(|s| format!("did you mean `{s}`?"));
+                .map(|s| Suggestion::new(name, s));
             self.report(
                 Diagnostic::new(
                     Code::UndefinedBlock,
                     name,
                     format!("no block named `{text}`"),
                 )
-                .maybe_help(hint),
+                .maybe_suggest(hint),
             );
             return None;
         };

@@ -6,7 +6,7 @@
 use gutta_catalog::DataType;
 
 use super::{Checker, DefKind};
-use crate::diagnostics::{Code, Diagnostic};
+use crate::diagnostics::{Code, Diagnostic, Suggestion};
 use crate::syntax::ast::SymbolDecl;
 
 impl Checker<'_> {
@@ -71,7 +71,7 @@ impl Checker<'_> {
                     span,
                     format!("unknown data type `{text}`"),
                 )
-                .maybe_help(hint.map(|h| format!("did you mean `{h}`?"))),
+                .maybe_suggest(hint.map(|h| Suggestion::new(span, h))),
             );
             return None;
         };

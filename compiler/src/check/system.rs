@@ -8,11 +8,11 @@ use gutta_catalog::rules::{self, port};
 use gutta_format::BAUD_RATES;
 
 use super::{Checker, Parity, PortConfig, SystemConfig};
-use crate::diagnostics::{Code, Diagnostic};
+use crate::diagnostics::{Code, Diagnostic, Suggestion};
 use crate::source::Span;
 use crate::syntax::ast::{SystemEntry, SystemValue};
 
-const PORT_KEYS: [&str; 8] = [
+pub const PORT_KEYS: [&str; 8] = [
     "PROTOCOL",
     "ADDRESS",
     "BAUD",
@@ -126,27 +126,27 @@ impl Checker<'_> {
             let mut all: Vec<String> = PORT_KEYS.iter().map(|k| format!("PORT0.{k}")).collect();
             all.push("PASSWORD".into());
             let hint = super::suggest::closest(key, all.iter().map(String::as_str))
-                .map(|s| format!("did you mean `{s}`?"));
+                .map(|s| Suggestion::new(e.key, s));
             self.report(
                 Diagnostic::new(
                     Code::UnknownSystemKey,
                     e.key,
                     format!("unknown system block key `{key}`"),
                 )
-                .maybe_help(hint),
+                .maybe_suggest(hint),
             );
             return None;
         };
         if !PORT_KEYS.contains(&field) {
             let hint = super::suggest::closest(field, PORT_KEYS)
-                .map(|s| format!("did you mean `PORT{port}.{s}`?"));
+                .map(|s| Suggestion::new(e.key, format!("PORT{port}.{s}")));
             self.report(
                 Diagnostic::new(
                     Code::UnknownSystemKey,
                     e.key,
                     format!("unknown port setting `{field}`"),
                 )
-                .maybe_help(hint),
+                .maybe_suggest(hint),
             );
             return None;
         }

@@ -8,7 +8,7 @@ use gutta_catalog::rules::{self, LocalLayout};
 use gutta_catalog::{Address, AreaKind, BlockKind, DataType};
 
 use super::{Checker, DefKind, Local, UnitInfo};
-use crate::diagnostics::{Code, Diagnostic};
+use crate::diagnostics::{Code, Diagnostic, Suggestion};
 use crate::source::Span;
 use crate::syntax::ast::{self, BlockPrefix, VarSection};
 
@@ -373,7 +373,7 @@ impl Checker<'_> {
                     v.ty,
                     format!("unknown data type `{ty_text}`"),
                 )
-                .maybe_help(hint.map(|h| format!("did you mean `{h}`?"))),
+                .maybe_suggest(hint.map(|h| Suggestion::new(v.ty, h))),
             );
             return None;
         };

@@ -31,8 +31,45 @@ pub struct Label {
     pub message: Option<String>,
 }
 
+/// A change that resolves a diagnostic, for an editor to apply: a title ("replace with
+/// `MOVW`") and text edits, each a byte span of the checked text and its replacement.
+/// Renderers never show it (the help line says the same in words).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Fix {
+    pub title: String,
+    pub edits: Vec<(Span, String)>,
+}
+
+/// A did-you-mean: the text the help line shows (`#Count`, `PORT0.BAUD`) and the edit
+/// that writes it (`Count` over the name without `#`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Suggestion {
+    pub shown: String,
+    pub span: Span,
+    pub replacement: String,
+}
+
+impl Suggestion {
+    /// `replacement` over `span`, shown as it is written.
+    pub fn new(span: Span, replacement: impl Into<String>) -> Suggestion {
+        let replacement = replacement.into();
+        Suggestion {
+            shown: replacement.clone(),
+            span,
+            replacement,
+        }
+    }
+
+    /// The help line shows `shown` (e.g. with the `#` the span leaves out).
+    pub fn shown_as(mut self, shown: impl Into<String>) -> Suggestion {
+        self.shown = shown.into();
+        self
+    }
+}
+
 /// One problem in a program: a code, a message, a primary span on the exact token,
-/// secondary spans for context, and a help line when a fix is known.
+/// secondary spans for context, a help line when a fix is known, and the fixes an
+/// editor can apply.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Diagnostic {
     pub code: Code,
@@ -41,6 +78,7 @@ pub struct Diagnostic {
     pub primary: Label,
     pub secondary: Vec<Label>,
     pub help: Option<String>,
+    pub fixes: Vec<Fix>,
 }
 
 impl Diagnostic {
@@ -55,6 +93,29 @@ impl Diagnostic {
             },
             secondary: Vec::new(),
             help: None,
+            fixes: Vec::new(),
+        }
+    }
+
+    /// A fix an editor can apply.
+    pub fn fix(mut self, fix: Fix) -> Diagnostic {
+        self.fixes.push(fix);
+        self
+    }
+
+    /// Help `did you mean `X`?` and the fix that writes X.
+    pub fn suggest(self, s: Suggestion) -> Diagnostic {
+        let help = format!("did you mean `{}`?", s.shown);
+        self.help(help).fix(Fix {
+            title: format!("Replace with `{}`", s.shown),
+            edits: vec![(s.span, s.replacement)],
+        })
+    }
+
+    pub fn maybe_suggest(self, s: Option<Suggestion>) -> Diagnostic {
+        match s {
+            Some(s) => self.suggest(s),
+            None => self,
         }
     }
 

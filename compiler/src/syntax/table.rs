@@ -137,7 +137,7 @@ fn declaration(text: &str, row: &Row, diags: &mut Vec<Diagnostic>) -> Option<Sym
 }
 
 /// A name as the language's words are: a letter or `_`, then letters, digits, `_`.
-fn is_word(name: &str) -> bool {
+pub fn is_word(name: &str) -> bool {
     let mut chars = name.chars();
     chars.next().is_some_and(|c| c.is_alphabetic() || c == '_')
         && chars.all(|c| c.is_alphanumeric() || c == '_')

@@ -3,11 +3,15 @@
 //! `capabilities()` in lib.rs. Handlers only convert: the logic lives in
 //! gutta-compiler's analysis.
 
+pub mod actions;
+pub mod completion;
 pub mod diagnostics;
 pub mod folding;
 pub mod formatting;
 pub mod inlay;
 pub mod navigation;
+pub mod rename;
+pub mod signature;
 pub mod symbols;
 pub mod tokens;
 
@@ -19,6 +23,11 @@ use crate::server::{notification, request, Row, State};
 /// Every request the server answers.
 pub fn requests() -> Vec<Row> {
     vec![
+        request::<req::Completion>(completion::completion),
+        request::<req::SignatureHelpRequest>(signature::signature_help),
+        request::<req::PrepareRenameRequest>(rename::prepare_rename),
+        request::<req::Rename>(rename::rename),
+        request::<req::CodeActionRequest>(actions::code_action),
         request::<req::HoverRequest>(navigation::hover),
         request::<req::GotoDefinition>(navigation::definition),
         request::<req::References>(navigation::references),

@@ -7,7 +7,7 @@
 
 use chumsky::prelude::*;
 
-use crate::diagnostics::{Code, Diagnostic};
+use crate::diagnostics::{Code, Diagnostic, Fix};
 use crate::source::Span;
 use crate::syntax::ast::{BlockKind, Program, VarSection};
 use crate::syntax::lexer::{LineLexer, Spanned, Tok};
@@ -289,10 +289,26 @@ impl<'t> BlockParser<'t> {
                 )
                 .label("opened here")
                 .with_secondary(at, why)
-                .help(format!("add `{end}` at the end of the block")),
+                .help(format!("add `{end}` at the end of the block"))
+                .fix(self.insert_end_line(at, end)),
             );
         }
         self.state = State::Top;
+    }
+
+    /// The fix of an unclosed block: `end` on its own line where the next thing starts
+    /// (or the file ends).
+    pub(super) fn insert_end_line(&self, at: Span, end: &str) -> Fix {
+        let at_line_start = at.start == 0 || self.text[..at.start as usize].ends_with('\n');
+        let text = if at_line_start {
+            format!("{end}\n")
+        } else {
+            format!("\n{end}\n")
+        };
+        Fix {
+            title: format!("Add `{end}`"),
+            edits: vec![(Span::new(at.start as usize, at.start as usize), text)],
+        }
     }
 
     /// The open block's header span, its opening keyword and its END_ keyword.

@@ -175,7 +175,8 @@ impl BlockParser<'_> {
                 )
                 .label("opened here")
                 .with_secondary(at, why)
-                .help("add `END_VAR` at the end of the section"),
+                .help("add `END_VAR` at the end of the section")
+                .fix(self.insert_end_line(at, "END_VAR")),
             );
             self.state = if in_body {
                 State::Body
