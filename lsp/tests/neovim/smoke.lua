@@ -19,14 +19,21 @@ local function finish(result)
 end
 
 local function hover_text(bufnr)
+  for _, client in pairs(vim.lsp.buf_get_clients(bufnr)) do
+    local caps = client.server_capabilities or {}
+    if not caps.hoverProvider then
+      return 'error: the server does not offer hoverProvider'
+    end
+  end
   local params = {
     textDocument = { uri = vim.uri_from_bufnr(bufnr) },
     position = { line = hover_line, character = hover_column },
   }
   local answers = vim.lsp.buf_request_sync(bufnr, 'textDocument/hover', params, 5000)
   for _, answer in pairs(answers or {}) do
-    if answer.error then
-      return 'error: ' .. vim.fn.json_encode(answer.error)
+    local err = answer.err or answer.error -- `err` up to Neovim 0.10
+    if err then
+      return 'error: ' .. vim.fn.json_encode(err)
     end
     local contents = answer.result and answer.result.contents
     if type(contents) == 'table' then
