@@ -6,13 +6,16 @@ target/debug/gutta-lsp. This file holds no test."""
 from __future__ import annotations
 
 import asyncio
+import concurrent.futures
 import os
 import pathlib
 import shutil
+import uuid
 
 import pytest
 import pytest_lsp
 from lsprotocol import types
+from pygls.protocol.json_rpc import JsonRPCRequestMessage
 from pytest_lsp import ClientServerConfig, LanguageClient, client_capabilities
 
 HERE = pathlib.Path(__file__).parent
@@ -169,3 +172,42 @@ async def client(lsp_client: LanguageClient, workdir: pathlib.Path):
 def main(client: LanguageClient, workdir: pathlib.Path) -> Doc:
     """data/main.lad, open."""
     return open_doc(client, workdir / "main.lad")
+
+
+def edits_for(edit: types.WorkspaceEdit | None, uri: str) -> list[types.TextEdit]:
+    """The text edits a workspace edit makes to `uri` (from `changes` or
+    `documentChanges`)."""
+    if edit is None:
+        return []
+    found: list[types.TextEdit] = []
+    for changed, edits in (edit.changes or {}).items():
+        if changed == uri:
+            found.extend(edits)
+    for change in edit.document_changes or []:
+        if isinstance(change, types.TextDocumentEdit) and change.text_document.uri == uri:
+            found.extend(e for e in change.edits if isinstance(e, types.TextEdit))
+    return found
+
+
+def edited_uris(edit: types.WorkspaceEdit | None) -> set[str]:
+    if edit is None:
+        return set()
+    uris = set((edit.changes or {}).keys())
+    for change in edit.document_changes or []:
+        if isinstance(change, types.TextDocumentEdit):
+            uris.add(change.text_document.uri)
+    return uris
+
+
+def raw_request(client: LanguageClient, method: str, params) -> asyncio.Future:
+    """Send a request whose params are sent as given, not checked against the LSP
+    types (pygls would refuse to send malformed ones); its answer or error."""
+    protocol = client.protocol
+    msg_id = str(uuid.uuid4())
+    future: concurrent.futures.Future = concurrent.futures.Future()
+    protocol._request_futures[msg_id] = future
+    protocol._result_types[msg_id] = None
+    protocol._send_data(
+        JsonRPCRequestMessage(id=msg_id, method=method, params=params, jsonrpc="2.0")
+    )
+    return asyncio.wrap_future(future)
