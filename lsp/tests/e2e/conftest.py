@@ -147,9 +147,22 @@ def workdir(tmp_path: pathlib.Path) -> pathlib.Path:
     return target
 
 
+def capabilities() -> types.ClientCapabilities:
+    """VS Code's capabilities as pytest-lsp records them (1.65), plus what later
+    versions added and the server uses: inlay hints and inline values with refresh."""
+    caps = client_capabilities("visual-studio-code")
+    caps.text_document.inlay_hint = types.InlayHintClientCapabilities()
+    caps.text_document.inline_value = types.InlineValueClientCapabilities()
+    caps.workspace.inlay_hint = types.InlayHintWorkspaceClientCapabilities(refresh_support=True)
+    caps.workspace.inline_value = types.InlineValueWorkspaceClientCapabilities(
+        refresh_support=True
+    )
+    return caps
+
+
 def initialize_params(root: pathlib.Path | None, options=None) -> types.InitializeParams:
     return types.InitializeParams(
-        capabilities=client_capabilities("visual-studio-code"),
+        capabilities=capabilities(),
         root_uri=root.as_uri() if root else None,
         workspace_folders=(
             [types.WorkspaceFolder(uri=root.as_uri(), name=root.name)] if root else None
@@ -158,9 +171,23 @@ def initialize_params(root: pathlib.Path | None, options=None) -> types.Initiali
     )
 
 
+def count_refreshes(client: LanguageClient) -> None:
+    """Answer the server's refresh requests, counting them in `client.refreshes`."""
+    client.refreshes = {"inlayHint": 0, "inlineValue": 0}
+
+    @client.feature(types.WORKSPACE_INLAY_HINT_REFRESH)
+    def inlay_hint_refresh(params):
+        client.refreshes["inlayHint"] += 1
+
+    @client.feature(types.WORKSPACE_INLINE_VALUE_REFRESH)
+    def inline_value_refresh(params):
+        client.refreshes["inlineValue"] += 1
+
+
 @pytest_lsp.fixture(config=ClientServerConfig(server_command=[SERVER]))
 async def client(lsp_client: LanguageClient, workdir: pathlib.Path):
     """A client initialised like VS Code with `workdir` as the workspace."""
+    count_refreshes(lsp_client)
     lsp_client.initialize_result = await lsp_client.initialize_session(
         initialize_params(workdir)
     )
