@@ -4,14 +4,24 @@
 //! gutta-compiler's analysis.
 
 pub mod diagnostics;
+pub mod navigation;
+pub mod symbols;
 
 use lsp_types::notification as note;
+use lsp_types::request as req;
 
-use crate::server::{notification, Row};
+use crate::server::{notification, request, Row};
 
 /// Every request the server answers.
 pub fn requests() -> Vec<Row> {
-    vec![]
+    vec![
+        request::<req::HoverRequest>(navigation::hover),
+        request::<req::GotoDefinition>(navigation::definition),
+        request::<req::References>(navigation::references),
+        request::<req::DocumentHighlightRequest>(navigation::highlight),
+        request::<req::DocumentSymbolRequest>(symbols::document_symbols),
+        request::<req::WorkspaceSymbolRequest>(symbols::workspace_symbols),
+    ]
 }
 
 /// Every notification the server acts on.
