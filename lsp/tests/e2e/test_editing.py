@@ -159,7 +159,6 @@ async def test_code_action_replaces_a_misspelt_name(client, main: Doc):
     actions = [a for a in await actions_for(client, main, diagnostic) if isinstance(a, types.CodeAction)]
     fix = next(a for a in actions if "Start" in a.title)
     assert fix.kind == types.CodeActionKind.QuickFix
-    assert fix.is_preferred
     fixed = apply_edits(main.text, edits_for(fix.edit, main.uri))
     assert "LD     Start" in fixed
     main.change([types.TextDocumentContentChangeWholeDocument(text=fixed)])
