@@ -1,10 +1,11 @@
 //! The end-to-end suite (lsp/tests/e2e, pytest-lsp) against the real `gutta-lsp` binary:
 //! `$GUTTA_PYTHON -m pytest lsp/tests/e2e -q` with `GUTTA_LSP` set to this package's
-//! binary, `GUTTA_DOCS` to docs/ (the diagnostics' links), `GUTTA_SIM` to the workspace's `gutta-sim` and `GUTTA_E2E_IMAGE` to
-//! lsp/tests/e2e/data/live/main.lad compiled (for the live-values tests). GUTTA_PYTHON
-//! is the .ci venv's Python with pytest-lsp; without it the test fails saying how to
-//! make one, unless GUTTA_SKIP_EXTERNAL=1. gutta-sim is built by the workspace's
-//! `cargo test`; alone: `cargo build -p gutta-cli --bin gutta-sim`.
+//! binary, `GUTTA_DOCS` to docs/ (the diagnostics' links), `GUTTA_SIM` to the
+//! workspace's `gutta-sim` and `GUTTA_E2E_IMAGE` to lsp/tests/e2e/data/live/main.lad
+//! compiled (for the live-values tests). GUTTA_PYTHON is the .ci venv's Python with
+//! pytest-lsp; without it the test fails saying how to make one, unless
+//! GUTTA_SKIP_EXTERNAL=1. gutta-sim is built by the workspace's `cargo test`; alone:
+//! `cargo build -p gutta-cli --bin gutta-sim`.
 
 mod external;
 
