@@ -2,7 +2,8 @@
 //! with the real `gutta-lsp` on PATH loads editors/neovim/gutta-lsp.lua (the config
 //! docs/editors.md shows), opens a program with a misspelt symbol, waits for its
 //! diagnostic, asks for a hover and writes both to a file; the test reads them. Without
-//! Neovim the test fails saying how to install it, unless GUTTA_SKIP_EXTERNAL=1.
+//! Neovim the test fails saying how to install it, unless GUTTA_SKIP_EXTERNAL=1. Also:
+//! docs/editors.md shows that config verbatim.
 
 mod external;
 
@@ -44,11 +45,26 @@ fn nvim_version() -> (u32, u32) {
 }
 
 #[test]
+fn docs_show_the_config_the_smoke_test_runs() {
+    let root = external::repo_root();
+    let config = std::fs::read_to_string(root.join("editors/neovim/gutta-lsp.lua"))
+        .expect("reads the config");
+    let docs = std::fs::read_to_string(root.join("docs/editors.md")).expect("reads the docs");
+    assert!(
+        docs.contains(&format!("```lua\n{config}```")),
+        "docs/editors.md must show editors/neovim/gutta-lsp.lua verbatim"
+    );
+}
+
+#[test]
 fn neovim_gets_the_diagnostic_and_a_hover() {
     if !external::have("nvim") {
         return;
     }
-    assert!(nvim_version() >= (0, 7), "the config needs Neovim 0.7 or newer");
+    assert!(
+        nvim_version() >= (0, 7),
+        "the config needs Neovim 0.7 or newer"
+    );
     let root = external::repo_root();
     let work = external::scratch("neovim");
     let file = work.join("mistake.lad");
@@ -69,7 +85,10 @@ fn neovim_gets_the_diagnostic_and_a_hover() {
         .env("XDG_CACHE_HOME", work.join("cache"))
         .env("XDG_STATE_HOME", work.join("state"))
         .env("XDG_DATA_HOME", work.join("data"))
-        .env("GUTTA_NVIM_CONFIG", root.join("editors/neovim/gutta-lsp.lua"))
+        .env(
+            "GUTTA_NVIM_CONFIG",
+            root.join("editors/neovim/gutta-lsp.lua"),
+        )
         .env("GUTTA_NVIM_OUT", &out)
         .env("GUTTA_HOVER_LINE", HOVER.0.to_string())
         .env("GUTTA_HOVER_COLUMN", HOVER.1.to_string())
@@ -102,7 +121,11 @@ fn neovim_gets_the_diagnostic_and_a_hover() {
 
     assert_eq!(answer["filetype"], "gutta", "{answer}");
     assert_eq!(answer["clients"], 1, "{answer}");
-    assert_eq!(answer["timeout"], Value::Null, "no diagnostic came: {answer}");
+    assert_eq!(
+        answer["timeout"],
+        Value::Null,
+        "no diagnostic came: {answer}"
+    );
     let diagnostics = answer["diagnostics"].as_array().expect("diagnostics");
     assert_eq!(diagnostics.len(), 1, "{answer}");
     assert_eq!(diagnostics[0]["code"], "E0202", "{answer}");
@@ -113,7 +136,9 @@ fn neovim_gets_the_diagnostic_and_a_hover() {
             .is_some_and(|m| m.contains("Strat")),
         "{answer}"
     );
-    let hover = answer["hover"].as_str().unwrap_or_else(|| panic!("no hover: {answer}"));
+    let hover = answer["hover"]
+        .as_str()
+        .unwrap_or_else(|| panic!("no hover: {answer}"));
     assert!(hover.contains('='), "{answer}");
     assert!(!hover.starts_with("error:"), "{answer}");
     let _ = std::fs::remove_dir_all(&work);

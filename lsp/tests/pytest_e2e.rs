@@ -70,7 +70,14 @@ fn pytest_lsp_suite_passes_against_the_binary() {
     let work = external::scratch("pytest");
     let image = live_image(&root, &work);
     let out = Command::new(python)
-        .args(["-m", "pytest", "lsp/tests/e2e", "-q", "-p", "no:cacheprovider"])
+        .args([
+            "-m",
+            "pytest",
+            "lsp/tests/e2e",
+            "-q",
+            "-p",
+            "no:cacheprovider",
+        ])
         .current_dir(&root)
         .env("GUTTA_LSP", env!("CARGO_BIN_EXE_gutta-lsp"))
         .env("GUTTA_DOCS", root.join("docs"))

@@ -18,8 +18,7 @@ fn extension_dir() -> PathBuf {
 }
 
 fn read_json(path: &Path) -> Value {
-    let text = std::fs::read_to_string(path)
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
@@ -65,10 +64,13 @@ fn manifest_language_configuration_and_grammar_hang_together() {
     walk_rules(&grammar["repository"], &mut names, &mut includes);
     let repository = grammar["repository"].as_object().expect("repository");
     for include in &includes {
-        let key = include.strip_prefix('#').unwrap_or_else(|| {
-            panic!("include `{include}` reaches outside the grammar")
-        });
-        assert!(repository.contains_key(key), "include `{include}` names no rule");
+        let key = include
+            .strip_prefix('#')
+            .unwrap_or_else(|| panic!("include `{include}` reaches outside the grammar"));
+        assert!(
+            repository.contains_key(key),
+            "include `{include}` names no rule"
+        );
     }
     for key in repository.keys() {
         assert!(
@@ -77,11 +79,32 @@ fn manifest_language_configuration_and_grammar_hang_together() {
         );
     }
     for name in &names {
-        assert!(name.ends_with(".gutta-lad"), "scope `{name}` lacks the language suffix");
+        assert!(
+            name.ends_with(".gutta-lad"),
+            "scope `{name}` lacks the language suffix"
+        );
+    }
+    // docs/editors.md and the extension's README name every setting.
+    let docs = std::fs::read_to_string(external::repo_root().join("docs/editors.md"))
+        .expect("reads the docs");
+    let readme = std::fs::read_to_string(dir.join("README.md")).expect("reads the README");
+    let settings = manifest["contributes"]["configuration"]["properties"]
+        .as_object()
+        .expect("settings");
+    for key in settings.keys() {
+        let shown = format!("`{key}`");
+        assert!(docs.contains(&shown), "docs/editors.md lacks {key}");
+        assert!(
+            readme.contains(&shown),
+            "editors/vscode/README.md lacks {key}"
+        );
     }
     // The commands the manifest shows are the ones the extension registers.
     let source = std::fs::read_to_string(dir.join("src/extension.js")).expect("reads");
-    for command in manifest["contributes"]["commands"].as_array().expect("commands") {
+    for command in manifest["contributes"]["commands"]
+        .as_array()
+        .expect("commands")
+    {
         let id = command["command"].as_str().expect("id");
         assert!(
             source.contains(&format!("registerCommand('{id}'")),
@@ -170,10 +193,13 @@ fn package_builds_and_the_grammar_colours_every_construct() {
         "npm ci",
     );
     external::run(
-        Command::new("npm").args(["run", "package"]).current_dir(&copy),
+        Command::new("npm")
+            .args(["run", "package"])
+            .current_dir(&copy),
         "npm run package",
     );
-    let vsix = std::fs::read(copy.join("gutta-lad.vsix")).expect("npm run package writes gutta-lad.vsix");
+    let vsix =
+        std::fs::read(copy.join("gutta-lad.vsix")).expect("npm run package writes gutta-lad.vsix");
     for inside in [
         "extension/syntaxes/gutta-lad.tmLanguage.json",
         "extension/language-configuration.json",
@@ -229,13 +255,21 @@ fn package_builds_and_the_grammar_colours_every_construct() {
         (35, "INT", "storage.type.gutta-lad"),
         (47, "a", "variable.parameter.local.gutta-lad"),
         (64, "-70000", "constant.numeric.integer.gutta-lad"),
-        (68, "PORT0.PROTOCOL", "variable.other.property.key.gutta-lad"),
+        (
+            68,
+            "PORT0.PROTOCOL",
+            "variable.other.property.key.gutta-lad",
+        ),
         (68, "MODBUS", "constant.language.gutta-lad"),
         (75, "1234", "string.quoted.double.gutta-lad"),
         (76, "END_SYSTEM_BLOCK", "keyword.control.block.gutta-lad"),
     ];
     for (line, text, scope) in expect {
-        assert_eq!(scope_of(&lines, line, text), scope, "`{text}` on line {line}");
+        assert_eq!(
+            scope_of(&lines, line, text),
+            scope,
+            "`{text}` on line {line}"
+        );
     }
     assert!(
         lines[12].iter().any(|t| t.text.starts_with("latch")

@@ -32,7 +32,13 @@ function clientOptions() {
     documentSelector,
     // Sent in `initialize`; later changes arrive as workspace/didChangeConfiguration
     // with the whole `gutta` section: {"gutta": {"liveValues": true, ...}}.
-    initializationOptions: { liveValues: config.get('liveValues') === true },
+    initializationOptions: {
+      liveValues: config.get('liveValues') === true,
+      inlayHints: {
+        symbolAddresses: config.get('inlayHints.symbolAddresses') !== false,
+        modbus: config.get('inlayHints.modbus') !== false,
+      },
+    },
     synchronize: { configurationSection: 'gutta' },
   };
 }
@@ -72,11 +78,13 @@ async function activate(context) {
       vscode.window.setStatusBarMessage(`GUTTA live values ${on ? 'on' : 'off'}`, 3000);
     }),
     vscode.workspace.onDidChangeConfiguration(async (event) => {
-      // The executable, its environment and the documents served are fixed when the
-      // server starts: restart for those. Other settings reach the running server.
+      // The executable, its environment, the documents served and the inlay hints are
+      // fixed when the server starts: restart for those. `gutta.liveValues` reaches the
+      // running server (workspace/didChangeConfiguration).
       if (
         event.affectsConfiguration('gutta.server') ||
-        event.affectsConfiguration('gutta.symbolTables')
+        event.affectsConfiguration('gutta.symbolTables') ||
+        event.affectsConfiguration('gutta.inlayHints')
       ) {
         await stop();
         await start();

@@ -10,9 +10,9 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// How to get every external tool these tests use (`.ci/run` does all of it).
-pub const INSTALL: &str = "run `bash .ci/run`, or: apt-get install neovim nodejs npm; \
-     python3 -m venv .ci/venv && .ci/venv/bin/pip install pytest-lsp==1.0.1; \
-     export GUTTA_PYTHON=$PWD/.ci/venv/bin/python";
+pub const INSTALL: &str = "run `bash .ci/run`, or: apt-get install neovim; Node.js 20 or \
+     newer with npm; python3 -m venv .ci/venv && .ci/venv/bin/pip install pytest==9.2.0 \
+     pytest-lsp==1.0.1; export GUTTA_PYTHON=$PWD/.ci/venv/bin/python";
 
 /// The environment variable that declares the external tools absent.
 pub const SKIP_EXTERNAL: &str = "GUTTA_SKIP_EXTERNAL";
