@@ -2,6 +2,7 @@
 //! uses (in every file of the program), and the hover text that explains it. Plain data
 //! over `&CheckedFile` and byte offsets in the joined text; no LSP types, no I/O.
 
+use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
 
 use gutta_catalog::{Address, InstrId, OperandKind as SpecKind};
@@ -83,11 +84,10 @@ pub fn references_at(checked: &CheckedFile, offset: usize) -> Vec<(Span, Access)
         .into_iter()
         .filter(|r| r.definition == def)
         .map(|r| {
-            let access = if writes.iter().any(|w| w.contains_span(r.span)) {
-                Access::Write
-            } else {
-                Access::Read
-            };
+            let written = writes
+                .get(&r.span.end)
+                .is_some_and(|start| *start <= r.span.start);
+            let access = if written { Access::Write } else { Access::Read };
             (r.span, access)
         })
         .collect();
@@ -109,25 +109,16 @@ pub fn hover(checked: &CheckedFile, offset: usize) -> Option<(Span, String)> {
     Some((span, text))
 }
 
-trait ContainsSpan {
-    fn contains_span(&self, inner: Span) -> bool;
-}
-
-impl ContainsSpan for Span {
-    fn contains_span(&self, inner: Span) -> bool {
-        self.start <= inner.start && inner.end <= self.end
-    }
-}
-
-/// Spans of operands an instruction writes (by its operand spec's role).
-fn written_operands(checked: &CheckedFile) -> Vec<Span> {
+/// Operands an instruction writes, by the end of their span (a name's span ends
+/// where its operand's does, after any `#`, `&` or `*`) -> the operand's start.
+fn written_operands(checked: &CheckedFile) -> HashMap<u32, u32> {
     let set = &checked.target.instructions;
-    let mut spans = Vec::new();
+    let mut spans = HashMap::new();
     for_each_instruction(checked, |id, operands| {
         let ins = set.get(id);
         for (spec, op) in ins.operands.iter().zip(operands) {
             if spec.role.writes() {
-                spans.push(op.span);
+                spans.insert(op.span.end, op.span.start);
             }
         }
     });
@@ -139,11 +130,11 @@ fn for_each_instruction(
     checked: &CheckedFile,
     mut f: impl FnMut(InstrId, &[crate::syntax::ast::Operand]),
 ) {
-    let mnemonics = &checked.output.mnemonics;
+    let mnemonics: HashMap<Span, InstrId> = checked.output.mnemonics.iter().copied().collect();
     for unit in &checked.ast.units {
         for network in &unit.networks {
             for ins in &network.instructions {
-                let Some((_, id)) = mnemonics.iter().find(|(s, _)| *s == ins.mnemonic) else {
+                let Some(id) = mnemonics.get(&ins.mnemonic) else {
                     continue;
                 };
                 let (a, b) = (ins.operands.0 as usize, ins.operands.1 as usize);
@@ -160,26 +151,35 @@ fn for_each_instruction(
 fn label_uses(checked: &CheckedFile) -> Vec<Reference> {
     let set = &checked.target.instructions;
     let defs = &checked.output.definitions;
+    let extents: Vec<Span> = checked.ast.units.iter().map(unit_extent).collect();
+    let unit_of = |offset: u32| extents.iter().position(|s| s.contains(offset as usize));
+    // (unit, label name) -> definition, and the LBL operands themselves.
+    let mut labels: HashMap<(Option<usize>, &str), usize> = HashMap::new();
+    let mut label_defs: HashSet<Span> = HashSet::new();
+    for (i, d) in defs.iter().enumerate() {
+        if d.kind == DefKind::Label {
+            labels.insert((unit_of(d.span.start), d.name.as_str()), i);
+            label_defs.insert(d.span);
+        }
+    }
     let mut found = Vec::new();
+    if labels.is_empty() {
+        return found;
+    }
     for_each_instruction(checked, |id, operands| {
         let ins = set.get(id);
         for (spec, op) in ins.operands.iter().zip(operands) {
             let OperandKind::Integer(n) = op.kind else {
                 continue;
             };
-            if spec.kind != SpecKind::Label || defs.iter().any(|d| d.span == op.span) {
+            if spec.kind != SpecKind::Label || label_defs.contains(&op.span) {
                 continue;
             }
-            let Some(unit) = unit_extent_at(checked, op.span.start as usize) else {
-                continue;
-            };
             let name = format!("LBL {n}");
-            if let Some(def) = defs.iter().position(|d| {
-                d.kind == DefKind::Label && d.name == name && unit.contains_span(d.span)
-            }) {
+            if let Some(def) = labels.get(&(unit_of(op.span.start), name.as_str())) {
                 found.push(Reference {
                     span: op.span,
-                    definition: def,
+                    definition: *def,
                 });
             }
         }
@@ -206,15 +206,6 @@ pub fn unit_extent(unit: &Unit) -> Span {
         end = end.to(e);
     }
     end
-}
-
-fn unit_extent_at(checked: &CheckedFile, offset: usize) -> Option<Span> {
-    checked
-        .ast
-        .units
-        .iter()
-        .map(unit_extent)
-        .find(|s| s.contains(offset))
 }
 
 /// The unit whose name is defined at `span`.
