@@ -171,9 +171,22 @@ def initialize_params(root: pathlib.Path | None, options=None) -> types.Initiali
     )
 
 
-def count_refreshes(client: LanguageClient) -> None:
-    """Answer the server's refresh requests, counting them in `client.refreshes`."""
+def client_features(client: LanguageClient) -> None:
+    """Answer the requests a server sends its client as VS Code does: refreshes
+    (counted in `client.refreshes`) and capability registrations (kept in
+    `client.registrations`, by id)."""
     client.refreshes = {"inlayHint": 0, "inlineValue": 0}
+    client.registrations = {}
+
+    @client.feature(types.CLIENT_REGISTER_CAPABILITY)
+    def register_capability(params: types.RegistrationParams):
+        for registration in params.registrations:
+            client.registrations[registration.id] = registration
+
+    @client.feature(types.CLIENT_UNREGISTER_CAPABILITY)
+    def unregister_capability(params: types.UnregistrationParams):
+        for gone in params.unregisterations:
+            client.registrations.pop(gone.id, None)
 
     @client.feature(types.WORKSPACE_INLAY_HINT_REFRESH)
     def inlay_hint_refresh(params):
@@ -187,7 +200,7 @@ def count_refreshes(client: LanguageClient) -> None:
 @pytest_lsp.fixture(config=ClientServerConfig(server_command=[SERVER]))
 async def client(lsp_client: LanguageClient, workdir: pathlib.Path):
     """A client initialised like VS Code with `workdir` as the workspace."""
-    count_refreshes(lsp_client)
+    client_features(lsp_client)
     lsp_client.initialize_result = await lsp_client.initialize_session(
         initialize_params(workdir)
     )

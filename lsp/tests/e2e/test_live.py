@@ -19,7 +19,7 @@ import pytest_lsp
 from lsprotocol import types
 from pytest_lsp import ClientServerConfig, LanguageClient
 
-from conftest import SERVER, Doc, count_refreshes, initialize_params, open_doc
+from conftest import SERVER, Doc, client_features, initialize_params, open_doc
 
 
 def write_project(folder: pathlib.Path, address: str) -> None:
@@ -65,7 +65,7 @@ def live_dir(workdir) -> pathlib.Path:
 @pytest_lsp.fixture(config=ClientServerConfig(server_command=[SERVER]))
 async def live_client(lsp_client: LanguageClient, live_dir: pathlib.Path):
     """A client that asks for live values at `initialize`."""
-    count_refreshes(lsp_client)
+    client_features(lsp_client)
     lsp_client.initialize_result = await lsp_client.initialize_session(
         initialize_params(live_dir, options={"liveValues": True})
     )

@@ -106,3 +106,22 @@ async def test_a_symbol_table_gets_its_own_diagnostics(client, project):
     table.replace("Level,MW4,tank level", "Level,MW4,tank level\nBad Name,MW6,x")
     codes = [d.code for d in await table.diagnostics()]
     assert codes == ["E0114"], codes
+
+
+async def test_a_file_changed_on_disk_is_read_again(client, project):
+    a = open_doc(client, project / "src" / "a.lad")
+    assert await a.diagnostics() == []
+    watchers = [
+        r for r in client.registrations.values()
+        if r.method == types.WORKSPACE_DID_CHANGE_WATCHED_FILES
+    ]
+    assert watchers, "the server asks to watch the project's files"
+    b = project / "src" / "b.lad"
+    b.write_text(b.read_text().replace("FILLUP", "FILLIN"))
+    client.diagnostics.pop(a.uri, None)
+    client.workspace_did_change_watched_files(
+        types.DidChangeWatchedFilesParams(
+            changes=[types.FileEvent(uri=b.resolve().as_uri(), type=types.FileChangeType.Changed)]
+        )
+    )
+    assert [d.code for d in await a.diagnostics()] == ["E0206"], "a.lad calls a block gone from disk"
