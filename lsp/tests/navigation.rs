@@ -127,6 +127,26 @@ fn definition_references_and_highlight_in_one_file() {
             h.kind
         ));
     }
+    // A direct address: every operand naming it, written where `=` writes it.
+    let m = find(LONE, "M0.0", 1, 1);
+    out.push(format!(
+        "M0.0 refs: {}",
+        references(&mut s, &u, m, true, None).join(", ")
+    ));
+    let highlights = s
+        .request::<DocumentHighlightRequest>(DocumentHighlightParams {
+            text_document_position_params: at(&u, m.line, m.character),
+            work_done_progress_params: WorkDoneProgressParams::default(),
+            partial_result_params: PartialResultParams::default(),
+        })
+        .unwrap_or_default();
+    for h in highlights {
+        out.push(format!(
+            "highlight M0.0 {} {:?}",
+            show_range(&h.range),
+            h.kind
+        ));
+    }
     // Nothing at a keyword.
     out.push(format!(
         "BEGIN -> {}",

@@ -9,7 +9,7 @@ use gutta_catalog::{Address, InstrId, OperandKind as SpecKind};
 
 use crate::check::{DefKind, Definition, Reference};
 use crate::source::Span;
-use crate::syntax::ast::{OperandKind, SymbolDecl, Unit};
+use crate::syntax::ast::{OperandKind, SymbolDecl, Unit, VarSection};
 use crate::CheckedFile;
 
 /// What the text at an offset is.
@@ -74,12 +74,34 @@ pub fn uses(checked: &CheckedFile) -> Vec<Reference> {
 }
 
 /// The definition and every use of the definition at `offset`, the definition first,
-/// then the uses in text order (across every file of the program).
+/// then the uses in text order (across every file of the program). For a direct
+/// address: every operand naming the same address, in text order.
 pub fn references_at(checked: &CheckedFile, offset: usize) -> Vec<(Span, Access)> {
-    let Some((_, def)) = definition_at(checked, offset) else {
-        return Vec::new();
-    };
     let writes = written_operands(checked);
+    let access = |span: Span| {
+        if writes
+            .get(&span.end)
+            .is_some_and(|start| *start <= span.start)
+        {
+            Access::Write
+        } else {
+            Access::Read
+        }
+    };
+    let Some((_, def)) = definition_at(checked, offset) else {
+        let addresses = &checked.output.addresses;
+        let Some((_, a)) = addresses.iter().find(|(s, _)| s.contains(offset)) else {
+            return Vec::new();
+        };
+        let mut found: Vec<(Span, Access)> = addresses
+            .iter()
+            .filter(|(_, x)| x == a)
+            .map(|(s, _)| (*s, access(*s)))
+            .collect();
+        found.sort_by_key(|(s, _)| (s.start, s.end));
+        found.dedup_by_key(|(s, _)| *s);
+        return found;
+    };
     let mut found: Vec<(Span, Access)> = uses(checked)
         .into_iter()
         .filter(|r| r.definition == def)
@@ -110,15 +132,41 @@ pub fn hover(checked: &CheckedFile, offset: usize) -> Option<(Span, String)> {
 }
 
 /// Operands an instruction writes, by the end of their span (a name's span ends
-/// where its operand's does, after any `#`, `&` or `*`) -> the operand's start.
+/// where its operand's does, after any `#`, `&` or `*`) -> the operand's start. A
+/// CALL's arguments are written where the callee's parameter is VAR_OUTPUT or
+/// VAR_IN_OUT.
 fn written_operands(checked: &CheckedFile) -> HashMap<u32, u32> {
     let set = &checked.target.instructions;
+    let defs = &checked.output.definitions;
+    // Uses by the end of their span (which is their operand's end).
+    let use_at: HashMap<u32, usize> = checked
+        .output
+        .references
+        .iter()
+        .map(|r| (r.span.end, r.definition))
+        .collect();
     let mut spans = HashMap::new();
     for_each_instruction(checked, |id, operands| {
         let ins = set.get(id);
         for (spec, op) in ins.operands.iter().zip(operands) {
             if spec.role.writes() {
                 spans.insert(op.span.end, op.span.start);
+            }
+        }
+        if !ins.call_arguments {
+            return;
+        }
+        // The callee: the block the first operand names.
+        let callee = operands.first().and_then(|op| {
+            let def = defs.get(*use_at.get(&op.span.end)?)?;
+            unit_defined_at(checked, def.span)
+        });
+        let Some(callee) = callee else { return };
+        let params = callee.vars.iter().filter(|v| v.section != VarSection::Temp);
+        let args = operands.iter().skip(ins.operands.len());
+        for (param, arg) in params.zip(args) {
+            if matches!(param.section, VarSection::Output | VarSection::InOut) {
+                spans.insert(arg.span.end, arg.span.start);
             }
         }
     });
@@ -459,6 +507,12 @@ mod tests {
         let r = references_at(&c, at(&c, "#r", 0, 1));
         let kinds: Vec<Access> = r.iter().map(|(_, a)| *a).collect();
         assert_eq!(kinds, [Access::Declaration, Access::Write, Access::Write]);
+        // A direct address: its operands (`=` writes it).
+        let m = references_at(&c, at(&c, "Q0.0", 0, 1));
+        assert_eq!(slices(&c, &m), [("Q0.0".into(), "main", Access::Write)]);
+        // A CALL's argument for a VAR_OUTPUT is written, one for a VAR_INPUT read.
+        let out = references_at(&c, at(&c, "MW12", 0, 1));
+        assert_eq!(slices(&c, &out), [("MW12".into(), "main", Access::Write)]);
         // The call names the subroutine in the other file.
         let (span, def) = definition_at(&c, at(&c, "ADD3", 0, 1)).unwrap();
         assert_eq!(c.file.slice(span), "ADD3");
