@@ -1,9 +1,10 @@
 //! The VS Code extension (editors/vscode/): its manifest, language configuration and
-//! TextMate grammar hang together (always); with npm, the extension packages into a
-//! .vsix holding the grammar, and the grammar, run by vscode-textmate over oniguruma as
-//! VS Code runs it, colours examples/blink.lad and every mnemonic of the stdlib's
-//! instruction set. Without npm the second test fails saying how to install it, unless
-//! GUTTA_SKIP_EXTERNAL=1.
+//! TextMate grammar hang together (always); with node, its activation (test/activate.js,
+//! with stand-ins for VS Code's modules) starts gutta-lsp with the settings passed on;
+//! with npm, the extension packages into a .vsix holding the grammar, and the grammar,
+//! run by vscode-textmate over oniguruma as VS Code runs it, colours examples/blink.lad
+//! and every mnemonic of the stdlib's instruction set. Without node or npm those tests fail saying how to install them,
+//! unless GUTTA_SKIP_EXTERNAL=1.
 
 mod external;
 
@@ -111,6 +112,73 @@ fn manifest_language_configuration_and_grammar_hang_together() {
             "{id} is not registered"
         );
     }
+}
+
+/// What `node test/activate.js SETTINGS` saw the extension do.
+fn activate(settings: Value) -> Value {
+    let out = external::run(
+        Command::new("node")
+            .arg("test/activate.js")
+            .arg(settings.to_string())
+            .current_dir(extension_dir()),
+        "node test/activate.js",
+    );
+    serde_json::from_str(&out).expect("activate.js JSON")
+}
+
+#[test]
+fn activation_starts_gutta_lsp_with_the_settings() {
+    if !external::have("node") {
+        return;
+    }
+    let defaults = activate(serde_json::json!({}));
+    assert_eq!(
+        defaults["commands"],
+        serde_json::json!(["gutta.restartServer", "gutta.liveValues.toggle"])
+    );
+    let client = &defaults["clients"][0];
+    assert_eq!(client["serverOptions"]["command"], "gutta-lsp");
+    assert_eq!(
+        client["clientOptions"]["documentSelector"],
+        serde_json::json!([
+            {"scheme": "file", "language": "gutta-lad"},
+            {"scheme": "file", "pattern": "**/*.{csv,tsv}"}
+        ])
+    );
+    assert_eq!(
+        client["clientOptions"]["initializationOptions"],
+        serde_json::json!({"liveValues": false, "inlayHints": {"symbolAddresses": true, "modbus": true}})
+    );
+    assert_eq!(
+        client["clientOptions"]["synchronize"]["configurationSection"],
+        "gutta"
+    );
+    assert_eq!(
+        defaults["liveValuesAfterToggle"], true,
+        "the toggle flips the setting"
+    );
+    assert_eq!(defaults["stopped"], 1, "deactivate stops the client");
+
+    let set = activate(serde_json::json!({
+        "gutta.server.path": "/opt/gutta/bin/gutta-lsp",
+        "gutta.liveValues": true,
+        "gutta.inlayHints.modbus": false,
+        "gutta.symbolTables": false,
+    }));
+    let client = &set["clients"][0];
+    assert_eq!(
+        client["serverOptions"]["command"],
+        "/opt/gutta/bin/gutta-lsp"
+    );
+    assert_eq!(
+        client["clientOptions"]["documentSelector"],
+        serde_json::json!([{"scheme": "file", "language": "gutta-lad"}])
+    );
+    assert_eq!(
+        client["clientOptions"]["initializationOptions"],
+        serde_json::json!({"liveValues": true, "inlayHints": {"symbolAddresses": true, "modbus": false}})
+    );
+    assert_eq!(set["liveValuesAfterToggle"], false);
 }
 
 /// One token of the tokenizer's answer.
