@@ -1,0 +1,96 @@
+//! Shared by the tests that drive external programs against the real `gutta-lsp`
+//! binary or the editor files (npm for the VS Code extension, the .ci venv's pytest-lsp,
+//! Neovim): whether a tool is there, and the rule for when it is not. Holds no LSP
+//! logic; the in-process helper is `tests/common`.
+
+#![allow(dead_code)]
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// How to get every external tool these tests use (`.ci/run` does all of it).
+pub const INSTALL: &str = "run `bash .ci/run`, or: apt-get install neovim; Node.js 20 or \
+     newer with npm; python3 -m venv .ci/venv && .ci/venv/bin/pip install pytest==9.2.0 \
+     pytest-lsp==1.0.1; export GUTTA_PYTHON=$PWD/.ci/venv/bin/python";
+
+/// The environment variable that declares the external tools absent.
+pub const SKIP_EXTERNAL: &str = "GUTTA_SKIP_EXTERNAL";
+
+/// A tool the test needs is missing: the test fails and says how to install it, unless
+/// the environment declares the external tools absent (`GUTTA_SKIP_EXTERNAL=1`); then it
+/// says that it skipped, on the real stderr (not captured), and the caller returns.
+pub fn tool_missing(why: &str) {
+    if std::env::var(SKIP_EXTERNAL).is_ok_and(|v| v == "1") {
+        let _ = writeln!(
+            std::io::stderr(),
+            "skipped: {why} ({SKIP_EXTERNAL}=1 declares the external tools absent)"
+        );
+        return;
+    }
+    panic!(
+        "{why}. This test needs external tools: {INSTALL}. \
+         Or set {SKIP_EXTERNAL}=1 to skip the tests that need them."
+    );
+}
+
+/// Whether a command is on PATH (`tool_missing` when not).
+pub fn have(tool: &str) -> bool {
+    let found = Command::new("sh")
+        .args(["-c", &format!("command -v {tool}")])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !found {
+        tool_missing(&format!("{tool} is not installed"));
+    }
+    found
+}
+
+/// The repository's root folder.
+pub fn repo_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("lsp/ has a parent")
+        .to_path_buf()
+}
+
+/// A fresh, empty scratch folder for `tag`, unique to this process.
+pub fn scratch(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("gutta-lsp-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch folder");
+    dir
+}
+
+/// Copy the folder `from` into `to`, leaving out folders named in `skip`.
+pub fn copy_tree(from: &Path, to: &Path, skip: &[&str]) {
+    std::fs::create_dir_all(to).expect("creates");
+    for entry in std::fs::read_dir(from).expect("reads") {
+        let entry = entry.expect("entry");
+        let name = entry.file_name();
+        if skip.iter().any(|s| name == **s) {
+            continue;
+        }
+        let path = entry.path();
+        if entry.file_type().expect("type").is_dir() {
+            copy_tree(&path, &to.join(&name), skip);
+        } else {
+            std::fs::copy(&path, to.join(&name)).expect("copies");
+        }
+    }
+}
+
+/// Run `command`, panicking with its output when it fails; its stdout.
+pub fn run(command: &mut Command, what: &str) -> String {
+    let out = command
+        .output()
+        .unwrap_or_else(|e| panic!("{what}: could not start: {e}"));
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success(),
+        "{what} failed ({}):\n--- stdout\n{stdout}\n--- stderr\n{}",
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+    stdout
+}

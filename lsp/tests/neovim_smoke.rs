@@ -1,0 +1,145 @@
+//! Neovim end to end: `nvim --headless --clean -u lsp/tests/neovim/smoke.lua FILE.lad`
+//! with the real `gutta-lsp` on PATH loads editors/neovim/gutta-lsp.lua (the config
+//! docs/editors.md shows), opens a program with a misspelt symbol, waits for its
+//! diagnostic, asks for a hover and writes both to a file; the test reads them. Without
+//! Neovim the test fails saying how to install it, unless GUTTA_SKIP_EXTERNAL=1. Also:
+//! docs/editors.md shows that config verbatim.
+
+mod external;
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use serde_json::Value;
+
+/// A program with one mistake: `Strat` is not a symbol (E0202, did you mean `Start`).
+const PROGRAM: &str = "\
+SYMBOLS
+  Start : I0.0   // push button
+END_SYMBOLS
+
+ORGANIZATION_BLOCK MAIN:OB1
+BEGIN
+NETWORK 1 // the mistake
+LD     Strat
+=      Q0.0
+END_ORGANIZATION_BLOCK
+";
+
+/// Where the hover is asked: `=` on line 8 (0-based), column 0.
+const HOVER: (u32, u32) = (8, 0);
+
+/// Neovim's major and minor version.
+fn nvim_version() -> (u32, u32) {
+    let out = external::run(Command::new("nvim").arg("--version"), "nvim --version");
+    let first = out.lines().next().unwrap_or_default();
+    let numbers: Vec<u32> = first
+        .trim_start_matches("NVIM v")
+        .split(['.', '-'])
+        .take(2)
+        .filter_map(|n| n.parse().ok())
+        .collect();
+    assert_eq!(numbers.len(), 2, "no version in `{first}`");
+    (numbers[0], numbers[1])
+}
+
+#[test]
+fn docs_show_the_config_the_smoke_test_runs() {
+    let root = external::repo_root();
+    let config = std::fs::read_to_string(root.join("editors/neovim/gutta-lsp.lua"))
+        .expect("reads the config");
+    let docs = std::fs::read_to_string(root.join("docs/editors.md")).expect("reads the docs");
+    assert!(
+        docs.contains(&format!("```lua\n{config}```")),
+        "docs/editors.md must show editors/neovim/gutta-lsp.lua verbatim"
+    );
+}
+
+#[test]
+fn neovim_gets_the_diagnostic_and_a_hover() {
+    if !external::have("nvim") {
+        return;
+    }
+    assert!(
+        nvim_version() >= (0, 7),
+        "the config needs Neovim 0.7 or newer"
+    );
+    let root = external::repo_root();
+    let work = external::scratch("neovim");
+    let file = work.join("mistake.lad");
+    std::fs::write(&file, PROGRAM).expect("writes");
+    let out = work.join("answer.json");
+    let server = Path::new(env!("CARGO_BIN_EXE_gutta-lsp"));
+    let path = format!(
+        "{}:{}",
+        server.parent().expect("bin folder").display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    let mut nvim = Command::new("nvim")
+        .args(["--headless", "--clean", "-u"])
+        .arg(root.join("lsp/tests/neovim/smoke.lua"))
+        .arg(&file)
+        .current_dir(&work)
+        .env("PATH", path)
+        .env("XDG_CACHE_HOME", work.join("cache"))
+        .env("XDG_STATE_HOME", work.join("state"))
+        .env("XDG_DATA_HOME", work.join("data"))
+        .env(
+            "GUTTA_NVIM_CONFIG",
+            root.join("editors/neovim/gutta-lsp.lua"),
+        )
+        .env("GUTTA_NVIM_OUT", &out)
+        .env("GUTTA_HOVER_LINE", HOVER.0.to_string())
+        .env("GUTTA_HOVER_COLUMN", HOVER.1.to_string())
+        .env("GUTTA_NVIM_TIMEOUT_MS", "20000")
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("nvim starts");
+    let started = Instant::now();
+    let status = loop {
+        if let Some(status) = nvim.try_wait().expect("waits") {
+            break status;
+        }
+        if started.elapsed() > Duration::from_secs(60) {
+            let _ = nvim.kill();
+            let _ = nvim.wait();
+            panic!("nvim did not quit within 60 s");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let mut stderr = String::new();
+    if let Some(mut e) = nvim.stderr.take() {
+        let _ = std::io::Read::read_to_string(&mut e, &mut stderr);
+    }
+    assert!(status.success(), "nvim: {status}\n{stderr}");
+    let answer = std::fs::read_to_string(&out)
+        .unwrap_or_else(|e| panic!("nvim wrote no answer ({e}); stderr:\n{stderr}"));
+    let answer: Value = serde_json::from_str(&answer).expect("JSON");
+
+    assert_eq!(answer["filetype"], "gutta", "{answer}");
+    assert_eq!(answer["clients"], 1, "{answer}");
+    assert_eq!(
+        answer["timeout"],
+        Value::Null,
+        "no diagnostic came: {answer}"
+    );
+    let diagnostics = answer["diagnostics"].as_array().expect("diagnostics");
+    assert_eq!(diagnostics.len(), 1, "{answer}");
+    assert_eq!(diagnostics[0]["code"], "E0202", "{answer}");
+    assert_eq!(diagnostics[0]["line"], 7, "{answer}");
+    assert!(
+        diagnostics[0]["message"]
+            .as_str()
+            .is_some_and(|m| m.contains("Strat")),
+        "{answer}"
+    );
+    let hover = answer["hover"]
+        .as_str()
+        .unwrap_or_else(|| panic!("no hover: {answer}"));
+    assert!(hover.contains('='), "{answer}");
+    assert!(!hover.starts_with("error:"), "{answer}");
+    let _ = std::fs::remove_dir_all(&work);
+}

@@ -1,0 +1,372 @@
+//! The VS Code extension (editors/vscode/): its manifest, language configuration and
+//! TextMate grammar hang together (always); with node, its activation (test/activate.js,
+//! with stand-ins for VS Code's modules) starts gutta-lsp with the settings passed on;
+//! with npm, the extension packages into a .vsix holding the grammar, and the grammar,
+//! run by vscode-textmate over oniguruma as VS Code runs it, colours examples/blink.lad
+//! and every mnemonic of the stdlib's instruction set. Without node or npm those tests fail saying how to install them,
+//! unless GUTTA_SKIP_EXTERNAL=1.
+
+mod external;
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use serde_json::Value;
+
+fn extension_dir() -> PathBuf {
+    external::repo_root().join("editors/vscode")
+}
+
+fn read_json(path: &Path) -> Value {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// Every `name` and `include` of a grammar rule tree.
+fn walk_rules(value: &Value, names: &mut Vec<String>, includes: &mut BTreeSet<String>) {
+    match value {
+        Value::Object(map) => {
+            for (key, v) in map {
+                match (key.as_str(), v) {
+                    ("name", Value::String(s)) => names.push(s.clone()),
+                    ("include", Value::String(s)) => {
+                        includes.insert(s.clone());
+                    }
+                    _ => walk_rules(v, names, includes),
+                }
+            }
+        }
+        Value::Array(items) => items.iter().for_each(|v| walk_rules(v, names, includes)),
+        _ => {}
+    }
+}
+
+#[test]
+fn manifest_language_configuration_and_grammar_hang_together() {
+    let dir = extension_dir();
+    let manifest = read_json(&dir.join("package.json"));
+    let language = &manifest["contributes"]["languages"][0];
+    assert_eq!(language["id"], "gutta-lad");
+    assert_eq!(language["extensions"], serde_json::json!([".lad"]));
+    let config = read_json(&dir.join(language["configuration"].as_str().expect("path")));
+    assert_eq!(config["comments"]["lineComment"], "//");
+    assert!(config["folding"]["markers"]["start"].is_string());
+    let grammar_entry = &manifest["contributes"]["grammars"][0];
+    assert_eq!(grammar_entry["language"], "gutta-lad");
+    let grammar = read_json(&dir.join(grammar_entry["path"].as_str().expect("path")));
+    assert_eq!(grammar["scopeName"], grammar_entry["scopeName"]);
+    assert_eq!(grammar["scopeName"], "source.gutta-lad");
+    assert!(dir.join(manifest["main"].as_str().expect("main")).is_file());
+
+    let mut names = Vec::new();
+    let mut includes = BTreeSet::new();
+    walk_rules(&grammar["patterns"], &mut names, &mut includes);
+    walk_rules(&grammar["repository"], &mut names, &mut includes);
+    let repository = grammar["repository"].as_object().expect("repository");
+    for include in &includes {
+        let key = include
+            .strip_prefix('#')
+            .unwrap_or_else(|| panic!("include `{include}` reaches outside the grammar"));
+        assert!(
+            repository.contains_key(key),
+            "include `{include}` names no rule"
+        );
+    }
+    for key in repository.keys() {
+        assert!(
+            includes.contains(&format!("#{key}")),
+            "rule `{key}` is never included"
+        );
+    }
+    for name in &names {
+        assert!(
+            name.ends_with(".gutta-lad"),
+            "scope `{name}` lacks the language suffix"
+        );
+    }
+    // docs/editors.md and the extension's README name every setting.
+    let docs = std::fs::read_to_string(external::repo_root().join("docs/editors.md"))
+        .expect("reads the docs");
+    let readme = std::fs::read_to_string(dir.join("README.md")).expect("reads the README");
+    let settings = manifest["contributes"]["configuration"]["properties"]
+        .as_object()
+        .expect("settings");
+    for key in settings.keys() {
+        let shown = format!("`{key}`");
+        assert!(docs.contains(&shown), "docs/editors.md lacks {key}");
+        assert!(
+            readme.contains(&shown),
+            "editors/vscode/README.md lacks {key}"
+        );
+    }
+    // The commands the manifest shows are the ones the extension registers.
+    let source = std::fs::read_to_string(dir.join("src/extension.js")).expect("reads");
+    for command in manifest["contributes"]["commands"]
+        .as_array()
+        .expect("commands")
+    {
+        let id = command["command"].as_str().expect("id");
+        assert!(
+            source.contains(&format!("registerCommand('{id}'")),
+            "{id} is not registered"
+        );
+    }
+}
+
+/// What `node test/activate.js SETTINGS` saw the extension do.
+fn activate(settings: Value) -> Value {
+    let out = external::run(
+        Command::new("node")
+            .arg("test/activate.js")
+            .arg(settings.to_string())
+            .current_dir(extension_dir()),
+        "node test/activate.js",
+    );
+    serde_json::from_str(&out).expect("activate.js JSON")
+}
+
+#[test]
+fn activation_starts_gutta_lsp_with_the_settings() {
+    if !external::have("node") {
+        return;
+    }
+    let defaults = activate(serde_json::json!({}));
+    assert_eq!(
+        defaults["commands"],
+        serde_json::json!(["gutta.restartServer", "gutta.liveValues.toggle"])
+    );
+    let client = &defaults["clients"][0];
+    assert_eq!(client["serverOptions"]["command"], "gutta-lsp");
+    assert_eq!(
+        client["clientOptions"]["documentSelector"],
+        serde_json::json!([
+            {"scheme": "file", "language": "gutta-lad"},
+            {"scheme": "file", "pattern": "**/*.{csv,tsv}"}
+        ])
+    );
+    assert_eq!(
+        client["clientOptions"]["initializationOptions"],
+        serde_json::json!({"liveValues": false, "inlayHints": {"symbolAddresses": true, "modbus": true}})
+    );
+    assert_eq!(
+        client["clientOptions"]["synchronize"]["configurationSection"],
+        "gutta"
+    );
+    assert_eq!(
+        defaults["liveValuesAfterToggle"], true,
+        "the toggle flips the setting"
+    );
+    assert_eq!(defaults["stopped"], 1, "deactivate stops the client");
+
+    let set = activate(serde_json::json!({
+        "gutta.server.path": "/opt/gutta/bin/gutta-lsp",
+        "gutta.liveValues": true,
+        "gutta.inlayHints.modbus": false,
+        "gutta.symbolTables": false,
+    }));
+    let client = &set["clients"][0];
+    assert_eq!(
+        client["serverOptions"]["command"],
+        "/opt/gutta/bin/gutta-lsp"
+    );
+    assert_eq!(
+        client["clientOptions"]["documentSelector"],
+        serde_json::json!([{"scheme": "file", "language": "gutta-lad"}])
+    );
+    assert_eq!(
+        client["clientOptions"]["initializationOptions"],
+        serde_json::json!({"liveValues": true, "inlayHints": {"symbolAddresses": true, "modbus": false}})
+    );
+    assert_eq!(set["liveValuesAfterToggle"], false);
+}
+
+/// One token of the tokenizer's answer.
+struct Token {
+    text: String,
+    scopes: Vec<String>,
+}
+
+fn tokens_of(answer: &Value, file: &Path) -> Vec<Vec<Token>> {
+    let lines = answer[file.to_str().expect("utf-8 path")]
+        .as_array()
+        .unwrap_or_else(|| panic!("no tokens for {}", file.display()));
+    lines
+        .iter()
+        .map(|line| {
+            line.as_array()
+                .expect("tokens")
+                .iter()
+                .map(|t| Token {
+                    text: t["text"].as_str().expect("text").to_string(),
+                    scopes: t["scopes"]
+                        .as_array()
+                        .expect("scopes")
+                        .iter()
+                        .map(|s| s.as_str().expect("scope").to_string())
+                        .collect(),
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// The innermost scope of the token `text` on 1-based `line`.
+fn scope_of(lines: &[Vec<Token>], line: usize, text: &str) -> String {
+    lines[line - 1]
+        .iter()
+        .find(|t| t.text == text)
+        .unwrap_or_else(|| panic!("no token `{text}` on line {line}"))
+        .scopes
+        .last()
+        .cloned()
+        .unwrap_or_default()
+}
+
+/// A program naming every mnemonic and alias of the stdlib's instruction set once in
+/// upper and once in lower case; the mnemonics in line order.
+fn every_mnemonic() -> (String, Vec<String>) {
+    let mut mnemonics = BTreeSet::new();
+    for plc in gutta_catalog::stdlib::names() {
+        let target = gutta_catalog::stdlib::shared(plc).expect("stdlib target");
+        for (name, _) in target.instructions.names() {
+            mnemonics.insert(name.to_string());
+        }
+    }
+    let mut text = String::from("ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\n");
+    let mut order = Vec::new();
+    for m in &mnemonics {
+        for written in [m.clone(), m.to_lowercase()] {
+            text.push_str(&format!("{written:<7} MW0, 1 // x\n"));
+            order.push(written);
+        }
+    }
+    text.push_str("END_ORGANIZATION_BLOCK\n");
+    (text, order)
+}
+
+#[test]
+fn package_builds_and_the_grammar_colours_every_construct() {
+    if !external::have("npm") || !external::have("node") {
+        return;
+    }
+    let work = external::scratch("vscode");
+    let copy = work.join("vscode");
+    external::copy_tree(&extension_dir(), &copy, &["node_modules"]);
+    let _ = std::fs::remove_file(copy.join("gutta-lad.vsix"));
+    external::run(
+        Command::new("npm")
+            .args(["ci", "--no-audit", "--no-fund"])
+            .current_dir(&copy),
+        "npm ci",
+    );
+    external::run(
+        Command::new("npm")
+            .args(["run", "package"])
+            .current_dir(&copy),
+        "npm run package",
+    );
+    let vsix =
+        std::fs::read(copy.join("gutta-lad.vsix")).expect("npm run package writes gutta-lad.vsix");
+    for inside in [
+        "extension/syntaxes/gutta-lad.tmLanguage.json",
+        "extension/language-configuration.json",
+        "extension/src/extension.js",
+        "extension/node_modules/vscode-languageclient/package.json",
+    ] {
+        assert!(
+            vsix.windows(inside.len()).any(|w| w == inside.as_bytes()),
+            "the .vsix lacks {inside}"
+        );
+    }
+
+    let blink = external::repo_root().join("examples/blink.lad");
+    let (program, mnemonics) = every_mnemonic();
+    let all = work.join("mnemonics.lad");
+    std::fs::write(&all, program).expect("writes");
+    let answer = external::run(
+        Command::new("node")
+            .arg("test/tokenize.js")
+            .arg(&blink)
+            .arg(&all)
+            .current_dir(&copy),
+        "node test/tokenize.js",
+    );
+    let answer: Value = serde_json::from_str(&answer).expect("tokenizer JSON");
+
+    let lines = tokens_of(&answer, &blink);
+    let expect = [
+        (1, "//", "punctuation.definition.comment.gutta-lad"),
+        (3, "PLC_TYPE", "keyword.control.directive.gutta-lad"),
+        (3, "CPU-EC20", "support.constant.plc-type.gutta-lad"),
+        (5, "SYMBOLS", "keyword.control.block.gutta-lad"),
+        (6, "Start", "entity.name.variable.symbol.gutta-lad"),
+        (6, "I0.0", "variable.language.address.input.gutta-lad"),
+        (10, "ORGANIZATION_BLOCK", "keyword.control.block.gutta-lad"),
+        (10, "MAIN", "entity.name.function.block.gutta-lad"),
+        (10, "OB1", "entity.name.function.block.number.gutta-lad"),
+        (11, "TITLE=", "keyword.control.title.gutta-lad"),
+        (13, "Network", "keyword.control.network.gutta-lad"),
+        (14, "LD", "keyword.other.mnemonic.bit.gutta-lad"),
+        (14, "Start", "variable.other.symbol.gutta-lad"),
+        (17, "=", "keyword.other.mnemonic.bit.gutta-lad"),
+        (19, "SM0.1", "variable.language.address.system.gutta-lad"),
+        (20, "&", "keyword.operator.address-of.gutta-lad"),
+        (20, "MB24", "variable.language.address.memory.gutta-lad"),
+        (21, "16#0E01", "constant.numeric.based.gutta-lad"),
+        (21, "*", "keyword.operator.pointer.gutta-lad"),
+        (22, "+D", "keyword.other.mnemonic.math.gutta-lad"),
+        (26, "CALL", "keyword.other.mnemonic.control.gutta-lad"),
+        (26, "ADD3", "entity.name.function.block.gutta-lad"),
+        (26, "+5", "constant.numeric.integer.gutta-lad"),
+        (35, "a", "variable.parameter.declaration.gutta-lad"),
+        (35, "INT", "storage.type.gutta-lad"),
+        (47, "a", "variable.parameter.local.gutta-lad"),
+        (64, "-70000", "constant.numeric.integer.gutta-lad"),
+        (
+            68,
+            "PORT0.PROTOCOL",
+            "variable.other.property.key.gutta-lad",
+        ),
+        (68, "MODBUS", "constant.language.gutta-lad"),
+        (75, "1234", "string.quoted.double.gutta-lad"),
+        (76, "END_SYSTEM_BLOCK", "keyword.control.block.gutta-lad"),
+    ];
+    for (line, text, scope) in expect {
+        assert_eq!(
+            scope_of(&lines, line, text),
+            scope,
+            "`{text}` on line {line}"
+        );
+    }
+    assert!(
+        lines[12].iter().any(|t| t.text.starts_with("latch")
+            && t.scopes.iter().any(|s| s.starts_with("comment.line"))),
+        "a network's title is a comment"
+    );
+    assert!(
+        lines
+            .iter()
+            .flatten()
+            .all(|t| !t.scopes.iter().any(|s| s.starts_with("invalid"))),
+        "blink.lad is valid, so nothing in it is coloured invalid"
+    );
+
+    let lines = tokens_of(&answer, &all);
+    for (i, mnemonic) in mnemonics.iter().enumerate() {
+        let scope = scope_of(&lines, i + 4, mnemonic);
+        assert!(
+            scope.starts_with("keyword.other.mnemonic."),
+            "mnemonic `{mnemonic}` is coloured {scope}"
+        );
+        if ["CALL", "ATCH", "DTCH"].contains(&mnemonic.to_uppercase().as_str()) {
+            continue; // their first operand is a block's name
+        }
+        assert_eq!(
+            scope_of(&lines, i + 4, "MW0"),
+            "variable.language.address.memory.gutta-lad",
+            "the operand after `{mnemonic}`"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&work);
+}
