@@ -3,6 +3,8 @@
 //! every answer comes from gutta-compiler's analysis API. Only this crate knows LSP
 //! types and UTF-16 positions.
 
+pub mod live;
+
 use lsp_server::{Connection, Message, Response};
 use lsp_types::{InitializeResult, ServerCapabilities, ServerInfo};
 
