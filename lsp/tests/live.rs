@@ -1,0 +1,200 @@
+//! Live values against a real `gutta-sim` process whose program blinks Lamp (Q0.0,
+//! SM0.5: 0.5 s on, 0.5 s off): the poller reads what the editor shows and a value
+//! changes between two answers; refresh requests follow changes; a PLC that does not
+//! answer gives one warning and `?`. Needs the simulator binary: `cargo build -p
+//! gutta-cli --bin gutta-sim` (the workspace's `cargo test` builds it).
+
+#![allow(clippy::disallowed_methods, reason = "tests write projects and start processes")]
+
+use std::io::BufRead;
+use std::path::{Path, PathBuf};
+use std::sync::mpsc;
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use gutta_catalog::stdlib;
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{compile, ExplicitTarget};
+use gutta_lsp::live::{self, Live, LinkSettings, Refresh};
+use lsp_server::Message;
+
+const PROGRAM: &str = "PLC_TYPE CPU-EC20\n\nSYMBOLS\n  Lamp  : Q0.0\n  Speed : MW20\n\
+     END_SYMBOLS\n\nORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1 // blink\nLD     SM0.5\n\
+     =      Lamp\nNETWORK 2\nLD     SM0.0\nMOVW   16#0102, Speed\nEND_ORGANIZATION_BLOCK\n";
+
+/// A `gutta-sim` process, killed when dropped, and its Modbus TCP address.
+struct Sim(std::process::Child, String);
+
+impl Drop for Sim {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn sim_binary() -> PathBuf {
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../target"));
+    let path = target.join("debug/gutta-sim");
+    assert!(
+        path.exists(),
+        "{} is missing: build it first with `cargo build -p gutta-cli --bin gutta-sim`",
+        path.display()
+    );
+    path
+}
+
+/// A scratch folder named after `tag` and this process.
+fn scratch(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("gutta-lsp-live-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("a scratch folder");
+    dir
+}
+
+/// `gutta-sim IMAGE --plc CPU-EC20 --tcp 127.0.0.1:0` running PROGRAM.
+fn blinking_sim(dir: &Path) -> Sim {
+    let target = stdlib::shared("CPU-EC20").expect("target");
+    let explicit = ExplicitTarget {
+        target,
+        origin: "test".into(),
+    };
+    let compiled = compile(SourceFile::new("main.lad", PROGRAM), Some(&explicit));
+    let image = compiled.image.expect("PROGRAM compiles");
+    let image_dir = dir.join("image");
+    gutta_io::write_image(&image_dir, &image).expect("writes the image");
+    let mut child = std::process::Command::new(sim_binary())
+        .arg(&image_dir)
+        .args(["--plc", "CPU-EC20", "--tcp", "127.0.0.1:0"])
+        .env_remove(live::PASSWORD_ENV)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("gutta-sim starts");
+    let line = std::io::BufReader::new(child.stdout.take().expect("stdout"))
+        .lines()
+        .next()
+        .expect("a listener line")
+        .expect("text");
+    let address = line.rsplit(' ').next().expect("address").to_string();
+    Sim(child, address)
+}
+
+/// A project in `dir` whose PLC is at `address`.
+fn project(dir: &Path, address: &str) -> gutta_io::Project {
+    std::fs::write(dir.join("main.lad"), PROGRAM).expect("writes main.lad");
+    let manifest = dir.join("gutta.toml");
+    std::fs::write(
+        &manifest,
+        format!(
+            "[program]\nplc = \"CPU-EC20\"\nsources = [\"main.lad\"]\n\n\
+             [connection]\ntcp = \"{address}\"\ntimeout = 300\nretries = 0\n"
+        ),
+    )
+    .expect("writes gutta.toml");
+    gutta_io::Project::load(&manifest).expect("the project loads")
+}
+
+/// Live values on, every message to the client collected.
+fn live_with_outbox() -> (Live, Arc<Mutex<mpsc::Receiver<Message>>>) {
+    let (tx, rx) = mpsc::channel();
+    let tx = Mutex::new(tx);
+    let outbox: live::Outbox = Arc::new(move |m| {
+        let _ = tx.lock().map(|t| t.send(m));
+    });
+    let refresh = Refresh {
+        inlay_hints: true,
+        inline_values: false,
+    };
+    (Live::new(true, refresh, outbox), Arc::new(Mutex::new(rx)))
+}
+
+fn shown(live: &mut Live, p: &gutta_io::Project) -> Vec<String> {
+    let checked = gutta_compiler::check_source(SourceFile::new("main.lad", PROGRAM), None);
+    let settings = LinkSettings::from_connection(&p.connection, checked.target.plc.exch_pack_size);
+    live.values(&p.manifest, settings, &checked, 0..PROGRAM.len())
+        .into_iter()
+        .map(|(o, v)| format!("{} = {}", o.label, live::show(&o.address, v)))
+        .collect()
+}
+
+#[test]
+fn the_lamp_blinks_between_two_answers() {
+    let dir = scratch("blink");
+    let sim = blinking_sim(&dir);
+    let p = project(&dir, &sim.1);
+    let (mut live, messages) = live_with_outbox();
+    let first = shown(&mut live, &p);
+    assert_eq!(first.len(), 4, "{first:?}");
+    assert!(first.iter().all(|s| s.ends_with(" = ?")), "nothing read yet: {first:?}");
+    let start = Instant::now();
+    let mut seen: Vec<String> = Vec::new();
+    let mut speed_read = false;
+    while start.elapsed() < Duration::from_secs(20) {
+        std::thread::sleep(Duration::from_millis(100));
+        let now = shown(&mut live, &p);
+        let lamp = now[1].clone();
+        speed_read |= now[3] == "Speed = 258";
+        if !lamp.ends_with('?') && !seen.contains(&lamp) {
+            seen.push(lamp);
+        }
+        if seen.len() == 2 && speed_read {
+            break;
+        }
+    }
+    seen.sort();
+    assert_eq!(seen, ["Lamp = 0", "Lamp = 1"], "the lamp did not blink");
+    assert!(speed_read, "MOVW 16#0102, Speed: 258");
+    let refreshes = messages
+        .lock()
+        .map(|rx| {
+            rx.try_iter()
+                .filter(|m| matches!(m, Message::Request(r) if r.method == "workspace/inlayHint/refresh"))
+                .count()
+        })
+        .unwrap_or(0);
+    assert!(refreshes >= 2, "a refresh per change: {refreshes}");
+}
+
+#[test]
+fn a_silent_plc_warns_once_and_shows_question_marks() {
+    let dir = scratch("silent");
+    // A port nobody listens on: bound, then closed.
+    let address = std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .expect("a free port")
+        .to_string();
+    let p = project(&dir, &address);
+    let (mut live, messages) = live_with_outbox();
+    let start = Instant::now();
+    while start.elapsed() < Duration::from_secs(3) {
+        let now = shown(&mut live, &p);
+        assert!(now.iter().all(|s| s.ends_with(" = ?")), "{now:?}");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let warnings: Vec<String> = messages
+        .lock()
+        .map(|rx| {
+            rx.try_iter()
+                .filter_map(|m| match m {
+                    Message::Notification(n) if n.method == "window/showMessage" => {
+                        Some(n.params["message"].to_string())
+                    }
+                    _ => None,
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    assert_eq!(warnings.len(), 1, "one warning per outage: {warnings:?}");
+    assert!(warnings[0].contains(&address), "{warnings:?}");
+}
+
+#[test]
+fn off_means_no_values_and_no_poller() {
+    let dir = scratch("off");
+    let p = project(&dir, "127.0.0.1:9");
+    let (mut live, _) = live_with_outbox();
+    live.set_enabled(false);
+    assert!(shown(&mut live, &p).is_empty());
+}
