@@ -1,55 +1,51 @@
 //! gutta-lsp: the language server for GUTTA PLC programs (docs/editors.md). The server
-//! loop runs over any `lsp_server::Connection` (stdio in the binary, memory in tests);
-//! every answer comes from gutta-compiler's analysis API. Only this crate knows LSP
-//! types and UTF-16 positions.
+//! loop (server.rs) runs over any `lsp_server::Connection` (stdio in the binary, memory
+//! in tests) and dispatches to handlers/ through one table; documents.rs holds the open
+//! texts and converts UTF-16 positions, workspace.rs knows which program a document
+//! belongs to, convert.rs turns compiler data into LSP types. Every answer comes from
+//! gutta-compiler's analysis API; only this crate knows LSP types and UTF-16 positions.
 
+pub mod convert;
+pub mod documents;
+pub mod handlers;
 pub mod live;
+pub mod server;
+pub mod workspace;
 
-use lsp_server::{Connection, Message, Response};
-use lsp_types::{InitializeResult, ServerCapabilities, ServerInfo};
+use lsp_server::Connection;
+use lsp_types::{
+    ExecuteCommandOptions, OneOf, SaveOptions, ServerCapabilities, TextDocumentSyncCapability, TextDocumentSyncKind,
+    TextDocumentSyncOptions, TextDocumentSyncSaveOptions,
+};
 
-/// What the server can do, as told to the client in `initialize`.
+/// What the server can do, as told to the client in `initialize`: one line per feature.
 pub fn capabilities() -> ServerCapabilities {
-    ServerCapabilities::default()
+    ServerCapabilities {
+        text_document_sync: Some(text_sync()),
+        inline_value_provider: Some(OneOf::Left(true)),
+        inlay_hint_provider: Some(OneOf::Left(true)),
+        execute_command_provider: Some(ExecuteCommandOptions {
+            commands: vec![live::TOGGLE_COMMAND.into()],
+            ..ExecuteCommandOptions::default()
+        }),
+        ..ServerCapabilities::default()
+    }
+}
+
+/// Open/close, incremental changes, and saves (which look for the project again).
+fn text_sync() -> TextDocumentSyncCapability {
+    TextDocumentSyncCapability::Options(TextDocumentSyncOptions {
+        open_close: Some(true),
+        change: Some(TextDocumentSyncKind::INCREMENTAL),
+        will_save: None,
+        will_save_wait_until: None,
+        save: Some(TextDocumentSyncSaveOptions::SaveOptions(SaveOptions {
+            include_text: Some(false),
+        })),
+    })
 }
 
 /// Serve `connection` until the client says `exit`: the handshake, then every message.
 pub fn serve(connection: &Connection) -> Result<(), String> {
-    let (id, _params) = connection
-        .initialize_start()
-        .map_err(|e| format!("initialize: {e}"))?;
-    let result = InitializeResult {
-        capabilities: capabilities(),
-        server_info: Some(ServerInfo {
-            name: "gutta-lsp".into(),
-            version: Some(env!("CARGO_PKG_VERSION").into()),
-        }),
-    };
-    let value = serde_json::to_value(result).map_err(|e| e.to_string())?;
-    connection
-        .initialize_finish(id, value)
-        .map_err(|e| format!("initialize: {e}"))?;
-    for message in &connection.receiver {
-        match message {
-            Message::Request(request) => {
-                if connection
-                    .handle_shutdown(&request)
-                    .map_err(|e| e.to_string())?
-                {
-                    return Ok(());
-                }
-                let response = Response::new_err(
-                    request.id,
-                    lsp_server::ErrorCode::MethodNotFound as i32,
-                    format!("gutta-lsp does not serve `{}`", request.method),
-                );
-                connection
-                    .sender
-                    .send(Message::Response(response))
-                    .map_err(|e| e.to_string())?;
-            }
-            Message::Notification(_) | Message::Response(_) => {}
-        }
-    }
-    Ok(())
+    server::run(connection)
 }

@@ -20,6 +20,7 @@ use gutta_catalog::{Address, Width};
 use gutta_compiler::check::DefKind;
 use gutta_compiler::source::{PartKind, Span};
 use gutta_compiler::CheckedFile;
+use crossbeam_channel::Sender;
 use lsp_server::{Message, Notification, Request, RequestId};
 use serde_json::Value;
 
@@ -104,6 +105,21 @@ impl Live {
             pollers: BTreeMap::new(),
             next_request: Arc::new(AtomicU64::new(0)),
         }
+    }
+
+    /// As `initialize` asks: the setting from initializationOptions, the refresh
+    /// requests the client supports, messages through `sender`.
+    pub fn from_init(init: &lsp_types::InitializeParams, sender: Sender<Message>) -> Live {
+        let enabled = init
+            .initialization_options
+            .as_ref()
+            .and_then(setting)
+            .unwrap_or(false);
+        let outbox: Outbox = Arc::new(move |m| {
+            // A closed channel means the client is gone; the server's loop ends then.
+            let _ = sender.send(m);
+        });
+        Live::new(enabled, Refresh::from_capabilities(&init.capabilities), outbox)
     }
 
     pub fn enabled(&self) -> bool {

@@ -1,0 +1,102 @@
+//! Document sync and diagnostics: didOpen/didChange/didClose/didSave update the open
+//! documents, the workspace analyses the document's program once, and every file of
+//! that program gets its diagnostics published (an empty list for a clean file, and
+//! for a file no program covers any more).
+
+use lsp_types::notification::PublishDiagnostics;
+use lsp_types::{
+    DidChangeTextDocumentParams, DidCloseTextDocumentParams, DidOpenTextDocumentParams,
+    DidSaveTextDocumentParams, MessageType, PublishDiagnosticsParams,
+};
+
+use crate::convert;
+use crate::documents::Document;
+use crate::server::{HandlerError, State};
+use crate::workspace::Update;
+
+pub fn did_open(state: &mut State, params: DidOpenTextDocumentParams) -> Result<(), HandlerError> {
+    let doc = params.text_document;
+    state.documents.open(
+        doc.uri.clone(),
+        Document {
+            text: doc.text,
+            version: doc.version,
+            language_id: doc.language_id,
+        },
+    );
+    let update = state.workspace.opened(&state.documents, &doc.uri);
+    publish(state, update);
+    Ok(())
+}
+
+pub fn did_change(
+    state: &mut State,
+    params: DidChangeTextDocumentParams,
+) -> Result<(), HandlerError> {
+    let uri = params.text_document.uri;
+    if !state
+        .documents
+        .change(&uri, params.text_document.version, params.content_changes)
+    {
+        return Err(HandlerError::invalid_params(format!(
+            "didChange for {} which is not open",
+            uri.as_str()
+        )));
+    }
+    let update = state.workspace.changed(&state.documents, &uri);
+    publish(state, update);
+    Ok(())
+}
+
+pub fn did_close(
+    state: &mut State,
+    params: DidCloseTextDocumentParams,
+) -> Result<(), HandlerError> {
+    let uri = params.text_document.uri;
+    state.documents.close(&uri);
+    let update = state.workspace.closed(&state.documents, &uri);
+    publish(state, update);
+    Ok(())
+}
+
+/// A save may have changed the project around the file (gutta.toml, tables on disk):
+/// find it again.
+pub fn did_save(state: &mut State, params: DidSaveTextDocumentParams) -> Result<(), HandlerError> {
+    let uri = params.text_document.uri;
+    if !state.documents.is_open(&uri) {
+        return Ok(());
+    }
+    let update = state.workspace.opened(&state.documents, &uri);
+    publish(state, update);
+    Ok(())
+}
+
+/// Publish what `update` changed: every file of the analysed program, and empty lists
+/// for the files it cleared; warnings go to the person.
+pub fn publish(state: &mut State, update: Update) {
+    for warning in &update.warnings {
+        state.show_message(MessageType::WARNING, format!("gutta-lsp: {warning}"));
+    }
+    for uri in update.cleared {
+        state.notify::<PublishDiagnostics>(PublishDiagnosticsParams::new(uri, Vec::new(), None));
+    }
+    let Some(key) = update.analysed else { return };
+    let Some(program) = state.workspace.program(&key) else {
+        return;
+    };
+    let mut per_file = vec![Vec::new(); program.files.len()];
+    for d in program.checked.diagnostics() {
+        let (file, lsp) = convert::diagnostic(program, d, state.diagnostics_doc.as_deref());
+        if let Some(list) = per_file.get_mut(file) {
+            list.push(lsp);
+        }
+    }
+    for (uri, diagnostics) in program.files.iter().zip(per_file) {
+        let version = state.documents.get(uri).map(|d| d.version);
+        state.notify::<PublishDiagnostics>(PublishDiagnosticsParams::new(
+            uri.clone(),
+            diagnostics,
+            version,
+        ));
+    }
+}

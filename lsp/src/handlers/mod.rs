@@ -1,0 +1,32 @@
+//! The dispatch table: one row per LSP method, each pointing at a handler in this
+//! folder (one file per feature group). A feature adds its rows here and one line to
+//! `capabilities()` in lib.rs. Handlers only convert: the logic lives in
+//! gutta-compiler's analysis.
+
+pub mod diagnostics;
+pub mod live;
+
+use lsp_types::notification as note;
+use lsp_types::request as req;
+
+use crate::server::{notification, request, Row};
+
+/// Every request the server answers.
+pub fn requests() -> Vec<Row> {
+    vec![
+        request::<req::InlineValueRequest>(live::inline_value),
+        request::<req::InlayHintRequest>(live::inlay_hint),
+        request::<req::ExecuteCommand>(live::execute_command),
+    ]
+}
+
+/// Every notification the server acts on.
+pub fn notifications() -> Vec<Row> {
+    vec![
+        notification::<note::DidOpenTextDocument>(diagnostics::did_open),
+        notification::<note::DidChangeTextDocument>(diagnostics::did_change),
+        notification::<note::DidCloseTextDocument>(diagnostics::did_close),
+        notification::<note::DidSaveTextDocument>(diagnostics::did_save),
+        notification::<note::DidChangeConfiguration>(live::did_change_configuration),
+    ]
+}

@@ -1,0 +1,340 @@
+//! Which program a document belongs to, and that program's analysis. A document in a
+//! project (the nearest gutta.toml above it lists it as a source or symbol table) is
+//! part of the project's one program: its sources and tables, open documents' text
+//! winning over the disk; the PLC type is `[program] plc`/`target`, else the sources'
+//! PLC_TYPE, else the stdlib default. Any other document is a program alone. Each
+//! program is analysed once per change and kept until its last open document closes.
+//! It converts LSP positions through documents.rs only and knows no LSP feature.
+
+use std::collections::{HashMap, HashSet};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use gutta_compiler::source::{FilePart, SourceFile};
+use gutta_compiler::{check_program, CheckedFile, ExplicitTarget, ProgramSources};
+use gutta_io::{Project, ProjectTarget};
+use lsp_types::{Position, Uri};
+
+use crate::documents::{path_to_uri, uri_to_path, Documents, Lines};
+
+/// A program's identity: its project's manifest, or the one document it is.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum ProgramKey {
+    Project(PathBuf),
+    Alone(Uri),
+}
+
+/// One analysed program.
+#[derive(Debug)]
+pub struct Program {
+    pub key: ProgramKey,
+    pub project: Option<Project>,
+    /// The URI of each file of the program, parallel to `checked.file.parts()`.
+    pub files: Vec<Uri>,
+    pub parts: Vec<FilePart>,
+    pub checked: CheckedFile,
+    /// Line starts of the joined text (`checked.file.text`).
+    pub lines: Lines,
+    explicit: Option<ExplicitTarget>,
+}
+
+impl Program {
+    /// The joined text every span points into.
+    pub fn text(&self) -> &str {
+        &self.checked.file.text
+    }
+
+    /// Index of `uri`'s file in the program.
+    pub fn part_of(&self, uri: &Uri) -> Option<usize> {
+        self.files.iter().position(|f| f == uri)
+    }
+
+    /// The byte offset in the joined text of `position` in `uri` (clamped to its file).
+    pub fn offset(&self, uri: &Uri, position: Position) -> Option<usize> {
+        let part = &self.parts[self.part_of(uri)?];
+        let first = self.lines.line_of(part.start) as u32;
+        let last = self.lines.line_of(part.end) as u32;
+        let line = first.saturating_add(position.line);
+        if line > last {
+            return Some(part.end);
+        }
+        let at = self
+            .lines
+            .offset(self.text(), Position::new(line, position.character));
+        Some(at.clamp(part.start, part.end))
+    }
+
+    /// The file (index into `files`) and position there of a joined-text offset.
+    pub fn position(&self, offset: usize) -> (usize, Position) {
+        let index = self.checked.file.part_index(offset);
+        let first = self
+            .parts
+            .get(index)
+            .map(|p| self.lines.line_of(p.start))
+            .unwrap_or(0) as u32;
+        let at = self.lines.position(self.text(), offset);
+        (index, Position::new(at.line - first, at.character))
+    }
+}
+
+/// What an update did, for the diagnostics publisher.
+#[derive(Debug, Default)]
+pub struct Update {
+    /// The program analysed anew (publish all its files).
+    pub analysed: Option<ProgramKey>,
+    /// Files no program covers any more (publish empty lists).
+    pub cleared: Vec<Uri>,
+    /// Problems with a project that did not stop the analysis (for showMessage).
+    pub warnings: Vec<String>,
+}
+
+/// Every program with an open document.
+#[derive(Debug, Default)]
+pub struct Workspace {
+    programs: HashMap<ProgramKey, Program>,
+    /// The program of each open document.
+    members: HashMap<Uri, ProgramKey>,
+}
+
+impl Workspace {
+    pub fn program(&self, key: &ProgramKey) -> Option<&Program> {
+        self.programs.get(key)
+    }
+
+    /// The program an open document belongs to.
+    pub fn program_of(&self, uri: &Uri) -> Option<&Program> {
+        self.programs.get(self.members.get(uri)?)
+    }
+
+    pub fn programs(&self) -> impl Iterator<Item = &Program> {
+        self.programs.values()
+    }
+
+    /// `uri` was opened (or saved): find its project again and analyse its program.
+    pub fn opened(&mut self, documents: &Documents, uri: &Uri) -> Update {
+        let mut update = Update::default();
+        let path = uri_to_path(uri);
+        let project = match path.as_deref().and_then(Path::parent) {
+            Some(folder) => match Project::find(folder) {
+                Ok(found) => found.filter(|p| lists(p, path.as_deref())),
+                Err(e) => {
+                    update.warnings.push(e);
+                    None
+                }
+            },
+            None => None,
+        };
+        let is_table = path
+            .as_deref()
+            .and_then(Path::extension)
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| e.eq_ignore_ascii_case("csv") || e.eq_ignore_ascii_case("tsv"));
+        let (key, explicit) = match project {
+            Some(p) => {
+                let explicit = project_target(&p, &mut update.warnings);
+                (ProgramKey::Project(p.manifest.clone()), Some((p, explicit)))
+            }
+            // A symbol table outside a project is not a program.
+            None if is_table => return self.closed(documents, uri),
+            None => (ProgramKey::Alone(uri.clone()), None),
+        };
+        if let Some(old) = self.members.insert(uri.clone(), key.clone()) {
+            if old != key && !self.members.values().any(|k| *k == old) {
+                if let Some(p) = self.programs.remove(&old) {
+                    update.cleared.extend(p.files);
+                }
+            }
+        }
+        let (project, explicit) = match explicit {
+            Some((p, e)) => (Some(p), e),
+            None => (None, None),
+        };
+        self.analyse(documents, key, project, explicit, &mut update);
+        update
+    }
+
+    /// `uri` changed: analyse its program again.
+    pub fn changed(&mut self, documents: &Documents, uri: &Uri) -> Update {
+        let mut update = Update::default();
+        let Some(key) = self.members.get(uri).cloned() else {
+            return update;
+        };
+        let (project, explicit) = match self.programs.get(&key) {
+            Some(p) => (p.project.clone(), p.explicit.clone()),
+            None => (None, None),
+        };
+        self.analyse(documents, key, project, explicit, &mut update);
+        update
+    }
+
+    /// `uri` was closed (already gone from `documents`): its program is dropped when no
+    /// open document is left in it, else analysed again with the file from disk.
+    pub fn closed(&mut self, documents: &Documents, uri: &Uri) -> Update {
+        let mut update = Update::default();
+        let Some(key) = self.members.remove(uri) else {
+            return update;
+        };
+        if self.members.values().any(|k| *k == key) {
+            return self.changed_key(documents, key);
+        }
+        if let Some(p) = self.programs.remove(&key) {
+            update.cleared.extend(p.files);
+        }
+        update
+    }
+
+    fn changed_key(&mut self, documents: &Documents, key: ProgramKey) -> Update {
+        let mut update = Update::default();
+        let (project, explicit) = match self.programs.get(&key) {
+            Some(p) => (p.project.clone(), p.explicit.clone()),
+            None => (None, None),
+        };
+        self.analyse(documents, key, project, explicit, &mut update);
+        update
+    }
+
+    fn analyse(
+        &mut self,
+        documents: &Documents,
+        key: ProgramKey,
+        project: Option<Project>,
+        explicit: Option<ExplicitTarget>,
+        update: &mut Update,
+    ) {
+        let open_paths: HashMap<PathBuf, Uri> = documents
+            .uris()
+            .filter_map(|u| Some((uri_to_path(u)?, u.clone())))
+            .collect();
+        let mut files = Vec::new();
+        let mut sources = ProgramSources::default();
+        match (&key, &project) {
+            (ProgramKey::Project(_), Some(p)) => {
+                for (paths, tables) in [(&p.sources, false), (&p.symbols, true)] {
+                    for path in paths {
+                        let (uri, file) = load(documents, &open_paths, &p.root, path);
+                        files.push(uri);
+                        if tables {
+                            sources.symbol_tables.push(file);
+                        } else {
+                            sources.sources.push(file);
+                        }
+                    }
+                }
+            }
+            _ => {
+                let uri = match &key {
+                    ProgramKey::Alone(uri) => uri.clone(),
+                    ProgramKey::Project(_) => return,
+                };
+                let text = documents
+                    .get(&uri)
+                    .map(|d| d.text.clone())
+                    .unwrap_or_default();
+                let name = uri_to_path(&uri)
+                    .and_then(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
+                    .unwrap_or_else(|| uri.as_str().to_string());
+                sources.sources.push(SourceFile::new(name, text));
+                files.push(uri);
+            }
+        }
+        let checked = check_program(sources, explicit.as_ref());
+        let lines = Lines::new(&checked.file.text);
+        let parts = checked.file.parts();
+        let program = Program {
+            key: key.clone(),
+            project,
+            files,
+            parts,
+            checked,
+            lines,
+            explicit,
+        };
+        if let Some(old) = self.programs.insert(key.clone(), program) {
+            let now: HashSet<&str> = self.programs[&key]
+                .files
+                .iter()
+                .map(|u| u.as_str())
+                .collect();
+            update
+                .cleared
+                .extend(old.files.into_iter().filter(|f| !now.contains(f.as_str())));
+        }
+        update.analysed = Some(key);
+    }
+}
+
+/// Whether project `p` lists `path` as a source or a symbol table.
+fn lists(p: &Project, path: Option<&Path>) -> bool {
+    let Some(path) = path else { return false };
+    let canonical = std::fs::canonicalize(path).ok();
+    p.sources
+        .iter()
+        .chain(&p.symbols)
+        .any(|f| f == path || (canonical.is_some() && std::fs::canonicalize(f).ok() == canonical))
+}
+
+/// A project file: the open document's text if it is open, else the disk's (empty if
+/// unreadable: the checker then reports what is missing). Named by its path relative
+/// to the project's folder.
+fn load(
+    documents: &Documents,
+    open: &HashMap<PathBuf, Uri>,
+    root: &Path,
+    path: &Path,
+) -> (Uri, SourceFile) {
+    let name = path
+        .strip_prefix(root)
+        .unwrap_or(path)
+        .to_string_lossy()
+        .replace('\\', "/");
+    let open_uri = open.get(path).cloned().or_else(|| {
+        let canonical = std::fs::canonicalize(path).ok()?;
+        open.iter()
+            .find(|(p, _)| std::fs::canonicalize(p).ok().as_ref() == Some(&canonical))
+            .map(|(_, u)| u.clone())
+    });
+    if let Some(uri) = open_uri {
+        if let Some(doc) = documents.get(&uri) {
+            return (uri, SourceFile::new(name, doc.text.clone()));
+        }
+    }
+    let uri = path_to_uri(path).unwrap_or_else(|| fallback_uri(&name));
+    let file = std::fs::read(path)
+        .ok()
+        .and_then(|bytes| SourceFile::from_bytes(name.clone(), bytes).ok())
+        .unwrap_or_else(|| SourceFile::new(name, ""));
+    (uri, file)
+}
+
+/// A URI for a file whose path would not encode (never in practice).
+fn fallback_uri(name: &str) -> Uri {
+    format!(
+        "untitled:{}",
+        name.replace(|c: char| !c.is_ascii_alphanumeric(), "_")
+    )
+    .parse()
+    .unwrap_or_else(|_| panic!("an alphanumeric untitled: URI always parses"))
+}
+
+/// `[program] plc`/`target` as the compiler's explicit target; a target that does not
+/// load is a warning, and the sources' PLC_TYPE decides instead.
+fn project_target(p: &Project, warnings: &mut Vec<String>) -> Option<ExplicitTarget> {
+    let (target, key) = match &p.plc {
+        ProjectTarget::Unspecified => return None,
+        ProjectTarget::Stdlib(name) => (
+            gutta_catalog::stdlib::shared(name).map_err(|e| e.to_string()),
+            "plc",
+        ),
+        ProjectTarget::Folder(dir) => (gutta_io::load_target_dir(dir).map(Arc::new), "target"),
+    };
+    match target {
+        Ok(target) => Some(ExplicitTarget {
+            target,
+            origin: format!("[program] {key} in gutta.toml"),
+        }),
+        Err(e) => {
+            warnings.push(format!("{}: [program] {key}: {e}", p.manifest.display()));
+            None
+        }
+    }
+}
