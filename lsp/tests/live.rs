@@ -1,7 +1,8 @@
 //! Live values against a real `gutta-sim` process whose program blinks Lamp (Q0.0,
-//! SM0.5: 0.5 s on, 0.5 s off): the poller reads what the editor shows and a value
-//! changes between two answers; refresh requests follow changes; a PLC that does not
-//! answer gives one warning and `?`. Needs the simulator binary: `cargo build -p
+//! SM0.5: 0.5 s on, 0.5 s off), through the server (inlay hints and inline values over
+//! the in-process connection) and through `Live` itself: a value changes between two
+//! answers; refresh requests follow changes; the setting and the toggle command turn it
+//! on and off; a PLC that does not answer gives one warning and `?`. Needs the simulator binary: `cargo build -p
 //! gutta-cli --bin gutta-sim` (the workspace's `cargo test` builds it).
 
 #![allow(clippy::disallowed_methods, reason = "tests write projects and start processes")]
@@ -17,6 +18,10 @@ use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
 use gutta_lsp::live::{self, Live, LinkSettings, Refresh};
 use lsp_server::Message;
+use serde_json::{json, Value};
+use session::Session;
+
+mod session;
 
 const PROGRAM: &str = "PLC_TYPE CPU-EC20\n\nSYMBOLS\n  Lamp  : Q0.0\n  Speed : MW20\n\
      END_SYMBOLS\n\nORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1 // blink\nLD     SM0.5\n\
@@ -197,4 +202,123 @@ fn off_means_no_values_and_no_poller() {
     let (mut live, _) = live_with_outbox();
     live.set_enabled(false);
     assert!(shown(&mut live, &p).is_empty());
+}
+
+fn uri_of(path: &Path) -> String {
+    gutta_lsp::documents::path_to_uri(path)
+        .expect("a file URI")
+        .as_str()
+        .to_string()
+}
+
+fn whole(uri: &str) -> Value {
+    json!({"textDocument": {"uri": uri},
+           "range": {"start": {"line": 0, "character": 0}, "end": {"line": 99, "character": 0}}})
+}
+
+/// The live inlay hints of the document: `line:character label`.
+fn hints(s: &mut Session, uri: &str) -> Vec<String> {
+    let answer = s.request("textDocument/inlayHint", whole(uri));
+    let hints = answer.result.expect("inlay hints");
+    hints
+        .as_array()
+        .expect("a list")
+        .iter()
+        .map(|h| {
+            format!(
+                "{}:{}{}",
+                h["position"]["line"], h["position"]["character"], h["label"].as_str().unwrap_or("")
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn inlay_hints_follow_the_blinking_lamp_and_the_toggle_turns_them_off() {
+    let dir = scratch("server");
+    let sim = blinking_sim(&dir);
+    project(&dir, &sim.1);
+    let uri = uri_of(&dir.join("main.lad"));
+    let mut s = Session::start(json!({"liveValues": true}));
+    s.open_at(&uri, PROGRAM);
+    let first = hints(&mut s, &uri);
+    assert_eq!(first, ["10:12 = ?", "11:11 = ?", "13:12 = ?", "14:21 = ?"]);
+    let start = Instant::now();
+    let mut lamp: Vec<String> = Vec::new();
+    while start.elapsed() < Duration::from_secs(20) && lamp.len() < 2 {
+        std::thread::sleep(Duration::from_millis(100));
+        let now = hints(&mut s, &uri);
+        assert_eq!(now.len(), 4, "{now:?}");
+        if !now[1].ends_with('?') && !lamp.contains(&now[1]) {
+            lamp.push(now[1].clone());
+        }
+    }
+    lamp.sort();
+    assert_eq!(lamp, ["11:11 = 0", "11:11 = 1"], "the lamp did not blink");
+    assert!(
+        s.server_requests.iter().any(|m| m == "workspace/inlayHint/refresh"),
+        "{:?}",
+        s.server_requests
+    );
+
+    let network_1 = json!({"textDocument": {"uri": uri},
+        "range": {"start": {"line": 9, "character": 0}, "end": {"line": 12, "character": 0}},
+        "context": {"frameId": 0, "stoppedLocation": {"start": {"line": 0, "character": 0},
+                                                     "end": {"line": 0, "character": 0}}}});
+    let values = s
+        .request("textDocument/inlineValue", network_1)
+        .result
+        .expect("inline values");
+    let texts: Vec<&str> = values
+        .as_array()
+        .expect("a list")
+        .iter()
+        .map(|v| v["text"].as_str().unwrap_or(""))
+        .collect();
+    assert_eq!(texts.len(), 2, "{texts:?}");
+    assert!(texts[0].starts_with("SM0.5 = ") && texts[1].starts_with("Lamp = "), "{texts:?}");
+
+    let toggled = s.request(
+        "workspace/executeCommand",
+        json!({"command": live::TOGGLE_COMMAND, "arguments": []}),
+    );
+    assert_eq!(toggled.result, Some(json!({"liveValues": false})));
+    assert!(hints(&mut s, &uri).is_empty());
+    let unknown = s.request("workspace/executeCommand", json!({"command": "gutta.nothing"}));
+    assert!(unknown.error.is_some(), "{unknown:?}");
+    s.finish();
+}
+
+#[test]
+fn the_setting_turns_live_values_on_and_a_silent_plc_warns_once() {
+    let dir = scratch("server-silent");
+    let address = std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .expect("a free port")
+        .to_string();
+    project(&dir, &address);
+    let uri = uri_of(&dir.join("main.lad"));
+    let mut s = Session::start(json!({}));
+    s.open_at(&uri, PROGRAM);
+    assert!(hints(&mut s, &uri).is_empty(), "off until asked for");
+    s.notify(
+        "workspace/didChangeConfiguration",
+        json!({"settings": {"gutta": {"liveValues": true}}}),
+    );
+    let start = Instant::now();
+    while start.elapsed() < Duration::from_secs(3) {
+        let now = hints(&mut s, &uri);
+        assert!(now.len() == 4 && now.iter().all(|h| h.ends_with(" = ?")), "{now:?}");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let warnings: Vec<&Value> = s
+        .notifications
+        .iter()
+        .filter(|n| n.method == "window/showMessage")
+        .map(|n| &n.params)
+        .collect();
+    assert_eq!(warnings.len(), 1, "one warning per outage: {warnings:?}");
+    assert_eq!(warnings[0]["type"], json!(2), "a warning");
+    assert!(warnings[0]["message"].as_str().unwrap_or("").contains(&address));
+    s.finish();
 }

@@ -81,6 +81,9 @@ pub enum Op {
     Noise,
 }
 
+/// The JSON-RPC code of an internal error: the server's answer to a panic.
+const INTERNAL_ERROR: i32 = -32603;
+
 /// The document every session edits (no gutta.toml above it).
 pub const URI: &str = "file:///gutta-lsp-session/doc.lad";
 
@@ -160,6 +163,10 @@ pub fn ops_from_bytes(mut data: &[u8]) -> Vec<Op> {
 /// A running server and the client end of its connection.
 pub struct Session {
     pub client: Connection,
+    /// The methods of the requests the server sent (refreshes), in order.
+    pub server_requests: Vec<String>,
+    /// The notifications the server sent, in order.
+    pub notifications: Vec<Notification>,
     server: Option<JoinHandle<Result<(), String>>>,
     next_id: i32,
     version: i32,
@@ -173,6 +180,8 @@ impl Session {
         let handle = std::thread::spawn(move || gutta_lsp::serve(&server));
         let mut session = Session {
             client,
+            server_requests: Vec::new(),
+            notifications: Vec::new(),
             server: Some(handle),
             next_id: 0,
             version: 0,
@@ -218,25 +227,34 @@ impl Session {
             match self.client.receiver.recv_timeout(ANSWER_WITHIN) {
                 Ok(Message::Response(response)) => {
                     assert_eq!(response.id, id, "an answer to another request ({method})");
+                    // The server answers a handler's panic with InternalError, and only then.
+                    let panicked = response.error.as_ref().filter(|e| e.code == INTERNAL_ERROR);
+                    assert!(panicked.is_none(), "{method} panicked: {panicked:?}");
                     return response;
                 }
                 Ok(Message::Request(r)) => self.answer_server(r),
-                Ok(Message::Notification(_)) => {}
+                Ok(Message::Notification(n)) => self.notifications.push(n),
                 Err(e) => panic!("no answer to {method} within {ANSWER_WITHIN:?}: {e}"),
             }
         }
     }
 
-    fn answer_server(&self, r: Request) {
+    fn answer_server(&mut self, r: Request) {
+        self.server_requests.push(r.method.clone());
         let ok = Response::new_ok(r.id, Value::Null);
         let _ = self.client.sender.send(Message::Response(ok));
     }
 
     pub fn open(&mut self, text: &str) {
+        self.open_at(URI, text);
+    }
+
+    /// Open `uri` with `text` (version: the session's next).
+    pub fn open_at(&mut self, uri: &str, text: &str) {
         self.version += 1;
         self.notify(
             "textDocument/didOpen",
-            json!({"textDocument": {"uri": URI, "languageId": "gutta", "version": self.version, "text": text}}),
+            json!({"textDocument": {"uri": uri, "languageId": "gutta", "version": self.version, "text": text}}),
         );
         self.open = true;
     }
