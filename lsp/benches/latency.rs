@@ -9,7 +9,10 @@
 //! `--bench` (cargo test --benches) a quick run on a small program that checks only
 //! that it works. Numbers from a shared, noisy 2-core machine are indicative.
 
-#![allow(clippy::disallowed_methods, reason = "a benchmark writes its project files")]
+#![allow(
+    clippy::disallowed_methods,
+    reason = "a benchmark writes its project files"
+)]
 
 #[allow(dead_code)]
 #[path = "../../compiler/benches/scale_program/mod.rs"]
@@ -183,7 +186,10 @@ fn program(tag: &str, s: &mut Session, text: &str, sizes: &Sizes) {
     let (dir, uri) = project(tag, text);
     let lines: Vec<&str> = text.lines().collect();
     let (time, count) = open(s, &uri, text);
-    assert_eq!(count, 0, "the generated program checks clean on the bench target");
+    assert_eq!(
+        count, 0,
+        "the generated program checks clean on the bench target"
+    );
     println!(
         "{tag}: {} lines, {} bytes, {count} diagnostics after open",
         lines.len(),
@@ -229,7 +235,10 @@ fn main() {
     println!(
         "gutta-lsp latency (in process; a shared 2-core machine is noisy: indicative figures)"
     );
-    println!("{:<34} {:>5} {:>10} {:>10}", "what", "n", "median ms", "p99 ms");
+    println!(
+        "{:<34} {:>5} {:>10} {:>10}",
+        "what", "n", "median ms", "p99 ms"
+    );
     let mut s = Session::start(json!({}));
     let text = scale_program::generate(sizes.lines);
     program(&format!("{}-lines", sizes.lines), &mut s, &text, &sizes);

@@ -16,11 +16,11 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
+use crossbeam_channel::Sender;
 use gutta_catalog::{Address, Width};
 use gutta_compiler::check::DefKind;
 use gutta_compiler::source::{PartKind, Span};
 use gutta_compiler::CheckedFile;
-use crossbeam_channel::Sender;
 use lsp_server::{Message, Notification, Request, RequestId};
 use serde_json::Value;
 
@@ -119,7 +119,11 @@ impl Live {
             // A closed channel means the client is gone; the server's loop ends then.
             let _ = sender.send(m);
         });
-        Live::new(enabled, Refresh::from_capabilities(&init.capabilities), outbox)
+        Live::new(
+            enabled,
+            Refresh::from_capabilities(&init.capabilities),
+            outbox,
+        )
     }
 
     pub fn enabled(&self) -> bool {
@@ -299,7 +303,16 @@ mod tests {
             .iter()
             .map(|o| format!("{} {:?}", o.label, o.address.width))
             .collect();
-        assert_eq!(all, ["SM0.5 Bit", "Lamp Bit", "SM0.0 Bit", "Speed Word", "MW22 Word"]);
+        assert_eq!(
+            all,
+            [
+                "SM0.5 Bit",
+                "Lamp Bit",
+                "SM0.0 Bit",
+                "Speed Word",
+                "MW22 Word"
+            ]
+        );
         let network_2 = BLINK.find("NETWORK 2").unwrap_or(0);
         let tail: Vec<String> = operands_in(&c, network_2..BLINK.len())
             .into_iter()
@@ -336,7 +349,10 @@ mod tests {
 
     #[test]
     fn the_setting_comes_from_either_shape() {
-        assert_eq!(setting(&serde_json::json!({"liveValues": true})), Some(true));
+        assert_eq!(
+            setting(&serde_json::json!({"liveValues": true})),
+            Some(true)
+        );
         assert_eq!(
             setting(&serde_json::json!({"gutta": {"liveValues": false}})),
             Some(false)

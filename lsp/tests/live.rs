@@ -5,7 +5,10 @@
 //! on and off; a PLC that does not answer gives one warning and `?`. Needs the simulator binary: `cargo build -p
 //! gutta-cli --bin gutta-sim` (the workspace's `cargo test` builds it).
 
-#![allow(clippy::disallowed_methods, reason = "tests write projects and start processes")]
+#![allow(
+    clippy::disallowed_methods,
+    reason = "tests write projects and start processes"
+)]
 
 use std::io::BufRead;
 use std::path::{Path, PathBuf};
@@ -16,7 +19,7 @@ use std::time::{Duration, Instant};
 use gutta_catalog::stdlib;
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
-use gutta_lsp::live::{self, Live, LinkSettings, Refresh};
+use gutta_lsp::live::{self, LinkSettings, Live, Refresh};
 use lsp_server::Message;
 use serde_json::{json, Value};
 use session::Session;
@@ -132,7 +135,10 @@ fn the_lamp_blinks_between_two_answers() {
     let (mut live, messages) = live_with_outbox();
     let first = shown(&mut live, &p);
     assert_eq!(first.len(), 4, "{first:?}");
-    assert!(first.iter().all(|s| s.ends_with(" = ?")), "nothing read yet: {first:?}");
+    assert!(
+        first.iter().all(|s| s.ends_with(" = ?")),
+        "nothing read yet: {first:?}"
+    );
     let start = Instant::now();
     let mut seen: Vec<String> = Vec::new();
     let mut speed_read = false;
@@ -227,7 +233,9 @@ fn hints(s: &mut Session, uri: &str) -> Vec<String> {
         .map(|h| {
             format!(
                 "{}:{}{}",
-                h["position"]["line"], h["position"]["character"], h["label"].as_str().unwrap_or("")
+                h["position"]["line"],
+                h["position"]["character"],
+                h["label"].as_str().unwrap_or("")
             )
         })
         .collect()
@@ -256,7 +264,9 @@ fn inlay_hints_follow_the_blinking_lamp_and_the_toggle_turns_them_off() {
     lamp.sort();
     assert_eq!(lamp, ["11:11 = 0", "11:11 = 1"], "the lamp did not blink");
     assert!(
-        s.server_requests.iter().any(|m| m == "workspace/inlayHint/refresh"),
+        s.server_requests
+            .iter()
+            .any(|m| m == "workspace/inlayHint/refresh"),
         "{:?}",
         s.server_requests
     );
@@ -276,7 +286,10 @@ fn inlay_hints_follow_the_blinking_lamp_and_the_toggle_turns_them_off() {
         .map(|v| v["text"].as_str().unwrap_or(""))
         .collect();
     assert_eq!(texts.len(), 2, "{texts:?}");
-    assert!(texts[0].starts_with("SM0.5 = ") && texts[1].starts_with("Lamp = "), "{texts:?}");
+    assert!(
+        texts[0].starts_with("SM0.5 = ") && texts[1].starts_with("Lamp = "),
+        "{texts:?}"
+    );
 
     let toggled = s.request(
         "workspace/executeCommand",
@@ -284,7 +297,10 @@ fn inlay_hints_follow_the_blinking_lamp_and_the_toggle_turns_them_off() {
     );
     assert_eq!(toggled.result, Some(json!({"liveValues": false})));
     assert!(hints(&mut s, &uri).is_empty());
-    let unknown = s.request("workspace/executeCommand", json!({"command": "gutta.nothing"}));
+    let unknown = s.request(
+        "workspace/executeCommand",
+        json!({"command": "gutta.nothing"}),
+    );
     assert!(unknown.error.is_some(), "{unknown:?}");
     s.finish();
 }
@@ -308,7 +324,10 @@ fn the_setting_turns_live_values_on_and_a_silent_plc_warns_once() {
     let start = Instant::now();
     while start.elapsed() < Duration::from_secs(3) {
         let now = hints(&mut s, &uri);
-        assert!(now.len() == 4 && now.iter().all(|h| h.ends_with(" = ?")), "{now:?}");
+        assert!(
+            now.len() == 4 && now.iter().all(|h| h.ends_with(" = ?")),
+            "{now:?}"
+        );
         std::thread::sleep(Duration::from_millis(100));
     }
     let warnings: Vec<&Value> = s
@@ -319,6 +338,9 @@ fn the_setting_turns_live_values_on_and_a_silent_plc_warns_once() {
         .collect();
     assert_eq!(warnings.len(), 1, "one warning per outage: {warnings:?}");
     assert_eq!(warnings[0]["type"], json!(2), "a warning");
-    assert!(warnings[0]["message"].as_str().unwrap_or("").contains(&address));
+    assert!(warnings[0]["message"]
+        .as_str()
+        .unwrap_or("")
+        .contains(&address));
     s.finish();
 }

@@ -77,9 +77,20 @@ fn every_malformed_request_of_every_method_is_an_error() {
 fn positions_far_outside_the_text_are_answered() {
     let far = [u32::MAX, u32::MAX];
     let ops: Vec<Op> = (0..40)
-        .map(|request| Op::Ask { request, at: far, end: [0, 0] })
-        .chain([Op::Edit { range: [u32::MAX, 0, 0, u32::MAX], text: "x".into() }])
-        .chain((0..40).map(|request| Op::Ask { request, at: [3, 9], end: far }))
+        .map(|request| Op::Ask {
+            request,
+            at: far,
+            end: [0, 0],
+        })
+        .chain([Op::Edit {
+            range: [u32::MAX, 0, 0, u32::MAX],
+            text: "x".into(),
+        }])
+        .chain((0..40).map(|request| Op::Ask {
+            request,
+            at: [3, 9],
+            end: far,
+        }))
         .collect();
     session::run(&ops);
 }
@@ -101,7 +112,10 @@ fn a_megabyte_document_opens_edits_and_hovers() {
     let text = megabyte();
     let mut s = Session::start(json!({}));
     s.open(&text);
-    s.play(&Op::Edit { range: [1000, 0, 1000, 0], text: "LD     I0.1\n".into() });
+    s.play(&Op::Edit {
+        range: [1000, 0, 1000, 0],
+        text: "LD     I0.1\n".into(),
+    });
     for line in [2u32, 5_000, 40_000] {
         // Served or not (MethodNotFound), every hover is answered without a panic.
         s.request(
@@ -114,7 +128,11 @@ fn a_megabyte_document_opens_edits_and_hovers() {
         json!({"textDocument": {"uri": URI},
                "range": {"start": {"line": 0, "character": 0}, "end": {"line": 60_000, "character": 0}}}),
     );
-    assert_eq!(hints.result, Some(json!([])), "live values are off: {hints:?}");
+    assert_eq!(
+        hints.result,
+        Some(json!([])),
+        "live values are off: {hints:?}"
+    );
     s.finish();
 }
 
@@ -122,7 +140,10 @@ fn a_megabyte_document_opens_edits_and_hovers() {
 fn fuzz_regressions_replay() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fuzz");
     let mut replayed = 0;
-    for entry in std::fs::read_dir(&dir).expect("lsp/tests/data/fuzz").flatten() {
+    for entry in std::fs::read_dir(&dir)
+        .expect("lsp/tests/data/fuzz")
+        .flatten()
+    {
         let bytes = std::fs::read(entry.path()).expect("a regression input");
         session::run(&session::ops_from_bytes(&bytes));
         replayed += 1;

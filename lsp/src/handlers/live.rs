@@ -5,8 +5,8 @@
 //! operands and their values come from live.rs, which never waits for the PLC.
 
 use lsp_types::{
-    DidChangeConfigurationParams, ExecuteCommandParams, InlayHint, InlayHintLabel,
-    InlayHintParams, InlayHintTooltip, InlineValue, InlineValueParams, InlineValueText, Range, Uri,
+    DidChangeConfigurationParams, ExecuteCommandParams, InlayHint, InlayHintLabel, InlayHintParams,
+    InlayHintTooltip, InlineValue, InlineValueParams, InlineValueText, Range, Uri,
 };
 use serde_json::{json, Value};
 

@@ -119,6 +119,9 @@ mod tests {
         assert_eq!(value_in(&addr(2, Width::Bit, 0, 7), bytes, 0), 1);
         assert_eq!(value_in(&addr(2, Width::Word, 1, 0), bytes, 1), 0x1234);
         assert_eq!(value_in(&addr(2, Width::Byte, 3, 0), bytes, 3), 0xFF);
-        assert_eq!(value_in(&addr(2, Width::Dword, 0, 0), bytes, 0), 0xFF12_3481);
+        assert_eq!(
+            value_in(&addr(2, Width::Dword, 0, 0), bytes, 0),
+            0xFF12_3481
+        );
     }
 }

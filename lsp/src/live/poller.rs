@@ -22,6 +22,9 @@ use super::batch;
 pub const PERIOD: Duration = Duration::from_millis(500);
 /// The longest wait between two attempts to reach a PLC that does not answer.
 const MAX_BACKOFF: Duration = Duration::from_secs(8);
+/// A poller nobody asked for this long stops reading (and lets go of the PLC) until
+/// the next request: a closed editor does not keep polling.
+const IDLE_AFTER: Duration = Duration::from_secs(30);
 /// How often a sleeping poller looks at its stop flag.
 const TICK: Duration = Duration::from_millis(25);
 
@@ -88,9 +91,7 @@ impl LinkSettings {
         let transport: Box<dyn gutta_link::Transport> = match &self.endpoint {
             Endpoint::Tcp(a) => Box::new(TcpTransport::connect(a, self.timeout_ms, self.retries)?),
             Endpoint::RtuTcp(a) => Box::new(rtu_over_tcp(a, self.timeout_ms, self.retries)?),
-            Endpoint::Serial(d) => {
-                Box::new(serial(d, self.line, self.timeout_ms, self.retries)?)
-            }
+            Endpoint::Serial(d) => Box::new(serial(d, self.line, self.timeout_ms, self.retries)?),
         };
         let mut client = Client::new(transport, self.station);
         let password = match std::env::var(PASSWORD_ENV) {
@@ -106,10 +107,12 @@ impl LinkSettings {
 /// does not answer.
 pub type Values = BTreeMap<Address, u32>;
 
-#[derive(Debug, Default)]
+#[derive(Debug)]
 struct Shared {
     wanted: Vec<Address>,
     values: Values,
+    /// When the editor last asked.
+    asked: Instant,
 }
 
 /// A running poller; dropping it stops the thread (without waiting for it).
@@ -128,7 +131,11 @@ fn lock(shared: &Mutex<Shared>) -> MutexGuard<'_, Shared> {
 
 impl Poller {
     pub fn start(settings: LinkSettings, notify: Notify) -> Poller {
-        let shared = Arc::new(Mutex::new(Shared::default()));
+        let shared = Arc::new(Mutex::new(Shared {
+            wanted: Vec::new(),
+            values: Values::new(),
+            asked: Instant::now(),
+        }));
         let stop = Arc::new(AtomicBool::new(false));
         let worker = Worker {
             settings: settings.clone(),
@@ -151,6 +158,7 @@ impl Poller {
     /// Read these addresses from now on (the operands the editor shows).
     pub fn want(&self, addresses: Vec<Address>) {
         let mut s = lock(&self.shared);
+        s.asked = Instant::now();
         if s.wanted != addresses {
             s.wanted = addresses;
         }
@@ -183,8 +191,13 @@ impl Worker {
         let mut warned = false;
         while !self.stop.load(Ordering::Relaxed) {
             let started = Instant::now();
-            let wanted = lock(&self.shared).wanted.clone();
-            if !wanted.is_empty() && started >= next_attempt {
+            let (wanted, asked) = {
+                let s = lock(&self.shared);
+                (s.wanted.clone(), s.asked)
+            };
+            if asked.elapsed() > IDLE_AFTER {
+                client = None;
+            } else if !wanted.is_empty() && started >= next_attempt {
                 match self.poll(&mut client, &wanted) {
                     Ok(values) => {
                         backoff = PERIOD;

@@ -64,18 +64,34 @@ const REQUESTS: &[(&str, Shape)] = &[
 #[derive(Debug, Clone)]
 pub enum Op {
     /// Open (or reopen) the document with a seed's text.
-    Open { seed: usize },
+    Open {
+        seed: usize,
+    },
     /// Replace `range` (UTF-16 line/character, maybe outside the text) with `text`.
-    Edit { range: [u32; 4], text: String },
+    Edit {
+        range: [u32; 4],
+        text: String,
+    },
     /// Replace the whole text.
-    Replace { text: String },
+    Replace {
+        text: String,
+    },
     Close,
     /// A request at a position (ranges start there and end at `end`).
-    Ask { request: usize, at: [u32; 2], end: [u32; 2] },
+    Ask {
+        request: usize,
+        at: [u32; 2],
+        end: [u32; 2],
+    },
     /// A request whose params do not fit its method: it must answer an error.
-    Malformed { request: usize, params: usize },
+    Malformed {
+        request: usize,
+        params: usize,
+    },
     /// Live values on or off by configuration, or toggled by the command.
-    Configure { live: bool },
+    Configure {
+        live: bool,
+    },
     Toggle,
     /// A notification nobody serves, and a cancel of a request that never was.
     Noise,
@@ -283,7 +299,10 @@ impl Session {
                 );
             }
             Op::Close => {
-                self.notify("textDocument/didClose", json!({"textDocument": {"uri": URI}}));
+                self.notify(
+                    "textDocument/didClose",
+                    json!({"textDocument": {"uri": URI}}),
+                );
                 self.open = false;
             }
             Op::Ask { request, at, end } => {
@@ -337,10 +356,10 @@ impl Session {
         let bye = self.request("shutdown", Value::Null);
         assert!(bye.error.is_none(), "shutdown: {bye:?}");
         self.notify("exit", Value::Null);
-        let served = self
-            .server
-            .take()
-            .map(|h| h.join().unwrap_or_else(|_| Err("the server thread panicked".into())));
+        let served = self.server.take().map(|h| {
+            h.join()
+                .unwrap_or_else(|_| Err("the server thread panicked".into()))
+        });
         assert_eq!(served, Some(Ok(())), "the server ended badly");
     }
 }
