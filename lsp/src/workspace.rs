@@ -106,6 +106,12 @@ impl Workspace {
         self.programs.get(self.members.get(uri)?)
     }
 
+    /// The program of the open document `uri` and the joined-text offset of `position`.
+    pub fn at(&self, uri: &Uri, position: Position) -> Option<(&Program, usize)> {
+        let program = self.program_of(uri)?;
+        Some((program, program.offset(uri, position)?))
+    }
+
     pub fn programs(&self) -> impl Iterator<Item = &Program> {
         self.programs.values()
     }

@@ -5,6 +5,8 @@
 
 pub mod diagnostics;
 pub mod live;
+pub mod navigation;
+pub mod symbols;
 
 use lsp_types::notification as note;
 use lsp_types::request as req;
@@ -14,6 +16,12 @@ use crate::server::{notification, request, Row};
 /// Every request the server answers.
 pub fn requests() -> Vec<Row> {
     vec![
+        request::<req::HoverRequest>(navigation::hover),
+        request::<req::GotoDefinition>(navigation::definition),
+        request::<req::References>(navigation::references),
+        request::<req::DocumentHighlightRequest>(navigation::highlight),
+        request::<req::DocumentSymbolRequest>(symbols::document_symbols),
+        request::<req::WorkspaceSymbolRequest>(symbols::workspace_symbols),
         request::<req::InlineValueRequest>(live::inline_value),
         request::<req::InlayHintRequest>(live::inlay_hint),
         request::<req::ExecuteCommand>(live::execute_command),

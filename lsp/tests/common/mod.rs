@@ -328,3 +328,29 @@ impl ProjectDir {
         file_uri(&self.root().join(relative))
     }
 }
+
+/// A location as `FILE L:C-L:C` (0-based, as LSP counts), the file shortened to its
+/// path under `root` (or its name for `file:///test/` URIs).
+pub fn show_location(l: &lsp_types::Location, root: Option<&Path>) -> String {
+    format!("{} {}", show_uri(&l.uri, root), show_range(&l.range))
+}
+
+pub fn show_range(r: &lsp_types::Range) -> String {
+    format!(
+        "{}:{}-{}:{}",
+        r.start.line, r.start.character, r.end.line, r.end.character
+    )
+}
+
+pub fn show_uri(uri: &Uri, root: Option<&Path>) -> String {
+    let text = uri.as_str();
+    if let Some(root) = root {
+        let prefix = format!("{}/", file_uri(root).as_str());
+        if let Some(rest) = text.strip_prefix(&prefix) {
+            return rest.to_string();
+        }
+    }
+    text.strip_prefix("file:///test/")
+        .unwrap_or(text)
+        .to_string()
+}

@@ -1,0 +1,507 @@
+//! Navigation over a checked program: what is at a byte offset, its definition, its
+//! uses (in every file of the program), and the hover text that explains it. Plain data
+//! over `&CheckedFile` and byte offsets in the joined text; no LSP types, no I/O.
+
+use std::fmt::Write as _;
+
+use gutta_catalog::{Address, InstrId, OperandKind as SpecKind};
+
+use crate::check::{DefKind, Definition, Reference};
+use crate::source::Span;
+use crate::syntax::ast::{OperandKind, SymbolDecl, Unit};
+use crate::CheckedFile;
+
+/// What the text at an offset is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Item {
+    /// An instruction's mnemonic.
+    Mnemonic(InstrId),
+    /// A definition (index into `output.definitions`), at its definition or a use.
+    Definition(usize),
+    /// A direct address in an operand.
+    Address(Address),
+}
+
+/// How a use touches its definition, for highlighting.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Access {
+    /// The definition itself.
+    Declaration,
+    /// An operand the instruction only reads (or a name that is not an operand).
+    Read,
+    /// An operand the instruction writes.
+    Write,
+}
+
+/// The item at `offset` and the span of its text there.
+pub fn item_at(checked: &CheckedFile, offset: usize) -> Option<(Span, Item)> {
+    let out = &checked.output;
+    if let Some((span, id)) = out.mnemonics.iter().find(|(s, _)| s.contains(offset)) {
+        return Some((*span, Item::Mnemonic(*id)));
+    }
+    if let Some((span, def)) = definition_at(checked, offset) {
+        return Some((span, Item::Definition(def)));
+    }
+    out.addresses
+        .iter()
+        .find(|(s, _)| s.contains(offset))
+        .map(|(s, a)| (*s, Item::Address(*a)))
+}
+
+/// The definition named at `offset` (a use, or the definition's own name) and the
+/// span of that name.
+pub fn definition_at(checked: &CheckedFile, offset: usize) -> Option<(Span, usize)> {
+    let out = &checked.output;
+    uses(checked)
+        .into_iter()
+        .find(|r| r.span.contains(offset))
+        .map(|r| (r.span, r.definition))
+        .or_else(|| {
+            out.definitions
+                .iter()
+                .position(|d| d.span.contains(offset) && !d.span.is_empty())
+                .map(|i| (out.definitions[i].span, i))
+        })
+}
+
+/// Every use of every definition: the checker's references, plus `JMP n` naming the
+/// `LBL n` of its own block.
+pub fn uses(checked: &CheckedFile) -> Vec<Reference> {
+    let mut all = checked.output.references.clone();
+    all.extend(label_uses(checked));
+    all
+}
+
+/// The definition and every use of the definition at `offset`, the definition first,
+/// then the uses in text order (across every file of the program).
+pub fn references_at(checked: &CheckedFile, offset: usize) -> Vec<(Span, Access)> {
+    let Some((_, def)) = definition_at(checked, offset) else {
+        return Vec::new();
+    };
+    let writes = written_operands(checked);
+    let mut found: Vec<(Span, Access)> = uses(checked)
+        .into_iter()
+        .filter(|r| r.definition == def)
+        .map(|r| {
+            let access = if writes.iter().any(|w| w.contains_span(r.span)) {
+                Access::Write
+            } else {
+                Access::Read
+            };
+            (r.span, access)
+        })
+        .collect();
+    found.sort_by_key(|(s, _)| (s.start, s.end));
+    found.dedup_by_key(|(s, _)| *s);
+    let mut all = vec![(checked.output.definitions[def].span, Access::Declaration)];
+    all.extend(found);
+    all
+}
+
+/// Markdown that explains the item at `offset`, and the span it explains.
+pub fn hover(checked: &CheckedFile, offset: usize) -> Option<(Span, String)> {
+    let (span, item) = item_at(checked, offset)?;
+    let text = match item {
+        Item::Mnemonic(id) => instruction_hover(checked, id),
+        Item::Definition(def) => definition_hover(checked, def),
+        Item::Address(a) => address_hover(checked, &a),
+    };
+    Some((span, text))
+}
+
+trait ContainsSpan {
+    fn contains_span(&self, inner: Span) -> bool;
+}
+
+impl ContainsSpan for Span {
+    fn contains_span(&self, inner: Span) -> bool {
+        self.start <= inner.start && inner.end <= self.end
+    }
+}
+
+/// Spans of operands an instruction writes (by its operand spec's role).
+fn written_operands(checked: &CheckedFile) -> Vec<Span> {
+    let set = &checked.target.instructions;
+    let mut spans = Vec::new();
+    for_each_instruction(checked, |id, operands| {
+        let ins = set.get(id);
+        for (spec, op) in ins.operands.iter().zip(operands) {
+            if spec.role.writes() {
+                spans.push(op.span);
+            }
+        }
+    });
+    spans
+}
+
+/// Call `f` with every checked instruction's id and its operands.
+fn for_each_instruction(
+    checked: &CheckedFile,
+    mut f: impl FnMut(InstrId, &[crate::syntax::ast::Operand]),
+) {
+    let mnemonics = &checked.output.mnemonics;
+    for unit in &checked.ast.units {
+        for network in &unit.networks {
+            for ins in &network.instructions {
+                let Some((_, id)) = mnemonics.iter().find(|(s, _)| *s == ins.mnemonic) else {
+                    continue;
+                };
+                let (a, b) = (ins.operands.0 as usize, ins.operands.1 as usize);
+                if let Some(ops) = network.operands.get(a..b) {
+                    f(*id, ops);
+                }
+            }
+        }
+    }
+}
+
+/// `JMP n` (any label operand that is not the `LBL n` definition itself) as a use of
+/// the `LBL n` in the same block.
+fn label_uses(checked: &CheckedFile) -> Vec<Reference> {
+    let set = &checked.target.instructions;
+    let defs = &checked.output.definitions;
+    let mut found = Vec::new();
+    for_each_instruction(checked, |id, operands| {
+        let ins = set.get(id);
+        for (spec, op) in ins.operands.iter().zip(operands) {
+            let OperandKind::Integer(n) = op.kind else {
+                continue;
+            };
+            if spec.kind != SpecKind::Label || defs.iter().any(|d| d.span == op.span) {
+                continue;
+            }
+            let Some(unit) = unit_extent_at(checked, op.span.start as usize) else {
+                continue;
+            };
+            let name = format!("LBL {n}");
+            if let Some(def) = defs.iter().position(|d| {
+                d.kind == DefKind::Label && d.name == name && unit.contains_span(d.span)
+            }) {
+                found.push(Reference {
+                    span: op.span,
+                    definition: def,
+                });
+            }
+        }
+    });
+    found
+}
+
+/// The text range of a program unit: its header to its END line (or its last code).
+pub fn unit_extent(unit: &Unit) -> Span {
+    let mut end = unit.header.span;
+    if let Some(t) = unit.title {
+        end = end.to(t);
+    }
+    for v in &unit.vars {
+        end = end.to(v.name).to(v.ty);
+    }
+    for n in &unit.networks {
+        end = end.to(n.span);
+        if let Some(last) = n.instructions.last() {
+            end = end.to(last.span);
+        }
+    }
+    if let Some(e) = unit.end {
+        end = end.to(e);
+    }
+    end
+}
+
+fn unit_extent_at(checked: &CheckedFile, offset: usize) -> Option<Span> {
+    checked
+        .ast
+        .units
+        .iter()
+        .map(unit_extent)
+        .find(|s| s.contains(offset))
+}
+
+/// The unit whose name is defined at `span`.
+fn unit_defined_at(checked: &CheckedFile, span: Span) -> Option<&Unit> {
+    checked
+        .ast
+        .units
+        .iter()
+        .find(|u| u.header.name == span || (u.header.name.is_empty() && u.header.span == span))
+}
+
+fn symbol_decl_at(checked: &CheckedFile, span: Span) -> Option<&SymbolDecl> {
+    checked.ast.symbols.iter().find(|d| d.name == span)
+}
+
+/// Where a definition is: `file:line`.
+pub fn declared_where(checked: &CheckedFile, span: Span) -> String {
+    let at = checked.file.locate(&checked.index, span.start as usize);
+    format!("{}:{}", at.file, at.line)
+}
+
+fn instruction_hover(checked: &CheckedFile, id: InstrId) -> String {
+    let ins = checked.target.instructions.get(id);
+    let names: Vec<&str> = ins.operands.iter().map(|o| o.name.as_str()).collect();
+    let mut text = format!("```gutta\n{} {}\n```\n", ins.mnemonic, names.join(", "));
+    let _ = write!(text, "\n{}\n", ins.summary.trim());
+    if !ins.operands.is_empty() {
+        text.push_str("\n| operand | role | types |\n| --- | --- | --- |\n");
+        for o in &ins.operands {
+            let types = match o.kind {
+                SpecKind::Label => "label number".to_string(),
+                SpecKind::Block => match o.block {
+                    Some(gutta_catalog::BlockKind::Interrupt) => "interrupt routine".into(),
+                    _ => "subroutine".into(),
+                },
+                _ => o
+                    .types
+                    .iter()
+                    .map(|t| t.keyword())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            };
+            let _ = writeln!(text, "| {} | {} | {} |", o.name, o.role.keyword(), types);
+        }
+    }
+    if !ins.description.trim().is_empty() {
+        let _ = write!(text, "\n{}\n", ins.description.trim());
+    }
+    let _ = write!(text, "\nAllowed in: {}.", ins.units.describe());
+    text
+}
+
+fn definition_hover(checked: &CheckedFile, def: usize) -> String {
+    let d = &checked.output.definitions[def];
+    let mut text = match d.kind {
+        DefKind::Symbol => symbol_hover(checked, d),
+        DefKind::Local => format!("local variable `#{}`\n\n`{}`", d.name, d.detail),
+        DefKind::Unit => unit_hover(checked, d),
+        DefKind::DataBlock => format!("data block `{}`\n\n{}", d.name, d.detail),
+        DefKind::Label => format!("`{}`: {}", d.name, d.detail),
+    };
+    if let (DefKind::Local | DefKind::Label, Some(unit)) = (d.kind, d.unit) {
+        let owner = checked
+            .output
+            .definitions
+            .iter()
+            .filter(|x| x.kind == DefKind::Unit)
+            .nth(unit);
+        if let (DefKind::Local, Some(owner)) = (d.kind, owner) {
+            let _ = write!(text, "\n\nin `{}`", owner.name);
+        }
+    }
+    let _ = write!(text, "\n\ndeclared at {}", declared_where(checked, d.span));
+    text
+}
+
+fn symbol_hover(checked: &CheckedFile, d: &Definition) -> String {
+    let Some(decl) = symbol_decl_at(checked, d.span) else {
+        return format!("symbol `{}`\n\n{}", d.name, d.detail);
+    };
+    let text = &checked.file.text;
+    let memory = &checked.target.memory;
+    let written = text.get(decl.address.range()).unwrap_or("").trim();
+    let address = memory.parse_address(written).ok();
+    let ty = decl
+        .data_type
+        .and_then(|t| text.get(t.range()))
+        .map(str::trim)
+        .filter(|t| !t.is_empty());
+    let mut out = format!("symbol `{}`", d.name);
+    match address {
+        Some(a) => {
+            let _ = write!(out, "\n\n`{}`", memory.format_address(&a));
+            match ty {
+                Some(t) => {
+                    let _ = write!(out, " : {}", t.to_ascii_uppercase());
+                }
+                None => {
+                    let _ = write!(out, " ({})", a.width.keyword());
+                }
+            }
+            if let Some(m) = memory.modbus_location(&a) {
+                let _ = write!(out, "\n\nModbus: {m}");
+            }
+        }
+        None => {
+            let _ = write!(out, "\n\n`{written}`");
+        }
+    }
+    if let Some(c) = decl.comment_text(text).filter(|c| !c.is_empty()) {
+        let _ = write!(out, "\n\n{c}");
+    }
+    out
+}
+
+fn unit_hover(checked: &CheckedFile, d: &Definition) -> String {
+    let Some(unit) = unit_defined_at(checked, d.span) else {
+        return format!("program block `{}`\n\n{}", d.name, d.detail);
+    };
+    let kind = match unit.kind {
+        gutta_catalog::BlockKind::Subroutine => "subroutine",
+        gutta_catalog::BlockKind::Interrupt => match d.detail.starts_with("MAIN") {
+            true => "main program (organization block)",
+            false => "interrupt routine",
+        },
+    };
+    let mut out = format!("{kind} `{}`\n\n{}", d.name, d.detail);
+    let text = &checked.file.text;
+    if let Some(title) = unit.title.and_then(|t| text.get(t.range())) {
+        let _ = write!(out, "\n\n{}", title.trim());
+    }
+    if !unit.vars.is_empty() {
+        out.push_str("\n\n```gutta");
+        let mut section = None;
+        for v in &unit.vars {
+            if section != Some(v.section) {
+                if section.is_some() {
+                    out.push_str("\nEND_VAR");
+                }
+                let _ = write!(out, "\n{}", v.section.keyword());
+                section = Some(v.section);
+            }
+            let name = text.get(v.name.range()).unwrap_or("");
+            let ty = text.get(v.ty.range()).unwrap_or("");
+            let _ = write!(out, "\n  {name} : {ty};");
+            if let Some(c) = v.comment.and_then(|c| text.get(c.range())) {
+                let _ = write!(out, " // {}", c.trim());
+            }
+        }
+        out.push_str("\nEND_VAR\n```");
+    }
+    let _ = match unit.networks.len() {
+        1 => write!(out, "\n\n1 network"),
+        n => write!(out, "\n\n{n} networks"),
+    };
+    out
+}
+
+/// Hover for a direct address: canonical name, width, area, Modbus address, and the
+/// symbols naming it.
+fn address_hover(checked: &CheckedFile, a: &Address) -> String {
+    let memory = &checked.target.memory;
+    let name = memory.format_address(a);
+    let area = memory.area_by_slot(a.slot);
+    let mut out = format!("`{name}`: {}", a.width.keyword());
+    if let Some(area) = area {
+        let _ = write!(out, " in {} ({})", area.name, area.description.trim());
+    }
+    if let Some(m) = memory.modbus_location(a) {
+        let _ = write!(out, "\n\nModbus: {m}");
+    }
+    let text = &checked.file.text;
+    let named: Vec<String> = checked
+        .ast
+        .symbols
+        .iter()
+        .filter(|d| {
+            text.get(d.address.range())
+                .and_then(|t| memory.parse_address(t.trim()).ok())
+                .is_some_and(|x| x == *a)
+        })
+        .filter_map(|d| text.get(d.name.range()).map(|n| format!("`{n}`")))
+        .collect();
+    if !named.is_empty() {
+        let _ = write!(out, "\n\nsymbol: {}", named.join(", "));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::source::SourceFile;
+    use crate::{check_program, ProgramSources};
+
+    const MAIN: &str = "SYMBOLS\n  Start : I0.0 // push button\nEND_SYMBOLS\nORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNetwork 1 // go\nLD     Start\nJMP    3\nCALL   ADD3, 2, 3, MW12\nLBL    3\nLD     Start\n=      Q0.0\nEND_ORGANIZATION_BLOCK\n";
+    const SUB: &str = "SUBROUTINE_BLOCK ADD3:SBR0\nTITLE=r := a + b\nVAR_INPUT\n  a : INT; // first\n  b : INT;\nEND_VAR\nVAR_OUTPUT\n  r : INT;\nEND_VAR\nBEGIN\nNetwork 1\nLD     SM0.0\nMOVW   #a, #r\n+I     #b, #r\nEND_SUBROUTINE_BLOCK\n";
+    const TABLE: &str = "Symbol,Address,Comment\nLamp,Q0.0,the lamp\n";
+
+    fn program() -> CheckedFile {
+        check_program(
+            ProgramSources {
+                sources: vec![
+                    SourceFile::new("main.lad", MAIN),
+                    SourceFile::new("sub.lad", SUB),
+                ],
+                symbol_tables: vec![SourceFile::new("symbols.csv", TABLE)],
+            },
+            None,
+        )
+    }
+
+    /// Offset in the joined text of the `n`th `needle` (plus `shift`).
+    fn at(c: &CheckedFile, needle: &str, n: usize, shift: usize) -> usize {
+        c.file.text.match_indices(needle).nth(n).unwrap().0 + shift
+    }
+
+    fn slices(c: &CheckedFile, spans: &[(Span, Access)]) -> Vec<(String, &'static str, Access)> {
+        spans
+            .iter()
+            .map(|(s, a)| {
+                let file = if c.file.file_name_at(s.start as usize) == "main.lad" {
+                    "main"
+                } else {
+                    "other"
+                };
+                (c.file.slice(*s).to_string(), file, *a)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_program_checks_cleanly() {
+        let c = program();
+        assert_eq!(c.diagnostics(), &[]);
+    }
+
+    #[test]
+    fn references_span_files_and_mark_writes() {
+        let c = program();
+        let refs = references_at(&c, at(&c, "Start", 1, 2));
+        assert_eq!(
+            slices(&c, &refs),
+            [
+                ("Start".into(), "main", Access::Declaration),
+                ("Start".into(), "main", Access::Read),
+                ("Start".into(), "main", Access::Read)
+            ]
+        );
+        // `#r` is written by MOVW and +I (IN_OUT).
+        let r = references_at(&c, at(&c, "#r", 0, 1));
+        let kinds: Vec<Access> = r.iter().map(|(_, a)| *a).collect();
+        assert_eq!(kinds, [Access::Declaration, Access::Write, Access::Write]);
+        // The call names the subroutine in the other file.
+        let (span, def) = definition_at(&c, at(&c, "ADD3", 0, 1)).unwrap();
+        assert_eq!(c.file.slice(span), "ADD3");
+        assert_eq!(
+            c.file
+                .file_name_at(c.output.definitions[def].span.start as usize),
+            "sub.lad"
+        );
+    }
+
+    #[test]
+    fn a_jump_goes_to_its_label() {
+        let c = program();
+        let (_, def) = definition_at(&c, at(&c, "JMP    3", 0, 7)).unwrap();
+        let d = &c.output.definitions[def];
+        assert_eq!(d.kind, DefKind::Label);
+        assert_eq!(d.span.start as usize, at(&c, "LBL    3", 0, 7));
+        let refs = references_at(&c, d.span.start as usize);
+        assert_eq!(refs.len(), 2);
+    }
+
+    #[test]
+    fn hovers_explain_instructions_symbols_addresses_blocks_and_locals() {
+        let c = program();
+        let texts = [
+            hover(&c, at(&c, "MOVW", 0, 1)),
+            hover(&c, at(&c, "Start", 1, 0)),
+            hover(&c, at(&c, "Q0.0", 0, 1)),
+            hover(&c, at(&c, "ADD3", 0, 0)),
+            hover(&c, at(&c, "#a", 0, 1)),
+            hover(&c, at(&c, "Lamp", 0, 0)),
+            hover(&c, at(&c, "LBL    3", 0, 7)),
+        ]
+        .map(|h| h.map(|(_, t)| t).unwrap_or_default());
+        insta::assert_snapshot!(texts.join("\n\n-----\n\n"));
+    }
+}
