@@ -228,10 +228,11 @@ pub fn operands_in(checked: &CheckedFile, range: Range<usize>) -> Vec<LiveOperan
     let overlaps = |s: &Span| {
         (s.start as usize) < range.end && range.start < (s.end as usize).max(s.start as usize + 1)
     };
+    let parts = checked.file.parts();
     let in_source = |s: &Span| {
-        !checked.file.is_joined()
-            || checked.file.parts()[checked.file.part_index(s.start as usize)].kind
-                == PartKind::Source
+        parts
+            .get(checked.file.part_index(s.start as usize))
+            .is_none_or(|p| p.kind == PartKind::Source)
     };
     let label = |s: &Span| text.get(s.range()).unwrap_or("").to_string();
     let mut operands: Vec<LiveOperand> = out
