@@ -173,7 +173,7 @@ impl Live {
             .pollers
             .entry(manifest.to_path_buf())
             .or_insert_with(|| Poller::start(settings, notify));
-        let operands = operands_in(checked, range);
+        let operands = operands_in(checked, networks_around(checked, range));
         let mut wanted: Vec<Address> = operands.iter().map(|o| o.address).collect();
         wanted.sort();
         wanted.dedup();
@@ -218,6 +218,31 @@ impl Live {
             }
         })
     }
+}
+
+/// `range` grown to the whole networks it touches (a network runs from its NETWORK
+/// line to the next one, or to its block's end): the editor shows part of a network,
+/// the poller reads all of it.
+pub fn networks_around(checked: &CheckedFile, range: Range<usize>) -> Range<usize> {
+    let (mut start, mut end) = (range.start, range.end);
+    for unit in &checked.ast.units {
+        let unit_end = unit
+            .end
+            .map_or(checked.file.text.len(), |e| e.start as usize);
+        let starts: Vec<usize> = unit
+            .networks
+            .iter()
+            .map(|n| n.span.start as usize)
+            .collect();
+        for (i, &from) in starts.iter().enumerate() {
+            let to = starts.get(i + 1).copied().unwrap_or(unit_end).max(from);
+            if from < range.end.max(range.start + 1) && range.start < to {
+                start = start.min(from);
+                end = end.max(to);
+            }
+        }
+    }
+    start..end
 }
 
 /// The operands of `checked`'s source files that overlap `range`: direct addresses and
@@ -321,6 +346,19 @@ mod tests {
             .collect();
         assert_eq!(tail, ["SM0.0", "Speed", "MW22"]);
         assert!(operands_in(&c, 0..10).is_empty());
+    }
+
+    #[test]
+    fn a_range_grows_to_the_networks_it_touches() {
+        let c = checked();
+        let ld = BLINK.find("LD     SM0.0").unwrap_or(0);
+        let grown = networks_around(&c, ld..ld + 2);
+        let labels: Vec<String> = operands_in(&c, grown)
+            .into_iter()
+            .map(|o| o.label)
+            .collect();
+        assert_eq!(labels, ["SM0.0", "Speed", "MW22"]);
+        assert_eq!(networks_around(&c, 0..10), 0..10, "no network there");
     }
 
     #[test]

@@ -89,6 +89,15 @@ fn blinking_sim(dir: &Path) -> Sim {
     Sim(child, address)
 }
 
+/// A PLC that takes connections and never answers: a listener nobody accepts from (kept
+/// bound while the test runs, so no other test's simulator gets its port), and its
+/// address.
+fn silent_plc() -> (std::net::TcpListener, String) {
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("a free port");
+    let address = listener.local_addr().expect("its address").to_string();
+    (listener, address)
+}
+
 /// A project in `dir` whose PLC is at `address`.
 fn project(dir: &Path, address: &str) -> gutta_io::Project {
     std::fs::write(dir.join("main.lad"), PROGRAM).expect("writes main.lad");
@@ -171,11 +180,7 @@ fn the_lamp_blinks_between_two_answers() {
 #[test]
 fn a_silent_plc_warns_once_and_shows_question_marks() {
     let dir = scratch("silent");
-    // A port nobody listens on: bound, then closed.
-    let address = std::net::TcpListener::bind("127.0.0.1:0")
-        .and_then(|l| l.local_addr())
-        .expect("a free port")
-        .to_string();
+    let (_silent, address) = silent_plc();
     let p = project(&dir, &address);
     let (mut live, messages) = live_with_outbox();
     let start = Instant::now();
@@ -308,10 +313,7 @@ fn inlay_hints_follow_the_blinking_lamp_and_the_toggle_turns_them_off() {
 #[test]
 fn the_setting_turns_live_values_on_and_a_silent_plc_warns_once() {
     let dir = scratch("server-silent");
-    let address = std::net::TcpListener::bind("127.0.0.1:0")
-        .and_then(|l| l.local_addr())
-        .expect("a free port")
-        .to_string();
+    let (_silent, address) = silent_plc();
     project(&dir, &address);
     let uri = uri_of(&dir.join("main.lad"));
     let mut s = Session::start(json!({}));

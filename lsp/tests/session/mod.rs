@@ -19,11 +19,14 @@ use serde_json::{json, Value};
 /// a debug build on a loaded 2-core machine, with a 1 MB document.
 pub const ANSWER_WITHIN: Duration = Duration::from_secs(60);
 
-/// Documents the sessions start from: an example, a corpus file with CRLF line ends, and
-/// a text with CJK, emoji (UTF-16 surrogate pairs) and a BOM.
+/// Documents the sessions start from: an example, corpus files (CRLF line ends, labels
+/// and jumps, locals and calls), a text with CJK, emoji (UTF-16 surrogate pairs) and a
+/// BOM, and nothing.
 pub const SEEDS: &[&str] = &[
     include_str!("../../../examples/blink.lad"),
     include_str!("../../../tests/data/check/ok/crlf.lad"),
+    include_str!("../../../tests/data/check/ok/jumps_and_labels.lad"),
+    include_str!("../../../tests/data/check/ok/locals_and_calls.lad"),
     "\u{feff}// 日本語 😀 ü\nSYMBOLS\n  Größe : MW20 // 😀😀\nEND_SYMBOLS\nORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1 // 🚦\nLD SM0.5\n= Q0.0\nEND_ORGANIZATION_BLOCK\n",
     "",
 ];
