@@ -6,7 +6,7 @@
 //! ignored (every request is answered before the next message is read). It holds the
 //! server's state but knows no feature: features are rows in handlers/mod.rs.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
 
@@ -33,6 +33,8 @@ pub struct State {
     pub init: InitializeParams,
     /// Where docs/diagnostics.md is installed, as a `file:` URI (for `codeDescription`).
     pub diagnostics_doc: Option<String>,
+    /// Warnings already shown to the person (each is shown once per session).
+    pub warned: HashSet<String>,
     /// Live values from the PLC (live.rs): the setting and the pollers.
     pub live: crate::live::Live,
     sender: Sender<Message>,
@@ -124,6 +126,7 @@ impl State {
             workspace: Workspace::default(),
             init,
             diagnostics_doc: crate::convert::find_diagnostics_doc(),
+            warned: HashSet::new(),
             sender,
             next_request: 0,
         }
@@ -203,6 +206,7 @@ pub fn run(connection: &Connection) -> Result<(), String> {
     let requests = table(handlers::requests());
     let notifications = table(handlers::notifications());
     let mut state = State::new(init, connection.sender.clone());
+    handlers::initialized(&mut state);
     for message in &connection.receiver {
         match message {
             Message::Request(request) => {
@@ -290,5 +294,62 @@ fn run_guarded(state: &mut State, row: &Row, params: Value) -> Result<Value, Han
                 message: format!("gutta-lsp: internal error in {}: {what}", row.method),
             })
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lsp_types::request::{HoverRequest, Shutdown};
+
+    fn state() -> State {
+        let (sender, _receiver) = crossbeam_channel::unbounded();
+        State::new(InitializeParams::default(), sender)
+    }
+
+    fn panicking(_: &mut State, _: ()) -> Result<(), HandlerError> {
+        panic!("deliberate")
+    }
+
+    #[test]
+    fn a_panicking_handler_answers_internal_error_and_bad_params_invalid_params() {
+        let mut state = state();
+        let table = table(vec![
+            request::<Shutdown>(panicking),
+            request::<HoverRequest>(crate::handlers::navigation::hover),
+        ]);
+        let ask = |method: &str, params: Value| Request {
+            id: RequestId::from(1),
+            method: method.into(),
+            params,
+        };
+        let r = answer(&mut state, &table, ask("shutdown", Value::Null));
+        let e = r.error.expect("an error");
+        assert_eq!(e.code, ErrorCode::InternalError as i32);
+        assert!(e.message.contains("deliberate"), "{}", e.message);
+        let r = answer(
+            &mut state,
+            &table,
+            ask("textDocument/hover", serde_json::json!({"textDocument": 5})),
+        );
+        assert_eq!(
+            r.error.expect("an error").code,
+            ErrorCode::InvalidParams as i32
+        );
+        let r = answer(&mut state, &table, ask("gutta/none", Value::Null));
+        assert_eq!(
+            r.error.expect("an error").code,
+            ErrorCode::MethodNotFound as i32
+        );
+        // The state survives: a valid request still answers.
+        let r = answer(
+            &mut state,
+            &table,
+            ask(
+                "textDocument/hover",
+                serde_json::json!({"textDocument": {"uri": "file:///x.lad"}, "position": {"line": 0, "character": 0}}),
+            ),
+        );
+        assert_eq!(r.result, Some(Value::Null));
     }
 }

@@ -119,58 +119,91 @@ impl Workspace {
     /// `uri` was opened (or saved): find its project again and analyse its program.
     pub fn opened(&mut self, documents: &Documents, uri: &Uri) -> Update {
         let mut update = Update::default();
-        let path = uri_to_path(uri);
-        let project = match path.as_deref().and_then(Path::parent) {
-            Some(folder) => match Project::find(folder) {
-                Ok(found) => found.filter(|p| lists(p, path.as_deref())),
-                Err(e) => {
-                    update.warnings.push(e);
-                    None
-                }
-            },
-            None => None,
-        };
-        let is_table = path
-            .as_deref()
-            .and_then(Path::extension)
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| e.eq_ignore_ascii_case("csv") || e.eq_ignore_ascii_case("tsv"));
-        let (key, explicit) = match project {
-            Some(p) => {
-                let explicit = project_target(&p, &mut update.warnings);
-                (ProgramKey::Project(p.manifest.clone()), Some((p, explicit)))
-            }
+        let Some(found) = resolve(uri, &mut update.warnings) else {
             // A symbol table outside a project is not a program.
-            None if is_table => return self.closed(documents, uri),
-            None => (ProgramKey::Alone(uri.clone()), None),
+            let mut closed = self.closed(documents, uri);
+            closed.warnings.append(&mut update.warnings);
+            return closed;
         };
+        self.join(uri, &found.key, &mut update);
+        self.analyse(
+            documents,
+            found.key,
+            found.project,
+            found.explicit,
+            &mut update,
+        );
+        update
+    }
+
+    /// Files on disk changed (`changed`: their URIs): every open document finds its
+    /// project again when a gutta.toml changed; each program that holds a changed file
+    /// or whose membership changed is analysed once.
+    pub fn files_changed(&mut self, documents: &Documents, changed: &[Uri]) -> Vec<Update> {
+        let manifest_changed = changed.iter().any(|u| {
+            uri_to_path(u)
+                .and_then(|p| p.file_name().map(|n| n == gutta_io::MANIFEST))
+                .unwrap_or(false)
+        });
+        let mut updates = Vec::new();
+        let mut to_analyse: Vec<(ProgramKey, Option<Project>, Option<ExplicitTarget>)> = Vec::new();
+        if manifest_changed {
+            let mut update = Update::default();
+            let members: Vec<Uri> = self.members.keys().cloned().collect();
+            for uri in members {
+                match resolve(&uri, &mut update.warnings) {
+                    Some(found) => {
+                        self.join(&uri, &found.key, &mut update);
+                        if !to_analyse.iter().any(|(k, _, _)| *k == found.key) {
+                            to_analyse.push((found.key, found.project, found.explicit));
+                        }
+                    }
+                    None => updates.push(self.closed(documents, &uri)),
+                }
+            }
+            updates.push(update);
+        } else {
+            let changed: HashSet<&str> = changed.iter().map(|u| u.as_str()).collect();
+            for program in self.programs.values() {
+                let touched = program
+                    .files
+                    .iter()
+                    .any(|f| changed.contains(f.as_str()) && !documents.is_open(f));
+                if touched {
+                    to_analyse.push((
+                        program.key.clone(),
+                        program.project.clone(),
+                        program.explicit.clone(),
+                    ));
+                }
+            }
+        }
+        for (key, project, explicit) in to_analyse {
+            let mut update = Update::default();
+            self.analyse(documents, key, project, explicit, &mut update);
+            updates.push(update);
+        }
+        updates
+    }
+
+    /// Make `uri` a member of `key`, dropping the program it leaves if that one has no
+    /// open document left.
+    fn join(&mut self, uri: &Uri, key: &ProgramKey, update: &mut Update) {
         if let Some(old) = self.members.insert(uri.clone(), key.clone()) {
-            if old != key && !self.members.values().any(|k| *k == old) {
+            if old != *key && !self.members.values().any(|k| *k == old) {
                 if let Some(p) = self.programs.remove(&old) {
                     update.cleared.extend(p.files);
                 }
             }
         }
-        let (project, explicit) = match explicit {
-            Some((p, e)) => (Some(p), e),
-            None => (None, None),
-        };
-        self.analyse(documents, key, project, explicit, &mut update);
-        update
     }
 
     /// `uri` changed: analyse its program again.
     pub fn changed(&mut self, documents: &Documents, uri: &Uri) -> Update {
-        let mut update = Update::default();
-        let Some(key) = self.members.get(uri).cloned() else {
-            return update;
-        };
-        let (project, explicit) = match self.programs.get(&key) {
-            Some(p) => (p.project.clone(), p.explicit.clone()),
-            None => (None, None),
-        };
-        self.analyse(documents, key, project, explicit, &mut update);
-        update
+        match self.members.get(uri).cloned() {
+            Some(key) => self.changed_key(documents, key),
+            None => Update::default(),
+        }
     }
 
     /// `uri` was closed (already gone from `documents`): its program is dropped when no
@@ -189,6 +222,7 @@ impl Workspace {
         update
     }
 
+    /// Analyse the program `key` again with the project it was found with.
     fn changed_key(&mut self, documents: &Documents, key: ProgramKey) -> Update {
         let mut update = Update::default();
         let (project, explicit) = match self.programs.get(&key) {
@@ -207,17 +241,25 @@ impl Workspace {
         explicit: Option<ExplicitTarget>,
         update: &mut Update,
     ) {
-        let open_paths: HashMap<PathBuf, Uri> = documents
-            .uris()
-            .filter_map(|u| Some((uri_to_path(u)?, u.clone())))
-            .collect();
+        // Open documents by path, also canonical (a symlinked folder is the same file).
+        let mut open_paths: HashMap<PathBuf, Uri> = HashMap::new();
+        if project.is_some() {
+            for u in documents.uris() {
+                let Some(path) = uri_to_path(u) else { continue };
+                if let Ok(canonical) = std::fs::canonicalize(&path) {
+                    open_paths.insert(canonical, u.clone());
+                }
+                open_paths.insert(path, u.clone());
+            }
+        }
         let mut files = Vec::new();
         let mut sources = ProgramSources::default();
         match (&key, &project) {
             (ProgramKey::Project(_), Some(p)) => {
                 for (paths, tables) in [(&p.sources, false), (&p.symbols, true)] {
                     for path in paths {
-                        let (uri, file) = load(documents, &open_paths, &p.root, path);
+                        let (uri, file) =
+                            load(documents, &open_paths, &p.root, path, &mut update.warnings);
                         files.push(uri);
                         if tables {
                             sources.symbol_tables.push(file);
@@ -269,6 +311,46 @@ impl Workspace {
     }
 }
 
+/// Where a document belongs.
+struct Resolution {
+    key: ProgramKey,
+    project: Option<Project>,
+    explicit: Option<ExplicitTarget>,
+}
+
+/// The program `uri` belongs to: its project's when the nearest gutta.toml lists it,
+/// else itself alone; `None` for a symbol table outside a project.
+fn resolve(uri: &Uri, warnings: &mut Vec<String>) -> Option<Resolution> {
+    let path = uri_to_path(uri);
+    let project = match path.as_deref().and_then(Path::parent) {
+        Some(folder) => match Project::find(folder) {
+            Ok(found) => found.filter(|p| lists(p, path.as_deref())),
+            Err(e) => {
+                warnings.push(e);
+                None
+            }
+        },
+        None => None,
+    };
+    if let Some(p) = project {
+        return Some(Resolution {
+            key: ProgramKey::Project(p.manifest.clone()),
+            explicit: project_target(&p, warnings),
+            project: Some(p),
+        });
+    }
+    let is_table = path
+        .as_deref()
+        .and_then(Path::extension)
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("csv") || e.eq_ignore_ascii_case("tsv"));
+    (!is_table).then(|| Resolution {
+        key: ProgramKey::Alone(uri.clone()),
+        project: None,
+        explicit: None,
+    })
+}
+
 /// Whether project `p` lists `path` as a source or a symbol table.
 fn lists(p: &Project, path: Option<&Path>) -> bool {
     let Some(path) = path else { return false };
@@ -279,14 +361,15 @@ fn lists(p: &Project, path: Option<&Path>) -> bool {
         .any(|f| f == path || (canonical.is_some() && std::fs::canonicalize(f).ok() == canonical))
 }
 
-/// A project file: the open document's text if it is open, else the disk's (empty if
-/// unreadable: the checker then reports what is missing). Named by its path relative
+/// A project file: the open document's text if it is open, else the disk's (empty, and
+/// a warning, if unreadable). Named by its path relative
 /// to the project's folder.
 fn load(
     documents: &Documents,
     open: &HashMap<PathBuf, Uri>,
     root: &Path,
     path: &Path,
+    warnings: &mut Vec<String>,
 ) -> (Uri, SourceFile) {
     let name = path
         .strip_prefix(root)
@@ -295,9 +378,7 @@ fn load(
         .replace('\\', "/");
     let open_uri = open.get(path).cloned().or_else(|| {
         let canonical = std::fs::canonicalize(path).ok()?;
-        open.iter()
-            .find(|(p, _)| std::fs::canonicalize(p).ok().as_ref() == Some(&canonical))
-            .map(|(_, u)| u.clone())
+        open.get(&canonical).cloned()
     });
     if let Some(uri) = open_uri {
         if let Some(doc) = documents.get(&uri) {
@@ -305,10 +386,19 @@ fn load(
         }
     }
     let uri = path_to_uri(path).unwrap_or_else(|| fallback_uri(&name));
-    let file = std::fs::read(path)
-        .ok()
-        .and_then(|bytes| SourceFile::from_bytes(name.clone(), bytes).ok())
-        .unwrap_or_else(|| SourceFile::new(name, ""));
+    let file = match std::fs::read(path) {
+        Ok(bytes) => match SourceFile::from_bytes(name.clone(), bytes) {
+            Ok(file) => file,
+            Err(e) => {
+                warnings.push(format!("{name}: not UTF-8 at byte {}", e.offset));
+                SourceFile::new(name, "")
+            }
+        },
+        Err(e) => {
+            warnings.push(format!("cannot read {}: {e}", path.display()));
+            SourceFile::new(name, "")
+        }
+    };
     (uri, file)
 }
 

@@ -1,5 +1,6 @@
 //! Diagnostics as published: code, severity, message with help, related information
 //! for secondary labels, the code's documentation link, source "gutta".
+#![allow(clippy::unwrap_used)] // test helpers outside #[test] functions
 
 mod common;
 
@@ -58,4 +59,76 @@ fn a_change_in_one_project_file_republishes_every_file() {
     for u in [&main, &motor, &table] {
         assert_eq!(s.diagnostics_of(u), &[], "{}", u.as_str());
     }
+}
+
+#[test]
+fn files_changed_on_disk_reach_the_programs_that_hold_them() {
+    let p = common::ProjectDir::new();
+    let mut s = TestServer::start_watching();
+    s.sync();
+    let registered: Vec<&str> = s
+        .server_requests
+        .iter()
+        .map(|r| r.method.as_str())
+        .collect();
+    assert_eq!(registered, ["client/registerCapability"]);
+    let main = p.uri("src/main.lad");
+    let motor = p.uri("src/motor.lad");
+    let table = p.uri("symbols.csv");
+    s.open(&main, common::MAIN_LAD);
+    assert_eq!(s.diagnostics_of(&motor), &[]);
+    // The table loses `Motor` on disk: motor.lad (not open) now misuses the name.
+    std::fs::write(
+        p.root().join("symbols.csv"),
+        common::SYMBOLS_CSV.replace("Motor,Q0.1,main drive\n", ""),
+    )
+    .unwrap();
+    s.files_changed(&[&table]);
+    // (`Motor` then names the block MOTOR: names are case-insensitive.)
+    let messages: Vec<_> = s
+        .diagnostics_of(&motor)
+        .iter()
+        .map(|d| d.message.clone())
+        .collect();
+    assert_eq!(messages.len(), 1, "{messages:?}");
+    assert!(messages[0].contains("subroutine"), "{messages:?}");
+    // gutta.toml drops motor.lad: main.lad calls a block that is gone, motor.lad is
+    // no longer part of a program and is cleared.
+    std::fs::write(
+        p.root().join("gutta.toml"),
+        "[program]\nsources = [\"src/main.lad\"]\nsymbols = [\"symbols.csv\"]\n",
+    )
+    .unwrap();
+    s.files_changed(&[&p.uri("gutta.toml")]);
+    assert_eq!(s.diagnostics_of(&motor), &[]);
+    let codes: Vec<_> = s
+        .diagnostics_of(&main)
+        .iter()
+        .map(|d| d.code.clone())
+        .collect();
+    assert!(
+        codes.contains(&Some(lsp_types::NumberOrString::String("E0206".into()))),
+        "{codes:?}"
+    );
+}
+
+#[test]
+fn a_broken_gutta_toml_is_shown_once_and_the_file_is_analysed_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let root = std::fs::canonicalize(dir.path()).unwrap();
+    std::fs::write(
+        root.join("gutta.toml"),
+        "[program]\nsourcs = [\"main.lad\"]\n",
+    )
+    .unwrap();
+    std::fs::write(root.join("main.lad"), "LDX I0.0\n").unwrap();
+    let mut s = TestServer::start();
+    let main = common::file_uri(&root.join("main.lad"));
+    s.open(&main, "LDX I0.0\n");
+    s.replace(&main, 2, "LDX I0.1\n");
+    let shown = s.received("window/showMessage");
+    assert_eq!(shown.len(), 1, "one warning, not one per change");
+    let message = shown[0].params["message"].as_str().unwrap();
+    assert!(message.contains("gutta.toml"), "{message}");
+    assert!(!s.diagnostics_of(&main).is_empty(), "analysed alone");
 }

@@ -1,6 +1,7 @@
 //! Hover, go to definition, references and document highlight through the server: in
 //! one file (with CRLF and non-ASCII text before the positions), and across the files
 //! of a project on disk, into its CSV symbol table.
+#![allow(clippy::unwrap_used)] // test helpers outside #[test] functions
 
 mod common;
 
@@ -126,6 +127,26 @@ fn definition_references_and_highlight_in_one_file() {
             h.kind
         ));
     }
+    // A direct address: every operand naming it, written where `=` writes it.
+    let m = find(LONE, "M0.0", 1, 1);
+    out.push(format!(
+        "M0.0 refs: {}",
+        references(&mut s, &u, m, true, None).join(", ")
+    ));
+    let highlights = s
+        .request::<DocumentHighlightRequest>(DocumentHighlightParams {
+            text_document_position_params: at(&u, m.line, m.character),
+            work_done_progress_params: WorkDoneProgressParams::default(),
+            partial_result_params: PartialResultParams::default(),
+        })
+        .unwrap_or_default();
+    for h in highlights {
+        out.push(format!(
+            "highlight M0.0 {} {:?}",
+            show_range(&h.range),
+            h.kind
+        ));
+    }
     // Nothing at a keyword.
     out.push(format!(
         "BEGIN -> {}",
@@ -180,4 +201,33 @@ fn definitions_cross_files_and_reach_the_csv_row() {
         hover_text(&mut s, &table, row)
     ));
     insta::assert_snapshot!(out.join("\n"));
+}
+
+#[test]
+fn positions_stay_right_in_a_crlf_file_with_emoji_of_a_project() {
+    let p = ProjectDir::new();
+    let root = p.root();
+    let mut s = TestServer::start();
+    let main = p.uri("src/main.lad");
+    s.open(&main, common::MAIN_LAD);
+    // The editor's text (CRLF, emoji and CJK before the names) wins over the disk's.
+    let text = common::MAIN_LAD
+        .replace("// start the motor", "// 🚀 启动 the motor 🚀")
+        .replace("LD     Start", "LD     Start // 🚀🚀")
+        .replace('\n', "\r\n");
+    s.replace(&main, 2, &text);
+    assert_eq!(s.diagnostics_of(&main), &[]);
+    let lamp = find(&text, "Lamp", 0, 2);
+    let refs = references(&mut s, &main, lamp, true, Some(&root));
+    assert_eq!(refs, ["symbols.csv 2:0-2:4", "src/main.lad 5:7-5:11"]);
+    let start = find(&text, "Start", 0, 5);
+    assert_eq!(
+        definition(&mut s, &main, start, Some(&root)),
+        "symbols.csv 1:0-1:5"
+    );
+    // Past the end of a line: the line's end, which is no name.
+    assert_eq!(
+        definition(&mut s, &main, Position::new(3, 400), Some(&root)),
+        "None"
+    );
 }

@@ -1,5 +1,6 @@
 //! Document symbols (the outline of one file, and of a symbol table) and workspace
 //! symbols (every definition of every open program, fuzzy-matched) through the server.
+#![allow(clippy::unwrap_used)] // test helpers outside #[test] functions
 
 mod common;
 

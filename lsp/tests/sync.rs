@@ -1,6 +1,7 @@
 //! Text sync through the server: full and incremental changes with UTF-16 positions
 //! (CJK, emoji, CRLF) reach the analysis, and the protocol's edges (unknown methods,
 //! bad params, cancel, shutdown) answer as LSP says.
+#![allow(clippy::unwrap_used)] // test helpers outside #[test] functions
 
 mod common;
 

@@ -2,13 +2,14 @@
 //! uses (in every file of the program), and the hover text that explains it. Plain data
 //! over `&CheckedFile` and byte offsets in the joined text; no LSP types, no I/O.
 
+use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
 
 use gutta_catalog::{Address, InstrId, OperandKind as SpecKind};
 
 use crate::check::{DefKind, Definition, Reference};
 use crate::source::Span;
-use crate::syntax::ast::{OperandKind, SymbolDecl, Unit};
+use crate::syntax::ast::{OperandKind, SymbolDecl, Unit, VarSection};
 use crate::CheckedFile;
 
 /// What the text at an offset is.
@@ -73,21 +74,42 @@ pub fn uses(checked: &CheckedFile) -> Vec<Reference> {
 }
 
 /// The definition and every use of the definition at `offset`, the definition first,
-/// then the uses in text order (across every file of the program).
+/// then the uses in text order (across every file of the program). For a direct
+/// address: every operand naming the same address, in text order.
 pub fn references_at(checked: &CheckedFile, offset: usize) -> Vec<(Span, Access)> {
-    let Some((_, def)) = definition_at(checked, offset) else {
-        return Vec::new();
-    };
     let writes = written_operands(checked);
+    let access = |span: Span| {
+        if writes
+            .get(&span.end)
+            .is_some_and(|start| *start <= span.start)
+        {
+            Access::Write
+        } else {
+            Access::Read
+        }
+    };
+    let Some((_, def)) = definition_at(checked, offset) else {
+        let addresses = &checked.output.addresses;
+        let Some((_, a)) = addresses.iter().find(|(s, _)| s.contains(offset)) else {
+            return Vec::new();
+        };
+        let mut found: Vec<(Span, Access)> = addresses
+            .iter()
+            .filter(|(_, x)| x == a)
+            .map(|(s, _)| (*s, access(*s)))
+            .collect();
+        found.sort_by_key(|(s, _)| (s.start, s.end));
+        found.dedup_by_key(|(s, _)| *s);
+        return found;
+    };
     let mut found: Vec<(Span, Access)> = uses(checked)
         .into_iter()
         .filter(|r| r.definition == def)
         .map(|r| {
-            let access = if writes.iter().any(|w| w.contains_span(r.span)) {
-                Access::Write
-            } else {
-                Access::Read
-            };
+            let written = writes
+                .get(&r.span.end)
+                .is_some_and(|start| *start <= r.span.start);
+            let access = if written { Access::Write } else { Access::Read };
             (r.span, access)
         })
         .collect();
@@ -109,25 +131,42 @@ pub fn hover(checked: &CheckedFile, offset: usize) -> Option<(Span, String)> {
     Some((span, text))
 }
 
-trait ContainsSpan {
-    fn contains_span(&self, inner: Span) -> bool;
-}
-
-impl ContainsSpan for Span {
-    fn contains_span(&self, inner: Span) -> bool {
-        self.start <= inner.start && inner.end <= self.end
-    }
-}
-
-/// Spans of operands an instruction writes (by its operand spec's role).
-fn written_operands(checked: &CheckedFile) -> Vec<Span> {
+/// Operands an instruction writes, by the end of their span (a name's span ends
+/// where its operand's does, after any `#`, `&` or `*`) -> the operand's start. A
+/// CALL's arguments are written where the callee's parameter is VAR_OUTPUT or
+/// VAR_IN_OUT.
+fn written_operands(checked: &CheckedFile) -> HashMap<u32, u32> {
     let set = &checked.target.instructions;
-    let mut spans = Vec::new();
+    let defs = &checked.output.definitions;
+    // Uses by the end of their span (which is their operand's end).
+    let use_at: HashMap<u32, usize> = checked
+        .output
+        .references
+        .iter()
+        .map(|r| (r.span.end, r.definition))
+        .collect();
+    let mut spans = HashMap::new();
     for_each_instruction(checked, |id, operands| {
         let ins = set.get(id);
         for (spec, op) in ins.operands.iter().zip(operands) {
             if spec.role.writes() {
-                spans.push(op.span);
+                spans.insert(op.span.end, op.span.start);
+            }
+        }
+        if !ins.call_arguments {
+            return;
+        }
+        // The callee: the block the first operand names.
+        let callee = operands.first().and_then(|op| {
+            let def = defs.get(*use_at.get(&op.span.end)?)?;
+            unit_defined_at(checked, def.span)
+        });
+        let Some(callee) = callee else { return };
+        let params = callee.vars.iter().filter(|v| v.section != VarSection::Temp);
+        let args = operands.iter().skip(ins.operands.len());
+        for (param, arg) in params.zip(args) {
+            if matches!(param.section, VarSection::Output | VarSection::InOut) {
+                spans.insert(arg.span.end, arg.span.start);
             }
         }
     });
@@ -139,11 +178,11 @@ fn for_each_instruction(
     checked: &CheckedFile,
     mut f: impl FnMut(InstrId, &[crate::syntax::ast::Operand]),
 ) {
-    let mnemonics = &checked.output.mnemonics;
+    let mnemonics: HashMap<Span, InstrId> = checked.output.mnemonics.iter().copied().collect();
     for unit in &checked.ast.units {
         for network in &unit.networks {
             for ins in &network.instructions {
-                let Some((_, id)) = mnemonics.iter().find(|(s, _)| *s == ins.mnemonic) else {
+                let Some(id) = mnemonics.get(&ins.mnemonic) else {
                     continue;
                 };
                 let (a, b) = (ins.operands.0 as usize, ins.operands.1 as usize);
@@ -160,26 +199,35 @@ fn for_each_instruction(
 fn label_uses(checked: &CheckedFile) -> Vec<Reference> {
     let set = &checked.target.instructions;
     let defs = &checked.output.definitions;
+    let extents: Vec<Span> = checked.ast.units.iter().map(unit_extent).collect();
+    let unit_of = |offset: u32| extents.iter().position(|s| s.contains(offset as usize));
+    // (unit, label name) -> definition, and the LBL operands themselves.
+    let mut labels: HashMap<(Option<usize>, &str), usize> = HashMap::new();
+    let mut label_defs: HashSet<Span> = HashSet::new();
+    for (i, d) in defs.iter().enumerate() {
+        if d.kind == DefKind::Label {
+            labels.insert((unit_of(d.span.start), d.name.as_str()), i);
+            label_defs.insert(d.span);
+        }
+    }
     let mut found = Vec::new();
+    if labels.is_empty() {
+        return found;
+    }
     for_each_instruction(checked, |id, operands| {
         let ins = set.get(id);
         for (spec, op) in ins.operands.iter().zip(operands) {
             let OperandKind::Integer(n) = op.kind else {
                 continue;
             };
-            if spec.kind != SpecKind::Label || defs.iter().any(|d| d.span == op.span) {
+            if spec.kind != SpecKind::Label || label_defs.contains(&op.span) {
                 continue;
             }
-            let Some(unit) = unit_extent_at(checked, op.span.start as usize) else {
-                continue;
-            };
             let name = format!("LBL {n}");
-            if let Some(def) = defs.iter().position(|d| {
-                d.kind == DefKind::Label && d.name == name && unit.contains_span(d.span)
-            }) {
+            if let Some(def) = labels.get(&(unit_of(op.span.start), name.as_str())) {
                 found.push(Reference {
                     span: op.span,
-                    definition: def,
+                    definition: *def,
                 });
             }
         }
@@ -206,15 +254,6 @@ pub fn unit_extent(unit: &Unit) -> Span {
         end = end.to(e);
     }
     end
-}
-
-fn unit_extent_at(checked: &CheckedFile, offset: usize) -> Option<Span> {
-    checked
-        .ast
-        .units
-        .iter()
-        .map(unit_extent)
-        .find(|s| s.contains(offset))
 }
 
 /// The unit whose name is defined at `span`.
@@ -468,6 +507,12 @@ mod tests {
         let r = references_at(&c, at(&c, "#r", 0, 1));
         let kinds: Vec<Access> = r.iter().map(|(_, a)| *a).collect();
         assert_eq!(kinds, [Access::Declaration, Access::Write, Access::Write]);
+        // A direct address: its operands (`=` writes it).
+        let m = references_at(&c, at(&c, "Q0.0", 0, 1));
+        assert_eq!(slices(&c, &m), [("Q0.0".into(), "main", Access::Write)]);
+        // A CALL's argument for a VAR_OUTPUT is written, one for a VAR_INPUT read.
+        let out = references_at(&c, at(&c, "MW12", 0, 1));
+        assert_eq!(slices(&c, &out), [("MW12".into(), "main", Access::Write)]);
         // The call names the subroutine in the other file.
         let (span, def) = definition_at(&c, at(&c, "ADD3", 0, 1)).unwrap();
         assert_eq!(c.file.slice(span), "ADD3");

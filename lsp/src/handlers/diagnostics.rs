@@ -4,9 +4,12 @@
 //! for a file no program covers any more).
 
 use lsp_types::notification::PublishDiagnostics;
+use lsp_types::request::RegisterCapability;
 use lsp_types::{
-    DidChangeTextDocumentParams, DidCloseTextDocumentParams, DidOpenTextDocumentParams,
-    DidSaveTextDocumentParams, MessageType, PublishDiagnosticsParams,
+    DidChangeTextDocumentParams, DidChangeWatchedFilesParams,
+    DidChangeWatchedFilesRegistrationOptions, DidCloseTextDocumentParams,
+    DidOpenTextDocumentParams, DidSaveTextDocumentParams, FileSystemWatcher, GlobPattern,
+    MessageType, PublishDiagnosticsParams, Registration, RegistrationParams,
 };
 
 use crate::convert;
@@ -71,11 +74,57 @@ pub fn did_save(state: &mut State, params: DidSaveTextDocumentParams) -> Result<
     Ok(())
 }
 
+/// Files changed on disk (watched by the client): programs holding them are analysed
+/// again, and every open document finds its project again when a gutta.toml changed.
+pub fn did_change_watched_files(
+    state: &mut State,
+    params: DidChangeWatchedFilesParams,
+) -> Result<(), HandlerError> {
+    let changed: Vec<_> = params.changes.into_iter().map(|c| c.uri).collect();
+    for update in state.workspace.files_changed(&state.documents, &changed) {
+        publish(state, update);
+    }
+    Ok(())
+}
+
+/// Ask the client to watch the files a program is made of, when it can register
+/// watchers dynamically (else saves and reopening catch changes on disk).
+pub fn watch_project_files(state: &mut State) {
+    let can = state
+        .init
+        .capabilities
+        .workspace
+        .as_ref()
+        .and_then(|w| w.did_change_watched_files.as_ref())
+        .and_then(|d| d.dynamic_registration)
+        .unwrap_or(false);
+    if !can {
+        return;
+    }
+    let watchers = ["**/gutta.toml", "**/*.lad", "**/*.csv", "**/*.tsv"]
+        .into_iter()
+        .map(|glob| FileSystemWatcher {
+            glob_pattern: GlobPattern::String(glob.into()),
+            kind: None,
+        })
+        .collect();
+    let options = DidChangeWatchedFilesRegistrationOptions { watchers };
+    state.request_client::<RegisterCapability>(RegistrationParams {
+        registrations: vec![Registration {
+            id: "gutta-watched-files".into(),
+            method: "workspace/didChangeWatchedFiles".into(),
+            register_options: serde_json::to_value(options).ok(),
+        }],
+    });
+}
+
 /// Publish what `update` changed: every file of the analysed program, and empty lists
-/// for the files it cleared; warnings go to the person.
+/// for the files it cleared; warnings go to the person, each once.
 pub fn publish(state: &mut State, update: Update) {
-    for warning in &update.warnings {
-        state.show_message(MessageType::WARNING, format!("gutta-lsp: {warning}"));
+    for warning in update.warnings {
+        if state.warned.insert(warning.clone()) {
+            state.show_message(MessageType::WARNING, format!("gutta-lsp: {warning}"));
+        }
     }
     for uri in update.cleared {
         state.notify::<PublishDiagnostics>(PublishDiagnosticsParams::new(uri, Vec::new(), None));

@@ -11,7 +11,7 @@ pub mod symbols;
 use lsp_types::notification as note;
 use lsp_types::request as req;
 
-use crate::server::{notification, request, Row};
+use crate::server::{notification, request, Row, State};
 
 /// Every request the server answers.
 pub fn requests() -> Vec<Row> {
@@ -35,6 +35,13 @@ pub fn notifications() -> Vec<Row> {
         notification::<note::DidChangeTextDocument>(diagnostics::did_change),
         notification::<note::DidCloseTextDocument>(diagnostics::did_close),
         notification::<note::DidSaveTextDocument>(diagnostics::did_save),
+        notification::<note::DidChangeWatchedFiles>(diagnostics::did_change_watched_files),
         notification::<note::DidChangeConfiguration>(live::did_change_configuration),
     ]
+}
+
+/// The client is ready (`initialized` was received during the handshake): what each
+/// feature does first, one line each.
+pub fn initialized(state: &mut State) {
+    diagnostics::watch_project_files(state);
 }

@@ -35,6 +35,8 @@ pub struct TestServer {
     pub publish_counts: HashMap<String, usize>,
     /// The `initialize` result.
     pub initialize_result: Value,
+    /// Requests the server sent the client (each answered with `null`).
+    pub server_requests: Vec<Request>,
 }
 
 impl TestServer {
@@ -44,6 +46,41 @@ impl TestServer {
             capabilities: ClientCapabilities::default(),
             ..InitializeParams::default()
         })
+    }
+
+    /// A server whose client can register file watchers (as VS Code can).
+    pub fn start_watching() -> TestServer {
+        let capabilities = ClientCapabilities {
+            workspace: Some(lsp_types::WorkspaceClientCapabilities {
+                did_change_watched_files: Some(
+                    lsp_types::DidChangeWatchedFilesClientCapabilities {
+                        dynamic_registration: Some(true),
+                        relative_pattern_support: None,
+                    },
+                ),
+                ..Default::default()
+            }),
+            ..Default::default()
+        };
+        TestServer::start_with(InitializeParams {
+            capabilities,
+            ..InitializeParams::default()
+        })
+    }
+
+    /// Tell the server that files changed on disk, and wait.
+    pub fn files_changed(&mut self, uris: &[&Uri]) {
+        self.notify::<lsp_types::notification::DidChangeWatchedFiles>(
+            lsp_types::DidChangeWatchedFilesParams {
+                changes: uris
+                    .iter()
+                    .map(|u| {
+                        lsp_types::FileEvent::new((*u).clone(), lsp_types::FileChangeType::CHANGED)
+                    })
+                    .collect(),
+            },
+        );
+        self.sync();
     }
 
     pub fn start_with(params: InitializeParams) -> TestServer {
@@ -57,6 +94,7 @@ impl TestServer {
             diagnostics: HashMap::new(),
             publish_counts: HashMap::new(),
             initialize_result: Value::Null,
+            server_requests: Vec::new(),
         };
         let response = t.request_raw(
             lsp_types::request::Initialize::METHOD,
@@ -86,10 +124,11 @@ impl TestServer {
                 Message::Notification(n) => self.record(n),
                 // The server asks for refreshes; answer them.
                 Message::Request(r) => {
-                    let _ = self
-                        .client
-                        .sender
-                        .send(Message::Response(Response::new_ok(r.id, Value::Null)));
+                    let _ = self.client.sender.send(Message::Response(Response::new_ok(
+                        r.id.clone(),
+                        Value::Null,
+                    )));
+                    self.server_requests.push(r);
                 }
             }
         }
