@@ -143,10 +143,11 @@ impl Live {
         self.notifier()(Event::Changed);
     }
 
-    /// The live values for the operands of `checked` that overlap `range` (bytes of the
-    /// joined text), in a program of the project `manifest` whose PLC `settings` names.
-    /// Starts the project's poller on first use and makes it read these operands from
-    /// now on. Empty when live values are off or the project has no PLC.
+    /// The live values for the operands of the networks `range` touches (bytes of the
+    /// joined text of `checked`), in a program of the project `manifest` whose PLC
+    /// `settings` names. Starts the project's poller on first use and makes it read
+    /// these operands from now on; never waits for it (values not read yet are `None`).
+    /// Empty when live values are off or the project has no PLC.
     pub fn values(
         &mut self,
         manifest: &std::path::Path,
