@@ -35,6 +35,8 @@ pub struct State {
     pub diagnostics_doc: Option<String>,
     /// Warnings already shown to the person (each is shown once per session).
     pub warned: HashSet<String>,
+    /// Live values from the PLC (live.rs): the setting and the pollers.
+    pub live: crate::live::Live,
     sender: Sender<Message>,
     next_request: i32,
 }
@@ -119,6 +121,7 @@ where
 impl State {
     fn new(init: InitializeParams, sender: Sender<Message>) -> State {
         State {
+            live: crate::live::Live::from_init(&init, sender.clone()),
             documents: Documents::default(),
             workspace: Workspace::default(),
             init,

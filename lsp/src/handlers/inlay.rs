@@ -27,8 +27,10 @@ pub fn inlay_hint(
     let Some(range) = span_of(program, uri, params.range) else {
         return Ok(None);
     };
-    // Live values (another feature) append their hints here, from `visible_operands`.
-    Ok(Some(address_hints(program, range, options)))
+    let mut hints = address_hints(program, range, options);
+    // Live values (opt-in, handlers/live.rs) follow the operands' addresses.
+    hints.extend(super::live::hints(state, uri, params.range));
+    Ok(Some(hints))
 }
 
 /// The byte span in the program's text of `range` in `uri`.

@@ -9,6 +9,7 @@ pub mod diagnostics;
 pub mod folding;
 pub mod formatting;
 pub mod inlay;
+pub mod live;
 pub mod navigation;
 pub mod rename;
 pub mod signature;
@@ -40,6 +41,8 @@ pub fn requests() -> Vec<Row> {
         request::<req::SemanticTokensFullRequest>(tokens::full),
         request::<req::SemanticTokensRangeRequest>(tokens::range),
         request::<req::InlayHintRequest>(inlay::inlay_hint),
+        request::<req::InlineValueRequest>(live::inline_value),
+        request::<req::ExecuteCommand>(live::execute_command),
     ]
 }
 
@@ -51,6 +54,7 @@ pub fn notifications() -> Vec<Row> {
         notification::<note::DidCloseTextDocument>(diagnostics::did_close),
         notification::<note::DidSaveTextDocument>(diagnostics::did_save),
         notification::<note::DidChangeWatchedFiles>(diagnostics::did_change_watched_files),
+        notification::<note::DidChangeConfiguration>(live::did_change_configuration),
     ]
 }
 
