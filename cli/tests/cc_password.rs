@@ -10,7 +10,7 @@ use common::{stderr, Sim};
 
 use std::path::PathBuf;
 use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 const PASSWORD: &str = "s3cret";
 const PASSWORD_ENV: &str = "GUTTA_PASSWORD";
@@ -104,38 +104,6 @@ fn wrong_passwords_are_refused_then_the_lockout_says_so() {
     assert!(logged_in(&o), "{}", stderr(&o));
 }
 
-/// A tmux server of its own, killed when the test ends.
-struct Tmux(String);
-
-impl Tmux {
-    fn run(&self, args: &[&str]) -> String {
-        let o = Command::new("tmux")
-            .args(["-L", &self.0])
-            .args(args)
-            .output()
-            .expect("tmux runs");
-        String::from_utf8_lossy(&o.stdout).into_owned()
-    }
-
-    /// The pane's text once it contains `what` (or after 10 s, whatever it shows).
-    fn screen_with(&self, what: &str) -> String {
-        let start = Instant::now();
-        loop {
-            let screen = self.run(&["capture-pane", "-p", "-t", "pw"]);
-            if screen.contains(what) || start.elapsed() > Duration::from_secs(10) {
-                return screen;
-            }
-            std::thread::sleep(Duration::from_millis(50));
-        }
-    }
-}
-
-impl Drop for Tmux {
-    fn drop(&mut self) {
-        self.run(&["kill-server"]);
-    }
-}
-
 #[test]
 fn a_terminal_gets_a_prompt_that_does_not_echo() {
     if !common::have("tmux") {
@@ -143,7 +111,7 @@ fn a_terminal_gets_a_prompt_that_does_not_echo() {
     }
     let sim = sim("prompt");
     let cc = PathBuf::from(env!("CARGO_BIN_EXE_gutta-cc"));
-    let tmux = Tmux(format!("gutta-password-{}", std::process::id()));
+    let tmux = common::Tmux::new("gutta-password");
     let shell = format!(
         "env -u {PASSWORD_ENV} {} status --tcp {}; echo exit=$?; sleep 60",
         cc.display(),
@@ -161,11 +129,11 @@ fn a_terminal_gets_a_prompt_that_does_not_echo() {
         &shell,
     ]);
     let prompt = format!("Password for PLC at {}: ", sim.1);
-    let screen = tmux.screen_with(prompt.trim_end());
+    let screen = tmux.screen_when("pw", |s| s.contains(prompt.trim_end()));
     assert!(screen.contains(prompt.trim_end()), "{screen}");
     tmux.run(&["send-keys", "-t", "pw", "-l", PASSWORD]);
     tmux.run(&["send-keys", "-t", "pw", "Enter"]);
-    let screen = tmux.screen_with("exit=");
+    let screen = tmux.screen_when("pw", |s| s.contains("exit="));
     assert!(screen.contains("exit=0"), "{screen}");
     assert!(screen.contains("CPU-EC20: RUN"), "{screen}");
     assert!(

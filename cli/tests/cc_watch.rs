@@ -135,42 +135,6 @@ fn a_pipe_gets_one_line_per_sample_and_a_lost_connection_exits_2() {
     );
 }
 
-/// A tmux server of its own, killed when the test ends.
-struct Tmux(String);
-
-impl Tmux {
-    fn run(&self, args: &[&str]) -> String {
-        let o = Command::new("tmux")
-            .args(["-L", &self.0])
-            .args(args)
-            .output()
-            .expect("tmux runs");
-        String::from_utf8_lossy(&o.stdout).into_owned()
-    }
-
-    fn screen(&self) -> String {
-        self.run(&["capture-pane", "-p", "-t", "w"])
-    }
-
-    /// The pane's text once `ok` holds for it (or after 10 s, whatever it shows).
-    fn screen_when(&self, ok: impl Fn(&str) -> bool) -> String {
-        let start = Instant::now();
-        loop {
-            let screen = self.screen();
-            if ok(&screen) || start.elapsed() > Duration::from_secs(10) {
-                return screen;
-            }
-            std::thread::sleep(Duration::from_millis(50));
-        }
-    }
-}
-
-impl Drop for Tmux {
-    fn drop(&mut self) {
-        self.run(&["kill-server"]);
-    }
-}
-
 /// The Lamp row's value in a captured table.
 fn lamp(screen: &str) -> Option<String> {
     screen
@@ -186,7 +150,7 @@ fn the_live_table_updates_and_q_restores_the_terminal() {
         return;
     }
     let (source, sim) = setup("tmux");
-    let tmux = Tmux(format!("gutta-watch-{}", std::process::id()));
+    let tmux = common::Tmux::new("gutta-watch");
     let args = watch_args(&source, &sim, &[]).join(" ");
     let shell = format!(
         "echo before-watch; s=$(stty -g); {} {args}; echo exit=$?; \
@@ -206,7 +170,7 @@ fn the_live_table_updates_and_q_restores_the_terminal() {
         "-c",
         &shell,
     ]);
-    let first = tmux.screen_when(|s| lamp(s).is_some());
+    let first = tmux.screen_when("w", |s| lamp(s).is_some());
     let first_value = lamp(&first).unwrap_or_else(|| panic!("no table:\n{first}"));
     assert!(first.contains("NAME"), "{first}");
     assert!(first.contains("q, Esc or Ctrl-C: quit"), "{first}");
@@ -216,15 +180,15 @@ fn the_live_table_updates_and_q_restores_the_terminal() {
     );
     // The lamp blinks at 1 Hz: within a second or so the table shows the other value,
     // and the CHANGED column how long ago.
-    let next = tmux.screen_when(|s| lamp(s).is_some_and(|v| v != first_value));
+    let next = tmux.screen_when("w", |s| lamp(s).is_some_and(|v| v != first_value));
     assert_ne!(lamp(&next), Some(first_value), "{next}");
     assert!(next.contains(" s ago"), "{next}");
     // A resize redraws without ending the watch.
     tmux.run(&["resize-window", "-t", "w", "-x", "60", "-y", "12"]);
     std::thread::sleep(Duration::from_millis(300));
-    assert!(lamp(&tmux.screen()).is_some(), "{}", tmux.screen());
+    assert!(lamp(&tmux.screen("w")).is_some(), "{}", tmux.screen("w"));
     tmux.run(&["send-keys", "-t", "w", "q"]);
-    let after = tmux.screen_when(|s| s.contains("tty="));
+    let after = tmux.screen_when("w", |s| s.contains("tty="));
     assert!(after.contains("exit=0"), "{after}");
     assert!(after.contains("tty=restored"), "{after}");
     assert!(

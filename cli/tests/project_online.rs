@@ -7,7 +7,6 @@
 mod common;
 mod projects;
 
-use std::process::Command;
 use std::time::{Duration, Instant};
 
 use common::{cc_in, stderr, stdout, text};
@@ -134,26 +133,6 @@ fn a_build_error_stops_download_before_it_connects() {
     assert!(!dir.join("target/image").exists());
 }
 
-/// A tmux server of its own, killed when the test ends.
-struct Tmux(String);
-
-impl Tmux {
-    fn run(&self, args: &[&str]) -> String {
-        let o = Command::new("tmux")
-            .args(["-L", &self.0])
-            .args(args)
-            .output()
-            .expect("tmux runs");
-        String::from_utf8_lossy(&o.stdout).into_owned()
-    }
-}
-
-impl Drop for Tmux {
-    fn drop(&mut self) {
-        self.run(&["kill-server"]);
-    }
-}
-
 /// The contents of `path` once they contain `what` (or after 20 s, whatever they are).
 fn file_with(path: &std::path::Path, what: &str) -> String {
     let start = Instant::now();
@@ -185,7 +164,7 @@ fn on_a_terminal_download_shows_a_progress_bar_that_agrees_with_its_summary() {
         env!("CARGO_BIN_EXE_gutta-cc"),
         go = go.display()
     );
-    let tmux = Tmux(format!("gutta-project-{}", std::process::id()));
+    let tmux = common::Tmux::new("gutta-project");
     tmux.run(&[
         "new-session",
         "-d",
@@ -229,6 +208,6 @@ fn on_a_terminal_download_shows_a_progress_bar_that_agrees_with_its_summary() {
         output.contains("downloading [") && output.contains(&full_bar),
         "no full bar `{full_bar}` before the summary `{summary}`:\n{output}"
     );
-    let screen = tmux.run(&["capture-pane", "-p", "-t", "dl"]);
+    let screen = tmux.screen("dl");
     assert!(screen.contains(summary.trim_end()), "{screen}");
 }

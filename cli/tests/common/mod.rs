@@ -153,3 +153,46 @@ pub fn stderr(o: &std::process::Output) -> String {
 pub fn text(o: &std::process::Output) -> String {
     stdout(o) + &stderr(o)
 }
+
+/// A tmux server of its own (its socket named after the test and this process), killed
+/// when dropped: the terminal the terminal-facing tests type into and read.
+pub struct Tmux(String);
+
+impl Tmux {
+    pub fn new(tag: &str) -> Tmux {
+        Tmux(format!("{tag}-{}", std::process::id()))
+    }
+
+    /// `tmux -L SOCKET ARGS`; its standard output.
+    pub fn run(&self, args: &[&str]) -> String {
+        let o = std::process::Command::new("tmux")
+            .args(["-L", &self.0])
+            .args(args)
+            .output()
+            .expect("tmux runs");
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    }
+
+    /// What the pane of session `target` shows now.
+    pub fn screen(&self, target: &str) -> String {
+        self.run(&["capture-pane", "-p", "-t", target])
+    }
+
+    /// The pane's text once `ok` holds for it (or after 10 s, whatever it shows).
+    pub fn screen_when(&self, target: &str, ok: impl Fn(&str) -> bool) -> String {
+        let start = std::time::Instant::now();
+        loop {
+            let screen = self.screen(target);
+            if ok(&screen) || start.elapsed() > std::time::Duration::from_secs(10) {
+                return screen;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+    }
+}
+
+impl Drop for Tmux {
+    fn drop(&mut self) {
+        self.run(&["kill-server"]);
+    }
+}
