@@ -102,3 +102,27 @@ pub fn run_shell_flags(matches: &ArgMatches, command: Command) -> Option<Result<
             .map_err(|e| Fatal::io(format!("cannot write to stdout: {e}")))
     }))
 }
+
+/// The command line of a tool without subcommands (gutta-vm, gutta-sim), parsed: its
+/// `--completions`/`--man` answered, or its `Cli`. Err is the exit code after the answer
+/// or after a usage error printed as `--message-format` (or one of `json_flags`) asks.
+pub fn parse_tool_args<C: clap::Parser>(
+    tool: &str,
+    args: &[std::ffi::OsString],
+    json_flags: &[&str],
+) -> Result<C, std::process::ExitCode> {
+    let format = crate::fatal::MessageFormat::from_raw_args(args, json_flags);
+    let command = with_shell_flags(C::command());
+    let mut matches = command
+        .clone()
+        .try_get_matches_from(args)
+        .map_err(|e| crate::fatal::report_clap_error(e, tool, format))?;
+    if let Some(done) = run_shell_flags(&matches, command) {
+        return Err(done.map_or_else(
+            |e| e.report(tool, format),
+            |()| std::process::ExitCode::SUCCESS,
+        ));
+    }
+    C::from_arg_matches_mut(&mut matches)
+        .map_err(|e| crate::fatal::report_clap_error(e, tool, format))
+}

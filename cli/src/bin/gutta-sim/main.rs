@@ -14,9 +14,9 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use clap::{CommandFactory, FromArgMatches, Parser};
+use clap::Parser;
 use gutta_catalog::{stdlib, Target};
-use gutta_cli::fatal::{report_clap_error, Fatal, MessageFormat};
+use gutta_cli::fatal::{Fatal, MessageFormat};
 use gutta_format::LineSettings;
 use gutta_sim::plc::{ConnectionId, Plc};
 use gutta_sim::session::{Framing, Session};
@@ -112,18 +112,9 @@ const TOOL: &str = "gutta-sim";
 /// failure as --message-format asks; exit 2.
 fn main() -> ExitCode {
     let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
-    let format = MessageFormat::from_raw_args(&args, &[]);
-    let command = gutta_cli::shell::with_shell_flags(Cli::command());
-    let mut matches = match command.clone().try_get_matches_from(&args) {
-        Ok(m) => m,
-        Err(e) => return report_clap_error(e, TOOL, format),
-    };
-    if let Some(done) = gutta_cli::shell::run_shell_flags(&matches, command) {
-        return done.map_or_else(|e| e.report(TOOL, format), |()| ExitCode::SUCCESS);
-    }
-    let cli = match Cli::from_arg_matches_mut(&mut matches) {
+    let cli: Cli = match gutta_cli::shell::parse_tool_args(TOOL, &args, &[]) {
         Ok(cli) => cli,
-        Err(e) => return report_clap_error(e, TOOL, format),
+        Err(code) => return code,
     };
     let format = cli.message_format;
     let runtime = match tokio::runtime::Builder::new_multi_thread()

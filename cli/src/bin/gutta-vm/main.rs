@@ -8,9 +8,9 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
 
-use clap::{CommandFactory, FromArgMatches, Parser};
+use clap::Parser;
 use gutta_catalog::{stdlib, Target};
-use gutta_cli::fatal::{report_clap_error, Fatal, MessageFormat};
+use gutta_cli::fatal::{Fatal, MessageFormat};
 use gutta_format::{MappedInstruction, SourceMap};
 use gutta_vm::{Fault, Position, ScanEnd, Vm, VmConfig};
 
@@ -98,18 +98,9 @@ const TOOL: &str = "gutta-vm";
 /// I/O, verification or load failure) as --message-format asks; exit 2.
 fn main() -> ExitCode {
     let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
-    let format = MessageFormat::from_raw_args(&args, &["--json"]);
-    let command = gutta_cli::shell::with_shell_flags(Cli::command());
-    let mut matches = match command.clone().try_get_matches_from(&args) {
-        Ok(m) => m,
-        Err(e) => return report_clap_error(e, TOOL, format),
-    };
-    if let Some(done) = gutta_cli::shell::run_shell_flags(&matches, command) {
-        return done.map_or_else(|e| e.report(TOOL, format), |()| ExitCode::SUCCESS);
-    }
-    let mut cli = match Cli::from_arg_matches_mut(&mut matches) {
+    let mut cli: Cli = match gutta_cli::shell::parse_tool_args(TOOL, &args, &["--json"]) {
         Ok(cli) => cli,
-        Err(e) => return report_clap_error(e, TOOL, format),
+        Err(code) => return code,
     };
     cli.json |= cli.message_format == MessageFormat::Json;
     let format = if cli.json {
