@@ -140,3 +140,52 @@ fn gutta_sim_errors_are_json() {
     let e = json_error(&tool(sim, &["--message-format", "json", "--scan-ms", "x"]));
     assert_eq!(e["kind"], "usage");
 }
+
+/// Errors raised by the commands themselves carry the kind of their cause, not "other":
+/// a variable that is neither symbol nor address is a usage error, an image that does
+/// not verify a program error, a missing PLC endpoint a usage error, a project name
+/// taken a usage error.
+#[test]
+fn command_errors_carry_their_kind() {
+    let dir = std::env::temp_dir().join(format!("gutta-json-kinds-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let image = common::image_dir("json-kinds", &common::example("blink.lad"));
+    let vm = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_gutta-vm"))
+            .args(args)
+            .output()
+            .expect("gutta-vm runs")
+    };
+    let image_arg = image.to_str().expect("utf-8 path");
+    let e = json_error(&vm(&[
+        image_arg,
+        "--read",
+        "Lmap",
+        "--message-format",
+        "json",
+    ]));
+    assert_eq!(
+        (e["tool"].as_str(), e["kind"].as_str()),
+        (Some("gutta-vm"), Some("usage")),
+        "{e}"
+    );
+    let e = json_error(&cc(&["read", "MW0", "--message-format", "json"]));
+    assert_eq!(e["kind"], "usage", "no PLC given: {e}");
+    std::fs::create_dir_all(dir.join("taken")).expect("mkdir");
+    std::fs::write(dir.join("taken/x"), "").expect("a file");
+    let e = json_error(&common::cc_in(
+        &dir,
+        &["new", "taken", "--message-format", "json"],
+    ));
+    assert_eq!(e["kind"], "usage", "{e}");
+    // A page of the image cut short: it does not verify.
+    let page = std::fs::read_dir(&image)
+        .expect("image dir")
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .find(|p| p.extension().is_some_and(|x| x == "bin"))
+        .expect("a page file");
+    std::fs::write(&page, b"\x01").expect("cut");
+    let e = json_error(&vm(&[image_arg, "--message-format", "json"]));
+    assert!(matches!(e["kind"].as_str(), Some("program" | "io")), "{e}");
+}

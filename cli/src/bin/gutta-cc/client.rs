@@ -32,7 +32,7 @@ impl Online<'_> {
     /// The symbols of `symbol_files` and of `tables` (an image's source map).
     pub fn symbols(&self, tables: Vec<SymbolTable>) -> Result<SymbolTable, Fatal> {
         let explicit = explicit_target(self.targets)?;
-        vars::symbol_context(self.symbol_files, tables, explicit.as_ref()).map_err(Fatal)
+        vars::symbol_context(self.symbol_files, tables, explicit.as_ref()).map_err(Fatal::usage)
     }
 
     /// Print one result: `object` as a JSON line, or `human` as text.
@@ -74,8 +74,8 @@ fn connect(args: &LinkArgs) -> Result<Client, Fatal> {
     } else if let Some(d) = &args.serial {
         Box::new(serial(d, client_line(args), args.timeout, args.retries).map_err(link_error)?)
     } else {
-        return Err(Fatal(
-            "no PLC given: use --tcp HOST:PORT, --rtu-tcp HOST:PORT or --serial DEVICE".into(),
+        return Err(Fatal::usage(
+            "no PLC given: use --tcp HOST:PORT, --rtu-tcp HOST:PORT or --serial DEVICE",
         ));
     };
     Ok(Client::new(transport, args.station))
@@ -95,7 +95,7 @@ pub(crate) fn plc_target(targets: &TargetArgs, client: &mut Client) -> Result<Ar
     }
     let name = client.plc_name().map_err(link_error)?;
     stdlib::shared(&name).map_err(|e| {
-        Fatal(format!(
+        Fatal::target(format!(
             "the PLC is a {name}: {e} (pass --target DIR for a vendor PLC type)"
         ))
     })
@@ -136,7 +136,7 @@ pub(crate) fn resolve_all(
 ) -> Result<Vec<Var>, Fatal> {
     texts
         .iter()
-        .map(|v| vars::resolve(v, symbols, target).map_err(Fatal))
+        .map(|v| vars::resolve(v, symbols, target).map_err(Fatal::usage))
         .collect()
 }
 
@@ -181,7 +181,8 @@ fn print_values(online: &Online, command: &str, vars: &[Var], raw: &[u32]) {
 
 pub(crate) fn download(online: &Online, dir: &Path, args: &LinkArgs) -> Result<ExitCode, Fatal> {
     let (image, target) = crate::image_and_target(online.targets, dir)?;
-    gutta_format::verify(&image, &target).map_err(|e| Fatal(format!("{}: {e}", dir.display())))?;
+    gutta_format::verify(&image, &target)
+        .map_err(|e| Fatal::program(format!("{}: {e}", dir.display())))?;
     // Every byte is written, then read back and compared: the bar and the summary both
     // count the bytes transferred, the image's bytes twice.
     let total: usize = 2 * image.pages.values().map(Vec::len).sum::<usize>();
@@ -193,7 +194,7 @@ pub(crate) fn download(online: &Online, dir: &Path, args: &LinkArgs) -> Result<E
         let style = ProgressStyle::with_template(
             "{prefix} [{bar:32}] {pos}/{len} bytes {binary_bytes_per_sec}",
         )
-        .map_err(|e| Fatal(format!("progress bar: {e}")))?
+        .map_err(|e| Fatal::io(format!("progress bar: {e}")))?
         .progress_chars("=> ");
         ProgressBar::new(total as u64)
             .with_style(style)
@@ -219,7 +220,7 @@ pub(crate) fn download(online: &Online, dir: &Path, args: &LinkArgs) -> Result<E
         // Refused before anything changed: the other client's download goes on.
         LinkError::Busy { .. } => link_error(e),
         LinkError::LockedOut => crate::login::failure(e),
-        e => Fatal(format!(
+        e => Fatal::link(format!(
             "download failed: {e}. The PLC was not reset: it does not run a partial image"
         )),
     })?;
@@ -320,7 +321,7 @@ pub(crate) fn upload(online: &Online, dir: &Path, args: &LinkArgs) -> Result<Exi
     if let Err(e) = gutta_format::verify(&image, &target) {
         eprintln!("gutta-cc: warning: the uploaded program does not verify: {e}");
     }
-    gutta_io::write_image(dir, &image).map_err(|e| Fatal(e.0))?;
+    gutta_io::write_image(dir, &image).map_err(|e| Fatal::io(e.0))?;
     let bytes = image.pages.values().map(Vec::len).sum::<usize>();
     online.print(
         json!({
@@ -404,7 +405,7 @@ pub(crate) fn write(
     let target = plc_target(online.targets, &mut client)?;
     let (vars, values): (Vec<Var>, Vec<u32>) = assignments
         .iter()
-        .map(|item| vars::resolve_assignment(item, &symbols, &target).map_err(Fatal))
+        .map(|item| vars::resolve_assignment(item, &symbols, &target).map_err(Fatal::usage))
         .collect::<Result<Vec<_>, Fatal>>()?
         .into_iter()
         .unzip();

@@ -32,7 +32,7 @@ fn debug_source_map(image: Option<&Path>) -> Result<Option<SourceMap>, Fatal> {
         .and_then(|map| map.ok_or_else(|| format!("no source map {}", map_path.display())));
     match map {
         Ok(map) => Ok(Some(map)),
-        Err(e) if explicit => Err(Fatal(format!("--image {}: {e}", dir.display()))),
+        Err(e) if explicit => Err(Fatal::io(format!("--image {}: {e}", dir.display()))),
         Err(e) => {
             eprintln!("gutta-cc: warning: {e}; showing positions without source lines");
             Ok(None)
@@ -68,7 +68,7 @@ pub(crate) fn debug(
                 map.as_ref(),
                 &map_name.display().to_string(),
             )
-            .map_err(Fatal)?;
+            .map_err(Fatal::usage)?;
             if let Some(note) = at.note {
                 eprintln!("gutta-cc: note: {note}");
             }
@@ -88,13 +88,13 @@ pub(crate) fn debug(
                 "in" => DebugStep::In,
                 "over" => DebugStep::Over,
                 "out" => DebugStep::Out,
-                other => return Err(Fatal(format!("step `{other}`: in, over or out"))),
+                other => return Err(Fatal::usage(format!("step `{other}`: in, over or out"))),
             };
             client.debug_step(step)
         }
         ("info", None) => Ok(()),
         (other, _) => {
-            return Err(Fatal(format!(
+            return Err(Fatal::usage(format!(
                 "debug `{other}`: break POSITION, clear, stop, run, step in|over|out, reset or info"
             )))
         }

@@ -60,7 +60,7 @@ pub(crate) fn log_in(client: &mut Client, args: &LinkArgs) -> Result<[u8; 16], F
         Ok(()) => Ok(password),
         Err(e) if is_wrong_password(&e) && matches!(source, Source::Factory) => {
             if !std::io::stdin().is_terminal() {
-                return Err(Fatal(format!(
+                return Err(Fatal::link(format!(
                     "refused: the PLC has a password (the factory password was refused); \
                      set {PASSWORD_ENV}, or pass --password (visible to other users)"
                 )));
@@ -68,7 +68,7 @@ pub(crate) fn log_in(client: &mut Client, args: &LinkArgs) -> Result<[u8; 16], F
             let typed =
                 rpassword::prompt_password(format!("Password for PLC at {}: ", endpoint(args)))
                     .map_err(|e| {
-                        Fatal(format!("cannot read the password from the terminal: {e}"))
+                        Fatal::io(format!("cannot read the password from the terminal: {e}"))
                     })?;
             let password = gutta_format::password_bytes(Some(&typed));
             client.attach(&password).map_err(failure)?;
@@ -86,18 +86,16 @@ fn is_wrong_password(e: &LinkError) -> bool {
 /// simulator's lockout policy) or locked out (docs/simulator.md, password policy).
 pub(crate) fn failure(e: LinkError) -> Fatal {
     if is_wrong_password(&e) {
-        return Fatal(
+        return Fatal::link(
             "refused: wrong password (the PLC locks ATTACH from the third wrong password \
-             in a row: 1 s, doubling up to 60 s)"
-                .into(),
+             in a row: 1 s, doubling up to 60 s)",
         );
     }
     match e {
-        LinkError::LockedOut => Fatal(
+        LinkError::LockedOut => Fatal::link(
             "locked: the PLC refuses logins for 1 s to 60 s (doubling) after repeated \
-             wrong passwords; wait and retry"
-                .into(),
+             wrong passwords; wait and retry",
         ),
-        e => Fatal(e.to_string()),
+        e => Fatal::link(e.to_string()),
     }
 }

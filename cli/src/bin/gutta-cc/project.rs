@@ -27,7 +27,7 @@ const TEMPLATES: &[(&str, &str)] = &[
 
 /// The project around the current directory, if any.
 pub(crate) fn find() -> Result<Option<Project>, Fatal> {
-    Project::find(&current_dir()?).map_err(Fatal)
+    Project::find(&current_dir()?).map_err(Fatal::usage)
 }
 
 /// The project a project command needs: found, or an error saying how to make one.
@@ -38,7 +38,7 @@ pub(crate) fn required(project: Option<&Project>, command: &str) -> Result<Proje
             let cwd = std::env::current_dir()
                 .map(|d| d.display().to_string())
                 .unwrap_or_else(|_| ".".into());
-            Err(Fatal(format!(
+            Err(Fatal::usage(format!(
                 "`gutta-cc {command}` needs a project, and no {} was found in {cwd} or any folder above it; \
                  create one with `gutta-cc new NAME`, or compile a file with `gutta-cc FILE.lad -o DIR`",
                 gutta_io::MANIFEST
@@ -54,26 +54,26 @@ pub(crate) fn new(path: &Path, plc: Option<&str>) -> Result<ExitCode, Fatal> {
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     if name.is_empty() {
-        return Err(Fatal(
-            "`gutta-cc new` takes the new project's folder, e.g. `gutta-cc new blinky`".into(),
+        return Err(Fatal::usage(
+            "`gutta-cc new` takes the new project's folder, e.g. `gutta-cc new blinky`",
         ));
     }
     check_name(&name)?;
     let plc = plc.unwrap_or(stdlib::DEFAULT);
     stdlib::load(plc).map_err(|e| {
-        Fatal(format!(
+        Fatal::target(format!(
             "--plc {plc}: {e} (`gutta-cc list-targets` lists them)"
         ))
     })?;
     if let Ok(mut entries) = std::fs::read_dir(path) {
         if entries.next().is_some() {
-            return Err(Fatal(format!(
+            return Err(Fatal::usage(format!(
                 "{} already exists and is not empty: `gutta-cc new` creates a new folder",
                 path.display()
             )));
         }
     } else if path.exists() {
-        return Err(Fatal(format!(
+        return Err(Fatal::usage(format!(
             "{} exists and is not a folder",
             path.display()
         )));
@@ -83,10 +83,10 @@ pub(crate) fn new(path: &Path, plc: Option<&str>) -> Result<ExitCode, Fatal> {
         let target = path.join(file);
         if let Some(dir) = target.parent() {
             std::fs::create_dir_all(dir)
-                .map_err(|e| Fatal(format!("cannot create {}: {e}", dir.display())))?;
+                .map_err(|e| Fatal::io(format!("cannot create {}: {e}", dir.display())))?;
         }
         std::fs::write(&target, text)
-            .map_err(|e| Fatal(format!("cannot write {}: {e}", target.display())))?;
+            .map_err(|e| Fatal::io(format!("cannot write {}: {e}", target.display())))?;
     }
     println!("created project `{name}` for {plc} in {}:", path.display());
     for (file, _) in TEMPLATES {
@@ -111,7 +111,7 @@ fn check_name(name: &str) -> Result<(), Fatal> {
     if valid {
         Ok(())
     } else {
-        Err(Fatal(format!(
+        Err(Fatal::usage(format!(
             "`{name}` is not a project name: use a letter, then letters, digits, `-` or `_` (e.g. `blinky`)"
         )))
     }
@@ -135,7 +135,7 @@ pub(crate) fn build_command(
         *dir = cwd.join(&*dir);
     }
     std::env::set_current_dir(&project.root).map_err(|e| {
-        Fatal(format!(
+        Fatal::io(format!(
             "cannot enter the project folder {}: {e}",
             project.root.display()
         ))
@@ -158,7 +158,8 @@ pub(crate) fn build_command(
 }
 
 fn current_dir() -> Result<PathBuf, Fatal> {
-    std::env::current_dir().map_err(|e| Fatal(format!("cannot read the current directory: {e}")))
+    std::env::current_dir()
+        .map_err(|e| Fatal::io(format!("cannot read the current directory: {e}")))
 }
 
 /// A project path as diagnostics and summaries show it: relative to the current
@@ -260,6 +261,6 @@ pub(crate) fn build_for_download(cli: &Cli, project: &Project) -> Result<Option<
     build_command(&mut build, project, None)?;
     let code = crate::run(build)?;
     std::env::set_current_dir(&cwd)
-        .map_err(|e| Fatal(format!("cannot return to {}: {e}", cwd.display())))?;
+        .map_err(|e| Fatal::io(format!("cannot return to {}: {e}", cwd.display())))?;
     Ok((code == ExitCode::SUCCESS).then(|| project.output.clone()))
 }

@@ -40,7 +40,7 @@ impl Sampler {
     /// Read every variable (in as few requests as the protocol allows).
     fn sample(&mut self) -> Result<(), Fatal> {
         let now = client::read_values(&mut self.client, &self.target, &self.vars).map_err(|e| {
-            Fatal(format!(
+            Fatal::usage(format!(
                 "lost the connection to the PLC after {} samples: {e}",
                 self.samples
             ))
@@ -169,7 +169,7 @@ struct Screen;
 
 impl Screen {
     fn enter() -> Result<Screen, Fatal> {
-        let fail = |e: std::io::Error| Fatal(format!("cannot drive the terminal: {e}"));
+        let fail = |e: std::io::Error| Fatal::io(format!("cannot drive the terminal: {e}"));
         terminal::enable_raw_mode().map_err(fail)?;
         let screen = Screen;
         crossterm::execute!(
@@ -231,7 +231,7 @@ fn live(sampler: &mut Sampler, interval: Duration, link: &LinkArgs) -> Result<Ex
 }
 
 fn terminal_error(e: std::io::Error) -> Fatal {
-    Fatal(format!("terminal: {e}"))
+    Fatal::io(format!("terminal: {e}"))
 }
 
 fn quits(key: KeyEvent) -> bool {

@@ -129,18 +129,18 @@ struct Change {
 }
 
 fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
-    let image = gutta_io::read_image_dir(&cli.image).map_err(Fatal)?;
+    let image = gutta_io::read_image_dir(&cli.image).map_err(Fatal::io)?;
     let target = match explicit_target(cli)? {
         Some(t) => t,
         None => stdlib::shared(&image.plc_type).map_err(|e| {
-            Fatal(format!(
+            Fatal::target(format!(
                 "the image is for {}: {e} (pass --target DIR for a vendor PLC type)",
                 image.plc_type
             ))
         })?,
     };
     let verified = gutta_format::verify(&image, &target)
-        .map_err(|e| Fatal(format!("{}: {e}", cli.image.display())))?;
+        .map_err(|e| Fatal::program(format!("{}: {e}", cli.image.display())))?;
     let map = match gutta_io::read_source_map(&cli.image, &image) {
         Ok(map) => map,
         Err(e) => {
@@ -154,7 +154,7 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
         ..VmConfig::default()
     };
     let mut vm = Vm::new(verified, Arc::clone(&target), config)
-        .map_err(|e| Fatal(format!("{}: cannot load: {e}", cli.image.display())))?;
+        .map_err(|e| Fatal::program(format!("{}: cannot load: {e}", cli.image.display())))?;
 
     // The image's own symbols (its source map's), then --symbols files.
     let explicit = explicit_target(cli)?.map(|target| gutta_compiler::ExplicitTarget {
@@ -166,28 +166,28 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
         map.iter().map(|m| m.symbols.clone()).collect(),
         explicit.as_ref(),
     )
-    .map_err(Fatal)?;
+    .map_err(Fatal::usage)?;
     let reads: Vec<Var> = cli
         .read
         .iter()
         .map(|text| {
-            vars::resolve(text, &symbols, &target).map_err(|e| Fatal(format!("--read {e}")))
+            vars::resolve(text, &symbols, &target).map_err(|e| Fatal::usage(format!("--read {e}")))
         })
         .collect::<Result<_, _>>()?;
     let sets = parse_assignments(&target, &symbols, "--set", &cli.set)?;
     let forces = parse_assignments(&target, &symbols, "--force", &cli.force)?;
     for (var, value) in &sets {
         vm.write(var.address, *value)
-            .map_err(|e| Fatal(format!("--set {}: {}", var.label(), e.0)))?;
+            .map_err(|e| Fatal::usage(format!("--set {}: {}", var.label(), e.0)))?;
     }
     for (var, value) in &forces {
         vm.force(var.address, *value)
-            .map_err(|e| Fatal(format!("--force {}: {e}", var.label())))?;
+            .map_err(|e| Fatal::usage(format!("--force {}: {e}", var.label())))?;
     }
     if let Some(text) = &cli.breakpoint {
         let at = parse_breakpoint(&target, map.as_ref(), &cli.image, text)?;
         vm.set_breakpoint(Some(at))
-            .map_err(|e| Fatal(format!("--break {text}: {e}")))?;
+            .map_err(|e| Fatal::usage(format!("--break {text}: {e}")))?;
     }
 
     let sample = |vm: &Vm| -> Result<Vec<u32>, Fatal> {
@@ -195,7 +195,7 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
             .iter()
             .map(|v| {
                 vm.read(v.address)
-                    .map_err(|e| Fatal(format!("--read {}: {}", v.label(), e.0)))
+                    .map_err(|e| Fatal::usage(format!("--read {}: {}", v.label(), e.0)))
             })
             .collect()
     };
@@ -256,7 +256,7 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
             let _ = writeln!(text, "#{}", vm.clock_ms());
         }
         std::fs::write(path, text)
-            .map_err(|e| Fatal(format!("cannot write {}: {e}", path.display())))?;
+            .map_err(|e| Fatal::io(format!("cannot write {}: {e}", path.display())))?;
     }
 
     if cli.json {
@@ -390,7 +390,7 @@ fn parse_breakpoint(
 ) -> Result<Position, Fatal> {
     let map_name = gutta_io::source_map_path(image).display().to_string();
     let at = gutta_format::parse_breakpoint(text, &target.plc, map, &map_name)
-        .map_err(|e| Fatal(format!("--break {e}")))?;
+        .map_err(|e| Fatal::usage(format!("--break {e}")))?;
     if let Some(note) = at.note {
         eprintln!("gutta-vm: note: --break {note}");
     }
@@ -484,7 +484,7 @@ fn parse_assignments(
         .iter()
         .map(|item| {
             vars::resolve_assignment(item, symbols, target)
-                .map_err(|e| Fatal(format!("{option} {e}")))
+                .map_err(|e| Fatal::usage(format!("{option} {e}")))
         })
         .collect()
 }
@@ -493,12 +493,12 @@ fn explicit_target(cli: &Cli) -> Result<Option<Arc<Target>>, Fatal> {
     if let Some(name) = &cli.plc {
         return stdlib::shared(name)
             .map(Some)
-            .map_err(|e| Fatal(e.to_string()));
+            .map_err(|e| Fatal::target(e.to_string()));
     }
     if let Some(dir) = &cli.target {
         return gutta_io::load_target_dir(dir)
             .map(|t| Some(Arc::new(t)))
-            .map_err(Fatal);
+            .map_err(Fatal::target);
     }
     Ok(None)
 }
