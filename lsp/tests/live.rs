@@ -24,6 +24,7 @@ use lsp_server::Message;
 use serde_json::{json, Value};
 use session::Session;
 
+mod external;
 mod session;
 
 const PROGRAM: &str = "PLC_TYPE CPU-EC20\n\nSYMBOLS\n  Lamp  : Q0.0\n  Speed : MW20\n\
@@ -38,19 +39,6 @@ impl Drop for Sim {
         let _ = self.0.kill();
         let _ = self.0.wait();
     }
-}
-
-fn sim_binary() -> PathBuf {
-    let target = std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../target"));
-    let path = target.join("debug/gutta-sim");
-    assert!(
-        path.exists(),
-        "{} is missing: build it first with `cargo build -p gutta-cli --bin gutta-sim`",
-        path.display()
-    );
-    path
 }
 
 /// A scratch folder named after `tag` and this process.
@@ -72,7 +60,7 @@ fn blinking_sim(dir: &Path) -> Sim {
     let image = compiled.image.expect("PROGRAM compiles");
     let image_dir = dir.join("image");
     gutta_io::write_image(&image_dir, &image).expect("writes the image");
-    let mut child = std::process::Command::new(sim_binary())
+    let mut child = std::process::Command::new(external::sim_binary())
         .arg(&image_dir)
         .args(["--plc", "CPU-EC20", "--tcp", "127.0.0.1:0"])
         .env_remove(live::PASSWORD_ENV)

@@ -32,20 +32,6 @@ fn python() -> Option<String> {
     Some(python)
 }
 
-/// The workspace's `gutta-sim` (another package's binary, so no CARGO_BIN_EXE).
-fn sim_binary() -> PathBuf {
-    let target = std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| external::repo_root().join("target"));
-    let path = target.join("debug/gutta-sim");
-    assert!(
-        path.exists(),
-        "{} is missing: build it first with `cargo build -p gutta-cli --bin gutta-sim`",
-        path.display()
-    );
-    path
-}
-
 /// The live-values program compiled into an image folder in `dir`.
 fn live_image(root: &Path, dir: &Path) -> PathBuf {
     let name = "lsp/tests/e2e/data/live/main.lad";
@@ -81,7 +67,7 @@ fn pytest_lsp_suite_passes_against_the_binary() {
         .current_dir(&root)
         .env("GUTTA_LSP", env!("CARGO_BIN_EXE_gutta-lsp"))
         .env("GUTTA_DOCS", root.join("docs"))
-        .env("GUTTA_SIM", sim_binary())
+        .env("GUTTA_SIM", external::sim_binary())
         .env("GUTTA_E2E_IMAGE", &image)
         .env_remove("GUTTA_PASSWORD")
         .env("PYTHONDONTWRITEBYTECODE", "1")

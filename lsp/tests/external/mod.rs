@@ -94,3 +94,18 @@ pub fn run(command: &mut Command, what: &str) -> String {
     );
     stdout
 }
+
+/// The workspace's `gutta-sim` (another package's binary, so no CARGO_BIN_EXE; the
+/// workspace's `cargo test` builds it).
+pub fn sim_binary() -> PathBuf {
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| repo_root().join("target"));
+    let path = target.join("debug/gutta-sim");
+    assert!(
+        path.exists(),
+        "{} is missing: build it first with `cargo build -p gutta-cli --bin gutta-sim`",
+        path.display()
+    );
+    path
+}
