@@ -19,13 +19,8 @@ pub fn formatting(
     params: DocumentFormattingParams,
 ) -> Result<Option<Vec<TextEdit>>, HandlerError> {
     let uri = params.text_document.uri;
-    let Some(doc) = state.documents.get(&uri) else {
-        return Err(HandlerError::invalid_params(format!(
-            "formatting {} which is not open",
-            uri.as_str()
-        )));
-    };
-    let text = &doc.text;
+    let text = open_text(state, &uri)?;
+    let text = &text;
     match format(text) {
         Ok(formatted) if formatted == *text => Ok(Some(Vec::new())),
         Ok(formatted) => Ok(Some(vec![changed_lines(text, &formatted)])),
@@ -34,6 +29,17 @@ pub fn formatting(
             state.notify::<LogMessage>(message);
             Ok(None)
         }
+    }
+}
+
+/// The text of the open document `uri` (formatting a closed one is a bad request).
+fn open_text(state: &State, uri: &Uri) -> Result<String, HandlerError> {
+    match state.documents.get(uri) {
+        Some(doc) => Ok(doc.text.clone()),
+        None => Err(HandlerError::invalid_params(format!(
+            "formatting {} which is not open",
+            uri.as_str()
+        ))),
     }
 }
 
@@ -67,13 +73,8 @@ pub fn range_formatting(
     params: DocumentRangeFormattingParams,
 ) -> Result<Option<Vec<TextEdit>>, HandlerError> {
     let uri = params.text_document.uri;
-    let Some(doc) = state.documents.get(&uri) else {
-        return Err(HandlerError::invalid_params(format!(
-            "formatting {} which is not open",
-            uri.as_str()
-        )));
-    };
-    let text = &doc.text;
+    let text = open_text(state, &uri)?;
+    let text = &text;
     let lines = Lines::new(text);
     let (start, end) = (
         lines.offset(text, params.range.start),
