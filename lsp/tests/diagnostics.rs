@@ -132,3 +132,55 @@ fn a_broken_gutta_toml_is_shown_once_and_the_file_is_analysed_alone() {
     assert!(message.contains("gutta.toml"), "{message}");
     assert!(!s.diagnostics_of(&main).is_empty(), "analysed alone");
 }
+
+/// A change in one file of a project changes what the other files show (tokens, inlay
+/// hints): a client that supports the refresh requests gets them after the change; a
+/// lone file does not cause them, nor does a client without the support.
+#[test]
+fn a_project_change_asks_the_client_to_refresh_tokens_and_hints() {
+    let p = common::ProjectDir::new();
+    let capabilities = lsp_types::ClientCapabilities {
+        workspace: Some(lsp_types::WorkspaceClientCapabilities {
+            semantic_tokens: Some(lsp_types::SemanticTokensWorkspaceClientCapabilities {
+                refresh_support: Some(true),
+            }),
+            inlay_hint: Some(lsp_types::InlayHintWorkspaceClientCapabilities {
+                refresh_support: Some(true),
+            }),
+            ..Default::default()
+        }),
+        ..Default::default()
+    };
+    let mut s = TestServer::start_with(lsp_types::InitializeParams {
+        capabilities,
+        ..Default::default()
+    });
+    let main = p.uri("src/main.lad");
+    s.open(&main, common::MAIN_LAD);
+    s.replace(&main, 2, &format!("{}\n", common::MAIN_LAD));
+    s.sync();
+    let methods: Vec<&str> = s
+        .server_requests
+        .iter()
+        .map(|r| r.method.as_str())
+        .collect();
+    assert!(
+        methods.contains(&"workspace/semanticTokens/refresh"),
+        "{methods:?}"
+    );
+    assert!(
+        methods.contains(&"workspace/inlayHint/refresh"),
+        "{methods:?}"
+    );
+
+    let mut plain = TestServer::start();
+    plain.open(&main, common::MAIN_LAD);
+    plain.replace(&main, 2, &format!("{}\n", common::MAIN_LAD));
+    plain.sync();
+    let refreshes = plain
+        .server_requests
+        .iter()
+        .filter(|r| r.method.ends_with("/refresh"))
+        .count();
+    assert_eq!(refreshes, 0, "a client without refresh support gets none");
+}

@@ -140,6 +140,7 @@ pub fn publish(state: &mut State, update: Update) {
             list.push(lsp);
         }
     }
+    let several_files = program.files.len() > 1;
     for (uri, diagnostics) in program.files.iter().zip(per_file) {
         let version = state.documents.get(uri).map(|d| d.version);
         state.notify::<PublishDiagnostics>(PublishDiagnosticsParams::new(
@@ -147,5 +148,39 @@ pub fn publish(state: &mut State, update: Update) {
             diagnostics,
             version,
         ));
+    }
+    if several_files {
+        refresh_views(state);
+    }
+}
+
+/// A change in one file of a program changes what the others show (a symbol declared in
+/// symbols.csv colours and labels its uses in main.lad): ask the client to fetch their
+/// semantic tokens and inlay hints again, where it supports the refresh requests. The
+/// changed document itself the editor asks for anyway.
+fn refresh_views(state: &mut State) {
+    let workspace = state
+        .init
+        .capabilities
+        .workspace
+        .as_ref()
+        .map(|w| {
+            (
+                w.semantic_tokens
+                    .as_ref()
+                    .and_then(|t| t.refresh_support)
+                    .unwrap_or(false),
+                w.inlay_hint
+                    .as_ref()
+                    .and_then(|i| i.refresh_support)
+                    .unwrap_or(false),
+            )
+        })
+        .unwrap_or((false, false));
+    if workspace.0 {
+        state.request_client::<lsp_types::request::SemanticTokensRefresh>(());
+    }
+    if workspace.1 {
+        state.request_client::<lsp_types::request::InlayHintRefreshRequest>(());
     }
 }

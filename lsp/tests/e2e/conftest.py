@@ -175,7 +175,7 @@ def client_features(client: LanguageClient) -> None:
     """Answer the requests a server sends its client as VS Code does: refreshes
     (counted in `client.refreshes`) and capability registrations (kept in
     `client.registrations`, by id)."""
-    client.refreshes = {"inlayHint": 0, "inlineValue": 0}
+    client.refreshes = {"inlayHint": 0, "inlineValue": 0, "semanticTokens": 0}
     client.registrations = {}
 
     @client.feature(types.CLIENT_REGISTER_CAPABILITY)
@@ -195,6 +195,10 @@ def client_features(client: LanguageClient) -> None:
     @client.feature(types.WORKSPACE_INLINE_VALUE_REFRESH)
     def inline_value_refresh(params):
         client.refreshes["inlineValue"] += 1
+
+    @client.feature(types.WORKSPACE_SEMANTIC_TOKENS_REFRESH)
+    def semantic_tokens_refresh(params):
+        client.refreshes["semanticTokens"] += 1
 
 
 @pytest_lsp.fixture(config=ClientServerConfig(server_command=[SERVER]))

@@ -2,6 +2,7 @@
 the files, navigation into the other file and the table, diagnostics republished for a
 file when another changes, diagnostics in the table."""
 
+import asyncio
 import pathlib
 
 import pytest
@@ -64,6 +65,13 @@ async def test_a_change_in_one_file_republishes_the_others(client, project):
     client.diagnostics.pop(a.uri, None)
     b.replace("FILLIN", "FILLUP")
     assert await a.diagnostics() == []
+    # What a.lad shows depends on b.lad: the server asks for its tokens and hints again.
+    for _ in range(100):
+        if client.refreshes["semanticTokens"] and client.refreshes["inlayHint"]:
+            break
+        await asyncio.sleep(0.02)
+    assert client.refreshes["semanticTokens"] > 0, client.refreshes
+    assert client.refreshes["inlayHint"] > 0, client.refreshes
 
 
 async def test_open_text_wins_over_the_disk(client, project):
