@@ -120,6 +120,26 @@ fn json_diagnostics_have_the_documented_fields() {
     assert!(d["file"].as_str().is_some_and(|f| f.ends_with("json.lad")));
     assert_eq!(lines[1]["code"], "E0201");
     assert_eq!(lines[1]["help"], "did you mean `MOVW`?");
+    // The did-you-mean as an edit a tool can apply: MOWV (line 6, columns 1-5) -> MOVW.
+    assert!(d.get("fixes").is_none(), "no fix, no field: {d}");
+    let fix = &lines[1]["fixes"][0];
+    assert_eq!(fix["title"], "Replace with `MOVW`", "{fix}");
+    let edit = &fix["edits"][0];
+    assert_eq!(edit["replacement"], "MOVW");
+    assert_eq!(
+        (
+            edit["line"].as_u64(),
+            edit["column"].as_u64(),
+            edit["end_column"].as_u64()
+        ),
+        (Some(6), Some(1), Some(5))
+    );
+    let source = std::fs::read_to_string(&path).expect("reads it back");
+    let (a, b) = (
+        edit["start_offset"].as_u64().unwrap_or(0) as usize,
+        edit["end_offset"].as_u64().unwrap_or(0) as usize,
+    );
+    assert_eq!(&source[a..b], "MOWV");
 }
 
 #[test]

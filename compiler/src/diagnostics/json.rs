@@ -21,6 +21,31 @@ pub struct JsonDiagnostic<'a> {
     pub start_offset: u32,
     pub end_offset: u32,
     pub labels: Vec<JsonLabel<'a>>,
+    /// Machine-applicable fixes (the did-you-mean's replacement, a missing `END_`...),
+    /// left out when there are none.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub fixes: Vec<JsonFix<'a>>,
+}
+
+/// A fix: a title and text edits, each over a span of one file.
+#[derive(Debug, Serialize)]
+pub struct JsonFix<'a> {
+    pub title: &'a str,
+    pub edits: Vec<JsonEdit<'a>>,
+}
+
+/// Replace the text from (line, column) to (end_line, end_column) of `file` (byte offsets
+/// `start_offset..end_offset` in it) with `replacement`; an empty span inserts.
+#[derive(Debug, Serialize)]
+pub struct JsonEdit<'a> {
+    pub file: &'a str,
+    pub line: u32,
+    pub column: u32,
+    pub end_line: u32,
+    pub end_column: u32,
+    pub start_offset: u32,
+    pub end_offset: u32,
+    pub replacement: &'a str,
 }
 
 #[derive(Debug, Serialize)]
@@ -55,6 +80,30 @@ pub fn to_json_lines(file: &SourceFile, index: &LineIndex, diagnostics: &[Diagno
                 }
             })
             .collect();
+        let fixes = d
+            .fixes
+            .iter()
+            .map(|f| JsonFix {
+                title: &f.title,
+                edits: f
+                    .edits
+                    .iter()
+                    .map(|(span, replacement)| {
+                        let (s, e) = (at(span.start), at(span.end));
+                        JsonEdit {
+                            file: s.file,
+                            line: s.line,
+                            column: s.column,
+                            end_line: e.line,
+                            end_column: e.column,
+                            start_offset: s.offset as u32,
+                            end_offset: e.offset as u32,
+                            replacement,
+                        }
+                    })
+                    .collect(),
+            })
+            .collect();
         let j = JsonDiagnostic {
             code: d.code.as_str(),
             severity: d.severity.as_str(),
@@ -68,6 +117,7 @@ pub fn to_json_lines(file: &SourceFile, index: &LineIndex, diagnostics: &[Diagno
             start_offset: s.offset as u32,
             end_offset: e.offset as u32,
             labels,
+            fixes,
         };
         if let Ok(line) = serde_json::to_string(&j) {
             out.push_str(&line);

@@ -183,7 +183,9 @@ pub fn reference_markdown() -> String {
          With `--message-format json` each diagnostic is one JSON object per line on stdout with the fields \
          `code`, `severity`, `message`, `file`, `line`, `column`, `end_line`, `end_column` (1-based, columns count characters), \
          `help` (string or null), `start_offset`/`end_offset` (bytes in `file`) and `labels` (secondary spans, each with its own `file`, \
-         which differs from the diagnostic's when a program in several files points at another one).\n\n\
+         which differs from the diagnostic's when a program in several files points at another one), \
+         and, when the compiler knows one, `fixes`: each a `title` and `edits` (`file`, `line`, `column`, `end_line`, \
+         `end_column`, `start_offset`, `end_offset`, `replacement`) that apply the did-you-mean or add the missing `END_` line.\n\n\
          | code | severity | title |\n| --- | --- | --- |\n",
     );
     for c in Code::ALL {
