@@ -158,15 +158,13 @@ pub const S7200_INSTRUCTIONS: &[S7200Instruction] = &[
     ins("DLED", "set the diagnostic LED", None),
 ];
 
-/// Why an S7-200 area or name does not exist on GUTTA targets.
+/// An S7-200 memory area GUTTA targets do not have.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum S7200AreaKind {
     /// The S area (sequence control relay bits: `S0.0`, `SB0`, `SW0`, `SD0`).
     SequenceRelay,
     /// The accumulators `AC0`..`AC3`.
     Accumulator,
-    /// A name of Micro/WIN's system symbol table for an SM address.
-    SystemSymbol,
 }
 
 /// A name of Micro/WIN's system symbol table (an SM address of the S7-200).
