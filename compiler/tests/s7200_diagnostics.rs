@@ -1,7 +1,12 @@
 //! Diagnostics for what S7-200 programs use and GUTTA lacks (issue 13): every S7-200-only
 //! mnemonic of the catalog's table is E0220 on every target and never gets a
 //! did-you-mean; every Micro/WIN system symbol is E0221; an undefined name is one
-//! error however often it is used.
+//! error however often it is used. docs/microwin.md lists every row of the table.
+
+#![allow(
+    clippy::disallowed_methods,
+    reason = "tests read the docs they keep in sync"
+)]
 
 use gutta_catalog::s7200::{S7200_INSTRUCTIONS, S7200_SYSTEM_SYMBOLS};
 use gutta_catalog::stdlib;
@@ -124,4 +129,26 @@ fn an_s7200_int0_collides_with_main_at_its_numbered_name() {
         d.secondary[0].span.start as usize,
         text.find("OB1").expect("OB1")
     );
+}
+
+#[test]
+fn docs_list_every_row_of_the_s7200_table() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/microwin.md");
+    let docs = std::fs::read_to_string(path).expect("docs/microwin.md");
+    for ins in S7200_INSTRUCTIONS {
+        let row = format!("| `{}` | {} |", ins.mnemonic, ins.what);
+        assert!(docs.contains(&row), "docs/microwin.md lacks {row}");
+        if let Some(alt) = ins.instead {
+            assert!(docs.contains(alt), "docs/microwin.md lacks {alt}");
+        }
+    }
+    for s in S7200_SYSTEM_SYMBOLS {
+        let row = format!(
+            "| `{}` | {} | {} |",
+            s.name,
+            s.s7200_address,
+            s.gutta_address.unwrap_or("none")
+        );
+        assert!(docs.contains(&row), "docs/microwin.md lacks {row}");
+    }
 }
