@@ -140,8 +140,10 @@ impl Checker<'_> {
             numbered,
             u.kind,
             number,
-            name_span,
-            number_span,
+            HeaderSpans {
+                name: name_span,
+                number: number_span,
+            },
         );
         let (locals, local_defs) = self.locals(i, index, u.kind);
         self.units.push(UnitInfo {
@@ -218,9 +220,12 @@ impl Checker<'_> {
         numbered: String,
         kind: BlockKind,
         number: u32,
-        name_span: Span,
-        number_span: Option<Span>,
+        spans: HeaderSpans,
     ) {
+        let HeaderSpans {
+            name: name_span,
+            number: number_span,
+        } = spans;
         let mut keys = vec![name.to_ascii_uppercase(), numbered];
         if number == 0 && kind == BlockKind::Interrupt {
             keys.push("MAIN".into());
@@ -412,4 +417,12 @@ impl Checker<'_> {
         };
         Some(ty)
     }
+}
+
+/// Where a block header names its block: the symbolic name (or the whole header when
+/// there is none) and the numbered name (`INT0` of `INT_0:INT0`) if written.
+#[derive(Debug, Clone, Copy)]
+struct HeaderSpans {
+    name: Span,
+    number: Option<Span>,
 }
