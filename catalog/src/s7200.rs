@@ -299,6 +299,26 @@ mod tests {
     }
 
     #[test]
+    fn every_gutta_equivalent_is_a_system_entry_of_every_target() {
+        for name in stdlib::names() {
+            let target = stdlib::shared(name).expect("stdlib target loads");
+            for s in S7200_SYSTEM_SYMBOLS {
+                if let Some(a) = s.gutta_address {
+                    assert!(
+                        target
+                            .memory
+                            .system_bits
+                            .iter()
+                            .any(|b| b.address.eq_ignore_ascii_case(a)),
+                        "{}: {a} is not in {name}'s SM table",
+                        s.name
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
     fn mnemonics_and_symbols_are_listed_once() {
         let mut seen = std::collections::BTreeSet::new();
         for i in S7200_INSTRUCTIONS {
