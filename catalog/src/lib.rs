@@ -15,6 +15,7 @@ mod memory;
 pub mod modbus;
 mod plc_type;
 pub mod rules;
+pub mod s7200;
 pub mod stdlib;
 mod suggest;
 mod text;

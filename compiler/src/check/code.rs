@@ -240,6 +240,25 @@ impl Checker<'_> {
             return Some(id);
         }
         if !ins.syntax_error {
+            if let Some(s7) = gutta_catalog::s7200::s7200_instruction(text) {
+                let d = Diagnostic::new(
+                    Code::S7200Instruction,
+                    ins.mnemonic,
+                    format!(
+                        "`{text}` is an S7-200 instruction ({}) that {} does not have",
+                        s7.what,
+                        self.target.name()
+                    ),
+                )
+                .label("S7-200 only")
+                .help(match s7.instead {
+                    Some(alt) => format!("instead: {alt}"),
+                    None => "GUTTA has no equivalent; this part of the program must be rewritten"
+                        .to_string(),
+                });
+                self.report(d);
+                return None;
+            }
             let hint = super::suggest::closest(text, set.names().map(|(n, _)| n))
                 .map(|s| Suggestion::new(ins.mnemonic, s));
             self.report(

@@ -99,6 +99,8 @@ pub(crate) struct Checker<'a> {
     pub units: Vec<UnitInfo>,
     /// Data block names, to explain "is a data block" in operands.
     pub data_names: HashMap<String, usize>,
+    /// Upper-case names that resolved to nothing: their one diagnostic and later uses.
+    pub unknown_names: HashMap<String, names::UnknownName>,
 }
 
 impl<'a> Checker<'a> {
@@ -145,12 +147,14 @@ pub fn check(text: &str, ast: &Program, target: &Target) -> CheckOutput {
         unit_names: HashMap::new(),
         units: Vec::new(),
         data_names: HashMap::new(),
+        unknown_names: HashMap::new(),
     };
     c.symbols();
     c.units();
     let data_blocks = c.data_blocks();
     let system = c.system_block();
     let units = c.code();
+    c.list_later_uses();
     let mut out = std::mem::take(&mut c.out);
     let errors = c.diags.iter().any(|d| d.is_error());
     out.diagnostics = c.diags;

@@ -5,7 +5,9 @@
 use gutta_catalog::{Address, BlockKind, DataType};
 
 use super::Checker;
-use crate::diagnostics::{Code, Diagnostic, Suggestion};
+use gutta_catalog::s7200::{S7200AreaKind, S7200Name};
+
+use crate::diagnostics::{Code, Diagnostic, Label, Suggestion};
 use crate::source::Span;
 
 /// A variable before its use is applied: where it is, and its declared type if any.
@@ -111,6 +113,26 @@ impl Checker<'_> {
             ));
             return;
         }
+        if let Some(uses) = self.unknown_names.get_mut(&key) {
+            uses.later.push(name);
+            return;
+        }
+        let d = match gutta_catalog::s7200::s7200_name(text) {
+            Some(s7) => s7200_name_diagnostic(name, text, s7, self.target.name()),
+            None => self.undefined_symbol(name, text),
+        };
+        self.unknown_names.insert(
+            key,
+            UnknownName {
+                diagnostic: self.diags.len(),
+                later: Vec::new(),
+            },
+        );
+        self.report(d);
+    }
+
+    /// E0202 for a name that is nothing, with the closest symbol as a suggestion.
+    fn undefined_symbol(&self, name: Span, text: &str) -> Diagnostic {
         let names: Vec<String> = self
             .symbols
             .values()
@@ -123,9 +145,86 @@ impl Checker<'_> {
             format!("undefined symbol `{text}`"),
         )
         .label("not a symbol, local or address");
-        self.report(match hint {
+        match hint {
             Some(s) => d.suggest(Suggestion::new(name, s)),
             None => d.help("declare it in SYMBOLS: `Name : ADDRESS`"),
-        });
+        }
+    }
+
+    /// After the code is checked: each unknown name's one diagnostic counts and labels
+    /// its other uses (the first [`MAX_USE_LABELS`]).
+    pub(super) fn list_later_uses(&mut self) {
+        for uses in self.unknown_names.values() {
+            let Some(d) = self.diags.get_mut(uses.diagnostic) else {
+                continue;
+            };
+            let n = uses.later.len();
+            if n == 0 {
+                continue;
+            }
+            d.message.push_str(&format!(
+                " (also used {n} more time{}{})",
+                if n == 1 { "" } else { "s" },
+                if n > MAX_USE_LABELS {
+                    format!(", the first {MAX_USE_LABELS} labelled")
+                } else {
+                    String::new()
+                }
+            ));
+            for &span in uses.later.iter().take(MAX_USE_LABELS) {
+                d.secondary.push(Label {
+                    span,
+                    message: Some("also used here".into()),
+                });
+            }
+        }
+    }
+}
+
+/// How many later uses of an unknown name get a label of their own.
+pub(super) const MAX_USE_LABELS: usize = 5;
+
+/// An unknown name's one diagnostic (index into the checker's list) and its later uses.
+#[derive(Debug, Clone)]
+pub(crate) struct UnknownName {
+    pub diagnostic: usize,
+    pub later: Vec<Span>,
+}
+
+/// E0221: an S7-200 area or Micro/WIN system symbol this target does not have.
+fn s7200_name_diagnostic(name: Span, text: &str, s7: S7200Name, target: &str) -> Diagnostic {
+    match s7 {
+        S7200Name::Area(S7200AreaKind::SequenceRelay) => Diagnostic::new(
+            Code::S7200Area,
+            name,
+            format!("`{text}` is in the S7-200's S area (sequence control relays); {target} has no area S"),
+        )
+        .label("no area S on this target")
+        .help("keep step bits in M (`M10.0`) and set them with `S`/`R`"),
+        S7200Name::Area(S7200AreaKind::Accumulator) => Diagnostic::new(
+            Code::S7200Area,
+            name,
+            format!("`{text}` is an S7-200 accumulator; {target} has no accumulators"),
+        )
+        .label("no accumulators on this target")
+        .help("use a word of M or V, or a local variable (`#tmp`) of the block"),
+        S7200Name::SystemSymbol(s) => {
+            let d = Diagnostic::new(
+                Code::S7200Area,
+                name,
+                format!(
+                    "`{text}` is Micro/WIN's system symbol for the S7-200's {}; {target} has no such name",
+                    s.s7200_address
+                ),
+            );
+            match s.gutta_address {
+                Some(a) => d
+                    .label(format!("{a} on this target"))
+                    .help(format!("declare it in SYMBOLS: `{} : {a}`", s.name)),
+                None => d
+                    .label("no equivalent on this target")
+                    .help(format!("{target} has no counterpart of the S7-200's {}", s.s7200_address)),
+            }
+        }
     }
 }

@@ -133,7 +133,18 @@ impl Checker<'_> {
         };
         let def = self.define(name.clone(), DefKind::Unit, name_span, detail, None);
         let index = self.units.len();
-        self.unit_names(index, &name, numbered, u.kind, number, name_span);
+        let number_span = u.header.number.map(|(_, s)| s);
+        self.unit_names(
+            index,
+            &name,
+            numbered,
+            u.kind,
+            number,
+            HeaderSpans {
+                name: name_span,
+                number: number_span,
+            },
+        );
         let (locals, local_defs) = self.locals(i, index, u.kind);
         self.units.push(UnitInfo {
             kind: u.kind,
@@ -209,8 +220,12 @@ impl Checker<'_> {
         numbered: String,
         kind: BlockKind,
         number: u32,
-        name_span: Span,
+        spans: HeaderSpans,
     ) {
+        let HeaderSpans {
+            name: name_span,
+            number: number_span,
+        } = spans;
         let mut keys = vec![name.to_ascii_uppercase(), numbered];
         if number == 0 && kind == BlockKind::Interrupt {
             keys.push("MAIN".into());
@@ -218,17 +233,40 @@ impl Checker<'_> {
         }
         keys.sort();
         keys.dedup();
+        let symbolic = name.to_ascii_uppercase();
         for key in keys {
             if let Some(&other) = self.unit_names.get(&key) {
-                let first = self.out.definitions[self.units[other].definition].span;
-                self.report(
+                // A numbered name (or MAIN's other names) collides: point at the
+                // numbered part of both headers (`INT0` of `INT_0:INT0`), not the name.
+                let by_number = key != symbolic;
+                let numbered_span = |u: &ast::Unit| u.header.number.map(|(_, s)| s);
+                let at = match number_span {
+                    Some(s) if by_number => s,
+                    _ => name_span,
+                };
+                let other_unit = &self.ast.units[self.units[other].ast_index];
+                let first = match numbered_span(other_unit) {
+                    Some(s) if by_number => s,
+                    _ => self.out.definitions[self.units[other].definition].span,
+                };
+                let d = if by_number && number == 0 && kind == BlockKind::Interrupt {
                     Diagnostic::new(
                         Code::DuplicateBlock,
-                        name_span,
+                        at,
+                        format!(
+                            "block `{key}` is defined twice: GUTTA's MAIN is INT0 (also written OB1), so an interrupt routine INT0 collides with MAIN"
+                        ),
+                    )
+                    .label("MAIN is INT0")
+                    .help("an S7-200 program's own INT0 needs another number here (INT1 and up)")
+                } else {
+                    Diagnostic::new(
+                        Code::DuplicateBlock,
+                        at,
                         format!("block `{key}` is defined twice"),
                     )
-                    .with_secondary(first, "first defined here"),
-                );
+                };
+                self.report(d.with_secondary(first, "first defined here"));
                 break;
             }
             self.unit_names.insert(key, index);
@@ -379,4 +417,12 @@ impl Checker<'_> {
         };
         Some(ty)
     }
+}
+
+/// Where a block header names its block: the symbolic name (or the whole header when
+/// there is none) and the numbered name (`INT0` of `INT_0:INT0`) if written.
+#[derive(Debug, Clone, Copy)]
+struct HeaderSpans {
+    name: Span,
+    number: Option<Span>,
 }

@@ -75,7 +75,7 @@ codes! {
     E0201 UnknownMnemonic Error "unknown mnemonic"
         "The instruction is not in the target's ManagerFun.xml. The help line suggests the closest known mnemonic. Mnemonics are case-insensitive; compares are written as one word with their operator (`LDW>=`, `AB=`).";
     E0202 UndefinedSymbol Error "undefined symbol"
-        "A name that is neither a direct address of the target, a symbol of the SYMBOLS section, nor a block name. Declare it in SYMBOLS (`Start : I0.0`) or fix the spelling; the help line suggests the closest symbol.";
+        "A name that is neither a direct address of the target, a symbol of the SYMBOLS section, nor a block name. Declare it in SYMBOLS (`Start : I0.0`) or fix the spelling; the help line suggests the closest symbol. A name is reported once, at its first use; the message counts the other uses and labels point at the first few of them.";
     E0203 DuplicateSymbol Error "duplicate symbol"
         "A symbol is declared twice (names are case-insensitive): in one SYMBOLS block, in two blocks or files of the program, or in a symbol table as well. The label shows the first declaration, also when it is in another file.";
     E0204 UndefinedLocal Error "undefined local variable"
@@ -85,7 +85,7 @@ codes! {
     E0206 UndefinedBlock Error "undefined block"
         "`CALL`, `ATCH` or a data reference names a block that does not exist. Blocks are named by their symbolic name (`ADD3`) or numbered name (`SBR0`).";
     E0207 DuplicateBlock Error "duplicate block"
-        "Two blocks share a symbolic name or a numbered name (`SBR0`, `INT1`, `DAT0`), or MAIN is defined twice.";
+        "Two blocks share a symbolic name or a numbered name (`SBR0`, `INT1`, `DAT0`), or MAIN is defined twice. GUTTA's MAIN is interrupt routine INT0 (`ORGANIZATION_BLOCK MAIN:OB1` and `INTERRUPT_BLOCK MAIN:INT0` are the same block), so an S7-200 program's own interrupt routine INT0 collides with MAIN: renumber it (INT1 and up). The label points at the numbered name that collides.";
     E0208 UndefinedLabel Error "undefined label"
         "`JMP n` has no `LBL n` in the same block.";
     E0209 DuplicateLabel Error "duplicate label"
@@ -100,6 +100,11 @@ codes! {
         "Data types are BOOL, BYTE, WORD, DWORD, SINT, INT, DINT, USINT, UINT, UDINT and REAL.";
     E0214 SymbolTypeWidth Error "symbol type does not fit its address"
         "A typed symbol (`Temp : MD8 : REAL`, or `MD8:REAL` in a table) names a type whose width differs from the address's: REAL, DINT, DWORD and UDINT need a double word (`MD8`), INT, WORD and UINT a word (`MW4`), BYTE, SINT and USINT a byte (`MB2`), BOOL a bit (`M0.0`).";
+
+    E0220 S7200Instruction Error "S7-200 instruction the target does not have"
+        "The mnemonic is an instruction of the Siemens S7-200 (STEP 7-Micro/WIN, MicroWIN SMART) that GUTTA targets do not have: sequence control relays (`LSCR`, `SCRT`, `SCRE`, `CSCRE`), freeport and network communication (`XMT`, `RCV`, `NETR`, `NETW`, `GET`, `PUT`), strings (`SLEN`, `SCPY`, `SCAT`, `SFND`, `ITS`, `STI`, ...), the real-time clock (`TODR`, `TODW`, ...), high-speed counter and pulse output set-up (`HDEF`, `HSC`, `PLS`), `PID` and a few others. The help line names what to use instead where GUTTA has an equivalent (step bits with `S`/`R` for SCR steps, `EXCH` for Modbus master exchanges, `ITA` for `ITS`, ...); otherwise the part must be rewritten. docs/microwin.md lists them all.";
+    E0221 S7200Area Error "S7-200 area or system name the target does not have"
+        "The operand names memory that exists on an S7-200 but not on GUTTA targets: the S area of sequence control relays (`S0.0`, `SB0`; keep step bits in M instead), the accumulators `AC0`..`AC3` (use M, V or local words), or a name of Micro/WIN's system symbol table (`Always_On`, `Time_0_Intrvl`, `HSC0_Ctrl`). For a system symbol GUTTA has an equivalent of, the help line gives the SM address to declare it with (`Always_On : SM0.0`); S7-200 SM control bytes without one (high-speed counters, pulse outputs, freeport) have no counterpart.";
 
     // ---- E03xx: operands -----------------------------------------------------------
     E0301 OperandCount Error "wrong number of operands"

@@ -1,0 +1,356 @@
+//! What S7-200 programs (STEP 7-Micro/WIN, MicroWIN SMART) use that GUTTA targets do
+//! not have: instruction mnemonics, memory areas and the SM names of Micro/WIN's system
+//! symbol table, each with what to use instead where GUTTA has an equivalent. Plain
+//! data (source: the public S7-200 and S7-200 SMART system manuals); the compiler's
+//! checker turns a match into a diagnostic. A test keeps every mnemonic here absent
+//! from the shipped ManagerFun.xml.
+
+/// An S7-200 instruction GUTTA lacks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct S7200Instruction {
+    /// The STL mnemonic (or LAD box name) as Micro/WIN writes it, upper case.
+    pub mnemonic: &'static str,
+    /// What it does on an S7-200, a few words.
+    pub what: &'static str,
+    /// What to write on a GUTTA target instead, when there is an equivalent.
+    pub instead: Option<&'static str>,
+}
+
+const fn ins(
+    mnemonic: &'static str,
+    what: &'static str,
+    instead: Option<&'static str>,
+) -> S7200Instruction {
+    S7200Instruction {
+        mnemonic,
+        what,
+        instead,
+    }
+}
+
+const SCR_INSTEAD: Option<&str> =
+    Some("keep each step in an M bit: `S`/`R` the step bits and guard each step's networks with `LD` of its bit (or `JMP`/`LBL` around it)");
+const COMM_INSTEAD: Option<&str> = Some(
+    "`EXCH` makes the PLC a Modbus RTU master on a serial port (docs/instructions.md); the ports are set up in the SYSTEM_BLOCK",
+);
+const NO_STRINGS: Option<&str> = None;
+
+/// The S7-200 instructions GUTTA targets do not have, by mnemonic.
+pub const S7200_INSTRUCTIONS: &[S7200Instruction] = &[
+    // Sequence control relays.
+    ins("LSCR", "load sequence control relay (start of an SCR step)", SCR_INSTEAD),
+    ins("SCRT", "sequence control relay transition", SCR_INSTEAD),
+    ins("SCRE", "end of an SCR step", SCR_INSTEAD),
+    ins("CSCRE", "conditional end of an SCR step", SCR_INSTEAD),
+    // Communication.
+    ins("XMT", "freeport transmit", COMM_INSTEAD),
+    ins("RCV", "freeport receive", COMM_INSTEAD),
+    ins("NETR", "PPI network read", COMM_INSTEAD),
+    ins("NETW", "PPI network write", COMM_INSTEAD),
+    ins("GET", "S7-200 SMART Ethernet read from a remote CPU", COMM_INSTEAD),
+    ins("PUT", "S7-200 SMART Ethernet write to a remote CPU", COMM_INSTEAD),
+    ins(
+        "GPA",
+        "get port address",
+        Some("the port address is fixed by `PORTn.ADDRESS` in the SYSTEM_BLOCK"),
+    ),
+    ins(
+        "SPA",
+        "set port address",
+        Some("set `PORTn.ADDRESS` in the SYSTEM_BLOCK"),
+    ),
+    ins("GIP", "S7-200 SMART get IP address", None),
+    ins("SIP", "S7-200 SMART set IP address", None),
+    // Strings (STL mnemonics and their LAD box names).
+    ins("SLEN", "string length", NO_STRINGS),
+    ins("SCPY", "string copy", NO_STRINGS),
+    ins("SSCPY", "substring copy", NO_STRINGS),
+    ins("SCAT", "string concatenate", NO_STRINGS),
+    ins("SFND", "find string in string", NO_STRINGS),
+    ins("CFND", "find first character in string", NO_STRINGS),
+    ins("STR_LEN", "string length", NO_STRINGS),
+    ins("STR_CPY", "string copy", NO_STRINGS),
+    ins("SSTR_CPY", "substring copy", NO_STRINGS),
+    ins("STR_CAT", "string concatenate", NO_STRINGS),
+    ins("STR_FIND", "find string in string", NO_STRINGS),
+    ins("CHR_FIND", "find first character in string", NO_STRINGS),
+    ins("LDS=", "load string compare equal", NO_STRINGS),
+    ins("LDS<>", "load string compare not equal", NO_STRINGS),
+    ins("AS=", "and string compare equal", NO_STRINGS),
+    ins("AS<>", "and string compare not equal", NO_STRINGS),
+    ins("OS=", "or string compare equal", NO_STRINGS),
+    ins("OS<>", "or string compare not equal", NO_STRINGS),
+    // Conversions to and from strings.
+    ins(
+        "ITS",
+        "integer to string",
+        Some("`ITA` writes the ASCII digits without the string's length byte"),
+    ),
+    ins(
+        "DTS",
+        "double integer to string",
+        Some("`DTA` writes the ASCII digits without the string's length byte"),
+    ),
+    ins(
+        "RTS",
+        "real to string",
+        Some("`RTA` writes the ASCII digits without the string's length byte"),
+    ),
+    ins("STI", "substring to integer", None),
+    ins("STD", "substring to double integer", None),
+    ins("STR", "substring to real", None),
+    ins(
+        "I_S",
+        "integer to string",
+        Some("`ITA` writes the ASCII digits without the string's length byte"),
+    ),
+    ins(
+        "DI_S",
+        "double integer to string",
+        Some("`DTA` writes the ASCII digits without the string's length byte"),
+    ),
+    ins(
+        "R_S",
+        "real to string",
+        Some("`RTA` writes the ASCII digits without the string's length byte"),
+    ),
+    ins("S_I", "substring to integer", None),
+    ins("S_DI", "substring to double integer", None),
+    ins("S_R", "substring to real", None),
+    // Real-time clock.
+    ins("TODR", "read the real-time clock", None),
+    ins("TODW", "set the real-time clock", None),
+    ins("TODRX", "read the real-time clock, extended", None),
+    ins("TODWX", "set the real-time clock, extended", None),
+    ins("READ_RTC", "read the real-time clock", None),
+    ins("SET_RTC", "set the real-time clock", None),
+    ins("READ_RTCX", "read the real-time clock, extended", None),
+    ins("SET_RTCX", "set the real-time clock, extended", None),
+    // High-speed counters and pulse outputs.
+    ins(
+        "HDEF",
+        "define a high-speed counter's mode",
+        Some("the high-speed counters run without a definition; read their current values in the HC area (`HC0`) where the target has one"),
+    ),
+    ins(
+        "HSC",
+        "start or update a high-speed counter",
+        Some("read the current value in the HC area (`HC0`) where the target has one"),
+    ),
+    ins("PLS", "pulse train or pulse width modulation output", None),
+    // Control loops and diagnostics.
+    ins(
+        "PID",
+        "PID loop",
+        Some("write the loop with REAL arithmetic (`+R`, `-R`, `*R`, `/R`) in a timed interrupt routine"),
+    ),
+    ins(
+        "MEND",
+        "unconditional end of the main program",
+        Some("nothing: the scan ends after MAIN's last network (`END` ends it early under a condition)"),
+    ),
+    ins("AENO", "and ENO of the previous box", None),
+    ins(
+        "GERR",
+        "get the non-fatal error code",
+        Some("read the error code byte of the SM area (see the target's SM table, docs/targets.md)"),
+    ),
+    ins("DLED", "set the diagnostic LED", None),
+];
+
+/// An S7-200 memory area GUTTA targets do not have.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum S7200AreaKind {
+    /// The S area (sequence control relay bits: `S0.0`, `SB0`, `SW0`, `SD0`).
+    SequenceRelay,
+    /// The accumulators `AC0`..`AC3`.
+    Accumulator,
+}
+
+/// A name of Micro/WIN's system symbol table (an SM address of the S7-200).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct S7200SystemSymbol {
+    /// The name as Micro/WIN writes it.
+    pub name: &'static str,
+    /// Its S7-200 address.
+    pub s7200_address: &'static str,
+    /// The GUTTA SM address that means the same, if there is one.
+    pub gutta_address: Option<&'static str>,
+}
+
+const fn sym(
+    name: &'static str,
+    s7200_address: &'static str,
+    gutta_address: Option<&'static str>,
+) -> S7200SystemSymbol {
+    S7200SystemSymbol {
+        name,
+        s7200_address,
+        gutta_address,
+    }
+}
+
+/// Micro/WIN's system symbols (SM names) with their GUTTA equivalents.
+pub const S7200_SYSTEM_SYMBOLS: &[S7200SystemSymbol] = &[
+    sym("Always_On", "SM0.0", Some("SM0.0")),
+    sym("First_Scan_On", "SM0.1", Some("SM0.1")),
+    sym("Retentive_Lost", "SM0.2", Some("SM0.2")),
+    sym("RUN_Power_Up", "SM0.3", Some("SM0.3")),
+    sym("Clock_60s", "SM0.4", Some("SM0.4")),
+    sym("Clock_1s", "SM0.5", Some("SM0.5")),
+    sym("Clock_Scan", "SM0.6", Some("SM0.6")),
+    sym("Mode_Switch", "SM0.7", None),
+    sym("Result_0", "SM1.0", Some("SM1.0")),
+    sym("Overflow_Illegal", "SM1.1", Some("SM1.1")),
+    sym("Neg_Result", "SM1.2", Some("SM1.2")),
+    sym("Divide_By_0", "SM1.3", Some("SM1.3")),
+    sym("Table_Overflow", "SM1.4", Some("SM1.4")),
+    sym("Not_BCD", "SM1.6", Some("SM1.6")),
+    sym("Not_Hex", "SM1.7", None),
+    sym("Receive_Char", "SMB2", None),
+    sym("Parity_Err", "SM3.0", None),
+    sym("P0_Config", "SMB30", None),
+    sym("P1_Config", "SMB130", None),
+    sym("Time_0_Intrvl", "SMB34", Some("SMB10")),
+    sym("Time_1_Intrvl", "SMB35", Some("SMB11")),
+    sym("HSC0_Ctrl", "SMB37", None),
+    sym("HSC0_CV", "SMD38", None),
+    sym("HSC0_PV", "SMD42", None),
+    sym("HSC1_Ctrl", "SMB47", None),
+    sym("HSC1_CV", "SMD48", None),
+    sym("HSC1_PV", "SMD52", None),
+    sym("HSC2_Ctrl", "SMB57", None),
+    sym("HSC2_CV", "SMD58", None),
+    sym("HSC2_PV", "SMD62", None),
+    sym("PLS0_Ctrl", "SMB67", None),
+    sym("PLS0_Cycle", "SMW68", None),
+    sym("PLS0_PW", "SMW70", None),
+    sym("PLS0_Pulse_Cnt", "SMD72", None),
+    sym("PLS1_Ctrl", "SMB77", None),
+    sym("PLS1_Cycle", "SMW78", None),
+    sym("PLS1_PW", "SMW80", None),
+    sym("PLS1_Pulse_Cnt", "SMD82", None),
+    sym("Scan_Time", "SMW22", Some("SMW4")),
+    sym("Scan_Time_Min", "SMW24", Some("SMW6")),
+    sym("Scan_Time_Max", "SMW26", Some("SMW8")),
+];
+
+/// What an operand name means on an S7-200 when GUTTA has no such area or name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum S7200Name {
+    Area(S7200AreaKind),
+    SystemSymbol(&'static S7200SystemSymbol),
+}
+
+/// The S7-200 instruction `mnemonic` names (any case), if GUTTA lacks it.
+pub fn s7200_instruction(mnemonic: &str) -> Option<&'static S7200Instruction> {
+    S7200_INSTRUCTIONS
+        .iter()
+        .find(|i| i.mnemonic.eq_ignore_ascii_case(mnemonic))
+}
+
+/// What `name` (an operand as written) is on an S7-200, when it is an area GUTTA
+/// lacks (`S0.0`, `SB2`, `AC0`) or a Micro/WIN system symbol (`Always_On`).
+pub fn s7200_name(name: &str) -> Option<S7200Name> {
+    if let Some(s) = S7200_SYSTEM_SYMBOLS
+        .iter()
+        .find(|s| s.name.eq_ignore_ascii_case(name))
+    {
+        return Some(S7200Name::SystemSymbol(s));
+    }
+    let upper = name.to_ascii_uppercase();
+    if let Some(n) = upper.strip_prefix("AC") {
+        if matches!(n, "0" | "1" | "2" | "3") {
+            return Some(S7200Name::Area(S7200AreaKind::Accumulator));
+        }
+    }
+    let rest = upper.strip_prefix('S')?;
+    let rest = rest
+        .strip_prefix(['B', 'W', 'D'])
+        .filter(|_| !rest.contains('.'))
+        .unwrap_or(rest);
+    let mut parts = rest.splitn(2, '.');
+    let byte = parts.next().unwrap_or("");
+    let byte_ok = !byte.is_empty() && byte.bytes().all(|b| b.is_ascii_digit());
+    let bit_ok = match parts.next() {
+        None => rest.len() != upper.len() - 1,
+        Some(bit) => bit.len() == 1 && (b'0'..=b'7').contains(&bit.as_bytes()[0]),
+    };
+    (byte_ok && bit_ok).then_some(S7200Name::Area(S7200AreaKind::SequenceRelay))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::stdlib;
+
+    #[test]
+    fn no_listed_instruction_is_in_the_shipped_instruction_set() {
+        for name in stdlib::names() {
+            let target = stdlib::shared(name).expect("stdlib target loads");
+            for i in S7200_INSTRUCTIONS {
+                assert!(
+                    target.instructions.lookup(i.mnemonic).is_none(),
+                    "{} is in {name}'s ManagerFun.xml; remove it from the S7-200 table",
+                    i.mnemonic
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn every_gutta_equivalent_is_a_system_entry_of_every_target() {
+        for name in stdlib::names() {
+            let target = stdlib::shared(name).expect("stdlib target loads");
+            for s in S7200_SYSTEM_SYMBOLS {
+                if let Some(a) = s.gutta_address {
+                    assert!(
+                        target
+                            .memory
+                            .system_bits
+                            .iter()
+                            .any(|b| b.address.eq_ignore_ascii_case(a)),
+                        "{}: {a} is not in {name}'s SM table",
+                        s.name
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn mnemonics_and_symbols_are_listed_once() {
+        let mut seen = std::collections::BTreeSet::new();
+        for i in S7200_INSTRUCTIONS {
+            assert!(seen.insert(i.mnemonic), "{} twice", i.mnemonic);
+            assert_eq!(i.mnemonic, i.mnemonic.to_ascii_uppercase());
+        }
+        let mut seen = std::collections::BTreeSet::new();
+        for s in S7200_SYSTEM_SYMBOLS {
+            assert!(seen.insert(s.name.to_ascii_uppercase()), "{} twice", s.name);
+        }
+    }
+
+    #[test]
+    fn areas_by_name() {
+        let relay = Some(S7200Name::Area(S7200AreaKind::SequenceRelay));
+        let acc = Some(S7200Name::Area(S7200AreaKind::Accumulator));
+        assert_eq!(s7200_name("S0.0"), relay);
+        assert_eq!(s7200_name("s3.7"), relay);
+        assert_eq!(s7200_name("SB2"), relay);
+        assert_eq!(s7200_name("SW4"), relay);
+        assert_eq!(s7200_name("SD0"), relay);
+        assert_eq!(s7200_name("AC0"), acc);
+        assert_eq!(s7200_name("ac3"), acc);
+        assert_eq!(s7200_name("AC4"), None);
+        assert_eq!(s7200_name("S0"), None);
+        assert_eq!(s7200_name("S0.8"), None);
+        assert_eq!(s7200_name("SB0.1"), None);
+        assert_eq!(s7200_name("Start"), None);
+        assert_eq!(s7200_name("SMB0"), None);
+        assert!(matches!(
+            s7200_name("always_on"),
+            Some(S7200Name::SystemSymbol(s)) if s.gutta_address == Some("SM0.0")
+        ));
+    }
+}
