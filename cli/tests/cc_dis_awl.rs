@@ -135,7 +135,10 @@ fn the_binary_writes_micro_win_layout_that_compiles_back() {
     let out = common::cc(&["dis", "--format", "awl", first.to_str().expect("utf-8")]);
     assert!(out.status.success(), "{}", common::text(&out));
     let text = common::stdout(&out);
-    assert!(!text.replace("\r\n", "").contains('\n'), "not CRLF:\n{text}");
+    assert!(
+        !text.replace("\r\n", "").contains('\n'),
+        "not CRLF:\n{text}"
+    );
     let lines: Vec<&str> = text.lines().map(|l| l.trim_end_matches('\r')).collect();
     for expected in [
         "ORGANIZATION_BLOCK MAIN:OB1",
@@ -151,10 +154,16 @@ fn the_binary_writes_micro_win_layout_that_compiles_back() {
         "END_VAR",
         "SYSTEM_BLOCK",
     ] {
-        assert!(lines.contains(&expected), "no line {expected:?} in:\n{text}");
+        assert!(
+            lines.contains(&expected),
+            "no line {expected:?} in:\n{text}"
+        );
     }
     assert!(!text.contains("// step"), "step comments in:\n{text}");
-    assert!(!text.contains("NETWORK"), "toolchain NETWORK lines in:\n{text}");
+    assert!(
+        !text.contains("NETWORK"),
+        "toolchain NETWORK lines in:\n{text}"
+    );
     assert!(
         lines.iter().any(|l| l.starts_with("in0:")),
         "no Micro/WIN VAR line in:\n{text}"
@@ -218,6 +227,10 @@ fn stl_stays_the_default_format() {
     assert!(text.contains("NETWORK 1") && !text.contains('\r'), "{text}");
     let bad = common::cc(&["dis", "--format", "lad", dir.to_str().expect("utf-8")]);
     assert!(!bad.status.success());
-    assert!(common::stderr(&bad).contains("awl"), "{}", common::stderr(&bad));
+    assert!(
+        common::stderr(&bad).contains("awl"),
+        "{}",
+        common::stderr(&bad)
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -10,18 +10,22 @@ use gutta_catalog::{BlockKind, DataType};
 use super::{Disassembler, Format};
 use crate::{PageKind, UnitRef};
 
-/// `SBR_0:SBR0`, `INT_1:INT1`: Micro/WIN's default block name, then the number. The
-/// number is GUTTA's (MAIN is INT0, so the first interrupt routine is INT1), which is
-/// what compiles back to the same page today.
-pub(super) fn block_header(unit: UnitRef) -> String {
-    let prefix = match unit.kind {
-        BlockKind::Interrupt => "INT",
-        BlockKind::Subroutine => "SBR",
-    };
-    format!("{prefix}_{n}:{prefix}{n}", n = unit.number)
+/// `SBR_0`, `INT_1`: Micro/WIN's default name of a block. The number is GUTTA's (MAIN
+/// is INT0, so the first interrupt routine is INT_1:INT1), which is what compiles back
+/// to the same page today.
+fn block_name(unit: UnitRef) -> String {
+    match unit.kind {
+        BlockKind::Interrupt => format!("INT_{}", unit.number),
+        BlockKind::Subroutine => format!("SBR_{}", unit.number),
+    }
 }
 
-/// `in0:INT;	// LW0`: Micro/WIN's declaration (no blanks, a tab before the comment);
+/// `SBR_0:SBR0`, `INT_1:INT1`: the name, then the number.
+pub(super) fn block_header(unit: UnitRef) -> String {
+    format!("{}:{unit}", block_name(unit))
+}
+
+/// `in0:INT;<TAB>// LW0`: Micro/WIN's declaration (no blanks, a tab before the comment);
 /// the comment says where the local is in L.
 pub(super) fn var_line(name: &str, data_type: DataType, at: &str) -> String {
     format!("{name}:{data_type};\t// {at}")
@@ -37,11 +41,7 @@ impl Disassembler<'_> {
                 && UnitRef::from_page(id.number, &self.target.plc) == Some(unit)
         });
         if self.format == Format::Awl && held && unit != UnitRef::MAIN {
-            block_header(unit)
-                .split(':')
-                .next()
-                .unwrap_or_default()
-                .to_string()
+            block_name(unit)
         } else {
             unit.to_string()
         }

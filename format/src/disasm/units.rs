@@ -162,7 +162,9 @@ impl Disassembler<'_> {
                 }
                 let at = self.target.memory.format_address(&l.address);
                 let line = match self.format {
-                    Format::Stl => format!("{:<20} // {at}", format!("  {} : {};", l.name, l.data_type)),
+                    Format::Stl => {
+                        format!("{:<20} // {at}", format!("  {} : {};", l.name, l.data_type))
+                    }
                     Format::Awl => super::awl::var_line(&l.name, l.data_type, &at),
                 };
                 self.line(&line);
