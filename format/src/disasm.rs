@@ -1,6 +1,7 @@
 //! The disassembler: an image's pages back to `.lad` text that compiles to the same
-//! pages (docs/image-format.md, "Disassembly"). It prints what the bytes say, by the
-//! target's names, and never panics on any bytes; it does not judge whether the image
+//! pages (docs/image-format.md, "Disassembly"), in one of two layouts ([`Format`]):
+//! the toolchain's own STL, or a STEP 7-Micro/WIN STL export (`awl.rs`, docs/microwin.md).
+//! It prints what the bytes say, by the target's names, and never panics on any bytes; it does not judge whether the image
 //! is valid (that is the verifier's job), so the text of an image that fails
 //! verification may not compile.
 //!
@@ -13,6 +14,7 @@
 //! const page, a PLC type other than the target's) are errors with no page or with the
 //! page that is missing; they do not stop the output either.
 
+mod awl;
 mod data;
 mod operands;
 mod units;
@@ -61,6 +63,17 @@ pub struct Disassembly {
     pub errors: Vec<DisasmError>,
 }
 
+/// The layout of the text: both compile back to the same pages.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Format {
+    /// The toolchain's own STL (`NETWORK n`, a `// step n` comment on every step, LF).
+    #[default]
+    Stl,
+    /// A STEP 7-Micro/WIN STL export (`Network n`, `TITLE=`, `SBR_n:SBRn` block names,
+    /// Micro/WIN's VAR lines, CRLF), data and system blocks after the program.
+    Awl,
+}
+
 /// The image as `.lad` text, or the first thing that cannot be printed faithfully.
 pub fn disassemble(image: &Image, target: &Target) -> Result<String, DisasmError> {
     let d = disassemble_with_errors(image, target);
@@ -72,7 +85,12 @@ pub fn disassemble(image: &Image, target: &Target) -> Result<String, DisasmError
 
 /// The image as `.lad` text, with comments and errors for what does not decode.
 pub fn disassemble_with_errors(image: &Image, target: &Target) -> Disassembly {
-    let mut d = Disassembler::new(image, target);
+    disassemble_as(image, target, Format::Stl)
+}
+
+/// [`disassemble_with_errors`] in the chosen layout.
+pub fn disassemble_as(image: &Image, target: &Target, format: Format) -> Disassembly {
+    let mut d = Disassembler::new(image, target, format);
     d.run();
     Disassembly {
         text: d.out,
@@ -84,6 +102,7 @@ pub fn disassemble_with_errors(image: &Image, target: &Target) -> Disassembly {
 struct Disassembler<'a> {
     image: &'a Image,
     target: &'a Target,
+    format: Format,
     out: String,
     errors: Vec<DisasmError>,
     /// The const page (empty if missing).
@@ -100,11 +119,12 @@ fn one_line(s: &str) -> String {
 }
 
 impl<'a> Disassembler<'a> {
-    fn new(image: &'a Image, target: &'a Target) -> Disassembler<'a> {
+    fn new(image: &'a Image, target: &'a Target, format: Format) -> Disassembler<'a> {
         let consts = image.page(PageKind::Const, 0).unwrap_or(&[]);
         Disassembler {
             image,
             target,
+            format,
             out: String::new(),
             errors: Vec::new(),
             consts,
@@ -114,7 +134,10 @@ impl<'a> Disassembler<'a> {
 
     fn line(&mut self, text: &str) {
         self.out.push_str(text);
-        self.out.push('\n');
+        self.out.push_str(match self.format {
+            Format::Stl => "\n",
+            Format::Awl => "\r\n",
+        });
     }
 
     fn error(&mut self, page: Option<PageId>, offset: usize, reason: impl Into<String>) {
@@ -145,8 +168,12 @@ impl<'a> Disassembler<'a> {
     fn run(&mut self) {
         let image = self.image;
         let name = self.target.name().to_string();
+        let header = match self.format {
+            Format::Stl => "gutta-cc dis",
+            Format::Awl => "gutta-cc dis --format awl (STEP 7-Micro/WIN layout)",
+        };
         self.line(&format!(
-            "// Disassembly of an image for {}, produced by gutta-cc dis",
+            "// Disassembly of an image for {}, produced by {header}",
             one_line(&image.plc_type)
         ));
         if !image.plc_type.eq_ignore_ascii_case(&name) {
@@ -174,7 +201,9 @@ impl<'a> Disassembler<'a> {
             .map(|id| id.number)
             .collect();
         for number in units {
-            self.line("");
+            if self.format == Format::Stl {
+                self.line("");
+            }
             self.unit(number);
         }
         let data: Vec<(PageId, &[u8])> = image
@@ -183,6 +212,9 @@ impl<'a> Disassembler<'a> {
             .filter(|(id, _)| matches!(id.kind, PageKind::Data | PageKind::System))
             .map(|(id, b)| (*id, b.as_slice()))
             .collect();
+        if self.format == Format::Awl && !data.is_empty() {
+            self.awl_data_note();
+        }
         for (id, bytes) in data {
             self.line("");
             match id.kind {

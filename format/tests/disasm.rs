@@ -7,7 +7,9 @@ use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use gutta_catalog::{stdlib, Address, DataType, Target, Width};
-use gutta_format::disasm::{disassemble, disassemble_with_errors, DisasmError, Disassembly};
+use gutta_format::disasm::{
+    disassemble, disassemble_as, disassemble_with_errors, DisasmError, Disassembly, Format,
+};
 use gutta_format::{
     encode_data, encode_instructions, ArgumentPage, DataItem, Image, LocalEntry, LocalSection,
     PackedOperand, PageId, PageKind, PortEntry, Record, SystemPage, Use,
@@ -252,6 +254,89 @@ END_SUBROUTINE_BLOCK
 ";
     assert_eq!(text, want);
     assert_eq!(disassemble(&image, &target()), Ok(text));
+}
+
+/// The STEP 7-Micro/WIN layout of the same kind of image: `MAIN:OB1`, `INT_n:INTn`
+/// and `SBR_n:SBRn` headers (their names in CALL and ATCH), `TITLE=`, `Network n`,
+/// Micro/WIN's VAR lines, no step comments, CRLF, data blocks after a note; a unit the
+/// image does not hold keeps its number as its name.
+#[test]
+fn awl_layout_is_micro_win_s() {
+    let image = Build::new()
+        .main(&[
+            Record::Network(0),
+            ins("LD", &[var("I0.4")]),
+            ins("CALL", &[sbr(0), var("MW2"), var("M4.0")]),
+            ins("ATCH", &[int(1), literal(10)]),
+            ins("ATCH", &[int(2), literal(11)]),
+        ])
+        .unit(1, arguments(false, 1, vec![]), &[])
+        .unit(
+            8,
+            arguments(
+                true,
+                0,
+                vec![
+                    local("LW0", LocalSection::Input, DataType::Int),
+                    local("L2.0", LocalSection::Output, DataType::Bool),
+                ],
+            ),
+            &[Record::Network(1), ins("INCW", &[var("LW0")])],
+        )
+        .page(
+            PageKind::Data,
+            0,
+            encode_data(&[DataItem {
+                operand: var("MW22"),
+                value: 6,
+            }]),
+        )
+        .image();
+    let d = disassemble_as(&image, &target(), Format::Awl);
+    assert!(d.errors.is_empty(), "{:?}", d.errors);
+    let want = "\
+// Disassembly of an image for CPU-EC20, produced by gutta-cc dis --format awl (STEP 7-Micro/WIN layout)
+PLC_TYPE CPU-EC20
+ORGANIZATION_BLOCK MAIN:OB1
+TITLE=
+BEGIN
+Network 0
+LD     I0.4
+CALL   SBR_0, MW2, M4.0
+ATCH   INT_1, 10
+ATCH   INT2, 11
+END_ORGANIZATION_BLOCK
+INTERRUPT_BLOCK INT_1:INT1
+TITLE=
+BEGIN
+END_INTERRUPT_BLOCK
+SUBROUTINE_BLOCK SBR_0:SBR0
+TITLE=
+VAR_INPUT
+in0:INT;\t// LW0
+END_VAR
+VAR_OUTPUT
+out0:BOOL;\t// L2.0
+END_VAR
+BEGIN
+Network 1
+INCW   #in0
+END_SUBROUTINE_BLOCK
+
+// Micro/WIN exports data blocks (and keeps the system block) apart from the
+// program; gutta-cc reads them in the same file, in its own layout, below.
+
+DATA_BLOCK DAT0:DAT0
+  MW22     WORD   6
+END_DATA_BLOCK
+"
+    .replace('\n', "\r\n");
+    assert_eq!(d.text, want);
+    assert_eq!(
+        disassemble_with_errors(&image, &target()).text,
+        dis(&image).text,
+        "stl stays the default"
+    );
 }
 
 /// MAIN with one instruction per constant, the const page holding their bytes.

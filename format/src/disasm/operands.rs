@@ -239,7 +239,7 @@ impl<'a> Disassembler<'a> {
         match (spec.kind, operand) {
             (OperandKind::Label, Operand::Label(n))
             | (OperandKind::Literal, Operand::Literal(n)) => Ok(n.to_string()),
-            (OperandKind::Block, Operand::Unit(unit)) => Ok(unit.to_string()),
+            (OperandKind::Block, Operand::Unit(unit)) => Ok(self.unit_name(unit)),
             (OperandKind::Data, operand) => self.data_operand(operand, spec, locals, marks),
             (kind, other) => {
                 let what = match kind {

@@ -6,7 +6,7 @@
 use gutta_catalog::rules::LocalLayout;
 use gutta_catalog::{Address, AreaKind, BlockKind, DataType};
 
-use super::Disassembler;
+use super::{Disassembler, Format};
 use crate::{
     decode_instructions, ArgumentPage, LocalSection, Operand, PackedOperand, PageId, PageKind,
     Record, UnitRef,
@@ -93,12 +93,15 @@ impl Disassembler<'_> {
             BlockKind::Interrupt => "INTERRUPT_BLOCK",
             BlockKind::Subroutine => "SUBROUTINE_BLOCK",
         };
-        let header = if unit == UnitRef::MAIN {
-            "MAIN:OB1".to_string()
-        } else {
-            format!("{unit}:{unit}")
+        let header = match self.format {
+            _ if unit == UnitRef::MAIN => "MAIN:OB1".to_string(),
+            Format::Stl => format!("{unit}:{unit}"),
+            Format::Awl => super::awl::block_header(unit),
         };
         self.line(&format!("{keyword} {header}"));
+        if self.format == Format::Awl {
+            self.line("TITLE=");
+        }
         let locals = self.locals(arg_id, unit);
         self.line("BEGIN");
         match self.image.page(PageKind::Instruction, number) {
@@ -157,9 +160,14 @@ impl Disassembler<'_> {
                     self.line(keyword);
                     any = true;
                 }
-                let decl = format!("  {} : {};", l.name, l.data_type);
                 let at = self.target.memory.format_address(&l.address);
-                self.line(&format!("{decl:<20} // {at}"));
+                let line = match self.format {
+                    Format::Stl => {
+                        format!("{:<20} // {at}", format!("  {} : {};", l.name, l.data_type))
+                    }
+                    Format::Awl => super::awl::var_line(&l.name, l.data_type, &at),
+                };
+                self.line(&line);
             }
             if any {
                 self.line("END_VAR");
@@ -249,7 +257,10 @@ impl Disassembler<'_> {
         for (at, record) in records {
             match record {
                 Record::Network(n) => {
-                    self.line(&format!("NETWORK {n}"));
+                    self.line(&match self.format {
+                        Format::Stl => format!("NETWORK {n}"),
+                        Format::Awl => format!("Network {n}"),
+                    });
                     step = 0;
                 }
                 Record::Instruction { opcode, operands } => {
@@ -283,7 +294,10 @@ impl Disassembler<'_> {
         };
         let ins = target.instructions.get(ins);
         match self.instruction_text(ins, operands, locals) {
-            Ok(text) => self.line(&format!("{text:<28} // step {step}")),
+            Ok(text) => match self.format {
+                Format::Stl => self.line(&format!("{text:<28} // step {step}")),
+                Format::Awl => self.line(&text),
+            },
             Err((operand, reason)) => {
                 let offset = at + operand.map_or(0, |i| 3 + 4 * i);
                 self.cannot_decode(

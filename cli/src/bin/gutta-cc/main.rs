@@ -112,11 +112,15 @@ enum Command {
     },
     /// Print an image directory as STL that compiles back to the same pages.
     #[command(
-        after_help = "Examples:\n  gutta-cc dis image/\n  gutta-cc dis image/ > back.lad && gutta-cc back.lad -o again/"
+        after_help = "Examples:\n  gutta-cc dis image/\n  gutta-cc dis image/ > back.lad && gutta-cc back.lad -o again/\n  gutta-cc dis --format awl image/ > back.awl   # a STEP 7-Micro/WIN STL export (CRLF)"
     )]
     Dis {
         /// The image directory (holding manifest.json).
         image: PathBuf,
+        /// The layout: stl (the toolchain's own) or awl (a STEP 7-Micro/WIN STL export);
+        /// both compile back to the same pages.
+        #[arg(long, value_enum, default_value = "stl")]
+        format: DisFormat,
     },
     /// Explain a code the tools print: E and W (compiler diagnostics), V (image
     /// verification), T (target description files), e.g. E0302, V0040, T0003.
@@ -504,7 +508,7 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
     match &cli.command {
         Some(Command::Modbus { variable }) => return modbus(&cli.target, variable),
         Some(Command::Explain { code }) => return explain(code),
-        Some(Command::Dis { image }) => return dis(&cli.target, image),
+        Some(Command::Dis { image, format }) => return dis(&cli.target, image, *format),
         Some(Command::Download {
             image: Some(image),
             link,
@@ -775,9 +779,22 @@ fn image_and_target(
     Ok((image, target))
 }
 
-fn dis(args: &TargetArgs, dir: &Path) -> Result<ExitCode, Fatal> {
+/// The layouts of `gutta-cc dis --format`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum DisFormat {
+    /// The toolchain's own STL.
+    Stl,
+    /// A STEP 7-Micro/WIN STL export.
+    Awl,
+}
+
+fn dis(args: &TargetArgs, dir: &Path, format: DisFormat) -> Result<ExitCode, Fatal> {
     let (image, target) = image_and_target(args, dir)?;
-    let d = gutta_format::disasm::disassemble_with_errors(&image, &target);
+    let format = match format {
+        DisFormat::Stl => gutta_format::disasm::Format::Stl,
+        DisFormat::Awl => gutta_format::disasm::Format::Awl,
+    };
+    let d = gutta_format::disasm::disassemble_as(&image, &target, format);
     let _ = std::io::stdout().lock().write_all(d.text.as_bytes());
     for e in &d.errors {
         eprintln!("gutta-cc dis: {e}");

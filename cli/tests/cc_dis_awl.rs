@@ -1,0 +1,230 @@
+//! `gutta-cc dis --format awl`: the STEP 7-Micro/WIN layout compiles back to the same
+//! pages, byte for byte, for every example, every clean program of the check corpus and
+//! every program of the run corpus (as compiler/tests/roundtrip.rs does for the default
+//! STL layout), and the binary writes Micro/WIN's layout (headers, CRLF, no step
+//! comments) that the binary compiles back to the same image directory.
+
+#![allow(clippy::disallowed_methods, reason = "tests read their data files")]
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use gutta_catalog::stdlib;
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{compile, ExplicitTarget};
+use gutta_format::disasm::{disassemble_as, Format};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// The `.lad` files of a directory of the repository, sorted.
+fn lad_files(dir: &str) -> Vec<PathBuf> {
+    let dir = root().join(dir);
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.expect("dir entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "lad"))
+        .collect();
+    files.sort();
+    files
+}
+
+/// Round trip of one program through the awl layout; `Err` says what went wrong.
+fn round_trip(path: &Path) -> Result<(), String> {
+    let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
+    let first = text.lines().next().unwrap_or("").trim().to_string();
+    let explicit = first.strip_prefix("// plc:").map(|name| ExplicitTarget {
+        target: stdlib::shared(name.trim()).expect("stdlib target"),
+        origin: format!("--plc {}", name.trim()),
+    });
+    let original = compile(
+        SourceFile::new(path.display().to_string(), text),
+        explicit.as_ref(),
+    );
+    let Some(image) = original.image else {
+        return Err("does not compile".to_string());
+    };
+    let target = original.checked.target.clone();
+    let dis = disassemble_as(&image, &target, Format::Awl);
+    if !dis.errors.is_empty() {
+        let list: Vec<String> = dis.errors.iter().map(|e| format!("    {e}")).collect();
+        return Err(format!("disassembly errors:\n{}", list.join("\n")));
+    }
+    if dis.text.replace("\r\n", "").contains('\n') {
+        return Err("a line does not end in CRLF".to_string());
+    }
+    let again = compile(SourceFile::new("dis.awl", dis.text.clone()), None);
+    let Some(image2) = again.image else {
+        let diags: Vec<String> = again
+            .checked
+            .diagnostics()
+            .iter()
+            .map(|d| {
+                let start = (d.primary.span.start as usize).min(dis.text.len());
+                let line = dis.text.get(..start).unwrap_or("").lines().count();
+                format!("    line {line}: {:?} {}", d.code, d.message)
+            })
+            .collect();
+        return Err(format!(
+            "the awl text does not compile:\n{}\n--- text ---\n{}",
+            diags.join("\n"),
+            dis.text
+        ));
+    };
+    if image2.pages != image.pages || image2.plc_type != image.plc_type {
+        let differ: Vec<String> = image
+            .pages
+            .keys()
+            .chain(image2.pages.keys())
+            .filter(|id| image.pages.get(id) != image2.pages.get(id))
+            .map(|id| id.file_name())
+            .collect();
+        return Err(format!(
+            "the awl text compiles to other pages ({}) or PLC type\n--- text ---\n{}",
+            differ.join(", "),
+            dis.text
+        ));
+    }
+    Ok(())
+}
+
+#[test]
+fn every_example_check_and_run_program_round_trips_through_awl() {
+    let mut files = lad_files("examples");
+    files.extend(lad_files("tests/data/check/ok"));
+    files.extend(lad_files("tests/data/run"));
+    assert!(files.len() > 100, "found only {} programs", files.len());
+    let failures: Vec<String> = files
+        .iter()
+        .filter_map(|p| round_trip(p).err().map(|e| format!("{}: {e}", p.display())))
+        .collect();
+    assert!(
+        failures.is_empty(),
+        "{} of {} programs do not round-trip through awl:\n{}",
+        failures.len(),
+        files.len(),
+        failures.join("\n\n")
+    );
+}
+
+/// The binary's output for blink.lad (MAIN, an interrupt routine, a subroutine with
+/// parameters, data and system blocks): Micro/WIN's layout, compiled back by the binary
+/// to the same image directory.
+#[test]
+fn the_binary_writes_micro_win_layout_that_compiles_back() {
+    let base = std::env::temp_dir().join(format!("gutta-cc-dis-awl-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&base);
+    std::fs::create_dir_all(&base).expect("temp dir");
+    let blink = root().join("examples/blink.lad");
+    let (first, second) = (base.join("first"), base.join("second"));
+    let out = common::cc(&[
+        blink.to_str().expect("utf-8 path"),
+        "-o",
+        first.to_str().expect("utf-8 path"),
+    ]);
+    assert!(out.status.success(), "{}", common::text(&out));
+
+    let out = common::cc(&["dis", "--format", "awl", first.to_str().expect("utf-8")]);
+    assert!(out.status.success(), "{}", common::text(&out));
+    let text = common::stdout(&out);
+    assert!(
+        !text.replace("\r\n", "").contains('\n'),
+        "not CRLF:\n{text}"
+    );
+    let lines: Vec<&str> = text.lines().map(|l| l.trim_end_matches('\r')).collect();
+    for expected in [
+        "ORGANIZATION_BLOCK MAIN:OB1",
+        "END_ORGANIZATION_BLOCK",
+        "SUBROUTINE_BLOCK SBR_0:SBR0",
+        "END_SUBROUTINE_BLOCK",
+        "INTERRUPT_BLOCK INT_1:INT1",
+        "END_INTERRUPT_BLOCK",
+        "TITLE=",
+        "BEGIN",
+        "Network 1",
+        "VAR_INPUT",
+        "END_VAR",
+        "SYSTEM_BLOCK",
+    ] {
+        assert!(
+            lines.contains(&expected),
+            "no line {expected:?} in:\n{text}"
+        );
+    }
+    assert!(!text.contains("// step"), "step comments in:\n{text}");
+    assert!(
+        !text.contains("NETWORK"),
+        "toolchain NETWORK lines in:\n{text}"
+    );
+    assert!(
+        lines.iter().any(|l| l.starts_with("in0:")),
+        "no Micro/WIN VAR line in:\n{text}"
+    );
+    let note = lines
+        .iter()
+        .position(|l| l.starts_with("// Micro/WIN exports data blocks"))
+        .expect("the data block note");
+    let last_program_end = lines
+        .iter()
+        .rposition(|l| l.starts_with("END_") && l.ends_with("_BLOCK") && !l.contains("DATA"))
+        .expect("blocks");
+    let first_data = lines
+        .iter()
+        .position(|l| l.starts_with("DATA_BLOCK"))
+        .expect("a data block");
+    assert!(
+        note < first_data && lines[..note].iter().all(|l| !l.starts_with("DATA_BLOCK")),
+        "the note is not before the data blocks:\n{text}"
+    );
+    assert!(
+        lines[..note]
+            .iter()
+            .filter(|l| l.starts_with("END_") && l.ends_with("_BLOCK"))
+            .count()
+            >= 3
+            && last_program_end > note,
+        "program blocks are not all before the note:\n{text}"
+    );
+
+    let awl = base.join("back.awl");
+    std::fs::write(&awl, &out.stdout).expect("writes back.awl");
+    let out = common::cc(&[
+        awl.to_str().expect("utf-8"),
+        "-o",
+        second.to_str().expect("utf-8"),
+    ]);
+    assert!(out.status.success(), "{}", common::text(&out));
+    let read = |dir: &Path| gutta_io::read_image_dir(dir).expect("an image directory");
+    let (a, b) = (read(&first), read(&second));
+    assert_eq!(a.plc_type, b.plc_type);
+    assert!(a.pages == b.pages, "the pages differ after the round trip");
+    let _ = std::fs::remove_dir_all(&base);
+}
+
+#[test]
+fn stl_stays_the_default_format() {
+    let blink = root().join("examples/blink.lad");
+    let dir = std::env::temp_dir().join(format!("gutta-cc-dis-stl-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = common::cc(&[
+        blink.to_str().expect("utf-8"),
+        "-o",
+        dir.to_str().expect("utf-8"),
+    ]);
+    assert!(out.status.success(), "{}", common::text(&out));
+    let default = common::cc(&["dis", dir.to_str().expect("utf-8")]);
+    let stl = common::cc(&["dis", "--format", "stl", dir.to_str().expect("utf-8")]);
+    assert_eq!(default.stdout, stl.stdout);
+    let text = common::stdout(&default);
+    assert!(text.contains("NETWORK 1") && !text.contains('\r'), "{text}");
+    let bad = common::cc(&["dis", "--format", "lad", dir.to_str().expect("utf-8")]);
+    assert!(!bad.status.success());
+    assert!(
+        common::stderr(&bad).contains("awl"),
+        "{}",
+        common::stderr(&bad)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
