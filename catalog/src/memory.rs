@@ -195,6 +195,9 @@ pub struct SystemBit {
     pub address: String,
     pub name: String,
     pub description: String,
+    /// STEP 7-Micro/WIN's system symbol for the same bit or byte (`Always_On`), where
+    /// the GUTTA one means the same (attribute `MicroWin`; docs/microwin.md).
+    pub microwin: Option<String>,
 }
 
 /// An interrupt event number usable with `ATCH`.
@@ -318,6 +321,8 @@ struct RawSystemBit {
     name: String,
     #[serde(rename = "@Description", default)]
     description: String,
+    #[serde(rename = "@MicroWin", default)]
+    microwin: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -447,6 +452,16 @@ fn parse_area(raw: RawArea) -> Result<Area, CatalogError> {
 }
 
 impl MemoryMap {
+    /// The system bit or byte whose Micro/WIN system symbol is `name` (case-insensitive,
+    /// as symbols are).
+    pub fn microwin_system_bit(&self, name: &str) -> Option<&SystemBit> {
+        self.system_bits.iter().find(|b| {
+            b.microwin
+                .as_deref()
+                .is_some_and(|m| m.eq_ignore_ascii_case(name))
+        })
+    }
+
     pub fn parse(bytes: &[u8]) -> Result<MemoryMap, CatalogError> {
         let text = decode_xml_text(bytes, FILE)?;
         let raw: Raw = from_xml(&text, FILE)?;
@@ -559,6 +574,7 @@ impl MemoryMap {
                 address: b.address.trim().to_string(),
                 name: b.name,
                 description: b.description,
+                microwin: b.microwin.map(|n| n.trim().to_string()).filter(|n| !n.is_empty()),
             });
         }
         for e in raw.events {

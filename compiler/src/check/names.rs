@@ -82,6 +82,13 @@ impl Checker<'_> {
             self.reference(name, def);
             return Some(Variable { address, ty: None });
         }
+        if let Some(a) = self.microwin_system_name(text) {
+            self.out.addresses.push((name, a));
+            return Some(Variable {
+                address: a,
+                ty: None,
+            });
+        }
         if self.looks_like_address(text) {
             let a = self.direct_address(name, None)?;
             self.out.addresses.push((name, a));
@@ -92,6 +99,16 @@ impl Checker<'_> {
         }
         self.not_a_variable(name);
         None
+    }
+
+    /// In the Micro/WIN dialect, Micro/WIN's system symbol `text` (`Always_On`) as the
+    /// target's address for it (the target's `MicroWin` attribute); user symbols win.
+    fn microwin_system_name(&self, text: &str) -> Option<Address> {
+        if !self.ast.microwin {
+            return None;
+        }
+        let bit = self.target.memory.microwin_system_bit(text)?;
+        self.target.memory.parse_address(&bit.address).ok()
     }
 
     /// A name that is no variable: a unit's, or nothing defined.
