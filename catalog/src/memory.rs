@@ -574,7 +574,10 @@ impl MemoryMap {
                 address: b.address.trim().to_string(),
                 name: b.name,
                 description: b.description,
-                microwin: b.microwin.map(|n| n.trim().to_string()).filter(|n| !n.is_empty()),
+                microwin: b
+                    .microwin
+                    .map(|n| n.trim().to_string())
+                    .filter(|n| !n.is_empty()),
             });
         }
         for e in raw.events {

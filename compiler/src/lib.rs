@@ -96,7 +96,9 @@ fn is_microwin(file: &SourceFile) -> bool {
     file.parts()
         .iter()
         .filter(|p| p.kind == PartKind::Source)
-        .any(|p| syntax::microwin::is_microwin(&p.name, file.text.get(p.start..p.end).unwrap_or("")))
+        .any(|p| {
+            syntax::microwin::is_microwin(&p.name, file.text.get(p.start..p.end).unwrap_or(""))
+        })
 }
 
 /// The sources of a joined text parsed as one program, then its symbol tables' rows

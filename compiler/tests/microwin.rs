@@ -66,7 +66,10 @@ fn every_export_reads_checks_and_compiles_as_announced() {
                 .diagnostics()
                 .iter()
                 .map(|d| {
-                    let line = c.index.line_col(&c.file.text, d.primary.span.start as usize).line;
+                    let line = c
+                        .index
+                        .line_col(&c.file.text, d.primary.span.start as usize)
+                        .line;
                     format!("line {line}: {} {}", d.code.as_str(), d.message)
                 })
                 .collect();
@@ -111,15 +114,25 @@ fn code_pages_decode_as_documented() {
         SourceEncoding::Utf8
     );
     // 主程序 in GBK
-    let (text, encoding) = gutta_compiler::source::decode_code_page(vec![0xD6, 0xF7, 0xB3, 0xCC, 0xD0, 0xF2]);
+    let (text, encoding) =
+        gutta_compiler::source::decode_code_page(vec![0xD6, 0xF7, 0xB3, 0xCC, 0xD0, 0xF2]);
     assert_eq!((text.as_str(), encoding), ("主程序", SourceEncoding::Gbk));
     // `° ` is no GBK pair: Windows-1252
     let (text, encoding) = gutta_compiler::source::decode_code_page(vec![b'5', 0xB0, b' ', 0x96]);
-    assert_eq!((text.as_str(), encoding), ("5° –", SourceEncoding::Windows1252));
+    assert_eq!(
+        (text.as_str(), encoding),
+        ("5° –", SourceEncoding::Windows1252)
+    );
 }
 
 #[test]
 fn a_lad_file_without_the_marker_is_not_in_the_dialect() {
-    assert!(!microwin::is_microwin("main.lad", "ORGANIZATION_BLOCK MAIN:OB1\n"));
-    assert!(microwin::is_microwin("MAIN.AWL", "ORGANIZATION_BLOCK MAIN:OB1\n"));
+    assert!(!microwin::is_microwin(
+        "main.lad",
+        "ORGANIZATION_BLOCK MAIN:OB1\n"
+    ));
+    assert!(microwin::is_microwin(
+        "MAIN.AWL",
+        "ORGANIZATION_BLOCK MAIN:OB1\n"
+    ));
 }

@@ -229,9 +229,7 @@ fn write_group_heading(out: &mut String, names: &[&str], all: usize) {
 }
 
 fn write_system_bits(out: &mut String, bits: &[SystemBit]) {
-    out.push_str(
-        "\n| address | name | Micro/WIN name | meaning |\n| --- | --- | --- | --- |\n",
-    );
+    out.push_str("\n| address | name | Micro/WIN name | meaning |\n| --- | --- | --- | --- |\n");
     for bit in bits {
         let _ = writeln!(
             out,

@@ -153,7 +153,10 @@ mod tests {
     fn awl_names_and_the_marker_choose_the_dialect() {
         assert!(is_microwin("a/b/MAIN.AWL", "ORGANIZATION_BLOCK MAIN:OB1"));
         assert!(is_microwin("x.lad", "\u{FEFF}  // Dialect: MicroWIN \r\nX"));
-        assert!(!is_microwin("x.lad", "ORGANIZATION_BLOCK MAIN:OB1\n// dialect: microwin"));
+        assert!(!is_microwin(
+            "x.lad",
+            "ORGANIZATION_BLOCK MAIN:OB1\n// dialect: microwin"
+        ));
         assert!(!is_microwin("awl", ""));
     }
 
