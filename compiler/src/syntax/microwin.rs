@@ -78,6 +78,21 @@ pub fn apply(program: &mut Program, text: &str) {
     program.interrupt_placements = placements;
 }
 
+/// The key (upper case) under which the checker looks up a block operand: in the
+/// dialect an S7-200 numbered interrupt `INTn` (`ATCH INT0, 10`) means GUTTA's INT(n+1),
+/// where [`apply`] placed it; any other text, or any text outside the dialect, as
+/// written.
+pub fn block_key(program: &Program, text: &str) -> String {
+    let key = text.to_ascii_uppercase();
+    if !program.microwin {
+        return key;
+    }
+    match key.strip_prefix("INT").map(str::parse::<u32>) {
+        Some(Ok(n)) => format!("INT{}", n + 1),
+        _ => key,
+    }
+}
+
 /// W0206 for every user symbol (SYMBOLS block or symbol table) named like one of the
 /// target's Micro/WIN system symbols: the user's symbol wins, as in Micro/WIN.
 pub fn shadowed_system_names(program: &Program, text: &str, target: &Target) -> Vec<Diagnostic> {
