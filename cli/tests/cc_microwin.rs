@@ -1,6 +1,6 @@
 //! `gutta-cc` reading Micro/WIN exports (docs/microwin.md) through the real binary: a
 //! GBK `.awl` with CRLF and a Windows-1252 tab-separated symbol table compile, with the
-//! note on the code pages and the S7-200 interrupt placement after the summary and at
+//! note on the code pages and the S7-200 interrupt placement after the summary (`-o`, `--check`) and at
 //! the top of `--emit listing`; a `.lad` without the marker stays strictly UTF-8.
 
 mod common;
@@ -62,6 +62,8 @@ fn a_gbk_export_and_a_windows_1252_table_compile_with_the_placement_shown() {
     assert!(err.contains(placement), "{err}");
     let out = stdout(&o);
     assert!(out.starts_with(&format!("// {placement}\n")), "{out}");
+    let check = cc(&[args[0], args[1], args[2], "--check"]);
+    assert!(stderr(&check).contains(placement), "{}", stderr(&check));
 }
 
 #[test]

@@ -651,6 +651,9 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
                     plural(p.data_blocks.len()),
                     if warnings > 0 { format!(", {warnings} warning{}", plural(warnings)) } else { String::new() }
                 );
+                if let Some(line) = microwin::interrupt_summary(&checked.ast) {
+                    eprintln!("{name}: {line}");
+                }
             }
         }
     }
