@@ -1,7 +1,8 @@
 //! `gutta-cc` reading Micro/WIN exports (docs/microwin.md) through the real binary: a
 //! GBK `.awl` with CRLF and a Windows-1252 tab-separated symbol table compile, with the
-//! note on the code pages and the S7-200 interrupt placement after the summary (`-o`, `--check`) and at
-//! the top of `--emit listing`; a `.lad` without the marker stays strictly UTF-8.
+//! note on the code pages and the S7-200 interrupt placement after the summary (`-o`,
+//! `--check`) and at the top of `--emit listing`; a `.lad` without the marker stays
+//! strictly UTF-8.
 
 mod common;
 
