@@ -195,6 +195,9 @@ pub struct SystemBit {
     pub address: String,
     pub name: String,
     pub description: String,
+    /// STEP 7-Micro/WIN's system symbol for the same bit or byte (`Always_On`), where
+    /// the GUTTA one means the same (attribute `MicroWin`; docs/microwin.md).
+    pub microwin: Option<String>,
 }
 
 /// An interrupt event number usable with `ATCH`.
@@ -318,6 +321,8 @@ struct RawSystemBit {
     name: String,
     #[serde(rename = "@Description", default)]
     description: String,
+    #[serde(rename = "@MicroWin", default)]
+    microwin: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -447,6 +452,16 @@ fn parse_area(raw: RawArea) -> Result<Area, CatalogError> {
 }
 
 impl MemoryMap {
+    /// The system bit or byte whose Micro/WIN system symbol is `name` (case-insensitive,
+    /// as symbols are).
+    pub fn microwin_system_bit(&self, name: &str) -> Option<&SystemBit> {
+        self.system_bits.iter().find(|b| {
+            b.microwin
+                .as_deref()
+                .is_some_and(|m| m.eq_ignore_ascii_case(name))
+        })
+    }
+
     pub fn parse(bytes: &[u8]) -> Result<MemoryMap, CatalogError> {
         let text = decode_xml_text(bytes, FILE)?;
         let raw: Raw = from_xml(&text, FILE)?;
@@ -559,6 +574,10 @@ impl MemoryMap {
                 address: b.address.trim().to_string(),
                 name: b.name,
                 description: b.description,
+                microwin: b
+                    .microwin
+                    .map(|n| n.trim().to_string())
+                    .filter(|n| !n.is_empty()),
             });
         }
         for e in raw.events {
@@ -640,5 +659,54 @@ impl MemoryMap {
 
     pub fn can_force(&self, slot: u8) -> bool {
         self.forcing.contains(&slot)
+    }
+}
+
+#[cfg(test)]
+mod microwin_tests {
+    use crate::stdlib;
+
+    /// The S7-200 meanings (Micro/WIN's system symbol table) the stdlib targets map.
+    const S7_200: [(&str, &str); 19] = [
+        ("Always_On", "SM0.0"),
+        ("First_Scan_On", "SM0.1"),
+        ("Retentive_Lost", "SM0.2"),
+        ("RUN_Power_Up", "SM0.3"),
+        ("Clock_60s", "SM0.4"),
+        ("Clock_1s", "SM0.5"),
+        ("Clock_Scan", "SM0.6"),
+        ("Result_0", "SM1.0"),
+        ("Overflow_Illegal", "SM1.1"),
+        ("Neg_Result", "SM1.2"),
+        ("Divide_By_0", "SM1.3"),
+        ("Table_Overflow", "SM1.4"),
+        ("Table_Empty", "SM1.5"),
+        ("Not_BCD", "SM1.6"),
+        ("Last_Scan_Time", "SMW4"),
+        ("Minimum_Scan_Time", "SMW6"),
+        ("Maximum_Scan_Time", "SMW8"),
+        ("Time_0_Intrvl", "SMB10"),
+        ("Time_1_Intrvl", "SMB11"),
+    ];
+
+    #[test]
+    fn every_stdlib_target_maps_micro_win_system_symbols_once_each() {
+        for name in stdlib::names() {
+            let target = stdlib::shared(name).expect("stdlib target loads");
+            let memory = &target.memory;
+            let mapped: Vec<&str> = memory
+                .system_bits
+                .iter()
+                .filter_map(|b| b.microwin.as_deref())
+                .collect();
+            assert_eq!(mapped.len(), S7_200.len(), "{name}: {mapped:?}");
+            for (symbol, address) in S7_200 {
+                let bit = memory
+                    .microwin_system_bit(&symbol.to_ascii_uppercase())
+                    .unwrap_or_else(|| panic!("{name}: no {symbol}"));
+                assert_eq!(bit.address, address, "{name}: {symbol}");
+            }
+            assert!(memory.microwin_system_bit("Mode_Switch").is_none());
+        }
     }
 }

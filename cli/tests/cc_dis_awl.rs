@@ -139,7 +139,7 @@ fn the_binary_writes_micro_win_layout_that_compiles_back() {
         "END_ORGANIZATION_BLOCK",
         "SUBROUTINE_BLOCK SBR_0:SBR0",
         "END_SUBROUTINE_BLOCK",
-        "INTERRUPT_BLOCK INT_1:INT1",
+        "INTERRUPT_BLOCK INT_0:INT0", // GUTTA INT1: S7-200 numbers user interrupts from 0
         "END_INTERRUPT_BLOCK",
         "TITLE=",
         "BEGIN",

@@ -53,13 +53,23 @@ impl CheckedFile {
 /// Parse and check one source file. The target is the explicit one if given, else the
 /// file's `PLC_TYPE`, else the stdlib default.
 pub fn check_source(file: SourceFile, explicit: Option<&ExplicitTarget>) -> CheckedFile {
+    let microwin = is_microwin(&file);
     let parsed = if file.is_joined() {
-        parse_joined(&file)
+        parse_joined(&file, microwin)
+    } else if microwin {
+        syntax::parse_microwin_files(&file.text, &[file.text.len()])
     } else {
         syntax::parse(&file.text)
     };
     let mut diagnostics = parsed.diagnostics;
     let target = resolve_target(&parsed.program, explicit, &mut diagnostics);
+    if microwin {
+        diagnostics.extend(syntax::microwin::shadowed_system_names(
+            &parsed.program,
+            &file.text,
+            &target,
+        ));
+    }
     let mut output = check::check(&file.text, &parsed.program, &target);
     diagnostics.append(&mut output.diagnostics);
     diagnostics.sort_by_key(|d| (d.primary.span.start, d.primary.span.end));
@@ -77,16 +87,34 @@ pub fn check_source(file: SourceFile, explicit: Option<&ExplicitTarget>) -> Chec
     }
 }
 
+/// Whether the program is in the Micro/WIN dialect: one of its sources is a Micro/WIN
+/// export (`syntax::microwin::is_microwin`: `.awl`, or the marker line).
+fn is_microwin(file: &SourceFile) -> bool {
+    if !file.is_joined() {
+        return syntax::microwin::is_microwin(&file.name, &file.text);
+    }
+    file.parts()
+        .iter()
+        .filter(|p| p.kind == PartKind::Source)
+        .any(|p| {
+            syntax::microwin::is_microwin(&p.name, file.text.get(p.start..p.end).unwrap_or(""))
+        })
+}
+
 /// The sources of a joined text parsed as one program, then its symbol tables' rows
 /// added to its symbols (after the SYMBOLS blocks', as they follow in the text).
-fn parse_joined(file: &SourceFile) -> syntax::ParseOutput {
+fn parse_joined(file: &SourceFile, microwin: bool) -> syntax::ParseOutput {
     let parts = file.parts();
     let ends: Vec<usize> = parts
         .iter()
         .filter(|p| p.kind == PartKind::Source)
         .map(|p| p.end)
         .collect();
-    let mut parsed = syntax::parse_files(&file.text, &ends);
+    let mut parsed = if microwin {
+        syntax::parse_microwin_files(&file.text, &ends)
+    } else {
+        syntax::parse_files(&file.text, &ends)
+    };
     for table in parts.iter().filter(|p| p.kind == PartKind::SymbolTable) {
         let (decls, mut diags) = syntax::table::parse_table(&file.text, table.start, table.end);
         parsed.program.symbols.extend(decls);

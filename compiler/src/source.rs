@@ -222,9 +222,53 @@ impl SourceFile {
         }
     }
 
+    /// Decode the bytes of a STEP 7-Micro/WIN export or a symbol table (docs/microwin.md):
+    /// UTF-8 (BOM dropped) when they are UTF-8, else GBK when they are valid GBK, else
+    /// Windows-1252 (which decodes every byte). Also says which it was.
+    pub fn from_code_page_bytes(
+        name: impl Into<String>,
+        bytes: Vec<u8>,
+    ) -> (SourceFile, SourceEncoding) {
+        let (text, encoding) = decode_code_page(bytes);
+        (SourceFile::new(name, text), encoding)
+    }
+
     pub fn slice(&self, span: Span) -> &str {
         self.text.get(span.range()).unwrap_or("")
     }
+}
+
+/// The text encoding a source file was read in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SourceEncoding {
+    Utf8,
+    Gbk,
+    Windows1252,
+}
+
+impl SourceEncoding {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            SourceEncoding::Utf8 => "UTF-8",
+            SourceEncoding::Gbk => "GBK",
+            SourceEncoding::Windows1252 => "Windows-1252",
+        }
+    }
+}
+
+/// Bytes of a Micro/WIN export to text: UTF-8 when valid, else GBK when valid, else
+/// Windows-1252. Pure (no I/O); [`SourceFile::from_code_page_bytes`] uses it.
+pub fn decode_code_page(bytes: Vec<u8>) -> (String, SourceEncoding) {
+    let bytes = match String::from_utf8(bytes) {
+        Ok(text) => return (text, SourceEncoding::Utf8),
+        Err(e) => e.into_bytes(),
+    };
+    if let Some(text) = encoding_rs::GBK.decode_without_bom_handling_and_without_replacement(&bytes)
+    {
+        return (text.into_owned(), SourceEncoding::Gbk);
+    }
+    let (text, _) = encoding_rs::WINDOWS_1252.decode_without_bom_handling(&bytes);
+    (text.into_owned(), SourceEncoding::Windows1252)
 }
 
 /// Byte offset -> (line, column) lookups; lines and columns are 1-based, columns count

@@ -7,8 +7,7 @@
 
 mod common;
 
-use common::{lad_files, root};
-use std::collections::BTreeMap;
+use common::{actual, expected, lad_files, root};
 use std::path::Path;
 
 use gutta_catalog::stdlib;
@@ -36,36 +35,6 @@ fn check(path: &Path) -> CheckedFile {
         path.display()
     );
     compiled.checked
-}
-
-/// (line, code) -> count, from the `// error:` / `// warning:` annotations.
-fn expected(text: &str) -> BTreeMap<(u32, String), usize> {
-    let mut map = BTreeMap::new();
-    for (i, line) in text.lines().enumerate() {
-        for tag in ["// error:", "// warning:"] {
-            if let Some(at) = line.find(tag) {
-                for code in line[at + tag.len()..].split(',') {
-                    let code = code.split_whitespace().next().unwrap_or("").to_string();
-                    if !code.is_empty() {
-                        *map.entry((i as u32 + 1, code)).or_insert(0) += 1;
-                    }
-                }
-            }
-        }
-    }
-    map
-}
-
-fn actual(c: &CheckedFile) -> BTreeMap<(u32, String), usize> {
-    let mut map = BTreeMap::new();
-    for d in c.diagnostics() {
-        let line = c
-            .index
-            .line_col(&c.file.text, d.primary.span.start as usize)
-            .line;
-        *map.entry((line, d.code.as_str().to_string())).or_insert(0) += 1;
-    }
-    map
 }
 
 fn describe(c: &CheckedFile) -> String {

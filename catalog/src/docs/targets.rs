@@ -75,7 +75,10 @@ const SYSTEM_MEMORY: &str = "\
 ### System memory (SM)
 
 The named bits and bytes at the start of SM; the bytes after them are reserved. The
-runtime fault codes of `ERROR_CODE` are the VM's to define (docs of the VM).
+runtime fault codes of `ERROR_CODE` are the VM's to define (docs of the VM). The
+Micro/WIN name is STEP 7-Micro/WIN's system symbol for the same meaning, usable in a
+Micro/WIN export (docs/microwin.md); S7-200 system memory without a GUTTA equivalent
+has none.
 ";
 
 const EVENTS: &str = "### Interrupt events (`ATCH`)\n";
@@ -226,13 +229,14 @@ fn write_group_heading(out: &mut String, names: &[&str], all: usize) {
 }
 
 fn write_system_bits(out: &mut String, bits: &[SystemBit]) {
-    out.push_str("\n| address | name | meaning |\n| --- | --- | --- |\n");
+    out.push_str("\n| address | name | Micro/WIN name | meaning |\n| --- | --- | --- | --- |\n");
     for bit in bits {
         let _ = writeln!(
             out,
-            "| {} | {} | {} |",
+            "| {} | {} | {} | {} |",
             bit.address,
             bit.name,
+            bit.microwin.as_deref().unwrap_or(""),
             cell(&bit.description)
         );
     }

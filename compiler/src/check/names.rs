@@ -84,6 +84,13 @@ impl Checker<'_> {
             self.reference(name, def);
             return Some(Variable { address, ty: None });
         }
+        if let Some(a) = self.microwin_system_name(text) {
+            self.out.addresses.push((name, a));
+            return Some(Variable {
+                address: a,
+                ty: None,
+            });
+        }
         if self.looks_like_address(text) {
             let a = self.direct_address(name, None)?;
             self.out.addresses.push((name, a));
@@ -94,6 +101,16 @@ impl Checker<'_> {
         }
         self.not_a_variable(name);
         None
+    }
+
+    /// In the Micro/WIN dialect, Micro/WIN's system symbol `text` (`Always_On`) as the
+    /// target's address for it (the target's `MicroWin` attribute); user symbols win.
+    fn microwin_system_name(&self, text: &str) -> Option<Address> {
+        if !self.ast.microwin {
+            return None;
+        }
+        let bit = self.target.memory.microwin_system_bit(text)?;
+        self.target.memory.parse_address(&bit.address).ok()
     }
 
     /// A name that is no variable: a unit's, or nothing defined.
@@ -118,7 +135,7 @@ impl Checker<'_> {
             return;
         }
         let d = match gutta_catalog::s7200::s7200_name(text) {
-            Some(s7) => s7200_name_diagnostic(name, text, s7, self.target.name()),
+            Some(s7) => s7200_name_diagnostic(name, text, s7, &self.target),
             None => self.undefined_symbol(name, text),
         };
         self.unknown_names.insert(
@@ -192,7 +209,13 @@ pub(crate) struct UnknownName {
 }
 
 /// E0221: an S7-200 area or Micro/WIN system symbol this target does not have.
-fn s7200_name_diagnostic(name: Span, text: &str, s7: S7200Name, target: &str) -> Diagnostic {
+fn s7200_name_diagnostic(
+    name: Span,
+    text: &str,
+    s7: S7200Name,
+    on: &gutta_catalog::Target,
+) -> Diagnostic {
+    let target = on.name();
     match s7 {
         S7200Name::Area(S7200AreaKind::SequenceRelay) => Diagnostic::new(
             Code::S7200Area,
@@ -217,10 +240,19 @@ fn s7200_name_diagnostic(name: Span, text: &str, s7: S7200Name, target: &str) ->
                     s.s7200_address
                 ),
             );
-            match s.gutta_address {
-                Some(a) => d
-                    .label(format!("{a} on this target"))
-                    .help(format!("declare it in SYMBOLS: `{} : {a}`", s.name)),
+            // The target's own data says which bit the name stands for (its
+            // ManagerVar.xml `MicroWin` attribute), as the Micro/WIN dialect reads it.
+            let here = on
+                .memory
+                .microwin_system_bit(s.name)
+                .map(|b| b.address.clone());
+            match here {
+                Some(a) => d.label(format!("{a} on this target")).help(format!(
+                    "declare it in SYMBOLS (`{} : {a}`), or read the file as a Micro/WIN export \
+                     (first line `// dialect: microwin`, or name it .awl), where Micro/WIN's \
+                     system names are known",
+                    s.name
+                )),
                 None => d
                     .label("no equivalent on this target")
                     .help(format!("{target} has no counterpart of the S7-200's {}", s.s7200_address)),

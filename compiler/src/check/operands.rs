@@ -163,7 +163,7 @@ impl Checker<'_> {
         mnemonic: &str,
     ) -> Option<CheckedOperand> {
         let text = self.slice(name);
-        let key = text.to_ascii_uppercase();
+        let key = crate::syntax::microwin::block_key(self.ast, text);
         if !self.unit_names.contains_key(&key)
             && (self.looks_like_address(text) || self.symbols.contains_key(&key))
         {

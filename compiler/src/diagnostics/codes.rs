@@ -70,6 +70,8 @@ codes! {
         "A CSV symbol table starts with the header row `Symbol,Address,Comment` (any case; the format STEP 7-Micro/WIN SMART exports). Tab-separated tables (Micro/WIN's pasted rows, `Symbol<TAB>Address<TAB>Comment`) may omit the header. A file is read as tab-separated when its first non-empty line holds a tab.";
     E0114 BadSymbolTableRow Error "malformed symbol table row"
         "A symbol table row is `Symbol,Address,Comment` (CSV) or the same separated by tabs: a name that is one word (letters, digits, `_`), a direct address optionally followed by `:TYPE` (`MD8:REAL`), and an optional comment. The message says what is wrong: a missing name or address, extra fields, a quote that is not closed, or text after a closing quote.";
+    E0115 MisplacedMend Error "MEND not at the end of the main program"
+        "In a STEP 7-Micro/WIN export (docs/microwin.md) `MEND`, S7-200's unconditional end of the main program, is accepted as the last instruction of the `ORGANIZATION_BLOCK`, where GUTTA's main program (MAIN, INT0) ends anyway, and compiles to nothing. In a subroutine or interrupt routine, or with code after it in the main program (which S7-200 would never run), it is this error: remove it, or end a subroutine with `RET` and an interrupt routine with `RETI`.";
 
     // ---- E02xx: names --------------------------------------------------------------
     E0201 UnknownMnemonic Error "unknown mnemonic"
@@ -207,6 +209,8 @@ codes! {
         "The file names one PLC type and the command line (`--plc` or `--target`) another; the command line wins.";
     W0205 EmptyNetwork Warning "empty network"
         "A network without instructions. It is kept (so numbering stays), but does nothing.";
+    W0206 SystemNameShadowed Warning "user symbol hides a Micro/WIN system symbol"
+        "In a STEP 7-Micro/WIN export (docs/microwin.md) Micro/WIN's system symbols (`Always_On`, `Clock_1s`, ...) name the target's SM bits that mean the same (the `MicroWin` attribute of its `SystemBit` rows, docs/targets.md). A user symbol of the same name wins, as in Micro/WIN; this warning says so, in case the program meant the system bit.";
 }
 
 #[cfg(test)]

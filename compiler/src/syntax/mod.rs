@@ -6,10 +6,11 @@ pub mod ast;
 mod blocks;
 pub mod lexer;
 mod lines;
+pub mod microwin;
 pub mod numbers;
 pub mod table;
 
-pub use blocks::{parse, parse_files, ParseOutput};
+pub use blocks::{parse, parse_files, parse_microwin_files, ParseOutput};
 
 /// Whether a word is reserved (a block keyword), so it cannot name a symbol.
 pub fn is_reserved(word: &str) -> bool {

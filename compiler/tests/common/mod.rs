@@ -4,7 +4,10 @@
 #![allow(clippy::disallowed_methods, reason = "tests read their data files")]
 #![allow(dead_code)]
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+
+use gutta_compiler::CheckedFile;
 
 /// The repository root.
 pub fn root() -> PathBuf {
@@ -27,4 +30,34 @@ pub fn compiling_programs() -> Vec<PathBuf> {
     let mut files = lad_files(&root().join("examples"));
     files.extend(lad_files(&root().join("tests/data/check/ok")));
     files
+}
+
+/// (line, code) -> count, from the `// error:` / `// warning:` annotations.
+pub fn expected(text: &str) -> BTreeMap<(u32, String), usize> {
+    let mut map = BTreeMap::new();
+    for (i, line) in text.lines().enumerate() {
+        for tag in ["// error:", "// warning:"] {
+            if let Some(at) = line.find(tag) {
+                for code in line[at + tag.len()..].split(',') {
+                    let code = code.split_whitespace().next().unwrap_or("").to_string();
+                    if !code.is_empty() {
+                        *map.entry((i as u32 + 1, code)).or_insert(0) += 1;
+                    }
+                }
+            }
+        }
+    }
+    map
+}
+
+pub fn actual(c: &CheckedFile) -> BTreeMap<(u32, String), usize> {
+    let mut map = BTreeMap::new();
+    for d in c.diagnostics() {
+        let line = c
+            .index
+            .line_col(&c.file.text, d.primary.span.start as usize)
+            .line;
+        *map.entry((line, d.code.as_str().to_string())).or_insert(0) += 1;
+    }
+    map
 }

@@ -1,7 +1,7 @@
 //! The STEP 7-Micro/WIN layout of `gutta-cc dis --format awl` (docs/microwin.md, "The
 //! way back"): Micro/WIN's block names (`SBR_n:SBRn`, `INT_n:INTn`, also in `CALL` and
-//! `ATCH`), its VAR lines, and
-//! the note before the data and system blocks, which Micro/WIN exports separately. The
+//! `ATCH`), numbered as S7-200 numbers them (GUTTA's INT1 is S7-200's INT0), its VAR
+//! lines, and the note before the data and system blocks, which Micro/WIN exports separately. The
 //! rest of the layout (`TITLE=`, `Network n`, no step comments, CRLF) is chosen where
 //! the shared writer prints (`units.rs`, `Disassembler::line`).
 
@@ -10,19 +10,36 @@ use gutta_catalog::{BlockKind, DataType};
 use super::{Disassembler, Format};
 use crate::{PageKind, UnitRef};
 
-/// `SBR_0`, `INT_1`: Micro/WIN's default name of a block. The number is GUTTA's (MAIN
-/// is INT0, so the first interrupt routine is INT_1:INT1), which is what compiles back
-/// to the same page today.
-fn block_name(unit: UnitRef) -> String {
+/// The number S7-200 gives a unit: subroutines keep GUTTA's; GUTTA's interrupt routine
+/// INTn is S7-200's INT(n-1), since GUTTA's MAIN is INT0 and the Micro/WIN dialect
+/// places S7-200's INTn on GUTTA's INT(n+1) (docs/microwin.md), so the text compiles
+/// back to the same pages.
+fn s7200_number(unit: UnitRef) -> u16 {
     match unit.kind {
-        BlockKind::Interrupt => format!("INT_{}", unit.number),
-        BlockKind::Subroutine => format!("SBR_{}", unit.number),
+        BlockKind::Interrupt => unit.number.saturating_sub(1),
+        BlockKind::Subroutine => unit.number,
     }
 }
 
-/// `SBR_0:SBR0`, `INT_1:INT1`: the name, then the number.
+/// `SBR_0`, `INT_0`: Micro/WIN's default name of a block, by its S7-200 number.
+fn block_name(unit: UnitRef) -> String {
+    match unit.kind {
+        BlockKind::Interrupt => format!("INT_{}", s7200_number(unit)),
+        BlockKind::Subroutine => format!("SBR_{}", s7200_number(unit)),
+    }
+}
+
+/// `SBR_0`, `INT0`: a block's numbered name as S7-200 numbers it.
+fn numbered_name(unit: UnitRef) -> String {
+    match unit.kind {
+        BlockKind::Interrupt => format!("INT{}", s7200_number(unit)),
+        BlockKind::Subroutine => format!("SBR{}", s7200_number(unit)),
+    }
+}
+
+/// `SBR_0:SBR0`, `INT_0:INT0` (GUTTA's INT1): the name, then the number.
 pub(super) fn block_header(unit: UnitRef) -> String {
-    format!("{}:{unit}", block_name(unit))
+    format!("{}:{}", block_name(unit), numbered_name(unit))
 }
 
 /// `in0:INT;<TAB>// LW0`: Micro/WIN's declaration (no blanks, a tab before the comment);
@@ -40,10 +57,11 @@ impl Disassembler<'_> {
             id.kind == PageKind::Instruction
                 && UnitRef::from_page(id.number, &self.target.plc) == Some(unit)
         });
-        if self.format == Format::Awl && held && unit != UnitRef::MAIN {
-            block_name(unit)
-        } else {
-            unit.to_string()
+        match self.format {
+            Format::Awl if unit == UnitRef::MAIN => unit.to_string(),
+            Format::Awl if held => block_name(unit),
+            Format::Awl => numbered_name(unit),
+            Format::Stl => unit.to_string(),
         }
     }
 

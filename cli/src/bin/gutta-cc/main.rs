@@ -15,7 +15,8 @@ use gutta_cli::shell::Shell;
 use gutta_compiler::diagnostics::json;
 use gutta_compiler::diagnostics::render::{render, RenderStyle};
 use gutta_compiler::encode::{listing, summary};
-use gutta_compiler::source::SourceFile;
+use gutta_compiler::source::{SourceEncoding, SourceFile};
+use gutta_compiler::syntax::microwin;
 use gutta_compiler::{check_program, compile_program, ExplicitTarget, ProgramSources};
 
 #[derive(Debug, Clone, Parser)]
@@ -587,12 +588,15 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
         let compiled = compile_program(program, explicit.as_ref());
         if let (Some(Emit::Listing), Some(lowered)) = (cli.emit, &compiled.lowered) {
             if compiled.image.is_some() {
-                let text = listing(
+                let mut text = listing(
                     lowered,
                     &compiled.checked.file,
                     &compiled.checked.index,
                     compiled.checked.target.name(),
                 );
+                if let Some(line) = microwin::interrupt_summary(&compiled.checked.ast) {
+                    text = format!("// {line}\n{text}");
+                }
                 let _ = stdout.lock().write_all(text.as_bytes());
             }
         }
@@ -631,6 +635,9 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
                     image.plc_type,
                     summary(image, &checked.target)
                 );
+                if let Some(line) = microwin::interrupt_summary(&checked.ast) {
+                    eprintln!("{name}: {line}");
+                }
             } else if let Some(p) = &checked.output.program {
                 let instructions: usize = p
                     .units
@@ -648,6 +655,9 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
                     plural(p.data_blocks.len()),
                     if warnings > 0 { format!(", {warnings} warning{}", plural(warnings)) } else { String::new() }
                 );
+                if let Some(line) = microwin::interrupt_summary(&checked.ast) {
+                    eprintln!("{name}: {line}");
+                }
             }
         }
     }
@@ -673,19 +683,29 @@ fn read_program(files: &[PathBuf], tables: &[PathBuf]) -> Result<ProgramSources,
     }
     let mut program = ProgramSources::default();
     for path in files {
-        program.sources.push(read_source(path)?);
+        program.sources.push(read_source(path, false)?);
     }
     for path in tables {
-        program.symbol_tables.push(read_source(path)?);
+        program.symbol_tables.push(read_source(path, true)?);
     }
     Ok(program)
 }
 
-/// A file as UTF-8 text (BOM dropped), named as given.
-fn read_source(path: &Path) -> Result<SourceFile, Fatal> {
+/// A file as text (BOM dropped), named as given: UTF-8; a symbol table or a Micro/WIN
+/// export (`.awl`, or the dialect's marker line) may also be GBK or Windows-1252
+/// (`SourceFile::from_code_page_bytes`; a note on stderr says which).
+fn read_source(path: &Path, table: bool) -> Result<SourceFile, Fatal> {
     let bytes = std::fs::read(path)
         .map_err(|e| Fatal::io(format!("cannot read {}: {e}", path.display())))?;
     let name = path.display().to_string();
+    let head = String::from_utf8_lossy(&bytes[..bytes.len().min(256)]).into_owned();
+    if table || microwin::is_microwin(&name, &head) {
+        let (file, encoding) = SourceFile::from_code_page_bytes(&name, bytes);
+        if encoding != SourceEncoding::Utf8 {
+            eprintln!("note: {name} is not UTF-8; read as {}", encoding.as_str());
+        }
+        return Ok(file);
+    }
     SourceFile::from_bytes(&name, bytes).map_err(|e| {
         Fatal::io(format!(
             "{name} is not UTF-8 text (invalid byte at offset {})",

@@ -16,6 +16,99 @@ impl BlockParser<'_> {
     /// block, when the code has no NETWORK line yet). Operands that do not parse give an
     /// error operand and an instruction marked as a syntax error.
     pub(super) fn instruction_line(&mut self, toks: &[Spanned], line_span: Span) {
+        if self.microwin {
+            let toks = self.microwin_line(toks);
+            if !toks.is_empty() {
+                self.gutta_instruction(&toks, line_span);
+            }
+        } else {
+            self.gutta_instruction(toks, line_span);
+        }
+    }
+
+    /// The Micro/WIN dialect's line rules, giving the tokens of the GUTTA instruction the
+    /// line stands for (none: nothing to compile). `NOP 0` is GUTTA's `NOP`; `MEND`, the
+    /// S7-200 main program's unconditional end, compiles to nothing as the last
+    /// instruction of the `ORGANIZATION_BLOCK` (GUTTA's main program ends there anyway)
+    /// and is E0115 anywhere else; an operand `NAME:SBRn` / `NAME:INTn` is its NAME.
+    fn microwin_line(&mut self, toks: &[Spanned]) -> Vec<Spanned> {
+        let text = self.text;
+        let word = |i: usize| {
+            toks.get(i)
+                .filter(|t| t.0 == Tok::Word)
+                .and_then(|t| text.get(t.1.range()))
+        };
+        if let Some((mend, reported)) = self.mend {
+            if !reported {
+                self.mend = Some((mend, true));
+                self.report(
+                    Diagnostic::new(
+                        Code::MisplacedMend,
+                        mend,
+                        "`MEND` ends the main program, but code follows it",
+                    )
+                    .label("S7-200 would stop the scan here"),
+                );
+            }
+        }
+        if toks.len() == 1 && word(0).is_some_and(|w| w.eq_ignore_ascii_case("MEND")) {
+            let in_main = self.program.units.last().is_some_and(|u| {
+                self.slice(u.header.span)
+                    .split_whitespace()
+                    .next()
+                    .is_some_and(|k| k.eq_ignore_ascii_case("ORGANIZATION_BLOCK"))
+            });
+            if in_main {
+                self.mend = Some((toks[0].1, false));
+            } else {
+                self.report(
+                    Diagnostic::new(
+                        Code::MisplacedMend,
+                        toks[0].1,
+                        "`MEND` outside the main program",
+                    )
+                    .help("MEND ends the ORGANIZATION_BLOCK; a subroutine returns with RET, an interrupt routine with RETI"),
+                );
+            }
+            return Vec::new();
+        }
+        if toks.len() == 2
+            && word(0).is_some_and(|w| w.eq_ignore_ascii_case("NOP"))
+            && text.get(toks[1].1.range()) == Some("0")
+        {
+            self.chum.truncate(1);
+            return toks[..1].to_vec();
+        }
+        let mut keep = vec![true; toks.len()];
+        for i in 1..toks.len() {
+            if toks[i].0 == Tok::Colon
+                && toks[i - 1].0 == Tok::Word
+                && keep[i - 1]
+                && word(i + 1).is_some_and(is_numbered_block)
+            {
+                keep[i] = false;
+                keep[i + 1] = false;
+            }
+        }
+        let kept: Vec<Spanned> = toks
+            .iter()
+            .zip(&keep)
+            .filter(|(_, k)| **k)
+            .map(|(t, _)| *t)
+            .collect();
+        if kept.len() != toks.len() {
+            let mut index = 0;
+            self.chum.retain(|_| {
+                let k = keep.get(index).copied().unwrap_or(true);
+                index += 1;
+                k
+            });
+        }
+        kept
+    }
+
+    /// A GUTTA instruction line.
+    fn gutta_instruction(&mut self, toks: &[Spanned], line_span: Span) {
         let length = mnemonic_length(toks);
         if length == 0 {
             let found = toks[0].0.describe();
@@ -155,6 +248,15 @@ fn mnemonic_length(toks: &[Spanned]) -> usize {
 }
 
 /// A token that may start a mnemonic (`=`, `+I`, `<>`).
+/// `SBR0`, `INT12` (any case): the numbered part of a Micro/WIN `NAME:SBR0` operand.
+fn is_numbered_block(word: &str) -> bool {
+    let upper = word.to_ascii_uppercase();
+    let digits = upper
+        .strip_prefix("SBR")
+        .or_else(|| upper.strip_prefix("INT"));
+    digits.is_some_and(|d| !d.is_empty() && d.bytes().all(|b| b.is_ascii_digit()))
+}
+
 fn is_op(t: Tok) -> bool {
     matches!(
         t,

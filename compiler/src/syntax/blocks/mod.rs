@@ -60,9 +60,22 @@ pub fn parse(text: &str) -> ParseOutput {
 /// holds the offset where each file ends, in order (the last is where parsing stops).
 /// A block open at a file's end is reported there, and `PLC_TYPE` may start each file.
 pub fn parse_files(text: &str, ends: &[usize]) -> ParseOutput {
+    parse_files_in(text, ends, false)
+}
+
+/// [`parse_files`] for a program in the Micro/WIN dialect (`syntax::microwin`): its line
+/// rules (`NOP 0`, `MEND`, `NAME:SBRn` operands), then its tree pass.
+pub fn parse_microwin_files(text: &str, ends: &[usize]) -> ParseOutput {
+    let mut out = parse_files_in(text, ends, true);
+    super::microwin::apply(&mut out.program, text);
+    out
+}
+
+fn parse_files_in(text: &str, ends: &[usize], microwin: bool) -> ParseOutput {
     let stop = ends.last().copied().unwrap_or(0).min(text.len());
     let text = text.get(..stop).unwrap_or(text);
     let mut parser = BlockParser::new(text);
+    parser.microwin = microwin;
     let mut lexer = LineLexer::new(text);
     let mut line = Vec::new();
     let mut file = 0;
@@ -118,6 +131,10 @@ struct BlockParser<'t> {
     blocks_before_file: usize,
     /// The current file's PLC_TYPE line, once seen.
     file_plc_type: Option<Span>,
+    /// The program is in the Micro/WIN dialect (`syntax::microwin`).
+    microwin: bool,
+    /// In that dialect, the current unit's `MEND`, and whether E0115 was reported.
+    mend: Option<(Span, bool)>,
 }
 
 impl<'t> BlockParser<'t> {
@@ -135,6 +152,8 @@ impl<'t> BlockParser<'t> {
             filtered: Vec::new(),
             blocks_before_file: 0,
             file_plc_type: None,
+            microwin: false,
+            mend: None,
         }
     }
 

@@ -18,6 +18,7 @@ impl BlockParser<'_> {
     /// `ORGANIZATION_BLOCK`, `INTERRUPT_BLOCK` or `SUBROUTINE_BLOCK` with its header.
     pub(super) fn unit_header(&mut self, kw: Kw, kw_span: Span, line_span: Span) {
         self.open_block(line_span);
+        self.mend = None;
         let kind = if kw == Kw::Subroutine {
             BlockKind::Subroutine
         } else {
