@@ -135,7 +135,7 @@ impl Checker<'_> {
             return;
         }
         let d = match gutta_catalog::s7200::s7200_name(text) {
-            Some(s7) => s7200_name_diagnostic(name, text, s7, &self.target),
+            Some(s7) => s7200_name_diagnostic(name, text, s7, self.target),
             None => self.undefined_symbol(name, text),
         };
         self.unknown_names.insert(
