@@ -1,8 +1,7 @@
-//! `gutta-cc dis --format awl`: the STEP 7-Micro/WIN layout compiles back to the same
-//! pages, byte for byte, for every example, every clean program of the check corpus and
-//! every program of the run corpus (as compiler/tests/roundtrip.rs does for the default
-//! STL layout), and the binary writes Micro/WIN's layout (headers, CRLF, no step
-//! comments) that the binary compiles back to the same image directory.
+//! `gutta-cc dis --format awl` through the binary: it writes Micro/WIN's layout
+//! (headers, CRLF, no step comments) that the binary compiles back to the same image
+//! directory. That every example and corpus program round-trips through the layout is
+//! compiler/tests/roundtrip.rs's test.
 
 #![allow(clippy::disallowed_methods, reason = "tests read their data files")]
 
@@ -10,103 +9,8 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use gutta_catalog::stdlib;
-use gutta_compiler::source::SourceFile;
-use gutta_compiler::{compile, ExplicitTarget};
-use gutta_format::disasm::{disassemble_as, Format};
-
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-/// The `.lad` files of a directory of the repository, sorted.
-fn lad_files(dir: &str) -> Vec<PathBuf> {
-    let dir = root().join(dir);
-    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
-        .map(|e| e.expect("dir entry").path())
-        .filter(|p| p.extension().is_some_and(|x| x == "lad"))
-        .collect();
-    files.sort();
-    files
-}
-
-/// Round trip of one program through the awl layout; `Err` says what went wrong.
-fn round_trip(path: &Path) -> Result<(), String> {
-    let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
-    let first = text.lines().next().unwrap_or("").trim().to_string();
-    let explicit = first.strip_prefix("// plc:").map(|name| ExplicitTarget {
-        target: stdlib::shared(name.trim()).expect("stdlib target"),
-        origin: format!("--plc {}", name.trim()),
-    });
-    let original = compile(
-        SourceFile::new(path.display().to_string(), text),
-        explicit.as_ref(),
-    );
-    let Some(image) = original.image else {
-        return Err("does not compile".to_string());
-    };
-    let target = original.checked.target.clone();
-    let dis = disassemble_as(&image, &target, Format::Awl);
-    if !dis.errors.is_empty() {
-        let list: Vec<String> = dis.errors.iter().map(|e| format!("    {e}")).collect();
-        return Err(format!("disassembly errors:\n{}", list.join("\n")));
-    }
-    if dis.text.replace("\r\n", "").contains('\n') {
-        return Err("a line does not end in CRLF".to_string());
-    }
-    let again = compile(SourceFile::new("dis.awl", dis.text.clone()), None);
-    let Some(image2) = again.image else {
-        let diags: Vec<String> = again
-            .checked
-            .diagnostics()
-            .iter()
-            .map(|d| {
-                let start = (d.primary.span.start as usize).min(dis.text.len());
-                let line = dis.text.get(..start).unwrap_or("").lines().count();
-                format!("    line {line}: {:?} {}", d.code, d.message)
-            })
-            .collect();
-        return Err(format!(
-            "the awl text does not compile:\n{}\n--- text ---\n{}",
-            diags.join("\n"),
-            dis.text
-        ));
-    };
-    if image2.pages != image.pages || image2.plc_type != image.plc_type {
-        let differ: Vec<String> = image
-            .pages
-            .keys()
-            .chain(image2.pages.keys())
-            .filter(|id| image.pages.get(id) != image2.pages.get(id))
-            .map(|id| id.file_name())
-            .collect();
-        return Err(format!(
-            "the awl text compiles to other pages ({}) or PLC type\n--- text ---\n{}",
-            differ.join(", "),
-            dis.text
-        ));
-    }
-    Ok(())
-}
-
-#[test]
-fn every_example_check_and_run_program_round_trips_through_awl() {
-    let mut files = lad_files("examples");
-    files.extend(lad_files("tests/data/check/ok"));
-    files.extend(lad_files("tests/data/run"));
-    assert!(files.len() > 100, "found only {} programs", files.len());
-    let failures: Vec<String> = files
-        .iter()
-        .filter_map(|p| round_trip(p).err().map(|e| format!("{}: {e}", p.display())))
-        .collect();
-    assert!(
-        failures.is_empty(),
-        "{} of {} programs do not round-trip through awl:\n{}",
-        failures.len(),
-        files.len(),
-        failures.join("\n\n")
-    );
 }
 
 /// The binary's output for blink.lad (MAIN, an interrupt routine, a subroutine with
