@@ -233,6 +233,23 @@ impl SourceFile {
         (SourceFile::new(name, text), encoding)
     }
 
+    /// A program file's bytes as text, by the one rule every tool follows
+    /// (docs/microwin.md): a symbol table (`table`) or a Micro/WIN export (a `.awl` name,
+    /// or the dialect marker on its first line) in its code page (UTF-8, else GBK, else
+    /// Windows-1252); any other source strictly UTF-8.
+    pub fn from_program_file_bytes(
+        name: impl Into<String>,
+        bytes: Vec<u8>,
+        table: bool,
+    ) -> Result<(SourceFile, SourceEncoding), EncodingError> {
+        let name = name.into();
+        let head = String::from_utf8_lossy(&bytes[..bytes.len().min(256)]).into_owned();
+        if table || crate::syntax::microwin::is_microwin(&name, &head) {
+            return Ok(SourceFile::from_code_page_bytes(name, bytes));
+        }
+        SourceFile::from_bytes(name, bytes).map(|f| (f, SourceEncoding::Utf8))
+    }
+
     pub fn slice(&self, span: Span) -> &str {
         self.text.get(span.range()).unwrap_or("")
     }

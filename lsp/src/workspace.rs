@@ -258,8 +258,13 @@ impl Workspace {
             (ProgramKey::Project(_), Some(p)) => {
                 for (paths, tables) in [(&p.sources, false), (&p.symbols, true)] {
                     for path in paths {
-                        let (uri, file) =
-                            load(documents, &open_paths, &p.root, path, &mut update.warnings);
+                        let (uri, file) = load(
+                            documents,
+                            &open_paths,
+                            &p.root,
+                            (path, tables),
+                            &mut update.warnings,
+                        );
                         files.push(uri);
                         if tables {
                             sources.symbol_tables.push(file);
@@ -361,14 +366,14 @@ fn lists(p: &Project, path: Option<&Path>) -> bool {
         .any(|f| f == path || (canonical.is_some() && std::fs::canonicalize(f).ok() == canonical))
 }
 
-/// A project file: the open document's text if it is open, else the disk's (empty, and
-/// a warning, if unreadable). Named by its path relative
-/// to the project's folder.
+/// A project file (`table`: one of its symbol tables): the open document's text if it is
+/// open, else the disk's, decoded as gutta-cc decodes it (empty, and a warning, if
+/// unreadable). Named by its path relative to the project's folder.
 fn load(
     documents: &Documents,
     open: &HashMap<PathBuf, Uri>,
     root: &Path,
-    path: &Path,
+    (path, table): (&Path, bool),
     warnings: &mut Vec<String>,
 ) -> (Uri, SourceFile) {
     let name = path
@@ -387,8 +392,9 @@ fn load(
     }
     let uri = path_to_uri(path).unwrap_or_else(|| fallback_uri(&name));
     let file = match std::fs::read(path) {
-        Ok(bytes) => match SourceFile::from_bytes(name.clone(), bytes) {
-            Ok(file) => file,
+        // Micro/WIN exports and symbol tables in their code page, as gutta-cc reads them.
+        Ok(bytes) => match SourceFile::from_program_file_bytes(name.clone(), bytes, table) {
+            Ok((file, _)) => file,
             Err(e) => {
                 warnings.push(format!("{name}: not UTF-8 at byte {}", e.offset));
                 SourceFile::new(name, "")

@@ -184,3 +184,35 @@ fn a_project_change_asks_the_client_to_refresh_tokens_and_hints() {
         .count();
     assert_eq!(refreshes, 0, "a client without refresh support gets none");
 }
+
+/// A symbol table saved by a Chinese Windows (GBK) is read as gutta-cc reads it: its
+/// symbols resolve in the project's sources, and it has no diagnostics of its own.
+#[test]
+fn a_gbk_symbol_table_on_disk_is_read_in_its_code_page() {
+    let p = common::ProjectDir::new();
+    // `启动,I0.0,按钮` in GBK (启 C6F4, 动 B6AF, 按 B0B4, 钮 C5A5): not UTF-8.
+    let mut csv = b"Symbol,Address,Comment\n".to_vec();
+    csv.extend([0xC6, 0xF4, 0xB6, 0xAF]);
+    csv.extend(b",I0.0,");
+    csv.extend([0xB0, 0xB4, 0xC5, 0xA5]);
+    csv.extend(b"\nLamp,Q0.0,indicator\nMotor,Q0.1,main drive\n");
+    assert!(String::from_utf8(csv.clone()).is_err());
+    std::fs::write(p.root().join("symbols.csv"), csv).expect("writes the table");
+    let mut s = TestServer::start();
+    let main = p.uri("src/main.lad");
+    s.open(
+        &main,
+        &common::MAIN_LAD.replace("LD     Start", "LD     启动"),
+    );
+    assert_eq!(
+        s.diagnostics_of(&main),
+        &[],
+        "启动 comes from the GBK table"
+    );
+    assert_eq!(s.diagnostics_of(&p.uri("symbols.csv")), &[]);
+    let warnings = s.received("window/showMessage");
+    assert!(
+        warnings.is_empty(),
+        "no warning about the table: {warnings:?}"
+    );
+}

@@ -698,20 +698,17 @@ fn read_source(path: &Path, table: bool) -> Result<SourceFile, Fatal> {
     let bytes = std::fs::read(path)
         .map_err(|e| Fatal::io(format!("cannot read {}: {e}", path.display())))?;
     let name = path.display().to_string();
-    let head = String::from_utf8_lossy(&bytes[..bytes.len().min(256)]).into_owned();
-    if table || microwin::is_microwin(&name, &head) {
-        let (file, encoding) = SourceFile::from_code_page_bytes(&name, bytes);
-        if encoding != SourceEncoding::Utf8 {
-            eprintln!("note: {name} is not UTF-8; read as {}", encoding.as_str());
-        }
-        return Ok(file);
+    let (file, encoding) =
+        SourceFile::from_program_file_bytes(&name, bytes, table).map_err(|e| {
+            Fatal::io(format!(
+                "{name} is not UTF-8 text (invalid byte at offset {})",
+                e.offset
+            ))
+        })?;
+    if encoding != SourceEncoding::Utf8 {
+        eprintln!("note: {name} is not UTF-8; read as {}", encoding.as_str());
     }
-    SourceFile::from_bytes(&name, bytes).map_err(|e| {
-        Fatal::io(format!(
-            "{name} is not UTF-8 text (invalid byte at offset {})",
-            e.offset
-        ))
-    })
+    Ok(file)
 }
 
 fn plural(n: usize) -> &'static str {
