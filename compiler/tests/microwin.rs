@@ -136,3 +136,16 @@ fn a_lad_file_without_the_marker_is_not_in_the_dialect() {
         "ORGANIZATION_BLOCK MAIN:OB1\n"
     ));
 }
+
+/// A misspelt Micro/WIN system name in an export gets a did-you-mean to the name (and its
+/// quick fix), as a misspelt symbol does.
+#[test]
+fn a_misspelt_system_name_suggests_the_micro_win_name() {
+    let text = "ORGANIZATION_BLOCK MAIN:OB1\r\nBEGIN\r\nNetwork 1\r\nLD     Alway_On\r\n=      Q0.0\r\nEND_ORGANIZATION_BLOCK\r\n";
+    let compiled = compile(SourceFile::new("main.awl", text), None);
+    let diags = compiled.checked.diagnostics();
+    assert_eq!(diags.len(), 1, "{diags:#?}");
+    assert_eq!(diags[0].code.as_str(), "E0202");
+    assert_eq!(diags[0].help.as_deref(), Some("did you mean `Always_On`?"));
+    assert_eq!(diags[0].fixes.len(), 1, "the replacement as a fix");
+}

@@ -150,11 +150,22 @@ impl Checker<'_> {
 
     /// E0202 for a name that is nothing, with the closest symbol as a suggestion.
     fn undefined_symbol(&self, name: Span, text: &str) -> Diagnostic {
-        let names: Vec<String> = self
+        let mut names: Vec<String> = self
             .symbols
             .values()
             .map(|(_, d)| self.out.definitions[*d].name.clone())
             .collect();
+        // In a Micro/WIN export, the target's Micro/WIN system names are names too
+        // (`Alway_On` -> `Always_On`).
+        if self.ast.microwin {
+            names.extend(
+                self.target
+                    .memory
+                    .system_bits
+                    .iter()
+                    .filter_map(|b| b.microwin.clone()),
+            );
+        }
         let hint = super::suggest::closest(text, names.iter().map(String::as_str));
         let d = Diagnostic::new(
             Code::UndefinedSymbol,
