@@ -5,7 +5,8 @@
 
 #![allow(dead_code)]
 
-use std::io::Write;
+mod external;
+
 use std::path::PathBuf;
 
 use gutta_catalog::stdlib;
@@ -17,9 +18,6 @@ use gutta_format::Image;
 pub const INSTALL: &str = "run `bash .ci/run`, or: apt-get install mbpoll socat \
      tmux libmodbus-dev pkg-config zsh fish; python3 -m venv .ci/venv && .ci/venv/bin/pip install \
      pymodbus==3.6.9; export GUTTA_PYTHON=$PWD/.ci/venv/bin/python";
-
-/// The environment variable that declares the external tools absent.
-pub const SKIP_EXTERNAL: &str = "GUTTA_SKIP_EXTERNAL";
 
 /// `text` compiled for CPU-EC20 (it must compile).
 pub fn image(name: &str, text: &str) -> Image {
@@ -49,33 +47,15 @@ pub fn image_dir(tag: &str, image: &Image) -> PathBuf {
     dir
 }
 
-/// A tool the test needs is missing: the test fails and says how to install it, unless
-/// the environment declares the external tools absent (`GUTTA_SKIP_EXTERNAL=1`); then it
-/// says that it skipped, on the real stderr (not captured), and the caller returns.
+/// A tool the test needs is missing: fail with the install hint (or skip, see
+/// `external.rs`).
 pub fn tool_missing(why: &str) {
-    if std::env::var(SKIP_EXTERNAL).is_ok_and(|v| v == "1") {
-        let _ = writeln!(
-            std::io::stderr(),
-            "skipped: {why} ({SKIP_EXTERNAL}=1 declares the external tools absent)"
-        );
-        return;
-    }
-    panic!(
-        "{why}. This test needs external tools: {INSTALL}. \
-         Or set {SKIP_EXTERNAL}=1 to skip the tests that need them."
-    );
+    external::tool_missing(INSTALL, why);
 }
 
 /// Whether a command is on PATH (`tool_missing` when not).
 pub fn have(tool: &str) -> bool {
-    let found = std::process::Command::new("sh")
-        .args(["-c", &format!("command -v {tool}")])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !found {
-        tool_missing(&format!("{tool} is not installed"));
-    }
-    found
+    external::have(INSTALL, tool)
 }
 
 /// The port of a `gutta-sim: WHAT on HOST:PORT` listener line.

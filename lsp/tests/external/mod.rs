@@ -5,7 +5,9 @@
 
 #![allow(dead_code)]
 
-use std::io::Write;
+#[path = "../../../cli/tests/common/external.rs"]
+mod rule;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -14,36 +16,15 @@ pub const INSTALL: &str = "run `bash .ci/run`, or: apt-get install neovim; Node.
      newer with npm; python3 -m venv .ci/venv && .ci/venv/bin/pip install pytest==9.2.0 \
      pytest-lsp==1.0.1; export GUTTA_PYTHON=$PWD/.ci/venv/bin/python";
 
-/// The environment variable that declares the external tools absent.
-pub const SKIP_EXTERNAL: &str = "GUTTA_SKIP_EXTERNAL";
-
-/// A tool the test needs is missing: the test fails and says how to install it, unless
-/// the environment declares the external tools absent (`GUTTA_SKIP_EXTERNAL=1`); then it
-/// says that it skipped, on the real stderr (not captured), and the caller returns.
+/// A tool the test needs is missing: fail with the install hint (or skip, see
+/// `external.rs`).
 pub fn tool_missing(why: &str) {
-    if std::env::var(SKIP_EXTERNAL).is_ok_and(|v| v == "1") {
-        let _ = writeln!(
-            std::io::stderr(),
-            "skipped: {why} ({SKIP_EXTERNAL}=1 declares the external tools absent)"
-        );
-        return;
-    }
-    panic!(
-        "{why}. This test needs external tools: {INSTALL}. \
-         Or set {SKIP_EXTERNAL}=1 to skip the tests that need them."
-    );
+    rule::tool_missing(INSTALL, why);
 }
 
 /// Whether a command is on PATH (`tool_missing` when not).
 pub fn have(tool: &str) -> bool {
-    let found = Command::new("sh")
-        .args(["-c", &format!("command -v {tool}")])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !found {
-        tool_missing(&format!("{tool} is not installed"));
-    }
-    found
+    rule::have(INSTALL, tool)
 }
 
 /// The repository's root folder.
