@@ -16,6 +16,7 @@ pub mod modbus;
 mod plc_type;
 pub mod rules;
 pub mod s7200;
+pub mod s7200_timers;
 pub mod stdlib;
 mod suggest;
 mod text;

@@ -29,6 +29,15 @@ pub struct ExplicitTarget {
     pub origin: String,
 }
 
+/// Choices that change what a program compiles to, beyond its text and target.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct CompileOptions {
+    /// In a Micro/WIN export, scale the constant presets of timers whose S7-200
+    /// resolution differs from the target's, so that the program keeps its S7-200
+    /// timing (`--scale-timer-presets`; docs/microwin.md, "Timer resolutions").
+    pub scale_timer_presets: bool,
+}
+
 /// The result of checking one file or program: its text (joined, for several files),
 /// tree, the target used, and every diagnostic (parse and check), sorted by position.
 #[derive(Debug, Clone)]
@@ -53,6 +62,15 @@ impl CheckedFile {
 /// Parse and check one source file. The target is the explicit one if given, else the
 /// file's `PLC_TYPE`, else the stdlib default.
 pub fn check_source(file: SourceFile, explicit: Option<&ExplicitTarget>) -> CheckedFile {
+    check_source_with(file, explicit, CompileOptions::default())
+}
+
+/// [`check_source`] with [`CompileOptions`].
+pub fn check_source_with(
+    file: SourceFile,
+    explicit: Option<&ExplicitTarget>,
+    options: CompileOptions,
+) -> CheckedFile {
     let microwin = is_microwin(&file);
     let parsed = if file.is_joined() {
         parse_joined(&file, microwin)
@@ -61,6 +79,8 @@ pub fn check_source(file: SourceFile, explicit: Option<&ExplicitTarget>) -> Chec
     } else {
         syntax::parse(&file.text)
     };
+    let mut parsed = parsed;
+    parsed.program.gutta_boxes = microwin && syntax::microwin::has_gutta_boxes(&file.text);
     let mut diagnostics = parsed.diagnostics;
     let target = resolve_target(&parsed.program, explicit, &mut diagnostics);
     if microwin {
@@ -70,7 +90,7 @@ pub fn check_source(file: SourceFile, explicit: Option<&ExplicitTarget>) -> Chec
             &target,
         ));
     }
-    let mut output = check::check(&file.text, &parsed.program, &target);
+    let mut output = check::check(&file.text, &parsed.program, &target, options);
     diagnostics.append(&mut output.diagnostics);
     diagnostics.sort_by_key(|d| (d.primary.span.start, d.primary.span.end));
     if diagnostics.iter().any(Diagnostic::is_error) {
@@ -210,7 +230,16 @@ impl Compiled {
 /// The whole pipeline: parse, check, lower, encode. Limit errors of the encoder join the
 /// file's diagnostics; `image` is set only when there are no errors at all.
 pub fn compile(file: SourceFile, explicit: Option<&ExplicitTarget>) -> Compiled {
-    let mut checked = check_source(file, explicit);
+    compile_with(file, explicit, CompileOptions::default())
+}
+
+/// [`compile`] with [`CompileOptions`].
+pub fn compile_with(
+    file: SourceFile,
+    explicit: Option<&ExplicitTarget>,
+    options: CompileOptions,
+) -> Compiled {
+    let mut checked = check_source_with(file, explicit, options);
     let Some(program) = checked.output.program.take() else {
         return Compiled {
             checked,
@@ -248,6 +277,7 @@ pub fn compile(file: SourceFile, explicit: Option<&ExplicitTarget>) -> Compiled 
 pub struct ProgramSources {
     pub sources: Vec<SourceFile>,
     pub symbol_tables: Vec<SourceFile>,
+    pub options: CompileOptions,
 }
 
 impl ProgramSources {
@@ -256,6 +286,7 @@ impl ProgramSources {
         ProgramSources {
             sources: vec![file],
             symbol_tables: Vec::new(),
+            options: CompileOptions::default(),
         }
     }
 }
@@ -270,12 +301,14 @@ impl ProgramSources {
 /// Parse and check a whole program (see [`ProgramSources`]): its files are one program
 /// (one namespace, MAIN once, one PLC type), each diagnostic in its own file.
 pub fn check_program(program: ProgramSources, explicit: Option<&ExplicitTarget>) -> CheckedFile {
-    check_source(program.join(), explicit)
+    let options = program.options;
+    check_source_with(program.join(), explicit, options)
 }
 
 /// The whole pipeline on a whole program (see [`ProgramSources`]).
 pub fn compile_program(program: ProgramSources, explicit: Option<&ExplicitTarget>) -> Compiled {
-    compile(program.join(), explicit)
+    let options = program.options;
+    compile_with(program.join(), explicit, options)
 }
 
 impl CheckedFile {

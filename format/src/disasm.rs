@@ -186,6 +186,10 @@ impl<'a> Disassembler<'a> {
                 ),
             );
         }
+        if self.format == Format::Awl {
+            // compiler::syntax::microwin::GUTTA_BOXES: timer boxes as on GUTTA.
+            self.line("// timer-boxes: gutta");
+        }
         self.line(&format!("PLC_TYPE {name}"));
         if image.page(PageKind::Const, 0).is_none() {
             self.error(

@@ -32,6 +32,9 @@ pub struct Project {
     pub symbols: Vec<PathBuf>,
     /// `[build] output`: the image directory.
     pub output: PathBuf,
+    /// `[build] scale-timer-presets`: `gutta-cc build --scale-timer-presets` (Micro/WIN
+    /// exports keep their S7-200 timer timing; docs/microwin.md).
+    pub scale_timer_presets: bool,
     pub connection: Connection,
 }
 
@@ -79,7 +82,7 @@ const SECTIONS: &[(&str, &[&str])] = &[
             "tcp", "rtu-tcp", "serial", "baud", "parity", "station", "timeout", "retries",
         ],
     ),
-    ("build", &["output"]),
+    ("build", &["output", "scale-timer-presets"]),
 ];
 
 #[derive(Deserialize)]
@@ -115,9 +118,11 @@ struct ConnectionSection {
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, rename_all = "kebab-case")]
 struct BuildSection {
     output: Option<String>,
+    #[serde(default)]
+    scale_timer_presets: bool,
 }
 
 impl Project {
@@ -211,10 +216,11 @@ impl Project {
             Some(c) => connection(c, &at)?,
             None => Connection::default(),
         };
-        let output = parsed
-            .build
-            .and_then(|b| b.output)
-            .unwrap_or_else(|| DEFAULT_OUTPUT.to_string());
+        let (output, scale_timer_presets) = match parsed.build {
+            Some(b) => (b.output, b.scale_timer_presets),
+            None => (None, false),
+        };
+        let output = output.unwrap_or_else(|| DEFAULT_OUTPUT.to_string());
         Ok(Project {
             root: root.to_path_buf(),
             manifest: manifest.to_path_buf(),
@@ -223,6 +229,7 @@ impl Project {
             sources,
             symbols,
             output: root.join(output),
+            scale_timer_presets,
             connection,
         })
     }

@@ -256,6 +256,7 @@ impl Workspace {
         let mut sources = ProgramSources::default();
         match (&key, &project) {
             (ProgramKey::Project(_), Some(p)) => {
+                sources.options.scale_timer_presets = p.scale_timer_presets;
                 for (paths, tables) in [(&p.sources, false), (&p.symbols, true)] {
                     for path in paths {
                         let (uri, file) = load(

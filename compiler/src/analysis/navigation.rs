@@ -461,6 +461,7 @@ mod tests {
                     SourceFile::new("sub.lad", SUB),
                 ],
                 symbol_tables: vec![SourceFile::new("symbols.csv", TABLE)],
+                ..Default::default()
             },
             None,
         )

@@ -318,6 +318,7 @@ mod tests {
             ProgramSources {
                 sources: vec![SourceFile::new("main.lad", main)],
                 symbol_tables: vec![SourceFile::new("s.csv", table)],
+                ..Default::default()
             },
             None,
         );

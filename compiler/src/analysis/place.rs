@@ -291,6 +291,7 @@ mod tests {
                 "ORGANIZATION_BLOCK MAIN\nEND_ORGANIZATION_BLOCK\n",
             )],
             symbol_tables: vec![SourceFile::new("t.csv", "Symbol,Address,Comment\nS")],
+            ..Default::default()
         };
         let checked = crate::check_program(program, None);
         let end = checked.file.text.len() - 1;

@@ -252,6 +252,7 @@ mod tests {
             ProgramSources {
                 sources: vec![SourceFile::new("a.lad", A), SourceFile::new("b.lad", B)],
                 symbol_tables: vec![SourceFile::new("t.csv", CSV)],
+                ..Default::default()
             },
             None,
         )

@@ -8,7 +8,8 @@ use std::collections::{BTreeMap, HashMap};
 use gutta_catalog::{rules, BlockKind, InstrId, Instruction};
 
 use super::calls::CallSite;
-use super::{CheckedNetwork, CheckedUnit, Checker, DefKind, UnitInfo};
+use super::timer_bits::{BitUse, TimerBox};
+use super::{CheckedInstruction, CheckedNetwork, CheckedUnit, Checker, DefKind, UnitInfo};
 use crate::diagnostics::{Code, Diagnostic, Suggestion};
 use crate::source::Span;
 use crate::syntax::ast::{self, Operand, OperandKind};
@@ -23,6 +24,11 @@ pub(super) struct CodeContext {
     pub coils: HashMap<(u8, u32, u8), Span>,
     /// Timers and counters driven: (slot, offset) -> first instruction.
     pub timers: HashMap<(u8, u32), Span>,
+    /// In the Micro/WIN dialect: timer and counter bits used, timer and counter
+    /// instructions (`timer_bits.rs`), and the network being checked (its index).
+    pub bit_uses: Vec<BitUse>,
+    pub boxes: Vec<TimerBox>,
+    pub network: usize,
 }
 
 /// The logic stack of one network as far as it is known.
@@ -47,6 +53,9 @@ impl Checker<'_> {
             calls: Vec::new(),
             coils: HashMap::new(),
             timers: HashMap::new(),
+            bit_uses: Vec::new(),
+            boxes: Vec::new(),
+            network: 0,
         };
         let mut checked = Vec::new();
         for ui in 0..self.units.len() {
@@ -54,6 +63,9 @@ impl Checker<'_> {
             checked.push(unit);
         }
         self.call_graph(&cx.calls);
+        if self.ast.microwin {
+            self.timer_bits(&mut checked, &cx.bit_uses, &cx.boxes);
+        }
         // Order: interrupts by number (MAIN first), then subroutines by number.
         checked.sort_by_key(|u: &CheckedUnit| (u.kind == BlockKind::Subroutine, u.number));
         checked
@@ -137,6 +149,7 @@ impl Checker<'_> {
         let mut networks = Vec::new();
         let mut last_number: Option<(u32, Span)> = None;
         for net in &u.networks {
+            cx.network = networks.len();
             let number = self.network_number(net, &mut last_number);
             networks.push(self.network(ui, &info, net, number, &mut loops, cx));
         }
@@ -213,13 +226,48 @@ impl Checker<'_> {
             self.out.mnemonics.push((ins.mnemonic, id));
             let spec = self.target.instructions.get(id);
             let ops = net.operands_of(ins);
+            let depth = stack.known.then_some(stack.depth);
             self.logic_stack(&mut stack, spec, ops, ins.mnemonic);
             if ops.iter().any(|o| o.kind == OperandKind::Error) {
                 continue;
             }
             self.placement(info, spec, ins.mnemonic);
             self.for_next(id, ins.mnemonic, loops);
+            if self.ast.microwin {
+                match self.timer_bit(ui, spec, ops) {
+                    Some(Some((op, address, operand))) => {
+                        cx.bit_uses.push(BitUse {
+                            unit: ui,
+                            network: cx.network,
+                            index: instructions.len(),
+                            op,
+                            address,
+                            operand,
+                            span: ins.span,
+                        });
+                        // A placeholder: `timer_bits` puts the instructions here.
+                        instructions.push(CheckedInstruction {
+                            id,
+                            operands: Vec::new(),
+                            span: ins.span,
+                        });
+                        continue;
+                    }
+                    Some(None) => continue,
+                    None => {}
+                }
+            }
             if let Some(ci) = self.instruction(ui, id, ins.mnemonic, ops, ins.span, cx) {
+                if self.ast.microwin && spec.family == "Timer and counter" && ops.len() >= 2 {
+                    cx.boxes.push(TimerBox {
+                        unit: ui,
+                        network: cx.network,
+                        index: instructions.len(),
+                        depth,
+                        preset: ops[1].span,
+                        span: ins.span,
+                    });
+                }
                 instructions.push(ci);
             }
         }

@@ -16,6 +16,7 @@ pub mod program;
 pub mod suggest;
 mod symbols;
 mod system;
+mod timer_bits;
 mod units;
 
 use std::collections::HashMap;
@@ -25,6 +26,7 @@ use gutta_catalog::{Address, BlockKind, Target};
 use crate::diagnostics::Diagnostic;
 use crate::source::Span;
 use crate::syntax::ast::Program;
+use crate::CompileOptions;
 pub use program::*;
 pub use system::PORT_KEYS;
 
@@ -101,6 +103,7 @@ pub(crate) struct Checker<'a> {
     pub data_names: HashMap<String, usize>,
     /// Upper-case names that resolved to nothing: their one diagnostic and later uses.
     pub unknown_names: HashMap<String, names::UnknownName>,
+    pub options: CompileOptions,
 }
 
 impl<'a> Checker<'a> {
@@ -136,7 +139,7 @@ impl<'a> Checker<'a> {
 }
 
 /// Check a parsed program against a target.
-pub fn check(text: &str, ast: &Program, target: &Target) -> CheckOutput {
+pub fn check(text: &str, ast: &Program, target: &Target, options: CompileOptions) -> CheckOutput {
     let mut c = Checker {
         text,
         target,
@@ -148,6 +151,7 @@ pub fn check(text: &str, ast: &Program, target: &Target) -> CheckOutput {
         units: Vec::new(),
         data_names: HashMap::new(),
         unknown_names: HashMap::new(),
+        options,
     };
     c.symbols();
     c.units();

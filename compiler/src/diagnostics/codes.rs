@@ -108,6 +108,9 @@ codes! {
     E0221 S7200Area Error "S7-200 area or system name the target does not have"
         "The operand names memory that exists on an S7-200 but not on GUTTA targets: the S area of sequence control relays (`S0.0`, `SB0`; keep step bits in M instead), the accumulators `AC0`..`AC3` (use M, V or local words), or a name of Micro/WIN's system symbol table (`Always_On`, `Time_0_Intrvl`, `HSC0_Ctrl`). For a system symbol GUTTA has an equivalent of, the help line gives the SM address to declare it with (`Always_On : SM0.0`); S7-200 SM control bytes without one (high-speed counters, pulse outputs, freeport) have no counterpart.";
 
+    E0222 S7200TimerBit Error "S7-200 timer or counter bit without one meaning"
+        "In a STEP 7-Micro/WIN export, `LD T37`, `A C0`, `ON T37` and `R T37, 1` use a timer's or counter's bit as the S7-200 does (docs/microwin.md, \"Timer and counter bits\"). GUTTA's T and C areas hold only current values, so the compiler reads the bit as a comparison of the current value with the preset of the instruction that drives that number (`LD T37` after `TON T37, 100` is `LDW>= T37, 100`). That needs exactly one meaning: some TON, TONR, TOF (or CTU, CTUD, CTD) drives the number, all its instructions are of one kind and share one preset. Otherwise this error names what is missing or which instructions disagree. `S T37, 1` (setting a timer bit) has no counterpart on GUTTA.";
+
     // ---- E03xx: operands -----------------------------------------------------------
     E0301 OperandCount Error "wrong number of operands"
         "The instruction takes a fixed number of operands (see docs/instructions.md); the message lists them.";
@@ -211,6 +214,8 @@ codes! {
         "A network without instructions. It is kept (so numbering stays), but does nothing.";
     W0206 SystemNameShadowed Warning "user symbol hides a Micro/WIN system symbol"
         "In a STEP 7-Micro/WIN export (docs/microwin.md) Micro/WIN's system symbols (`Always_On`, `Clock_1s`, ...) name the target's SM bits that mean the same (the `MicroWin` attribute of its `SystemBit` rows, docs/targets.md). A user symbol of the same name wins, as in Micro/WIN; this warning says so, in case the program meant the system bit.";
+    W0207 TimerResolution Warning "S7-200 timer resolution differs from the target's"
+        "On an S7-200 a timer's number fixes its resolution (CPU 22x: TON/TOF T32 and T96 count 1 ms, T33-T36 and T97-T100 10 ms, the rest 100 ms; TONR T0 and T64 1 ms, T1-T4 and T65-T68 10 ms, the rest 100 ms). Where the target's resolution for that number (its `<Timers>` rows, docs/targets.md) differs, the same preset lasts a different time: the warning, once per timer, gives both resolutions and what the preset means on each. `gutta-cc --scale-timer-presets` (or `scale-timer-presets = true` in gutta.toml's [build]) scales constant presets to keep the S7-200 timing, rounded to the nearest unit; it warns only where rounding changes the time or a preset in memory cannot be scaled.";
 }
 
 #[cfg(test)]

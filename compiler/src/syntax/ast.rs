@@ -17,6 +17,8 @@ pub struct Program {
     pub microwin: bool,
     /// In that dialect, where each S7-200 interrupt block went, in file order.
     pub interrupt_placements: Vec<InterruptPlacement>,
+    /// In that dialect, timer boxes keep GUTTA's stack meaning (`microwin::GUTTA_BOXES`).
+    pub gutta_boxes: bool,
 }
 
 /// An S7-200 `INTERRUPT_BLOCK NAME:INTn` of a Micro/WIN export and its GUTTA page.

@@ -160,6 +160,19 @@ pub fn interrupt_summary(program: &Program) -> Option<String> {
     Some(format!("S7-200 interrupts: {}", parts.join("; ")))
 }
 
+/// The comment line that keeps GUTTA's meaning of timer and counter boxes in a
+/// Micro/WIN export: a box leaves its done state on the logic stack, as on GUTTA, not
+/// its input, as on an S7-200 (docs/microwin.md, "Timer and counter bits").
+/// `gutta-cc dis --format awl` writes it, so that its text compiles back to the same
+/// image.
+pub const GUTTA_BOXES: &str = "// timer-boxes: gutta";
+
+/// Whether a line of the text is [`GUTTA_BOXES`] (any case, blanks around).
+pub fn has_gutta_boxes(text: &str) -> bool {
+    text.lines()
+        .any(|l| l.trim().eq_ignore_ascii_case(GUTTA_BOXES))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

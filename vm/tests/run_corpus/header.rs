@@ -8,9 +8,12 @@ use gutta_vm::VmConfig;
 use crate::values::{parse_assignment, parse_variable, Assignment, Value};
 
 /// The plain header keys.
-pub const KEYS: [&str; 7] = [
-    "plc", "scans", "scan-ms", "set", "expect", "fault", "watchdog",
+pub const KEYS: [&str; 8] = [
+    "plc", "option", "scans", "scan-ms", "set", "expect", "fault", "watchdog",
 ];
+
+/// What `// option:` may name: a compile option (`gutta_compiler::CompileOptions`).
+pub const OPTIONS: [&str; 1] = ["scale-timer-presets"];
 
 /// What a step may do (`then ACTION: ARGS`, `after N scans: ACTION ARGS`).
 pub const ACTIONS: [&str; 8] = [
@@ -75,6 +78,8 @@ impl Step {
 #[derive(Debug, Default)]
 pub struct Header {
     pub plc: Option<String>,
+    /// `option:` lines, each one of [`OPTIONS`].
+    pub options: Vec<String>,
     /// `scans:` and its line.
     pub scans: Option<(usize, u32)>,
     pub scan_ms: Option<u32>,
@@ -290,6 +295,17 @@ pub fn parse_header(text: &str) -> Result<Header, Vec<String>> {
                 } else {
                     header.plc = Some(value.to_string());
                     Ok(())
+                }
+            }
+            "option" => {
+                if OPTIONS.contains(&value) {
+                    header.options.push(value.to_string());
+                    Ok(())
+                } else {
+                    Err(format!(
+                        "`{value}` is not an option (options: {})",
+                        OPTIONS.join(", ")
+                    ))
                 }
             }
             "scans" => {

@@ -18,7 +18,7 @@ use std::sync::Arc;
 
 use gutta_catalog::stdlib;
 use gutta_compiler::source::SourceFile;
-use gutta_compiler::{compile, ExplicitTarget};
+use gutta_compiler::{compile_with, CompileOptions, ExplicitTarget};
 use gutta_vm::VmConfig;
 
 use header::parse_header;
@@ -62,7 +62,10 @@ fn run_source(name: &str, file: SourceFile, failures: &mut Vec<String>) {
             Err(e) => return failures.push(format!("{name}: `// plc: {plc}`: {e}")),
         },
     };
-    let compiled = compile(file, explicit.as_ref());
+    let options = CompileOptions {
+        scale_timer_presets: header.options.iter().any(|o| o == "scale-timer-presets"),
+    };
+    let compiled = compile_with(file, explicit.as_ref(), options);
     let checked = &compiled.checked;
     let Some(image) = &compiled.image else {
         for d in checked.diagnostics().iter().filter(|d| d.is_error()) {

@@ -50,6 +50,11 @@ struct Cli {
     emit: Option<Emit>,
     #[command(flatten)]
     target: TargetArgs,
+    /// In a STEP 7-Micro/WIN export, scale constant timer presets where the timer
+    /// number's S7-200 resolution differs from the target's, so the program keeps its
+    /// S7-200 timing (rounded to the nearest unit; docs/microwin.md).
+    #[arg(long, global = true)]
+    scale_timer_presets: bool,
     /// A symbol table (CSV `Symbol,Address,Comment`, or Micro/WIN's tab-separated rows)
     /// or a program source (.lad) whose symbols the command may use (repeatable). When
     /// compiling, a table's symbols join the program's.
@@ -572,7 +577,8 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
         ));
     }
     let compiling = cli.output.is_some() || cli.emit.is_some();
-    let program = read_program(&cli.files, &cli.symbols)?;
+    let mut program = read_program(&cli.files, &cli.symbols)?;
+    program.options.scale_timer_presets = cli.scale_timer_presets;
     let name = match program.sources.len() {
         1 => program.sources[0].name.clone(),
         n => format!("{n} files"),

@@ -154,6 +154,7 @@ pub(crate) fn build_command(
         .map(in_project)
         .collect();
     cli.output = Some(in_project(&output));
+    cli.scale_timer_presets |= project.scale_timer_presets;
     Ok(())
 }
 

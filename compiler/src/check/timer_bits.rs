@@ -1,0 +1,767 @@
+//! S7-200 timer and counter bits in the Micro/WIN dialect (docs/microwin.md, "Timer and
+//! counter bits" and "Timer resolutions"). GUTTA's T and C areas hold only current
+//! values, so a line that uses a timer's or counter's bit the S7-200 way (`LD T37`,
+//! `AN C0`, `R T37, 1`) is checked here and becomes GUTTA instructions with the same
+//! effect: a read compares the current value with the preset of the instruction that
+//! drives the number (`LDW>= T37, 100` after `TON T37, 100`), a reset writes the
+//! current value. A TOF's bit is "the current value is below the preset", which holds
+//! from the first scan on because MAIN starts with a network that sets such a timer's
+//! current value to its preset on the first scan. A timer box followed by an
+//! instruction that reads the top of the logic stack is wrapped in `LPS`/`LPP`, since
+//! on an S7-200 a timer leaves the stack as it was and on GUTTA it leaves its done
+//! state. Timer numbers whose S7-200 resolution differs from the target's get W0207,
+//! and with `--scale-timer-presets` their constant presets are scaled.
+//!
+//! The code check (`code.rs`) records what it meets: [`BitUse`]s (a placeholder
+//! instruction stands where the bit was used) and [`TimerBox`]es; [`Checker::timer_bits`]
+//! runs once all units are checked, since a bit may be read before (or in another block
+//! than) the instruction that gives it its meaning.
+
+use std::collections::{BTreeMap, HashMap, HashSet};
+
+use gutta_catalog::s7200_timers::{s7200_timer_resolution, scale_preset, S7200TimerFamily};
+use gutta_catalog::{Address, AreaKind, BlockKind, Flow, InstrId, Instruction, Width};
+
+use super::names::Variable;
+use super::Use;
+use super::{CheckedInstruction, CheckedNetwork, CheckedOperand, CheckedUnit, Checker, ConstValue};
+use crate::diagnostics::{Code, Diagnostic};
+use crate::source::Span;
+use crate::syntax::ast::{Operand, OperandKind, Prefix};
+
+/// What a line does with a timer's or counter's bit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum BitOp {
+    /// `LD`/`A`/`O` (`load` is `LDW`, `AW` or `OW`, the compare's prefix), negated for
+    /// `LDN`/`AN`/`ON`.
+    Read { load: &'static str, negated: bool },
+    /// `R T37, count`.
+    Reset { count: u32 },
+}
+
+/// A timer or counter bit used in the dialect; its placeholder instruction is at
+/// `checked[unit].networks[network].instructions[index]`.
+#[derive(Debug, Clone)]
+pub(super) struct BitUse {
+    pub unit: usize,
+    pub network: usize,
+    pub index: usize,
+    pub op: BitOp,
+    /// The first (or only) timer or counter, as a word address.
+    pub address: Address,
+    /// The operand naming it, and the whole line.
+    pub operand: Span,
+    pub span: Span,
+}
+
+/// A timer or counter instruction (`TON T37, 100`) of the dialect that checked.
+#[derive(Debug, Clone)]
+pub(super) struct TimerBox {
+    pub unit: usize,
+    pub network: usize,
+    pub index: usize,
+    /// Logic stack levels before it, when known.
+    pub depth: Option<i32>,
+    pub preset: Span,
+    pub span: Span,
+}
+
+/// What a timer or counter number's bit means, by the kind of instruction driving it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    /// TON, TONR: on when the current value reaches the preset.
+    OnDelay,
+    /// TOF: on while the current value is below the preset (see the module comment).
+    OffDelay,
+    /// CTU, CTUD: on when the count reaches the preset.
+    CountUp,
+    /// CTD: on when the count is down to 0.
+    CountDown,
+}
+
+impl Kind {
+    fn of(mnemonic: &str) -> Option<Kind> {
+        Some(match mnemonic {
+            "TON" | "TONR" => Kind::OnDelay,
+            "TOF" => Kind::OffDelay,
+            "CTU" | "CTUD" => Kind::CountUp,
+            "CTD" => Kind::CountDown,
+            _ => return None,
+        })
+    }
+
+    /// The compare that is 1 when the bit is on, and the one when it is off.
+    fn compares(self) -> (&'static str, &'static str) {
+        match self {
+            Kind::OnDelay | Kind::CountUp => (">=", "<"),
+            Kind::OffDelay => ("<", ">="),
+            Kind::CountDown => ("<=", ">"),
+        }
+    }
+}
+
+/// One instruction driving a number, as checked.
+#[derive(Debug, Clone)]
+struct Driver {
+    kind: Kind,
+    mnemonic: String,
+    timer: CheckedOperand,
+    preset: CheckedOperand,
+    span: Span,
+}
+
+/// The largest current value: an off-delay timer whose preset is in memory starts
+/// there (it is then not below any preset).
+const CURRENT_MAX: i64 = 32767;
+
+impl Checker<'_> {
+    /// In the dialect, whether the line uses a timer's or counter's bit: `None` when it
+    /// does not (the ordinary check goes on); `Some(None)` when it does and was refused
+    /// (reported); otherwise what it does and with which number.
+    pub(super) fn timer_bit(
+        &mut self,
+        ui: usize,
+        spec: &Instruction,
+        ops: &[Operand],
+    ) -> Option<Option<(BitOp, Address, Span)>> {
+        let op = match spec.mnemonic.as_str() {
+            "LD" => BitOp::Read {
+                load: "LDW",
+                negated: false,
+            },
+            "A" => BitOp::Read {
+                load: "AW",
+                negated: false,
+            },
+            "O" => BitOp::Read {
+                load: "OW",
+                negated: false,
+            },
+            "LDN" => BitOp::Read {
+                load: "LDW",
+                negated: true,
+            },
+            "AN" => BitOp::Read {
+                load: "AW",
+                negated: true,
+            },
+            "ON" => BitOp::Read {
+                load: "OW",
+                negated: true,
+            },
+            "R" | "S" => BitOp::Reset { count: 0 },
+            _ => return None,
+        };
+        let first = ops.first()?;
+        let OperandKind::Name {
+            prefix: Prefix::None,
+            local: false,
+            name,
+        } = first.kind
+        else {
+            return None;
+        };
+        self.peek_timer_or_counter(name)?;
+        let Variable { address, .. } = self.variable(ui, false, name)?;
+        let op = match op {
+            BitOp::Reset { .. } => {
+                let count = match ops.get(1).map(|o| o.kind) {
+                    Some(OperandKind::Integer(n)) if ops.len() == 2 && (1..=255).contains(&n) => {
+                        n as u32
+                    }
+                    _ => return None,
+                };
+                if spec.mnemonic == "S" {
+                    self.report(
+                        Diagnostic::new(
+                            Code::S7200TimerBit,
+                            first.span,
+                            format!(
+                                "`S {}` sets an S7-200 timer or counter bit; GUTTA has no such bits",
+                                self.slice(name)
+                            ),
+                        )
+                        .label("no counterpart on GUTTA")
+                        .help("keep the state in an M bit (`S M10.0, 1`) and read that bit"),
+                    );
+                    return Some(None);
+                }
+                let end = address.offset + 2 * count;
+                let size = self
+                    .target
+                    .memory
+                    .area_by_slot(address.slot)
+                    .map_or(0, |a| a.size);
+                if end > size {
+                    self.report(
+                        Diagnostic::new(
+                            Code::AddressOutOfTarget,
+                            first.span.to(ops[1].span),
+                            format!(
+                                "`R {}, {count}` resets numbers up to {}, past the end of {}'s area ({} numbers)",
+                                self.slice(name),
+                                end / 2 - 1,
+                                self.target.name(),
+                                size / 2
+                            ),
+                        )
+                        .label("out of the area"),
+                    );
+                    return Some(None);
+                }
+                BitOp::Reset { count }
+            }
+            read => {
+                if ops.len() != 1 {
+                    return None;
+                }
+                read
+            }
+        };
+        Some(Some((op, address, first.span)))
+    }
+
+    /// The word address a name stands for when it is a timer or counter of the target
+    /// (a symbol or a direct address), without reporting anything.
+    fn peek_timer_or_counter(&self, name: Span) -> Option<Address> {
+        let text = self.slice(name);
+        let address = match self.symbols.get(&text.to_ascii_uppercase()) {
+            Some(&(a, _)) => a,
+            None if self.looks_like_address(text) => self.target.memory.parse_address(text).ok()?,
+            None => return None,
+        };
+        let area = self.target.memory.area_by_slot(address.slot)?;
+        matches!(area.kind, AreaKind::Timer | AreaKind::Counter).then_some(address)
+    }
+
+    /// Give every recorded bit use its instructions, scale or warn about timer
+    /// resolutions, keep the S7-200 logic stack around timer boxes, and start MAIN with
+    /// the off-delay timers' first-scan network. `checked` is in unit order (before the
+    /// code check sorts it).
+    pub(super) fn timer_bits(
+        &mut self,
+        checked: &mut [CheckedUnit],
+        uses: &[BitUse],
+        boxes: &[TimerBox],
+    ) {
+        self.timer_resolutions(checked, boxes);
+        let drivers = self.drivers(checked, boxes);
+        let mut edits: BTreeMap<(usize, usize, usize), Vec<CheckedInstruction>> = BTreeMap::new();
+        let mut first_scan: Vec<(CheckedOperand, CheckedOperand, Span)> = Vec::new();
+        let mut initialised: HashSet<(u8, u32)> = HashSet::new();
+        for u in uses {
+            let Some(replacement) = self.bit_use(u, &drivers, &mut first_scan, &mut initialised)
+            else {
+                continue;
+            };
+            edits.insert((u.unit, u.network, u.index), replacement);
+        }
+        if !self.ast.gutta_boxes {
+            self.keep_stack_around_boxes(checked, boxes, &mut edits);
+        }
+        for ((unit, network, index), replacement) in edits.into_iter().rev() {
+            let list = &mut checked[unit].networks[network].instructions;
+            list.splice(index..=index, replacement);
+        }
+        if !first_scan.is_empty() {
+            self.first_scan_network(checked, &first_scan);
+        }
+    }
+
+    /// Every checked timer and counter instruction of the dialect, by number.
+    fn drivers(
+        &self,
+        checked: &[CheckedUnit],
+        boxes: &[TimerBox],
+    ) -> HashMap<(u8, u32), Vec<Driver>> {
+        let mut map: HashMap<(u8, u32), Vec<Driver>> = HashMap::new();
+        for b in boxes {
+            let ins = &checked[b.unit].networks[b.network].instructions[b.index];
+            let spec = self.target.instructions.get(ins.id);
+            let Some(kind) = Kind::of(&spec.mnemonic) else {
+                continue;
+            };
+            let (Some(&timer), Some(&preset)) = (ins.operands.first(), ins.operands.get(1)) else {
+                continue;
+            };
+            let CheckedOperand::Memory { address, .. } = timer else {
+                continue;
+            };
+            map.entry((address.slot, address.offset))
+                .or_default()
+                .push(Driver {
+                    kind,
+                    mnemonic: spec.mnemonic.clone(),
+                    timer,
+                    preset,
+                    span: b.span,
+                });
+        }
+        map
+    }
+
+    /// The instructions for one bit use, or None (reported).
+    fn bit_use(
+        &mut self,
+        u: &BitUse,
+        drivers: &HashMap<(u8, u32), Vec<Driver>>,
+        first_scan: &mut Vec<(CheckedOperand, CheckedOperand, Span)>,
+        initialised: &mut HashSet<(u8, u32)>,
+    ) -> Option<Vec<CheckedInstruction>> {
+        match u.op {
+            BitOp::Read { load, negated } => {
+                let key = (u.address.slot, u.address.offset);
+                let driver = self.one_meaning(u, drivers.get(&key).map(Vec::as_slice))?;
+                let (on, off) = driver.kind.compares();
+                let mnemonic = format!("{load}{}", if negated { off } else { on });
+                let id = self.instruction_id(&mnemonic, u.span)?;
+                let right = match driver.kind {
+                    Kind::CountDown => word_constant(0),
+                    _ => driver.preset,
+                };
+                if driver.kind == Kind::OffDelay && initialised.insert(key) {
+                    first_scan.push((off_delay_start(&driver.preset), driver.timer, driver.span));
+                }
+                Some(vec![CheckedInstruction {
+                    id,
+                    operands: vec![driver.timer, right],
+                    span: u.span,
+                }])
+            }
+            BitOp::Reset { count } => {
+                let movw = self.instruction_id("MOVW", u.span)?;
+                let mut out = Vec::new();
+                if count > 1 {
+                    let fill = self.instruction_id("FILL", u.span)?;
+                    out.push(CheckedInstruction {
+                        id: fill,
+                        operands: vec![
+                            word_constant(0),
+                            word_operand(u.address),
+                            CheckedOperand::Constant {
+                                value: ConstValue::Integer(i64::from(count)),
+                                width: Width::Byte,
+                            },
+                        ],
+                        span: u.span,
+                    });
+                }
+                for n in 0..count {
+                    let address = Address {
+                        offset: u.address.offset + 2 * n,
+                        ..u.address
+                    };
+                    let key = (address.slot, address.offset);
+                    let list = drivers.get(&key).map(Vec::as_slice).unwrap_or_default();
+                    let off_delay = list.iter().any(|d| d.kind == Kind::OffDelay);
+                    if !off_delay {
+                        if count == 1 {
+                            out.push(CheckedInstruction {
+                                id: movw,
+                                operands: vec![word_constant(0), word_operand(address)],
+                                span: u.span,
+                            });
+                        }
+                        continue;
+                    }
+                    // An off-delay timer is reset to "not below its preset": off, and
+                    // disarmed on its next execution.
+                    let driver = self.one_meaning(u, Some(list))?;
+                    if initialised.insert(key) {
+                        first_scan.push((
+                            off_delay_start(&driver.preset),
+                            driver.timer,
+                            driver.span,
+                        ));
+                    }
+                    out.push(CheckedInstruction {
+                        id: movw,
+                        operands: vec![off_delay_start(&driver.preset), driver.timer],
+                        span: u.span,
+                    });
+                }
+                Some(out)
+            }
+        }
+    }
+
+    /// The one instruction kind and preset that give a number's bit its meaning, or an
+    /// E0222 at the use.
+    fn one_meaning<'d>(&mut self, u: &BitUse, list: Option<&'d [Driver]>) -> Option<&'d Driver> {
+        let name = self.slice(u.operand).to_string();
+        let counter = self
+            .target
+            .memory
+            .area_by_slot(u.address.slot)
+            .is_some_and(|a| a.kind == AreaKind::Counter);
+        let Some(first) = list.and_then(<[Driver]>::first) else {
+            let (what, which) = if counter {
+                ("counter", "CTU, CTD or CTUD")
+            } else {
+                ("timer", "TON, TONR or TOF")
+            };
+            self.report(
+                Diagnostic::new(
+                    Code::S7200TimerBit,
+                    u.operand,
+                    format!("`{name}` is read as a {what} bit, but no {which} drives it"),
+                )
+                .label("its bit has no preset to compare with")
+                .help(format!(
+                    "drive it with a {what} instruction, or read its current value with a compare (`LDW>= {name}, 10`)"
+                )),
+            );
+            return None;
+        };
+        let list = list.unwrap_or_default();
+        if let Some(other) = list.iter().find(|d| d.kind != first.kind) {
+            self.report(
+                Diagnostic::new(
+                    Code::S7200TimerBit,
+                    u.operand,
+                    format!(
+                        "`{name}`'s bit has no one meaning: both {} and {} drive it",
+                        first.mnemonic, other.mnemonic
+                    ),
+                )
+                .with_secondary(first.span, format!("{} here", first.mnemonic))
+                .with_secondary(other.span, format!("{} here", other.mnemonic))
+                .help("drive each number with one kind of instruction"),
+            );
+            return None;
+        }
+        if let Some(other) = list.iter().find(|d| d.preset != first.preset) {
+            self.report(
+                Diagnostic::new(
+                    Code::S7200TimerBit,
+                    u.operand,
+                    format!("`{name}`'s bit has no one meaning: its instructions have different presets"),
+                )
+                .with_secondary(first.span, "one preset here")
+                .with_secondary(other.span, "another here")
+                .help("give every instruction on this number the same preset"),
+            );
+            return None;
+        }
+        Some(first)
+    }
+
+    /// The target's instruction for a mnemonic the dialect emits, or an error.
+    fn instruction_id(&mut self, mnemonic: &str, at: Span) -> Option<InstrId> {
+        let id = self.target.instructions.lookup(mnemonic);
+        if id.is_none() {
+            self.report(Diagnostic::new(
+                Code::S7200TimerBit,
+                at,
+                format!(
+                    "{} has no `{mnemonic}`, which this S7-200 timer or counter bit needs",
+                    self.target.name()
+                ),
+            ));
+        }
+        id
+    }
+
+    /// Wrap each timer box that an instruction reading the top of the stack follows
+    /// in `LPS`/`LPP`: an S7-200 timer leaves the stack as it found it.
+    fn keep_stack_around_boxes(
+        &mut self,
+        checked: &[CheckedUnit],
+        boxes: &[TimerBox],
+        edits: &mut BTreeMap<(usize, usize, usize), Vec<CheckedInstruction>>,
+    ) {
+        let set = &self.target.instructions;
+        let (Some(lps), Some(lpp)) = (set.lookup("LPS"), set.lookup("LPP")) else {
+            return;
+        };
+        let max = i32::from(set.logic_stack_depth);
+        for b in boxes {
+            let list = &checked[b.unit].networks[b.network].instructions;
+            let ins = &list[b.index];
+            if S7200TimerFamily::of_mnemonic(&set.get(ins.id).mnemonic).is_none() {
+                continue;
+            }
+            let Some(next) = list.get(b.index + 1) else {
+                continue;
+            };
+            let next_spec = set.get(next.id);
+            let reads_top = match next_spec.flow {
+                Flow::Load | Flow::Always => false,
+                Flow::Stack => !matches!(next_spec.mnemonic.as_str(), "LPP" | "LRD"),
+                Flow::Combine | Flow::Output | Flow::Box => true,
+            };
+            if !reads_top {
+                continue;
+            }
+            if b.depth.is_some_and(|d| d >= max) {
+                self.report(
+                    Diagnostic::new(
+                        Code::StackOverflow,
+                        b.span,
+                        format!(
+                            "an S7-200 timer keeps its input on the logic stack for the next instruction; \
+                             here that needs one more level than the {max} the stack holds"
+                        ),
+                    )
+                    .help("combine branches with ALD or OLD before the timer"),
+                );
+                continue;
+            }
+            let at = ins.span;
+            edits.insert(
+                (b.unit, b.network, b.index),
+                vec![
+                    CheckedInstruction {
+                        id: lps,
+                        operands: Vec::new(),
+                        span: at,
+                    },
+                    ins.clone(),
+                    CheckedInstruction {
+                        id: lpp,
+                        operands: Vec::new(),
+                        span: at,
+                    },
+                ],
+            );
+        }
+    }
+
+    /// MAIN's first-scan network: `LD` the first-scan bit, then set every off-delay
+    /// timer whose bit is used to its start value.
+    fn first_scan_network(
+        &mut self,
+        checked: &mut [CheckedUnit],
+        inits: &[(CheckedOperand, CheckedOperand, Span)],
+    ) {
+        let at = inits[0].2;
+        let Some(main) = checked
+            .iter_mut()
+            .find(|u| u.kind == BlockKind::Interrupt && u.number == 0)
+        else {
+            return; // E0408 says MAIN is missing.
+        };
+        let first_scan = self
+            .target
+            .memory
+            .system_bits
+            .iter()
+            .find(|b| b.name == "FIRST_SCAN")
+            .and_then(|b| self.target.memory.parse_address(&b.address).ok());
+        let (Some(bit), Some(ld), Some(movw)) = (
+            first_scan,
+            self.target.instructions.lookup("LD"),
+            self.target.instructions.lookup("MOVW"),
+        ) else {
+            self.report(Diagnostic::new(
+                Code::S7200TimerBit,
+                at,
+                format!(
+                    "{} has no first-scan bit (`FIRST_SCAN`), which a TOF's S7-200 bit needs",
+                    self.target.name()
+                ),
+            ));
+            return;
+        };
+        let mut instructions = vec![CheckedInstruction {
+            id: ld,
+            operands: vec![CheckedOperand::Memory {
+                address: bit,
+                use_: Use::Value,
+                width: Width::Bit,
+            }],
+            span: at,
+        }];
+        instructions.extend(inits.iter().map(|(start, timer, span)| CheckedInstruction {
+            id: movw,
+            operands: vec![*start, *timer],
+            span: *span,
+        }));
+        match main.networks.first_mut() {
+            Some(first) if first.number == 0 => {
+                first.instructions.splice(0..0, instructions);
+            }
+            _ => main.networks.insert(
+                0,
+                CheckedNetwork {
+                    number: 0,
+                    title: None,
+                    span: at,
+                    instructions,
+                },
+            ),
+        }
+    }
+
+    /// W0207 for every timer number whose S7-200 resolution differs from the target's,
+    /// once per number; with `--scale-timer-presets` its constant presets are scaled
+    /// instead (W0207 only where rounding changes the time, or the preset is in memory).
+    fn timer_resolutions(&mut self, checked: &mut [CheckedUnit], boxes: &[TimerBox]) {
+        let mut warned: HashSet<u32> = HashSet::new();
+        for b in boxes {
+            let ins = &checked[b.unit].networks[b.network].instructions[b.index];
+            let mnemonic = self.target.instructions.get(ins.id).mnemonic.clone();
+            let Some(family) = S7200TimerFamily::of_mnemonic(&mnemonic) else {
+                continue;
+            };
+            let Some(CheckedOperand::Memory { address, .. }) = ins.operands.first() else {
+                continue;
+            };
+            let number = address.offset / 2;
+            let (Some(s7), Some(here)) = (
+                s7200_timer_resolution(family, number),
+                self.target.memory.timer_resolution(number),
+            ) else {
+                continue;
+            };
+            if s7 == here {
+                continue;
+            }
+            let preset = ins.operands.get(1).copied();
+            let constant = match preset {
+                Some(CheckedOperand::Constant {
+                    value: ConstValue::Integer(v),
+                    ..
+                }) => Some(v),
+                _ => None,
+            };
+            let timer = format!("T{number}");
+            let target = self.target.name().to_string();
+            let both = format!(
+                "`{timer}` counts {s7} ms on an S7-200 ({}) and {here} ms on {target}",
+                family.describe()
+            );
+            if !self.options.scale_timer_presets {
+                if !warned.insert(number) {
+                    continue;
+                }
+                let effect = match constant {
+                    Some(v) => format!(
+                        "its preset {v} means {} on an S7-200 and {} here",
+                        duration(v, s7),
+                        duration(v, here)
+                    ),
+                    None => format!(
+                        "its preset `{}` is in units of {here} ms here, not {s7} ms",
+                        self.slice(b.preset)
+                    ),
+                };
+                let help = match constant.and_then(|v| scale_preset(v, s7, here)) {
+                    Some(scaled) => format!(
+                        "--scale-timer-presets keeps the S7-200 timing ({} becomes {scaled}), or use a timer number with {s7} ms here",
+                        constant.unwrap_or_default()
+                    ),
+                    None => format!("use a timer number that counts {s7} ms on {target}, or rewrite the preset"),
+                };
+                self.report(
+                    Diagnostic::new(Code::TimerResolution, b.preset, format!("{both}: {effect}"))
+                        .help(help),
+                );
+                continue;
+            }
+            let Some(v) = constant else {
+                if warned.insert(number) {
+                    self.report(
+                        Diagnostic::new(
+                            Code::TimerResolution,
+                            b.preset,
+                            format!(
+                                "{both}: the preset `{}` is in memory, so --scale-timer-presets cannot scale it",
+                                self.slice(b.preset)
+                            ),
+                        )
+                        .help(format!("store the preset in units of {here} ms")),
+                    );
+                }
+                continue;
+            };
+            let Some(scaled) = scale_preset(v, s7, here) else {
+                self.report(
+                    Diagnostic::new(
+                        Code::ConstantOutOfRange,
+                        b.preset,
+                        format!(
+                            "{both}: the preset {v} ({}) does not fit a preset in {here} ms units (at most 32767)",
+                            duration(v, s7)
+                        ),
+                    )
+                    .help(format!("use a timer number that counts {s7} ms on {target}")),
+                );
+                continue;
+            };
+            if scaled * i64::from(here) != v * i64::from(s7) && warned.insert(number) {
+                self.report(Diagnostic::new(
+                    Code::TimerResolution,
+                    b.preset,
+                    format!(
+                        "{both}: the preset {v} ({}) is scaled to {scaled} ({}), the nearest it can count",
+                        duration(v, s7),
+                        duration(scaled, here)
+                    ),
+                ));
+            }
+            if let Some(CheckedOperand::Constant { value, .. }) =
+                checked[b.unit].networks[b.network].instructions[b.index]
+                    .operands
+                    .get_mut(1)
+            {
+                *value = ConstValue::Integer(scaled);
+            }
+        }
+    }
+}
+
+/// A WORD constant operand.
+fn word_constant(v: i64) -> CheckedOperand {
+    CheckedOperand::Constant {
+        value: ConstValue::Integer(v),
+        width: Width::Word,
+    }
+}
+
+/// A timer or counter's current value as an operand.
+fn word_operand(address: Address) -> CheckedOperand {
+    CheckedOperand::Memory {
+        address: Address {
+            width: Width::Word,
+            bit: 0,
+            ..address
+        },
+        use_: Use::Value,
+        width: Width::Word,
+    }
+}
+
+/// Where an off-delay timer starts, and goes on reset: at its preset when that is a
+/// constant, else at the largest current value (not below any preset either).
+fn off_delay_start(preset: &CheckedOperand) -> CheckedOperand {
+    match preset {
+        CheckedOperand::Constant { .. } => *preset,
+        _ => word_constant(CURRENT_MAX),
+    }
+}
+
+/// `units` of `ms` milliseconds, for messages: `5 s`, `0.5 s`, `40 ms`.
+fn duration(units: i64, ms: u32) -> String {
+    let total = units * i64::from(ms);
+    if total.abs() < 1000 {
+        format!("{total} ms")
+    } else if total % 1000 == 0 {
+        format!("{} s", total / 1000)
+    } else {
+        format!("{} s", total as f64 / 1000.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::duration;
+
+    #[test]
+    fn durations_read_naturally() {
+        assert_eq!(duration(5, 100), "500 ms");
+        assert_eq!(duration(50, 100), "5 s");
+        assert_eq!(duration(15, 100), "1.5 s");
+        assert_eq!(duration(4, 10), "40 ms");
+    }
+}
