@@ -296,6 +296,7 @@ fn awl_layout_is_micro_win_s() {
     assert!(d.errors.is_empty(), "{:?}", d.errors);
     let want = "\
 // Disassembly of an image for CPU-EC20, produced by gutta-cc dis --format awl (STEP 7-Micro/WIN layout)
+// timer-boxes: gutta
 PLC_TYPE CPU-EC20
 ORGANIZATION_BLOCK MAIN:OB1
 TITLE=
