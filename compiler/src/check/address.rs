@@ -58,8 +58,19 @@ impl Checker<'_> {
                 }
             }
             AddressError::OutOfRange { area, size, last, .. } => {
-                Diagnostic::new(Code::AddressOutOfTarget, span, format!("`{text}` is outside area {area} of {plc}"))
-                    .label(format!("{area} has {size} bytes; the last {} is {last}", if last.contains('.') { "bit" } else { "such address" }))
+                let elsewhere: Vec<&str> = stdlib_memory_maps()
+                    .iter()
+                    .filter(|(n, _)| !n.eq_ignore_ascii_case(&plc))
+                    .filter(|(_, m)| m.as_ref().is_some_and(|m| m.parse_address(text).is_ok()))
+                    .map(|(n, _)| *n)
+                    .collect();
+                let d = Diagnostic::new(Code::AddressOutOfTarget, span, format!("`{text}` is outside area {area} of {plc}"))
+                    .label(format!("{area} has {size} bytes; the last {} is {last}", if last.contains('.') { "bit" } else { "such address" }));
+                if elsewhere.is_empty() {
+                    d
+                } else {
+                    d.help(format!("`{text}` exists on {}; select one with --plc or PLC_TYPE", elsewhere.join(", ")))
+                }
             }
             AddressError::WidthNotAllowed { area, width, allowed } => {
                 let list: Vec<&str> = allowed.iter().map(|w| w.keyword()).collect();
