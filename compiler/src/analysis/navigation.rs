@@ -123,11 +123,20 @@ pub fn references_at(checked: &CheckedFile, offset: usize) -> Vec<(Span, Access)
 /// Markdown that explains the item at `offset`, and the span it explains.
 pub fn hover(checked: &CheckedFile, offset: usize) -> Option<(Span, String)> {
     let (span, item) = item_at(checked, offset)?;
-    let text = match item {
+    let mut text = match item {
         Item::Mnemonic(id) => instruction_hover(checked, id),
         Item::Definition(def) => definition_hover(checked, def),
         Item::Address(a) => address_hover(checked, &a),
     };
+    // An S7-200 timer or counter bit of a Micro/WIN export: what it compiles to.
+    if let Some((_, note)) = checked
+        .output
+        .s7200_bits
+        .iter()
+        .find(|(s, _)| s.start as usize <= offset && offset <= s.end as usize)
+    {
+        text = format!("{text}\n\n{note}");
+    }
     Some((span, text))
 }
 
@@ -549,5 +558,45 @@ mod tests {
         ]
         .map(|h| h.map(|(_, t)| t).unwrap_or_default());
         insta::assert_snapshot!(texts.join("\n\n-----\n\n"));
+    }
+
+    #[test]
+    fn an_s7_200_timer_bit_hover_says_what_it_compiles_to() {
+        let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNetwork 1\nLD     I0.0\nTON    T33, +50\n\
+                    Network 2\nLD     T33\n=      Q0.0\nEND_ORGANIZATION_BLOCK\n";
+        let with = |scale| {
+            crate::check_program(
+                ProgramSources {
+                    sources: vec![SourceFile::new("main.awl", text)],
+                    options: crate::CompileOptions {
+                        scale_timer_presets: scale,
+                    },
+                    ..Default::default()
+                },
+                Some(&crate::ExplicitTarget {
+                    target: gutta_catalog::stdlib::shared("CPU-EC20-M3").unwrap(),
+                    origin: "--plc CPU-EC20-M3".into(),
+                }),
+            )
+        };
+        let c = with(false);
+        let (_, h) = hover(&c, at(&c, "T33", 1, 1)).unwrap();
+        assert!(
+            h.ends_with(
+                "S7-200 timer bit: compiled as `LDW>= T33, +50`, the bit of `TON    T33, +50`"
+            ),
+            "{h}"
+        );
+        let c = with(true);
+        let (_, h) = hover(&c, at(&c, "T33", 1, 1)).unwrap();
+        assert!(
+            h.ends_with(
+                "S7-200 timer bit: compiled as `LDW>= T33, 5`, the bit of `TON    T33, +50` (its preset +50, scaled)"
+            ),
+            "{h}"
+        );
+        // Not a bit: the TON's own operand has no such line.
+        let (_, h) = hover(&c, at(&c, "T33", 0, 1)).unwrap();
+        assert!(!h.contains("S7-200"), "{h}");
     }
 }

@@ -72,6 +72,9 @@ pub struct CheckOutput {
     pub addresses: Vec<(Span, Address)>,
     /// Mnemonic spans with their instruction (for hover).
     pub mnemonics: Vec<(Span, gutta_catalog::InstrId)>,
+    /// In a Micro/WIN export, S7-200 timer and counter bit operands (`T37` of
+    /// `LD T37`) and what they compile to, one Markdown line (for hover).
+    pub s7200_bits: Vec<(Span, String)>,
 }
 
 /// Per-unit facts gathered before the code is checked.

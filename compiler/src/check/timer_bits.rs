@@ -107,6 +107,8 @@ struct Driver {
     mnemonic: String,
     timer: CheckedOperand,
     preset: CheckedOperand,
+    /// The preset operand as written, and the whole instruction.
+    preset_span: Span,
     span: Span,
 }
 
@@ -244,13 +246,14 @@ impl Checker<'_> {
         uses: &[BitUse],
         boxes: &[TimerBox],
     ) {
-        self.timer_resolutions(checked, boxes);
+        let scaled = self.timer_resolutions(checked, boxes);
         let drivers = self.drivers(checked, boxes);
         let mut edits: BTreeMap<(usize, usize, usize), Vec<CheckedInstruction>> = BTreeMap::new();
         let mut first_scan: Vec<(CheckedOperand, CheckedOperand, Span)> = Vec::new();
         let mut initialised: HashSet<(u8, u32)> = HashSet::new();
         for u in uses {
-            let Some(replacement) = self.bit_use(u, &drivers, &mut first_scan, &mut initialised)
+            let Some(replacement) =
+                self.bit_use(u, &drivers, &scaled, &mut first_scan, &mut initialised)
             else {
                 continue;
             };
@@ -294,6 +297,7 @@ impl Checker<'_> {
                     mnemonic: spec.mnemonic.clone(),
                     timer,
                     preset,
+                    preset_span: b.preset,
                     span: b.span,
                 });
         }
@@ -305,6 +309,7 @@ impl Checker<'_> {
         &mut self,
         u: &BitUse,
         drivers: &HashMap<(u8, u32), Vec<Driver>>,
+        scaled: &HashSet<Span>,
         first_scan: &mut Vec<(CheckedOperand, CheckedOperand, Span)>,
         initialised: &mut HashSet<(u8, u32)>,
     ) -> Option<Vec<CheckedInstruction>> {
@@ -322,6 +327,30 @@ impl Checker<'_> {
                 if driver.kind == Kind::OffDelay && initialised.insert(key) {
                     first_scan.push((off_delay_start(&driver.preset), driver.timer, driver.span));
                 }
+                let name = self.slice(u.operand);
+                let written = self.slice(driver.preset_span);
+                let (shown, extra) = match (driver.kind, driver.preset) {
+                    (Kind::CountDown, _) => ("0".to_string(), String::new()),
+                    (
+                        _,
+                        CheckedOperand::Constant {
+                            value: ConstValue::Integer(v),
+                            ..
+                        },
+                    ) if scaled.contains(&driver.preset_span) => {
+                        (v.to_string(), format!(" (its preset {written}, scaled)"))
+                    }
+                    _ => (written.to_string(), String::new()),
+                };
+                let what = match driver.kind {
+                    Kind::CountUp | Kind::CountDown => "counter",
+                    Kind::OnDelay | Kind::OffDelay => "timer",
+                };
+                let note = format!(
+                    "S7-200 {what} bit: compiled as `{mnemonic} {name}, {shown}`, the bit of `{}`{extra}",
+                    self.slice(driver.span)
+                );
+                self.out.s7200_bits.push((u.operand, note));
                 Some(vec![CheckedInstruction {
                     id,
                     operands: vec![driver.timer, right],
@@ -596,7 +625,13 @@ impl Checker<'_> {
     /// W0207 for every timer number whose S7-200 resolution differs from the target's,
     /// once per number; with `--scale-timer-presets` its constant presets are scaled
     /// instead (W0207 only where rounding changes the time, or the preset is in memory).
-    fn timer_resolutions(&mut self, checked: &mut [CheckedUnit], boxes: &[TimerBox]) {
+    /// Returns the spans of the presets it scaled.
+    fn timer_resolutions(
+        &mut self,
+        checked: &mut [CheckedUnit],
+        boxes: &[TimerBox],
+    ) -> HashSet<Span> {
+        let mut scaled_presets = HashSet::new();
         let mut warned: HashSet<u32> = HashSet::new();
         for b in boxes {
             let ins = &checked[b.unit].networks[b.network].instructions[b.index];
@@ -706,8 +741,10 @@ impl Checker<'_> {
                     .get_mut(1)
             {
                 *value = ConstValue::Integer(scaled);
+                scaled_presets.insert(b.preset);
             }
         }
+        scaled_presets
     }
 }
 
