@@ -7,6 +7,7 @@ const MODULES: &[(&str, u8, &str)] = &[
     ("fault", 0, include_str!("fault.rs")),
     ("memory", 0, include_str!("memory.rs")),
     ("op", 0, include_str!("op.rs")),
+    ("vcd", 0, include_str!("vcd.rs")),
     ("fuse", 1, include_str!("fuse.rs")),
     ("fast", 1, include_str!("fast.rs")),
     ("machine", 1, include_str!("machine.rs")),

@@ -8,7 +8,7 @@
 //! module graph has no cycles (`layers.rs` checks it):
 //!
 //! 0. `fault` (run-time faults), `memory` (the flat byte memory), `op` (decoded
-//!    operations)
+//!    operations), `vcd` (waveform text, used by the tools)
 //! 1. `fuse` (bit-logic chains), `fast` (running operations on memory), and the VM's
 //!    parts: `machine` (memory, logic stack, frames, L stack, loops, hidden state),
 //!    `clock` (virtual time, scan counters), `terminals` (input terminals and forces),
@@ -40,6 +40,7 @@ mod op;
 pub mod ops;
 mod program;
 mod terminals;
+pub mod vcd;
 
 use std::sync::Arc;
 

@@ -201,6 +201,26 @@ codes! {
     E0703 SystemPageTooLarge Error "system block too large"
         "The system page (18 bytes + 8 per serial port) must fit `SystemBlockBinarySize`.";
 
+    // ---- E08xx: test files (.gtest, docs/testing-programs.md) -----------------------
+    E0801 TestSyntax Error "malformed test statement"
+        "A line of a `.gtest` file does not have its statement's shape: `SET VAR = VALUE, ...`, `SCAN [n]`, `ADVANCE 2s`, `EXPECT VAR = VALUE, ...` (comparisons `=`, `<>`, `<`, `<=`, `>`, `>=`), `UNTIL VAR = VALUE WITHIN n SCANS`, `FORCE VAR = VALUE`, `UNFORCE VAR` or `UNFORCE ALL`, `EXPECT FAULT code`, `EXPECT RUN`/`EXPECT STOP`, `RESET`, `RUN`, `STOP`; a header `PROGRAM path`, `SCAN_TIME 10ms`, `PLC_TYPE name`, `OPTION name`, `WATCHDOG n`. The message says what was expected where.";
+    E0802 UnknownStatement Error "unknown test statement"
+        "The first word of a line of a `.gtest` file is no statement keyword (keywords are case-insensitive). The help names the closest keyword; docs/testing-programs.md lists them all.";
+    E0803 TestStructure Error "statement outside its place in a test file"
+        "A test file is a header (`PROGRAM`, `SCAN_TIME`, `PLC_TYPE`, `OPTION`, `WATCHDOG`, each at most once, before the first test), then tests, each from `TEST name` to `END_TEST`. A statement outside a test, a header line inside one, a `TEST` before the previous `END_TEST`, an `END_TEST` without its `TEST`, or a test not closed at the end of the file is this error.";
+    E0804 DuplicateTest Error "test name used twice"
+        "Each test of a file needs its own name: `--filter`, the report and JUnit XML name tests by it. Rename one.";
+    E0805 UnknownTestVariable Error "unknown variable in a test"
+        "A variable of a test is neither a symbol of the program under test (its SYMBOLS blocks and symbol tables) nor a direct address of its PLC type. The help names the closest symbol.";
+    E0806 TestValueMismatch Error "value does not fit the variable"
+        "A test value must fit its variable's type: 0/1 or TRUE/FALSE for a bit, an integer that fits the width signed or unsigned for a byte, word or double word, a REAL (`1.5`) only for a variable declared REAL, a text (`\"12\"`) only for a byte (consecutive bytes), and only `=` or `<>` for a text. A FORCE needs a variable of a forcing area (I, Q).";
+    E0807 TestProgramMissing Error "program under test not found"
+        "`PROGRAM path` names a file that cannot be read (the path is relative to the test file), or a test file has no `PROGRAM` line and is not inside a project (gutta.toml), whose program it would test.";
+    E0808 TestProgramErrors Error "program under test does not compile"
+        "The program a test file names has errors; they are shown after this one. No test of the file runs until the program compiles.";
+    E0809 TestHeaderValue Error "bad test file header value"
+        "A header value is wrong: a `SCAN_TIME` of 0 or not whole milliseconds, an unknown `PLC_TYPE` or `OPTION`, a `WATCHDOG` of 0, or a header line given twice.";
+
     // ---- W02xx: warnings -------------------------------------------------------------
     W0201 DoubleCoil Warning "output written by more than one `=`"
         "The same bit is the target of `=` in two places; the last one in the scan wins, which is rarely intended. Use S/R, or combine the conditions.";
@@ -216,6 +236,10 @@ codes! {
         "In a STEP 7-Micro/WIN export (docs/microwin.md) Micro/WIN's system symbols (`Always_On`, `Clock_1s`, ...) name the target's SM bits that mean the same (the `MicroWin` attribute of its `SystemBit` rows, docs/targets.md). A user symbol of the same name wins, as in Micro/WIN; this warning says so, in case the program meant the system bit.";
     W0207 TimerResolution Warning "S7-200 timer resolution differs from the target's"
         "On an S7-200 a timer's number fixes its resolution (CPU 22x: TON/TOF T32 and T96 count 1 ms, T33-T36 and T97-T100 10 ms, the rest 100 ms; TONR T0 and T64 1 ms, T1-T4 and T65-T68 10 ms, the rest 100 ms). Where the target's resolution for that number (its `<Timers>` rows, docs/targets.md) differs, the same preset lasts a different time: the warning, once per timer, gives both resolutions and what the preset means on each. `gutta-cc --scale-timer-presets` (or `scale-timer-presets = true` in gutta.toml's [build]) scales constant presets to keep the S7-200 timing, rounded to the nearest unit; it warns only where rounding changes the time or a preset in memory cannot be scaled.";
+    W0801 TestChecksNothing Warning "test checks nothing"
+        "A test without `EXPECT` or `UNTIL` passes whatever the program does (only a fault fails it). Add the expectation the test is about.";
+    W0802 NoTests Warning "test file without tests"
+        "A `.gtest` file has no `TEST` block; it runs nothing.";
 }
 
 #[cfg(test)]

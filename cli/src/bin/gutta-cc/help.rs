@@ -31,6 +31,7 @@ impl Group {
 pub(crate) const COMMAND_GROUPS: &[(&str, Group)] = &[
     ("new", Group::Build),
     ("build", Group::Build),
+    ("test", Group::Build),
     ("download", Group::Online),
     ("upload", Group::Online),
     ("status", Group::Online),

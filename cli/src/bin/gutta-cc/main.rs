@@ -108,6 +108,28 @@ enum Command {
         #[arg(short, long, value_name = "DIR")]
         output: Option<PathBuf>,
     },
+    /// Run unit tests of PLC programs: .gtest files (the project's tests/ by default), on
+    /// the VM in virtual time; one line per test and a summary (docs/testing-programs.md).
+    #[command(
+        after_help = "Examples:\n  gutta-cc test                                   # the project's tests/\n  gutta-cc test tests/lamp.gtest --filter latch\n  gutta-cc test tests/ --junit report.xml --vcd waves/\n  gutta-cc test --message-format json\n\nExit status: 0 all passed, 1 a test failed, 2 usage or file errors (no test of a file with errors runs)."
+    )]
+    Test {
+        /// Test files (.gtest) or folders searched for them [default: the project's tests/].
+        paths: Vec<PathBuf>,
+        /// Run only the tests whose name contains this text (any case).
+        #[arg(long, value_name = "NAME")]
+        filter: Option<String>,
+        /// Also write JUnit XML (one testsuite per file) into this file.
+        #[arg(long, value_name = "FILE")]
+        junit: Option<PathBuf>,
+        /// Write a waveform (VCD) of each failing test into this folder: every variable the
+        /// test mentions, named by its symbol, over virtual time.
+        #[arg(long, value_name = "DIR")]
+        vcd: Option<PathBuf>,
+        /// Test files run at once [default: the machine's cores].
+        #[arg(long, value_name = "N")]
+        jobs: Option<usize>,
+    },
     /// Print the Modbus address of a variable (the vendor editor's Modbus query).
     #[command(
         after_help = "Examples:\n  gutta-cc modbus MW20                 # holding register 400019\n  gutta-cc modbus Q0.0 --plc CPU-EC20"
@@ -357,6 +379,7 @@ mod debug;
 mod explain;
 mod login;
 mod project;
+mod test;
 mod vars;
 mod watch;
 
@@ -416,6 +439,7 @@ impl Command {
             | Command::Watch { link, .. } => Some(link),
             Command::New { .. }
             | Command::Build { .. }
+            | Command::Test { .. }
             | Command::Modbus { .. }
             | Command::Dis { .. }
             | Command::Explain { .. }
@@ -450,6 +474,11 @@ fn apply_project(cli: &mut Cli, matches: &ArgMatches) -> Result<(), Fatal> {
     let Some(project) = project::find()? else {
         return Ok(());
     };
+    if matches!(cli.command, Some(Command::Test { .. })) {
+        // `test` takes each test file's program, target and symbols itself.
+        cli.project = Some(project);
+        return Ok(());
+    }
     project::apply_target(&mut cli.target, &project);
     let link = cli.command.as_mut().and_then(Command::link_mut);
     if let (Some(link), Some((_, sub))) = (link, matches.subcommand()) {
@@ -512,6 +541,22 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
     }
     let online = online(&cli);
     match &cli.command {
+        Some(Command::Test {
+            paths,
+            filter,
+            junit,
+            vcd,
+            jobs,
+        }) => {
+            let args = test::TestArgs {
+                paths: paths.clone(),
+                filter: filter.clone(),
+                junit: junit.clone(),
+                vcd: vcd.clone(),
+                jobs: *jobs,
+            };
+            return test::test(&cli, &args);
+        }
         Some(Command::Modbus { variable }) => return modbus(&cli.target, variable),
         Some(Command::Explain { code }) => return explain(code),
         Some(Command::Dis { image, format }) => return dis(&cli.target, image, *format),

@@ -200,10 +200,8 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
             .collect()
     };
     let mut values = sample(&vm)?;
-    let mut vcd = cli.vcd.as_ref().map(|_| vcd::header(&reads, &values));
+    let mut vcd = cli.vcd.as_ref().map(|_| vcd::dump(&reads, &values));
     let mut changes: Vec<Change> = Vec::new();
-    // The last timestamp written to the VCD.
-    let mut last_time = 0;
     let stdout = std::io::stdout();
     let mut fault: Option<(u64, Fault)> = None;
     let mut paused: Option<(u64, Position)> = None;
@@ -215,14 +213,8 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
         }
         let now = sample(&vm)?;
         let changed: Vec<usize> = (0..reads.len()).filter(|&i| now[i] != values[i]).collect();
-        if let Some(text) = vcd.as_mut() {
-            if !changed.is_empty() {
-                last_time = vm.clock_ms();
-                let _ = writeln!(text, "#{last_time}");
-                for &i in &changed {
-                    vcd::value(text, &reads[i], now[i], i);
-                }
-            }
+        if let Some(dump) = vcd.as_mut() {
+            dump.sample(vm.clock_ms(), &now);
         }
         if cli.trace {
             for &i in &changed {
@@ -250,11 +242,9 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
             break;
         }
     }
-    if let (Some(mut text), Some(path)) = (vcd, &cli.vcd) {
+    if let (Some(dump), Some(path)) = (vcd, &cli.vcd) {
         // The end of the run, so the last value shows for its whole time.
-        if vm.clock_ms() > last_time {
-            let _ = writeln!(text, "#{}", vm.clock_ms());
-        }
+        let text = dump.finish(vm.clock_ms());
         std::fs::write(path, text)
             .map_err(|e| Fatal::io(format!("cannot write {}: {e}", path.display())))?;
     }

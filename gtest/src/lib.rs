@@ -1,0 +1,105 @@
+//! Unit tests for PLC programs (docs/testing-programs.md): `.gtest` files parsed
+//! (`syntax.rs`), resolved against the program under test (`resolve.rs`), run on the
+//! reference VM in virtual time (`run.rs`), and reported as text, JSON, JUnit XML and
+//! waveforms (`report.rs`). No I/O: `gutta-cc test` finds and reads the files, compiles
+//! each program once, runs files in parallel and writes the reports.
+
+pub mod report;
+pub mod resolve;
+pub mod run;
+pub mod syntax;
+
+use std::sync::Arc;
+
+use gutta_catalog::Target;
+use gutta_compiler::diagnostics::Diagnostic;
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{compile_program, CheckedFile, ExplicitTarget, ProgramSources};
+use gutta_format::{SymbolTable, VerifiedImage};
+
+pub use resolve::{plan, Plan, PlannedTest};
+pub use run::{run_test, Failure, FailureKind, RunOptions, TestResult};
+
+/// A compiled, verified program, what every test of it starts from.
+#[derive(Debug, Clone)]
+pub struct ProgramUnderTest {
+    pub image: VerifiedImage,
+    pub target: Arc<Target>,
+    /// The symbols tests may name (SYMBOLS blocks and symbol tables).
+    pub symbols: SymbolTable,
+    /// A STEP 7-Micro/WIN export: tests may also name Micro/WIN's system symbols.
+    pub microwin: bool,
+}
+
+/// Why a program cannot be tested.
+#[derive(Debug)]
+pub enum BuildError {
+    /// It does not compile: the checked program with its diagnostics.
+    Compile(Box<CheckedFile>),
+    /// The image does not verify (a compiler defect: say so).
+    Verify(String),
+}
+
+impl ProgramUnderTest {
+    /// Compile and verify `program` (once per run: every test file of it shares it).
+    pub fn build(
+        program: ProgramSources,
+        explicit: Option<&ExplicitTarget>,
+    ) -> Result<ProgramUnderTest, BuildError> {
+        let compiled = compile_program(program, explicit);
+        let checked = compiled.checked;
+        let Some(image) = compiled.image else {
+            return Err(BuildError::Compile(Box::new(checked)));
+        };
+        let target = Arc::clone(&checked.target);
+        let image = gutta_format::verify(&image, &target)
+            .map_err(|e| BuildError::Verify(format!("{e:?}")))?;
+        Ok(ProgramUnderTest {
+            image,
+            symbols: checked.symbols(),
+            microwin: checked.ast.microwin,
+            target,
+        })
+    }
+}
+
+/// A test file read and parsed.
+#[derive(Debug, Clone)]
+pub struct TestSource {
+    pub file: SourceFile,
+    pub parsed: syntax::TestFile,
+    /// The parser's diagnostics (errors stop the file; warnings do not).
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl TestSource {
+    pub fn parse(file: SourceFile) -> TestSource {
+        let (parsed, diagnostics) = syntax::parse(&file.text);
+        TestSource {
+            file,
+            parsed,
+            diagnostics,
+        }
+    }
+
+    pub fn has_errors(&self) -> bool {
+        self.diagnostics.iter().any(Diagnostic::is_error)
+    }
+
+    /// The compile options the header asks for.
+    pub fn compile_options(&self) -> gutta_compiler::CompileOptions {
+        gutta_compiler::CompileOptions {
+            scale_timer_presets: self
+                .parsed
+                .header
+                .options
+                .iter()
+                .any(|(o, _)| o == "scale-timer-presets"),
+        }
+    }
+}
+
+/// Whether a test runs under `--filter`: the filter is part of its name (any case).
+pub fn selected(name: &str, filter: Option<&str>) -> bool {
+    filter.is_none_or(|f| name.to_lowercase().contains(&f.to_lowercase()))
+}
