@@ -30,6 +30,7 @@ fn a_new_project_builds_and_its_lamp_blinks_after_start() {
         "gutta.toml",
         "src/main.lad",
         "symbols.csv",
+        "tests/main.gtest",
         ".gitignore",
         "README.md",
     ] {
@@ -61,6 +62,23 @@ fn a_new_project_builds_and_its_lamp_blinks_after_start() {
     assert!(trace.contains("scan 101: Q0.0 1 -> 0"), "{trace}");
     let idle = lamp_trace(&image, false);
     assert!(!idle.contains("Q0.0 0 -> 1"), "{idle}");
+
+    // Its tests pass as created, through `gutta-cc test` with no arguments.
+    let o = cc_in(&dir, &["test"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let out = stdout(&o);
+    assert!(
+        out.contains("PASS  tests/main.gtest::start_latches_and_stop_releases"),
+        "{out}"
+    );
+    assert!(
+        out.contains("PASS  tests/main.gtest::lamp_blinks_while_running"),
+        "{out}"
+    );
+    assert!(
+        out.contains("2 passed, 0 failed (2 tests in 1 file)"),
+        "{out}"
+    );
 }
 
 #[test]
@@ -75,6 +93,8 @@ fn new_prints_what_it_created_and_the_next_commands() {
     );
     assert!(out.contains("pump/src/main.lad"), "{out}");
     assert!(out.contains("gutta-cc build"), "{out}");
+    assert!(out.contains("pump/tests/main.gtest"), "{out}");
+    assert!(out.contains("gutta-cc test"), "{out}");
     assert!(out.contains("gutta-cc download"), "{out}");
     let manifest = read(&parent.join("pump/gutta.toml"));
     assert!(manifest.contains("plc = \"EC30-EKSTM32-XC\""), "{manifest}");

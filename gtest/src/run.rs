@@ -250,7 +250,7 @@ impl Run<'_> {
                 }
             };
             if let Some(kind) = failed {
-                let failing = failing_vars(&kind, s, self.test);
+                let failing = failing_vars(&kind, self.test);
                 return Some(self.failure(s.line, s.span, kind, &failing));
             }
         }
@@ -444,16 +444,17 @@ impl Run<'_> {
     }
 }
 
-/// The variables a failure is about (left out of "other variables").
-fn failing_vars(
-    kind: &FailureKind,
-    s: &crate::resolve::PlannedStatement,
-    _test: &PlannedTest,
-) -> Vec<usize> {
-    let checks = match (&s.step, kind) {
-        (Step::Expect(checks), FailureKind::Expect(_)) => checks,
-        (Step::Until { checks, .. }, FailureKind::Until { .. }) => checks,
+/// The variables a failure is about (left out of "other variables"): those of the
+/// comparisons that did not hold.
+fn failing_vars(kind: &FailureKind, test: &PlannedTest) -> Vec<usize> {
+    let mismatches = match kind {
+        FailureKind::Expect(m) | FailureKind::Until { mismatches: m, .. } => m,
         _ => return Vec::new(),
     };
-    checks.iter().map(|c| c.var).collect()
+    test.vars
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| mismatches.iter().any(|m| m.var == v.label()))
+        .map(|(i, _)| i)
+        .collect()
 }

@@ -89,10 +89,10 @@ struct TargetArgs {
 
 #[derive(Debug, Clone, Subcommand)]
 enum Command {
-    /// Create a project: NAME/ with gutta.toml, src/main.lad, symbols.csv, .gitignore and
-    /// a README (`--plc NAME` for another PLC type than the stdlib default).
+    /// Create a project: NAME/ with gutta.toml, src/main.lad, symbols.csv, tests/main.gtest,
+    /// .gitignore and a README (`--plc NAME` for another PLC type than the stdlib default).
     #[command(
-        after_help = "Examples:\n  gutta-cc new demo && cd demo && gutta-cc build\n  gutta-cc new pump --plc EC30-EKSTM32"
+        after_help = "Examples:\n  gutta-cc new demo && cd demo && gutta-cc build && gutta-cc test\n  gutta-cc new pump --plc EC30-EKSTM32"
     )]
     New {
         /// The project folder to create (its last part names the project).

@@ -21,6 +21,10 @@ const TEMPLATES: &[(&str, &str)] = &[
         "symbols.csv",
         include_str!("../../../templates/symbols.csv"),
     ),
+    (
+        "tests/main.gtest",
+        include_str!("../../../templates/main.gtest"),
+    ),
     (".gitignore", include_str!("../../../templates/gitignore")),
     ("README.md", include_str!("../../../templates/README.md")),
 ];
@@ -47,7 +51,8 @@ pub(crate) fn required(project: Option<&Project>, command: &str) -> Result<Proje
     }
 }
 
-/// `gutta-cc new NAME [--plc PLC]`: a project that builds and runs as created.
+/// `gutta-cc new NAME [--plc PLC]`: a project that builds, runs and passes its tests as
+/// created.
 pub(crate) fn new(path: &Path, plc: Option<&str>) -> Result<ExitCode, Fatal> {
     let name = path
         .file_name()
@@ -94,6 +99,7 @@ pub(crate) fn new(path: &Path, plc: Option<&str>) -> Result<ExitCode, Fatal> {
     }
     println!(
         "next:\n  cd {}\n  gutta-cc build                     # compile into target/image/\n  \
+         gutta-cc test                      # run tests/main.gtest on the VM\n  \
          gutta-sim --tcp 127.0.0.1:5020 &   # a simulated PLC at gutta.toml's [connection]\n  \
          gutta-cc download                  # build and download\n  \
          gutta-cc force Start=1             # Lamp blinks; `gutta-cc watch Lamp` shows it",
