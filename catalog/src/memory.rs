@@ -769,7 +769,11 @@ mod microwin_tests {
                     }
                     S7200EventSource::Other => false,
                 };
-                assert!(same, "{name}: event {} ({}) is not S7-200's {n} ({})", event.number, event.description, s7.meaning);
+                assert!(
+                    same,
+                    "{name}: event {} ({}) is not S7-200's {n} ({})",
+                    event.number, event.description, s7.meaning
+                );
                 assert_eq!(memory.event_for_s7200(n), Some(event), "{name}");
             }
             assert!(memory.event_for_s7200(12).is_none(), "{name}: HSC0");
@@ -791,10 +795,12 @@ mod microwin_tests {
 </ManagerVar>"#
             )
         };
-        let ok = xml(r#"<Event Number="20" Name="R" Kind="RisingEdge" Input="I0.0" MicroWin="0"/>"#);
+        let ok =
+            xml(r#"<Event Number="20" Name="R" Kind="RisingEdge" Input="I0.0" MicroWin="0"/>"#);
         let map = crate::MemoryMap::parse(ok.as_bytes()).expect("loads");
         assert_eq!(map.event_for_s7200(0).map(|e| e.number), Some(20));
-        let past = xml(r#"<Event Number="20" Name="R" Kind="RisingEdge" Input="I0.0" MicroWin="34"/>"#);
+        let past =
+            xml(r#"<Event Number="20" Name="R" Kind="RisingEdge" Input="I0.0" MicroWin="34"/>"#);
         assert!(crate::MemoryMap::parse(past.as_bytes()).is_err());
         let twice = xml(
             r#"<Event Number="20" Name="R" Kind="RisingEdge" Input="I0.0" MicroWin="0"/>
