@@ -6,6 +6,8 @@
 //! (a stdlib target with its event table edited) shows that the numbers come from the
 //! data, not from an identity.
 
+#![allow(clippy::disallowed_methods, reason = "a test reads docs/microwin.md")]
+
 use std::sync::Arc;
 
 use gutta_catalog::{stdlib, Target};
@@ -198,4 +200,86 @@ fn dis_format_awl_writes_s7_200_numbers_that_compile_back() {
         "{}",
         awl.errors[0]
     );
+}
+
+#[test]
+fn completion_offers_s7_200_numbers_in_an_export() {
+    use gutta_compiler::analysis::completion::completions;
+    use gutta_compiler::check_source;
+    let target = renumbered();
+    let offered = |name: &str, text: &str| -> Vec<String> {
+        let checked = check_source(SourceFile::new(name, text), Some(&target));
+        let at = text.find("DTCH ").expect("DTCH") + 5;
+        completions(&checked, at)
+            .items
+            .into_iter()
+            .map(|i| i.label)
+            .collect()
+    };
+    let main =
+        "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.1\nDTCH \nEND_ORGANIZATION_BLOCK\n";
+    // S7-200's 10 is GUTTA's 20 there; GUTTA's 11 has no S7-200 number.
+    let export = offered("main.awl", main);
+    assert!(export.contains(&"10".to_string()), "{export:?}");
+    assert!(!export.contains(&"20".to_string()) && !export.contains(&"11".to_string()));
+    let lad = offered("main.lad", main);
+    assert!(
+        lad.contains(&"20".to_string()) && lad.contains(&"11".to_string()),
+        "{lad:?}"
+    );
+    assert!(!lad.contains(&"10".to_string()), "{lad:?}");
+}
+
+/// docs/microwin.md's table of interrupt events ("Interrupt events") is every stdlib
+/// target's data: each row's S7-200 event maps to the GUTTA event it names, and every
+/// mapped event has a row.
+#[test]
+fn the_documented_event_table_is_every_stdlib_targets_data() {
+    let doc = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/microwin.md"),
+    )
+    .expect("read docs/microwin.md");
+    let section = doc
+        .split("### Interrupt events")
+        .nth(1)
+        .expect("the section")
+        .split("\n#")
+        .next()
+        .unwrap_or("");
+    let rows: Vec<(u32, String, u32, String)> = section
+        .lines()
+        .filter_map(|l| {
+            let cells: Vec<&str> = l
+                .trim()
+                .strip_prefix('|')?
+                .split('|')
+                .map(str::trim)
+                .collect();
+            let s7 = cells.first()?.parse().ok()?;
+            let mut gutta = cells.get(2)?.split_whitespace();
+            let number = gutta.next()?.parse().ok()?;
+            let name = gutta.next()?.trim_matches('`').to_string();
+            Some((s7, cells.get(1)?.to_string(), number, name))
+        })
+        .collect();
+    assert_eq!(rows.len(), 10, "{rows:?}");
+    for name in stdlib::names() {
+        let memory = &stdlib::shared(name).expect("stdlib target").memory;
+        for (s7, meaning, number, event_name) in &rows {
+            let event = memory.event_for_s7200(*s7).expect("mapped");
+            assert_eq!(
+                (event.number, &event.name),
+                (*number, event_name),
+                "{name}: {s7}"
+            );
+            let table = gutta_catalog::s7200::s7200_event(i64::from(*s7)).expect("S7-200 event");
+            assert_eq!(table.meaning, meaning, "{s7}");
+        }
+        let mapped = memory
+            .events
+            .iter()
+            .filter(|e| e.microwin.is_some())
+            .count();
+        assert_eq!(mapped, rows.len(), "{name}");
+    }
 }
