@@ -212,6 +212,9 @@ pub struct InterruptEvent {
     /// For edge events: the input bit whose rising or falling edge raises the event.
     pub input: Option<String>,
     pub description: String,
+    /// The S7-200 event number that means the same (attribute `MicroWin`; one of
+    /// `s7200::S7200_EVENTS`): what `ATCH` of a Micro/WIN export names this event by.
+    pub microwin: Option<u32>,
 }
 
 /// The whole memory description of a PLC type.
@@ -339,6 +342,8 @@ struct RawEvent {
     input: Option<String>,
     #[serde(rename = "@Description", default)]
     description: String,
+    #[serde(rename = "@MicroWin")]
+    microwin: Option<String>,
 }
 
 fn err(code: CatalogErrorCode, msg: String) -> CatalogError {
@@ -462,6 +467,12 @@ impl MemoryMap {
         })
     }
 
+    /// The target's event that S7-200 event `n` means (the one whose `MicroWin` is
+    /// `n`), if the target has one.
+    pub fn event_for_s7200(&self, n: u32) -> Option<&InterruptEvent> {
+        self.events.iter().find(|e| e.microwin == Some(n))
+    }
+
     pub fn parse(bytes: &[u8]) -> Result<MemoryMap, CatalogError> {
         let text = decode_xml_text(bytes, FILE)?;
         let raw: Raw = from_xml(&text, FILE)?;
@@ -582,6 +593,17 @@ impl MemoryMap {
         }
         for e in raw.events {
             let number = attr_int(FILE, "Event Number", &e.number, 0, 255)? as u32;
+            let last_s7200 = crate::s7200::S7200_EVENTS.len() as i64 - 1;
+            let microwin = match e.microwin.as_deref().map(str::trim) {
+                None | Some("") => None,
+                Some(n) => Some(attr_int(
+                    FILE,
+                    &format!("MicroWin of event {number}"),
+                    n,
+                    0,
+                    last_s7200,
+                )? as u32),
+            };
             map.events.push(InterruptEvent {
                 number,
                 name: e.name,
@@ -589,6 +611,7 @@ impl MemoryMap {
                 period: e.period,
                 input: e.input,
                 description: e.description,
+                microwin,
             });
         }
         // Edge events name an input bit of this target; timed events a period byte.
@@ -628,6 +651,15 @@ impl MemoryMap {
                 return Err(err(
                     CatalogErrorCode::Duplicate,
                     format!("interrupt event {} is described twice", pair[0].number),
+                ));
+            }
+        }
+        let mut s7200 = BTreeSet::new();
+        for e in &map.events {
+            if let Some(n) = e.microwin.filter(|n| !s7200.insert(*n)) {
+                return Err(err(
+                    CatalogErrorCode::Duplicate,
+                    format!("S7-200 event {n} is the MicroWin of two events"),
                 ));
             }
         }
@@ -708,5 +740,73 @@ mod microwin_tests {
             }
             assert!(memory.microwin_system_bit("Mode_Switch").is_none());
         }
+    }
+
+    /// Every `<Event MicroWin=n>` of every stdlib target means what S7-200 event n
+    /// means: an edge of the same kind on the same input, or the timed interrupt whose
+    /// period byte is Micro/WIN's `Time_n_Intrvl` on this target; and the stdlib
+    /// targets map all their events.
+    #[test]
+    fn every_micro_win_event_means_the_s7_200_event() {
+        use crate::s7200::{s7200_event, S7200EventSource};
+        for name in stdlib::names() {
+            let target = stdlib::shared(name).expect("stdlib target loads");
+            let memory = &target.memory;
+            for event in &memory.events {
+                let n = event
+                    .microwin
+                    .unwrap_or_else(|| panic!("{name}: event {} has no MicroWin", event.number));
+                let s7 = s7200_event(i64::from(n))
+                    .unwrap_or_else(|| panic!("{name}: MicroWin {n} is no S7-200 event"));
+                let same = match s7.source {
+                    S7200EventSource::Edge { input, rising } => {
+                        let kind = if rising { "RisingEdge" } else { "FallingEdge" };
+                        event.kind == kind && event.input.as_deref() == Some(input)
+                    }
+                    S7200EventSource::Timed { interval } => {
+                        let byte = memory.microwin_system_bit(interval).map(|b| &b.address);
+                        event.kind == "Timed" && byte.is_some() && event.period.as_ref() == byte
+                    }
+                    S7200EventSource::Other => false,
+                };
+                assert!(
+                    same,
+                    "{name}: event {} ({}) is not S7-200's {n} ({})",
+                    event.number, event.description, s7.meaning
+                );
+                assert_eq!(memory.event_for_s7200(n), Some(event), "{name}");
+            }
+            assert!(memory.event_for_s7200(12).is_none(), "{name}: HSC0");
+        }
+    }
+
+    #[test]
+    fn micro_win_event_numbers_are_checked_on_load() {
+        let xml = |events: &str| {
+            format!(
+                r#"<ManagerVar>
+  <Area Name="I" Slot="0" Kind="DigitalInput" Size="8" Unit="BYTE" Access="BIT BYTE" Writable="false"/>
+  <Area Name="T" Slot="5" Kind="Timer" Size="32" Unit="WORD" Access="WORD"/>
+  <Area Name="C" Slot="6" Kind="Counter" Size="16" Unit="WORD" Access="WORD"/>
+  <Area Name="K" Slot="9" Kind="Constant" Size="128" Unit="BYTE" Access="BIT BYTE WORD DWORD" Writable="false"/>
+  <Area Name="L" Slot="10" Kind="Local" Size="32" Unit="BYTE" Access="BIT BYTE WORD DWORD"/>
+  <Timers><Resolution First="0" Last="15" Milliseconds="100"/></Timers>
+  {events}
+</ManagerVar>"#
+            )
+        };
+        let ok =
+            xml(r#"<Event Number="20" Name="R" Kind="RisingEdge" Input="I0.0" MicroWin="0"/>"#);
+        let map = crate::MemoryMap::parse(ok.as_bytes()).expect("loads");
+        assert_eq!(map.event_for_s7200(0).map(|e| e.number), Some(20));
+        let past =
+            xml(r#"<Event Number="20" Name="R" Kind="RisingEdge" Input="I0.0" MicroWin="34"/>"#);
+        assert!(crate::MemoryMap::parse(past.as_bytes()).is_err());
+        let twice = xml(
+            r#"<Event Number="20" Name="R" Kind="RisingEdge" Input="I0.0" MicroWin="0"/>
+  <Event Number="21" Name="S" Kind="RisingEdge" Input="I0.0" MicroWin="0"/>"#,
+        );
+        let e = crate::MemoryMap::parse(twice.as_bytes()).expect_err("a duplicate");
+        assert!(e.to_string().contains("S7-200 event 0"), "{e}");
     }
 }

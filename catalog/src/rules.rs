@@ -22,6 +22,12 @@ fn is_named(spec: &OperandSpec, name: &str) -> bool {
     spec.name.eq_ignore_ascii_case(name)
 }
 
+/// Whether a literal operand is an interrupt event number (`EVNT` of `ATCH`, `DTCH`,
+/// `CEVNT`).
+pub fn is_event_operand(spec: &OperandSpec) -> bool {
+    spec.kind == OperandKind::Literal && is_named(spec, "EVNT")
+}
+
 /// Why a literal operand's value is refused.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum LiteralRefusal {
@@ -51,7 +57,7 @@ pub fn check_literal(
     memory: &MemoryMap,
     value: i64,
 ) -> Result<(), LiteralRefusal> {
-    if is_named(spec, "EVNT") && !memory.events.iter().any(|e| i64::from(e.number) == value) {
+    if is_event_operand(spec) && !memory.events.iter().any(|e| i64::from(e.number) == value) {
         return Err(LiteralRefusal::NoSuchEvent);
     }
     let range = literal_range(spec, memory);

@@ -1,6 +1,8 @@
 //! What S7-200 programs (STEP 7-Micro/WIN, MicroWIN SMART) use that GUTTA targets do
 //! not have: instruction mnemonics, memory areas and the SM names of Micro/WIN's system
-//! symbol table, each with what to use instead where GUTTA has an equivalent. Plain
+//! symbol table, each with what to use instead where GUTTA has an equivalent; and
+//! S7-200's interrupt event numbers with their meaning (`S7200_EVENTS`), which a
+//! target's `<Event MicroWin=>` attributes map onto its own events. Plain
 //! data (source: the public S7-200 and S7-200 SMART system manuals); the compiler's
 //! checker turns a match into a diagnostic. A test keeps every mnemonic here absent
 //! from the shipped ManagerFun.xml.
@@ -235,6 +237,95 @@ pub const S7200_SYSTEM_SYMBOLS: &[S7200SystemSymbol] = &[
     sym("Scan_Time_Max", "SMW26", Some("SMW8")),
 ];
 
+/// What raises an S7-200 interrupt event, as far as a GUTTA target's events can mean
+/// the same: an input edge, a timed interrupt, or something GUTTA events never are.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum S7200EventSource {
+    /// A rising (`rising`) or falling edge of the input bit `input` (`I0.0`).
+    Edge { input: &'static str, rising: bool },
+    /// A timed interrupt whose period byte is Micro/WIN's system symbol `interval`
+    /// (`Time_0_Intrvl`, SMB34 on an S7-200).
+    Timed { interval: &'static str },
+    /// Communication, high-speed counters, pulse outputs, timers T32/T96.
+    Other,
+}
+
+/// An S7-200 (CPU 22x) interrupt event number, what raises it, in a few words.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct S7200Event {
+    pub number: u32,
+    pub meaning: &'static str,
+    pub source: S7200EventSource,
+}
+
+const fn edge(number: u32, meaning: &'static str, input: &'static str, rising: bool) -> S7200Event {
+    S7200Event {
+        number,
+        meaning,
+        source: S7200EventSource::Edge { input, rising },
+    }
+}
+
+const fn timed(number: u32, meaning: &'static str, interval: &'static str) -> S7200Event {
+    S7200Event {
+        number,
+        meaning,
+        source: S7200EventSource::Timed { interval },
+    }
+}
+
+const fn other(number: u32, meaning: &'static str) -> S7200Event {
+    S7200Event {
+        number,
+        meaning,
+        source: S7200EventSource::Other,
+    }
+}
+
+/// Every S7-200 interrupt event, 0..33, in number order (the S7-200 system manual's
+/// table of interrupt events).
+pub const S7200_EVENTS: &[S7200Event] = &[
+    edge(0, "I0.0 rising edge", "I0.0", true),
+    edge(1, "I0.0 falling edge", "I0.0", false),
+    edge(2, "I0.1 rising edge", "I0.1", true),
+    edge(3, "I0.1 falling edge", "I0.1", false),
+    edge(4, "I0.2 rising edge", "I0.2", true),
+    edge(5, "I0.2 falling edge", "I0.2", false),
+    edge(6, "I0.3 rising edge", "I0.3", true),
+    edge(7, "I0.3 falling edge", "I0.3", false),
+    other(8, "port 0 receive character"),
+    other(9, "port 0 transmit complete"),
+    timed(10, "timed interrupt 0 (SMB34)", "Time_0_Intrvl"),
+    timed(11, "timed interrupt 1 (SMB35)", "Time_1_Intrvl"),
+    other(12, "HSC0 CV=PV"),
+    other(13, "HSC1 CV=PV"),
+    other(14, "HSC1 direction changed"),
+    other(15, "HSC1 external reset"),
+    other(16, "HSC2 CV=PV"),
+    other(17, "HSC2 direction changed"),
+    other(18, "HSC2 external reset"),
+    other(19, "PLS0 pulse count complete"),
+    other(20, "PLS1 pulse count complete"),
+    other(21, "timer T32 CT=PT"),
+    other(22, "timer T96 CT=PT"),
+    other(23, "port 0 receive message complete"),
+    other(24, "port 1 receive message complete"),
+    other(25, "port 1 receive character"),
+    other(26, "port 1 transmit complete"),
+    other(27, "HSC0 direction changed"),
+    other(28, "HSC0 external reset"),
+    other(29, "HSC4 CV=PV"),
+    other(30, "HSC4 direction changed"),
+    other(31, "HSC4 external reset"),
+    other(32, "HSC3 CV=PV"),
+    other(33, "HSC5 CV=PV"),
+];
+
+/// The S7-200 interrupt event `number`, if the S7-200 has one.
+pub fn s7200_event(number: i64) -> Option<&'static S7200Event> {
+    S7200_EVENTS.iter().find(|e| i64::from(e.number) == number)
+}
+
 /// What an operand name means on an S7-200 when GUTTA has no such area or name.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum S7200Name {
@@ -329,6 +420,17 @@ mod tests {
         for s in S7200_SYSTEM_SYMBOLS {
             assert!(seen.insert(s.name.to_ascii_uppercase()), "{} twice", s.name);
         }
+    }
+
+    #[test]
+    fn events_are_numbered_0_to_33_in_order() {
+        for (i, e) in S7200_EVENTS.iter().enumerate() {
+            assert_eq!(e.number as usize, i, "{}", e.meaning);
+        }
+        assert_eq!(S7200_EVENTS.len(), 34);
+        assert_eq!(s7200_event(12).map(|e| e.meaning), Some("HSC0 CV=PV"));
+        assert_eq!(s7200_event(34), None);
+        assert_eq!(s7200_event(-1), None);
     }
 
     #[test]

@@ -57,6 +57,20 @@ impl CheckedFile {
     pub fn has_errors(&self) -> bool {
         self.output.diagnostics.iter().any(Diagnostic::is_error)
     }
+
+    /// In a Micro/WIN export, where its S7-200 interrupt blocks went and the S7-200
+    /// event numbers that compile to another GUTTA number, as one line for the compile
+    /// summary and the listing (docs/microwin.md); None when there is nothing to show.
+    pub fn microwin_summary(&self) -> Option<String> {
+        let parts: Vec<String> = [
+            syntax::microwin::interrupt_summary(&self.ast),
+            check::events::event_summary(&self.output.s7200_events, &self.target),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        (!parts.is_empty()).then(|| parts.join("; "))
+    }
 }
 
 /// Parse and check one source file. The target is the explicit one if given, else the

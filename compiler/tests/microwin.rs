@@ -2,7 +2,8 @@
 //! `gutta-cc` reads a Micro/WIN export (`SourceFile::from_code_page_bytes`) and must be
 //! in the code page its `// encoding: NAME` line names (UTF-8 without one), give exactly
 //! the diagnostics its lines announce (`// error: E0115`), compile to an image when it
-//! announces no error, and show the interrupt placement its `// summary:` line gives.
+//! announces no error, and show the interrupt placement (and event translation) its
+//! `// summary:` line gives.
 //! The VM side (system symbols, a remapped interrupt running) is tests/data/run's
 //! `microwin_*.lad`.
 
@@ -87,7 +88,7 @@ fn every_export_reads_checks_and_compiles_as_announced() {
                 compiled.image.is_some()
             ));
         }
-        let summary = microwin::interrupt_summary(&c.ast);
+        let summary = c.microwin_summary();
         if summary.as_deref() != directive(&c.file.text, "summary") {
             failures.push(format!("{}: summary {summary:?}", path.display()));
         }

@@ -81,7 +81,13 @@ Micro/WIN export (docs/microwin.md); S7-200 system memory without a GUTTA equiva
 has none.
 ";
 
-const EVENTS: &str = "### Interrupt events (`ATCH`)\n";
+const EVENTS: &str = "\
+### Interrupt events (`ATCH`)
+
+The S7-200 column is the S7-200 event number that means the same (`MicroWin`
+attribute): `ATCH`, `DTCH` and `CEVNT` of a Micro/WIN export name events by it
+(docs/microwin.md, \"Interrupt events\").
+";
 
 /// The largest event number: `ATCH`'s event operand is a byte.
 const LAST_EVENT: u32 = 255;
@@ -244,7 +250,7 @@ fn write_system_bits(out: &mut String, bits: &[SystemBit]) {
 
 fn write_events(out: &mut String, events: &[InterruptEvent]) {
     out.push_str(
-        "\n| event | name | kind | input or period | meaning |\n| ---: | --- | --- | --- | --- |\n",
+        "\n| event | name | kind | input or period | meaning | S7-200 |\n| ---: | --- | --- | --- | --- | --- |\n",
     );
     for event in events {
         let source = event
@@ -252,14 +258,20 @@ fn write_events(out: &mut String, events: &[InterruptEvent]) {
             .as_deref()
             .or(event.period.as_deref())
             .unwrap_or("");
+        let s7200 = event
+            .microwin
+            .and_then(|n| crate::s7200::s7200_event(i64::from(n)))
+            .map(|e| format!("{} ({})", e.number, e.meaning))
+            .unwrap_or_default();
         let _ = writeln!(
             out,
-            "| {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} |",
             event.number,
             event.name,
             event.kind,
             source,
-            cell(&event.description)
+            cell(&event.description),
+            cell(&s7200)
         );
     }
     let unassigned = unassigned_events(events);

@@ -563,7 +563,8 @@ fn unit_name_span(u: &ast::Unit) -> Span {
     }
 }
 
-/// A literal: interrupt events for `EVNT`, else the numbers of its range.
+/// A literal: interrupt events for `EVNT` (by S7-200 number in a Micro/WIN export),
+/// else the numbers of its range.
 fn literal(checked: &CheckedFile, spec: &OperandSpec, items: &mut Items) {
     let memory = &checked.target.memory;
     let events: Vec<_> = memory
@@ -571,10 +572,17 @@ fn literal(checked: &CheckedFile, spec: &OperandSpec, items: &mut Items) {
         .iter()
         .filter(|e| rules::check_literal(spec, memory, i64::from(e.number)).is_ok())
         .collect();
-    if spec.name.eq_ignore_ascii_case("EVNT") {
+    if rules::is_event_operand(spec) {
         for e in events {
+            // A Micro/WIN export names events by their S7-200 numbers
+            // (docs/microwin.md, "Interrupt events").
+            let number = match (checked.ast.microwin, e.microwin) {
+                (false, _) => e.number,
+                (true, Some(s7)) => s7,
+                (true, None) => continue,
+            };
             items
-                .add(0, CompletionKind::Value, e.number.to_string())
+                .add(0, CompletionKind::Value, number.to_string())
                 .detail(e.name.clone())
                 .documentation(e.description.clone());
         }

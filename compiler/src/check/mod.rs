@@ -8,6 +8,7 @@ mod calls;
 mod code;
 mod constants;
 mod data;
+pub mod events;
 mod instruction;
 mod memory;
 mod names;
@@ -75,6 +76,9 @@ pub struct CheckOutput {
     /// In a Micro/WIN export, S7-200 timer and counter bit operands (`T37` of
     /// `LD T37`) and what they compile to, one Markdown line (for hover).
     pub s7200_bits: Vec<(Span, String)>,
+    /// In a Micro/WIN export, every event operand (`10` of `ATCH INT_0, 10`) with the
+    /// S7-200 event it names and the GUTTA event it compiles to.
+    pub s7200_events: Vec<events::EventTranslation>,
 }
 
 /// Per-unit facts gathered before the code is checked.

@@ -1,5 +1,6 @@
 //! Operands against their instruction's operand spec, by the spec's kind: labels,
-//! literals (`PORT`, `EVNT` narrowed to the target), program units, and data operands
+//! literals (`PORT`, `EVNT` narrowed to the target; S7-200 event numbers in a Micro/WIN
+//! export through `events.rs`), program units, and data operands
 //! (variables in `memory.rs`, constants in `constants.rs`). The rules come from the
 //! target's description through `gutta_catalog::rules`, the same the verifier applies.
 
@@ -102,7 +103,8 @@ impl Checker<'_> {
     }
 
     /// `LDS 1`, `EXCH MB0, 0`: a literal number in its range; `PORT` one of the
-    /// target's serial ports, `EVNT` one of its events.
+    /// target's serial ports, `EVNT` one of its events (in a Micro/WIN export, an
+    /// S7-200 event number first translated to the target's: `events.rs`).
     fn literal_operand(
         &mut self,
         span: Span,
@@ -120,6 +122,11 @@ impl Checker<'_> {
                 .label("a number is required here"),
             );
             return None;
+        };
+        let n = if self.ast.microwin && rules::is_event_operand(spec) {
+            self.s7200_event_operand(span, n, spec, mnemonic)?
+        } else {
+            n
         };
         match rules::check_literal(spec, &self.target.memory, n) {
             Ok(()) => Some(CheckedOperand::Literal(n)),

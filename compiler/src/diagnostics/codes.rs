@@ -110,6 +110,8 @@ codes! {
 
     E0222 S7200TimerBit Error "S7-200 timer or counter bit without one meaning"
         "In a STEP 7-Micro/WIN export, `LD T37`, `A C0`, `ON T37` and `R T37, 1` use a timer's or counter's bit as the S7-200 does (docs/microwin.md, \"Timer and counter bits\"). GUTTA's T and C areas hold only current values, so the compiler reads the bit as a comparison of the current value with the preset of the instruction that drives that number (`LD T37` after `TON T37, 100` is `LDW>= T37, 100`). That needs exactly one meaning: some TON, TONR, TOF (or CTU, CTUD, CTD) drives the number, all its instructions are of one kind and share one preset. Otherwise this error names what is missing or which instructions disagree. `S T37, 1` (setting a timer bit) has no counterpart on GUTTA.";
+    E0223 S7200Event Error "S7-200 interrupt event the target does not have"
+        "In a STEP 7-Micro/WIN export, the event operand of `ATCH`, `DTCH` and `CEVNT` is an S7-200 interrupt event number (0 = I0.0 rising edge, 10 = timed interrupt 0, 12 = HSC0 CV=PV, ...), translated to the GUTTA event that means the same as the target's ManagerVar.xml says (`<Event MicroWin=...>`; docs/microwin.md, \"Interrupt events\"). This S7-200 event has no counterpart on the target: GUTTA targets raise no events for high-speed counters, pulse outputs, freeport communication or the 1 ms timers T32/T96. The help line lists the S7-200 events the target has; rewrite the part (poll the condition in the main program, or use a timed interrupt). Numbers past 33 are no S7-200 event at all (E0307).";
 
     // ---- E03xx: operands -----------------------------------------------------------
     E0301 OperandCount Error "wrong number of operands"

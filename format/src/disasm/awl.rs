@@ -1,6 +1,7 @@
 //! The STEP 7-Micro/WIN layout of `gutta-cc dis --format awl` (docs/microwin.md, "The
 //! way back"): Micro/WIN's block names (`SBR_n:SBRn`, `INT_n:INTn`, also in `CALL` and
-//! `ATCH`), numbered as S7-200 numbers them (GUTTA's INT1 is S7-200's INT0), its VAR
+//! `ATCH`), numbered as S7-200 numbers them (GUTTA's INT1 is S7-200's INT0), interrupt
+//! events by their S7-200 numbers (the target's `<Event MicroWin=>`), its VAR
 //! lines, and the note before the data and system blocks, which Micro/WIN exports separately. The
 //! rest of the layout (`TITLE=`, `Network n`, no step comments, CRLF) is chosen where
 //! the shared writer prints (`units.rs`, `Disassembler::line`).
@@ -62,6 +63,31 @@ impl Disassembler<'_> {
             Format::Awl if held => block_name(unit),
             Format::Awl => numbered_name(unit),
             Format::Stl => unit.to_string(),
+        }
+    }
+
+    /// The event operand of `ATCH`, `DTCH`, `CEVNT` in Micro/WIN's layout: the S7-200
+    /// event number the target maps onto GUTTA's event `number`, which the dialect
+    /// translates back (docs/microwin.md, "Interrupt events"). An event the target
+    /// gives no S7-200 number cannot be written so that it compiles back.
+    pub(super) fn s7200_event(&self, number: u16) -> Result<String, String> {
+        let event = self
+            .target
+            .memory
+            .events
+            .iter()
+            .find(|e| e.number == u32::from(number));
+        match event.map(|e| (e, e.microwin)) {
+            Some((_, Some(s7))) => Ok(s7.to_string()),
+            Some((e, None)) => Err(format!(
+                "event {number} ({}) of {} has no S7-200 number (no MicroWin attribute)",
+                e.name,
+                self.target.name()
+            )),
+            None => Err(format!(
+                "{} raises no interrupt event {number}",
+                self.target.name()
+            )),
         }
     }
 

@@ -10,7 +10,7 @@ use gutta_catalog::{
 };
 
 use super::units::Local;
-use super::Disassembler;
+use super::{Disassembler, Format};
 use crate::{LocalSection, Operand, PackedOperand, UnitRef};
 
 /// Where an instruction fails to print: the operand's index (if one is to blame) and why.
@@ -237,6 +237,11 @@ impl<'a> Disassembler<'a> {
     ) -> Result<String, String> {
         let operand = op.decode().map_err(|e| e.to_string())?;
         match (spec.kind, operand) {
+            (OperandKind::Literal, Operand::Literal(n))
+                if self.format == Format::Awl && rules::is_event_operand(spec) =>
+            {
+                self.s7200_event(n)
+            }
             (OperandKind::Label, Operand::Label(n))
             | (OperandKind::Literal, Operand::Literal(n)) => Ok(n.to_string()),
             (OperandKind::Block, Operand::Unit(unit)) => Ok(self.unit_name(unit)),

@@ -16,7 +16,6 @@ use gutta_compiler::diagnostics::json;
 use gutta_compiler::diagnostics::render::{render, RenderStyle};
 use gutta_compiler::encode::{listing, summary};
 use gutta_compiler::source::{SourceEncoding, SourceFile};
-use gutta_compiler::syntax::microwin;
 use gutta_compiler::{check_program, compile_program, ExplicitTarget, ProgramSources};
 
 #[derive(Debug, Clone, Parser)]
@@ -645,7 +644,7 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
                     &compiled.checked.index,
                     compiled.checked.target.name(),
                 );
-                if let Some(line) = microwin::interrupt_summary(&compiled.checked.ast) {
+                if let Some(line) = compiled.checked.microwin_summary() {
                     text = format!("// {line}\n{text}");
                 }
                 let _ = stdout.lock().write_all(text.as_bytes());
@@ -686,7 +685,7 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
                     image.plc_type,
                     summary(image, &checked.target)
                 );
-                if let Some(line) = microwin::interrupt_summary(&checked.ast) {
+                if let Some(line) = checked.microwin_summary() {
                     eprintln!("{name}: {line}");
                 }
             } else if let Some(p) = &checked.output.program {
@@ -706,7 +705,7 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
                     plural(p.data_blocks.len()),
                     if warnings > 0 { format!(", {warnings} warning{}", plural(warnings)) } else { String::new() }
                 );
-                if let Some(line) = microwin::interrupt_summary(&checked.ast) {
+                if let Some(line) = checked.microwin_summary() {
                     eprintln!("{name}: {line}");
                 }
             }
