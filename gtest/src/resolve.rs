@@ -355,6 +355,7 @@ impl Resolver<'_> {
             });
             return Err(Box::new(move |span| {
                 Diagnostic::new(Code::UnknownTestVariable, span, message.clone())
+                    .label(format!("not on {target_name}"))
                     .maybe_help(help.clone())
             }));
         }
@@ -375,7 +376,9 @@ impl Resolver<'_> {
         };
         let message = format!("`{name}` is neither a symbol of the program nor an address");
         Err(Box::new(move |span| {
-            Diagnostic::new(Code::UnknownTestVariable, span, message.clone()).help(help.clone())
+            Diagnostic::new(Code::UnknownTestVariable, span, message.clone())
+                .label("no such variable")
+                .help(help.clone())
         }))
     }
 
@@ -392,6 +395,7 @@ impl Resolver<'_> {
             Err(message) => {
                 self.diagnostics.push(
                     Diagnostic::new(Code::TestValueMismatch, literal.span, message)
+                        .label(format!("not a value of {}", type_name(&var)))
                         .help(type_help(&var)),
                 );
                 None

@@ -109,8 +109,10 @@ enum Command {
     },
     /// Run unit tests of PLC programs: .gtest files (the project's tests/ by default), on
     /// the VM in virtual time; one line per test and a summary (docs/testing-programs.md).
+    /// Exit status: 0 all passed, 1 a test failed, 2 usage or file errors (no test of a
+    /// file with errors runs).
     #[command(
-        after_help = "Examples:\n  gutta-cc test                                   # the project's tests/\n  gutta-cc test tests/lamp.gtest --filter latch\n  gutta-cc test tests/ --junit report.xml --vcd waves/\n  gutta-cc test --message-format json\n\nExit status: 0 all passed, 1 a test failed, 2 usage or file errors (no test of a file with errors runs)."
+        after_help = "Examples:\n  cd demo && gutta-cc test                        # a project's tests/ (`gutta-cc new demo`)\n  gutta-cc test demo/tests/main.gtest --filter latch\n  gutta-cc test demo/tests --junit report.xml --vcd waves/\n  gutta-cc test demo/tests --message-format json"
     )]
     Test {
         /// Test files (.gtest) or folders searched for them [default: the project's tests/].
