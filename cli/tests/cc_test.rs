@@ -304,7 +304,8 @@ fn faults_fail_a_test_unless_it_expects_them() {
         &dir,
         "t.gtest",
         "PROGRAM loop.lad\nWATCHDOG 1000\n\nTEST expected\n  SET I0.0 = 1\n  SCAN 5\n  EXPECT FAULT 3\n  RESET\n  SET I0.0 = 0\n  SCAN\n  EXPECT RUN\nEND_TEST\n\n\
-         TEST unexpected\n  SCAN 2\n  SET I0.0 = 1\n  SCAN 5\n  EXPECT Q0.0 = 0\nEND_TEST\n",
+         TEST unexpected\n  SCAN 2\n  SET I0.0 = 1\n  SCAN 5\n  EXPECT Q0.0 = 0\nEND_TEST\n\n\
+         TEST still\n  SET I0.0 = 1\n  SCAN\n  EXPECT FAULT 3\n  SCAN\n  EXPECT Q0.0 = 0\nEND_TEST\n",
     );
     let o = cc_in(&dir, &["test", "t.gtest"]);
     let out = stdout(&o);
@@ -320,6 +321,16 @@ fn faults_fail_a_test_unless_it_expects_them() {
     assert!(
         out.contains("  t.gtest:17, after scan 3 (30 ms)")
             && out.contains("the PLC faulted in scan 3: watchdog: more than 1000 instructions in one scan (fault code 3)"),
+        "{out}"
+    );
+    // An expected fault is not cleared by expecting it: the PLC stays in it until RESET.
+    assert!(
+        out.contains("FAIL  t.gtest::still (1 scan, 10 ms)"),
+        "{out}"
+    );
+    assert!(
+        out.contains("  t.gtest:25, after scan 1 (10 ms)")
+            && out.contains("the PLC is still in fault (watchdog: more than 1000 instructions in one scan, fault code 3) and runs no scan: RESET clears a fault"),
         "{out}"
     );
 }

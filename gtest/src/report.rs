@@ -110,12 +110,21 @@ pub fn failure_message(failure: &Failure) -> String {
                 .collect::<Vec<_>>()
                 .join("; ")
         ),
-        FailureKind::Fault { code, message } => {
-            format!(
-                "the PLC faulted in scan {}: {message} (fault code {code})",
-                failure.scan
-            )
-        }
+        FailureKind::Fault {
+            code,
+            message,
+            still: false,
+        } => format!(
+            "the PLC faulted in scan {}: {message} (fault code {code})",
+            failure.scan
+        ),
+        FailureKind::Fault {
+            code,
+            message,
+            still: true,
+        } => format!(
+            "the PLC is still in fault ({message}, fault code {code}) and runs no scan: RESET clears a fault"
+        ),
         FailureKind::FaultExpected {
             expected,
             got: None,

@@ -50,8 +50,13 @@ pub enum FailureKind {
         within: u32,
         mismatches: Vec<Mismatch>,
     },
-    /// A scan faulted and the next statement is not `EXPECT FAULT`.
-    Fault { code: u8, message: String },
+    /// A scan faulted and the next statement is not `EXPECT FAULT`; `still`: the PLC
+    /// was already in that fault (an expected one) and ran no scan.
+    Fault {
+        code: u8,
+        message: String,
+        still: bool,
+    },
     /// `EXPECT FAULT`: a different fault, or none.
     FaultExpected {
         expected: u8,
@@ -122,6 +127,8 @@ struct Run<'a> {
     pending: Option<(Fault, u32, gutta_compiler::source::Span)>,
     untils: Vec<UntilHeld>,
     trace: Option<Trace>,
+    /// The pending fault is one an earlier statement expected: the PLC is still in it.
+    still_faulted: bool,
 }
 
 /// Run `test` of `plan` on a fresh, reset PLC loaded with the program.
@@ -174,6 +181,7 @@ pub fn run_test(
         pending: None,
         untils: Vec::new(),
         trace: options.record.then(Trace::default),
+        still_faulted: false,
     };
     run.sample();
     let failure = run.statements();
@@ -186,6 +194,7 @@ impl Run<'_> {
             if let Some((fault, line, span)) = self.pending.take() {
                 if let Step::ExpectFault(expected) = s.step {
                     if fault.code() == expected {
+                        self.still_faulted = false;
                         continue;
                     }
                     let got = Some((fault.code(), fault.to_string()));
@@ -196,10 +205,7 @@ impl Run<'_> {
                         &[],
                     ));
                 }
-                let kind = FailureKind::Fault {
-                    code: fault.code(),
-                    message: fault.to_string(),
-                };
+                let kind = self.fault_kind(&fault);
                 return Some(self.failure(line, span, kind, &[]));
             }
             let failed = match &s.step {
@@ -255,12 +261,17 @@ impl Run<'_> {
             }
         }
         self.pending.take().map(|(fault, line, span)| {
-            let kind = FailureKind::Fault {
-                code: fault.code(),
-                message: fault.to_string(),
-            };
+            let kind = self.fault_kind(&fault);
             self.failure(line, span, kind, &[])
         })
+    }
+
+    fn fault_kind(&self, fault: &Fault) -> FailureKind {
+        FailureKind::Fault {
+            code: fault.code(),
+            message: fault.to_string(),
+            still: self.still_faulted,
+        }
     }
 
     fn failure(
@@ -311,6 +322,12 @@ impl Run<'_> {
 
     /// One scan; false (with the fault pending) when it faulted.
     fn scan(&mut self, line: u32, span: gutta_compiler::source::Span) -> bool {
+        if let Some(fault) = self.vm.fault() {
+            // A faulted PLC runs no scan until a RESET: say so, not "faulted in scan n".
+            self.pending = Some((fault.clone(), line, span));
+            self.still_faulted = true;
+            return false;
+        }
         self.scans += 1;
         self.time_ms += self.scan_ms;
         let outcome = self.vm.scan();
