@@ -49,6 +49,9 @@ pub fn apply(program: &mut Program, text: &str) {
     let mut placements = Vec::new();
     let mut kept: Vec<Unit> = Vec::with_capacity(program.units.len());
     for mut unit in std::mem::take(&mut program.units) {
+        if is_template_subroutine(&unit, text, &named) {
+            continue;
+        }
         let Some(s7_number) = s7_interrupt(&unit, text) else {
             kept.push(unit);
             continue;
@@ -119,6 +122,25 @@ pub fn shadowed_system_names(program: &Program, text: &str, target: &Target) -> 
             )
         })
         .collect()
+}
+
+/// Whether a unit is Micro/WIN's template subroutine: a `SUBROUTINE_BLOCK` with no
+/// instruction that no operand of the program names (`named`, upper case), neither by
+/// its name (`CALL SBR_0`) nor by its number (`CALL SBR0`). Micro/WIN exports an empty
+/// `SBR_0:SBR0` in every project; [`apply`] drops it without a word (docs/microwin.md,
+/// "Template subroutines").
+fn is_template_subroutine(unit: &Unit, text: &str, named: &[String]) -> bool {
+    if unit.kind != BlockKind::Subroutine || unit.networks.iter().any(|n| !n.instructions.is_empty()) {
+        return false;
+    }
+    let name = text.get(unit.header.name.range()).unwrap_or("");
+    let numbered = match unit.header.number {
+        Some((n, _)) if n.prefix == BlockPrefix::Sbr => Some(format!("SBR{}", n.number)),
+        _ => None,
+    };
+    !named
+        .iter()
+        .any(|n| n.eq_ignore_ascii_case(name) || numbered.as_deref() == Some(n.as_str()))
 }
 
 /// S7-200's interrupt number of an `INTERRUPT_BLOCK NAME:INTn` (not of an
