@@ -270,7 +270,12 @@ fn a_program_split_one_block_per_file_compiles() {
         .iter()
         .map(|u| {
             let (n, _) = u.header.number.expect("numbered block");
-            format!("{} {}{}", c.file.slice(u.header.name), n.prefix.as_str(), n.number)
+            format!(
+                "{} {}{}",
+                c.file.slice(u.header.name),
+                n.prefix.as_str(),
+                n.number
+            )
         })
         .collect();
     assert_eq!(blocks, ["主程序 OB1", "子程序_0 SBR0", "中断程序_0 INT1"]);

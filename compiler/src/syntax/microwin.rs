@@ -130,7 +130,9 @@ pub fn shadowed_system_names(program: &Program, text: &str, target: &Target) -> 
 /// `SBR_0:SBR0` in every project; [`apply`] drops it without a word (docs/microwin.md,
 /// "Template subroutines").
 fn is_template_subroutine(unit: &Unit, text: &str, named: &[String]) -> bool {
-    if unit.kind != BlockKind::Subroutine || unit.networks.iter().any(|n| !n.instructions.is_empty()) {
+    if unit.kind != BlockKind::Subroutine
+        || unit.networks.iter().any(|n| !n.instructions.is_empty())
+    {
         return false;
     }
     let name = text.get(unit.header.name.range()).unwrap_or("");
