@@ -35,7 +35,8 @@ fn a_program_exported_one_block_per_file_compiles() {
         assert_eq!(found.len(), 1, "EXPECTED: one `// {key}:` line");
         found[0]
     };
-    let scratch = std::env::temp_dir().join(format!("gutta-cc-microwin-split-{}", std::process::id()));
+    let scratch =
+        std::env::temp_dir().join(format!("gutta-cc-microwin-split-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&scratch);
     std::fs::create_dir_all(&scratch).expect("scratch directory");
     let image = scratch.join("image");
@@ -52,11 +53,17 @@ fn a_program_exported_one_block_per_file_compiles() {
     assert!(o.status.success(), "{err}");
     assert!(err.contains("MAIN.awl is not UTF-8; read as GBK"), "{err}");
     assert!(err.contains("SBR_0.awl is not UTF-8; read as GBK"), "{err}");
-    assert!(err.contains("symbols_gbk.txt is not UTF-8; read as GBK"), "{err}");
+    assert!(
+        err.contains("symbols_gbk.txt is not UTF-8; read as GBK"),
+        "{err}"
+    );
     assert!(!err.contains("INT_0.awl is not UTF-8"), "{err}");
     assert!(!err.contains("warning"), "{err}");
     assert!(
-        err.contains(&format!("{} files: wrote {image} for CPU-EC20", files.len())),
+        err.contains(&format!(
+            "{} files: wrote {image} for CPU-EC20",
+            files.len()
+        )),
         "{err}"
     );
     assert!(err.contains(" in 3 blocks;"), "{err}");

@@ -3,8 +3,10 @@
 //! in the code page its `// encoding: NAME` line names (UTF-8 without one), give exactly
 //! the diagnostics its lines announce (`// error: E0115`), compile to an image when it
 //! announces no error, and show the interrupt placement its `// summary:` line gives.
-//! The VM side (system symbols, a remapped interrupt running) is tests/data/run's
-//! `microwin_*.lad`.
+//! The corpus covers every code page with both line ends, and docs/microwin.md lists
+//! every file; the program exported one block per file (tests/data/microwin/
+//! split_program) compiles as one. The VM side (system symbols, a remapped interrupt
+//! running) is tests/data/run's `microwin_*.lad` and cli/tests/cc_microwin_split.rs.
 
 #![allow(clippy::disallowed_methods, reason = "tests read their data files")]
 
@@ -153,6 +155,16 @@ fn the_corpus_covers_every_code_page_and_line_end() {
         }
     }
     assert!(missing.is_empty(), "no corpus file in {missing:?}");
+    let docs = std::fs::read_to_string(root().join("docs/microwin.md")).expect("docs/microwin.md");
+    let undocumented: Vec<String> = corpus()
+        .iter()
+        .filter_map(|p| p.file_name()?.to_str().map(|n| format!("`{n}`")))
+        .filter(|n| !docs.contains(n.as_str()))
+        .collect();
+    assert!(
+        undocumented.is_empty(),
+        "docs/microwin.md, \"The corpus\", lacks {undocumented:?}"
+    );
 }
 
 #[test]

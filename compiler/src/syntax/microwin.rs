@@ -36,6 +36,8 @@ pub fn has_marker(text: &str) -> bool {
 /// no instruction and no operand of the program names it (by name or `INTn`). An
 /// `ORGANIZATION_BLOCK` stays MAIN (INT0); a program without one keeps no INT0, so the
 /// checker reports the missing MAIN (E0408) instead of running INT_0 as the main program.
+/// Micro/WIN's template subroutine (an empty `SUBROUTINE_BLOCK` nothing calls,
+/// [`is_template_subroutine`]) is dropped too.
 pub fn apply(program: &mut Program, text: &str) {
     program.microwin = true;
     let slice = |s: crate::source::Span| text.get(s.range()).unwrap_or("");
