@@ -301,3 +301,38 @@ fn a_program_split_one_block_per_file_compiles() {
     assert_eq!(origin("电机"), "symbols.csv:3");
     assert_eq!(origin("中断计数"), "symbols_gbk.txt:2");
 }
+
+/// The way back keeps empty blocks: an image with an empty subroutine nothing calls and
+/// an empty interrupt routine nothing attaches, written as a Micro/WIN export by
+/// `gutta-cc dis --format awl`, compiles back to the same pages. Its `// timer-boxes:
+/// gutta` line says the text is no Micro/WIN export with templates to drop.
+#[test]
+fn empty_blocks_of_an_image_survive_the_way_back() {
+    use gutta_format::disasm::{disassemble_as, Format};
+    let text =
+        "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD I0.0\n= Q0.0\nEND_ORGANIZATION_BLOCK\n\
+SUBROUTINE_BLOCK LEER:SBR0\nBEGIN\nNETWORK 1\nEND_SUBROUTINE_BLOCK\n\
+INTERRUPT_BLOCK STILL:INT1\nBEGIN\nNETWORK 1\nEND_INTERRUPT_BLOCK\n";
+    let first = compile(SourceFile::new("empty.lad", text), None);
+    let image = first.image.expect("the GUTTA program compiles");
+    let dis = disassemble_as(&image, &first.checked.target, Format::Awl);
+    assert!(dis.errors.is_empty(), "{:?}", dis.errors);
+    assert!(
+        dis.text.contains("SUBROUTINE_BLOCK SBR_0:SBR0"),
+        "{}",
+        dis.text
+    );
+    let back = compile(SourceFile::new("dis.awl", dis.text.clone()), None);
+    let again = back
+        .image
+        .unwrap_or_else(|| panic!("{:?}\n{}", back.checked.diagnostics(), dis.text));
+    assert_eq!(
+        again.pages.keys().collect::<Vec<_>>(),
+        image.pages.keys().collect::<Vec<_>>()
+    );
+    assert!(again.pages == image.pages, "the pages differ");
+    // The same text without that line is a Micro/WIN export: both are templates.
+    let export = dis.text.replace(microwin::GUTTA_BOXES, "");
+    let export = compile(SourceFile::new("export.awl", export), None);
+    assert_eq!(export.checked.ast.units.len(), 1);
+}

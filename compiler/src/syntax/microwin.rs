@@ -37,9 +37,12 @@ pub fn has_marker(text: &str) -> bool {
 /// `ORGANIZATION_BLOCK` stays MAIN (INT0); a program without one keeps no INT0, so the
 /// checker reports the missing MAIN (E0408) instead of running INT_0 as the main program.
 /// Micro/WIN's template subroutine (an empty `SUBROUTINE_BLOCK` nothing calls,
-/// [`is_template_subroutine`]) is dropped too.
+/// [`is_template_subroutine`]) is dropped too. A text `gutta-cc dis --format awl` wrote
+/// (its [`GUTTA_BOXES`] line) has no templates: its empty blocks are the image's and
+/// stay, so that it compiles back to the same image.
 pub fn apply(program: &mut Program, text: &str) {
     program.microwin = true;
+    let templates = !has_gutta_boxes(text);
     let slice = |s: crate::source::Span| text.get(s.range()).unwrap_or("");
     let named: Vec<String> = program
         .units
@@ -51,7 +54,7 @@ pub fn apply(program: &mut Program, text: &str) {
     let mut placements = Vec::new();
     let mut kept: Vec<Unit> = Vec::with_capacity(program.units.len());
     for mut unit in std::mem::take(&mut program.units) {
-        if is_template_subroutine(&unit, text, &named) {
+        if templates && is_template_subroutine(&unit, text, &named) {
             continue;
         }
         let Some(s7_number) = s7_interrupt(&unit, text) else {
@@ -64,7 +67,7 @@ pub fn apply(program: &mut Program, text: &str) {
             .iter()
             .any(|n| n.eq_ignore_ascii_case(&name) || *n == numbered);
         let empty = unit.networks.iter().all(|n| n.instructions.is_empty());
-        let gutta_number = if empty && !attached {
+        let gutta_number = if templates && empty && !attached {
             None
         } else {
             if let Some((number, _)) = unit.header.number.as_mut() {
