@@ -1,10 +1,14 @@
 //! Inputs the fuzzer (fuzz/fuzz_targets/front_end.rs) crashed on, replayed through the
 //! same steps: every file in tests/data/fuzz/ checks on the default target without a
-//! panic, with every span inside the text, and renders as text and JSON. Adding a
-//! regression means adding a file. Also keeps fuzz/front_end.dict in step with the
+//! panic, with every span inside the text, and renders as text and JSON. The inputs of
+//! `microwin_front_end` (tests/data/fuzz/microwin/) go through that target's own steps,
+//! `microwin_fuzz::run`, the very code the target runs. Adding a regression means
+//! adding a file. Also keeps fuzz/front_end.dict in step with the
 //! instruction set. No fuzzing here: the fuzzer itself runs with `cargo fuzz`.
 
 #![allow(clippy::disallowed_methods, reason = "tests read their data files")]
+
+mod microwin_fuzz;
 
 use std::path::{Path, PathBuf};
 
@@ -60,6 +64,65 @@ fn replay(name: &str, bytes: &[u8], target: &ExplicitTarget) -> CheckedFile {
 
 fn data_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fuzz")
+}
+
+/// The files of a directory, sorted.
+fn files_in(dir: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.expect("directory entry").path())
+        .filter(|p| p.is_file())
+        .collect();
+    files.sort();
+    files
+}
+
+/// Crashes of `microwin_front_end` (fuzz/fuzz_targets/microwin_front_end.rs), replayed
+/// by the code the target runs; and, so that the target's steps are known to accept a
+/// real export, the Micro/WIN corpus as single exports (first byte 0) and the program
+/// exported one block per file as a split input (first byte 1, parts joined by NUL).
+#[test]
+fn microwin_fuzz_crashes_stay_fixed() {
+    let crashes = files_in(&data_dir().join("microwin"));
+    assert!(
+        !crashes.is_empty(),
+        "no regression inputs in tests/data/fuzz/microwin"
+    );
+    for path in crashes {
+        let bytes = std::fs::read(&path).expect("readable regression input");
+        let result = std::panic::catch_unwind(|| microwin_fuzz::run(&bytes));
+        assert!(result.is_ok(), "{} panics", path.display());
+    }
+    let corpus = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/microwin");
+    for path in files_in(&corpus) {
+        let mut input = vec![0];
+        input.extend(std::fs::read(&path).expect("corpus file"));
+        let compiled = microwin_fuzz::run(&input);
+        assert!(compiled.checked.ast.microwin, "{}", path.display());
+    }
+    let split = corpus.join("split_program");
+    let mut input = vec![1];
+    for (i, name) in [
+        "MAIN.awl",
+        "SBR_0.awl",
+        "INT_0.awl",
+        "symbols.csv",
+        "symbols_gbk.txt",
+    ]
+    .iter()
+    .enumerate()
+    {
+        if i > 0 {
+            input.push(0);
+        }
+        input.extend(std::fs::read(split.join(name)).expect("split program file"));
+    }
+    let compiled = microwin_fuzz::run(&input);
+    assert!(
+        compiled.image.is_some(),
+        "{:?}",
+        compiled.checked.diagnostics()
+    );
 }
 
 #[test]
@@ -171,4 +234,27 @@ fn dictionary_lists_every_mnemonic_and_keyword() {
         keywords >= 21,
         "only {keywords} block keywords in the dictionary"
     );
+}
+
+/// The first crash of `microwin_front_end`: in a program of two files, an undefined
+/// symbol's "also used here" label in the second file, after Chinese text there, made
+/// ariadne slice inside a character (it took a char offset for a byte offset). The label
+/// now renders at its file, line and column.
+#[test]
+fn a_label_in_another_file_after_chinese_text_renders() {
+    let bytes = std::fs::read(data_dir().join("microwin/split_render_cr_gbk.bin"))
+        .expect("regression input");
+    let compiled = microwin_fuzz::run(&bytes);
+    let c = &compiled.checked;
+    let undefined: Vec<_> = c
+        .diagnostics()
+        .iter()
+        .filter(|d| d.code == Code::UndefinedSymbol)
+        .cloned()
+        .collect();
+    assert_eq!(undefined.len(), 1, "{:?}", c.diagnostics());
+    let text = render(&c.file, &undefined, RenderStyle::PLAIN);
+    assert!(text.contains("[ MAIN.awl:2:3 ]"), "{text}");
+    assert!(text.contains("[ SBR_0.awl:2:3 ]"), "{text}");
+    assert!(text.contains("also used here"), "{text}");
 }

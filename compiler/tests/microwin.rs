@@ -3,9 +3,11 @@
 //! in the code page its `// encoding: NAME` line names (UTF-8 without one), give exactly
 //! the diagnostics its lines announce (`// error: E0115`), compile to an image when it
 //! announces no error, and show the interrupt placement (and event translation) its
-//! `// summary:` line gives.
-//! The VM side (system symbols, a remapped interrupt running) is tests/data/run's
-//! `microwin_*.lad`.
+//! `// summary:` line gives. The corpus covers every code page with both line ends, and
+//! docs/microwin.md lists every file; the program exported one block per file
+//! (tests/data/microwin/split_program) compiles as one. The VM side (system symbols, a
+//! remapped interrupt running) is tests/data/run's `microwin_*` programs and
+//! cli/tests/cc_microwin_split.rs.
 
 #![allow(clippy::disallowed_methods, reason = "tests read their data files")]
 
@@ -45,12 +47,9 @@ fn every_export_reads_checks_and_compiles_as_announced() {
     let files = corpus();
     assert!(files.len() >= 8, "the Micro/WIN corpus is missing files");
     let mut failures = Vec::new();
-    let mut encodings = Vec::new();
     for path in files {
         let bytes = std::fs::read(&path).expect("read corpus file");
-        let crlf = bytes.windows(2).any(|w| w == b"\r\n");
         let (file, encoding) = SourceFile::from_code_page_bytes(path.display().to_string(), bytes);
-        encodings.push((encoding, crlf));
         let want_encoding = directive(&file.text, "encoding").unwrap_or("UTF-8");
         if encoding.as_str() != want_encoding {
             failures.push(format!(
@@ -94,17 +93,91 @@ fn every_export_reads_checks_and_compiles_as_announced() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
-    for (encoding, crlf) in [
-        (SourceEncoding::Utf8, false),
-        (SourceEncoding::Gbk, true),
-        (SourceEncoding::Windows1252, true),
-    ] {
-        assert!(
-            encodings.contains(&(encoding, crlf)),
-            "no corpus file in {} with CRLF {crlf}",
-            encoding.as_str()
-        );
+}
+
+/// The code page of a corpus file as its bytes show it: a UTF-8 BOM, valid UTF-8, or
+/// else what `decode_code_page` makes of it (GBK or Windows-1252, which the corpus test
+/// checks against the file's `// encoding:` line).
+fn code_page(bytes: &[u8]) -> &'static str {
+    if bytes.starts_with(&[0xEF, 0xBB, 0xBF]) {
+        return "UTF-8 with BOM";
     }
+    match gutta_compiler::source::decode_code_page(bytes.to_vec()).1 {
+        SourceEncoding::Utf8 => "UTF-8",
+        SourceEncoding::Gbk => "GBK",
+        SourceEncoding::Windows1252 => "Windows-1252",
+    }
+}
+
+/// The line ends of a file: "CRLF" when every line feed follows a carriage return, "LF"
+/// when there is no carriage return at all, else None (mixed, or a lone CR, which the
+/// dialect does not read as a line end).
+fn line_ends(bytes: &[u8]) -> Option<&'static str> {
+    let lf = bytes.iter().filter(|&&b| b == b'\n').count();
+    let cr = bytes.iter().filter(|&&b| b == b'\r').count();
+    let crlf = bytes.windows(2).filter(|w| w == b"\r\n").count();
+    match (cr, crlf) {
+        (0, _) if lf > 0 => Some("LF"),
+        (cr, crlf) if cr == crlf && crlf == lf && lf > 0 => Some("CRLF"),
+        _ => None,
+    }
+}
+
+/// docs/microwin.md, "The corpus": every code page a Micro/WIN export comes in appears
+/// with both line ends, and no file mixes them.
+#[test]
+fn the_corpus_covers_every_code_page_and_line_end() {
+    let mut files = corpus();
+    let split = root().join("tests/data/microwin/split_program");
+    files.extend(
+        std::fs::read_dir(&split)
+            .unwrap_or_else(|e| panic!("{}: {e}", split.display()))
+            .map(|e| e.expect("dir entry").path())
+            .filter(|p| p.extension().is_some_and(|x| x != "md") && !p.ends_with("EXPECTED")),
+    );
+    let mut seen = std::collections::BTreeSet::new();
+    let mut mixed = Vec::new();
+    for path in &files {
+        let bytes = std::fs::read(path).expect("read corpus file");
+        match line_ends(&bytes) {
+            Some(ends) => {
+                seen.insert((code_page(&bytes), ends));
+            }
+            None => mixed.push(path.display().to_string()),
+        }
+    }
+    assert!(mixed.is_empty(), "mixed or lone-CR line ends: {mixed:?}");
+    let mut missing = Vec::new();
+    for page in ["UTF-8 with BOM", "UTF-8", "GBK", "Windows-1252"] {
+        for ends in ["CRLF", "LF"] {
+            if !seen.contains(&(page, ends)) {
+                missing.push(format!("{page} with {ends}"));
+            }
+        }
+    }
+    assert!(missing.is_empty(), "no corpus file in {missing:?}");
+    let docs = std::fs::read_to_string(root().join("docs/microwin.md")).expect("docs/microwin.md");
+    let undocumented: Vec<String> = corpus()
+        .iter()
+        .filter_map(|p| p.file_name()?.to_str().map(|n| format!("`{n}`")))
+        .filter(|n| !docs.contains(n.as_str()))
+        .collect();
+    assert!(
+        undocumented.is_empty(),
+        "docs/microwin.md, \"The corpus\", lacks {undocumented:?}"
+    );
+}
+
+#[test]
+fn line_ends_and_code_pages_are_told_apart() {
+    assert_eq!(line_ends(b"a\r\nb\r\n"), Some("CRLF"));
+    assert_eq!(line_ends(b"a\nb\n"), Some("LF"));
+    assert_eq!(line_ends(b"a\r\nb\n"), None);
+    assert_eq!(line_ends(b"a\rb\r"), None);
+    assert_eq!(code_page(b"\xEF\xBB\xBFLD"), "UTF-8 with BOM");
+    assert_eq!(code_page("主".as_bytes()), "UTF-8");
+    assert_eq!(code_page(&[0xD6, 0xF7]), "GBK");
+    assert_eq!(code_page(&[0xFC, b':']), "Windows-1252");
 }
 
 #[test]
@@ -149,4 +222,118 @@ fn a_misspelt_system_name_suggests_the_micro_win_name() {
     assert_eq!(diags[0].code.as_str(), "E0202");
     assert_eq!(diags[0].help.as_deref(), Some("did you mean `Always_On`?"));
     assert_eq!(diags[0].fixes.len(), 1, "the replacement as a fix");
+}
+
+/// docs/microwin.md, "One block per file": tests/data/microwin/split_program holds a
+/// program exported block by block (MAIN, SBR_0 and INT_0 in their own files, in GBK and
+/// UTF-8) with a MicroWIN SMART CSV table and a Micro/WIN tab-separated table in GBK;
+/// its `EXPECTED` file names them. Read as gutta-cc reads them (each in its code page)
+/// they compile as one program without a diagnostic, INT_0 placed on GUTTA's INT1 and
+/// the subroutine kept as SBR0. (The VM run is cli/tests/cc_microwin_split.rs.)
+#[test]
+fn a_program_split_one_block_per_file_compiles() {
+    let dir = root().join("tests/data/microwin/split_program");
+    let expected = std::fs::read_to_string(dir.join("EXPECTED")).expect("EXPECTED");
+    let read = |name: &str| {
+        let bytes = std::fs::read(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"));
+        SourceFile::from_code_page_bytes(name, bytes)
+    };
+    let names = |key: &str| -> Vec<String> {
+        directive(&expected, key)
+            .unwrap_or_else(|| panic!("EXPECTED has no `// {key}:` line"))
+            .split_whitespace()
+            .map(str::to_string)
+            .collect()
+    };
+    let mut program = gutta_compiler::ProgramSources::default();
+    let mut encodings = Vec::new();
+    for name in names("files") {
+        let (file, encoding) = read(&name);
+        encodings.push((name, encoding.as_str()));
+        program.sources.push(file);
+    }
+    for name in names("tables") {
+        let (file, encoding) = read(&name);
+        encodings.push((name, encoding.as_str()));
+        program.symbol_tables.push(file);
+    }
+    let pages: Vec<&str> = encodings.iter().map(|(_, e)| *e).collect();
+    assert_eq!(
+        pages,
+        ["GBK", "GBK", "UTF-8", "UTF-8", "GBK"],
+        "{encodings:?}"
+    );
+    let compiled = gutta_compiler::compile_program(program, None);
+    let c = &compiled.checked;
+    let diagnostics: Vec<String> = c
+        .diagnostics()
+        .iter()
+        .map(|d| format!("{} {}", d.code.as_str(), d.message))
+        .collect();
+    assert!(diagnostics.is_empty(), "{diagnostics:#?}");
+    assert!(compiled.image.is_some());
+    assert_eq!(c.target.name(), "CPU-EC20");
+    assert_eq!(
+        microwin::interrupt_summary(&c.ast).as_deref(),
+        directive(&expected, "summary")
+    );
+    let blocks: Vec<String> = c
+        .ast
+        .units
+        .iter()
+        .map(|u| {
+            let (n, _) = u.header.number.expect("numbered block");
+            format!(
+                "{} {}{}",
+                c.file.slice(u.header.name),
+                n.prefix.as_str(),
+                n.number
+            )
+        })
+        .collect();
+    assert_eq!(blocks, ["主程序 OB1", "子程序_0 SBR0", "中断程序_0 INT1"]);
+    let symbols = c.symbols();
+    let origin = |name: &str| {
+        symbols
+            .get(name)
+            .map(|s| s.origin.clone())
+            .unwrap_or_else(|| panic!("no symbol {name}"))
+    };
+    assert_eq!(origin("电机"), "symbols.csv:3");
+    assert_eq!(origin("中断计数"), "symbols_gbk.txt:2");
+}
+
+/// The way back keeps empty blocks: an image with an empty subroutine nothing calls and
+/// an empty interrupt routine nothing attaches, written as a Micro/WIN export by
+/// `gutta-cc dis --format awl`, compiles back to the same pages. Its `// timer-boxes:
+/// gutta` line says the text is no Micro/WIN export with templates to drop.
+#[test]
+fn empty_blocks_of_an_image_survive_the_way_back() {
+    use gutta_format::disasm::{disassemble_as, Format};
+    let text =
+        "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD I0.0\n= Q0.0\nEND_ORGANIZATION_BLOCK\n\
+SUBROUTINE_BLOCK LEER:SBR0\nBEGIN\nNETWORK 1\nEND_SUBROUTINE_BLOCK\n\
+INTERRUPT_BLOCK STILL:INT1\nBEGIN\nNETWORK 1\nEND_INTERRUPT_BLOCK\n";
+    let first = compile(SourceFile::new("empty.lad", text), None);
+    let image = first.image.expect("the GUTTA program compiles");
+    let dis = disassemble_as(&image, &first.checked.target, Format::Awl);
+    assert!(dis.errors.is_empty(), "{:?}", dis.errors);
+    assert!(
+        dis.text.contains("SUBROUTINE_BLOCK SBR_0:SBR0"),
+        "{}",
+        dis.text
+    );
+    let back = compile(SourceFile::new("dis.awl", dis.text.clone()), None);
+    let again = back
+        .image
+        .unwrap_or_else(|| panic!("{:?}\n{}", back.checked.diagnostics(), dis.text));
+    assert_eq!(
+        again.pages.keys().collect::<Vec<_>>(),
+        image.pages.keys().collect::<Vec<_>>()
+    );
+    assert!(again.pages == image.pages, "the pages differ");
+    // The same text without that line is a Micro/WIN export: both are templates.
+    let export = dis.text.replace(microwin::GUTTA_BOXES, "");
+    let export = compile(SourceFile::new("export.awl", export), None);
+    assert_eq!(export.checked.ast.units.len(), 1);
 }

@@ -36,8 +36,13 @@ pub fn has_marker(text: &str) -> bool {
 /// no instruction and no operand of the program names it (by name or `INTn`). An
 /// `ORGANIZATION_BLOCK` stays MAIN (INT0); a program without one keeps no INT0, so the
 /// checker reports the missing MAIN (E0408) instead of running INT_0 as the main program.
+/// Micro/WIN's template subroutine (an empty `SUBROUTINE_BLOCK` nothing calls,
+/// [`is_template_subroutine`]) is dropped too. A text `gutta-cc dis --format awl` wrote
+/// (its [`GUTTA_BOXES`] line) has no templates: its empty blocks are the image's and
+/// stay, so that it compiles back to the same image.
 pub fn apply(program: &mut Program, text: &str) {
     program.microwin = true;
+    let templates = !has_gutta_boxes(text);
     let slice = |s: crate::source::Span| text.get(s.range()).unwrap_or("");
     let named: Vec<String> = program
         .units
@@ -49,6 +54,9 @@ pub fn apply(program: &mut Program, text: &str) {
     let mut placements = Vec::new();
     let mut kept: Vec<Unit> = Vec::with_capacity(program.units.len());
     for mut unit in std::mem::take(&mut program.units) {
+        if templates && is_template_subroutine(&unit, text, &named) {
+            continue;
+        }
         let Some(s7_number) = s7_interrupt(&unit, text) else {
             kept.push(unit);
             continue;
@@ -59,7 +67,7 @@ pub fn apply(program: &mut Program, text: &str) {
             .iter()
             .any(|n| n.eq_ignore_ascii_case(&name) || *n == numbered);
         let empty = unit.networks.iter().all(|n| n.instructions.is_empty());
-        let gutta_number = if empty && !attached {
+        let gutta_number = if templates && empty && !attached {
             None
         } else {
             if let Some((number, _)) = unit.header.number.as_mut() {
@@ -119,6 +127,27 @@ pub fn shadowed_system_names(program: &Program, text: &str, target: &Target) -> 
             )
         })
         .collect()
+}
+
+/// Whether a unit is Micro/WIN's template subroutine: a `SUBROUTINE_BLOCK` with no
+/// instruction that no operand of the program names (`named`, upper case), neither by
+/// its name (`CALL SBR_0`) nor by its number (`CALL SBR0`). Micro/WIN exports an empty
+/// `SBR_0:SBR0` in every project; [`apply`] drops it without a word (docs/microwin.md,
+/// "Template subroutines").
+fn is_template_subroutine(unit: &Unit, text: &str, named: &[String]) -> bool {
+    if unit.kind != BlockKind::Subroutine
+        || unit.networks.iter().any(|n| !n.instructions.is_empty())
+    {
+        return false;
+    }
+    let name = text.get(unit.header.name.range()).unwrap_or("");
+    let numbered = match unit.header.number {
+        Some((n, _)) if n.prefix == BlockPrefix::Sbr => Some(format!("SBR{}", n.number)),
+        _ => None,
+    };
+    !named
+        .iter()
+        .any(|n| n.eq_ignore_ascii_case(name) || numbered.as_deref() == Some(n.as_str()))
 }
 
 /// S7-200's interrupt number of an `INTERRUPT_BLOCK NAME:INTn` (not of an
