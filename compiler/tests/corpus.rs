@@ -120,6 +120,16 @@ fn every_diagnostic_code_is_exercised_by_the_corpus() {
             );
         }
     }
+    // Test files (.gtest, docs/testing-programs.md) have their own corpus, run through
+    // `gutta-cc test` by cli/tests/cc_test_diagnostics.rs, with the same comments.
+    let gtest = root().join("tests/data/check/gtest");
+    for entry in std::fs::read_dir(&gtest).expect("the test-file corpus") {
+        let path = entry.expect("dir entry").path();
+        if path.extension().is_some_and(|x| x == "gtest") {
+            let text = std::fs::read_to_string(&path).expect("read");
+            seen.extend(expected(&text).into_keys().map(|(_, c)| c));
+        }
+    }
     // Image limits need programs too large for a corpus file: `gutta-cc -o`'s tests
     // (cli/tests/cc_image_write.rs) assert them.
     let image_tests = std::fs::read_to_string(
