@@ -7,8 +7,8 @@
 use std::path::Path;
 
 /// The library packages: no I/O (link's transport module alone allows it).
-const LIBRARIES: [&str; 7] = [
-    "catalog", "format", "compiler", "vm", "protocol", "sim", "link",
+const LIBRARIES: [&str; 8] = [
+    "catalog", "format", "compiler", "vm", "protocol", "sim", "link", "gtest",
 ];
 
 /// The packages whose job is I/O: the binaries, the binaries' shared file I/O, and the
