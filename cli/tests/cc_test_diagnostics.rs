@@ -43,10 +43,19 @@ fn every_test_file_gives_exactly_its_announced_diagnostics() {
     assert!(files.len() >= 8, "the corpus went missing: {files:?}");
     let mut failures = Vec::new();
     for path in &files {
-        let name = path.file_name().expect("name").to_string_lossy().into_owned();
+        let name = path
+            .file_name()
+            .expect("name")
+            .to_string_lossy()
+            .into_owned();
         let source = std::fs::read_to_string(path).expect("reads");
         let want = expected(&source);
-        let o = cc(&["test", path.to_str().expect("path"), "--message-format", "json"]);
+        let o = cc(&[
+            "test",
+            path.to_str().expect("path"),
+            "--message-format",
+            "json",
+        ]);
         let mut got = BTreeMap::new();
         let mut ran = 0;
         for line in String::from_utf8_lossy(&o.stdout).lines() {
@@ -64,11 +73,17 @@ fn every_test_file_gives_exactly_its_announced_diagnostics() {
             }
         }
         if got != want {
-            failures.push(format!("{name}: expected {want:?}\n  got {got:?}\n{}", text(&o)));
+            failures.push(format!(
+                "{name}: expected {want:?}\n  got {got:?}\n{}",
+                text(&o)
+            ));
         }
         let errors = want.keys().any(|(_, c)| c.starts_with('E'));
         if errors && (o.status.code() != Some(2) || ran != 0) {
-            failures.push(format!("{name}: exit {:?} with {ran} tests run", o.status.code()));
+            failures.push(format!(
+                "{name}: exit {:?} with {ran} tests run",
+                o.status.code()
+            ));
         }
         if !errors && o.status.code() != Some(0) {
             failures.push(format!("{name}: exit {:?}\n{}", o.status.code(), text(&o)));
