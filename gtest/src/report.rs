@@ -6,7 +6,6 @@
 use std::fmt::Write as _;
 use std::time::Duration;
 
-use gutta_catalog::ValueFormat;
 use gutta_compiler::source::{LineIndex, SourceFile};
 use gutta_vm::vcd::{Dump, Signal};
 use quick_junit::{NonSuccessKind, Report, TestCase, TestCaseStatus, TestSuite};
@@ -75,6 +74,23 @@ fn mismatch_lines(out: &mut String, mismatches: &[Mismatch]) {
     }
 }
 
+/// Comparisons that did not hold, in one line: `Lamp (Q0.0) = 1 expected, is 0; ...`.
+fn joined(mismatches: &[Mismatch]) -> String {
+    mismatches
+        .iter()
+        .map(|m| {
+            format!(
+                "{} {} {} expected, is {}",
+                m.var,
+                m.op.as_str(),
+                m.expected,
+                m.actual
+            )
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
 /// What went wrong, in one line (JUnit's message, JSON's `message`).
 pub fn failure_message(failure: &Failure) -> String {
     let at = format!(
@@ -83,32 +99,10 @@ pub fn failure_message(failure: &Failure) -> String {
         show_time(failure.time_ms)
     );
     match &failure.kind {
-        FailureKind::Expect(m) => format!(
-            "EXPECT failed {at}: {}",
-            m.iter()
-                .map(|m| format!(
-                    "{} {} {} expected, is {}",
-                    m.var,
-                    m.op.as_str(),
-                    m.expected,
-                    m.actual
-                ))
-                .collect::<Vec<_>>()
-                .join("; ")
-        ),
+        FailureKind::Expect(m) => format!("EXPECT failed {at}: {}", joined(m)),
         FailureKind::Until { within, mismatches } => format!(
-            "UNTIL did not hold within {within} scans ({at}): {}",
-            mismatches
-                .iter()
-                .map(|m| format!(
-                    "{} {} {} expected, is {}",
-                    m.var,
-                    m.op.as_str(),
-                    m.expected,
-                    m.actual
-                ))
-                .collect::<Vec<_>>()
-                .join("; ")
+            "UNTIL did not hold within {within} scans, {at}: {}",
+            joined(mismatches)
         ),
         FailureKind::Fault {
             code,
@@ -129,21 +123,21 @@ pub fn failure_message(failure: &Failure) -> String {
             expected,
             got: None,
         } => {
-            format!("EXPECT FAULT {expected}: the scans ran without a fault ({at})")
+            format!("EXPECT FAULT {expected}: the scans ran without a fault, {at}")
         }
         FailureKind::FaultExpected {
             expected,
             got: Some((code, message)),
-        } => format!("EXPECT FAULT {expected}: the PLC faulted with code {code}, {message} ({at})"),
+        } => format!("EXPECT FAULT {expected}: the PLC faulted with code {code} ({message}), {at}"),
         FailureKind::Mode { expected_run } => {
             let (want, is) = if *expected_run {
                 ("RUN", "STOP")
             } else {
                 ("STOP", "RUN")
             };
-            format!("EXPECT {want}: the PLC is in {is} ({at})")
+            format!("EXPECT {want}: the PLC is in {is}, {at}")
         }
-        FailureKind::Access(message) => format!("{message} ({at})"),
+        FailureKind::Access(message) => format!("{message}, {at}"),
     }
 }
 
@@ -334,11 +328,7 @@ pub fn vcd(test: &PlannedTest, result: &TestResult) -> Option<String> {
     let signals = test
         .vars
         .iter()
-        .map(|v| Signal {
-            name: v.name().to_string(),
-            bits: v.address.width.bits(),
-            real: v.format == ValueFormat::Real,
-        })
+        .map(|v| Signal::of(v.name(), v.address.width, v.format))
         .collect();
     let (first, rest) = trace.samples.split_first()?;
     let mut dump = Dump::new(&format!("gutta-cc test {}", result.name), signals, &first.1);

@@ -6,6 +6,8 @@
 
 use std::fmt::Write as _;
 
+use gutta_catalog::{ValueFormat, Width};
+
 /// One signal of the dump.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Signal {
@@ -16,6 +18,18 @@ pub struct Signal {
     pub bits: u32,
     /// A REAL: written as a `real` signal with its value.
     pub real: bool,
+}
+
+impl Signal {
+    /// The signal of a variable named `name` of `width`, shown in `format` (REAL values
+    /// become a `real` signal).
+    pub fn of(name: &str, width: Width, format: ValueFormat) -> Signal {
+        Signal {
+            name: name.to_string(),
+            bits: width.bits(),
+            real: format == ValueFormat::Real,
+        }
+    }
 }
 
 /// VCD identifier of the i-th signal: printable ASCII `!`..`~`, base 94.

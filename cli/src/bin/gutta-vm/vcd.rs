@@ -1,7 +1,6 @@
 //! The waveform `gutta-vm --vcd` writes: one signal per --read variable, named after
 //! its symbol (or address), in the variable's format (`gutta_vm::vcd` writes the text).
 
-use gutta_catalog::ValueFormat;
 use gutta_vm::vcd::{Dump, Signal};
 
 use crate::vars::Var;
@@ -10,11 +9,7 @@ use crate::vars::Var;
 pub fn dump(reads: &[Var], initial: &[u32]) -> Dump {
     let signals = reads
         .iter()
-        .map(|v| Signal {
-            name: v.name().to_string(),
-            bits: v.address.width.bits(),
-            real: v.format == ValueFormat::Real,
-        })
+        .map(|v| Signal::of(v.name(), v.address.width, v.format))
         .collect();
     Dump::new(
         concat!("gutta-vm ", env!("CARGO_PKG_VERSION")),
