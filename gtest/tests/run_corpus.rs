@@ -218,7 +218,7 @@ fn a_wrong_expectation_or_a_missing_fault_fails_naming_line_engine_and_scan() {
                 ),
                 format!(
                     "t.gtest:12 [{engine}] missing_fault: EXPECT FAULT 3: the scans ran \
-                     without a fault (after scan 3 (30 ms))"
+                     without a fault, after scan 3 (30 ms)"
                 ),
             ]
         })
