@@ -7,8 +7,8 @@
 use std::path::Path;
 
 /// The library packages: no I/O (link's transport module alone allows it).
-const LIBRARIES: [&str; 8] = [
-    "catalog", "format", "compiler", "vm", "protocol", "sim", "link", "gtest",
+const LIBRARIES: [&str; 9] = [
+    "catalog", "format", "compiler", "vm", "protocol", "sim", "link", "gtest", "ladder",
 ];
 
 /// The packages whose job is I/O: the binaries, the binaries' shared file I/O, and the
