@@ -16,7 +16,7 @@ use gutta_format::Image;
 
 /// How to get every external tool these tests use.
 pub const INSTALL: &str = "run `bash .ci/run`, or: apt-get install mbpoll socat \
-     tmux libmodbus-dev pkg-config zsh fish; python3 -m venv .ci/venv && .ci/venv/bin/pip install \
+     tmux libmodbus-dev pkg-config zsh fish neovim chromium; python3 -m venv .ci/venv && .ci/venv/bin/pip install \
      pymodbus==3.6.9; export GUTTA_PYTHON=$PWD/.ci/venv/bin/python";
 
 /// `text` compiled for CPU-EC20 (it must compile).
