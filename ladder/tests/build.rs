@@ -177,17 +177,27 @@ fn counters_take_their_other_inputs_from_lower_levels() {
 /// box ends its branch and what follows hangs in parallel.
 #[test]
 fn an_s7200_timer_ends_its_branch() {
-    let text = "// dialect: microwin\nORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNetwork 1\nLD I0.0\n\
+    let text =
+        "// dialect: microwin\nORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNetwork 1\nLD Always_On\n\
         TON T37, 100\n= Q0.0\nNetwork 2\nLD T37\n= Q0.1\nEND_ORGANIZATION_BLOCK\n";
     let l = gutta_ladder::build(&checked(text));
     let r: Vec<String> = l.blocks[0].networks.iter().map(common::render).collect();
     assert_eq!(
         r,
         [
-            "no(I0.0) -> { [T37 PT=100] ; out(Q0.0) }",
+            "no(Always_On) -> { [T37 PT=100] ; out(Q0.0) }",
             "no(T37) -> out(Q0.1)"
         ]
     );
+    // Micro/WIN's system symbol is the target's system bit.
+    let Body::Rung(rung) = &l.blocks[0].networks[0].body else {
+        panic!()
+    };
+    let Some(Node::Contact(c)) = &rung.input else {
+        panic!()
+    };
+    assert_eq!(c.operands[0].address.as_deref(), Some("SM0.0"));
+    assert_eq!(c.operands[0].symbol.as_deref(), Some("Always_On"));
 }
 
 #[test]
@@ -294,7 +304,7 @@ fn refusals_name_the_instruction_and_its_line() {
         ),
         ("LD I0.0", "`LD I0.0` at line 4 starts a power path that reaches no output"),
         ("LD I0.0\n= Q0.0\nA I0.1", "`A I0.1` at line 6 leads to no output"),
-        ("A I0.0\n= Q0.0", "`A I0.0` at line 4 needs 1 levels of the logic stack; 0 are loaded"),
+        ("A I0.0\n= Q0.0", "`A I0.0` at line 4 needs 1 level of the logic stack; 0 are loaded"),
         ("LD I0.0\nALD\n= Q0.0", "`ALD` at line 5 needs 2 levels of the logic stack; 1 is loaded"),
         ("LD I0.0\nLPS\nA I0.1\n= Q0.0", "`LPS` at line 5 has no matching `LPP`"),
         (

@@ -173,3 +173,25 @@ fn reasons_group_without_operands_and_lines() {
         "`LD ..` at line N starts a second power path"
     );
 }
+
+/// Programs with errors (tests/data/check/err) are built too: no panic, every network
+/// either a rung or STL with a reason, every STL network keeping its text.
+#[test]
+fn programs_with_errors_build_without_panics() {
+    let mut networks = 0;
+    for path in files("tests/data/check/err", &["lad"]) {
+        let ladder = ladder_of(&path);
+        for net in ladder.blocks.iter().flat_map(|b| &b.networks) {
+            networks += 1;
+            if let Body::Stl { reason } = &net.body {
+                assert!(
+                    !reason.is_empty(),
+                    "{}: network {}",
+                    path.display(),
+                    net.number
+                );
+            }
+        }
+    }
+    assert!(networks > 0, "tests/data/check/err holds networks");
+}

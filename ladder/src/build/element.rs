@@ -141,12 +141,21 @@ impl<'a> Resolver<'a> {
         }
     }
 
-    /// A name's canonical address: a symbol's, or a direct address normalised.
+    /// A name's canonical address: a symbol's, in a Micro/WIN export a system
+    /// symbol's (`Always_On`; user symbols win, as in the checker), or a direct address
+    /// normalised.
     fn address_of(&self, name: &str) -> (Option<String>, Option<String>) {
         if let Some(symbol) = self.symbols.get(name) {
             return (Some(symbol.address.clone()), Some(symbol.name.clone()));
         }
         let memory = &self.checked.target.memory;
+        if self.checked.ast.microwin {
+            if let Some(bit) = memory.microwin_system_bit(name) {
+                let address = memory.parse_address(&bit.address).ok();
+                let symbol = bit.microwin.clone();
+                return (address.map(|a| memory.format_address(&a)), symbol);
+            }
+        }
         match memory.parse_address(name) {
             Ok(address) => (Some(memory.format_address(&address)), None),
             Err(_) => (None, None),

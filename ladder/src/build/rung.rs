@@ -127,8 +127,9 @@ impl RungBuilder {
     fn need(&self, levels: usize, origin: &Origin) -> Result<(), Refusal> {
         if self.stack.len() < levels {
             return Err(format!(
-                "{} needs {levels} levels of the logic stack; {} {} loaded",
+                "{} needs {levels} {} of the logic stack; {} {} loaded",
                 origin.at(),
+                if levels == 1 { "level" } else { "levels" },
                 self.stack.len(),
                 if self.stack.len() == 1 { "is" } else { "are" }
             ));
@@ -504,5 +505,55 @@ fn number_branch(branch: &mut Branch, next: &mut u32) {
         BranchEnd::Coil(c) => c.id = take(next),
         BranchEnd::Box(b) => number_box(b, next),
         BranchEnd::Split(v) => v.iter_mut().for_each(|b| number_branch(b, next)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{Contact, ContactKind};
+
+    fn c(n: u32) -> Node {
+        Node::Contact(Contact {
+            id: n,
+            kind: ContactKind::NormallyOpen,
+            mnemonic: "LD".to_string(),
+            immediate: false,
+            operands: Vec::new(),
+            relation: None,
+            line: n,
+        })
+    }
+
+    #[test]
+    fn series_and_parallel_flatten_their_own_kind_only() {
+        let s = series(series(c(0), c(1)), series(c(2), c(3)));
+        assert!(matches!(&s, Node::Series(v) if v.len() == 4));
+        let p = parallel(parallel(c(0), c(1)), s.clone());
+        assert!(matches!(&p, Node::Parallel(v) if v.len() == 3 && v[2] == s));
+    }
+
+    #[test]
+    fn split_last_leaves_one_element_bare() {
+        let (rest, last) = split_last(series(c(0), c(1)));
+        assert_eq!((rest, last), (Some(c(0)), c(1)));
+        let (rest, last) = split_last(c(5));
+        assert_eq!((rest, last), (None, c(5)));
+    }
+
+    #[test]
+    fn an_open_branch_point_is_refused_at_the_end() {
+        let mut b = RungBuilder::default();
+        let at = |line| Origin {
+            text: "X".to_string(),
+            line,
+        };
+        let Node::Contact(first) = c(0) else { panic!() };
+        b.push(Element::Contact(Join::Load, first), at(1)).unwrap();
+        b.push(Element::Stack(StackOp::Lps), at(2)).unwrap();
+        assert_eq!(
+            b.finish().unwrap_err(),
+            "`X` at line 2 has no matching `LPP`"
+        );
     }
 }
