@@ -130,16 +130,12 @@ fn rung_of(
                 .iter()
                 .any(|o| o.kind == OperandKind::Error);
         if broken {
-            return Err(format!(
-                "`{}` at line {} did not parse",
-                origin.text, origin.line
-            ));
+            return Err(format!("{} did not parse", origin.at()));
         }
         let Some(element) = resolver.element(net, ins) else {
             return Err(format!(
-                "`{}` at line {} is not an instruction of {}",
-                origin.text,
-                origin.line,
+                "{} is not an instruction of {}",
+                origin.at(),
                 checked.target.name()
             ));
         };
@@ -156,8 +152,8 @@ fn rung_of(
     {
         let (_, second) = &elements[1];
         return Err(format!(
-            "`{}` at line {} is a second instruction without power flow in the network",
-            second.text, second.line
+            "{} is a second instruction without power flow in the network",
+            second.at()
         ));
     }
     let count = elements.len();
@@ -166,9 +162,8 @@ fn rung_of(
         let ends_loop = matches!(&element, Element::EndBox(b) if b.mnemonic == "FOR");
         if ends_loop && i + 1 < count {
             return Err(format!(
-                "{} at line {} starts a loop whose body is in the same network",
-                format_args!("`{}`", origin.text),
-                origin.line
+                "{} starts a loop whose body is in the same network",
+                origin.at()
             ));
         }
         builder.push(element, origin)?;

@@ -153,6 +153,17 @@ fn census_of_every_program() {
         }
     }
     println!("all: {} networks drawn, {} as STL", total.drawn, total.stl);
+    // docs/ladder.md states the figures: keep them true.
+    let docs = std::fs::read_to_string(root().join("docs/ladder.md")).expect("docs/ladder.md");
+    for row in [
+        format!("| examples/ | {} | {} ", examples.0, examples.1),
+        format!("| all | {} | {} |", total.drawn, total.stl),
+    ] {
+        assert!(
+            docs.contains(&row),
+            "docs/ladder.md lacks the census row `{row}`"
+        );
+    }
     let (drawn, stl) = examples;
     assert!(
         drawn + stl > 0 && drawn * 10 >= (drawn + stl) * 8,

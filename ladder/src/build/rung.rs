@@ -17,7 +17,8 @@ pub(super) struct Origin {
 }
 
 impl Origin {
-    fn at(&self) -> String {
+    /// "`LD I0.2` at line 14".
+    pub(super) fn at(&self) -> String {
         format!("`{}` at line {}", self.text, self.line)
     }
 }
