@@ -3,4 +3,7 @@
 //! rung), `svg.rs` (layout and SVG), `html.rs` (the self-contained page). No I/O:
 //! `gutta-cc ladder` reads the program and writes the file.
 
+pub mod build;
 pub mod model;
+
+pub use build::build;

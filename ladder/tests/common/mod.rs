@@ -1,0 +1,139 @@
+//! Shared helpers of the ladder tests: a program checked from text, and a compact
+//! textual rendering of the model that the expectations are written in.
+//!
+//! The rendering: a contact is `kind(operands)` (`no(I0.0)`, `nc(Stop)`, `noI(I0.5)`
+//! for immediate, `pos-edge()`, `compare>=W(MW14,-5)`); series elements are separated
+//! by blanks, parallel ones are `(a | b)`; a box is `[TITLE PIN=x OUT>y R:path]` (`>`
+//! an output pin, `NAME:path` an extra power input); a coil is `kind(BIT[,N])`
+//! (`out(Q0.0)`, `set(Full,1)`); a rung is `INPUT -> OUTPUTS` (`|` for a rung on the
+//! rail), several branches `{ b1 ; b2 }`; a refused network is `STL: reason`.
+
+#![allow(dead_code)]
+
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{check_source, CheckedFile};
+use gutta_ladder::model::{Body, BoxElement, Branch, BranchEnd, Contact, Ladder, Network, Node};
+
+/// `text` checked on the default target.
+pub fn checked(text: &str) -> CheckedFile {
+    check_source(SourceFile::new("test.lad", text), None)
+}
+
+/// The networks of MAIN holding `code` (its `NETWORK` lines included).
+pub fn main_with(code: &str) -> String {
+    format!("ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\n{code}\nEND_ORGANIZATION_BLOCK\n")
+}
+
+/// The ladder of a MAIN holding `code`.
+pub fn ladder(code: &str) -> Ladder {
+    gutta_ladder::build(&checked(&main_with(code)))
+}
+
+/// The rendering of each network of MAIN holding `code`.
+pub fn rendered(code: &str) -> Vec<String> {
+    ladder(code).blocks[0].networks.iter().map(render).collect()
+}
+
+/// The rendering of the one network `code` (without its NETWORK line).
+pub fn one(code: &str) -> String {
+    let r = rendered(&format!("NETWORK 1\n{code}"));
+    assert_eq!(r.len(), 1, "{r:?}");
+    r[0].clone()
+}
+
+pub fn render(net: &Network) -> String {
+    match &net.body {
+        Body::Stl { reason } => format!("STL: {reason}"),
+        Body::Rung(rung) => {
+            let input = rung.input.as_ref().map_or("|".to_string(), node);
+            format!("{input} -> {}", branches(&rung.outputs))
+        }
+    }
+}
+
+fn branches(list: &[Branch]) -> String {
+    if let [one] = list {
+        return branch(one);
+    }
+    let parts: Vec<String> = list.iter().map(branch).collect();
+    format!("{{ {} }}", parts.join(" ; "))
+}
+
+fn branch(b: &Branch) -> String {
+    let mut parts: Vec<String> = b.path.iter().map(node).collect();
+    parts.push(match &b.end {
+        BranchEnd::Coil(c) => {
+            let mut ops = vec![c.operand.written.clone()];
+            ops.extend(c.count.iter().map(|n| n.written.clone()));
+            format!("{}({})", c.kind.data_kind(), ops.join(","))
+        }
+        BranchEnd::Box(b) => boxed(b),
+        BranchEnd::Split(list) => branches(list),
+    });
+    parts.join(" ")
+}
+
+pub fn node(n: &Node) -> String {
+    match n {
+        Node::Contact(c) => contact(c),
+        Node::Box(b) => boxed(b),
+        Node::Series(v) => v.iter().map(node).collect::<Vec<_>>().join(" "),
+        Node::Parallel(v) => format!("({})", v.iter().map(node).collect::<Vec<_>>().join(" | ")),
+    }
+}
+
+fn contact(c: &Contact) -> String {
+    let ops: Vec<&str> = c.operands.iter().map(|o| o.written.as_str()).collect();
+    format!(
+        "{}{}{}({})",
+        c.kind.data_kind(),
+        c.relation.as_deref().unwrap_or(""),
+        if c.immediate { "I" } else { "" },
+        ops.join(",")
+    )
+}
+
+fn boxed(b: &BoxElement) -> String {
+    let mut parts = vec![b.title.clone()];
+    for p in &b.pins {
+        let sep = if p.output { ">" } else { "=" };
+        parts.push(format!("{}{sep}{}", p.name, p.operand.written));
+    }
+    for (name, path) in &b.power_inputs {
+        parts.push(format!("{name}:{}", node(path)));
+    }
+    format!("[{}]", parts.join(" "))
+}
+
+/// Every element id of a rung in drawing order, with what it is.
+pub fn ids(net: &Network) -> Vec<(u32, String)> {
+    fn walk_node(n: &Node, out: &mut Vec<(u32, String)>) {
+        match n {
+            Node::Contact(c) => out.push((c.id, contact(c))),
+            Node::Box(b) => walk_box(b, out),
+            Node::Series(v) | Node::Parallel(v) => v.iter().for_each(|n| walk_node(n, out)),
+        }
+    }
+    fn walk_box(b: &BoxElement, out: &mut Vec<(u32, String)>) {
+        for (_, p) in &b.power_inputs {
+            walk_node(p, out);
+        }
+        out.push((b.id, b.title.clone()));
+    }
+    fn walk_branch(b: &Branch, out: &mut Vec<(u32, String)>) {
+        b.path.iter().for_each(|n| walk_node(n, out));
+        match &b.end {
+            BranchEnd::Coil(c) => out.push((c.id, c.operand.written.clone())),
+            BranchEnd::Box(x) => walk_box(x, out),
+            BranchEnd::Split(v) => v.iter().for_each(|b| walk_branch(b, out)),
+        }
+    }
+    let mut out = Vec::new();
+    if let Body::Rung(r) = &net.body {
+        if let Some(i) = &r.input {
+            walk_node(i, &mut out);
+        }
+        r.outputs.iter().for_each(|b| walk_branch(b, &mut out));
+    }
+    out
+}
