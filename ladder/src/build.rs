@@ -69,15 +69,9 @@ fn numbered_name(checked: &CheckedFile, unit: &ast::Unit, name: &str) -> String 
         .unwrap_or_else(|| name.to_string())
 }
 
-/// The network's number as the checker gives it (`check/code.rs`, `network_number`):
-/// as written, else the previous network's + 1; instructions before any NETWORK line
-/// are network 0.
+/// The network's number as the checker gives it (`ast::Network::number_after`).
 fn network_number(net: &ast::Network, last: &mut Option<u32>) -> u32 {
-    let number = match (net.number, *last) {
-        (Some(n), _) => n,
-        (None, Some(prev)) => prev + 1,
-        (None, None) => u32::from(net.header.is_some()),
-    };
+    let number = net.number_after(*last);
     if net.header.is_some() {
         *last = Some(number);
     }

@@ -187,9 +187,7 @@ impl Checker<'_> {
                 );
                 n
             }
-            (Some(n), _) => n,
-            (None, Some((prev, _))) => prev + 1,
-            (None, None) => u32::from(net.header.is_some()),
+            _ => net.number_after(last.map(|(prev, _)| prev)),
         };
         if let Some(header) = net.header {
             *last = Some((number, header));

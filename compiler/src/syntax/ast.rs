@@ -157,6 +157,17 @@ pub struct Network {
 }
 
 impl Network {
+    /// The network's number: as written, else the previous numbered network's + 1
+    /// (`previous`: the number of the last network that had a NETWORK line); instructions
+    /// before any NETWORK line are network 0. The checker and the ladder number alike.
+    pub fn number_after(&self, previous: Option<u32>) -> u32 {
+        match (self.number, previous) {
+            (Some(n), _) => n,
+            (None, Some(prev)) => prev + 1,
+            (None, None) => u32::from(self.header.is_some()),
+        }
+    }
+
     pub fn operands_of(&self, ins: &Instruction) -> &[Operand] {
         &self.operands[ins.operands.0 as usize..ins.operands.1 as usize]
     }
