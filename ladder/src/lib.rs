@@ -4,6 +4,7 @@
 //! `gutta-cc ladder` reads the program and writes the file.
 
 pub mod build;
+pub mod live;
 pub mod model;
 
 pub use build::build;

@@ -1,0 +1,322 @@
+//! The live view's power flow (docs/ladder.md, "Live view"): which elements of a rung
+//! pass power out, given one snapshot of its operands' raw values, and which operands a
+//! ladder needs read. Pure: the values come in as a map, nothing here talks to a PLC.
+//!
+//! A snapshot cannot see what happened between two scans, so edges (`EU`, `ED`) never
+//! pass power, and a timer or counter's done output is judged from its current value and
+//! preset only (the rules are on each function below).
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use gutta_catalog::{Target, Width};
+use gutta_format::SymbolTable;
+
+use crate::model::{BoxElement, Branch, BranchEnd, Contact, ContactKind, Ladder, Node, Operand};
+
+/// One snapshot: raw values by canonical address (as `Operand::address` spells it),
+/// already cut to the address's width (a bit is 0 or 1).
+#[derive(Debug)]
+pub struct Snapshot<'a> {
+    pub target: &'a Target,
+    /// Names a timer or counter box's title may use (its number is its title, not a pin).
+    pub symbols: &'a SymbolTable,
+    pub values: &'a BTreeMap<String, u32>,
+}
+
+/// The power of one rung in a snapshot.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct RungPower {
+    /// The ids of the elements that pass power out: contacts whose output is on, coils
+    /// that are powered, boxes whose power output (ENO, Q) is on, and boxes without a
+    /// power output (`JMP`, `CALL` at a branch end) whose input is powered. A wire is on
+    /// when `rail` or one of these powers it (its `data-after`).
+    pub energized: BTreeSet<u32>,
+}
+
+/// The power of `rung` in `snapshot`. An operand missing from the snapshot, or a constant
+/// that does not parse, counts as 0.
+pub fn rung_power(rung: &crate::model::Rung, snapshot: &Snapshot<'_>) -> RungPower {
+    let mut power = RungPower::default();
+    let eval = Evaluator { snapshot };
+    let at_outputs = match &rung.input {
+        Some(node) => eval.node(node, true, &mut power.energized),
+        None => true,
+    };
+    for branch in &rung.outputs {
+        eval.branch(branch, at_outputs, &mut power.energized);
+    }
+    power
+}
+
+struct Evaluator<'a, 's> {
+    snapshot: &'a Snapshot<'s>,
+}
+
+impl Evaluator<'_, '_> {
+    /// The power out of `node` with `power` in; records what passes power.
+    fn node(&self, node: &Node, power: bool, on: &mut BTreeSet<u32>) -> bool {
+        let out = match node {
+            Node::Contact(c) => {
+                let out = self.contact(c, power);
+                if out {
+                    on.insert(c.id);
+                }
+                out
+            }
+            Node::Box(b) => self.boxed(b, power, on),
+            Node::Series(nodes) => nodes.iter().fold(power, |p, n| self.node(n, p, on)),
+            // Every branch is evaluated (each lights its own elements); the block passes
+            // power when any branch does.
+            Node::Parallel(nodes) => nodes
+                .iter()
+                .map(|n| self.node(n, power, on))
+                .fold(false, |a, b| a | b),
+        };
+        out
+    }
+
+    fn branch(&self, branch: &Branch, power: bool, on: &mut BTreeSet<u32>) {
+        let power = branch.path.iter().fold(power, |p, n| self.node(n, p, on));
+        match &branch.end {
+            BranchEnd::Coil(c) => {
+                if power {
+                    on.insert(c.id);
+                }
+            }
+            BranchEnd::Box(b) => {
+                self.boxed(b, power, on);
+            }
+            BranchEnd::Split(branches) => {
+                for b in branches {
+                    self.branch(b, power, on);
+                }
+            }
+        }
+    }
+
+    /// A contact's output: NO and NC test their bit, a compare its relation, NOT inverts
+    /// its input, EU/ED pass nothing (a snapshot has no edges).
+    fn contact(&self, c: &Contact, power: bool) -> bool {
+        match c.kind {
+            ContactKind::NormallyOpen => power && self.bit(c.operands.first()),
+            ContactKind::NormallyClosed => power && !self.bit(c.operands.first()),
+            ContactKind::Not => !power,
+            ContactKind::PositiveEdge | ContactKind::NegativeEdge => false,
+            ContactKind::Compare => power && self.compare(c),
+        }
+    }
+
+    fn bit(&self, operand: Option<&Operand>) -> bool {
+        operand.and_then(|o| self.raw(o)).unwrap_or(0) & 1 != 0
+    }
+
+    /// `>=W`, `=B`, `<>D`, `<R`: B unsigned, W and D signed, R a REAL, as the VM compares.
+    fn compare(&self, c: &Contact) -> bool {
+        let (Some(relation), [a, b, ..]) = (&c.relation, c.operands.as_slice()) else {
+            return false;
+        };
+        let ty = relation.chars().last().unwrap_or('W');
+        let op = &relation[..relation.len() - ty.len_utf8()];
+        let holds = |o: std::cmp::Ordering| match op {
+            "=" => o.is_eq(),
+            "<>" => o.is_ne(),
+            "<" => o.is_lt(),
+            "<=" => o.is_le(),
+            ">" => o.is_gt(),
+            _ => o.is_ge(),
+        };
+        let width = match ty {
+            'B' => Width::Byte,
+            'D' | 'R' => Width::Dword,
+            _ => Width::Word,
+        };
+        let (Some(x), Some(y)) = (self.number(a, width), self.number(b, width)) else {
+            return false;
+        };
+        match ty {
+            'B' => holds((x as u8).cmp(&(y as u8))),
+            'R' => f32::from_bits(x)
+                .partial_cmp(&f32::from_bits(y))
+                .is_some_and(holds),
+            'D' => holds((x as i32).cmp(&(y as i32))),
+            _ => holds((x as i16).cmp(&(y as i16))),
+        }
+    }
+
+    /// A box's power output with `power` at EN (IN, CU). Its extra power inputs (R, LD,
+    /// CD) are evaluated for their own elements; they do not change the done output,
+    /// which the current value already shows.
+    fn boxed(&self, b: &BoxElement, power: bool, on: &mut BTreeSet<u32>) -> bool {
+        for (_, path) in &b.power_inputs {
+            self.node(path, true, on);
+        }
+        let out = match b.output {
+            None => power,
+            Some(_) => match b.mnemonic.as_str() {
+                "TON" | "TOF" | "TONR" | "CTU" | "CTD" | "CTUD" => self.done(b, power),
+                _ => power,
+            },
+        };
+        if out {
+            on.insert(b.id);
+        }
+        out && b.output.is_some()
+    }
+
+    /// A timer's or counter's done output, from its current value (the box's title) and
+    /// its preset (the first pin): TON `IN && T >= PT` (or PT <= 0), TONR `T >= PT`, TOF
+    /// `IN || 0 < T < PT`, CTU and CTUD `C >= PV`, CTD `C == 0`.
+    fn done(&self, b: &BoxElement, power: bool) -> bool {
+        let current = counted_address(b, self.snapshot.target, self.snapshot.symbols)
+            .and_then(|a| self.snapshot.values.get(&a).copied())
+            .map(|raw| i64::from(raw as u16 as i16));
+        let preset = b
+            .pins
+            .first()
+            .and_then(|p| self.number(&p.operand, Width::Word))
+            .map(|raw| i64::from(raw as u16 as i16));
+        let (Some(value), Some(preset)) = (current, preset) else {
+            return b.mnemonic == "TOF" && power;
+        };
+        match b.mnemonic.as_str() {
+            "TON" => power && (preset <= 0 || value >= preset),
+            "TONR" => value >= preset,
+            "TOF" => power || (0 < value && value < preset),
+            "CTD" => value == 0,
+            _ => value >= preset,
+        }
+    }
+
+    /// The raw value of an operand with an address.
+    fn raw(&self, o: &Operand) -> Option<u32> {
+        self.snapshot.values.get(o.address.as_ref()?).copied()
+    }
+
+    /// An operand's raw bits: its read value, else a constant as written (`100`, `-3`,
+    /// `16#FF`, `2#101`, `1.5` as a REAL), cut to `width`.
+    fn number(&self, o: &Operand, width: Width) -> Option<u32> {
+        if o.address.is_some() {
+            return self.raw(o);
+        }
+        let raw = constant(&o.written)?;
+        Some(match width {
+            Width::Bit => raw & 1,
+            Width::Byte => raw & 0xFF,
+            Width::Word => raw & 0xFFFF,
+            Width::Dword => raw,
+        })
+    }
+}
+
+/// A literal's 32 bits: decimal (signed), `16#`, `8#`, `2#` radix forms, a REAL with a
+/// dot or an exponent.
+fn constant(text: &str) -> Option<u32> {
+    let t = text.trim().replace('_', "");
+    for (prefix, radix) in [("16#", 16), ("8#", 8), ("2#", 2)] {
+        if let Some(digits) = t.strip_prefix(prefix) {
+            return u32::from_str_radix(digits, radix).ok();
+        }
+    }
+    if let Ok(n) = t.parse::<i64>() {
+        return Some(n as u32);
+    }
+    if t.contains(['.', 'e', 'E']) {
+        return t.parse::<f32>().ok().map(f32::to_bits);
+    }
+    None
+}
+
+/// The canonical address of a timer's or counter's number (its title: `T37`, or a
+/// symbol naming it).
+pub fn counted_address(b: &BoxElement, target: &Target, symbols: &SymbolTable) -> Option<String> {
+    if !matches!(
+        b.mnemonic.as_str(),
+        "TON" | "TOF" | "TONR" | "CTU" | "CTD" | "CTUD"
+    ) {
+        return None;
+    }
+    let title = b.title.trim();
+    let address = match symbols.get(title) {
+        Some(s) => target.memory.parse_address(&s.address).ok()?,
+        None => target.memory.parse_address(title).ok()?,
+    };
+    Some(target.memory.format_address(&address))
+}
+
+/// Every readable operand of the drawn networks (rungs), deduplicated, in drawing order:
+/// contacts' and coils' bits, compare operands, box pins with an address, and the
+/// timers' and counters' numbers.
+pub fn operands(ladder: &Ladder, target: &Target, symbols: &SymbolTable) -> Vec<String> {
+    let mut seen = BTreeSet::new();
+    let mut out = Vec::new();
+    let mut add = |a: &str| {
+        if seen.insert(a.to_string()) {
+            out.push(a.to_string());
+        }
+    };
+    for network in ladder.blocks.iter().flat_map(|b| &b.networks) {
+        if let crate::model::Body::Rung(rung) = &network.body {
+            let mut visit = OperandVisitor {
+                target,
+                symbols,
+                add: &mut add,
+            };
+            if let Some(node) = &rung.input {
+                visit.node(node);
+            }
+            for b in &rung.outputs {
+                visit.branch(b);
+            }
+        }
+    }
+    out
+}
+
+struct OperandVisitor<'a, F: FnMut(&str)> {
+    target: &'a Target,
+    symbols: &'a SymbolTable,
+    add: &'a mut F,
+}
+
+impl<F: FnMut(&str)> OperandVisitor<'_, F> {
+    fn operand(&mut self, o: &Operand) {
+        if let Some(a) = &o.address {
+            (self.add)(a);
+        }
+    }
+
+    fn node(&mut self, node: &Node) {
+        match node {
+            Node::Contact(c) => c.operands.iter().for_each(|o| self.operand(o)),
+            Node::Box(b) => self.boxed(b),
+            Node::Series(nodes) | Node::Parallel(nodes) => nodes.iter().for_each(|n| self.node(n)),
+        }
+    }
+
+    fn boxed(&mut self, b: &BoxElement) {
+        for (_, path) in &b.power_inputs {
+            self.node(path);
+        }
+        if let Some(a) = counted_address(b, self.target, self.symbols) {
+            (self.add)(&a);
+        }
+        b.pins.iter().for_each(|p| self.operand(&p.operand));
+    }
+
+    fn branch(&mut self, branch: &Branch) {
+        branch.path.iter().for_each(|n| self.node(n));
+        match &branch.end {
+            BranchEnd::Coil(c) => {
+                self.operand(&c.operand);
+                if let Some(n) = &c.count {
+                    self.operand(n);
+                }
+            }
+            BranchEnd::Box(b) => self.boxed(b),
+            BranchEnd::Split(branches) => branches.iter().for_each(|b| self.branch(b)),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;
