@@ -262,6 +262,22 @@ impl Client {
         }
     }
 
+    /// STATUS_VAR_FORCE_READ: 4 bytes of the force value image from each packed address
+    /// (0 where nothing is forced).
+    pub fn read_forces(&mut self, addresses: &[u32]) -> Result<Vec<[u8; 4]>, LinkError> {
+        let what = "STATUS_VAR_FORCE_READ (outside an area?)";
+        let command = Command::ForceRead(addresses.iter().map(|&a| PackedOperand(a)).collect());
+        match self.request(&Request::single(command), what)? {
+            Reply::ForceValues(values) if values.len() == addresses.len() => {
+                Ok(values.into_iter().map(u32::to_le_bytes).collect())
+            }
+            Reply::ForceValues(_) => Err(LinkError::Protocol(
+                "STATUS_VAR_FORCE_READ answered the wrong length".into(),
+            )),
+            other => Err(unexpected(what, &other)),
+        }
+    }
+
     /// STATUS_VAR_WRITE (`force`: STATUS_VAR_FORCE_WRITE) of (packed address, value).
     pub fn write_vars(&mut self, pairs: &[(u32, u32)], force: bool) -> Result<(), LinkError> {
         let pairs: Vec<(PackedOperand, u32)> =

@@ -67,7 +67,12 @@ pub(crate) fn client_line(args: &LinkArgs) -> gutta_format::LineSettings {
 
 /// Connect as the options say.
 fn connect(args: &LinkArgs) -> Result<Client, Fatal> {
-    let transport: Box<dyn gutta_link::Transport> = if let Some(a) = &args.tcp {
+    Ok(Client::new(transport(args)?, args.station))
+}
+
+/// The transport the options ask for (`monitor.rs` counts the requests through it).
+pub(crate) fn transport(args: &LinkArgs) -> Result<Box<dyn gutta_link::Transport>, Fatal> {
+    Ok(if let Some(a) = &args.tcp {
         Box::new(TcpTransport::connect(a, args.timeout, args.retries).map_err(link_error)?)
     } else if let Some(a) = &args.rtu_tcp {
         Box::new(rtu_over_tcp(a, args.timeout, args.retries).map_err(link_error)?)
@@ -77,8 +82,7 @@ fn connect(args: &LinkArgs) -> Result<Client, Fatal> {
         return Err(Fatal::usage(
             "no PLC given: use --tcp HOST:PORT, --rtu-tcp HOST:PORT or --serial DEVICE",
         ));
-    };
-    Ok(Client::new(transport, args.station))
+    })
 }
 
 /// Connect and log in.
@@ -101,12 +105,12 @@ pub(crate) fn plc_target(targets: &TargetArgs, client: &mut Client) -> Result<Ar
     })
 }
 
-fn packed(a: Address) -> u32 {
+pub(crate) fn packed(a: Address) -> u32 {
     PackedOperand::encode(Operand::Value(a)).0
 }
 
 /// A variable's value from the 4 bytes STATUS_VAR_READ returns from its first byte.
-fn value_of(a: &Address, bytes: [u8; 4]) -> u32 {
+pub(crate) fn value_of(a: &Address, bytes: [u8; 4]) -> u32 {
     let raw = u32::from_le_bytes(bytes);
     match a.width {
         Width::Bit => (raw >> a.bit) & 1,

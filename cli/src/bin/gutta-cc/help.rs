@@ -42,6 +42,7 @@ pub(crate) const COMMAND_GROUPS: &[(&str, Group)] = &[
     ("force", Group::Online),
     ("unforce", Group::Online),
     ("watch", Group::Online),
+    ("monitor", Group::Online),
     ("debug", Group::Online),
     ("dis", Group::Inspect),
     ("modbus", Group::Inspect),

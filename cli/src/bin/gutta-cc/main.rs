@@ -301,6 +301,31 @@ enum Command {
         #[command(flatten)]
         link: LinkArgs,
     },
+    /// Show a program's ladder live in the browser: energized contacts, coils and wires,
+    /// box values and forced operands, read from the PLC running it (docs/ladder.md,
+    /// "Live view"). The PLC is read only while a page is open.
+    #[command(
+        after_help = "Examples:\n  gutta-cc monitor main.lad --tcp 127.0.0.1:5020 --once          # one update as JSON\n  gutta-cc monitor main.lad --tcp 127.0.0.1:5020 --once | grep -q '\"live\":true'\n  gutta-cc monitor --tcp 192.168.1.10:502 --http 0.0.0.0:8080      # a project, for the LAN"
+    )]
+    Monitor {
+        /// A source file (.lad), or a project folder [default: the project around the
+        /// current directory].
+        #[arg(value_name = "SOURCE_OR_PROJECT")]
+        program: Option<PathBuf>,
+        /// Where the HTTP server listens (port 0: any free port; the address is printed
+        /// on stderr).
+        #[arg(long, value_name = "ADDR", default_value = "127.0.0.1:8080")]
+        http: String,
+        /// Milliseconds between updates while a page is open.
+        #[arg(long, value_name = "MS", default_value_t = 50)]
+        interval: u64,
+        /// Print one update (the `/state` JSON) and exit: 0 live, 1 the PLC runs another
+        /// program or does not answer.
+        #[arg(long)]
+        once: bool,
+        #[command(flatten)]
+        link: LinkArgs,
+    },
     /// List the stdlib PLC types.
     #[command(
         after_help = "Examples:\n  gutta-cc list-targets\n  gutta-cc list-targets | grep EC20"
@@ -379,6 +404,7 @@ mod client;
 mod debug;
 mod explain;
 mod login;
+mod monitor;
 mod project;
 mod test;
 mod vars;
@@ -437,7 +463,8 @@ impl Command {
             | Command::Unforce { link, .. }
             | Command::Debug { link, .. }
             | Command::Force { link, .. }
-            | Command::Watch { link, .. } => Some(link),
+            | Command::Watch { link, .. }
+            | Command::Monitor { link, .. } => Some(link),
             Command::New { .. }
             | Command::Build { .. }
             | Command::Test { .. }
@@ -596,6 +623,21 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
                 json: *json || online.json,
             };
             return watch::watch(&online, vars, &options, link);
+        }
+        Some(Command::Monitor {
+            program,
+            http,
+            interval,
+            once,
+            link,
+        }) => {
+            let options = monitor::Options {
+                program: program.clone(),
+                http: http.clone(),
+                interval_ms: *interval,
+                once: *once,
+            };
+            return monitor::monitor(&cli, &options, link);
         }
         Some(Command::Completions { shell }) => return completions::completions(*shell),
         Some(Command::Man { command, output }) => {

@@ -1,0 +1,319 @@
+//! `gutta-cc monitor [SOURCE_OR_PROJECT]`: the ladder page of a program, kept live from
+//! the PLC running it (docs/ladder.md, "Live view"). An HTTP server (axum) serves `/`
+//! (the page with `monitor.js` inline), `/state` (the latest update as JSON) and
+//! `/metrics` (the request counters, without waking the poller); a poller thread updates
+//! only while a page has fetched `/state` within the last second. The power flow is
+//! `gutta_ladder::live`'s, the PLC side `monitor/session.rs`'s; this file only wires
+//! them to HTTP and the command line.
+
+mod session;
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::atomic::Ordering;
+use std::sync::{Arc, Condvar, Mutex};
+use std::time::{Duration, Instant};
+
+use axum::http::header;
+use axum::response::IntoResponse;
+use axum::routing::get;
+use gutta_catalog::ValueFormat;
+use gutta_compiler::{compile_program, ProgramSources};
+use gutta_ladder::html::{ladder_html, HtmlOptions};
+use serde_json::json;
+
+use crate::vars::Var;
+use crate::{Cli, Fatal, LinkArgs};
+use session::{Program, Session};
+
+/// The page's script: fetch `/state`, set the classes and the values.
+const SCRIPT: &str = include_str!("monitor.js");
+
+/// A page that has not fetched `/state` for this long is gone: updates stop.
+const DEMAND: Duration = Duration::from_secs(1);
+
+/// A `/state` older than this waits for a fresh update (the first fetch after an idle
+/// spell), at most `FRESH_WAIT`.
+const FRESH: Duration = Duration::from_millis(500);
+const FRESH_WAIT: Duration = Duration::from_secs(3);
+
+pub(crate) struct Options {
+    pub program: Option<PathBuf>,
+    pub http: String,
+    pub interval_ms: u64,
+    pub once: bool,
+}
+
+/// What the server and the poller share.
+struct Shared {
+    state: Mutex<Latest>,
+    fresh: Condvar,
+}
+
+struct Latest {
+    /// The last update, and when it was made.
+    json: Option<(Instant, serde_json::Value)>,
+    /// When a page last fetched `/state`.
+    wanted: Option<Instant>,
+}
+
+impl Shared {
+    fn lock(&self) -> std::sync::MutexGuard<'_, Latest> {
+        self.state.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// `/state`: mark the demand, and answer an update younger than `FRESH` (waiting for
+    /// one if need be).
+    fn fetch(&self) -> serde_json::Value {
+        let mut latest = self.lock();
+        latest.wanted = Some(Instant::now());
+        let deadline = Instant::now() + FRESH_WAIT;
+        loop {
+            if let Some((at, json)) = &latest.json {
+                if at.elapsed() < FRESH || Instant::now() >= deadline {
+                    return json.clone();
+                }
+            } else if Instant::now() >= deadline {
+                return json!({"live": false, "message": "waiting for the PLC"});
+            }
+            let left = deadline.saturating_duration_since(Instant::now());
+            latest = self
+                .fresh
+                .wait_timeout(latest, left)
+                .unwrap_or_else(|e| e.into_inner())
+                .0;
+        }
+    }
+
+    fn wanted(&self) -> bool {
+        self.lock().wanted.is_some_and(|t| t.elapsed() < DEMAND)
+    }
+
+    fn publish(&self, json: serde_json::Value) {
+        self.lock().json = Some((Instant::now(), json));
+        self.fresh.notify_all();
+    }
+}
+
+pub(crate) fn monitor(cli: &Cli, options: &Options, link: &LinkArgs) -> Result<ExitCode, Fatal> {
+    let program = load(cli, options.program.as_deref())?;
+    let mut session = Session::start(&program, link)?;
+    if options.once {
+        let state = session.update(&program);
+        println!("{state}");
+        return Ok(if state["live"] == json!(true) {
+            ExitCode::SUCCESS
+        } else {
+            ExitCode::from(1)
+        });
+    }
+    let page = ladder_html(
+        &program.ladder,
+        &HtmlOptions {
+            title: format!("{}: live", program.name),
+            live_script: Some(SCRIPT.to_string()),
+        },
+    );
+    let shared = Arc::new(Shared {
+        state: Mutex::new(Latest {
+            json: None,
+            wanted: None,
+        }),
+        fresh: Condvar::new(),
+    });
+    let counters = session.counters.clone();
+    let interval = Duration::from_millis(options.interval_ms.max(1));
+    let plc = link
+        .tcp
+        .as_deref()
+        .or(link.rtu_tcp.as_deref())
+        .or(link.serial.as_deref())
+        .unwrap_or("the PLC")
+        .to_string();
+    let name = program.name.clone();
+    let http = options.http.clone();
+    // The link's transports are not Send: the session stays on this thread, the
+    // server gets its own, and its end (Ctrl-C, an error) ends the poller.
+    let (done, ended) = std::sync::mpsc::channel();
+    let server_shared = shared.clone();
+    std::thread::spawn(move || {
+        let _ = done.send(serve(&http, page, server_shared, counters, &name, &plc));
+    });
+    loop {
+        if let Ok(result) = ended.try_recv() {
+            return result.map(|()| ExitCode::SUCCESS);
+        }
+        if !shared.wanted() {
+            std::thread::sleep(Duration::from_millis(10));
+            continue;
+        }
+        let next = Instant::now() + interval;
+        let state = session.update(&program);
+        shared.publish(state);
+        std::thread::sleep(next.saturating_duration_since(Instant::now()));
+    }
+}
+
+/// The HTTP server until Ctrl-C.
+fn serve(
+    http: &str,
+    page: String,
+    shared: Arc<Shared>,
+    counters: Arc<session::Counters>,
+    name: &str,
+    plc: &str,
+) -> Result<(), Fatal> {
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .map_err(|e| Fatal::io(format!("cannot start the HTTP server: {e}")))?;
+    runtime.block_on(async move {
+        let listener = tokio::net::TcpListener::bind(http)
+            .await
+            .map_err(|e| Fatal::io(format!("--http {http}: {e}")))?;
+        let at = listener
+            .local_addr()
+            .map_err(|e| Fatal::io(format!("--http {http}: {e}")))?;
+        eprintln!("gutta-cc monitor: http://{at}/ shows {name} live from {plc} (Ctrl-C ends)");
+        let page = Arc::new(page);
+        let state = shared.clone();
+        let app = axum::Router::new()
+            .route(
+                "/",
+                get(move || {
+                    let page = page.clone();
+                    async move { ([(header::CONTENT_TYPE, "text/html; charset=utf-8")], page.to_string()) }
+                }),
+            )
+            .route(
+                "/state",
+                get(move || {
+                    let state = state.clone();
+                    async move {
+                        let json = tokio::task::spawn_blocking(move || state.fetch())
+                            .await
+                            .unwrap_or_else(|e| json!({"live": false, "message": e.to_string()}));
+                        json_response(&json)
+                    }
+                }),
+            )
+            .route(
+                "/metrics",
+                get(move || {
+                    let c = counters.clone();
+                    async move {
+                        json_response(&json!({
+                            "updates": c.updates.load(Ordering::Relaxed),
+                            "var_reads": c.var_reads.load(Ordering::Relaxed),
+                            "plc_requests": c.requests.load(Ordering::Relaxed),
+                        }))
+                    }
+                }),
+            );
+        axum::serve(listener, app)
+            .with_graceful_shutdown(async {
+                let _ = tokio::signal::ctrl_c().await;
+            })
+            .await
+            .map_err(|e| Fatal::io(format!("HTTP server: {e}")))
+    })
+}
+
+fn json_response(value: &serde_json::Value) -> impl IntoResponse {
+    (
+        [
+            (header::CONTENT_TYPE, "application/json"),
+            (header::CACHE_CONTROL, "no-store"),
+        ],
+        value.to_string(),
+    )
+}
+
+/// The program to show: a source file (with the `--symbols` tables), a project folder,
+/// or the project around the current directory; compiled, it must have no errors.
+fn load(cli: &Cli, given: Option<&Path>) -> Result<Program, Fatal> {
+    let (name, files, tables, scale) = match given {
+        Some(path) if path.is_file() => {
+            let tables: Vec<PathBuf> = cli
+                .symbols
+                .iter()
+                .filter(|p| !p.extension().is_some_and(|x| x.eq_ignore_ascii_case("lad")))
+                .cloned()
+                .collect();
+            (path.display().to_string(), vec![path.to_path_buf()], tables, cli.scale_timer_presets)
+        }
+        Some(dir) => {
+            let project = gutta_io::Project::find(dir)
+                .map_err(Fatal::usage)?
+                .ok_or_else(|| {
+                    Fatal::usage(format!(
+                        "{} is neither a source file nor inside a project ({})",
+                        dir.display(),
+                        gutta_io::MANIFEST
+                    ))
+                })?;
+            project_program(&project, cli)
+        }
+        None => {
+            let project = crate::project::required(cli.project.as_ref(), "monitor")?;
+            project_program(&project, cli)
+        }
+    };
+    let mut sources = ProgramSources::default();
+    for f in &files {
+        sources.sources.push(crate::read_source(f, false)?);
+    }
+    for t in &tables {
+        sources.symbol_tables.push(crate::read_source(t, true)?);
+    }
+    sources.options.scale_timer_presets = scale;
+    let explicit = crate::explicit_target(&cli.target)?;
+    let compiled = compile_program(sources, explicit.as_ref());
+    let Some(image) = compiled.image.clone() else {
+        let errors = compiled.checked.diagnostics().iter().filter(|d| d.is_error()).count();
+        return Err(Fatal::program(format!(
+            "{name} has {errors} error(s): `gutta-cc --check {name}` shows them; the monitor needs the compiled image"
+        )));
+    };
+    let checked = &compiled.checked;
+    let ladder = gutta_ladder::build(checked);
+    let symbols = checked.symbols();
+    let target = checked.target.clone();
+    let vars = gutta_ladder::live::operands(&ladder, &target, &symbols)
+        .into_iter()
+        .filter_map(|canonical| {
+            let address = target.memory.parse_address(&canonical).ok()?;
+            let format = symbols
+                .for_address(&canonical)
+                .map_or(ValueFormat::default_for(address.width), |s| s.format(address.width));
+            Some(Var {
+                symbol: symbols.for_address(&canonical).map(|s| s.name.clone()),
+                address,
+                canonical,
+                format,
+            })
+        })
+        .collect();
+    Ok(Program {
+        name,
+        ladder,
+        target,
+        symbols,
+        image,
+        vars,
+    })
+}
+
+fn project_program(project: &gutta_io::Project, cli: &Cli) -> (String, Vec<PathBuf>, Vec<PathBuf>, bool) {
+    let name = project
+        .root
+        .file_name()
+        .map_or_else(|| project.root.display().to_string(), |n| n.to_string_lossy().into_owned());
+    (
+        name,
+        project.sources.clone(),
+        project.symbols.clone(),
+        project.scale_timer_presets || cli.scale_timer_presets,
+    )
+}

@@ -1,0 +1,274 @@
+//! The PLC side of `gutta-cc monitor`: the connection (logged in once, re-made after a
+//! failure), the program check (the uploaded pages against the compiled image), and one
+//! update: a single batched STATUS_VAR_READ of every drawn operand, with the RUN state
+//! and the force values now and then, turned into the `/state` JSON. It knows no HTTP;
+//! `monitor.rs` decides when an update is wanted.
+
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
+
+use gutta_catalog::Target;
+use gutta_format::{Image, SymbolTable};
+use gutta_ladder::live::{rung_power, Snapshot};
+use gutta_ladder::model::{Body, Ladder};
+use gutta_link::{Client, LinkError, Transport};
+use serde_json::json;
+
+use crate::client;
+use crate::vars::Var;
+use crate::LinkArgs;
+
+/// Every update reads the RUN state and the force values again after this many updates
+/// (and on the first): at 20 updates a second, twice a second.
+const SLOW_EVERY: u64 = 10;
+
+/// Counts every request sent to the PLC (the figure `/state` and the bench report).
+#[derive(Debug)]
+struct Counted {
+    inner: Box<dyn Transport>,
+    requests: Arc<AtomicU64>,
+}
+
+impl Transport for Counted {
+    fn exchange(&mut self, station: u8, pdu: &[u8]) -> Result<Vec<u8>, LinkError> {
+        self.requests.fetch_add(1, Ordering::Relaxed);
+        self.inner.exchange(station, pdu)
+    }
+
+    fn set_line(&mut self, line: gutta_format::LineSettings) -> Result<(), LinkError> {
+        self.inner.set_line(line)
+    }
+}
+
+/// What the monitor shows, fixed at start: the program and its operands.
+pub(crate) struct Program {
+    /// The source as named on the command line (or the project's name).
+    pub name: String,
+    pub ladder: Ladder,
+    pub target: Arc<Target>,
+    pub symbols: SymbolTable,
+    pub image: Image,
+    /// Every drawn operand, in the order of the one STATUS_VAR_READ.
+    pub vars: Vec<Var>,
+}
+
+/// Counters reported in `/state` (and read by the tests and the bench).
+#[derive(Debug, Default)]
+pub(crate) struct Counters {
+    /// Every request sent to the PLC, login and upload included.
+    pub requests: Arc<AtomicU64>,
+    /// STATUS_VAR_READ requests.
+    pub var_reads: AtomicU64,
+    /// Updates made (each one batched read).
+    pub updates: AtomicU64,
+}
+
+/// The PLC connection and what the last slow read found.
+pub(crate) struct Session {
+    link: LinkArgs,
+    password: [u8; 16],
+    client: Option<Client>,
+    /// Whether the PLC's pages are the compiled image's (checked on every connection).
+    matches: bool,
+    run: Option<bool>,
+    forced: Vec<String>,
+    pub counters: Arc<Counters>,
+}
+
+impl Session {
+    /// Log in now (the prompt, if any, comes before the server starts) and check the
+    /// program.
+    pub fn start(program: &Program, link: &LinkArgs) -> Result<Session, crate::Fatal> {
+        let counters = Arc::new(Counters::default());
+        let mut client = Client::new(
+            Box::new(Counted {
+                inner: client::transport(link)?,
+                requests: counters.requests.clone(),
+            }),
+            link.station,
+        );
+        let password = crate::login::log_in(&mut client, link)?;
+        let mut session = Session {
+            link: link.clone(),
+            password,
+            client: None,
+            matches: false,
+            run: None,
+            forced: Vec::new(),
+            counters,
+        };
+        session.matches = session
+            .check(&mut client, program)
+            .map_err(client::link_error)?;
+        session.client = Some(client);
+        Ok(session)
+    }
+
+    /// Whether the PLC holds exactly the compiled image (a PLC without a program does
+    /// not).
+    fn check(&self, client: &mut Client, program: &Program) -> Result<bool, LinkError> {
+        let pack = program.target.plc.exch_pack_size as usize;
+        if client
+            .page_list(gutta_protocol::function::PageArea::Program)?
+            .is_empty()
+        {
+            return Ok(false);
+        }
+        let uploaded = gutta_link::upload(client, &self.password, pack)?;
+        Ok(uploaded == program.image)
+    }
+
+    /// A new connection after a failure: log in with the password that worked, check
+    /// the program again (it may have been downloaded meanwhile).
+    fn reconnect(&mut self, program: &Program) -> Result<(), LinkError> {
+        let transport = client::transport(&self.link).map_err(|e| LinkError::Io(e.message))?;
+        let mut client = Client::new(
+            Box::new(Counted {
+                inner: transport,
+                requests: self.counters.requests.clone(),
+            }),
+            self.link.station,
+        );
+        client.attach(&self.password)?;
+        self.matches = self.check(&mut client, program)?;
+        self.client = Some(client);
+        Ok(())
+    }
+
+    /// One update: the `/state` object. A failure drops the connection (the next update
+    /// connects again) and is the state's error.
+    pub fn update(&mut self, program: &Program) -> serde_json::Value {
+        let started = Instant::now();
+        match self.read(program) {
+            Ok(Some(values)) => self.live_state(program, &values, started),
+            Ok(None) => self.state(
+                program,
+                format!(
+                    "the PLC runs another program than {}: download it, then reload",
+                    program.name
+                ),
+            ),
+            Err(e) => {
+                self.client = None;
+                self.state(program, format!("the PLC does not answer: {e}"))
+            }
+        }
+    }
+
+    /// The values by canonical address, or None when the PLC runs another program.
+    fn read(&mut self, program: &Program) -> Result<Option<BTreeMap<String, u32>>, LinkError> {
+        if self.client.is_none() {
+            self.reconnect(program)?;
+        }
+        if !self.matches {
+            return Ok(None);
+        }
+        let client = self.client.as_mut().expect("connected above");
+        let n = self.counters.updates.load(Ordering::Relaxed);
+        if n % SLOW_EVERY == 0 {
+            self.run = Some(client.status()? & 1 != 0);
+            self.forced = forced(client, program)?;
+        }
+        let per_request = (program.target.plc.exch_pack_size as usize / 4).max(1);
+        self.counters.var_reads.fetch_add(
+            program.vars.len().div_ceil(per_request) as u64,
+            Ordering::Relaxed,
+        );
+        let raw = client::read_values(client, &program.target, &program.vars)?;
+        self.counters.updates.fetch_add(1, Ordering::Relaxed);
+        Ok(Some(
+            program
+                .vars
+                .iter()
+                .zip(raw)
+                .map(|(v, r)| (v.canonical.clone(), r))
+                .collect(),
+        ))
+    }
+
+    /// The state with values: every drawn network's energized elements, every operand's
+    /// value in its format, the forced operands.
+    fn live_state(
+        &self,
+        program: &Program,
+        values: &BTreeMap<String, u32>,
+        started: Instant,
+    ) -> serde_json::Value {
+        let snapshot = Snapshot {
+            target: &program.target,
+            symbols: &program.symbols,
+            values,
+        };
+        let mut networks = Vec::new();
+        for block in &program.ladder.blocks {
+            for network in &block.networks {
+                if let Body::Rung(rung) = &network.body {
+                    let power = rung_power(rung, &snapshot);
+                    networks.push(json!({
+                        "block": block.name,
+                        "network": network.number,
+                        "on": power.energized,
+                    }));
+                }
+            }
+        }
+        let shown: BTreeMap<&str, String> = program
+            .vars
+            .iter()
+            .map(|v| (v.canonical.as_str(), v.show(values[&v.canonical])))
+            .collect();
+        let mut state = self.state(program, String::new());
+        state["live"] = json!(true);
+        state["networks"] = json!(networks);
+        state["values"] = json!(shown);
+        state["forced"] = json!(self.forced);
+        state["read_ms"] = json!(started.elapsed().as_secs_f64() * 1000.0);
+        state
+    }
+
+    /// The state without values: `message` says why.
+    fn state(&self, program: &Program, message: String) -> serde_json::Value {
+        json!({
+            "source": program.name,
+            "live": false,
+            "message": message,
+            "program_matches": self.matches,
+            "run": self.run,
+            "networks": [],
+            "values": {},
+            "forced": [],
+            "updates": self.counters.updates.load(Ordering::Relaxed),
+            "var_reads": self.counters.var_reads.load(Ordering::Relaxed),
+            "plc_requests": self.counters.requests.load(Ordering::Relaxed),
+        })
+    }
+}
+
+/// The I and Q operands whose force value is set (STATUS_VAR_FORCE_READ returns the force
+/// value image, not the mask: a bit forced to 0 does not show; docs/ladder.md).
+fn forced(client: &mut Client, program: &Program) -> Result<Vec<String>, LinkError> {
+    let memory = &program.target.memory;
+    let forceable: Vec<&Var> = program
+        .vars
+        .iter()
+        .filter(|v| {
+            memory
+                .area_by_slot(v.address.slot)
+                .is_some_and(|a| matches!(a.name.as_str(), "I" | "Q"))
+        })
+        .collect();
+    let per_request = (program.target.plc.exch_pack_size as usize / 4).max(1);
+    let mut out = Vec::new();
+    for chunk in forceable.chunks(per_request) {
+        let packed: Vec<u32> = chunk.iter().map(|v| client::packed(v.address)).collect();
+        let bytes = client.read_forces(&packed)?;
+        for (v, b) in chunk.iter().zip(bytes) {
+            if client::value_of(&v.address, b) != 0 {
+                out.push(v.canonical.clone());
+            }
+        }
+    }
+    Ok(out)
+}
