@@ -158,7 +158,11 @@ fn the_plc_is_read_only_while_a_page_fetches() {
     std::thread::sleep(Duration::from_millis(1000));
     let idle = var_reads(&monitor);
     std::thread::sleep(Duration::from_millis(1000));
-    assert_eq!(var_reads(&monitor), idle, "the PLC was read with no page open");
+    assert_eq!(
+        var_reads(&monitor),
+        idle,
+        "the PLC was read with no page open"
+    );
     // Each update is one STATUS_VAR_READ: the reads count the updates.
     let metrics = json(&monitor, "/metrics");
     assert_eq!(metrics["var_reads"], metrics["updates"], "{metrics}");
@@ -183,7 +187,11 @@ fn forced_inputs_are_reported() {
     cc_ok(&["write", "I0.0=1", "--tcp", &sim.1]);
     std::thread::sleep(Duration::from_millis(300));
     let state = json(&monitor, "/state");
-    assert_eq!(state["networks"][0]["on"], serde_json::json!([0]), "{state}");
+    assert_eq!(
+        state["networks"][0]["on"],
+        serde_json::json!([0]),
+        "{state}"
+    );
 }
 
 #[test]
@@ -211,7 +219,11 @@ fn another_program_in_the_plc_is_said_instead_of_values() {
         "--once",
     ]);
     assert_eq!(once.status.code(), Some(1), "{}", stderr(&once));
-    assert!(stdout(&once).contains("runs another program"), "{}", stdout(&once));
+    assert!(
+        stdout(&once).contains("runs another program"),
+        "{}",
+        stdout(&once)
+    );
 }
 
 #[test]
@@ -229,6 +241,10 @@ fn once_prints_one_live_update() {
     assert_eq!(state["live"], true, "{state}");
     // Network 1 without I0.0: the NC contact I0.1 would pass, but no power reaches it.
     assert_eq!(state["networks"][0]["on"], serde_json::json!([]), "{state}");
-    assert_eq!(state["networks"][1]["on"], serde_json::json!([0, 1]), "{state}");
+    assert_eq!(
+        state["networks"][1]["on"],
+        serde_json::json!([0, 1]),
+        "{state}"
+    );
     assert_eq!(state["updates"], 1, "{state}");
 }

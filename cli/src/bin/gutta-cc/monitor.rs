@@ -6,6 +6,7 @@
 //! `gutta_ladder::live`'s, the PLC side `monitor/session.rs`'s; this file only wires
 //! them to HTTP and the command line.
 
+mod plan;
 mod session;
 
 use std::path::{Path, PathBuf};
@@ -183,7 +184,12 @@ fn serve(
                 "/",
                 get(move || {
                     let page = page.clone();
-                    async move { ([(header::CONTENT_TYPE, "text/html; charset=utf-8")], page.to_string()) }
+                    async move {
+                        (
+                            [(header::CONTENT_TYPE, "text/html; charset=utf-8")],
+                            page.to_string(),
+                        )
+                    }
                 }),
             )
             .route(
@@ -241,7 +247,12 @@ fn load(cli: &Cli, given: Option<&Path>) -> Result<Program, Fatal> {
                 .filter(|p| !p.extension().is_some_and(|x| x.eq_ignore_ascii_case("lad")))
                 .cloned()
                 .collect();
-            (path.display().to_string(), vec![path.to_path_buf()], tables, cli.scale_timer_presets)
+            (
+                path.display().to_string(),
+                vec![path.to_path_buf()],
+                tables,
+                cli.scale_timer_presets,
+            )
         }
         Some(dir) => {
             let project = gutta_io::Project::find(dir)
@@ -271,7 +282,12 @@ fn load(cli: &Cli, given: Option<&Path>) -> Result<Program, Fatal> {
     let explicit = crate::explicit_target(&cli.target)?;
     let compiled = compile_program(sources, explicit.as_ref());
     let Some(image) = compiled.image.clone() else {
-        let errors = compiled.checked.diagnostics().iter().filter(|d| d.is_error()).count();
+        let errors = compiled
+            .checked
+            .diagnostics()
+            .iter()
+            .filter(|d| d.is_error())
+            .count();
         return Err(Fatal::program(format!(
             "{name} has {errors} error(s): `gutta-cc --check {name}` shows them; the monitor needs the compiled image"
         )));
@@ -280,13 +296,15 @@ fn load(cli: &Cli, given: Option<&Path>) -> Result<Program, Fatal> {
     let ladder = gutta_ladder::build(checked);
     let symbols = checked.symbols();
     let target = checked.target.clone();
-    let vars = gutta_ladder::live::operands(&ladder, &target, &symbols)
+    let vars: Vec<Var> = gutta_ladder::live::operands(&ladder, &target, &symbols)
         .into_iter()
         .filter_map(|canonical| {
             let address = target.memory.parse_address(&canonical).ok()?;
             let format = symbols
                 .for_address(&canonical)
-                .map_or(ValueFormat::default_for(address.width), |s| s.format(address.width));
+                .map_or(ValueFormat::default_for(address.width), |s| {
+                    s.format(address.width)
+                });
             Some(Var {
                 symbol: symbols.for_address(&canonical).map(|s| s.name.clone()),
                 address,
@@ -295,7 +313,9 @@ fn load(cli: &Cli, given: Option<&Path>) -> Result<Program, Fatal> {
             })
         })
         .collect();
+    let addresses: Vec<_> = vars.iter().map(|v: &Var| v.address).collect();
     Ok(Program {
+        plan: plan::ReadPlan::new(&addresses),
         name,
         ladder,
         target,
@@ -305,11 +325,14 @@ fn load(cli: &Cli, given: Option<&Path>) -> Result<Program, Fatal> {
     })
 }
 
-fn project_program(project: &gutta_io::Project, cli: &Cli) -> (String, Vec<PathBuf>, Vec<PathBuf>, bool) {
-    let name = project
-        .root
-        .file_name()
-        .map_or_else(|| project.root.display().to_string(), |n| n.to_string_lossy().into_owned());
+fn project_program(
+    project: &gutta_io::Project,
+    cli: &Cli,
+) -> (String, Vec<PathBuf>, Vec<PathBuf>, bool) {
+    let name = project.root.file_name().map_or_else(
+        || project.root.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
     (
         name,
         project.sources.clone(),

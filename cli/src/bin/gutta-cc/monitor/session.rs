@@ -16,6 +16,7 @@ use gutta_ladder::model::{Body, Ladder};
 use gutta_link::{Client, LinkError, Transport};
 use serde_json::json;
 
+use super::plan::ReadPlan;
 use crate::client;
 use crate::vars::Var;
 use crate::LinkArgs;
@@ -50,8 +51,10 @@ pub(crate) struct Program {
     pub target: Arc<Target>,
     pub symbols: SymbolTable,
     pub image: Image,
-    /// Every drawn operand, in the order of the one STATUS_VAR_READ.
+    /// Every drawn operand.
     pub vars: Vec<Var>,
+    /// How one STATUS_VAR_READ reads them all.
+    pub plan: ReadPlan,
 }
 
 /// Counters reported in `/state` (and read by the tests and the bench).
@@ -172,11 +175,13 @@ impl Session {
             self.forced = forced(client, program)?;
         }
         let per_request = (program.target.plc.exch_pack_size as usize / 4).max(1);
-        self.counters.var_reads.fetch_add(
-            program.vars.len().div_ceil(per_request) as u64,
-            Ordering::Relaxed,
-        );
-        let raw = client::read_values(client, &program.target, &program.vars)?;
+        let mut windows = Vec::with_capacity(program.plan.windows.len());
+        for chunk in program.plan.windows.chunks(per_request) {
+            let packed: Vec<u32> = chunk.iter().map(|a| client::packed(*a)).collect();
+            self.counters.var_reads.fetch_add(1, Ordering::Relaxed);
+            windows.extend(client.read_vars(&packed)?);
+        }
+        let raw = program.plan.values(&windows);
         self.counters.updates.fetch_add(1, Ordering::Relaxed);
         Ok(Some(
             program
