@@ -38,7 +38,9 @@ nav ul{list-style:none;padding:0}nav li{display:inline-block;margin-right:12px}\
 /// The page: a heading, an index of blocks, then each block's networks, each network an
 /// inline `<svg>` inside a horizontally scrolling `<div class="network-view">`.
 pub fn ladder_html(ladder: &Ladder, options: &HtmlOptions) -> String {
-    let mut out = String::new();
+    let networks: usize = ladder.blocks.iter().map(|b| b.networks.len()).sum();
+    let mut out = String::with_capacity(networks * 8192);
+    let mut drawn = String::new();
     let title = escape(&options.title);
     let _ = write!(
         out,
@@ -63,16 +65,14 @@ pub fn ladder_html(ladder: &Ladder, options: &HtmlOptions) -> String {
             escape(&block_heading(block))
         );
         for net in &block.networks {
-            let drawn = draw_network(block, net, 0);
-            let _ = write!(
+            drawn.clear();
+            let (w, h) = draw_network(&mut drawn, block, net, 0);
+            let _ = writeln!(
                 out,
                 "<div class=\"network-view\" id=\"block-{i}-network-{}\">\
                  <svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" \
-                 viewBox=\"0 0 {w} {h}\">{}</svg></div>\n",
-                net.number,
-                drawn.svg,
-                w = drawn.width,
-                h = drawn.height
+                 viewBox=\"0 0 {w} {h}\">{}</svg></div>",
+                net.number, drawn,
             );
         }
         out.push_str("</section>\n");

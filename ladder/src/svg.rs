@@ -35,91 +35,83 @@ text{font-family:monospace;font-size:11px;fill:#222}\
 /// XML-escape text for element content and attribute values.
 pub fn escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c => out.push(c),
-        }
-    }
+    escape_into(&mut out, text);
     out
 }
 
-/// A drawn network: its `<g class="network">` and its size.
-#[derive(Debug, Clone)]
-pub struct DrawnNetwork {
-    pub svg: String,
-    pub width: i32,
-    pub height: i32,
+/// XML-escape `text` onto the end of `out`.
+pub fn escape_into(out: &mut String, text: &str) {
+    let mut rest = text;
+    while let Some(at) = rest.find(['&', '<', '>', '"', '\'']) {
+        out.push_str(&rest[..at]);
+        out.push_str(match rest.as_bytes()[at] {
+            b'&' => "&amp;",
+            b'<' => "&lt;",
+            b'>' => "&gt;",
+            b'"' => "&quot;",
+            _ => "&apos;",
+        });
+        rest = &rest[at + 1..];
+    }
+    out.push_str(rest);
 }
 
 /// One network as a `<g class="network">` (or `class="network stl"`) at the origin.
 pub fn network_svg(block: &Block, net: &Network) -> String {
-    draw_network(block, net, 0).svg
+    let mut out = String::new();
+    draw_network(&mut out, block, net, 0);
+    out
 }
 
-/// One network as a group translated down by `y`, with its size.
-pub fn draw_network(block: &Block, net: &Network, y: i32) -> DrawnNetwork {
-    let mut out = String::new();
-    let transform = if y == 0 {
-        String::new()
-    } else {
-        format!(" transform=\"translate(0,{y})\"")
-    };
-    let ids = format!(
-        "data-block=\"{}\" data-network=\"{}\"",
-        escape(&block.name),
-        net.number
-    );
-    match (&net.body, layout_network(net)) {
+/// Append one network's group, translated down by `y`, to `out`; returns the drawing's
+/// (width, height).
+pub fn draw_network(out: &mut String, block: &Block, net: &Network, y: i32) -> (i32, i32) {
+    let _ = write!(out, "<g class=\"network");
+    if let Body::Stl { .. } = net.body {
+        out.push_str(" stl");
+    }
+    out.push_str("\" data-block=\"");
+    escape_into(out, &block.name);
+    let _ = write!(out, "\" data-network=\"{}\"", net.number);
+    if let Body::Stl { reason } = &net.body {
+        out.push_str(" data-reason=\"");
+        escape_into(out, reason);
+        out.push('"');
+    }
+    if y != 0 {
+        let _ = write!(out, " transform=\"translate(0,{y})\"");
+    }
+    out.push('>');
+    header(out, net);
+    let title_w = text_width(&title_line(net)) + 2 * RAIL_X;
+    let size = match (&net.body, layout_network(net)) {
         (_, Some(layout)) => {
-            let _ = write!(out, "<g class=\"network\" {ids}{transform}>");
-            header(&mut out, net);
-            rung(&mut out, &layout);
-            out.push_str("</g>");
-            let width = layout.width.max(text_width(&title_line(net)) + 2 * RAIL_X);
-            DrawnNetwork {
-                svg: out,
-                width,
-                height: layout.height,
-            }
+            rung(out, &layout);
+            (layout.width.max(title_w), layout.height)
         }
         (Body::Stl { reason }, None) => {
-            let _ = write!(
-                out,
-                "<g class=\"network stl\" {ids} data-reason=\"{}\"{transform}>",
-                escape(reason)
-            );
-            header(&mut out, net);
             let mut ty = header_height(net) + LINE_H - 4;
             let reason_line = format!("shown as STL: {reason}");
-            text(&mut out, "reason", RAIL_X, ty, "start", &reason_line);
+            text(out, "reason", RAIL_X, ty, "start", &reason_line);
             let mut width = text_width(&reason_line);
             for line in &net.stl {
                 ty += LINE_H;
-                text(&mut out, "stl", RAIL_X + 8, ty, "start", line);
+                text(out, "stl", RAIL_X + 8, ty, "start", line);
                 width = width.max(text_width(line) + 8);
             }
-            out.push_str("</g>");
-            DrawnNetwork {
-                svg: out,
-                width: width
-                    .max(text_width(&title_line(net)))
-                    .saturating_add(2 * RAIL_X),
-                height: ty + MARGIN,
-            }
+            ((width + 2 * RAIL_X).max(title_w), ty + MARGIN)
         }
         (Body::Rung(_), None) => unreachable!("layout_network lays out every rung"),
-    }
+    };
+    out.push_str("</g>");
+    size
 }
 
 /// A whole ladder as a standalone SVG document: blocks in order, each with its heading,
 /// its networks stacked under it.
 pub fn ladder_svg(ladder: &Ladder) -> String {
-    let mut body = String::new();
+    let networks: usize = ladder.blocks.iter().map(|b| b.networks.len()).sum();
+    let mut body = String::with_capacity(networks * 8192);
     let mut y = 0;
     let mut width = 200;
     for block in &ladder.blocks {
@@ -134,20 +126,24 @@ pub fn ladder_svg(ladder: &Ladder) -> String {
         );
         width = width.max(text_width(&block_heading(block)) * 3 / 2 + 2 * RAIL_X);
         for net in &block.networks {
-            let drawn = draw_network(block, net, y);
-            body.push_str(&drawn.svg);
+            let (w, h) = draw_network(&mut body, block, net, y);
             body.push('\n');
-            y += drawn.height + NETWORK_GAP;
-            width = width.max(drawn.width);
+            y += h + NETWORK_GAP;
+            width = width.max(w);
         }
     }
     let height = y + MARGIN;
-    format!(
+    let mut out = String::with_capacity(body.len() + STYLE.len() + 512);
+    let _ = write!(
+        out,
         "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" \
          class=\"ladder\" data-plc=\"{}\" width=\"{width}\" height=\"{height}\" \
-         viewBox=\"0 0 {width} {height}\">\n<style>{STYLE}</style>\n{body}</svg>\n",
+         viewBox=\"0 0 {width} {height}\">\n<style>{STYLE}</style>\n",
         escape(&ladder.plc)
-    )
+    );
+    out.push_str(&body);
+    out.push_str("</svg>\n");
+    out
 }
 
 fn title_line(net: &Network) -> String {
@@ -181,9 +177,10 @@ fn header(out: &mut String, net: &Network) {
 fn text(out: &mut String, class: &str, x: i32, y: i32, anchor: &str, content: &str) {
     let _ = write!(
         out,
-        "<text class=\"{class}\" x=\"{x}\" y=\"{y}\" text-anchor=\"{anchor}\">{}</text>",
-        escape(content)
+        "<text class=\"{class}\" x=\"{x}\" y=\"{y}\" text-anchor=\"{anchor}\">"
     );
+    escape_into(out, content);
+    out.push_str("</text>");
 }
 
 fn rung(out: &mut String, layout: &NetworkLayout<'_>) {

@@ -427,13 +427,13 @@ fn parse_xml(text: &str) -> (Vec<Element>, String) {
     let mut content = String::new();
     let mut open: Vec<String> = Vec::new();
     let element = |e: &quick_xml::events::BytesStart<'_>| Element {
-        name: String::from_utf8(e.name().as_ref().to_vec()).unwrap(),
+        name: String::from_utf8(e.name().as_ref().to_vec()).expect("a UTF-8 name"),
         attrs: e
             .attributes()
             .map(|a| {
                 let a = a.expect("well-formed attribute");
                 (
-                    String::from_utf8(a.key.as_ref().to_vec()).unwrap(),
+                    String::from_utf8(a.key.as_ref().to_vec()).expect("a UTF-8 key"),
                     a.unescape_value().expect("attribute escapes").into_owned(),
                 )
             })
@@ -449,7 +449,7 @@ fn parse_xml(text: &str) -> (Vec<Element>, String) {
             }
             Ok(Event::Empty(e)) => elements.push(element(&e)),
             Ok(Event::End(e)) => {
-                let name = String::from_utf8(e.name().as_ref().to_vec()).unwrap();
+                let name = String::from_utf8(e.name().as_ref().to_vec()).expect("a UTF-8 name");
                 assert_eq!(open.pop().as_deref(), Some(name.as_str()), "end tag");
             }
             Ok(Event::Text(t)) => content.push_str(&t.decode().expect("text decodes")),
