@@ -83,7 +83,9 @@ pub fn draw_network(out: &mut String, block: &Block, net: &Network, y: i32) -> (
     }
     out.push('>');
     header(out, net);
-    let title_w = text_width(&title_line(net)) + 2 * RAIL_X;
+    // The title is 13 px bold against the 11 px the text widths count: 13/11 wider,
+    // rounded up, so a long title is never clipped by the network's width.
+    let title_w = (text_width(&title_line(net)) * 13 + 10) / 11 + 2 * RAIL_X;
     let size = match (&net.body, layout_network(net)) {
         (_, Some(layout)) => {
             rung(out, &layout);
