@@ -266,5 +266,43 @@ fn bench_draw(c: &mut Criterion) {
     });
 }
 
-criterion_group!(benches, bench_draw);
+/// The generated program of the front end's scaling benchmark
+/// (`compiler/benches/scale_program`), cut to its first networks by size: checked once,
+/// then built into the model and drawn to SVG, both timed (`build_and_draw_program`).
+#[path = "../../compiler/benches/scale_program/mod.rs"]
+#[allow(
+    dead_code,
+    reason = "the generator also serves the compiler's benchmark"
+)]
+mod scale_program;
+
+fn bench_build_and_draw(c: &mut Criterion) {
+    let target = scale_program::bench_target();
+    // About 8 lines a network, with subroutines, an interrupt routine, data and system
+    // blocks around: 10,000 lines hold more than 1,000 networks.
+    let text = scale_program::generate(10_000);
+    let checked = gutta_compiler::check_source(
+        gutta_compiler::source::SourceFile::new("scale.lad", text),
+        Some(&target),
+    );
+    assert!(!checked.has_errors(), "the generated program checks clean");
+    let ladder = gutta_ladder::build(&checked);
+    let networks: usize = ladder.blocks.iter().map(|b| b.networks.len()).sum();
+    let drawn = ladder
+        .blocks
+        .iter()
+        .flat_map(|b| &b.networks)
+        .filter(|n| matches!(n.body, Body::Rung(_)))
+        .count();
+    assert!(networks >= 1_000, "{networks} networks");
+    println!("build_and_draw_program: {networks} networks, {drawn} drawn as ladder");
+    c.bench_function("build_and_draw_program", |b| {
+        b.iter(|| {
+            let ladder = gutta_ladder::build(black_box(&checked));
+            black_box(ladder_svg(&ladder))
+        })
+    });
+}
+
+criterion_group!(benches, bench_draw, bench_build_and_draw);
 criterion_main!(benches);
