@@ -7,6 +7,8 @@
 //! stopped measuring what it says fails. `cargo bench -p gutta-ladder --bench draw`
 //! measures; `cargo test --benches` runs each once.
 
+#![allow(clippy::disallowed_macros, reason = "a bench prints what it measured")]
+
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
