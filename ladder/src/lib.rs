@@ -1,10 +1,15 @@
 //! Ladder diagrams of GUTTA programs (docs/ladder.md): `model.rs` (the rung model),
 //! `build.rs` (a checked program's networks into rungs, or the reason one is not a
-//! rung), `svg.rs` (layout and SVG), `html.rs` (the self-contained page). No I/O:
-//! `gutta-cc ladder` reads the program and writes the file.
+//! rung), `layout.rs` (where each element and wire goes), `svg.rs` (the SVG), `html.rs`
+//! (the self-contained page), `live.rs` (the live view's power flow from a snapshot of
+//! the operands). No I/O: `gutta-cc ladder` reads the program and writes the file;
+//! `gutta-cc monitor` reads the PLC.
 
 pub mod build;
+pub mod html;
+pub mod layout;
 pub mod live;
 pub mod model;
+pub mod svg;
 
 pub use build::build;

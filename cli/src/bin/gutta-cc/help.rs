@@ -45,6 +45,7 @@ pub(crate) const COMMAND_GROUPS: &[(&str, Group)] = &[
     ("monitor", Group::Online),
     ("debug", Group::Online),
     ("dis", Group::Inspect),
+    ("ladder", Group::Inspect),
     ("modbus", Group::Inspect),
     ("explain", Group::Inspect),
     ("list-targets", Group::Inspect),

@@ -131,6 +131,20 @@ enum Command {
         #[arg(long, value_name = "N")]
         jobs: Option<usize>,
     },
+    /// Draw a program's networks as ladder diagrams (LAD) into an .svg (every network) or a
+    /// self-contained .html page (docs/ladder.md); a network that is not one rung is shown
+    /// as STL with the reason.
+    #[command(
+        after_help = "Examples:\n  gutta-cc ladder main.lad -o main.svg\n  gutta-cc ladder main.lad -o main.html          # open it in a browser\n  gutta-cc ladder image/ -o image.svg              # an image: addresses, no symbols\n  cd demo && gutta-cc ladder . -o demo.html       # a project (`gutta-cc new demo`)"
+    )]
+    Ladder {
+        /// A source file (.lad, .awl), a project (its folder or gutta.toml), or an image
+        /// directory (drawn through the disassembler).
+        input: PathBuf,
+        /// The file to write: .svg or .html.
+        #[arg(short, long, value_name = "FILE")]
+        output: PathBuf,
+    },
     /// Print the Modbus address of a variable (the vendor editor's Modbus query).
     #[command(
         after_help = "Examples:\n  gutta-cc modbus MW20                 # holding register 400019\n  gutta-cc modbus Q0.0 --plc CPU-EC20"
@@ -412,6 +426,7 @@ mod watch;
 
 mod completions;
 mod help;
+mod ladder;
 mod typo;
 
 /// The name errors start with and JSON errors carry.
@@ -468,6 +483,7 @@ impl Command {
             Command::New { .. }
             | Command::Build { .. }
             | Command::Test { .. }
+            | Command::Ladder { .. }
             | Command::Modbus { .. }
             | Command::Dis { .. }
             | Command::Explain { .. }
@@ -490,6 +506,7 @@ fn apply_project(cli: &mut Cli, matches: &ArgMatches) -> Result<(), Fatal> {
         None | Some(
             Command::New { .. }
                 | Command::Dis { .. }
+                | Command::Ladder { .. }
                 | Command::Explain { .. }
                 | Command::ListTargets
                 | Command::Completions { .. }
@@ -585,6 +602,7 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
             };
             return test::test(&cli, &args);
         }
+        Some(Command::Ladder { input, output }) => return ladder::ladder(&cli, input, output),
         Some(Command::Modbus { variable }) => return modbus(&cli.target, variable),
         Some(Command::Explain { code }) => return explain(code),
         Some(Command::Dis { image, format }) => return dis(&cli.target, image, *format),

@@ -1,0 +1,145 @@
+//! `gutta-cc ladder INPUT -o OUT` (docs/ladder.md): the program of a source file, a
+//! project (its folder or gutta.toml) or an image directory (through the disassembler:
+//! addresses instead of symbols) drawn as ladder diagrams into OUT, an `.svg` (every
+//! network stacked) or a self-contained `.html` page. The model and drawing are
+//! gutta_ladder's; this file reads the input and writes the file atomically.
+
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use gutta_cli::fatal::Fatal;
+use gutta_compiler::diagnostics::render::{render, RenderStyle};
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{check_program, CheckedFile, ProgramSources};
+use gutta_io::Project;
+use gutta_ladder::html::{ladder_html, HtmlOptions};
+use gutta_ladder::svg::ladder_svg;
+
+use crate::{explicit_target, read_program, Cli};
+
+/// What the output file is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum OutputKind {
+    Svg,
+    Html,
+}
+
+fn output_kind(out: &Path) -> Result<OutputKind, Fatal> {
+    match out.extension().map(|e| e.to_ascii_lowercase()) {
+        Some(e) if e == "svg" => Ok(OutputKind::Svg),
+        Some(e) if e == "html" || e == "htm" => Ok(OutputKind::Html),
+        _ => Err(Fatal::usage(format!(
+            "{}: the output ends in .svg (every network in one drawing) or .html (a page)",
+            out.display()
+        ))),
+    }
+}
+
+/// The checked program of `input`: an image directory, a project, or source files.
+pub(crate) fn checked_input(cli: &Cli, input: &Path) -> Result<CheckedFile, Fatal> {
+    let explicit = explicit_target(&cli.target)?;
+    if input.join("manifest.json").is_file() {
+        let (image, target) = crate::image_and_target(&cli.target, input)?;
+        let text = gutta_format::disasm::disassemble(&image, &target)
+            .map_err(|e| Fatal::program(format!("{}: cannot disassemble: {e}", input.display())))?;
+        let name = format!("{} (disassembled)", input.display());
+        let explicit = gutta_compiler::ExplicitTarget {
+            target,
+            origin: format!("the image in {}", input.display()),
+        };
+        return Ok(check_program(
+            ProgramSources::single(SourceFile::new(name, text)),
+            Some(&explicit),
+        ));
+    }
+    let manifest = if input.is_dir() {
+        Some(input.join(gutta_io::MANIFEST))
+    } else if input.file_name().is_some_and(|n| n == gutta_io::MANIFEST) {
+        Some(input.to_path_buf())
+    } else {
+        None
+    };
+    if let Some(manifest) = manifest {
+        if !manifest.is_file() {
+            return Err(Fatal::usage(format!(
+                "{}: neither an image directory (manifest.json) nor a project ({})",
+                input.display(),
+                gutta_io::MANIFEST
+            )));
+        }
+        let project = Project::load(&manifest).map_err(Fatal::usage)?;
+        let mut program = read_program(&project.sources, &project.symbols)?;
+        program.options.scale_timer_presets =
+            project.scale_timer_presets || cli.scale_timer_presets;
+        let mut target = cli.target.clone();
+        crate::project::apply_target(&mut target, &project);
+        let explicit = explicit_target(&target)?;
+        return Ok(check_program(program, explicit.as_ref()));
+    }
+    let mut program = read_program(&[input.to_path_buf()], &cli.symbols)?;
+    program.options.scale_timer_presets = cli.scale_timer_presets;
+    Ok(check_program(program, explicit.as_ref()))
+}
+
+pub(crate) fn ladder(cli: &Cli, input: &Path, out: &Path) -> Result<ExitCode, Fatal> {
+    let kind = output_kind(out)?;
+    let checked = checked_input(cli, input)?;
+    let color = gutta_cli::color::use_color(cli.color, std::io::stderr().is_terminal());
+    let style = RenderStyle {
+        color,
+        unicode: color,
+    };
+    if checked.has_errors() {
+        eprint!("{}", render(&checked.file, checked.diagnostics(), style));
+        return Ok(ExitCode::from(1));
+    }
+    let ladder = gutta_ladder::build(&checked);
+    let text = match kind {
+        OutputKind::Svg => ladder_svg(&ladder),
+        OutputKind::Html => ladder_html(
+            &ladder,
+            &HtmlOptions {
+                title: format!("{} ({})", input.display(), ladder.plc),
+                live_script: None,
+            },
+        ),
+    };
+    write_atomically(out, text.as_bytes())?;
+    let (drawn, stl) = census(&ladder);
+    eprintln!(
+        "{}: {} networks drawn as ladder, {} as STL, into {}",
+        input.display(),
+        drawn,
+        stl,
+        out.display()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Networks drawn as rungs, and shown as STL.
+pub(crate) fn census(ladder: &gutta_ladder::model::Ladder) -> (usize, usize) {
+    let nets = ladder.blocks.iter().flat_map(|b| &b.networks);
+    let drawn = nets
+        .clone()
+        .filter(|n| matches!(n.body, gutta_ladder::model::Body::Rung(_)))
+        .count();
+    (drawn, nets.count() - drawn)
+}
+
+fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), Fatal> {
+    let name = path
+        .file_name()
+        .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
+    let temporary: PathBuf = path.with_file_name(format!(".{name}.tmp{}", std::process::id()));
+    let write = || -> std::io::Result<()> {
+        let mut f = std::fs::File::create(&temporary)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        std::fs::rename(&temporary, path)
+    };
+    write().map_err(|e| {
+        let _ = std::fs::remove_file(&temporary);
+        Fatal::io(format!("cannot write {}: {e}", path.display()))
+    })
+}

@@ -1,0 +1,583 @@
+//! Layout of one network (docs/ladder.md, "Drawing"): where every contact, coil, box and
+//! wire of a rung goes, in whole pixels, so the SVG (`svg.rs`) and the tests read the
+//! same geometry. Pure arithmetic on the model: no text output, no I/O, no hashing (the
+//! same model always gives the same layout).
+//!
+//! Rules: the left rail at `RAIL_X`; series elements left to right, each in its own
+//! cell (its lead-in wire, its symbol, its lead-out wire); parallel branches stacked top
+//! to bottom, padded with wire to the widest, joined by vertical connectors; the
+//! outputs split after the input path and every coil or end box aligned in one column;
+//! coils wired to the right rail. A box's extra power inputs (a counter's R) get rows of
+//! their own under the rung, from the left rail to their pin. Networks are never
+//! wrapped: a wide network is as wide as it needs (the page scrolls).
+
+use crate::model::{Block, BoxElement, Branch, BranchEnd, Coil, Contact, Network, Node, Rung};
+
+/// Height of one row of elements (texts above and below the wire included).
+pub const ROW_H: i32 = 84;
+/// The wire's offset from the top of its row.
+pub const WIRE_Y: i32 = 40;
+/// Narrowest cell of a contact or coil.
+pub const CELL_W: i32 = 90;
+/// Room for the vertical connectors of a parallel block, each side.
+pub const PAR_GAP: i32 = 12;
+/// Distance between two pins of a box.
+pub const PIN_H: i32 = 28;
+/// The left rail's x.
+pub const RAIL_X: i32 = 12;
+/// Margin right of the right rail and below the rung.
+pub const MARGIN: i32 = 12;
+/// Height of a text line of the header and of STL text.
+pub const LINE_H: i32 = 16;
+/// Font size of operand and pin text (monospace), for the width estimate.
+const CHAR_W: i32 = 7;
+/// Length of a box's pin stub outside the box.
+const STUB: i32 = 14;
+/// Horizontal spacing of the vertical wires into a box's extra power inputs.
+const POWER_LANE: i32 = 8;
+
+/// An axis-aligned rectangle in pixels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Rect {
+    pub x: i32,
+    pub y: i32,
+    pub w: i32,
+    pub h: i32,
+}
+
+impl Rect {
+    /// Whether the two rectangles share interior area (touching edges do not count).
+    pub fn overlaps(&self, other: &Rect) -> bool {
+        self.x < other.x + other.w
+            && other.x < self.x + self.w
+            && self.y < other.y + other.h
+            && other.y < self.y + self.h
+    }
+}
+
+/// What powers a wire segment (`data-after`): the left rail, or the output of an element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Power {
+    Rail,
+    Element(u32),
+}
+
+/// A horizontal or vertical wire segment, energized when any of `after` passes power.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Wire {
+    pub x1: i32,
+    pub y1: i32,
+    pub x2: i32,
+    pub y2: i32,
+    pub after: Vec<Power>,
+}
+
+/// A drawn element.
+#[derive(Debug, Clone, Copy)]
+pub enum ElementRef<'a> {
+    Contact(&'a Contact),
+    Coil(&'a Coil),
+    Box(&'a BoxElement),
+}
+
+impl ElementRef<'_> {
+    pub fn id(&self) -> u32 {
+        match self {
+            ElementRef::Contact(c) => c.id,
+            ElementRef::Coil(c) => c.id,
+            ElementRef::Box(b) => b.id,
+        }
+    }
+}
+
+/// An element in its cell. `cell` holds everything the element draws (its texts, its
+/// lead wires, a box's pins and operands); cells of one network never overlap.
+#[derive(Debug, Clone)]
+pub struct PlacedElement<'a> {
+    pub element: ElementRef<'a>,
+    pub cell: Rect,
+    /// The y of the power wire through the element (a box: its EN pin).
+    pub wire_y: i32,
+    /// Contacts and coils: the symbol's centre. Boxes: the box's left edge.
+    pub x: i32,
+    /// Boxes: the rectangle of the box itself.
+    pub frame: Option<Rect>,
+}
+
+/// The layout of one network's rung.
+#[derive(Debug, Clone)]
+pub struct NetworkLayout<'a> {
+    pub width: i32,
+    pub height: i32,
+    /// Height of the header (number, title, comment lines) above the rung.
+    pub header_h: i32,
+    pub elements: Vec<PlacedElement<'a>>,
+    pub wires: Vec<Wire>,
+    /// The left rail's vertical extent.
+    pub rail: (i32, i32),
+    /// The right rail (x, top, bottom), when there is a coil.
+    pub right_rail: Option<(i32, i32, i32)>,
+}
+
+/// Estimated width of `text` in monospace pixels (wide characters count double).
+pub fn text_width(text: &str) -> i32 {
+    text.chars()
+        .map(|c| if is_wide(c) { 2 * CHAR_W } else { CHAR_W })
+        .sum()
+}
+
+fn is_wide(c: char) -> bool {
+    matches!(c as u32,
+        0x1100..=0x115F | 0x2E80..=0xA4CF | 0xAC00..=0xD7A3 | 0xF900..=0xFAFF
+        | 0xFE30..=0xFE4F | 0xFF00..=0xFF60 | 0xFFE0..=0xFFE6 | 0x20000..=0x3FFFD)
+}
+
+/// The header height of a network: its number and title line, then its comment lines.
+pub fn header_height(net: &Network) -> i32 {
+    8 + LINE_H * (1 + net.comment.len() as i32)
+}
+
+/// The text lines of an operand as drawn: (symbol or written form above, address below).
+pub fn operand_lines(op: &crate::model::Operand) -> (Option<&str>, Option<&str>) {
+    let top = match (&op.symbol, &op.address) {
+        (Some(s), _) => Some(s.as_str()),
+        (None, Some(a)) if *a == op.written => None,
+        (None, _) => Some(op.written.as_str()),
+    };
+    (top, op.address.as_deref())
+}
+
+fn operand_width(op: &crate::model::Operand) -> i32 {
+    let (top, bottom) = operand_lines(op);
+    text_width(top.unwrap_or("")).max(text_width(bottom.unwrap_or("")))
+}
+
+/// Width of a contact's symbol (between its plates), by what it holds inside.
+pub fn contact_symbol_w(c: &Contact) -> i32 {
+    let inside = contact_label(c);
+    (text_width(&inside) + 10).max(16)
+}
+
+/// The text inside a contact: `/`, `P`, `N`, `NOT`, the relation, `I` when immediate.
+pub fn contact_label(c: &Contact) -> String {
+    use crate::model::ContactKind::*;
+    let base = match c.kind {
+        NormallyOpen => "",
+        NormallyClosed => "/",
+        PositiveEdge => "P",
+        NegativeEdge => "N",
+        Not => "NOT",
+        Compare => c.relation.as_deref().unwrap_or("?"),
+    };
+    if c.immediate {
+        format!("{base}I")
+    } else {
+        base.to_string()
+    }
+}
+
+fn contact_w(c: &Contact) -> i32 {
+    let texts = c.operands.iter().map(operand_width).max().unwrap_or(0);
+    CELL_W.max(texts + 16).max(contact_symbol_w(c) + 40)
+}
+
+fn coil_w(c: &Coil) -> i32 {
+    let count = c.count.as_ref().map(operand_width).unwrap_or(0);
+    CELL_W.max(operand_width(&c.operand) + 16).max(count + 16)
+}
+
+/// The pins of a box, as drawn: left (name, operand, power input index) and right.
+#[derive(Debug)]
+pub struct BoxPins<'a> {
+    pub left: Vec<(&'a str, Option<&'a crate::model::Operand>)>,
+    pub right: Vec<(&'a str, Option<&'a crate::model::Operand>)>,
+    /// Index in `left` of the first extra power input (they come last).
+    pub first_power: usize,
+}
+
+/// A box's pins: the enable pin, input operands, then extra power inputs on the left;
+/// the power output, then output operands on the right.
+pub fn box_pins(b: &BoxElement) -> BoxPins<'_> {
+    let mut left = vec![(b.enable.as_str(), None)];
+    left.extend(
+        b.pins
+            .iter()
+            .filter(|p| !p.output)
+            .map(|p| (p.name.as_str(), Some(&p.operand))),
+    );
+    let first_power = left.len();
+    left.extend(b.power_inputs.iter().map(|(name, _)| (name.as_str(), None)));
+    let mut right = Vec::new();
+    if let Some(out) = &b.output {
+        right.push((out.as_str(), None));
+    }
+    right.extend(
+        b.pins
+            .iter()
+            .filter(|p| p.output)
+            .map(|p| (p.name.as_str(), Some(&p.operand))),
+    );
+    BoxPins {
+        left,
+        right,
+        first_power,
+    }
+}
+
+struct BoxGeometry {
+    left_area: i32,
+    box_w: i32,
+    right_area: i32,
+    rows: i32,
+}
+
+fn box_geometry(b: &BoxElement) -> BoxGeometry {
+    let pins = box_pins(b);
+    let side = |list: &[(&str, Option<&crate::model::Operand>)]| {
+        list.iter()
+            .map(|(_, op)| op.map(operand_width).unwrap_or(0))
+            .max()
+            .unwrap_or(0)
+    };
+    let names = |list: &[(&str, Option<&crate::model::Operand>)]| {
+        list.iter().map(|(n, _)| text_width(n)).max().unwrap_or(0)
+    };
+    // The extra power inputs' lanes, and room for their paths: a path drawn from the
+    // left rail then ends left of its lane wherever the box stands.
+    let lanes = POWER_LANE * (b.power_inputs.len() as i32 + 1);
+    let paths = b
+        .power_inputs
+        .iter()
+        .map(|(_, node)| node_size(node).0 + lanes)
+        .max()
+        .unwrap_or(0);
+    let left_area = (side(&pins.left) + STUB + 4).max(lanes).max(paths).max(20);
+    let right_area = (side(&pins.right) + STUB + 4).max(20);
+    let box_w = (text_width(&b.title) + 16)
+        .max(names(&pins.left) + names(&pins.right) + 24)
+        .max(70);
+    BoxGeometry {
+        left_area,
+        box_w,
+        right_area,
+        rows: pins.left.len().max(pins.right.len()) as i32,
+    }
+}
+
+fn box_size(b: &BoxElement) -> (i32, i32) {
+    let g = box_geometry(b);
+    let h = ROW_H.max(WIRE_Y + (g.rows - 1) * PIN_H + 28);
+    (g.left_area + g.box_w + g.right_area, h)
+}
+
+/// Width and height of a piece of power path.
+fn node_size(node: &Node) -> (i32, i32) {
+    match node {
+        Node::Contact(c) => (contact_w(c), ROW_H),
+        Node::Box(b) => box_size(b),
+        Node::Series(items) => items
+            .iter()
+            .map(node_size)
+            .fold((0, 0), |(w, h), (iw, ih)| (w + iw, h.max(ih))),
+        Node::Parallel(items) => {
+            let (w, h) = items
+                .iter()
+                .map(node_size)
+                .fold((0, 0), |(w, h), (iw, ih)| (w.max(iw), h + ih));
+            (w + 2 * PAR_GAP, h)
+        }
+    }
+}
+
+/// Width from a branch's start to the column of its end element.
+fn branch_reach(b: &Branch) -> i32 {
+    let path: i32 = b.path.iter().map(|n| node_size(n).0).sum();
+    match &b.end {
+        BranchEnd::Split(subs) => path + PAR_GAP + subs.iter().map(branch_reach).max().unwrap_or(0),
+        _ => path,
+    }
+}
+
+/// Width of the widest end element of a branch.
+fn end_width(b: &Branch) -> i32 {
+    match &b.end {
+        BranchEnd::Coil(c) => coil_w(c),
+        BranchEnd::Box(bx) => box_size(bx).0,
+        BranchEnd::Split(subs) => subs.iter().map(end_width).max().unwrap_or(0),
+    }
+}
+
+fn branch_height(b: &Branch) -> i32 {
+    let path = b.path.iter().map(|n| node_size(n).1).max().unwrap_or(0);
+    let end = match &b.end {
+        BranchEnd::Coil(_) => ROW_H,
+        BranchEnd::Box(bx) => box_size(bx).1,
+        BranchEnd::Split(subs) => subs.iter().map(branch_height).sum(),
+    };
+    path.max(end)
+}
+
+struct Placer<'a> {
+    elements: Vec<PlacedElement<'a>>,
+    wires: Vec<Wire>,
+    /// Boxes with extra power inputs, for the rows under the rung.
+    powered_boxes: Vec<(&'a BoxElement, Rect, i32)>,
+    coil_x: i32,
+    end_w: i32,
+    /// The wire y of every coil, for the right rail.
+    coils: Vec<i32>,
+}
+
+impl<'a> Placer<'a> {
+    fn wire(&mut self, x1: i32, y1: i32, x2: i32, y2: i32, after: &[Power]) {
+        if (x1, y1) != (x2, y2) {
+            self.wires.push(Wire {
+                x1,
+                y1,
+                x2,
+                y2,
+                after: after.to_vec(),
+            });
+        }
+    }
+
+    /// Place `node` with its row top at `y`, from `x`; returns what powers its exit.
+    fn node(&mut self, node: &'a Node, x: i32, y: i32, input: &[Power]) -> Vec<Power> {
+        match node {
+            Node::Contact(c) => {
+                let w = contact_w(c);
+                let wy = y + WIRE_Y;
+                let cx = x + w / 2;
+                let half = contact_symbol_w(c) / 2;
+                self.wire(x, wy, cx - half, wy, input);
+                self.wire(cx + half, wy, x + w, wy, &[Power::Element(c.id)]);
+                self.elements.push(PlacedElement {
+                    element: ElementRef::Contact(c),
+                    cell: Rect { x, y, w, h: ROW_H },
+                    wire_y: wy,
+                    x: cx,
+                    frame: None,
+                });
+                vec![Power::Element(c.id)]
+            }
+            Node::Box(b) => {
+                self.boxed(b, x, y, input, true);
+                vec![Power::Element(b.id)]
+            }
+            Node::Series(items) => {
+                let mut cur = input.to_vec();
+                let mut cx = x;
+                for item in items {
+                    cur = self.node(item, cx, y, &cur);
+                    cx += node_size(item).0;
+                }
+                cur
+            }
+            Node::Parallel(items) => {
+                let (w, _) = node_size(node);
+                let right = x + w;
+                let mut cy = y;
+                let mut first_last = (y + WIRE_Y, y + WIRE_Y);
+                let mut all = Vec::new();
+                for (i, item) in items.iter().enumerate() {
+                    let (iw, ih) = node_size(item);
+                    let wy = cy + WIRE_Y;
+                    if i == 0 {
+                        first_last.0 = wy;
+                    }
+                    first_last.1 = wy;
+                    self.wire(x, wy, x + PAR_GAP, wy, input);
+                    let out = self.node(item, x + PAR_GAP, cy, input);
+                    self.wire(x + PAR_GAP + iw, wy, right, wy, &out);
+                    all.extend(out);
+                    cy += ih;
+                }
+                all.sort();
+                all.dedup();
+                self.wire(x, first_last.0, x, first_last.1, input);
+                self.wire(right, first_last.0, right, first_last.1, &all);
+                all
+            }
+        }
+    }
+
+    /// Place a box in its cell; `lead_out` draws the wire from ENO to the cell's end.
+    fn boxed(&mut self, b: &'a BoxElement, x: i32, y: i32, input: &[Power], lead_out: bool) {
+        let g = box_geometry(b);
+        let (w, h) = box_size(b);
+        let wy = y + WIRE_Y;
+        let bx = x + g.left_area;
+        let frame = Rect {
+            x: bx,
+            y: wy - 26,
+            w: g.box_w,
+            h: 26 + (g.rows - 1) * PIN_H + 12,
+        };
+        if !input.is_empty() {
+            self.wire(x, wy, bx, wy, input);
+        }
+        if b.output.is_some() && lead_out {
+            self.wire(bx + g.box_w, wy, x + w, wy, &[Power::Element(b.id)]);
+        }
+        if !b.power_inputs.is_empty() {
+            self.powered_boxes.push((b, frame, x));
+        }
+        self.elements.push(PlacedElement {
+            element: ElementRef::Box(b),
+            cell: Rect { x, y, w, h },
+            wire_y: wy,
+            x: bx,
+            frame: Some(frame),
+        });
+    }
+
+    fn branch(&mut self, b: &'a Branch, x: i32, y: i32, input: &[Power]) {
+        let mut cur = input.to_vec();
+        let mut cx = x;
+        for item in &b.path {
+            cur = self.node(item, cx, y, &cur);
+            cx += node_size(item).0;
+        }
+        self.end(&b.end, cx, y, &cur);
+    }
+
+    fn end(&mut self, end: &'a BranchEnd, x: i32, y: i32, input: &[Power]) {
+        let wy = y + WIRE_Y;
+        match end {
+            BranchEnd::Coil(c) => {
+                let w = coil_w(c);
+                let cx = self.coil_x + w / 2;
+                self.wire(x, wy, cx - 10, wy, input);
+                self.wire(
+                    cx + 10,
+                    wy,
+                    self.coil_x + self.end_w,
+                    wy,
+                    &[Power::Element(c.id)],
+                );
+                self.coils.push(wy);
+                self.elements.push(PlacedElement {
+                    element: ElementRef::Coil(c),
+                    cell: Rect {
+                        x: self.coil_x,
+                        y,
+                        w,
+                        h: ROW_H,
+                    },
+                    wire_y: wy,
+                    x: cx,
+                    frame: None,
+                });
+            }
+            BranchEnd::Box(bx) => {
+                if !input.is_empty() {
+                    self.wire(x, wy, self.coil_x, wy, input);
+                }
+                self.boxed(bx, self.coil_x, y, input, false);
+            }
+            BranchEnd::Split(subs) => self.split(subs, x, y, input),
+        }
+    }
+
+    fn split(&mut self, subs: &'a [Branch], x: i32, y: i32, input: &[Power]) {
+        let mut cy = y;
+        let mut last = y + WIRE_Y;
+        for sub in subs {
+            last = cy + WIRE_Y;
+            if !input.is_empty() {
+                self.wire(x, last, x + PAR_GAP, last, input);
+            }
+            self.branch(sub, x + PAR_GAP, cy, input);
+            cy += branch_height(sub);
+        }
+        if !input.is_empty() {
+            self.wire(x, y + WIRE_Y, x, last, input);
+        }
+    }
+}
+
+/// Lay out a rung with its header above; `network_svg` draws it.
+pub fn layout_network<'a>(net: &'a Network) -> Option<NetworkLayout<'a>> {
+    match &net.body {
+        crate::model::Body::Rung(rung) => Some(layout_rung(rung, header_height(net))),
+        crate::model::Body::Stl { .. } => None,
+    }
+}
+
+fn layout_rung(rung: &Rung, top: i32) -> NetworkLayout<'_> {
+    let (in_w, in_h) = rung.input.as_ref().map(node_size).unwrap_or((0, 0));
+    let start = RAIL_X;
+    let reach = rung.outputs.iter().map(branch_reach).max().unwrap_or(0);
+    let coil_x = start + in_w + PAR_GAP + reach;
+    let end_w = rung.outputs.iter().map(end_width).max().unwrap_or(0);
+    let mut placer = Placer {
+        elements: Vec::new(),
+        wires: Vec::new(),
+        powered_boxes: Vec::new(),
+        coil_x,
+        end_w,
+        coils: Vec::new(),
+    };
+    let input = match &rung.input {
+        Some(node) => placer.node(node, start, top, &[Power::Rail]),
+        None => Vec::new(),
+    };
+    let out_h: i32 = rung.outputs.iter().map(branch_height).sum();
+    placer.split(&rung.outputs, start + in_w, top, &input);
+    let mut bottom = top + in_h.max(out_h);
+
+    // Extra power inputs: one row each under everything, from the left rail to the pin.
+    let powered = std::mem::take(&mut placer.powered_boxes);
+    for (b, frame, _) in powered {
+        let pins = box_pins(b);
+        let n = b.power_inputs.len() as i32;
+        for (i, (_, node)) in b.power_inputs.iter().enumerate() {
+            let (w, h) = node_size(node);
+            let wy = bottom + WIRE_Y;
+            let out = placer.node(node, start, bottom, &[Power::Rail]);
+            let lane_x = frame.x - POWER_LANE * (n - i as i32);
+            let pin_y = frame.y + 26 + (pins.first_power as i32 + i as i32) * PIN_H;
+            placer.wire(start + w, wy, lane_x, wy, &out);
+            placer.wire(lane_x, wy, lane_x, pin_y, &out);
+            placer.wire(lane_x, pin_y, frame.x, pin_y, &out);
+            bottom += h;
+        }
+    }
+
+    let content_right = placer
+        .elements
+        .iter()
+        .map(|e| e.cell.x + e.cell.w)
+        .chain(placer.wires.iter().map(|w| w.x1.max(w.x2)))
+        .max()
+        .unwrap_or(start);
+    let right_rail = if placer.coils.is_empty() {
+        None
+    } else {
+        let ys = &placer.coils;
+        let top_y = top.min(*ys.iter().min().unwrap_or(&top) - WIRE_Y);
+        let bottom_y = ys
+            .iter()
+            .max()
+            .map(|y| y + ROW_H - WIRE_Y)
+            .unwrap_or(bottom);
+        Some((coil_x + end_w, top_y, bottom_y))
+    };
+    NetworkLayout {
+        width: content_right + MARGIN,
+        height: bottom + MARGIN,
+        header_h: top,
+        elements: placer.elements,
+        wires: placer.wires,
+        rail: (top, bottom),
+        right_rail,
+    }
+}
+
+/// A block's heading as drawn above its networks.
+pub fn block_heading(block: &Block) -> String {
+    match &block.title {
+        Some(title) => format!("{} ({}): {}", block.name, block.numbered, title),
+        None => format!("{} ({})", block.name, block.numbered),
+    }
+}
