@@ -104,7 +104,7 @@ fn run(
     sim: &str,
     interval: &str,
     seconds: f64,
-) -> (f64, f64, f64, usize) {
+) -> (f64, f64, f64, usize, u64) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-cc"))
         .args(["monitor", source.to_str().expect("path"), "--tcp", sim])
         .args(["--http", "127.0.0.1:0", "--interval", interval])
@@ -128,6 +128,7 @@ fn run(
     let first: serde_json::Value = serde_json::from_str(&get(&host, "/state")).expect("JSON");
     assert_eq!(first["live"], true, "{first}");
     let operands = first["values"].as_object().map_or(0, |v| v.len());
+    let addresses = first["read_addresses"].as_u64().expect("a count");
     let (u0, r0, v0) = metrics(&host);
     let start = Instant::now();
     while start.elapsed().as_secs_f64() < seconds {
@@ -141,6 +142,7 @@ fn run(
         (r1 - r0) as f64 / t,
         (v1 - v0) as f64 / t,
         operands,
+        addresses,
     )
 }
 
@@ -177,9 +179,9 @@ fn main() {
     let _sim = Killed(child);
     let sim = first.rsplit(' ').next().expect("address").to_string();
     for interval in ["50", "1"] {
-        let (updates, requests, reads, operands) = run(&source, &sim, interval, seconds);
+        let (updates, requests, reads, operands, addresses) = run(&source, &sim, interval, seconds);
         println!(
-            "monitor_rate: {NETWORKS} networks, {operands} operands, --interval {interval}: \
+            "monitor_rate: {NETWORKS} networks, {operands} operands in {addresses} read addresses, --interval {interval}: \
              {updates:.1} updates/s, {requests:.1} PLC requests/s, {reads:.1} STATUS_VAR_READ/s ({:.1} per update) over {seconds} s",
             reads / updates
         );

@@ -244,6 +244,7 @@ impl Session {
             "networks": [],
             "values": {},
             "forced": [],
+            "read_addresses": program.plan.windows.len(),
             "updates": self.counters.updates.load(Ordering::Relaxed),
             "var_reads": self.counters.var_reads.load(Ordering::Relaxed),
             "plc_requests": self.counters.requests.load(Ordering::Relaxed),
