@@ -10,7 +10,7 @@ mod common;
 use common::{cc, stderr, stdout, Sim};
 
 use std::io::{BufRead, BufReader, Read, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
@@ -43,7 +43,7 @@ fn setup(tag: &str, running: &str) -> (PathBuf, Sim) {
 }
 
 /// `gutta-cc monitor SOURCE --tcp SIM --http 127.0.0.1:0`; the URL from its stderr line.
-fn monitor(source: &PathBuf, sim: &Sim) -> Monitor {
+fn monitor(source: &Path, sim: &Sim) -> Monitor {
     let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-cc"))
         .args(["monitor", source.to_str().expect("path"), "--tcp", &sim.1])
         .args(["--http", "127.0.0.1:0"])
