@@ -23,8 +23,8 @@ const PAGE_STYLE: &str = "\
 body{font-family:sans-serif;margin:16px;color:#222}\
 nav ul{list-style:none;padding:0}nav li{display:inline-block;margin-right:12px}\
 .block{margin-top:24px}\
-.network-view{overflow-x:auto;border-top:1px solid #ccc;padding:4px 0}\
-.network-view svg{display:block}\
+.network-view{overflow-x:auto;border-top:1px solid #ccc;padding:4px 96px 4px 0}\
+.network-view svg{display:block;overflow:visible}\
 .wire.on{stroke:#1a7f37;stroke-width:3}\
 .contact.on .symbol-line,.coil.on .symbol-line{stroke:#1a7f37;stroke-width:3}\
 .box.on rect{stroke:#1a7f37;stroke-width:3;fill:#e9f7ec}\
