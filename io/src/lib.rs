@@ -1,6 +1,7 @@
 //! File I/O shared by the command-line tools (gutta-cc, gutta-vm and gutta-sim, in
 //! cli/): reading a target folder, reading an image directory, writing one atomically,
-//! the source map beside it, and projects (gutta.toml).
+//! the source map beside it, writing one file atomically (reports, drawings), and
+//! projects (gutta.toml).
 //! The libraries do no I/O (their clippy.toml forbids it); only the binaries use this.
 
 mod image_dir;
@@ -80,4 +81,23 @@ pub fn directory_files(dir: &Path) -> std::io::Result<std::collections::BTreeMap
         }
     }
     Ok(files)
+}
+
+/// Write `bytes` into the file `path` through a synced temporary sibling renamed into
+/// place, so no reader ever sees half of it and a failure leaves the old file as it was.
+pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::io::Write as _;
+    let name = path
+        .file_name()
+        .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
+    let temporary = path.with_file_name(format!(".{name}.tmp{}", std::process::id()));
+    let write = || -> std::io::Result<()> {
+        let mut file = std::fs::File::create(&temporary)?;
+        file.write_all(bytes)?;
+        file.sync_all()?;
+        std::fs::rename(&temporary, path)
+    };
+    write().inspect_err(|_| {
+        let _ = std::fs::remove_file(&temporary);
+    })
 }

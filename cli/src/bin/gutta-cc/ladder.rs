@@ -4,8 +4,8 @@
 //! network stacked) or a self-contained `.html` page. The model and drawing are
 //! gutta_ladder's; this file reads the input and writes the file atomically.
 
-use std::io::{IsTerminal, Write};
-use std::path::{Path, PathBuf};
+use std::io::IsTerminal;
+use std::path::Path;
 use std::process::ExitCode;
 
 use gutta_cli::fatal::Fatal;
@@ -127,19 +127,8 @@ pub(crate) fn census(ladder: &gutta_ladder::model::Ladder) -> (usize, usize) {
     (drawn, nets.count() - drawn)
 }
 
+/// The file written atomically (`gutta_io::write_file_atomically`), a failure as I/O.
 fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), Fatal> {
-    let name = path
-        .file_name()
-        .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
-    let temporary: PathBuf = path.with_file_name(format!(".{name}.tmp{}", std::process::id()));
-    let write = || -> std::io::Result<()> {
-        let mut f = std::fs::File::create(&temporary)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&temporary, path)
-    };
-    write().map_err(|e| {
-        let _ = std::fs::remove_file(&temporary);
-        Fatal::io(format!("cannot write {}: {e}", path.display()))
-    })
+    gutta_io::write_file_atomically(path, bytes)
+        .map_err(|e| Fatal::io(format!("cannot write {}: {e}", path.display())))
 }

@@ -641,23 +641,10 @@ fn write_waveforms(
     Ok(())
 }
 
-/// Write a file through a synced temporary sibling renamed into place, so a reader
-/// never sees half of it.
+/// The file written atomically (`gutta_io::write_file_atomically`), a failure as I/O.
 fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), Fatal> {
-    let name = path
-        .file_name()
-        .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
-    let temporary = path.with_file_name(format!(".{name}.tmp{}", std::process::id()));
-    let write = || -> std::io::Result<()> {
-        let mut f = std::fs::File::create(&temporary)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&temporary, path)
-    };
-    write().map_err(|e| {
-        let _ = std::fs::remove_file(&temporary);
-        Fatal::io(format!("cannot write {}: {e}", path.display()))
-    })
+    gutta_io::write_file_atomically(path, bytes)
+        .map_err(|e| Fatal::io(format!("cannot write {}: {e}", path.display())))
 }
 
 /// The text without terminal colour codes (for JUnit XML).
