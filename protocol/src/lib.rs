@@ -9,6 +9,7 @@
 //! No input makes it panic; every failure is a typed error. See `docs/protocol.md`.
 
 pub mod function;
+pub mod gateway;
 pub mod gutta;
 pub mod master;
 pub mod message;
@@ -20,8 +21,9 @@ pub mod tcp;
 pub mod transfer;
 
 pub use function::{Function, PageArea, PageRef};
+pub use gateway::{answer_to_rtu, DropReason, Forwarded, Gateway, NotTheAnswer};
 pub use gutta::{GuttaError, GuttaFrame, FAILURE_BIT, LAST_PACKET};
-pub use master::{Master, MasterConfig, MasterError, MasterEvent};
+pub use master::{expects_answer, Master, MasterConfig, MasterError, MasterEvent};
 pub use message::{
     Breakpoint, Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response,
 };

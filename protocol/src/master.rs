@@ -91,6 +91,13 @@ struct Outstanding {
     crc_error_seen: bool,
 }
 
+/// Whether a request to `station` with `function` is answered: not a broadcast
+/// (station 0), except GUTTA function 13, which a PLC answers from its own station
+/// (AN2002).
+pub fn expects_answer(station: u8, function: u8) -> bool {
+    station != 0 || function == MODBUS_FUNCTION_GUTTA
+}
+
 /// The master state machine: Idle -> (send) -> Waiting -> Response | Retry -> ... |
 /// Failed -> Idle.
 #[derive(Debug, Clone)]
@@ -152,7 +159,7 @@ impl Master {
             None
         };
         let wire = encode_rtu(station, pdu);
-        if station == 0 && gutta.is_none() {
+        if !expects_answer(station, function) {
             return Ok(wire);
         }
         self.splitter.clear();
