@@ -7,16 +7,21 @@
 //!
 //! Port specs (`gutta-sim --port0 SPEC`): `tcp-connect:HOST:PORT`, `serial:DEVICE` or
 //! `pty:PATH` (a serial device with the port's line: the system page's settings, 19200
-//! 8E1 without one).
+//! 8E1 without one), and `modbus-tcp:HOST:PORT`: the port leads through a Modbus RTU <->
+//! TCP gateway to a Modbus TCP device ([`GatewayPort`]: the sockets; the conversion is
+//! gutta-protocol's `gateway`).
 
 use std::collections::BTreeMap;
 use std::io::{ErrorKind, Read, Write};
-use std::net::TcpStream;
+use std::net::{TcpStream, ToSocketAddrs};
 use std::time::{Duration, Instant};
 
 use gutta_format::LineSettings;
+use gutta_protocol::gateway::{answer_to_rtu, Gateway};
 use gutta_protocol::master::{Master, MasterConfig, MasterEvent};
 use gutta_protocol::rtu::decode_rtu;
+use gutta_protocol::stream::TcpSplitter;
+use gutta_protocol::tcp::MAX_STANDARD_MBAP_LENGTH;
 use gutta_sim::ports::PortFactory;
 use gutta_vm::exch::{PortError, SerialPort};
 
@@ -28,12 +33,16 @@ const POLL: Duration = Duration::from_millis(5);
 pub enum PortSpec {
     TcpConnect(String),
     Serial(String),
+    /// A Modbus TCP device behind a serial-to-TCP gateway.
+    ModbusTcp(String),
 }
 
 impl PortSpec {
     pub fn parse(text: &str) -> Result<PortSpec, String> {
         if let Some(a) = text.strip_prefix("tcp-connect:") {
             Ok(PortSpec::TcpConnect(a.to_string()))
+        } else if let Some(a) = text.strip_prefix("modbus-tcp:") {
+            Ok(PortSpec::ModbusTcp(a.to_string()))
         } else if let Some(d) = text
             .strip_prefix("serial:")
             .or_else(|| text.strip_prefix("pty:"))
@@ -41,7 +50,8 @@ impl PortSpec {
             Ok(PortSpec::Serial(d.to_string()))
         } else {
             Err(format!(
-                "`{text}`: a port is tcp-connect:HOST:PORT, serial:DEVICE or pty:PATH"
+                "`{text}`: a port is tcp-connect:HOST:PORT, modbus-tcp:HOST:PORT, \
+                 serial:DEVICE or pty:PATH"
             ))
         }
     }
@@ -63,8 +73,10 @@ impl PortWiring {
 
 impl PortFactory for PortWiring {
     fn port(&mut self, port: u8, line: LineSettings) -> Option<Box<dyn SerialPort>> {
-        let spec = self.leads.get(&port)?;
-        Some(Box::new(StreamPort::new(spec.clone(), line)))
+        match self.leads.get(&port)? {
+            PortSpec::ModbusTcp(address) => Some(Box::new(GatewayPort::new(address.clone()))),
+            spec => Some(Box::new(StreamPort::new(spec.clone(), line))),
+        }
     }
 }
 
@@ -99,6 +111,7 @@ impl StreamPort {
                 s.set_read_timeout(Some(POLL)).ok()?;
                 Some(Box::new(s))
             }
+            PortSpec::ModbusTcp(_) => None,
             PortSpec::Serial(d) => {
                 let mut p = serialport::new(d, self.line.baud)
                     .timeout(POLL)
@@ -180,6 +193,101 @@ impl StreamPort {
 }
 
 impl SerialPort for StreamPort {
+    fn transact(&mut self, request: &[u8], timeout_ms: u32) -> Result<Vec<u8>, PortError> {
+        self.exchange(request, timeout_ms)
+    }
+}
+
+/// A port whose line leads through a Modbus RTU <-> TCP gateway to `address`: every
+/// EXCH request frame goes out as a Modbus TCP request, the answer comes back as an RTU
+/// frame. What the PLC hears as silence (EXCH error 2): a dropped request (bad CRC,
+/// reserved station), a refused or lost connection, no answer in the port's timeout.
+/// Connects on first use and again after a failure.
+#[derive(Debug)]
+pub struct GatewayPort {
+    address: String,
+    gateway: Gateway,
+    stream: Option<TcpStream>,
+    splitter: TcpSplitter,
+}
+
+impl GatewayPort {
+    pub fn new(address: String) -> GatewayPort {
+        GatewayPort {
+            address,
+            gateway: Gateway::new(),
+            stream: None,
+            splitter: TcpSplitter::new(MAX_STANDARD_MBAP_LENGTH),
+        }
+    }
+
+    /// A connection within `timeout` (the first address that takes it).
+    fn connect(&self, timeout: Duration) -> Option<TcpStream> {
+        let stream = self
+            .address
+            .to_socket_addrs()
+            .ok()?
+            .find_map(|a| TcpStream::connect_timeout(&a, timeout).ok())?;
+        stream.set_nodelay(true).ok()?;
+        Some(stream)
+    }
+
+    fn exchange(&mut self, request: &[u8], timeout_ms: u32) -> Result<Vec<u8>, PortError> {
+        let forwarded = self
+            .gateway
+            .forward(request)
+            .map_err(|_| PortError::Timeout)?;
+        let timeout = Duration::from_millis(u64::from(timeout_ms.max(1)));
+        let deadline = Instant::now() + timeout;
+        if self.stream.is_none() {
+            self.stream = self.connect(timeout);
+            self.splitter.clear();
+        }
+        let stream = self.stream.as_mut().ok_or(PortError::Timeout)?;
+        if stream.write_all(&forwarded.tcp).is_err() {
+            self.stream = None;
+            return Err(PortError::Timeout);
+        }
+        if !forwarded.answered {
+            return Ok(Vec::new());
+        }
+        let mut buf = [0u8; 512];
+        loop {
+            while let Some(frame) = self.splitter.next_frame() {
+                // An answer to an earlier request (a broadcast's, one that came too late)
+                // or noise is not this answer.
+                if let Ok(Ok(rtu)) = frame.map(|f| answer_to_rtu(&forwarded, &f)) {
+                    return Ok(rtu);
+                }
+            }
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return Err(PortError::Timeout);
+            }
+            let Some(stream) = self.stream.as_mut() else {
+                return Err(PortError::Timeout);
+            };
+            if stream.set_read_timeout(Some(left)).is_err() {
+                self.stream = None;
+                return Err(PortError::Timeout);
+            }
+            match stream.read(&mut buf) {
+                Ok(0) => {
+                    self.stream = None;
+                    return Err(PortError::Timeout);
+                }
+                Ok(n) => self.splitter.push(&buf[..n]),
+                Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => {}
+                Err(_) => {
+                    self.stream = None;
+                    return Err(PortError::Timeout);
+                }
+            }
+        }
+    }
+}
+
+impl SerialPort for GatewayPort {
     fn transact(&mut self, request: &[u8], timeout_ms: u32) -> Result<Vec<u8>, PortError> {
         self.exchange(request, timeout_ms)
     }
