@@ -72,8 +72,10 @@ struct Cli {
     /// Real time per scan, in milliseconds (also the VM's virtual time per scan).
     #[arg(long, value_name = "MS", default_value_t = 10)]
     scan_ms: u32,
-    /// Where the PLC's serial port 0 leads, for EXCH: tcp-connect:HOST:PORT (another
-    /// simulator's --rtu-tcp), serial:DEVICE or pty:PATH.
+    /// Where the PLC's serial port 0 leads, for EXCH: tcp-connect:HOST:PORT (RTU frames
+    /// to another simulator's --rtu-tcp), serial:DEVICE or pty:PATH, or
+    /// modbus-tcp:HOST:PORT (through a Modbus RTU <-> TCP gateway to a Modbus TCP
+    /// device, such as another simulator's --tcp).
     #[arg(long, value_name = "SPEC")]
     port0: Option<String>,
     /// Where serial port 1 leads (as --port0).
