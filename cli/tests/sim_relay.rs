@@ -112,11 +112,7 @@ fn the_documents_frames_over_tcp() {
         ("24 01 02 00 00 05 00 35 00 00 00", "3E 00 00 00"),
     ] {
         send(&mut s, frame);
-        exchange(
-            &mut s,
-            read32,
-            &format!("01 01 02 01 05 00 00 10 {status}"),
-        );
+        exchange(&mut s, read32, &format!("01 01 02 01 05 00 00 10 {status}"));
     }
     // An exception: function 03 is not the board's.
     exchange(

@@ -87,7 +87,12 @@ impl RelayRequest {
             });
         }
         let data = |from: usize| {
-            Channels::from_le_bytes([bytes[from], bytes[from + 1], bytes[from + 2], bytes[from + 3]])
+            Channels::from_le_bytes([
+                bytes[from],
+                bytes[from + 1],
+                bytes[from + 2],
+                bytes[from + 3],
+            ])
         };
         if command != TOGGLE && bytes[7] != CHANNEL_COUNT {
             return Err(RelayError::Count { found: bytes[7] });

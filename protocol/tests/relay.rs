@@ -75,11 +75,20 @@ fn own(text: &str, expected: RelayRequest) {
 
 #[test]
 fn set_32_channels() {
-    own("03 01 02 00 00 05 00 20 FF FF FF FF", RelayRequest::Set(u32::MAX));
+    own(
+        "03 01 02 00 00 05 00 20 FF FF FF FF",
+        RelayRequest::Set(u32::MAX),
+    );
     own("03 01 02 00 00 05 00 20 00 00 00 00", RelayRequest::Set(0));
     // Channels 1 and 2 on, 3 and 4 off; then the other way round.
-    own("03 01 02 00 00 05 00 20 03 00 00 00", RelayRequest::Set(0b0011));
-    own("03 01 02 00 00 05 00 20 0C 00 00 00", RelayRequest::Set(0b1100));
+    own(
+        "03 01 02 00 00 05 00 20 03 00 00 00",
+        RelayRequest::Set(0b0011),
+    );
+    own(
+        "03 01 02 00 00 05 00 20 0C 00 00 00",
+        RelayRequest::Set(0b1100),
+    );
     // The generic form: AA is channels 1-8, DD channels 25-32.
     own(
         "03 01 02 00 00 05 00 20 AA BB CC DD",
@@ -90,8 +99,14 @@ fn set_32_channels() {
 #[test]
 fn toggle_32_channels() {
     own("24 01 02 00 00 05 00 01 00 00 00", RelayRequest::Toggle(1));
-    own("24 01 02 00 00 05 00 02 00 00 00", RelayRequest::Toggle(1 << 1));
-    own("24 01 02 00 00 05 00 04 00 00 00", RelayRequest::Toggle(1 << 2));
+    own(
+        "24 01 02 00 00 05 00 02 00 00 00",
+        RelayRequest::Toggle(1 << 1),
+    );
+    own(
+        "24 01 02 00 00 05 00 04 00 00 00",
+        RelayRequest::Toggle(1 << 2),
+    );
     // Channels 1, 3, 5 and 6.
     own(
         "24 01 02 00 00 05 00 35 00 00 00",

@@ -7,9 +7,9 @@
 //!
 //! This is the toolchain's one Modbus slave. It serves any [`ModbusObjects`]: the VM's
 //! memory through the target's mapping (`impl ModbusObjects for Vm`), or another
-//! simulated device's objects (the relay board's coils, `relay.rs`). `serve` takes a request PDU (function code
-//! and data, no station, no CRC or MBAP) and returns the response PDU or the exception
-//! PDU; `answer_frame` and `answer_rtu` are a slave at a station on an RTU line (station
+//! simulated device's objects (the relay board's coils, `relay.rs`). `serve` (on a VM;
+//! `serve_objects` on any `ModbusObjects`) takes a request PDU (function code and data,
+//! no station, no CRC or MBAP) and returns the response PDU or the exception PDU; `answer_frame` and `answer_rtu` are a slave at a station on an RTU line (station
 //! filter, broadcast, CRC), for EXCH peers and tests. Requests are decoded and answers
 //! encoded by gutta-protocol (which checks the Modbus limits); this module does no I/O.
 //! Exceptions (Modbus application protocol 1.1b3, 7): 01 an unknown function, 02 an address range not wholly served by the table, 03 a bad
@@ -39,8 +39,12 @@ pub trait ModbusObjects {
     /// The value of a served object.
     fn read_object(&self, table: ModbusTable, wire: u16) -> Result<u32, ExceptionCode>;
     /// Sets a served object.
-    fn write_object(&mut self, table: ModbusTable, wire: u16, value: u32)
-        -> Result<(), ExceptionCode>;
+    fn write_object(
+        &mut self,
+        table: ModbusTable,
+        wire: u16,
+        value: u32,
+    ) -> Result<(), ExceptionCode>;
 }
 
 /// The PLC: every function, objects through the target's mapping onto the VM's memory.
@@ -79,8 +83,13 @@ pub fn exception(function: u8, code: ExceptionCode) -> Vec<u8> {
     gutta_protocol::modbus::exception(function, code)
 }
 
-/// Serve one request PDU on `vm`'s objects (a `Vm`'s memory, or another device's).
-pub fn serve<O: ModbusObjects + ?Sized>(vm: &mut O, pdu: &[u8]) -> Vec<u8> {
+/// Serve one request PDU on `vm`'s memory.
+pub fn serve(vm: &mut Vm, pdu: &[u8]) -> Vec<u8> {
+    serve_objects(vm, pdu)
+}
+
+/// Serve one request PDU on any slave's objects (a `Vm`'s memory, or another device's).
+pub fn serve_objects<O: ModbusObjects + ?Sized>(vm: &mut O, pdu: &[u8]) -> Vec<u8> {
     let function = pdu.first().copied().unwrap_or(0);
     if !vm.supports(function) {
         return exception(function, ExceptionCode::IllegalFunction);
@@ -98,8 +107,7 @@ pub fn serve<O: ModbusObjects + ?Sized>(vm: &mut O, pdu: &[u8]) -> Vec<u8> {
 /// code, data; no CRC) from `vm`'s memory. `None` when a slave stays silent: the request
 /// is for another station, or it is a broadcast (station 0), which is carried out.
 /// The answer carries the slave's station and is the response or the exception PDU.
-pub fn answer_frame<O: ModbusObjects + ?Sized>(
-    vm: &mut O, station: u8, request: &RtuFrame) -> Option<RtuFrame> {
+pub fn answer_frame(vm: &mut Vm, station: u8, request: &RtuFrame) -> Option<RtuFrame> {
     if request.station != station && request.station != 0 {
         return None;
     }
@@ -109,14 +117,15 @@ pub fn answer_frame<O: ModbusObjects + ?Sized>(
 
 /// `answer_frame` for the bytes on the line: a request frame with its CRC in, the answer
 /// frame with its CRC out. A frame whose CRC does not check gets no answer either.
-pub fn answer_rtu<O: ModbusObjects + ?Sized>(vm: &mut O, station: u8, frame: &[u8]) -> Option<Vec<u8>> {
+pub fn answer_rtu(vm: &mut Vm, station: u8, frame: &[u8]) -> Option<Vec<u8>> {
     let request = decode_rtu(frame).ok()?;
     answer_frame(vm, station, &request).map(|answer| answer.encode())
 }
 
 fn answer<O: ModbusObjects + ?Sized>(
     vm: &mut O,
-    request: ModbusRequest) -> Result<ModbusResponse, ExceptionCode> {
+    request: ModbusRequest,
+) -> Result<ModbusResponse, ExceptionCode> {
     use ModbusRequest as Q;
     use ModbusResponse as A;
     Ok(match request {

@@ -1,6 +1,6 @@
 //! The simulated 32-channel Modbus-TCP relay board (seed document 004), without I/O:
 //! its state (`RelayBoard`) and one connection's byte stream (`RelaySession`). Modbus
-//! TCP goes through the one Modbus slave (`modbus_data::serve` on the board's
+//! TCP goes through the one Modbus slave (`modbus_data::serve_objects` on the board's
 //! `ModbusObjects`); the board's own frames through `gutta_protocol::relay`. The
 //! binary (`gutta-sim --device relay-board`) does the I/O and sends the reports.
 //!
@@ -21,7 +21,7 @@ use gutta_protocol::modbus::{ExceptionCode, READ_COILS, WRITE_SINGLE_COIL};
 use gutta_protocol::relay::{classify, status_frame, Channels, Classified, RelayRequest};
 use gutta_protocol::tcp::{decode_tcp, encode_tcp};
 
-use crate::modbus_data::{serve, ModbusObjects};
+use crate::modbus_data::{serve_objects, ModbusObjects};
 use crate::session::SessionError;
 
 /// Coil of channel 1; channel n + 1 is `FIRST_CHANNEL_COIL + n`.
@@ -76,7 +76,7 @@ impl RelayBoard {
 
     /// Answers one Modbus request PDU.
     pub fn modbus(&mut self, pdu: &[u8]) -> Vec<u8> {
-        serve(self, pdu)
+        serve_objects(self, pdu)
     }
 }
 
@@ -155,8 +155,8 @@ impl RelaySession {
                     ))
                 }
                 Classified::Mbap(len) => {
-                    let frame = decode_tcp(&self.buffer[..len])
-                        .map_err(|e| SessionError(e.to_string()))?;
+                    let frame =
+                        decode_tcp(&self.buffer[..len]).map_err(|e| SessionError(e.to_string()))?;
                     let pdu = board.modbus(&frame.pdu);
                     out.extend(encode_tcp(frame.transaction, frame.unit, &pdu).unwrap_or_default());
                     self.buffer.drain(..len);

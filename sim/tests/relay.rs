@@ -52,7 +52,10 @@ fn one_channel_at_a_time() {
 fn read_ten_channels_with_channels_1_to_10_on() {
     let mut board = RelayBoard::default();
     for n in 0..10 {
-        send(&mut board, &format!("00 00 00 00 00 06 01 05 02 {n:02X} FF 00"));
+        send(
+            &mut board,
+            &format!("00 00 00 00 00 06 01 05 02 {n:02X} FF 00"),
+        );
     }
     assert_eq!(
         send(&mut board, "00 00 00 00 00 06 01 01 02 00 00 0A"),

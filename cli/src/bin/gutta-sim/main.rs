@@ -5,9 +5,9 @@
 //! the protocol logic is the library's (gutta-sim).
 
 mod ports;
-mod relay;
 #[cfg(test)]
 mod ports_tests;
+mod relay;
 
 use std::path::PathBuf;
 use std::process::ExitCode;

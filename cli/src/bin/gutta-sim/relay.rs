@@ -41,12 +41,7 @@ pub async fn run(addresses: &[String], ctrl_c: impl Future<Output = ()>) -> Resu
                     Ok((stream, _)) => {
                         let _ = stream.set_nodelay(true);
                         let receiver = reports.subscribe();
-                        tokio::spawn(serve(
-                            stream,
-                            Arc::clone(&board),
-                            reports.clone(),
-                            receiver,
-                        ));
+                        tokio::spawn(serve(stream, Arc::clone(&board), reports.clone(), receiver));
                     }
                     Err(e) => {
                         eprintln!("gutta-sim: accept failed: {e}");
