@@ -42,7 +42,6 @@ Examples:
   gutta-sim image/ --tcp 127.0.0.1:5020 --rtu-tcp 127.0.0.1:5021
   gutta-sim image/ --serial /dev/pts/3 --baud 9600
   gutta-sim --plc CPU-EC20 --tcp 0.0.0.0:502 --stats-every 5
-  gutta-sim --device relay-board --tcp 127.0.0.1:5030   # the 32-channel relay board
 
 --completions SHELL prints a completion script, --man the man page.
 Exit status: 0 after a clean stop (Ctrl-C included), 2 for usage, image or network errors."
