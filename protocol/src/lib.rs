@@ -15,6 +15,7 @@ pub mod master;
 pub mod message;
 pub mod modbus;
 pub mod registry;
+pub mod relay;
 pub mod rtu;
 pub mod stream;
 pub mod tcp;

@@ -2,10 +2,12 @@
 //! memory mapping of the target's ManagerVar.xml) and the GUTTA protocol (UM4001 inside
 //! Modbus function 13). Nothing here does I/O (clippy.toml forbids it): the `gutta-sim`
 //! binary (package gutta-cli) puts it on TCP and serial transports and gives it its
-//! serial ports for EXCH through a [`ports::PortFactory`] (docs/simulator.md).
+//! serial ports for EXCH through a [`ports::PortFactory`] (docs/simulator.md). `relay` is
+//! another simulated device: the Modbus-TCP relay board (docs/devices.md).
 
 pub mod modbus_data;
 pub mod plc;
 pub mod ports;
+pub mod relay;
 pub mod session;
 pub mod vm_access;

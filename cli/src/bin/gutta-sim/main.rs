@@ -7,6 +7,7 @@
 mod ports;
 #[cfg(test)]
 mod ports_tests;
+mod relay;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -46,6 +47,10 @@ Examples:
 Exit status: 0 after a clean stop (Ctrl-C included), 2 for usage, image or network errors."
 )]
 struct Cli {
+    /// The simulated device (docs/devices.md): the GUTTA PLC, or another device of the
+    /// documents, served on --tcp.
+    #[arg(long, value_enum, default_value_t = Device::Plc)]
+    device: Device,
     /// An image directory written by `gutta-cc -o` (the PLC starts empty without one).
     image: Option<PathBuf>,
     /// PLC type from the stdlib (default: the image's, else the stdlib default).
@@ -89,6 +94,15 @@ struct Cli {
     /// listener lines stay text.
     #[arg(long, value_name = "FORMAT", value_enum, default_value_t = MessageFormat::Human)]
     message_format: MessageFormat,
+}
+
+/// What `gutta-sim` simulates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Device {
+    /// The GUTTA PLC (the default).
+    Plc,
+    /// The 32-channel Modbus-TCP relay board of seed document 004 (--tcp only).
+    RelayBoard,
 }
 
 /// A line on stdout; a closed stdout is not an error of the simulator.
@@ -164,6 +178,31 @@ fn interrupted() -> Result<impl std::future::Future<Output = ()>, Fatal> {
 }
 
 async fn run(cli: Cli) -> Result<(), Fatal> {
+    match cli.device {
+        Device::Plc => run_plc(cli).await,
+        Device::RelayBoard => run_relay_board(cli).await,
+    }
+}
+
+/// The relay board takes --tcp listeners and nothing of the PLC's.
+async fn run_relay_board(cli: Cli) -> Result<(), Fatal> {
+    if cli.tcp.is_empty() {
+        return Err(Fatal::usage("--device relay-board: give --tcp HOST:PORT"));
+    }
+    if cli.image.is_some()
+        || !cli.rtu_tcp.is_empty()
+        || !cli.serial.is_empty()
+        || cli.port0.is_some()
+        || cli.port1.is_some()
+    {
+        return Err(Fatal::usage(
+            "--device relay-board serves Modbus TCP only: no image, --rtu-tcp, --serial or --port0/--port1",
+        ));
+    }
+    relay::run(&cli.tcp, interrupted()?).await
+}
+
+async fn run_plc(cli: Cli) -> Result<(), Fatal> {
     if cli.tcp.is_empty() && cli.rtu_tcp.is_empty() && cli.serial.is_empty() {
         return Err(Fatal::usage(
             "nothing to serve: give --tcp HOST:PORT, --rtu-tcp HOST:PORT and/or --serial DEVICE",
