@@ -1,0 +1,100 @@
+//! The relay board switched by a PLC, end to end with two `gutta-sim` processes (issue
+//! 16): the PLC runs examples/exch_relay_board.lad with `--port0 modbus-tcp:` leading to
+//! `gutta-sim --device relay-board`. The PLC's inputs are set with `gutta-cc write`; the
+//! board's channels follow, read by mbpoll as an independent Modbus TCP client (channel
+//! n is coil 16#0200 + n - 1, mbpoll's reference 513 + n - 1), and what the PLC reads back
+//! from the board lands in its M1.0..M1.3.
+
+mod common;
+
+use std::io::{BufRead, BufReader};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::Sim;
+
+/// `gutta-sim ARGS --tcp 127.0.0.1:0`, its TCP address from the listener line.
+fn start(args: &[&str]) -> Sim {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
+        .args(args)
+        .args(["--tcp", "127.0.0.1:0"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("starts gutta-sim");
+    let line = BufReader::new(child.stdout.take().expect("stdout"))
+        .lines()
+        .next()
+        .expect("listener")
+        .expect("text");
+    let address = line.rsplit(' ').next().expect("address").to_string();
+    Sim(child, address)
+}
+
+/// `gutta-cc read --tcp ADDRESS VAR` as a number.
+fn read(address: &str, var: &str) -> u32 {
+    let out = common::cc(&["read", "--tcp", address, var]);
+    assert!(out.status.success(), "{}", common::text(&out));
+    let text = common::stdout(&out);
+    text.trim()
+        .rsplit(' ')
+        .next()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("`{text}` is not `{var} = N`"))
+}
+
+/// Channels 1..4 of the board as bits 0..3, read by mbpoll.
+fn channels(board: &str) -> u32 {
+    let port = board.rsplit(':').next().expect("port").to_string();
+    let out = Command::new("mbpoll")
+        .args(["-m", "tcp", "-p", &port, "-a", "1", "-1"])
+        .args(["-t", "0", "-r", "513", "-c", "4", "127.0.0.1"])
+        .output()
+        .expect("runs mbpoll");
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success(), "{text}");
+    (0..4u32)
+        .filter(|n| text.contains(&format!("[{}]: \t1", 513 + n)))
+        .fold(0, |bits, n| bits | 1 << n)
+}
+
+/// Polls until (the board's channels, the PLC's MB1) is `want`, or 5 s pass.
+fn settle(plc: &str, board: &str, want: (u32, u32)) -> (u32, u32) {
+    let deadline = Instant::now() + Duration::from_secs(5);
+    loop {
+        let now = (channels(board), read(plc, "MB1"));
+        if now == want || Instant::now() > deadline {
+            return now;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+#[test]
+fn the_boards_channels_follow_the_plcs_inputs_through_the_gateway() {
+    if !common::have("mbpoll") {
+        return;
+    }
+    let image = common::image_dir("exch_relay_board", &common::example("exch_relay_board.lad"));
+    let board = start(&["--device", "relay-board"]);
+    let image = image.display().to_string();
+    let plc = start(&[&image, "--port0", &format!("modbus-tcp:{}", board.1)]);
+
+    let write = |assignments: &[&str]| {
+        let mut args = vec!["write", "--tcp", plc.1.as_str()];
+        args.extend_from_slice(assignments);
+        let out = common::cc(&args);
+        assert!(out.status.success(), "{}", common::text(&out));
+    };
+    write(&["I0.0=1", "I0.2=1"]);
+    assert_eq!(
+        settle(&plc.1, &board.1, (0b0101, 0b0101)),
+        (0b0101, 0b0101),
+        "channels 1..4 follow I0.0..I0.3; the PLC reads them back into M1.0..M1.3"
+    );
+    write(&["I0.0=0", "I0.1=1", "I0.3=1"]);
+    assert_eq!(settle(&plc.1, &board.1, (0b1110, 0b1110)), (0b1110, 0b1110));
+    // Every exchange answered: the read's and the report switch's error bytes stay 0.
+    assert_eq!(read(&plc.1, "MB81"), 0);
+    assert_eq!(read(&plc.1, "MB113"), 0);
+}
