@@ -2,8 +2,10 @@
 //! memory mapping of the target's ManagerVar.xml) and the GUTTA protocol (UM4001 inside
 //! Modbus function 13). Nothing here does I/O (clippy.toml forbids it): the `gutta-sim`
 //! binary (package gutta-cli) puts it on TCP and serial transports and gives it its
-//! serial ports for EXCH through a [`ports::PortFactory`] (docs/simulator.md).
+//! serial ports for EXCH through a [`ports::PortFactory`] (docs/simulator.md). `fx.rs`
+//! is another device altogether: the FX-style programming port (docs/devices.md).
 
+pub mod fx;
 pub mod modbus_data;
 pub mod plc;
 pub mod ports;
