@@ -45,7 +45,8 @@ pub struct FxOutput {
     pub switch_to: Option<BaudRate>,
 }
 
-/// The device: memory, line rate, program-write bookkeeping, and its stream splitter.
+/// The device: memory, line rate, program-write bookkeeping, and the splitter of
+/// [`FxDevice::feed`]'s line.
 #[derive(Debug)]
 pub struct FxDevice {
     memory: Vec<u8>,
@@ -99,10 +100,20 @@ impl FxDevice {
         self.naks
     }
 
-    /// Bytes from the line in, the answer out. Partial frames wait for the next feed.
+    /// Bytes from the device's one line in, the answer out. Partial frames wait for the
+    /// next feed.
     pub fn feed(&mut self, bytes: &[u8]) -> FxOutput {
+        let mut splitter = std::mem::take(&mut self.splitter);
+        let output = self.feed_from(&mut splitter, bytes);
+        self.splitter = splitter;
+        output
+    }
+
+    /// As [`FxDevice::feed`], for one of several connections to the same device: each
+    /// brings its own splitter.
+    pub fn feed_from(&mut self, splitter: &mut FxSplitter, bytes: &[u8]) -> FxOutput {
         let mut output = FxOutput::default();
-        for token in self.splitter.push(bytes) {
+        for token in splitter.push(bytes) {
             let reply = match token {
                 FxToken::Enq => Some(FxReply::Ack),
                 // A peer's ACK or NAK asks nothing.

@@ -4,6 +4,7 @@
 //! function 13. All I/O is here, including the PLC's serial ports for EXCH (`ports.rs`);
 //! the protocol logic is the library's (gutta-sim).
 
+mod fx;
 mod ports;
 #[cfg(test)]
 mod ports_tests;
@@ -48,6 +49,10 @@ Exit status: 0 after a clean stop (Ctrl-C included), 2 for usage, image or netwo
 struct Cli {
     /// An image directory written by `gutta-cc -o` (the PLC starts empty without one).
     image: Option<PathBuf>,
+    /// The device to simulate: the GUTTA PLC, or the FX-style programming port (raw
+    /// frames on --tcp, 7E1 on --serial; docs/devices.md).
+    #[arg(long, value_enum, default_value_t = Device::Plc)]
+    device: Device,
     /// PLC type from the stdlib (default: the image's, else the stdlib default).
     #[arg(long, value_name = "NAME")]
     plc: Option<String>,
@@ -87,6 +92,15 @@ struct Cli {
     /// listener lines stay text.
     #[arg(long, value_name = "FORMAT", value_enum, default_value_t = MessageFormat::Human)]
     message_format: MessageFormat,
+}
+
+/// What `gutta-sim` simulates.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Device {
+    /// The GUTTA PLC (Modbus TCP, RTU over TCP, serial RTU).
+    Plc,
+    /// The FX-style programming port (`fx.rs`).
+    Fx,
 }
 
 /// A line on stdout; a closed stdout is not an error of the simulator.
@@ -169,6 +183,9 @@ async fn run(cli: Cli) -> Result<(), Fatal> {
     }
     let ctrl_c = interrupted()?;
     tokio::pin!(ctrl_c);
+    if cli.device == Device::Fx {
+        return run_fx(&cli, ctrl_c).await;
+    }
     let image = match &cli.image {
         Some(dir) => Some(gutta_io::read_image_dir(dir).map_err(Fatal::io)?),
         None => None,
@@ -307,6 +324,22 @@ async fn run(cli: Cli) -> Result<(), Fatal> {
             Err(_) => {}
         }
     }
+}
+
+/// `--device fx`: the options that mean something to it, the others refused.
+async fn run_fx(cli: &Cli, ctrl_c: impl std::future::Future<Output = ()>) -> Result<(), Fatal> {
+    if cli.image.is_some() || !cli.rtu_tcp.is_empty() || cli.port0.is_some() || cli.port1.is_some()
+    {
+        return Err(Fatal::usage(
+            "--device fx takes --tcp, --serial and --baud only (no image, --rtu-tcp or --portN)",
+        ));
+    }
+    let options = fx::FxOptions {
+        tcp: &cli.tcp,
+        serial: &cli.serial,
+        baud: cli.baud,
+    };
+    fx::run(options, ctrl_c).await
 }
 
 /// One connection or serial line under a new connection identity: read, answer, until
