@@ -1,5 +1,8 @@
 //! `gutta-cc fx` against `gutta-sim --device fx` (and, for retries and silence, against
-//! a scripted TCP peer): every subcommand, the program's round trip, clear errors.
+//! a scripted TCP peer): every subcommand, the program's round trip, clear errors, and
+//! a serial line at 7E1 through a socat pty pair, its rate switched by `41`.
+
+mod common;
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpListener;
@@ -198,4 +201,60 @@ fn retries_on_nak_and_reports_silence() {
         peer.join().unwrap(),
         vec![read.clone(), read.clone(), read.clone(), read]
     );
+}
+
+#[test]
+fn serial_line_at_7e1_switches_rate_after_the_ack() {
+    if !common::have("socat") {
+        return;
+    }
+    let base = std::env::temp_dir().join(format!("gutta-cc-fx-serial-{}", std::process::id()));
+    let (device_end, tool_end) = (base.with_extension("dev"), base.with_extension("tool"));
+    let socat = Command::new("socat")
+        .arg(format!("pty,raw,echo=0,link={}", device_end.display()))
+        .arg(format!("pty,raw,echo=0,link={}", tool_end.display()))
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("socat starts");
+    let _socat = Sim(socat, String::new());
+    for _ in 0..100 {
+        if device_end.exists() && tool_end.exists() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
+        .args(["--device", "fx", "--serial"])
+        .arg(&device_end)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("gutta-sim starts");
+    let mut said = BufReader::new(child.stdout.take().unwrap()).lines();
+    let _sim = Sim(child, String::new());
+    let line = said.next().unwrap().unwrap();
+    assert_eq!(
+        line,
+        format!("gutta-sim: fx-serial on {} (9600 7E1)", device_end.display())
+    );
+    let serial = |args: &[&str], baud: &str| {
+        Command::new(env!("CARGO_BIN_EXE_gutta-cc"))
+            .arg("fx")
+            .args(args)
+            .args(["--serial", tool_end.to_str().unwrap(), "--baud", baud])
+            .output()
+            .unwrap()
+    };
+    assert_eq!(
+        ok(&serial(&["write", "0E02", "B15E"], "9600")),
+        "wrote 2 bytes at 0E02\n"
+    );
+    assert_eq!(ok(&serial(&["read", "0E02", "2"], "9600")), "0E02: B1 5E\n");
+    ok(&serial(&["baud", "57600"], "9600"));
+    let line = said.next().unwrap().unwrap();
+    assert_eq!(
+        line,
+        format!("gutta-sim: fx-serial on {} now 57600 7E1", device_end.display())
+    );
+    assert_eq!(ok(&serial(&["read", "0E02", "2"], "57600")), "0E02: B1 5E\n");
 }
