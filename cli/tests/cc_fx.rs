@@ -26,12 +26,12 @@ fn fx_sim() -> Sim {
         .stderr(Stdio::null())
         .spawn()
         .expect("gutta-sim starts");
-    let line = BufReader::new(child.stdout.take().unwrap())
+    let line = BufReader::new(child.stdout.take().expect("fx_sim"))
         .lines()
         .next()
-        .unwrap()
-        .unwrap();
-    let address = line.rsplit(' ').next().unwrap().to_string();
+        .expect("fx_sim")
+        .expect("fx_sim");
+    let address = line.rsplit(' ').next().expect("fx_sim").to_string();
     Sim(child, address)
 }
 
@@ -41,7 +41,7 @@ fn fx(args: &[&str], address: &str) -> Output {
         .args(args)
         .args(["--tcp", address])
         .output()
-        .unwrap()
+        .expect("fx")
 }
 
 fn ok(output: &Output) -> String {
@@ -50,7 +50,7 @@ fn ok(output: &Output) -> String {
         "{}",
         String::from_utf8_lossy(&output.stderr)
     );
-    String::from_utf8(output.stdout.clone()).unwrap()
+    String::from_utf8(output.stdout.clone()).expect("ok")
 }
 
 fn failed(output: &Output) -> String {
@@ -235,7 +235,10 @@ fn serial_line_at_7e1_switches_rate_after_the_ack() {
     let line = said.next().unwrap().unwrap();
     assert_eq!(
         line,
-        format!("gutta-sim: fx-serial on {} (9600 7E1)", device_end.display())
+        format!(
+            "gutta-sim: fx-serial on {} (9600 7E1)",
+            device_end.display()
+        )
     );
     let serial = |args: &[&str], baud: &str| {
         Command::new(env!("CARGO_BIN_EXE_gutta-cc"))
@@ -254,7 +257,13 @@ fn serial_line_at_7e1_switches_rate_after_the_ack() {
     let line = said.next().unwrap().unwrap();
     assert_eq!(
         line,
-        format!("gutta-sim: fx-serial on {} now 57600 7E1", device_end.display())
+        format!(
+            "gutta-sim: fx-serial on {} now 57600 7E1",
+            device_end.display()
+        )
     );
-    assert_eq!(ok(&serial(&["read", "0E02", "2"], "57600")), "0E02: B1 5E\n");
+    assert_eq!(
+        ok(&serial(&["read", "0E02", "2"], "57600")),
+        "0E02: B1 5E\n"
+    );
 }

@@ -20,14 +20,14 @@ impl Drop for Sim {
 
 fn bytes(text: &str) -> Vec<u8> {
     text.split_whitespace()
-        .map(|pair| u8::from_str_radix(pair, 16).unwrap())
+        .map(|pair| u8::from_str_radix(pair, 16).expect("bytes"))
         .collect()
 }
 
 fn exchange(stream: &mut TcpStream, request: &[u8], answer_len: usize) -> Vec<u8> {
-    stream.write_all(request).unwrap();
+    stream.write_all(request).expect("exchange");
     let mut answer = vec![0u8; answer_len];
-    stream.read_exact(&mut answer).unwrap();
+    stream.read_exact(&mut answer).expect("exchange");
     answer
 }
 

@@ -9,12 +9,12 @@ use proptest::prelude::*;
 
 fn bytes(text: &str) -> Vec<u8> {
     text.split_whitespace()
-        .map(|pair| u8::from_str_radix(pair, 16).unwrap())
+        .map(|pair| u8::from_str_radix(pair, 16).expect("bytes"))
         .collect()
 }
 
 fn request(text: &str) -> FxRequest {
-    FxRequest::decode(&bytes(text)).unwrap()
+    FxRequest::decode(&bytes(text)).expect("request")
 }
 
 #[test]

@@ -10,12 +10,12 @@ use proptest::prelude::*;
 
 fn bytes(text: &str) -> Vec<u8> {
     text.split_whitespace()
-        .map(|pair| u8::from_str_radix(pair, 16).unwrap())
+        .map(|pair| u8::from_str_radix(pair, 16).expect("bytes"))
         .collect()
 }
 
 fn ask(device: &mut FxDevice, request: FxRequest) -> Vec<u8> {
-    let output = device.feed(&request.encode().unwrap());
+    let output = device.feed(&request.encode().expect("ask"));
     assert_eq!(output.switch_to, None);
     output.reply
 }
@@ -51,11 +51,7 @@ fn document_read_and_write_at_0e02() {
 
 #[test]
 fn factory_e00_answer_is_the_documents() {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/data/fx_e00_answer.txt"
-    ))
-    .unwrap();
+    let text = include_str!("data/fx_e00_answer.txt");
     let printed: Vec<u8> = text
         .lines()
         .filter(|line| !line.starts_with('#'))
