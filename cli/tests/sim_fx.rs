@@ -98,11 +98,14 @@ fn raw_tcp_client_speaks_the_documents_frames() {
 
 #[test]
 fn fx_device_refuses_plc_options() {
-    let output = Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
-        .args(["--device", "fx", "--rtu-tcp", "127.0.0.1:0"])
-        .output()
-        .unwrap();
-    assert_eq!(output.status.code(), Some(2));
-    let stderr = String::from_utf8_lossy(&output.stderr);
-    assert!(stderr.contains("--device fx takes --tcp"), "{stderr}");
+    for extra in [["--rtu-tcp", "127.0.0.1:0"], ["--plc", "CPU-EC20"]] {
+        let output = Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
+            .args(["--device", "fx", "--tcp", "127.0.0.1:0"])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert_eq!(output.status.code(), Some(2), "{extra:?}");
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(stderr.contains("--device fx takes --tcp"), "{stderr}");
+    }
 }

@@ -328,10 +328,16 @@ async fn run(cli: Cli) -> Result<(), Fatal> {
 
 /// `--device fx`: the options that mean something to it, the others refused.
 async fn run_fx(cli: &Cli, ctrl_c: impl std::future::Future<Output = ()>) -> Result<(), Fatal> {
-    if cli.image.is_some() || !cli.rtu_tcp.is_empty() || cli.port0.is_some() || cli.port1.is_some()
-    {
+    let plc_only = cli.image.is_some()
+        || cli.plc.is_some()
+        || cli.target.is_some()
+        || !cli.rtu_tcp.is_empty()
+        || cli.port0.is_some()
+        || cli.port1.is_some();
+    if plc_only {
         return Err(Fatal::usage(
-            "--device fx takes --tcp, --serial and --baud only (no image, --rtu-tcp or --portN)",
+            "--device fx takes --tcp, --serial and --baud only (no image, --plc, --target, \
+             --rtu-tcp or --portN)",
         ));
     }
     let options = fx::FxOptions {
