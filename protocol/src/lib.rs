@@ -1,7 +1,8 @@
 //! The GUTTA PLC communication protocol as plain data: Modbus RTU and TCP framing,
 //! splitting frames out of a byte stream, the GUTTA messages carried inside Modbus
 //! function 13 (UM4001), packetisation of pages, standard Modbus functions 01-06/15/16
-//! (AN2002) and one sans-I/O master state machine.
+//! (AN2002), one sans-I/O master state machine, and the FX-style programming port
+//! (`fx.rs`, seed 001).
 //!
 //! This crate never does I/O, never reads a clock and never sleeps: bytes and the
 //! current time (milliseconds, any epoch) come in as arguments, bytes to write go out as
@@ -9,6 +10,7 @@
 //! No input makes it panic; every failure is a typed error. See `docs/protocol.md`.
 
 pub mod function;
+pub mod fx;
 pub mod gateway;
 pub mod gutta;
 pub mod master;

@@ -2,9 +2,11 @@
 //! memory mapping of the target's ManagerVar.xml) and the GUTTA protocol (UM4001 inside
 //! Modbus function 13). Nothing here does I/O (clippy.toml forbids it): the `gutta-sim`
 //! binary (package gutta-cli) puts it on TCP and serial transports and gives it its
-//! serial ports for EXCH through a [`ports::PortFactory`] (docs/simulator.md). `relay` is
-//! another simulated device: the Modbus-TCP relay board (docs/devices.md).
+//! serial ports for EXCH through a [`ports::PortFactory`] (docs/simulator.md). `fx` and
+//! `relay` are the other devices of the documents: the FX-style programming port and the
+//! Modbus-TCP relay board (docs/devices.md).
 
+pub mod fx;
 pub mod modbus_data;
 pub mod plc;
 pub mod ports;

@@ -44,6 +44,7 @@ pub(crate) const COMMAND_GROUPS: &[(&str, Group)] = &[
     ("watch", Group::Online),
     ("monitor", Group::Online),
     ("debug", Group::Online),
+    ("fx", Group::Online),
     ("dis", Group::Inspect),
     ("ladder", Group::Inspect),
     ("modbus", Group::Inspect),

@@ -221,6 +221,16 @@ enum Command {
         #[command(flatten)]
         link: LinkArgs,
     },
+    /// Talk to an FX-style programming port (raw frames over --tcp, or --serial at 7E1):
+    /// read, write, force bits, set the baud rate, read the configuration, upload and
+    /// download the program (docs/devices.md).
+    #[command(
+        after_help = "Examples:\n  gutta-cc fx read 0E02 2 --tcp 127.0.0.1:5030\n  gutta-cc fx download-program prog.bin --serial /dev/ttyUSB0 --baud 9600"
+    )]
+    Fx {
+        #[command(subcommand)]
+        action: fx::FxAction,
+    },
     /// Read variables: `NAME (ADDR) = VALUE` for a symbol, `ADDR = VALUE` for an address,
     /// each in its format (a symbol's type; bits 0/1, bytes unsigned, words and double
     /// words signed; a `:bool|int|uint|hex|real` suffix overrides).
@@ -417,6 +427,7 @@ enum Emit {
 mod client;
 mod debug;
 mod explain;
+mod fx;
 mod login;
 mod monitor;
 mod project;
@@ -481,6 +492,7 @@ impl Command {
             | Command::Watch { link, .. }
             | Command::Monitor { link, .. } => Some(link),
             Command::New { .. }
+            | Command::Fx { .. }
             | Command::Build { .. }
             | Command::Test { .. }
             | Command::Ladder { .. }
@@ -615,6 +627,7 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
         Some(Command::Run { link }) => return client::run_stop(&online, link, true),
         Some(Command::Stop { link }) => return client::run_stop(&online, link, false),
         Some(Command::Read { vars, link }) => return client::read(&online, vars, link),
+        Some(Command::Fx { action }) => return fx::run(action),
         Some(Command::Write { assignments, link }) => {
             return client::write(&online, assignments, link, false)
         }

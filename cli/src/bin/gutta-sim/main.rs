@@ -4,6 +4,7 @@
 //! function 13. All I/O is here, including the PLC's serial ports for EXCH (`ports.rs`);
 //! the protocol logic is the library's (gutta-sim).
 
+mod fx;
 mod ports;
 #[cfg(test)]
 mod ports_tests;
@@ -47,12 +48,12 @@ Examples:
 Exit status: 0 after a clean stop (Ctrl-C included), 2 for usage, image or network errors."
 )]
 struct Cli {
-    /// The simulated device (docs/devices.md): the GUTTA PLC, or another device of the
-    /// documents, served on --tcp.
-    #[arg(long, value_enum, default_value_t = Device::Plc)]
-    device: Device,
     /// An image directory written by `gutta-cc -o` (the PLC starts empty without one).
     image: Option<PathBuf>,
+    /// The device to simulate (docs/devices.md): the GUTTA PLC, the FX-style programming
+    /// port (raw frames on --tcp, 7E1 on --serial) or the Modbus-TCP relay board (--tcp).
+    #[arg(long, value_enum, default_value_t = Device::Plc)]
+    device: Device,
     /// PLC type from the stdlib (default: the image's, else the stdlib default).
     #[arg(long, value_name = "NAME")]
     plc: Option<String>,
@@ -99,8 +100,10 @@ struct Cli {
 /// What `gutta-sim` simulates.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 enum Device {
-    /// The GUTTA PLC (the default).
+    /// The GUTTA PLC (Modbus TCP, RTU over TCP, serial RTU).
     Plc,
+    /// The FX-style programming port (`fx.rs`).
+    Fx,
     /// The 32-channel Modbus-TCP relay board of seed document 004 (--tcp only).
     RelayBoard,
 }
@@ -179,7 +182,7 @@ fn interrupted() -> Result<impl std::future::Future<Output = ()>, Fatal> {
 
 async fn run(cli: Cli) -> Result<(), Fatal> {
     match cli.device {
-        Device::Plc => run_plc(cli).await,
+        Device::Plc | Device::Fx => run_plc(cli).await,
         Device::RelayBoard => run_relay_board(cli).await,
     }
 }
@@ -210,6 +213,9 @@ async fn run_plc(cli: Cli) -> Result<(), Fatal> {
     }
     let ctrl_c = interrupted()?;
     tokio::pin!(ctrl_c);
+    if cli.device == Device::Fx {
+        return run_fx(&cli, ctrl_c).await;
+    }
     let image = match &cli.image {
         Some(dir) => Some(gutta_io::read_image_dir(dir).map_err(Fatal::io)?),
         None => None,
@@ -348,6 +354,28 @@ async fn run_plc(cli: Cli) -> Result<(), Fatal> {
             Err(_) => {}
         }
     }
+}
+
+/// `--device fx`: the options that mean something to it, the others refused.
+async fn run_fx(cli: &Cli, ctrl_c: impl std::future::Future<Output = ()>) -> Result<(), Fatal> {
+    let plc_only = cli.image.is_some()
+        || cli.plc.is_some()
+        || cli.target.is_some()
+        || !cli.rtu_tcp.is_empty()
+        || cli.port0.is_some()
+        || cli.port1.is_some();
+    if plc_only {
+        return Err(Fatal::usage(
+            "--device fx takes --tcp, --serial and --baud only (no image, --plc, --target, \
+             --rtu-tcp or --portN)",
+        ));
+    }
+    let options = fx::FxOptions {
+        tcp: &cli.tcp,
+        serial: &cli.serial,
+        baud: cli.baud,
+    };
+    fx::run(options, ctrl_c).await
 }
 
 /// One connection or serial line under a new connection identity: read, answer, until

@@ -1,0 +1,522 @@
+//! `gutta-cc fx`: a client of the FX-style programming port (seed 001; docs/devices.md)
+//! over raw TCP (`--tcp`, e.g. `gutta-sim --device fx`) or a serial line at 7E1
+//! (`--serial`). The frames are gutta_protocol::fx's; here are only the line, the
+//! retries on NAK or silence, the progress bar and the messages.
+
+use std::io::{IsTerminal, Read, Write};
+use std::net::TcpStream;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use clap::{Args, Subcommand};
+use gutta_cli::fatal::Fatal;
+use gutta_format::LineSettings;
+use gutta_protocol::fx::{
+    BaudRate, FxReply, FxRequest, FxSplitter, FxToken, CONFIG_START, MAX_DATA, PROGRAM_CHUNK,
+    PROGRAM_START,
+};
+use indicatif::{ProgressBar, ProgressStyle};
+
+/// Program memory's size: from 805C to the end of the 64 KiB address space.
+const PROGRAM_SIZE: usize = 0x1_0000 - PROGRAM_START as usize;
+
+/// Where the FX-style port is.
+#[derive(Debug, Clone, Args)]
+pub(crate) struct FxEndpoint {
+    /// Raw FX frames over TCP, e.g. gutta-sim --device fx --tcp.
+    #[arg(long, value_name = "HOST:PORT", group = "fx_endpoint")]
+    tcp: Option<String>,
+    /// A serial device, 7 data bits, even parity, 1 stop bit.
+    #[arg(long, value_name = "DEVICE", group = "fx_endpoint")]
+    serial: Option<String>,
+    /// Baud rate for --serial.
+    #[arg(long, value_name = "BAUD", default_value_t = 9600)]
+    baud: u32,
+    /// Milliseconds to wait for each answer.
+    #[arg(long, value_name = "MS", default_value_t = 1000)]
+    timeout: u64,
+    /// Attempts after the first when the answer is NAK or does not come.
+    #[arg(long, value_name = "N", default_value_t = 2)]
+    retries: u32,
+}
+
+/// The `fx` subcommands.
+#[derive(Debug, Clone, Subcommand)]
+pub(crate) enum FxAction {
+    /// Read LEN bytes of the data area from ADDR (`30`): `read 0E02 2`.
+    Read {
+        /// Address, hex (0E02, 0x0E02).
+        #[arg(value_parser = parse_u16)]
+        address: u16,
+        /// Bytes, 1..255 (decimal, or hex with 0x).
+        #[arg(value_parser = parse_len)]
+        len: u8,
+        #[command(flatten)]
+        endpoint: FxEndpoint,
+    },
+    /// Write bytes into the data area at ADDR (`31`): `write 0E02 11 22`.
+    Write {
+        #[arg(value_parser = parse_u16)]
+        address: u16,
+        /// The bytes as hex, separately or run together (11 22, 1122).
+        #[arg(required = true)]
+        bytes: Vec<String>,
+        #[command(flatten)]
+        endpoint: FxEndpoint,
+    },
+    /// Force a bit on (`37`); ADDR is a bit address, hex.
+    ForceOn {
+        #[arg(value_parser = parse_u16)]
+        address: u16,
+        #[command(flatten)]
+        endpoint: FxEndpoint,
+    },
+    /// Force a bit off (`38`); ADDR is a bit address, hex.
+    ForceOff {
+        #[arg(value_parser = parse_u16)]
+        address: u16,
+        #[command(flatten)]
+        endpoint: FxEndpoint,
+    },
+    /// Switch the device's line rate (`41`): 9600, 19200, 38400, 57600 or 115200.
+    Baud {
+        rate: u32,
+        #[command(flatten)]
+        endpoint: FxEndpoint,
+    },
+    /// Print the configuration block (`E00 8000 FE`) as a hex dump.
+    Config {
+        #[command(flatten)]
+        endpoint: FxEndpoint,
+    },
+    /// Read program memory from 805C into FILE (`E01`, 0xFE bytes a frame).
+    UploadProgram {
+        /// The file to write (raw bytes).
+        #[arg(short, long, value_name = "FILE")]
+        output: PathBuf,
+        /// Bytes to read [default: all of program memory, 805C-FFFF].
+        #[arg(long, value_name = "BYTES")]
+        size: Option<usize>,
+        #[command(flatten)]
+        endpoint: FxEndpoint,
+    },
+    /// Write FILE into program memory from 805C (`E11`), read it back and compare
+    /// (`E01`), then end the write (`E87`).
+    DownloadProgram {
+        /// The program's raw bytes.
+        file: PathBuf,
+        #[command(flatten)]
+        endpoint: FxEndpoint,
+    },
+}
+
+fn parse_u16(text: &str) -> Result<u16, String> {
+    let digits = text.trim_start_matches("0x").trim_start_matches("0X");
+    u16::from_str_radix(digits, 16).map_err(|_| format!("`{text}` is not a hex address 0000-FFFF"))
+}
+
+fn parse_len(text: &str) -> Result<u8, String> {
+    let value = match text.strip_prefix("0x").or_else(|| text.strip_prefix("0X")) {
+        Some(hex) => u8::from_str_radix(hex, 16),
+        None => text.parse(),
+    };
+    match value {
+        Ok(0) | Err(_) => Err(format!("`{text}` is not a length 1..255")),
+        Ok(n) => Ok(n),
+    }
+}
+
+fn parse_bytes(words: &[String]) -> Result<Vec<u8>, Fatal> {
+    let text: String = words.concat();
+    let bad = || {
+        Fatal::usage(format!(
+            "`{}` is not bytes in hex (11 22 or 1122)",
+            words.join(" ")
+        ))
+    };
+    if text.is_empty() || text.len() % 2 != 0 {
+        return Err(bad());
+    }
+    (0..text.len())
+        .step_by(2)
+        .map(|i| u8::from_str_radix(text.get(i..i + 2).ok_or_else(bad)?, 16).map_err(|_| bad()))
+        .collect()
+}
+
+/// A byte line with a settable read timeout.
+trait Line: Read + Write {
+    fn set_wait(&mut self, wait: Duration) -> std::io::Result<()>;
+}
+
+impl Line for TcpStream {
+    fn set_wait(&mut self, wait: Duration) -> std::io::Result<()> {
+        self.set_read_timeout(Some(wait.max(Duration::from_millis(1))))
+    }
+}
+
+impl Line for Box<dyn serialport::SerialPort> {
+    fn set_wait(&mut self, wait: Duration) -> std::io::Result<()> {
+        self.set_timeout(wait).map_err(std::io::Error::other)
+    }
+}
+
+/// The client: a line, its splitter, and how hard to try.
+struct FxClient {
+    line: Box<dyn Line>,
+    splitter: FxSplitter,
+    timeout: Duration,
+    retries: u32,
+}
+
+/// Why an exchange failed on one attempt.
+enum Miss {
+    Nak,
+    Silence,
+    Garbled(String),
+}
+
+impl FxClient {
+    fn connect(endpoint: &FxEndpoint) -> Result<FxClient, Fatal> {
+        let line: Box<dyn Line> = match (&endpoint.tcp, &endpoint.serial) {
+            (Some(address), _) => {
+                let stream = TcpStream::connect(address)
+                    .map_err(|e| Fatal::link(format!("cannot connect to {address}: {e}")))?;
+                let _ = stream.set_nodelay(true);
+                Box::new(stream)
+            }
+            (None, Some(path)) => {
+                let settings = LineSettings {
+                    baud: endpoint.baud,
+                    data_bits: 7,
+                    parity: 1,
+                    stop_bits: 1,
+                };
+                let mut port = serialport::new(path, endpoint.baud)
+                    .timeout(Duration::from_millis(endpoint.timeout))
+                    .open()
+                    .map_err(|e| Fatal::link(format!("cannot open {path}: {e}")))?;
+                gutta_link::transport::configure(port.as_mut(), settings)
+                    .map_err(|e| Fatal::link(format!("{path}: {e}")))?;
+                Box::new(port)
+            }
+            (None, None) => return Err(Fatal::usage("give --tcp HOST:PORT or --serial DEVICE")),
+        };
+        Ok(FxClient {
+            line,
+            splitter: FxSplitter::new(),
+            timeout: Duration::from_millis(endpoint.timeout),
+            retries: endpoint.retries,
+        })
+    }
+
+    /// Sends `request` until the device answers ACK or data, at most 1 + retries times.
+    fn exchange(&mut self, request: &FxRequest) -> Result<FxReply, Fatal> {
+        let frame = request
+            .encode()
+            .map_err(|e| Fatal::usage(format!("cannot send {request:?}: {e}")))?;
+        let mut misses = Vec::new();
+        for _ in 0..=self.retries {
+            self.splitter = FxSplitter::new();
+            self.line
+                .write_all(&frame)
+                .and_then(|()| self.line.flush())
+                .map_err(|e| Fatal::link(format!("cannot send: {e}")))?;
+            match self.answer() {
+                Ok(reply) => return Ok(reply),
+                Err(miss) => misses.push(miss),
+            }
+        }
+        let what: Vec<String> = misses
+            .iter()
+            .map(|miss| match miss {
+                Miss::Nak => "NAK".to_string(),
+                Miss::Silence => format!("no answer in {} ms", self.timeout.as_millis()),
+                Miss::Garbled(e) => format!("a broken answer ({e})"),
+            })
+            .collect();
+        let mut fatal = Fatal::link(format!(
+            "{} failed after {} attempts: {}",
+            describe(request),
+            misses.len(),
+            what.join(", ")
+        ));
+        if misses.iter().all(|m| matches!(m, Miss::Nak)) {
+            fatal = fatal.with_hint(
+                "the device refuses the request: check the address range (docs/devices.md)",
+            );
+        } else if misses.iter().all(|m| matches!(m, Miss::Silence)) {
+            fatal = fatal.with_hint("check the endpoint, the baud rate and --timeout");
+        }
+        Err(fatal)
+    }
+
+    /// The next ACK, NAK or data frame, within the timeout.
+    fn answer(&mut self) -> Result<FxReply, Miss> {
+        let deadline = Instant::now() + self.timeout;
+        let mut buf = [0u8; 1024];
+        loop {
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return Err(Miss::Silence);
+            }
+            self.line.set_wait(left).map_err(|_| Miss::Silence)?;
+            let n = match self.line.read(&mut buf) {
+                Ok(0) => return Err(Miss::Garbled("the connection closed".into())),
+                Ok(n) => n,
+                Err(e)
+                    if matches!(
+                        e.kind(),
+                        std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+                    ) =>
+                {
+                    return Err(Miss::Silence)
+                }
+                Err(e) => return Err(Miss::Garbled(e.to_string())),
+            };
+            if let Some(token) = self.splitter.push(&buf[..n]).into_iter().next() {
+                return match token {
+                    FxToken::Nak => Err(Miss::Nak),
+                    other => FxReply::from_token(other).map_err(|e| Miss::Garbled(e.to_string())),
+                };
+            }
+        }
+    }
+
+    fn expect_ack(&mut self, request: &FxRequest) -> Result<(), Fatal> {
+        match self.exchange(request)? {
+            FxReply::Ack => Ok(()),
+            other => Err(Fatal::link(format!(
+                "{}: expected ACK, got {other:?}",
+                describe(request)
+            ))),
+        }
+    }
+
+    fn expect_data(&mut self, request: &FxRequest, len: usize) -> Result<Vec<u8>, Fatal> {
+        match self.exchange(request)? {
+            FxReply::Data(data) if data.len() == len => Ok(data),
+            other => Err(Fatal::link(format!(
+                "{}: expected {len} data bytes, got {other:?}",
+                describe(request)
+            ))),
+        }
+    }
+}
+
+fn describe(request: &FxRequest) -> String {
+    match request {
+        FxRequest::Enquiry => "ENQ".into(),
+        FxRequest::Read { address, len } => format!("read (30) {len} bytes at {address:04X}"),
+        FxRequest::Write { address, data } => {
+            format!("write (31) {} bytes at {address:04X}", data.len())
+        }
+        FxRequest::ForceOn { bit } => format!("force on (37) bit {bit:04X}"),
+        FxRequest::ForceOff { bit } => format!("force off (38) bit {bit:04X}"),
+        FxRequest::Baud(rate) => format!("baud (41) {rate}"),
+        FxRequest::ReadConfig { address, len } => {
+            format!("read configuration (E00) {len} bytes at {address:04X}")
+        }
+        FxRequest::ReadProgram { address, len } => {
+            format!("read program (E01) {len} bytes at {address:04X}")
+        }
+        FxRequest::WriteProgram { address, data } => {
+            format!("write program (E11) {} bytes at {address:04X}", data.len())
+        }
+        FxRequest::EndProgramWrite => "end of program write (E87)".into(),
+    }
+}
+
+/// `ADDR: XX XX ...`, 16 bytes a line.
+fn dump(start: u16, data: &[u8]) -> String {
+    let mut out = String::new();
+    for (n, row) in data.chunks(16).enumerate() {
+        let address = usize::from(start) + 16 * n;
+        let hex: Vec<String> = row.iter().map(|b| format!("{b:02X}")).collect();
+        out.push_str(&format!("{address:04X}: {}\n", hex.join(" ")));
+    }
+    out
+}
+
+fn progress(total: usize, prefix: &'static str) -> Result<ProgressBar, Fatal> {
+    if !std::io::stderr().is_terminal() {
+        return Ok(ProgressBar::hidden());
+    }
+    let style = ProgressStyle::with_template("{prefix} [{bar:32}] {pos}/{len} bytes")
+        .map_err(|e| Fatal::io(format!("progress bar: {e}")))?
+        .progress_chars("=> ");
+    Ok(ProgressBar::new(total as u64)
+        .with_style(style)
+        .with_prefix(prefix))
+}
+
+/// The chunks of program memory `[PROGRAM_START, PROGRAM_START + size)`: address, length.
+fn program_chunks(size: usize) -> impl Iterator<Item = (u16, usize)> {
+    let chunk = usize::from(PROGRAM_CHUNK);
+    (0..size).step_by(chunk).map(move |offset| {
+        // size <= PROGRAM_SIZE keeps every address inside 0x805C..=0xFFFF.
+        let address = PROGRAM_START.wrapping_add(offset as u16);
+        (address, chunk.min(size - offset))
+    })
+}
+
+/// Runs one `gutta-cc fx` subcommand; prints its result on stdout.
+pub(crate) fn run(action: &FxAction) -> Result<std::process::ExitCode, Fatal> {
+    let out = match action {
+        FxAction::Read {
+            address,
+            len,
+            endpoint,
+        } => {
+            let mut client = FxClient::connect(endpoint)?;
+            let request = FxRequest::Read {
+                address: *address,
+                len: *len,
+            };
+            dump(*address, &client.expect_data(&request, usize::from(*len))?)
+        }
+        FxAction::Write {
+            address,
+            bytes,
+            endpoint,
+        } => {
+            let data = parse_bytes(bytes)?;
+            if data.len() > MAX_DATA {
+                return Err(Fatal::usage(format!(
+                    "{} bytes: a write carries at most {MAX_DATA}",
+                    data.len()
+                )));
+            }
+            let mut client = FxClient::connect(endpoint)?;
+            let n = data.len();
+            client.expect_ack(&FxRequest::Write {
+                address: *address,
+                data,
+            })?;
+            format!("wrote {n} bytes at {address:04X}\n")
+        }
+        FxAction::ForceOn { address, endpoint } => {
+            FxClient::connect(endpoint)?.expect_ack(&FxRequest::ForceOn { bit: *address })?;
+            format!("forced bit {address:04X} on\n")
+        }
+        FxAction::ForceOff { address, endpoint } => {
+            FxClient::connect(endpoint)?.expect_ack(&FxRequest::ForceOff { bit: *address })?;
+            format!("forced bit {address:04X} off\n")
+        }
+        FxAction::Baud { rate, endpoint } => {
+            let rate = BaudRate::from_bits_per_second(*rate).ok_or_else(|| {
+                Fatal::usage(format!(
+                    "{rate} baud: the port runs at 9600, 19200, 38400, 57600 or 115200"
+                ))
+            })?;
+            FxClient::connect(endpoint)?.expect_ack(&FxRequest::Baud(rate))?;
+            format!("the device now runs at {rate} baud (give --baud {rate} from now on)\n")
+        }
+        FxAction::Config { endpoint } => {
+            let request = FxRequest::ReadConfig {
+                address: CONFIG_START,
+                len: 0xFE,
+            };
+            let data = FxClient::connect(endpoint)?.expect_data(&request, 0xFE)?;
+            dump(CONFIG_START, &data)
+        }
+        FxAction::UploadProgram {
+            output,
+            size,
+            endpoint,
+        } => upload(output, size.unwrap_or(PROGRAM_SIZE), endpoint)?,
+        FxAction::DownloadProgram { file, endpoint } => download(file, endpoint)?,
+    };
+    print!("{out}");
+    Ok(std::process::ExitCode::SUCCESS)
+}
+
+fn upload(output: &Path, size: usize, endpoint: &FxEndpoint) -> Result<String, Fatal> {
+    if size == 0 || size > PROGRAM_SIZE {
+        return Err(Fatal::usage(format!(
+            "--size {size}: program memory holds 1..{PROGRAM_SIZE} bytes"
+        )));
+    }
+    let mut client = FxClient::connect(endpoint)?;
+    let bar = progress(size, "uploading")?;
+    let mut program = Vec::with_capacity(size);
+    for (address, len) in program_chunks(size) {
+        let request = FxRequest::ReadProgram {
+            address,
+            len: len as u8,
+        };
+        match client.expect_data(&request, len) {
+            Ok(data) => program.extend(data),
+            Err(e) => {
+                bar.abandon();
+                return Err(e);
+            }
+        }
+        bar.inc(len as u64);
+    }
+    bar.finish_and_clear();
+    gutta_io::write_file_atomically(output, &program)
+        .map_err(|e| Fatal::io(format!("cannot write {}: {e}", output.display())))?;
+    Ok(format!(
+        "uploaded {size} bytes of program memory (805C-{:04X}) to {}\n",
+        usize::from(PROGRAM_START) + size - 1,
+        output.display()
+    ))
+}
+
+fn download(file: &Path, endpoint: &FxEndpoint) -> Result<String, Fatal> {
+    let program = std::fs::read(file)
+        .map_err(|e| Fatal::io(format!("cannot read {}: {e}", file.display())))?;
+    if program.is_empty() || program.len() > PROGRAM_SIZE {
+        return Err(Fatal::usage(format!(
+            "{}: {} bytes; program memory holds 1..{PROGRAM_SIZE}",
+            file.display(),
+            program.len()
+        )));
+    }
+    let mut client = FxClient::connect(endpoint)?;
+    // Every byte is written, then read back: the bar counts both.
+    let bar = progress(2 * program.len(), "downloading")?;
+    let result = (|| {
+        let chunks: Vec<(u16, usize)> = program_chunks(program.len()).collect();
+        let mut offset = 0;
+        for &(address, len) in &chunks {
+            client.expect_ack(&FxRequest::WriteProgram {
+                address,
+                data: program[offset..offset + len].to_vec(),
+            })?;
+            offset += len;
+            bar.inc(len as u64);
+        }
+        offset = 0;
+        for &(address, len) in &chunks {
+            let request = FxRequest::ReadProgram {
+                address,
+                len: len as u8,
+            };
+            let back = client.expect_data(&request, len)?;
+            if let Some(n) = (0..len).find(|&n| back[n] != program[offset + n]) {
+                return Err(Fatal::link(format!(
+                    "read-back differs at {:04X}: wrote {:02X}, read {:02X}; the write was not ended (no E87)",
+                    usize::from(address) + n,
+                    program[offset + n],
+                    back[n]
+                )));
+            }
+            offset += len;
+            bar.inc(len as u64);
+        }
+        client.expect_ack(&FxRequest::EndProgramWrite)
+    })();
+    match result {
+        Ok(()) => bar.finish_and_clear(),
+        Err(e) => {
+            bar.abandon();
+            return Err(e);
+        }
+    }
+    Ok(format!(
+        "downloaded {} bytes to program memory (805C-{:04X}), read back and compared, write ended (E87)\n",
+        program.len(),
+        usize::from(PROGRAM_START) + program.len() - 1
+    ))
+}

@@ -1,0 +1,148 @@
+//! `gutta-sim --device fx`: the simulated FX-style programming port (gutta_sim::fx) on
+//! raw TCP connections (`--tcp`, the frames as they would be on the line) and serial
+//! lines at 7E1 (`--serial`). All connections share one device; each has its own
+//! splitter. A `41` baud request switches a serial line once its ACK has left; the
+//! rate is announced on stdout either way. No protocol logic here.
+
+use std::future::Future;
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+
+use gutta_cli::fatal::Fatal;
+use gutta_format::LineSettings;
+use gutta_protocol::fx::{BaudRate, FxSplitter};
+use gutta_sim::fx::FxDevice;
+use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt};
+use tokio::net::TcpListener;
+use tokio_serial::SerialPortBuilderExt;
+
+use crate::{say, wire_time};
+
+/// Where the FX device is served.
+pub struct FxOptions<'a> {
+    pub tcp: &'a [String],
+    pub serial: &'a [PathBuf],
+    /// --baud: the serial lines' starting rate (9600 without it).
+    pub baud: Option<u32>,
+}
+
+/// 7 data bits, even parity, 1 stop bit at `baud`.
+fn line_7e1(baud: u32) -> LineSettings {
+    LineSettings {
+        baud,
+        data_bits: 7,
+        parity: 1,
+        stop_bits: 1,
+    }
+}
+
+/// Serves the device until Ctrl-C.
+pub async fn run(options: FxOptions<'_>, ctrl_c: impl Future<Output = ()>) -> Result<(), Fatal> {
+    let start_baud = match options.baud {
+        None => BaudRate::B9600,
+        Some(bps) => BaudRate::from_bits_per_second(bps).ok_or_else(|| {
+            Fatal::usage(format!(
+                "--baud {bps}: the FX-style port runs at 9600, 19200, 38400, 57600 or 115200"
+            ))
+        })?,
+    };
+    let device = Arc::new(Mutex::new(FxDevice::new()));
+    for address in options.tcp {
+        let listener = TcpListener::bind(address)
+            .await
+            .map_err(|e| Fatal::io(format!("cannot listen on {address}: {e}")))?;
+        let local = listener
+            .local_addr()
+            .map_err(|e| Fatal::io(format!("{address}: {e}")))?;
+        say(&format!("gutta-sim: fx-tcp on {local}"));
+        let device = Arc::clone(&device);
+        tokio::spawn(async move {
+            loop {
+                match listener.accept().await {
+                    Ok((stream, _)) => {
+                        let _ = stream.set_nodelay(true);
+                        tokio::spawn(serve(stream, Arc::clone(&device), None, |_, _| Ok(())));
+                    }
+                    Err(e) => {
+                        eprintln!("gutta-sim: accept failed: {e}");
+                        tokio::time::sleep(std::time::Duration::from_millis(100)).await;
+                    }
+                }
+            }
+        });
+    }
+    for device_path in options.serial {
+        let path = device_path.display().to_string();
+        let line = line_7e1(start_baud.bits_per_second());
+        let mut port = tokio_serial::new(&path, line.baud)
+            .open_native_async()
+            .map_err(|e| Fatal::io(format!("cannot open {path}: {e}")))?;
+        gutta_link::transport::configure(&mut port, line)
+            .map_err(|e| Fatal::io(format!("{path}: {e}")))?;
+        say(&format!("gutta-sim: fx-serial on {path} ({line})"));
+        tokio::spawn(serve(
+            port,
+            Arc::clone(&device),
+            Some(SerialLine { path, line }),
+            |port, line| gutta_link::transport::configure(port, line),
+        ));
+    }
+    ctrl_c.await;
+    say("gutta-sim: stopped by Ctrl-C");
+    Ok(())
+}
+
+/// A serial line and its settings now.
+struct SerialLine {
+    path: String,
+    line: LineSettings,
+}
+
+/// One connection or line: bytes in, the device's answer out, until it closes.
+async fn serve<S>(
+    mut stream: S,
+    device: Arc<Mutex<FxDevice>>,
+    mut serial: Option<SerialLine>,
+    apply: fn(&mut S, LineSettings) -> Result<(), String>,
+) where
+    S: AsyncRead + AsyncWrite + Unpin,
+{
+    let mut splitter = FxSplitter::new();
+    let mut buf = vec![0u8; 4096];
+    loop {
+        let n = match stream.read(&mut buf).await {
+            Ok(0) | Err(_) => return,
+            Ok(n) => n,
+        };
+        let output = match device.lock() {
+            Ok(mut device) => device.feed_from(&mut splitter, &buf[..n]),
+            Err(_) => return,
+        };
+        if !output.reply.is_empty() && stream.write_all(&output.reply).await.is_err() {
+            return;
+        }
+        let Some(rate) = output.switch_to else {
+            continue;
+        };
+        match serial.as_mut() {
+            Some(serial) => {
+                // The ACK leaves at the old rate, then the line switches.
+                let _ = stream.flush().await;
+                tokio::time::sleep(wire_time(output.reply.len(), serial.line)).await;
+                let next = line_7e1(rate.bits_per_second());
+                match apply(&mut stream, next) {
+                    Ok(()) => say(&format!(
+                        "gutta-sim: fx-serial on {} now {next}",
+                        serial.path
+                    )),
+                    Err(e) => eprintln!(
+                        "gutta-sim: {}: cannot switch the line to {next}: {e}",
+                        serial.path
+                    ),
+                }
+                serial.line = next;
+            }
+            None => say(&format!("gutta-sim: fx-tcp baud rate now {rate}")),
+        }
+    }
+}
