@@ -7,40 +7,17 @@
 
 mod common;
 
-use std::io::{BufRead, BufReader};
-use std::process::{Command, Stdio};
+use std::process::Command;
 use std::time::{Duration, Instant};
 
 use common::Sim;
 
-/// `gutta-sim ARGS --tcp 127.0.0.1:0`, its TCP address from the listener line.
 fn start(args: &[&str]) -> Sim {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
-        .args(args)
-        .args(["--tcp", "127.0.0.1:0"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("starts gutta-sim");
-    let line = BufReader::new(child.stdout.take().expect("stdout"))
-        .lines()
-        .next()
-        .expect("listener")
-        .expect("text");
-    let address = line.rsplit(' ').next().expect("address").to_string();
-    Sim(child, address)
+    common::sim_on_free_port(args)
 }
 
-/// `gutta-cc read --tcp ADDRESS VAR` as a number.
 fn read(address: &str, var: &str) -> u32 {
-    let out = common::cc(&["read", "--tcp", address, var]);
-    assert!(out.status.success(), "{}", common::text(&out));
-    let text = common::stdout(&out);
-    text.trim()
-        .rsplit(' ')
-        .next()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or_else(|| panic!("`{text}` is not `{var} = N`"))
+    common::read_number(address, var)
 }
 
 /// Channels 1..4 of the board as bits 0..3, read by mbpoll.

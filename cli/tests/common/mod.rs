@@ -101,6 +101,39 @@ pub fn sim(plc: &str, image: Option<&std::path::Path>) -> Sim {
     Sim(child, address)
 }
 
+/// `gutta-sim ARGS --tcp 127.0.0.1:0` (a PLC or another `--device`), with its TCP
+/// address from its first listener line.
+pub fn sim_on_free_port(args: &[&str]) -> Sim {
+    use std::io::BufRead;
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
+        .args(args)
+        .args(["--tcp", "127.0.0.1:0"])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("starts gutta-sim");
+    let line = std::io::BufReader::new(child.stdout.take().expect("stdout"))
+        .lines()
+        .next()
+        .expect("listener")
+        .expect("text");
+    let address = line.rsplit(' ').next().expect("address").to_string();
+    Sim(child, address)
+}
+
+/// `gutta-cc read --tcp ADDRESS VAR` as a number.
+pub fn read_number(address: &str, var: &str) -> u32 {
+    let out = cc(&["read", "--tcp", address, var]);
+    assert!(out.status.success(), "{}", text(&out));
+    let shown = stdout(&out);
+    shown
+        .trim()
+        .rsplit(' ')
+        .next()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("`{shown}` is not `{var} = N`"))
+}
+
 /// `gutta-cc ARGS`. The simulators of these tests keep their own passwords: a
 /// developer's GUTTA_PASSWORD is never passed on.
 pub fn cc(args: &[&str]) -> std::process::Output {
