@@ -16,7 +16,7 @@ use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt};
 use tokio::net::TcpListener;
 use tokio_serial::SerialPortBuilderExt;
 
-use crate::{say, wire_time};
+use crate::{say, switch_line};
 
 /// Where the FX device is served.
 pub struct FxOptions<'a> {
@@ -128,18 +128,18 @@ async fn serve<S>(
             Some(serial) => {
                 // The ACK leaves at the old rate, then the line switches.
                 let _ = stream.flush().await;
-                tokio::time::sleep(wire_time(output.reply.len(), serial.line)).await;
                 let next = line_7e1(rate.bits_per_second());
-                match apply(&mut stream, next) {
-                    Ok(()) => say(&format!(
-                        "gutta-sim: fx-serial on {} now {next}",
-                        serial.path
-                    )),
-                    Err(e) => eprintln!(
-                        "gutta-sim: {}: cannot switch the line to {next}: {e}",
-                        serial.path
-                    ),
-                }
+                let len = output.reply.len();
+                switch_line(
+                    &mut stream,
+                    apply,
+                    "fx-serial",
+                    &serial.path,
+                    len,
+                    serial.line,
+                    next,
+                )
+                .await;
                 serial.line = next;
             }
             None => say(&format!("gutta-sim: fx-tcp baud rate now {rate}")),

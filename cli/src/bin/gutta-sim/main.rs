@@ -451,17 +451,17 @@ async fn serve_until_closed<S>(
                     if next != follow.line {
                         // The answer leaves at the old settings (a reset or PLC_CLEAR
                         // is answered before it takes effect), then the line switches.
-                        tokio::time::sleep(wire_time(bytes.len(), follow.line)).await;
-                        match (follow.apply)(&mut stream, next) {
-                            Ok(()) => say(&format!(
-                                "gutta-sim: rtu-serial on {} now {next}",
-                                follow.path
-                            )),
-                            Err(e) => eprintln!(
-                                "gutta-sim: {}: cannot switch the line to {next}: {e}",
-                                follow.path
-                            ),
-                        }
+                        let (path, apply) = (follow.path.clone(), follow.apply);
+                        switch_line(
+                            &mut stream,
+                            apply,
+                            "rtu-serial",
+                            &path,
+                            bytes.len(),
+                            follow.line,
+                            next,
+                        )
+                        .await;
                         follow.line = next;
                     }
                 }
@@ -497,6 +497,25 @@ impl<S> Follow<S> {
 }
 
 /// How long `bytes` take on a line (start, data, parity and stop bits).
+/// After an answer of `answer_len` bytes sent at `old`, switch a serial line to `next`
+/// (waiting until the answer has left at the old rate) and say so on stdout; a failure
+/// to switch is said on stderr and the line is taken as switched, as a device would.
+async fn switch_line<S>(
+    stream: &mut S,
+    apply: fn(&mut S, LineSettings) -> Result<(), String>,
+    kind: &str,
+    path: &str,
+    answer_len: usize,
+    old: LineSettings,
+    next: LineSettings,
+) {
+    tokio::time::sleep(wire_time(answer_len, old)).await;
+    match apply(stream, next) {
+        Ok(()) => say(&format!("gutta-sim: {kind} on {path} now {next}")),
+        Err(e) => eprintln!("gutta-sim: {path}: cannot switch the line to {next}: {e}"),
+    }
+}
+
 fn wire_time(bytes: usize, line: LineSettings) -> Duration {
     let bits =
         1 + u32::from(line.data_bits) + u32::from(line.parity != 0) + u32::from(line.stop_bits);
