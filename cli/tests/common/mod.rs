@@ -81,24 +81,10 @@ impl Drop for Sim {
 /// `gutta-sim [IMAGE] --plc PLC --tcp 127.0.0.1:0` on a free loopback port; its address
 /// comes from the first listener line.
 pub fn sim(plc: &str, image: Option<&std::path::Path>) -> Sim {
-    use std::io::BufRead;
-    let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_gutta-sim"));
-    if let Some(dir) = image {
-        command.arg(dir);
-    }
-    let mut child = command
-        .args(["--plc", plc, "--tcp", "127.0.0.1:0"])
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::null())
-        .spawn()
-        .expect("gutta-sim starts");
-    let line = std::io::BufReader::new(child.stdout.take().expect("stdout"))
-        .lines()
-        .next()
-        .expect("listener")
-        .expect("text");
-    let address = line.rsplit(' ').next().expect("address").to_string();
-    Sim(child, address)
+    let image = image.map(|dir| dir.display().to_string());
+    let mut args: Vec<&str> = image.iter().map(String::as_str).collect();
+    args.extend(["--plc", plc]);
+    sim_on_free_port(&args)
 }
 
 /// `gutta-sim ARGS --tcp 127.0.0.1:0` (a PLC or another `--device`), with its TCP
