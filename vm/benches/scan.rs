@@ -184,6 +184,22 @@ fn bytes_per_vm(verified: &VerifiedImage, target: &Arc<Target>, n: usize) -> Opt
     Some((step(2), step(1)))
 }
 
+/// Median microseconds of `Vm::new` (the image's clone is made before the clock starts
+/// and the VM dropped after it stops).
+fn load_micros(verified: &VerifiedImage, target: &Arc<Target>, n: usize) -> f64 {
+    let times = (0..n.max(1))
+        .map(|_| {
+            let image = verified.clone();
+            let t = Instant::now();
+            let vm = Vm::new(image, Arc::clone(target), VmConfig::default()).expect("loads");
+            let s = t.elapsed().as_secs_f64();
+            drop(black_box(vm));
+            s * 1e6
+        })
+        .collect();
+    median(times)
+}
+
 fn main() {
     let bench = std::env::args().any(|a| a == "--bench");
     let effort = if bench {
@@ -268,8 +284,8 @@ fn main() {
         effort.vms_per_step
     );
     println!(
-        "{:<22} {:>12} {:>14} {:>16}",
-        "image", "image bytes", "bytes per VM", "(step before)"
+        "{:<22} {:>12} {:>14} {:>16} {:>10}",
+        "image", "image bytes", "bytes per VM", "(step before)", "load (us)"
     );
     let images = [
         ("in1001_pointers.lad", example("in1001_pointers.lad")),
@@ -280,11 +296,12 @@ fn main() {
     ];
     for (name, text) in images {
         let (verified, target, bytes) = image(name, &text, Some(BIG_TARGET));
+        let load = load_micros(&verified, &target, effort.vms_per_step);
         match bytes_per_vm(&verified, &target, effort.vms_per_step) {
             Some((last, before)) => {
-                println!("{name:<22} {bytes:>12} {last:>14.0} {before:>16.0}")
+                println!("{name:<22} {bytes:>12} {last:>14.0} {before:>16.0} {load:>10.0}")
             }
-            None => println!("{name:<22} {bytes:>12} {:>14}", "no /proc"),
+            None => println!("{name:<22} {bytes:>12} {:>14} {:>16} {load:>10.0}", "no /proc", ""),
         }
     }
 }
