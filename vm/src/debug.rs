@@ -144,11 +144,7 @@ impl Debugger {
                 let pc = engine
                     .program
                     .unit(p.function)
-                    .and_then(|u| {
-                        u.positions.iter().zip(&u.plain).position(|(&(n, s), op)| {
-                            n == p.network && s == p.step && !op.is_network()
-                        })
-                    })
+                    .and_then(|u| u.find(p.network, p.step))
                     .ok_or(DebugError::NoInstruction(p))?;
                 Some((p, pc))
             }
@@ -204,17 +200,8 @@ fn rebuild(engine: &mut Engine, page: u8, pc: Option<usize>) {
     let fast = engine.program.config.fast;
     if let Some(unit) = engine.program.units[page as usize].as_mut() {
         let unit = Arc::make_mut(unit);
-        let mut chain = std::mem::take(&mut unit.chain);
-        unit.ops = if fast {
-            crate::fuse::build(&unit.plain, pc, &mut chain)
-        } else {
-            let mut ops = unit.plain.clone();
-            if let Some(op) = pc.and_then(|pc| ops.get_mut(pc)) {
-                *op = Op::Break;
-            }
-            ops
-        };
-        unit.chain = chain;
+        let plain = unit.plain_ops();
+        unit.set_ops(plain, fast, pc);
     }
 }
 
@@ -290,7 +277,7 @@ fn pause_at_next(engine: &mut Engine) -> Result<ScanEnd, Fault> {
         let op = engine
             .program
             .unit(page)
-            .and_then(|u| u.plain.get(pc).copied());
+            .and_then(|u| u.plain_op(pc));
         match op {
             Some(op) if op.is_network() => {
                 engine.machine.stack = 0;

@@ -73,32 +73,80 @@ fn plan_call(
     Some(CallPlan { callee, args })
 }
 
-/// An instruction record, compactly: its operands are `Unit::operands[first..first + len]`.
+/// A `Generic` record, compactly: its operands are `Unit::operands[first..first + len]`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Record {
     pub id: InstrId,
+    pub len: u16,
     /// Byte offset in the instruction page (for fault messages).
     pub offset: u32,
     pub first: u32,
-    pub len: u16,
+}
+
+/// Which records run `Generic`, and each one's place among them: a bit per record and,
+/// per 64 records, how many generic records come before (a rank in O(1)).
+#[derive(Debug, Clone, Default)]
+struct GenericRecords {
+    bits: Vec<u64>,
+    before: Vec<u32>,
+}
+
+impl GenericRecords {
+    fn push(&mut self, pc: usize, generic: bool) {
+        if pc % 64 == 0 {
+            let count = self.bits.last().map_or(0, |w| w.count_ones());
+            let base = self.before.last().copied().unwrap_or(0);
+            self.before.push(base + count);
+            self.bits.push(0);
+        }
+        if generic {
+            if let Some(w) = self.bits.last_mut() {
+                *w |= 1 << (pc % 64);
+            }
+        }
+    }
+
+    /// Record `pc`'s index among the generic records, if it is one.
+    #[inline]
+    fn rank(&self, pc: usize) -> Option<usize> {
+        let word = *self.bits.get(pc / 64)?;
+        let bit = 1u64 << (pc % 64);
+        if word & bit == 0 {
+            return None;
+        }
+        Some(self.before[pc / 64] as usize + (word & (bit - 1)).count_ones() as usize)
+    }
+}
+
+/// A network record: its record index and number. A unit's positions derive from
+/// these (docs/vm.md, "Code layout").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct NetworkStart {
+    at: u32,
+    number: u16,
 }
 
 /// A unit ready to run. Everything the interpreter needs, so the VM keeps no other copy
-/// of the code.
+/// of the code. Stored for size (docs/vm.md, "Code layout"): one operation per record,
+/// the plain operations the fused ones displaced, the network starts (positions derive
+/// from them) and the record and operands of the `Generic` records only (the others
+/// never read them).
 #[derive(Debug, Clone)]
 pub(crate) struct Unit {
     pub page: u8,
     /// What the fast path runs (fused, breakpoint patched in); see `build`.
     pub ops: Vec<Op>,
-    /// One operation per record, unfused: what single steps and the slow path run.
-    pub plain: Vec<Op>,
+    /// (record index, plain operation) where `ops` holds another: the heads of fused
+    /// chains and the breakpoint, sorted. `plain_op` reads through it.
+    displaced: Vec<(u32, Op)>,
     /// Steps of the fused chains in `ops`.
     pub chain: Vec<ChainStep>,
-    /// Per record: (network number, step within the network); networks have step 0xFFFF.
-    pub positions: Vec<(u16, u16)>,
-    /// Per record: the instruction (None for network records).
-    pub records: Vec<Option<Record>>,
-    pub operands: Vec<PackedOperand>,
+    /// The network records, in order.
+    networks: Vec<NetworkStart>,
+    generic: GenericRecords,
+    /// Per generic record, in record order.
+    records: Vec<Record>,
+    operands: Vec<PackedOperand>,
     /// Label number -> record index of its LBL.
     pub labels: BTreeMap<u16, usize>,
     /// FOR record index -> record index of its NEXT (paired by the verifier).
@@ -112,9 +160,10 @@ pub(crate) struct Unit {
 }
 
 impl Unit {
-    /// Record `pc` if it is an instruction: its id, page offset and operands.
+    /// Record `pc` if it runs `Generic`: its id, page offset and operands. (Fast and
+    /// planned records keep neither: their operation says all they do.)
     pub fn instruction(&self, pc: usize) -> Option<(InstrId, usize, &[PackedOperand])> {
-        let r = (*self.records.get(pc)?)?;
+        let r = *self.records.get(self.generic.rank(pc)?)?;
         let ops = self
             .operands
             .get(r.first as usize..r.first as usize + r.len as usize)?;
@@ -123,6 +172,98 @@ impl Unit {
 
     pub fn mnemonic(&self, id: InstrId) -> &str {
         &self.target.instructions.get(id).mnemonic
+    }
+
+    /// Record `pc`'s own operation, unfused and without the breakpoint: what single
+    /// steps and the slow path run.
+    #[inline]
+    pub fn plain_op(&self, pc: usize) -> Option<Op> {
+        Some(self.unfused(pc, *self.ops.get(pc)?))
+    }
+
+    /// Record `pc`'s own operation, given `op = ops[pc]`: `op` itself unless it is a
+    /// chain or the breakpoint patched over it.
+    #[inline]
+    pub fn unfused(&self, pc: usize, op: Op) -> Op {
+        match op {
+            Op::Chain { .. } | Op::Break => self.displaced_op(pc).unwrap_or(op),
+            op => op,
+        }
+    }
+
+    /// The plain operation displaced from record `pc` (rare: single steps, breakpoints).
+    #[cold]
+    #[inline(never)]
+    fn displaced_op(&self, pc: usize) -> Option<Op> {
+        let at = u32::try_from(pc).ok()?;
+        let k = self.displaced.binary_search_by_key(&at, |&(p, _)| p).ok()?;
+        Some(self.displaced[k].1)
+    }
+
+    /// Every record's plain operation (to fuse again with another breakpoint).
+    pub fn plain_ops(&self) -> Vec<Op> {
+        let mut ops = self.ops.clone();
+        for &(pc, op) in &self.displaced {
+            ops[pc as usize] = op;
+        }
+        ops
+    }
+
+    /// The operations to run: `plain` fused (when `fast`) with the breakpoint at `pc`
+    /// patched in; the plain operations they displace are kept.
+    pub fn set_ops(&mut self, plain: Vec<Op>, fast: bool, breakpoint: Option<usize>) {
+        let mut ops = if fast {
+            build(&plain, breakpoint, &mut self.chain)
+        } else {
+            self.chain.clear();
+            let mut ops = plain.clone();
+            if let Some(op) = breakpoint.and_then(|pc| ops.get_mut(pc)) {
+                *op = Op::Break;
+            }
+            ops
+        };
+        self.displaced = (0..plain.len())
+            .filter(|&k| ops[k] != plain[k])
+            .map(|k| (k as u32, plain[k]))
+            .collect();
+        ops.shrink_to_fit();
+        self.chain.shrink_to_fit();
+        self.ops = ops;
+    }
+
+    /// Record `pc`'s (network number, step within the network); a network record's
+    /// step is 0xFFFF. Records before the first network are in network 0.
+    pub fn position(&self, pc: usize) -> Option<(u16, u16)> {
+        if pc >= self.ops.len() {
+            return None;
+        }
+        let k = self.networks.partition_point(|n| n.at as usize <= pc);
+        let step = |from: usize| u16::try_from(pc - from).unwrap_or(u16::MAX);
+        Some(match k.checked_sub(1).map(|k| self.networks[k]) {
+            None => (0, step(0)),
+            Some(n) if n.at as usize == pc => (n.number, u16::MAX),
+            Some(n) => (n.number, step(n.at as usize + 1)),
+        })
+    }
+
+    /// The first instruction record at (`network`, `step`), if there is one.
+    pub fn find(&self, network: u16, step: u16) -> Option<usize> {
+        let ends = self
+            .networks
+            .iter()
+            .map(|n| n.at as usize)
+            .chain([self.ops.len()]);
+        let starts = std::iter::once((0, 0)).chain(
+            self.networks
+                .iter()
+                .map(|n| (n.at as usize + 1, n.number)),
+        );
+        starts
+            .zip(ends)
+            .filter(|&((_, number), _)| number == network)
+            .map(|((first, _), end)| (first + usize::from(step), end))
+            .find(|&(pc, end)| pc < end)
+            .map(|(pc, _)| pc)
     }
 }
 
@@ -251,21 +392,19 @@ pub(crate) fn decode(
     params: &dyn Fn(u8) -> Option<Vec<LocalEntry>>,
 ) -> Unit {
     let mut calls = Vec::new();
-    let n = unit.records.len();
-    let (mut ops, mut positions, mut records) = (
-        Vec::with_capacity(n),
-        Vec::with_capacity(n),
-        Vec::with_capacity(n),
-    );
+    let mut plain = Vec::with_capacity(unit.records.len());
+    let (mut networks, mut generic, mut records) =
+        (Vec::new(), GenericRecords::default(), Vec::new());
     let mut operands = Vec::new();
-    let (mut network, mut step) = (0u16, 0u16);
-    for r in &unit.records {
+    for (pc, r) in unit.records.iter().enumerate() {
         match r {
             UnitRecord::Network { number, .. } => {
-                (network, step) = (*number, 0);
-                ops.push(Op::Network);
-                positions.push((network, u16::MAX));
-                records.push(None);
+                networks.push(NetworkStart {
+                    at: u32::try_from(pc).unwrap_or(u32::MAX),
+                    number: *number,
+                });
+                plain.push(Op::Network);
+                generic.push(pc, false);
             }
             UnitRecord::Instruction {
                 id,
@@ -291,32 +430,32 @@ pub(crate) fn decode(
                     .unwrap_or(Op::Generic {
                         boxed: ins.flow == Flow::Box,
                     });
-                ops.push(op);
-                positions.push((network, step));
-                records.push(Some(Record {
-                    id: *id,
-                    offset: u32::try_from(*offset).unwrap_or(u32::MAX),
-                    first: u32::try_from(operands.len()).unwrap_or(u32::MAX),
-                    len: u16::try_from(packed.len()).unwrap_or(u16::MAX),
-                }));
-                operands.extend_from_slice(packed);
-                step = step.saturating_add(1);
+                let is_generic = matches!(op, Op::Generic { .. });
+                plain.push(op);
+                generic.push(pc, is_generic);
+                if is_generic {
+                    records.push(Record {
+                        id: *id,
+                        len: u16::try_from(packed.len()).unwrap_or(u16::MAX),
+                        offset: u32::try_from(*offset).unwrap_or(u32::MAX),
+                        first: u32::try_from(operands.len()).unwrap_or(u32::MAX),
+                    });
+                    operands.extend_from_slice(packed);
+                }
             }
         }
     }
+    networks.shrink_to_fit();
+    records.shrink_to_fit();
     operands.shrink_to_fit();
-    let mut chain = Vec::new();
-    let fused = if fast_ops {
-        build(&ops, None, &mut chain)
-    } else {
-        ops.clone()
-    };
-    Unit {
+    calls.shrink_to_fit();
+    let mut unit = Unit {
         page: unit.page,
-        ops: fused,
-        plain: ops,
-        chain,
-        positions,
+        ops: Vec::new(),
+        displaced: Vec::new(),
+        chain: Vec::new(),
+        networks,
+        generic,
         records,
         operands,
         labels: unit.labels.clone(),
@@ -324,5 +463,7 @@ pub(crate) fn decode(
         params: unit.parameters().copied().collect(),
         calls,
         target: Arc::clone(target),
-    }
+    };
+    unit.set_ops(plain, fast_ops, None);
+    unit
 }

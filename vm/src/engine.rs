@@ -178,7 +178,7 @@ impl Engine {
     fn current_instruction(&self) -> Option<Position> {
         let f = self.machine.frames.last()?;
         let unit = self.program.unit(f.page)?;
-        let &(network, step) = unit.positions.get(f.pc)?;
+        let (network, step) = unit.position(f.pc)?;
         Some(Position {
             function: f.page,
             network,
@@ -261,7 +261,7 @@ impl Engine {
                     return Ok(Flow::Break);
                 }
                 // One record, unfused (a breakpoint's own instruction when stepping).
-                let op = unit.plain[pc];
+                let op = unit.unfused(pc, op);
                 if op == Op::Network {
                     st = 0;
                     pc += 1;
@@ -455,7 +455,7 @@ impl Engine {
         let f = self.machine.frames.last()?;
         let unit = self.program.unit(f.page)?;
         let mut pc = f.pc;
-        while skip_networks && unit.plain.get(pc).is_some_and(|o| o.is_network()) {
+        while skip_networks && unit.plain_op(pc).is_some_and(|o| o.is_network()) {
             pc += 1;
         }
         unit.ops.get(pc).copied()
