@@ -94,9 +94,13 @@ impl VerifiedImage {
     }
 
     /// Program units by page number (function index).
-    /// Move the units out (a VM that decoded them keeps no second copy); `units()` is
-    /// empty afterwards.
+    /// Move the units out, and drop the pages they were read from (a VM that decoded
+    /// them keeps no second copy of the code): `units()` is empty afterwards and
+    /// `image()` has no instruction or argument page left.
     pub fn take_units(&mut self) -> BTreeMap<u8, VerifiedUnit> {
+        self.image
+            .pages
+            .retain(|id, _| !matches!(id.kind, PageKind::Instruction | PageKind::Argument));
         std::mem::take(&mut self.units)
     }
 
