@@ -18,7 +18,7 @@ use crate::op::{Arith, Bit, ChainStep, Combine, Op, Rel};
 
 /// One argument of a planned CALL: the caller's variable and the callee's parameter in
 /// L, as flat memory indices.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub(crate) struct ArgPlan {
     pub var: u32,
     pub param: u32,
@@ -29,8 +29,9 @@ pub(crate) struct ArgPlan {
     pub output: bool,
 }
 
-/// A CALL whose arguments are all plain variables of their parameters' widths.
-#[derive(Debug, Clone, PartialEq, Eq)]
+/// A CALL whose arguments are all plain variables of their parameters' widths. CALLs
+/// with the same callee and arguments share one plan.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
 pub(crate) struct CallPlan {
     pub callee: u8,
     pub args: Vec<ArgPlan>,
@@ -392,6 +393,7 @@ pub(crate) fn decode(
     params: &dyn Fn(u8) -> Option<Vec<LocalEntry>>,
 ) -> Unit {
     let mut calls = Vec::new();
+    let mut plan_of: BTreeMap<CallPlan, u32> = BTreeMap::new();
     let mut plain = Vec::with_capacity(unit.records.len());
     let (mut networks, mut generic, mut records) =
         (Vec::new(), GenericRecords::default(), Vec::new());
@@ -416,10 +418,11 @@ pub(crate) fn decode(
                     .then(|| plan_call(memory, target, packed, params))
                     .flatten()
                     .map(|plan| {
-                        calls.push(plan);
-                        Op::Call {
-                            plan: (calls.len() - 1) as u32,
-                        }
+                        let plan = *plan_of.entry(plan).or_insert_with_key(|plan| {
+                            calls.push(plan.clone());
+                            (calls.len() - 1) as u32
+                        });
+                        Op::Call { plan }
                     });
                 let op = planned
                     .or_else(|| {
