@@ -66,6 +66,18 @@ fn full_program_verifies_with_decoded_units() {
     assert_eq!(v.data().get(&0), spec.data.get(&0));
     assert_eq!(v.system(), spec.system.as_ref());
     assert_eq!(v.clone().into_image(), image);
+
+    // Taking the units drops the pages they came from; the rest stays readable.
+    let mut taken = v.clone();
+    assert_eq!(taken.take_units(), *v.units());
+    assert!(taken.units().is_empty());
+    let kinds: Vec<PageKind> = taken.image().pages.keys().map(|id| id.kind).collect();
+    assert!(!kinds.contains(&PageKind::Instruction), "{kinds:?}");
+    assert!(!kinds.contains(&PageKind::Argument), "{kinds:?}");
+    assert!(image.pages.keys().any(|id| id.kind == PageKind::Argument));
+    assert_eq!(taken.constants(), spec.consts.as_slice());
+    assert_eq!(taken.data(), v.data());
+    assert_eq!(taken.system(), v.system());
 }
 
 #[test]

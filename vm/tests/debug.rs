@@ -361,3 +361,156 @@ fn breakpoints_inside_fused_bit_logic() {
         }
     }
 }
+
+/// Fused chains (networks 1, and 3 with 4 across their network record), a generic
+/// record (+I with a literal), a fast MOVW and a planned CALL: what `decode.rs` stores
+/// differently for each kind of record.
+const LAYOUT: &str = "\
+ORGANIZATION_BLOCK MAIN:OB1
+BEGIN
+NETWORK 1
+LD I0.0
+A I0.1
+O M0.0
+= Q0.0
+= M0.1
+NETWORK 2
+LD SM0.0
++I 3, MW10
+MOVW MW10, MW12
+CALL ADD, MW10, MW2
+NETWORK 3
+LDN Q0.0
+AN M0.1
+= Q0.1
+NETWORK 4
+LD Q0.1
+= M0.2
+END_ORGANIZATION_BLOCK
+SUBROUTINE_BLOCK ADD:SBR0
+VAR_INPUT
+  a : INT;
+END_VAR
+VAR_OUTPUT
+  r : INT;
+END_VAR
+BEGIN
+NETWORK 1
+LD SM0.0
+MOVW #a, #r
+NETWORK 2
+LD SM0.0
++I 100, #r
+END_SUBROUTINE_BLOCK
+";
+
+/// Every instruction's position, in the order STEP_IN visits them in one scan.
+fn step_in_positions(vm: &mut gutta_vm::Vm) -> Vec<Position> {
+    vm.debug_stop().expect("stop");
+    let mut seen = vec![vm.position().expect("paused")];
+    loop {
+        match vm.debug_step(Step::In).expect("step") {
+            ScanEnd::Paused(p) if vm.scans() == 0 => seen.push(p),
+            ScanEnd::Paused(_) => return seen,
+            other => panic!("{other:?}"),
+        }
+    }
+}
+
+fn layout_vm(fast: bool) -> gutta_vm::Vm {
+    let mut vm = load(
+        LAYOUT,
+        VmConfig {
+            fast,
+            ..VmConfig::default()
+        },
+    );
+    set(&mut vm, "I0.0", 1);
+    vm
+}
+
+#[test]
+fn positions_breakpoints_and_steps_on_every_kind_of_record() {
+    let sbr = sbr0(&layout_vm(true));
+    let mut expected: Vec<Position> = (0..5).map(|s| at(0, 1, s)).collect();
+    expected.extend((0..4).map(|s| at(0, 2, s)));
+    expected.extend([at(sbr, 1, 0), at(sbr, 1, 1), at(sbr, 2, 0), at(sbr, 2, 1)]);
+    expected.extend((0..3).map(|s| at(0, 3, s)));
+    expected.extend((0..2).map(|s| at(0, 4, s)));
+    // Memory after two scans without a breakpoint: the reference.
+    let mut plain = layout_vm(true);
+    plain.scan().expect("scan");
+    plain.scan().expect("scan");
+    let reference = |vm: &gutta_vm::Vm| {
+        ["Q0.0", "Q0.1", "M0.1", "M0.2", "MW10", "MW12", "MW2"].map(|v| read(vm, v))
+    };
+    for fast in [true, false] {
+        assert_eq!(step_in_positions(&mut layout_vm(fast)), expected, "fast {fast}");
+        for &p in &expected {
+            // A breakpoint pauses before its instruction (in a chain too), and the
+            // scan goes on exactly as without it.
+            let mut vm = layout_vm(fast);
+            vm.set_breakpoint(Some(p)).expect("an instruction");
+            assert_eq!(vm.run_scan(), Ok(ScanEnd::Paused(p)), "fast {fast}");
+            vm.debug_run();
+            assert_eq!(vm.run_scan(), Ok(ScanEnd::Completed), "fast {fast} {p}");
+            assert_eq!(vm.run_scan(), Ok(ScanEnd::Paused(p)), "fast {fast}");
+            vm.set_breakpoint(None).expect("clear");
+            vm.debug_run();
+            assert_eq!(vm.run_scan(), Ok(ScanEnd::Completed));
+            assert_eq!(reference(&vm), reference(&plain), "fast {fast} {p}");
+        }
+        // One past each network's last step is no instruction.
+        let vm = &mut layout_vm(fast);
+        for p in [at(0, 1, 5), at(0, 2, 4), at(0, 3, 3), at(0, 4, 2), at(sbr, 2, 2)] {
+            assert_eq!(vm.set_breakpoint(Some(p)), Err(DebugError::NoInstruction(p)));
+        }
+    }
+}
+
+/// A fault in a generic record names its byte offset in the instruction page and its
+/// position.
+#[test]
+fn a_fault_names_the_records_offset_and_position() {
+    let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.0\n\
+                MOVD 16#FFFFFFFF, MD4\nNETWORK 2\nLD SM0.0\nMOVW MW0, MW20\n\
+                MOVW *MD4, MW8\nEND_ORGANIZATION_BLOCK\n";
+    let target = gutta_catalog::stdlib::shared(gutta_catalog::stdlib::DEFAULT).expect("target");
+    let explicit = gutta_compiler::ExplicitTarget {
+        target: target.clone(),
+        origin: "test".into(),
+    };
+    let c = gutta_compiler::compile(
+        gutta_compiler::source::SourceFile::new("t.lad", text),
+        Some(&explicit),
+    );
+    let verified = gutta_format::verify(&c.image.expect("compiles"), &target).expect("verifies");
+    let offset = verified
+        .main()
+        .expect("MAIN")
+        .records
+        .iter()
+        .filter_map(|r| match r {
+            gutta_format::UnitRecord::Instruction { offset, .. } => Some(*offset),
+            gutta_format::UnitRecord::Network { .. } => None,
+        })
+        .last()
+        .expect("MOVW *MD4");
+    for fast in [true, false] {
+        let mut vm = gutta_vm::Vm::new(
+            verified.clone(),
+            std::sync::Arc::clone(&target),
+            VmConfig {
+                fast,
+                ..VmConfig::default()
+            },
+        )
+        .expect("loads");
+        let fault = vm.scan().expect_err("a bad pointer");
+        assert!(
+            fault.to_string().contains(&format!("instruction/00.bin byte {offset}:")),
+            "{fault}"
+        );
+        assert_eq!(vm.fault_position(), Some(at(0, 2, 2)));
+    }
+}
