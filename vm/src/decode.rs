@@ -37,33 +37,41 @@ pub(crate) struct CallPlan {
     pub args: Vec<ArgPlan>,
 }
 
-/// The plan of a CALL, if its arguments allow one.
+/// The plan of a CALL into `plan`, if its arguments allow one (false otherwise).
+/// `params`: the parameters of each unit, by page.
 fn plan_call(
     memory: &Memory,
     target: &Target,
     operands: &[PackedOperand],
-    params: &dyn Fn(u8) -> Option<Vec<LocalEntry>>,
-) -> Option<CallPlan> {
-    let Ok(Operand::Unit(unit)) = operands.first()?.decode() else {
-        return None;
+    params: &BTreeMap<u8, Vec<LocalEntry>>,
+    plan: &mut CallPlan,
+) -> bool {
+    let Some(Ok(Operand::Unit(unit))) = operands.first().map(|o| o.decode()) else {
+        return false;
     };
-    let callee = unit.page(&target.plc)?;
-    let params = params(callee)?;
+    let Some(params) = unit.page(&target.plc).and_then(|callee| {
+        plan.callee = callee;
+        params.get(&callee)
+    }) else {
+        return false;
+    };
     if operands.len() != params.len() + 1 {
-        return None;
+        return false;
     }
-    let mut args = Vec::with_capacity(params.len());
+    plan.args.clear();
     for (p, &op) in params.iter().zip(&operands[1..]) {
         let Ok(Operand::Value(declared)) = p.operand.decode() else {
-            return None;
+            return false;
         };
         let width = declared.width;
         if width == Width::Bit {
-            return None;
+            return false;
         }
-        let param = plain(memory, p.operand, width)?;
-        let var = plain(memory, op, width)?;
-        args.push(ArgPlan {
+        let (Some(param), Some(var)) = (plain(memory, p.operand, width), plain(memory, op, width))
+        else {
+            return false;
+        };
+        plan.args.push(ArgPlan {
             var,
             param,
             width: width.bytes() as u8,
@@ -71,7 +79,19 @@ fn plan_call(
             output: p.section != LocalSection::Input,
         });
     }
-    Some(CallPlan { callee, args })
+    true
+}
+
+/// The index of `plan` in `calls`, added there the first time (CALLs with the same
+/// callee and arguments share it).
+fn intern(plan: &CallPlan, calls: &mut Vec<CallPlan>, index: &mut BTreeMap<CallPlan, u32>) -> u32 {
+    if let Some(&k) = index.get(plan) {
+        return k;
+    }
+    let k = u32::try_from(calls.len()).unwrap_or(u32::MAX);
+    calls.push(plan.clone());
+    index.insert(plan.clone(), k);
+    k
 }
 
 /// A `Generic` record, compactly: its operands are `Unit::operands[first..first + len]`.
@@ -384,16 +404,20 @@ fn fast(memory: &Memory, mnemonic: &str, ops: &[PackedOperand]) -> Option<Op> {
 
 /// Decode a unit. `fast_ops` false keeps every instruction `Generic` (the tests compare
 /// both forms).
-/// `params(page)`: the parameters of unit `page` (for CALL plans).
+/// `params`: the parameters of each unit, by page (for CALL plans).
 pub(crate) fn decode(
     unit: &VerifiedUnit,
     target: &Arc<Target>,
     memory: &Memory,
     fast_ops: bool,
-    params: &dyn Fn(u8) -> Option<Vec<LocalEntry>>,
+    params: &BTreeMap<u8, Vec<LocalEntry>>,
 ) -> Unit {
     let mut calls = Vec::new();
     let mut plan_of: BTreeMap<CallPlan, u32> = BTreeMap::new();
+    let mut scratch = CallPlan {
+        callee: 0,
+        args: Vec::new(),
+    };
     let mut plain = Vec::with_capacity(unit.records.len());
     let (mut networks, mut generic, mut records) =
         (Vec::new(), GenericRecords::default(), Vec::new());
@@ -414,15 +438,11 @@ pub(crate) fn decode(
                 offset,
             } => {
                 let ins = target.instructions.get(*id);
-                let planned = (fast_ops && ins.mnemonic == "CALL")
-                    .then(|| plan_call(memory, target, packed, params))
-                    .flatten()
-                    .map(|plan| {
-                        let plan = *plan_of.entry(plan).or_insert_with_key(|plan| {
-                            calls.push(plan.clone());
-                            (calls.len() - 1) as u32
-                        });
-                        Op::Call { plan }
+                let planned = (fast_ops
+                    && ins.mnemonic == "CALL"
+                    && plan_call(memory, target, packed, params, &mut scratch))
+                    .then(|| Op::Call {
+                        plan: intern(&scratch, &mut calls, &mut plan_of),
                     });
                 let op = planned
                     .or_else(|| {

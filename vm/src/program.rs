@@ -3,10 +3,11 @@
 //! scan reads, never what it writes (only the debugger patches a breakpoint into a
 //! unit). It holds no run state: that is the machine's (`machine.rs`).
 
+use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use gutta_catalog::{AreaKind, Target};
-use gutta_format::VerifiedImage;
+use gutta_format::{LocalEntry, VerifiedImage};
 
 use crate::decode::Unit;
 use crate::memory::Memory;
@@ -76,11 +77,10 @@ impl Program {
     ) -> Program {
         let slots = Slots::of(&target);
         let verified_units = image.take_units();
-        let params = |page: u8| {
-            verified_units
-                .get(&page)
-                .map(|u| u.parameters().copied().collect())
-        };
+        let parameters: BTreeMap<u8, Vec<LocalEntry>> = verified_units
+            .iter()
+            .map(|(&page, u)| (page, u.parameters().copied().collect()))
+            .collect();
         let mut units = vec![None; 256];
         for (page, unit) in &verified_units {
             units[*page as usize] = Some(Arc::new(crate::decode::decode(
@@ -88,7 +88,7 @@ impl Program {
                 &target,
                 memory,
                 config.fast,
-                &params,
+                &parameters,
             )));
         }
         let flags_at = memory
