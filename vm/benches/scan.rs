@@ -301,7 +301,10 @@ fn main() {
             Some((last, before)) => {
                 println!("{name:<22} {bytes:>12} {last:>14.0} {before:>16.0} {load:>10.0}")
             }
-            None => println!("{name:<22} {bytes:>12} {:>14} {:>16} {load:>10.0}", "no /proc", ""),
+            None => println!(
+                "{name:<22} {bytes:>12} {:>14} {:>16} {load:>10.0}",
+                "no /proc", ""
+            ),
         }
     }
 }

@@ -274,10 +274,7 @@ fn pause_at_next(engine: &mut Engine) -> Result<ScanEnd, Fault> {
             continue;
         };
         let (page, pc) = (f.page, f.pc);
-        let op = engine
-            .program
-            .unit(page)
-            .and_then(|u| u.plain_op(pc));
+        let op = engine.program.unit(page).and_then(|u| u.plain_op(pc));
         match op {
             Some(op) if op.is_network() => {
                 engine.machine.stack = 0;

@@ -4,7 +4,8 @@
 //! memory; everything else is `Generic` and runs its semantic from `ops/` with the
 //! record's packed operands; runs of bit logic are then fused (`fuse.rs`). Op `k` of a
 //! unit is record `k`, so labels, FOR/NEXT pairs and debugger positions use one
-//! numbering. docs/vm.md, "Speed", says why.
+//! numbering. A unit is stored for size (a loaded program costs at most about twice its
+//! image): see `Unit`. docs/vm.md, "Speed", says why.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -274,11 +275,8 @@ impl Unit {
             .iter()
             .map(|n| n.at as usize)
             .chain([self.ops.len()]);
-        let starts = std::iter::once((0, 0)).chain(
-            self.networks
-                .iter()
-                .map(|n| (n.at as usize + 1, n.number)),
-        );
+        let starts = std::iter::once((0, 0))
+            .chain(self.networks.iter().map(|n| (n.at as usize + 1, n.number)));
         starts
             .zip(ends)
             .filter(|&((_, number), _)| number == network)
@@ -441,9 +439,9 @@ pub(crate) fn decode(
                 let planned = (fast_ops
                     && ins.mnemonic == "CALL"
                     && plan_call(memory, target, packed, params, &mut scratch))
-                    .then(|| Op::Call {
-                        plan: intern(&scratch, &mut calls, &mut plan_of),
-                    });
+                .then(|| Op::Call {
+                    plan: intern(&scratch, &mut calls, &mut plan_of),
+                });
                 let op = planned
                     .or_else(|| {
                         fast_ops

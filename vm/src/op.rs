@@ -105,7 +105,7 @@ pub(crate) enum Op {
     Generic {
         boxed: bool,
     },
-    /// A breakpoint patched over the op (the original is in `Unit::plain`).
+    /// A breakpoint patched over the op (the original: `Unit::plain_op`).
     Break,
 }
 

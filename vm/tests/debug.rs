@@ -445,7 +445,11 @@ fn positions_breakpoints_and_steps_on_every_kind_of_record() {
         ["Q0.0", "Q0.1", "M0.1", "M0.2", "MW10", "MW12", "MW2"].map(|v| read(vm, v))
     };
     for fast in [true, false] {
-        assert_eq!(step_in_positions(&mut layout_vm(fast)), expected, "fast {fast}");
+        assert_eq!(
+            step_in_positions(&mut layout_vm(fast)),
+            expected,
+            "fast {fast}"
+        );
         for &p in &expected {
             // A breakpoint pauses before its instruction (in a chain too), and the
             // scan goes on exactly as without it.
@@ -462,8 +466,17 @@ fn positions_breakpoints_and_steps_on_every_kind_of_record() {
         }
         // One past each network's last step is no instruction.
         let vm = &mut layout_vm(fast);
-        for p in [at(0, 1, 5), at(0, 2, 4), at(0, 3, 3), at(0, 4, 2), at(sbr, 2, 2)] {
-            assert_eq!(vm.set_breakpoint(Some(p)), Err(DebugError::NoInstruction(p)));
+        for p in [
+            at(0, 1, 5),
+            at(0, 2, 4),
+            at(0, 3, 3),
+            at(0, 4, 2),
+            at(sbr, 2, 2),
+        ] {
+            assert_eq!(
+                vm.set_breakpoint(Some(p)),
+                Err(DebugError::NoInstruction(p))
+            );
         }
     }
 }
@@ -490,11 +503,11 @@ fn a_fault_names_the_records_offset_and_position() {
         .expect("MAIN")
         .records
         .iter()
-        .filter_map(|r| match r {
+        .rev()
+        .find_map(|r| match r {
             gutta_format::UnitRecord::Instruction { offset, .. } => Some(*offset),
             gutta_format::UnitRecord::Network { .. } => None,
         })
-        .last()
         .expect("MOVW *MD4");
     for fast in [true, false] {
         let mut vm = gutta_vm::Vm::new(
@@ -508,7 +521,9 @@ fn a_fault_names_the_records_offset_and_position() {
         .expect("loads");
         let fault = vm.scan().expect_err("a bad pointer");
         assert!(
-            fault.to_string().contains(&format!("instruction/00.bin byte {offset}:")),
+            fault
+                .to_string()
+                .contains(&format!("instruction/00.bin byte {offset}:")),
             "{fault}"
         );
         assert_eq!(vm.fault_position(), Some(at(0, 2, 2)));
