@@ -14,7 +14,7 @@ use gutta_vm::{Vm, VmConfig};
 const TARGET: &str = "EC30-EKSTM32-XC";
 const SCANS: u32 = 5;
 
-fn load(text: &str) -> (Vm, Arc<Target>) {
+fn load(text: &str, config: VmConfig) -> (Vm, Arc<Target>) {
     let target = stdlib::shared(TARGET).expect("target");
     let explicit = ExplicitTarget {
         target: Arc::clone(&target),
@@ -25,7 +25,7 @@ fn load(text: &str) -> (Vm, Arc<Target>) {
         .image
         .unwrap_or_else(|| panic!("does not compile: {:?}", c.checked.diagnostics()));
     let verified = gutta_format::verify(&image, &target).expect("verifies");
-    let vm = Vm::new(verified, Arc::clone(&target), VmConfig::default()).expect("loads");
+    let vm = Vm::new(verified, Arc::clone(&target), config).expect("loads");
     (vm, target)
 }
 
@@ -68,8 +68,30 @@ fn stimulate(scan: u32, vm: &mut Vm, target: &Target, native: &mut Memory) {
     set(vm, target, native, "MD40", 0x7FFF_FFF0 + scan * 3);
 }
 
+/// The VM interpreted and compiled at load (docs/vm-jit.md; gutta-vm's default feature
+/// `jit`).
+fn configs() -> [VmConfig; 2] {
+    [None, Some(0)].map(|native_after| VmConfig {
+        native_after,
+        ..VmConfig::default()
+    })
+}
+
 fn agree(text: &str, scan: fn(&mut Memory)) {
-    let (mut vm, target) = load(text);
+    for config in configs() {
+        agree_with(text, scan, config);
+    }
+}
+
+fn agree_with(text: &str, scan: fn(&mut Memory), config: VmConfig) {
+    let (mut vm, target) = load(text, config);
+    if config.native_after == Some(0) {
+        assert!(
+            matches!(vm.tier(), gutta_vm::TierState::Compiled { .. }),
+            "compiled: {:?}",
+            vm.tier()
+        );
+    }
     let mut native = Memory::default();
     let mut changed = 0;
     for n in 0..SCANS {

@@ -142,6 +142,7 @@ pub fn run_test(
         scan_ms: plan.scan_ms,
         watchdog: plan.watchdog.unwrap_or(VmConfig::default().watchdog),
         fast: options.fast,
+        ..VmConfig::default()
     };
     let result = |failure: Option<Failure>, run: Option<Run>| {
         let (scans, time_ms, untils, trace) = match run {

@@ -156,6 +156,9 @@ impl Debugger {
             rebuild(engine, p.function, Some(pc));
             self.breakpoint = Some((p, pc));
         }
+        // A breakpoint may sit inside a compiled region (or a subroutine one calls):
+        // while one is set, everything runs interpreted.
+        engine.native_hold = self.breakpoint.is_some();
         Ok(())
     }
 

@@ -97,6 +97,29 @@ pub(crate) struct Engine {
     pub fault: Option<Fault>,
     /// The instruction that faulted, when the fault happened in one.
     pub fault_at: Option<Position>,
+    /// The compiled tier (`tier.rs`), once compiled.
+    #[cfg(feature = "jit")]
+    pub native: Option<Box<crate::tier::Native>>,
+    /// What became of compiling: not yet, compiled, nothing to compile, or refused.
+    pub tier: TierState,
+    /// A breakpoint is set: everything runs interpreted (a breakpoint may sit inside a
+    /// compiled region).
+    pub native_hold: bool,
+}
+
+/// The compiled tier's state (`Vm::tier`).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub enum TierState {
+    /// Not compiled (yet): `VmConfig::native_after` scans have not completed, or the
+    /// tier is off (`VmConfig::fast` false, `native_after` None, no `jit` feature).
+    #[default]
+    Interpreted,
+    /// Compiled: regions of native code and their machine code size.
+    Compiled { regions: usize, code_bytes: usize },
+    /// Nothing in the program is worth compiling.
+    NothingToCompile,
+    /// The code generator refused (the interpreter runs everything): why.
+    Refused(String),
 }
 
 impl Engine {
@@ -215,11 +238,15 @@ impl Engine {
         let mask = self.machine.stack_mask;
         let flags_at = self.program.flags_at;
         let watchdog = self.program.config.watchdog;
+        #[cfg(feature = "jit")]
+        let call_depth = self.program.target.instructions.call_depth;
         'frames: loop {
             let Some(frame) = self.machine.frames.last() else {
                 return Ok(Flow::Empty);
             };
             let mut pc = frame.pc;
+            #[cfg(feature = "jit")]
+            let page = frame.page;
             let Some(unit) = self.program.unit(frame.page).cloned() else {
                 self.leave()?;
                 continue;
@@ -227,6 +254,27 @@ impl Engine {
             let ops: &[Op] = &unit.ops;
             let mut st = self.machine.stack;
             loop {
+                #[cfg(feature = "jit")]
+                if !SINGLE && !self.native_hold {
+                    if let Some(native) = &self.native {
+                        if let Some(r) = native.region(page, pc) {
+                            // Native only where it cannot differ: the watchdog cannot
+                            // trip inside, no CALL inside can pass CallDepth.
+                            let remaining = watchdog.saturating_sub(self.clock.executed);
+                            let depth = self.machine.frames.len() + r.depth as usize;
+                            if r.max_count <= remaining && depth <= usize::from(call_depth) + 1
+                            {
+                                let ran = native.module.run(
+                                    r.function as usize,
+                                    &mut self.machine.memory.bytes,
+                                    &mut st,
+                                );
+                                self.clock.executed += ran;
+                                pc += r.records as usize;
+                            }
+                        }
+                    }
+                }
                 if !SINGLE {
                     // Straight-line fast operations, bounded so the watchdog stays exact.
                     let remaining = watchdog.saturating_sub(self.clock.executed);
@@ -368,6 +416,41 @@ impl Engine {
         };
         handler(&mut exec)
     }
+
+    /// After a completed scan: compile the program when `VmConfig::native_after` scans
+    /// have completed (once; never while a breakpoint is set).
+    pub fn tier_up(&mut self) {
+        let config = self.program.config;
+        let due = config.native_after.is_some_and(|n| self.clock.scans >= n);
+        if !config.fast || !due || self.tier != TierState::Interpreted || self.native_hold {
+            return;
+        }
+        self.compile_tier();
+    }
+
+    #[cfg(feature = "jit")]
+    fn compile_tier(&mut self) {
+        let compiled = crate::tier::compile(
+            &self.program,
+            &self.machine.memory,
+            self.machine.stack_mask,
+        );
+        self.tier = match compiled {
+            Ok(Some(native)) => {
+                let state = TierState::Compiled {
+                    regions: native.regions.iter().map(Vec::len).sum(),
+                    code_bytes: native.module.code_bytes(),
+                };
+                self.native = Some(Box::new(native));
+                state
+            }
+            Ok(None) => TierState::NothingToCompile,
+            Err(why) => TierState::Refused(why),
+        };
+    }
+
+    #[cfg(not(feature = "jit"))]
+    fn compile_tier(&mut self) {}
 
     /// Start a scan: inputs, forces, system bits, then MAIN.
     pub fn begin_scan(&mut self) {

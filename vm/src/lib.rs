@@ -40,6 +40,8 @@ mod op;
 pub mod ops;
 mod program;
 mod terminals;
+#[cfg(feature = "jit")]
+mod tier;
 pub mod vcd;
 
 use std::sync::Arc;
@@ -48,12 +50,12 @@ use gutta_catalog::{Address, Target};
 use gutta_format::VerifiedImage;
 
 pub use debug::{DebugError, DebugState, Status, Step};
-pub use engine::{Position, ScanEnd};
+pub use engine::{Position, ScanEnd, TierState};
 pub use exch::{Queued, SerialPort};
 pub use fault::Fault;
 pub use load::LoadError;
 pub use memory::{AccessError, Memory};
-pub use program::VmConfig;
+pub use program::{VmConfig, DEFAULT_NATIVE_AFTER};
 pub use terminals::ForceError;
 
 /// A loaded PLC.
@@ -234,9 +236,19 @@ impl Vm {
         }
         self.debugger.reset_pending = false;
         let engine = &mut self.engine;
-        engine
+        let end = engine
             .continue_scan()
-            .inspect_err(|f| engine.record_fault(f.clone()))
+            .inspect_err(|f| engine.record_fault(f.clone()))?;
+        if end == ScanEnd::Completed {
+            engine.tier_up();
+        }
+        Ok(end)
+    }
+
+    /// The compiled tier's state: interpreted (not yet or off), compiled (regions and
+    /// machine code bytes), nothing to compile, or refused with the reason.
+    pub fn tier(&self) -> &TierState {
+        &self.engine.tier
     }
 
     /// Connect a device to serial port `port` (replacing any previous one).

@@ -88,7 +88,13 @@ pub(crate) fn load(
         reset_requested: false,
         fault: None,
         fault_at: None,
+        #[cfg(feature = "jit")]
+        native: None,
+        tier: Default::default(),
+        native_hold: false,
     };
     engine.reset();
+    // `native_after: Some(0)`: compiled at load.
+    engine.tier_up();
     Ok(engine)
 }

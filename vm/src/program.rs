@@ -22,7 +22,15 @@ pub struct VmConfig {
     /// Run the frequent instructions as pre-decoded operations (the default). Off,
     /// every instruction runs its semantic from `ops/`; the tests compare both.
     pub fast: bool,
+    /// The compiled tier (docs/vm-jit.md): after this many completed scans, the units'
+    /// straight-line operations are compiled to native code (`Some(0)`: at load); `None`
+    /// never. Only with `fast` and the crate feature `jit` (on by default).
+    pub native_after: Option<u64>,
 }
+
+/// Scans after which the compiled tier compiles by default: short runs (a unit test of
+/// a few scans, a single `gutta-vm` scan) never pay for compiling.
+pub const DEFAULT_NATIVE_AFTER: u64 = 100;
 
 impl Default for VmConfig {
     fn default() -> Self {
@@ -30,6 +38,7 @@ impl Default for VmConfig {
             scan_ms: 10,
             watchdog: 10_000_000,
             fast: true,
+            native_after: Some(DEFAULT_NATIVE_AFTER),
         }
     }
 }

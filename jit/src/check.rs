@@ -1,0 +1,174 @@
+//! What `compile` demands before any code is generated: every memory access a step can
+//! make lies inside `Layout::memory_len` (so the generated code, which does no checks of
+//! its own, never leaves the slice `Module::run` was given), widths and bit numbers are
+//! ones the steps have, and Calls name existing functions without a cycle. It generates
+//! nothing.
+
+use crate::{Function, JitError, Layout, Step};
+
+/// Check the layout and every step of every function.
+pub(crate) fn check(layout: &Layout, functions: &[Function]) -> Result<(), JitError> {
+    let len = u64::from(layout.memory_len);
+    if u64::from(layout.flags_at) >= len {
+        return Err(JitError::Layout {
+            what: "the math flags byte (flags_at)",
+        });
+    }
+    if let Some((start, l)) = layout.local {
+        if u64::from(start) + u64::from(l) > len {
+            return Err(JitError::Layout { what: "the L area" });
+        }
+    }
+    for (function, f) in functions.iter().enumerate() {
+        for (step, s) in f.steps.iter().enumerate() {
+            check_step(layout, functions.len(), s).map_err(|e| e.at(function, step))?;
+        }
+    }
+    no_cycles(functions)
+}
+
+/// A step's fault before it knows where it is.
+enum Fault {
+    OutOfRange { at: u32, width: u8 },
+    BitNumber(u8),
+    Width(u8),
+    NoSuchCallee(u32),
+}
+
+impl Fault {
+    fn at(self, function: usize, step: usize) -> JitError {
+        match self {
+            Fault::OutOfRange { at, width } => JitError::OutOfRange {
+                function,
+                step,
+                at,
+                width,
+            },
+            Fault::BitNumber(bit) => JitError::BitNumber {
+                function,
+                step,
+                bit,
+            },
+            Fault::Width(width) => JitError::Width {
+                function,
+                step,
+                width,
+            },
+            Fault::NoSuchCallee(callee) => JitError::NoSuchCallee {
+                function,
+                step,
+                callee,
+            },
+        }
+    }
+}
+
+fn inside(layout: &Layout, at: u32, width: u8) -> Result<(), Fault> {
+    if u64::from(at) + u64::from(width) > u64::from(layout.memory_len) {
+        return Err(Fault::OutOfRange { at, width });
+    }
+    Ok(())
+}
+
+fn bit(layout: &Layout, at: u32, bit: u8) -> Result<(), Fault> {
+    if bit > 7 {
+        return Err(Fault::BitNumber(bit));
+    }
+    inside(layout, at, 1)
+}
+
+fn width(width: u8, allowed: &[u8]) -> Result<(), Fault> {
+    if !allowed.contains(&width) {
+        return Err(Fault::Width(width));
+    }
+    Ok(())
+}
+
+fn check_step(layout: &Layout, functions: usize, step: &Step) -> Result<(), Fault> {
+    match *step {
+        Step::Network | Step::Not | Step::Ald | Step::Old | Step::Lps | Step::Lrd | Step::Lpp => {
+            Ok(())
+        }
+        Step::Ld { at, bit: b }
+        | Step::Ldn { at, bit: b }
+        | Step::A { at, bit: b }
+        | Step::An { at, bit: b }
+        | Step::O { at, bit: b }
+        | Step::On { at, bit: b }
+        | Step::Assign { at, bit: b } => bit(layout, at, b),
+        Step::Move { src, dst, width: w } => {
+            width(w, &[1, 2, 4])?;
+            inside(layout, src, w)?;
+            inside(layout, dst, w)
+        }
+        Step::Math {
+            src, dst, width: w, ..
+        } => {
+            width(w, &[2, 4])?;
+            inside(layout, src, w)?;
+            inside(layout, dst, w)
+        }
+        Step::Compare { a, b, width: w, .. } => {
+            width(w, &[1, 2, 4])?;
+            inside(layout, a, w)?;
+            inside(layout, b, w)
+        }
+        Step::Call { callee, ref args } => {
+            if callee as usize >= functions {
+                return Err(Fault::NoSuchCallee(callee));
+            }
+            for a in args {
+                width(a.width, &[1, 2, 4])?;
+                inside(layout, a.var, a.width)?;
+                inside(layout, a.param, a.width)?;
+            }
+            Ok(())
+        }
+    }
+}
+
+/// The call graph is acyclic (callees already checked to exist). Depth-first, without
+/// recursion of its own (a long chain of calls must not overflow the compiler's stack).
+fn no_cycles(functions: &[Function]) -> Result<(), JitError> {
+    #[derive(Clone, Copy, PartialEq)]
+    enum Mark {
+        New,
+        Open,
+        Done,
+    }
+    let callees = |f: usize| -> Vec<usize> {
+        functions[f]
+            .steps
+            .iter()
+            .filter_map(|s| match s {
+                Step::Call { callee, .. } => Some(*callee as usize),
+                _ => None,
+            })
+            .collect()
+    };
+    let mut mark = vec![Mark::New; functions.len()];
+    for root in 0..functions.len() {
+        if mark[root] != Mark::New {
+            continue;
+        }
+        mark[root] = Mark::Open;
+        let mut path = vec![(root, callees(root), 0usize)];
+        while let Some((f, next, i)) = path.last_mut() {
+            let Some(&c) = next.get(*i) else {
+                mark[*f] = Mark::Done;
+                path.pop();
+                continue;
+            };
+            *i += 1;
+            match mark[c] {
+                Mark::Open => return Err(JitError::Recursion { function: c }),
+                Mark::Done => {}
+                Mark::New => {
+                    mark[c] = Mark::Open;
+                    path.push((c, callees(c), 0));
+                }
+            }
+        }
+    }
+    Ok(())
+}

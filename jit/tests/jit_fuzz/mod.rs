@@ -1,0 +1,229 @@
+//! Bytes to a layout, functions, memory and a logic stack, then compiled code against
+//! `gutta_jit::reference`: the fuzz target `jit_steps` (fuzz/fuzz_targets/jit_steps.rs
+//! includes this file), the proptest of random step lists (tests/random.rs) and the
+//! replay of the fuzzer's finds (tests/data/fuzz/) all run `check_bytes`. Test code only.
+
+#![allow(dead_code, reason = "each includer uses a part")]
+
+use gutta_jit::{compile, reference, Arg, Arith, Combine, Function, Layout, Rel, Step};
+
+/// Reads bytes; zeros once they run out (every input decodes to something).
+pub struct Reader<'a> {
+    data: &'a [u8],
+}
+
+impl Reader<'_> {
+    pub fn byte(&mut self) -> u8 {
+        match self.data.split_first() {
+            Some((&b, rest)) => {
+                self.data = rest;
+                b
+            }
+            None => 0,
+        }
+    }
+
+    fn below(&mut self, n: u32) -> u32 {
+        let v = u32::from(self.byte()) | (u32::from(self.byte()) << 8);
+        v % n.max(1)
+    }
+
+    fn u32(&mut self) -> u32 {
+        u32::from_le_bytes([self.byte(), self.byte(), self.byte(), self.byte()])
+    }
+}
+
+/// A decoded program and what to run it on.
+#[derive(Debug, Clone)]
+pub struct Case {
+    pub layout: Layout,
+    pub functions: Vec<Function>,
+    pub memory: Vec<u8>,
+    pub stack: u32,
+    /// Some index, width, bit or callee may be out of range (`compile` may refuse).
+    pub loose: bool,
+}
+
+const STACK_MASKS: [u32; 4] = [0x1FF, 0xFF, 0x3, u32::MAX];
+
+/// Decode a case. Strict cases (first byte below 0xC0) are valid by construction:
+/// indices inside the memory, widths the steps have, Calls only to later functions.
+pub fn decode(data: &[u8]) -> Case {
+    let mut r = Reader { data };
+    let loose = r.byte() >= 0xC0;
+    let memory_len = 8 + r.below(57);
+    let flags_at = r.below(memory_len);
+    let local = if r.byte() & 1 == 1 {
+        let start = r.below(memory_len);
+        Some((start, r.below(memory_len - start + 1)))
+    } else {
+        None
+    };
+    let stack_mask = STACK_MASKS[r.below(4) as usize];
+    let layout = Layout {
+        memory_len,
+        flags_at,
+        stack_mask,
+        local,
+    };
+    let count = 1 + r.below(4);
+    let functions = (0..count)
+        .map(|f| Function {
+            steps: (0..r.below(25))
+                .map(|_| step(&mut r, &layout, f, count, loose))
+                .collect(),
+        })
+        .collect();
+    let memory = (0..memory_len).map(|_| r.byte()).collect();
+    let stack = r.u32() & stack_mask;
+    Case {
+        layout,
+        functions,
+        memory,
+        stack,
+        loose,
+    }
+}
+
+/// A memory index for `width` bytes (loose: anything up to 255, maybe outside).
+fn index(r: &mut Reader, layout: &Layout, width: u8, loose: bool) -> u32 {
+    if loose && r.byte() & 7 == 0 {
+        return u32::from(r.byte());
+    }
+    r.below(layout.memory_len - u32::from(width) + 1)
+}
+
+fn width(r: &mut Reader, allowed: &[u8], loose: bool) -> u8 {
+    if loose && r.byte() & 7 == 0 {
+        return r.byte() % 6;
+    }
+    allowed[r.below(allowed.len() as u32) as usize]
+}
+
+fn bit(r: &mut Reader, loose: bool) -> u8 {
+    if loose && r.byte() & 7 == 0 {
+        return r.byte() % 10;
+    }
+    r.byte() % 8
+}
+
+fn step(r: &mut Reader, layout: &Layout, f: u32, functions: u32, loose: bool) -> Step {
+    let kind = r.below(18);
+    match kind {
+        0 => Step::Network,
+        1..=7 => {
+            let at = index(r, layout, 1, loose);
+            let bit = bit(r, loose);
+            match kind {
+                1 => Step::Ld { at, bit },
+                2 => Step::Ldn { at, bit },
+                3 => Step::A { at, bit },
+                4 => Step::An { at, bit },
+                5 => Step::O { at, bit },
+                6 => Step::On { at, bit },
+                _ => Step::Assign { at, bit },
+            }
+        }
+        8 => Step::Not,
+        9 => Step::Ald,
+        10 => Step::Old,
+        11 => Step::Lps,
+        12 => Step::Lrd,
+        13 => Step::Lpp,
+        14 => {
+            let width = width(r, &[1, 2, 4], loose);
+            let w = width.min(4);
+            Step::Move {
+                src: index(r, layout, w, loose),
+                dst: index(r, layout, w, loose),
+                width,
+            }
+        }
+        15 => {
+            let op = [Arith::Add, Arith::Sub, Arith::Mul][r.below(3) as usize];
+            let width = width(r, &[2, 4], loose);
+            let w = width.min(4);
+            Step::Math {
+                op,
+                src: index(r, layout, w, loose),
+                dst: index(r, layout, w, loose),
+                width,
+            }
+        }
+        16 => {
+            let combine = [Combine::Load, Combine::And, Combine::Or][r.below(3) as usize];
+            let rel = [Rel::Eq, Rel::Ne, Rel::Lt, Rel::Le, Rel::Gt, Rel::Ge][r.below(6) as usize];
+            let width = width(r, &[1, 2, 4], loose);
+            let w = width.min(4);
+            Step::Compare {
+                combine,
+                rel,
+                a: index(r, layout, w, loose),
+                b: index(r, layout, w, loose),
+                width,
+            }
+        }
+        _ => {
+            let later = functions - f - 1;
+            if later == 0 && !loose {
+                return Step::Not;
+            }
+            let callee = if loose && r.byte() & 3 == 0 {
+                r.below(functions + 1)
+            } else if later == 0 {
+                return Step::Lpp;
+            } else {
+                f + 1 + r.below(later)
+            };
+            let args = (0..r.below(4))
+                .map(|_| {
+                    let width = width(r, &[1, 2, 4], loose);
+                    let w = width.min(4);
+                    let io = r.byte();
+                    Arg {
+                        var: index(r, layout, w, loose),
+                        param: index(r, layout, w, loose),
+                        width,
+                        input: io & 1 == 1,
+                        output: io & 2 == 2,
+                    }
+                })
+                .collect();
+            Step::Call { callee, args }
+        }
+    }
+}
+
+/// Compile the case and run every function in turn on the same memory, both compiled
+/// and by the reference; memory, stack and count must agree after each. A strict case
+/// must compile.
+pub fn check_case(case: &Case) {
+    let module = match compile(&case.layout, &case.functions) {
+        Ok(module) => module,
+        Err(e) => {
+            assert!(case.loose, "a valid case was refused: {e}\n{case:#?}");
+            assert!(!e.to_string().is_empty());
+            return;
+        }
+    };
+    let (mut jit_memory, mut ref_memory) = (case.memory.clone(), case.memory.clone());
+    for f in 0..case.functions.len() {
+        let (mut jit_stack, mut ref_stack) = (case.stack, case.stack);
+        let jit_count = module.run(f, &mut jit_memory, &mut jit_stack);
+        let ref_count = reference::run(
+            &case.layout,
+            &case.functions,
+            f,
+            &mut ref_memory,
+            &mut ref_stack,
+        );
+        assert_eq!(jit_memory, ref_memory, "memory after function {f}\n{case:#?}");
+        assert_eq!(jit_stack, ref_stack, "stack after function {f}\n{case:#?}");
+        assert_eq!(jit_count, ref_count, "count of function {f}\n{case:#?}");
+    }
+}
+
+/// The fuzz target's body.
+pub fn check_bytes(data: &[u8]) {
+    check_case(&decode(data));
+}

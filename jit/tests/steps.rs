@@ -1,0 +1,531 @@
+//! Every Step on fixed cases, compiled code against the reference interpreter and, where
+//! the value matters (overflow edges, flags, stack depth, bits of one byte, calls), against
+//! the value written here; the errors of `compile` and the panic of `run`.
+
+use gutta_jit::{
+    compile, reference, Arg, Arith, Combine, Function, JitError, Layout, Module, Rel, Step,
+};
+
+const MEMORY: u32 = 64;
+const FLAGS: u32 = 60;
+
+fn layout() -> Layout {
+    Layout {
+        memory_len: MEMORY,
+        flags_at: FLAGS,
+        stack_mask: 0x1FF,
+        local: Some((40, 16)),
+    }
+}
+
+fn function(steps: Vec<Step>) -> Function {
+    Function { steps }
+}
+
+/// Run function `f` compiled and by the reference on `memory`/`stack`; they must agree.
+/// Returns the compiled run's memory, stack and count.
+fn both(
+    layout: &Layout,
+    functions: &[Function],
+    module: &Module,
+    f: usize,
+    memory: &[u8],
+    stack: u32,
+) -> (Vec<u8>, u32, u64) {
+    let (mut jm, mut js) = (memory.to_vec(), stack);
+    let jc = module.run(f, &mut jm, &mut js);
+    let (mut rm, mut rs) = (memory.to_vec(), stack);
+    let rc = reference::run(layout, functions, f, &mut rm, &mut rs);
+    assert_eq!(jm, rm, "memory of function {f}: {:?}", functions[f]);
+    assert_eq!(js, rs, "stack of function {f}: {:?}", functions[f]);
+    assert_eq!(jc, rc, "count of function {f}: {:?}", functions[f]);
+    (jm, js, jc)
+}
+
+fn memory_with(pairs: &[(u32, u8)]) -> Vec<u8> {
+    let mut m = vec![0u8; MEMORY as usize];
+    for &(at, v) in pairs {
+        m[at as usize] = v;
+    }
+    m
+}
+
+const STACKS: [u32; 9] = [0, 1, 2, 3, 0x0FF, 0x100, 0x155, 0x1FE, 0x1FF];
+const BYTES: [u8; 4] = [0x00, 0xFF, 0xA5, 0x5A];
+
+#[test]
+fn every_bit_step_on_every_bit_and_stack() {
+    let layout = layout();
+    let mut functions = Vec::new();
+    for bit in 0..8 {
+        for make in [
+            |at, bit| Step::Ld { at, bit },
+            |at, bit| Step::Ldn { at, bit },
+            |at, bit| Step::A { at, bit },
+            |at, bit| Step::An { at, bit },
+            |at, bit| Step::O { at, bit },
+            |at, bit| Step::On { at, bit },
+            |at, bit| Step::Assign { at, bit },
+        ] {
+            functions.push(function(vec![make(3, bit)]));
+        }
+    }
+    let module = compile(&layout, &functions).expect("compiles");
+    for f in 0..functions.len() {
+        for byte in BYTES {
+            for stack in STACKS {
+                let (_, _, count) = both(&layout, &functions, &module, f, &memory_with(&[(3, byte)]), stack);
+                assert_eq!(count, 1);
+            }
+        }
+    }
+    // Pinned values: LD of a set bit pushes 1 and drops the 10th level; = writes one bit.
+    let (_, s, _) = both(&layout, &functions, &module, 0, &memory_with(&[(3, 0x01)]), 0x1FF);
+    assert_eq!(s, 0x1FF);
+    let assign_bit_5 = 5 * 7 + 6;
+    let (m, s, _) = both(&layout, &functions, &module, assign_bit_5, &memory_with(&[(3, 0xFF)]), 0x2);
+    assert_eq!((m[3], s), (0xDF, 0x2));
+}
+
+#[test]
+fn stack_steps_keep_the_depth_mask() {
+    let layout = layout();
+    let functions: Vec<Function> = [Step::Not, Step::Ald, Step::Old, Step::Lps, Step::Lrd, Step::Lpp]
+        .into_iter()
+        .map(|s| function(vec![s]))
+        .collect();
+    let module = compile(&layout, &functions).expect("compiles");
+    for f in 0..functions.len() {
+        for stack in 0..0x400 {
+            both(&layout, &functions, &module, f, &memory_with(&[]), stack);
+        }
+    }
+    // LPS of a full stack: the bottom level falls off (mask 0x1FF).
+    let (_, s, _) = both(&layout, &functions, &module, 3, &memory_with(&[]), 0x1FF);
+    assert_eq!(s, 0x1FF);
+    let (_, s, _) = both(&layout, &functions, &module, 3, &memory_with(&[]), 0x101);
+    assert_eq!(s, 0x003);
+}
+
+#[test]
+fn bits_of_the_same_byte_see_each_others_writes() {
+    let layout = layout();
+    let functions = vec![function(vec![
+        Step::Network,
+        Step::Ld { at: 7, bit: 0 },
+        Step::Assign { at: 7, bit: 1 },
+        Step::Network,
+        Step::Ld { at: 7, bit: 1 },
+        Step::Not,
+        Step::Assign { at: 7, bit: 7 },
+        Step::Network,
+        Step::Ldn { at: 7, bit: 7 },
+        Step::A { at: 7, bit: 0 },
+        Step::On { at: 7, bit: 2 },
+        Step::Assign { at: 7, bit: 2 },
+    ])];
+    let module = compile(&layout, &functions).expect("compiles");
+    for byte in 0..=255u8 {
+        let (m, _, count) = both(&layout, &functions, &module, 0, &memory_with(&[(7, byte)]), 0);
+        assert_eq!(count, 9);
+        let b0 = byte & 1;
+        let b2 = ((byte >> 2) & 1 == 0) || b0 == 1;
+        let expected = (byte & 0x78) | b0 | (b0 << 1) | (u8::from(b2) << 2) | ((b0 ^ 1) << 7);
+        assert_eq!(m[7], expected, "from {byte:#04x}");
+    }
+}
+
+/// dst (2 or 4 bytes at 0) := dst op src (at 8), flags preset to `flags`; returns the
+/// result (sign-extended) and the flags byte.
+fn math(op: Arith, width: u8, dst: i32, src: i32, flags: u8) -> (i64, u8) {
+    let layout = layout();
+    let functions = vec![function(vec![
+        Step::Network,
+        Step::Ld { at: 20, bit: 0 },
+        Step::Math {
+            op,
+            src: 8,
+            dst: 0,
+            width,
+        },
+    ])];
+    let module = compile(&layout, &functions).expect("compiles");
+    let mut memory = memory_with(&[(20, 1), (FLAGS, flags)]);
+    memory[0..4].copy_from_slice(&dst.to_le_bytes());
+    memory[8..12].copy_from_slice(&src.to_le_bytes());
+    if width == 2 {
+        memory[2..4].copy_from_slice(&[0xEE, 0xEE]);
+    }
+    let (m, _, _) = both(&layout, &functions, &module, 0, &memory, 0);
+    if width == 2 {
+        assert_eq!(m[2..4], [0xEE, 0xEE], "a 2-byte result stays in its 2 bytes");
+    }
+    let r = if width == 2 {
+        i64::from(i16::from_le_bytes([m[0], m[1]]))
+    } else {
+        i64::from(i32::from_le_bytes([m[0], m[1], m[2], m[3]]))
+    };
+    (r, m[FLAGS as usize])
+}
+
+#[test]
+fn math_overflow_edges_and_flags() {
+    const Z: u8 = 1;
+    const O: u8 = 2;
+    const N: u8 = 4;
+    let m16 = i32::from(i16::MIN);
+    assert_eq!(math(Arith::Mul, 2, m16, -1, 0), (i64::from(i16::MIN), O | N));
+    assert_eq!(math(Arith::Add, 2, 0x7FFF, 1, 0), (i64::from(i16::MIN), O | N));
+    assert_eq!(math(Arith::Sub, 2, m16, 1, 0), (0x7FFF, O));
+    assert_eq!(math(Arith::Add, 2, 5, -5, 0), (0, Z));
+    assert_eq!(math(Arith::Mul, 2, 256, 256, 0), (0, Z | O));
+    assert_eq!(math(Arith::Sub, 2, 3, 5, 0), (-2, N));
+    assert_eq!(math(Arith::Mul, 4, i32::MIN, -1, 0), (i64::from(i32::MIN), O | N));
+    assert_eq!(math(Arith::Add, 4, i32::MAX, 1, 0), (i64::from(i32::MIN), O | N));
+    assert_eq!(math(Arith::Sub, 4, i32::MIN, 1, 0), (i64::from(i32::MAX), O));
+    assert_eq!(math(Arith::Mul, 4, 0x10000, 0x10000, 0), (0, Z | O));
+    assert_eq!(math(Arith::Mul, 4, -46341, 46341, 0), (i64::from(-46341i32.wrapping_mul(46341)), O));
+    // Flags bits 3..7 are kept, bits 0..2 replaced.
+    assert_eq!(math(Arith::Add, 2, 1, 1, 0xFF), (2, 0xF8));
+    assert_eq!(math(Arith::Add, 4, 0, 0, 0xA8 | O | N), (0, 0xA8 | Z));
+}
+
+#[test]
+fn math_and_move_run_only_with_power_flow() {
+    let layout = layout();
+    let functions = vec![function(vec![
+        Step::Ld { at: 20, bit: 0 },
+        Step::Math {
+            op: Arith::Add,
+            src: 8,
+            dst: 0,
+            width: 4,
+        },
+        Step::Move {
+            src: 8,
+            dst: 12,
+            width: 4,
+        },
+    ])];
+    let module = compile(&layout, &functions).expect("compiles");
+    let memory = memory_with(&[(8, 7), (FLAGS, 0x07)]);
+    let (m, _, count) = both(&layout, &functions, &module, 0, &memory, 0);
+    assert_eq!((m, count), (memory.clone(), 3), "nothing written without power flow");
+    let (m, _, _) = both(&layout, &functions, &module, 0, &memory_with(&[(8, 7), (20, 1)]), 0);
+    assert_eq!((m[0], m[12], m[FLAGS as usize]), (7, 7, 0));
+}
+
+#[test]
+fn math_whose_result_covers_the_flags_byte() {
+    let layout = layout();
+    let functions = vec![function(vec![
+        Step::Ld { at: 20, bit: 0 },
+        Step::Math {
+            op: Arith::Sub,
+            src: 8,
+            dst: FLAGS - 1,
+            width: 4,
+        },
+    ])];
+    let module = compile(&layout, &functions).expect("compiles");
+    for v in [0u8, 1, 0x80, 0xFF] {
+        let mut memory = memory_with(&[(20, 1), (8, v), (11, v)]);
+        memory[(FLAGS - 1) as usize..(FLAGS + 3) as usize].copy_from_slice(&[0x11, 0xF3, 0x01, 0x80]);
+        both(&layout, &functions, &module, 0, &memory, 0);
+    }
+}
+
+#[test]
+fn moves_of_every_width_including_overlaps() {
+    let layout = layout();
+    let mut functions = Vec::new();
+    for width in [1, 2, 4] {
+        for (src, dst) in [(0, 16), (0, 1), (1, 0), (5, 5), (60, 0)] {
+            functions.push(function(vec![Step::Move { src, dst, width }]));
+        }
+    }
+    let module = compile(&layout, &functions).expect("compiles");
+    let memory: Vec<u8> = (0..MEMORY as u8).map(|i| i.wrapping_mul(37)).collect();
+    for f in 0..functions.len() {
+        both(&layout, &functions, &module, f, &memory, 1);
+    }
+    let (m, _, _) = both(&layout, &functions, &module, 12, &memory, 1);
+    assert_eq!(m[0..4], memory[1..5], "a 4-byte move one byte down");
+}
+
+#[test]
+fn compares_signed_and_unsigned_with_each_combine() {
+    let layout = layout();
+    let mut functions = Vec::new();
+    for width in [1, 2, 4] {
+        for combine in [Combine::Load, Combine::And, Combine::Or] {
+            for rel in [Rel::Eq, Rel::Ne, Rel::Lt, Rel::Le, Rel::Gt, Rel::Ge] {
+                functions.push(function(vec![Step::Compare {
+                    combine,
+                    rel,
+                    a: 0,
+                    b: 4,
+                    width,
+                }]));
+            }
+        }
+    }
+    let module = compile(&layout, &functions).expect("compiles");
+    let values: [[u8; 4]; 6] = [
+        [0, 0, 0, 0],
+        [1, 0, 0, 0],
+        [0xC8, 0, 0, 0],
+        [0xFF, 0xFF, 0xFF, 0xFF],
+        [0x00, 0x80, 0x00, 0x80],
+        [0xFF, 0x7F, 0xFF, 0x7F],
+    ];
+    for f in 0..functions.len() {
+        for a in values {
+            for b in values {
+                for stack in [0, 1, 2, 0x1FF] {
+                    let mut memory = memory_with(&[]);
+                    memory[0..4].copy_from_slice(&a);
+                    memory[4..8].copy_from_slice(&b);
+                    both(&layout, &functions, &module, f, &memory, stack);
+                }
+            }
+        }
+    }
+    // Width 1 is unsigned: 200 > 1; width 2 is signed: -1 < 1.
+    let gt_load = |width: usize| (width * 3) * 6 + 4;
+    let mut memory = memory_with(&[(0, 200), (4, 1)]);
+    assert_eq!(both(&layout, &functions, &module, gt_load(0), &memory, 0).1, 1);
+    memory[0..2].copy_from_slice(&[0xFF, 0xFF]);
+    assert_eq!(both(&layout, &functions, &module, gt_load(1), &memory, 0).1, 0);
+}
+
+/// Function 0 calls 1 (a leaf) with an input, an output and an in-out argument; the
+/// callee uses L (its own, cleared) and the caller's L comes back.
+fn calling() -> Vec<Function> {
+    let args = vec![
+        Arg {
+            var: 0,
+            param: 40,
+            width: 2,
+            input: true,
+            output: false,
+        },
+        Arg {
+            var: 4,
+            param: 44,
+            width: 4,
+            input: false,
+            output: true,
+        },
+        Arg {
+            var: 8,
+            param: 48,
+            width: 1,
+            input: true,
+            output: true,
+        },
+    ];
+    let leaf = vec![
+        Step::Network,
+        Step::Ld { at: 52, bit: 0 }, // L cleared: 0
+        Step::Not,
+        Step::Move {
+            src: 40,
+            dst: 44,
+            width: 2,
+        },
+        Step::Math {
+            op: Arith::Add,
+            src: 48,
+            dst: 48,
+            width: 2,
+        },
+        Step::Assign { at: 30, bit: 3 },
+    ];
+    vec![
+        function(vec![
+            Step::Network,
+            Step::Ld { at: 20, bit: 0 },
+            Step::Call {
+                callee: 1,
+                args,
+            },
+            Step::Assign { at: 21, bit: 0 },
+        ]),
+        function(leaf),
+    ]
+}
+
+#[test]
+fn a_call_runs_the_callee_with_its_own_l_and_restores_the_callers() {
+    let layout = layout();
+    let functions = calling();
+    let module = compile(&layout, &functions).expect("compiles");
+    let mut memory = memory_with(&[(0, 0x34), (1, 0x12), (8, 9), (20, 1)]);
+    for (i, b) in memory[40..56].iter_mut().enumerate() {
+        *b = 0xA0 + i as u8;
+    }
+    let (m, s, count) = both(&layout, &functions, &module, 0, &memory, 0x1F0);
+    assert_eq!(count, 3 + 5, "3 steps of the caller, 5 of the callee");
+    assert_eq!(m[4..8], [0x34, 0x12, 0, 0], "output: the moved input, upper L bytes zero");
+    assert_eq!(m[8], 18, "in-out: 9 + 9");
+    assert_eq!(m[40..56], memory[40..56], "the caller's L restored");
+    assert_eq!(m[30], 0x08, "the callee's = ran");
+    assert_eq!((m[21], s), (1, 1), "the caller's stack as before the call");
+}
+
+#[test]
+fn a_call_without_power_flow_counts_one_and_runs_nothing() {
+    let layout = layout();
+    let functions = calling();
+    let module = compile(&layout, &functions).expect("compiles");
+    let memory = memory_with(&[(0, 0x34), (8, 9), (44, 0x55)]);
+    let (m, _, count) = both(&layout, &functions, &module, 0, &memory, 0);
+    assert_eq!(count, 3);
+    assert_eq!(m[..21], memory[..21]);
+    assert_eq!(m[22..], memory[22..]);
+}
+
+#[test]
+fn calls_without_an_l_area_and_nested_calls() {
+    let mut layout = layout();
+    layout.local = None;
+    let mut functions = calling();
+    functions[1].steps.push(Step::Call {
+        callee: 2,
+        args: vec![],
+    });
+    functions.push(function(vec![Step::Ld { at: 0, bit: 2 }, Step::Assign { at: 31, bit: 0 }]));
+    let module = compile(&layout, &functions).expect("compiles");
+    let memory = memory_with(&[(0, 0x04), (20, 1)]);
+    let (m, _, count) = both(&layout, &functions, &module, 0, &memory, 0);
+    assert_eq!(count, 3 + 6 + 2);
+    assert_eq!(m[31], 1);
+}
+
+#[test]
+fn out_of_range_steps_are_refused() {
+    let layout = layout();
+    let refused = |step: Step| compile(&layout, &[function(vec![Step::Not, step])]).map(|_| ());
+    assert_eq!(
+        refused(Step::Ld { at: MEMORY, bit: 0 }),
+        Err(JitError::OutOfRange {
+            function: 0,
+            step: 1,
+            at: MEMORY,
+            width: 1
+        })
+    );
+    assert!(matches!(
+        refused(Step::Move { src: 0, dst: MEMORY - 3, width: 4 }),
+        Err(JitError::OutOfRange { at: 61, width: 4, .. })
+    ));
+    assert!(matches!(
+        refused(Step::Compare { combine: Combine::Or, rel: Rel::Eq, a: u32::MAX, b: 0, width: 2 }),
+        Err(JitError::OutOfRange { .. })
+    ));
+    assert!(matches!(
+        refused(Step::Assign { at: 0, bit: 8 }),
+        Err(JitError::BitNumber { bit: 8, .. })
+    ));
+    assert!(matches!(
+        refused(Step::Math { op: Arith::Add, src: 0, dst: 2, width: 1 }),
+        Err(JitError::Width { width: 1, .. })
+    ));
+    assert!(matches!(
+        refused(Step::Move { src: 0, dst: 2, width: 3 }),
+        Err(JitError::Width { width: 3, .. })
+    ));
+    assert!(matches!(
+        refused(Step::Call { callee: 1, args: vec![] }),
+        Err(JitError::NoSuchCallee { callee: 1, .. })
+    ));
+    // The last byte is fine.
+    assert_eq!(refused(Step::Move { src: 0, dst: MEMORY - 4, width: 4 }), Ok(()));
+    let arg = Arg {
+        var: 0,
+        param: MEMORY - 1,
+        width: 2,
+        input: false,
+        output: false,
+    };
+    let call = Step::Call {
+        callee: 0,
+        args: vec![arg],
+    };
+    let two = [function(vec![]), function(vec![call])];
+    assert!(matches!(
+        compile(&layout, &two),
+        Err(JitError::OutOfRange { function: 1, step: 0, at: 63, width: 2 })
+    ));
+    for (flags_at, local) in [(MEMORY, None), (0, Some((MEMORY - 4, 5)))] {
+        let bad = Layout {
+            flags_at,
+            local,
+            ..layout
+        };
+        let e = compile(&bad, &[function(vec![Step::Not])]).map(|_| ());
+        assert!(matches!(e, Err(JitError::Layout { .. })), "{e:?}");
+        assert!(e.unwrap_err().to_string().contains("outside the memory"));
+    }
+}
+
+#[test]
+fn cycles_of_calls_are_refused() {
+    let layout = layout();
+    let call = |callee| Step::Call {
+        callee,
+        args: vec![],
+    };
+    let own = compile(&layout, &[function(vec![call(0)])]).map(|_| ());
+    assert_eq!(own, Err(JitError::Recursion { function: 0 }));
+    let three = [
+        function(vec![call(1)]),
+        function(vec![Step::Not, call(2)]),
+        function(vec![call(1)]),
+    ];
+    let e = compile(&layout, &three).map(|_| ());
+    assert!(matches!(e, Err(JitError::Recursion { function: 1 | 2 })), "{e:?}");
+    assert!(e.unwrap_err().to_string().contains("cycle"));
+    // A diamond is no cycle.
+    let diamond = [
+        function(vec![call(1), call(2)]),
+        function(vec![call(3)]),
+        function(vec![call(3)]),
+        function(vec![]),
+    ];
+    assert!(compile(&layout, &diamond).is_ok());
+}
+
+#[test]
+fn run_refuses_memory_of_another_length_before_running() {
+    let layout = layout();
+    let module = compile(&layout, &[function(vec![Step::Ld { at: 0, bit: 0 }])]).expect("compiles");
+    let mut short = vec![1u8; MEMORY as usize - 1];
+    let mut stack = 5;
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        module.run(0, &mut short, &mut stack)
+    }));
+    let message = result.expect_err("a short memory panics");
+    let text = message
+        .downcast_ref::<String>()
+        .cloned()
+        .unwrap_or_default();
+    assert!(text.contains("63 bytes"), "{text}");
+    assert_eq!(stack, 5, "nothing ran");
+}
+
+#[test]
+fn a_module_runs_on_another_thread() {
+    let layout = layout();
+    let functions = vec![function(vec![Step::Ld { at: 0, bit: 1 }, Step::Assign { at: 1, bit: 0 }])];
+    let module = compile(&layout, &functions).expect("compiles");
+    assert!(module.code_bytes() > 0);
+    let handle = std::thread::spawn(move || {
+        let mut memory = memory_with(&[(0, 2)]);
+        let mut stack = 0;
+        let count = module.run(0, &mut memory, &mut stack);
+        (memory[1], stack, count)
+    });
+    assert_eq!(handle.join().expect("the thread ran"), (1, 1, 2));
+}
