@@ -170,7 +170,7 @@ impl Builder<'_> {
     /// The step of record `pc` of `unit`, with the most instructions it can run and its
     /// CALL depth; None when the tier cannot take it.
     fn step(&mut self, unit: &Unit, pc: usize) -> Option<(Step, u64, u32)> {
-        let op = unit.plain[pc];
+        let op = unit.plain_op(pc)?;
         if let Op::Call { plan } = op {
             let plan = unit.calls.get(plan as usize)?;
             let callee = self.whole_unit(plan.callee)?;
@@ -208,9 +208,9 @@ impl Builder<'_> {
         let unit = self.program.unit(page)?.clone();
         // Absent while looking: a CALL back into it (recursion) finds None below.
         self.whole.insert(page, None);
-        let mut steps = Vec::with_capacity(unit.plain.len());
+        let mut steps = Vec::with_capacity(unit.ops.len());
         let (mut max_count, mut depth) = (0u64, 0u32);
-        for pc in 0..unit.plain.len() {
+        for pc in 0..unit.ops.len() {
             let (step, count, d) = self.step(&unit, pc)?;
             steps.push(step);
             max_count = max_count.saturating_add(count);
@@ -235,7 +235,7 @@ impl Builder<'_> {
             if whole.max_count >= MIN_REGION {
                 return vec![Region {
                     pc: 0,
-                    records: unit.plain.len() as u32,
+                    records: unit.ops.len() as u32,
                     function: whole.function,
                     max_count: whole.max_count,
                     depth: whole.depth,
@@ -245,11 +245,11 @@ impl Builder<'_> {
         }
         let mut regions = Vec::new();
         let mut pc = 0;
-        while pc < unit.plain.len() {
+        while pc < unit.ops.len() {
             let start = pc;
             let mut steps = Vec::new();
             let (mut max_count, mut depth) = (0u64, 0u32);
-            while let Some((step, count, d)) = (pc < unit.plain.len())
+            while let Some((step, count, d)) = (pc < unit.ops.len())
                 .then(|| self.step(&unit, pc))
                 .flatten()
             {
