@@ -3,7 +3,7 @@
 //! returns to the engine, which runs it through `ops/`. It must stay free of anything
 //! that is not an instruction's effect on memory and the stack.
 
-use crate::op::{Arith, Bit, ChainStep, Combine, Op, STEP_STORE};
+use crate::op::{Arith, Bit, ChainStep, Combine, Op, STEP_STORE, STEP_TABLE};
 
 /// Run fast operations from `pc` until one is not (or the ops end). Returns where it
 /// stopped and how many instructions ran (network records do not count).
@@ -42,13 +42,13 @@ pub(crate) fn run_fast(
                 let rest = if n > 0 { 0 } else { s & !1 };
                 for step in &chain[first..first + steps] {
                     let at = step.at as usize;
+                    let byte = mem[at];
                     if step.kind == STEP_STORE {
-                        let byte = &mut mem[at];
-                        *byte = (*byte & !(1 << step.bit)) | ((t as u8) << step.bit);
+                        mem[at] = (byte & !(1 << step.bit)) | ((t as u8) << step.bit);
                     } else {
-                        let v = ((u32::from(mem[at]) >> step.bit) & 1) ^ u32::from(step.invert);
-                        let ko = u32::from(step.keep_or);
-                        t = ((t & ko) + v + (ko >> 1)) >> 1;
+                        // The new t, looked up by (kind, v, t): no branch on data.
+                        let v = u32::from(byte >> step.bit) & 1;
+                        t = (STEP_TABLE >> (u32::from(step.kind) * 4 + v * 2 + t)) & 1;
                     }
                 }
                 s = rest | t;

@@ -2,53 +2,41 @@
 //! steps (docs/vm.md, "Speed"), and a breakpoint is patched in. Record numbering never
 //! changes, so a scan can stop at any record of a chain.
 
-use crate::op::{ChainStep, Op, STEP_AND, STEP_LOAD, STEP_OR, STEP_STORE};
+use crate::op::{
+    Bit, ChainStep, Op, STEP_AND, STEP_ANDN, STEP_LOAD, STEP_LOADN, STEP_OR, STEP_ORN,
+    STEP_STORE,
+};
 
-/// `keep_or` of a kind: keep in bit 0, or in bit 1.
-const fn keep_or(kind: u8) -> u8 {
-    match kind {
-        STEP_AND => 0b01,
-        STEP_OR => 0b11,
-        STEP_LOAD => 0b10,
-        _ => 0,
+fn step(b: Bit, kind: u8) -> ChainStep {
+    ChainStep {
+        at: b.at,
+        bit: b.mask.trailing_zeros() as u8,
+        kind,
     }
 }
 
 fn chain_step(op: Op) -> Option<ChainStep> {
-    let (b, invert, kind) = match op {
-        Op::A(b) => (b, 0, STEP_AND),
-        Op::An(b) => (b, 1, STEP_AND),
-        Op::O(b) => (b, 0, STEP_OR),
-        Op::On(b) => (b, 1, STEP_OR),
-        Op::Assign(b) => (b, 0, STEP_STORE),
+    let (b, kind) = match op {
+        Op::A(b) => (b, STEP_AND),
+        Op::An(b) => (b, STEP_ANDN),
+        Op::O(b) => (b, STEP_OR),
+        Op::On(b) => (b, STEP_ORN),
+        Op::Assign(b) => (b, STEP_STORE),
         _ => return None,
     };
-    Some(ChainStep {
-        at: b.at,
-        bit: b.mask.trailing_zeros() as u8,
-        invert,
-        kind,
-        keep_or: keep_or(kind),
-    })
+    Some(step(b, kind))
 }
 
 /// A network record followed by LD/LDN at `k`: the chain step that starts it.
 fn network_start(ops: &[Op], k: usize) -> Option<ChainStep> {
-    if ops.get(k) != Some(&Op::Network) {
+    if !matches!(ops.get(k), Some(Op::Network)) {
         return None;
     }
-    let (b, invert) = match ops.get(k + 1) {
-        Some(&Op::Ld(b)) => (b, 0),
-        Some(&Op::Ldn(b)) => (b, 1),
-        _ => return None,
-    };
-    Some(ChainStep {
-        at: b.at,
-        bit: b.mask.trailing_zeros() as u8,
-        invert,
-        kind: STEP_LOAD,
-        keep_or: keep_or(STEP_LOAD),
-    })
+    match ops.get(k + 1) {
+        Some(&Op::Ld(b)) => Some(step(b, STEP_LOAD)),
+        Some(&Op::Ldn(b)) => Some(step(b, STEP_LOADN)),
+        _ => None,
+    }
 }
 
 /// The operations the fast path runs: `plain` with the breakpoint (if any) patched in,

@@ -116,26 +116,50 @@ impl Op {
     }
 }
 
-/// What a chain step does (`ChainStep::kind`).
-pub(crate) const STEP_AND: u8 = 0;
-pub(crate) const STEP_OR: u8 = 1;
-pub(crate) const STEP_LOAD: u8 = 2;
-pub(crate) const STEP_STORE: u8 = 3;
+/// What a chain step does (`ChainStep::kind`). With v the bit `bit` of the byte at
+/// `at`: a network's LD/LDN starts the network (t := v, resp. NOT v, the rest of the
+/// stack empty); A/AN make t := t AND v (NOT v); O/ON make t := t OR v (NOT v); a `=`
+/// writes t into that bit. Each kind has its own arm in the chain loop, so a network
+/// start does not depend on the t before it (the networks of a chain overlap in the
+/// CPU) and every other step is one operation on t.
+pub(crate) const STEP_LOAD: u8 = 0;
+pub(crate) const STEP_LOADN: u8 = 1;
+pub(crate) const STEP_AND: u8 = 2;
+pub(crate) const STEP_ANDN: u8 = 3;
+pub(crate) const STEP_OR: u8 = 4;
+pub(crate) const STEP_ORN: u8 = 5;
+pub(crate) const STEP_STORE: u8 = 6;
+
+/// The logic steps as one table: bit `kind * 4 + v * 2 + t` is the new t.
+pub(crate) const STEP_TABLE: u32 = {
+    let mut table = 0u32;
+    let mut kind = 0;
+    while kind < STEP_STORE {
+        let mut i = 0;
+        while i < 4 {
+            let (v, t) = (i >> 1, i & 1);
+            let new = match kind {
+                STEP_LOAD => v,
+                STEP_LOADN => v ^ 1,
+                STEP_AND => t & v,
+                STEP_ANDN => t & (v ^ 1),
+                STEP_OR => t | v,
+                _ => t | (v ^ 1),
+            };
+            table |= (new as u32) << (kind * 4 + i);
+            i += 1;
+        }
+        kind += 1;
+    }
+    table
+};
 
 /// One step of a fused chain. Only the top of the logic stack changes in a chain, so
-/// it is kept apart as `t` (0 or 1). With v the bit `bit` of the byte at `at` (inverted
-/// for LDN/AN/ON): a network's LD/LDN (`STEP_LOAD`) starts the network, t := v with the
-/// rest of the stack empty; A/AN (`STEP_AND`) make t := t AND v; O/ON (`STEP_OR`) make
-/// t := t OR v; a `=` (`STEP_STORE`) writes t into that bit.
+/// it is kept apart as `t` (0 or 1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct ChainStep {
     pub at: u32,
     /// The bit's number in its byte.
     pub bit: u8,
-    pub invert: u8,
     pub kind: u8,
-    /// Arithmetic form of the kind, for t in {0, 1}: t := ((t AND keep) + v + or) / 2
-    /// is t AND v for A (keep 1, or 0), t OR v for O (keep 1, or 1) and v for a
-    /// network's LD (keep 0, or 1).
-    pub keep_or: u8,
 }
