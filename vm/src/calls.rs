@@ -1,7 +1,9 @@
 //! Planned CALLs (docs/vm.md, CALL): a CALL whose arguments are plain variables of their
 //! parameters' widths runs from its plan (`decode::CallPlan`) on flat memory indices.
 //! The same semantics as the general CALL in `ops/control.rs`, without resolving
-//! operands at run time.
+//! operands at run time, and in one pass over the arguments: the caller's L is saved
+//! first, so an argument in the caller's L is read from (or, returning, written into)
+//! its saved copy, which the return then restores.
 
 use crate::decode::Unit;
 use crate::fast::{load, store};
@@ -9,8 +11,18 @@ use crate::fault::Fault;
 use crate::machine::{CallSave, Machine};
 use crate::program::Program;
 
+/// Where a variable of `width` bytes at `var` lies in the L area (`local`: its start
+/// and length in the flat memory): its offset in L, or None outside L.
+#[inline(always)]
+fn in_local(local: Option<(usize, usize)>, var: u32, width: u8) -> Option<usize> {
+    let (start, len) = local?;
+    let off = (var as usize).checked_sub(start)?;
+    (off + usize::from(width) <= len).then_some(off)
+}
+
 /// Enter a planned CALL: arguments read in the caller's context, the caller's L saved
 /// and cleared, inputs copied into the parameters, a new frame.
+#[inline]
 pub(crate) fn enter_planned(
     machine: &mut Machine,
     program: &Program,
@@ -24,21 +36,15 @@ pub(crate) fn enter_planned(
     let Some(p) = unit.calls.get(plan as usize) else {
         return Ok(());
     };
-    let mem = &machine.memory.bytes;
-    machine.scratch.clear();
-    for a in &p.args {
-        machine.scratch.push(if a.input {
-            load(mem, a.var, a.width)
-        } else {
-            0
-        });
-    }
-    let l_mark = machine.save_local(machine.memory.span(program.slots.local));
-    let mem = &mut machine.memory.bytes;
-    for (a, &v) in p.args.iter().zip(&machine.scratch) {
-        if a.input {
-            store(mem, a.param, a.width, v);
-        }
+    let local = machine.memory.span(program.slots.local);
+    let l_mark = machine.save_local(local);
+    let (mem, saved) = (&mut machine.memory.bytes, &machine.l_stack[l_mark..]);
+    for a in p.args.iter().filter(|a| a.input) {
+        let v = match in_local(local, a.var, a.width) {
+            Some(off) => load(saved, off as u32, a.width),
+            None => load(mem, a.var, a.width),
+        };
+        store(mem, a.param, a.width, v);
     }
     let saved_stack = machine.stack;
     machine.push_frame(
@@ -54,6 +60,7 @@ pub(crate) fn enter_planned(
 
 /// The return of a planned CALL (its frame popped): outputs read from L, the caller's L
 /// and stack restored, outputs stored, the caller continues after it.
+#[inline]
 pub(crate) fn return_planned(machine: &mut Machine, program: &Program, plan: u32, save: CallSave) {
     let Some((page, pc)) = machine.frames.last().map(|f| (f.page, f.pc)) else {
         return;
@@ -61,22 +68,18 @@ pub(crate) fn return_planned(machine: &mut Machine, program: &Program, plan: u32
     let Some(p) = program.unit(page).and_then(|u| u.calls.get(plan as usize)) else {
         return;
     };
-    let mem = &machine.memory.bytes;
-    machine.scratch.clear();
-    for a in &p.args {
-        machine.scratch.push(if a.output {
-            load(mem, a.param, a.width)
-        } else {
-            0
-        });
-    }
-    machine.restore_local(machine.memory.span(program.slots.local), save.l_mark);
-    machine.stack = save.saved_stack;
+    let local = machine.memory.span(program.slots.local);
     let mem = &mut machine.memory.bytes;
-    for (a, &v) in p.args.iter().zip(&machine.scratch) {
-        if a.output {
-            store(mem, a.var, a.width, v);
+    let saved = machine.l_stack.get_mut(save.l_mark..).unwrap_or_default();
+    for a in p.args.iter().filter(|a| a.output) {
+        let v = load(mem, a.param, a.width);
+        match in_local(local, a.var, a.width) {
+            // The caller's L comes back from its saved copy: the output goes there.
+            Some(off) => store(saved, off as u32, a.width, v),
+            None => store(mem, a.var, a.width, v),
         }
     }
+    machine.restore_local(local, save.l_mark);
+    machine.stack = save.saved_stack;
     machine.set_pc(pc + 1);
 }
