@@ -81,7 +81,19 @@ pub(crate) fn build(
             }
         }
         let records = j - k;
-        if records >= 2 {
+        if records == 2 && chain.len() - first == 1 {
+            // Just a network's start: one operation, no chain.
+            let step = chain[first];
+            ops[k] = Op::NetworkLoad {
+                bit: Bit {
+                    at: step.at,
+                    mask: 1 << step.bit,
+                },
+                invert: u8::from(step.kind == STEP_LOADN),
+            };
+            chain.truncate(first);
+            k = j;
+        } else if records >= 2 {
             let steps = chain.len() - first;
             ops[k] = Op::Chain {
                 first: u32::try_from(first).unwrap_or(u32::MAX),
@@ -94,5 +106,40 @@ pub(crate) fn build(
             k += 1;
         }
     }
+    for op in &mut ops {
+        *op = by_width(*op);
+    }
     ops
+}
+
+/// A move, math or compare as its operation of its width.
+fn by_width(op: Op) -> Op {
+    match op {
+        Op::Move { src, dst, width } => match width {
+            1 => Op::MoveB { src, dst },
+            2 => Op::MoveW { src, dst },
+            _ => Op::MoveD { src, dst },
+        },
+        Op::Math {
+            op,
+            src,
+            dst,
+            width,
+        } => match width {
+            2 => Op::MathW { op, src, dst },
+            _ => Op::MathD { op, src, dst },
+        },
+        Op::Compare {
+            combine,
+            rel,
+            a,
+            b,
+            width,
+        } => match width {
+            1 => Op::CompareB { combine, rel, a, b },
+            2 => Op::CompareW { combine, rel, a, b },
+            _ => Op::CompareD { combine, rel, a, b },
+        },
+        op => op,
+    }
 }

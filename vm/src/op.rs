@@ -62,6 +62,12 @@ pub(crate) enum Op {
         records: u32,
         networks: u16,
     },
+    /// A network record and the LD (`invert` 0) or LDN (1) after it, fused: the two
+    /// records run as one (a network whose LD is followed by boxes, e.g. `LD SM0.0`).
+    NetworkLoad {
+        bit: Bit,
+        invert: u8,
+    },
     Ld(Bit),
     Ldn(Bit),
     A(Bit),
@@ -95,6 +101,48 @@ pub(crate) enum Op {
         a: u32,
         b: u32,
         width: u8,
+    },
+    /// `Move`, `Math` and `Compare` by width (the fast operations `fuse::build` makes
+    /// of them; `plain` keeps the forms above): one dispatch, no width at run time.
+    MoveB {
+        src: u32,
+        dst: u32,
+    },
+    MoveW {
+        src: u32,
+        dst: u32,
+    },
+    MoveD {
+        src: u32,
+        dst: u32,
+    },
+    MathW {
+        op: Arith,
+        src: u32,
+        dst: u32,
+    },
+    MathD {
+        op: Arith,
+        src: u32,
+        dst: u32,
+    },
+    CompareB {
+        combine: Combine,
+        rel: Rel,
+        a: u32,
+        b: u32,
+    },
+    CompareW {
+        combine: Combine,
+        rel: Rel,
+        a: u32,
+        b: u32,
+    },
+    CompareD {
+        combine: Combine,
+        rel: Rel,
+        a: u32,
+        b: u32,
     },
     /// CALL with plain arguments whose widths match the parameters: `Unit::calls[plan]`.
     Call {
