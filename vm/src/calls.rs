@@ -8,7 +8,7 @@
 use crate::decode::Unit;
 use crate::fast::{load, store};
 use crate::fault::Fault;
-use crate::machine::{CallSave, Machine};
+use crate::machine::{CallSave, Frame, Machine};
 use crate::program::Program;
 
 /// Where a variable of `width` bytes at `var` lies in the L area (`local`: its start
@@ -95,6 +95,37 @@ pub(crate) fn enter_planned(
 /// and stack restored, outputs stored, the caller continues after it.
 #[inline]
 pub(crate) fn return_planned(machine: &mut Machine, program: &Program, plan: u32, save: CallSave) {
+    finish(machine, program, plan, save.l_mark, save.saved_stack);
+}
+
+/// If the top frame is a subroutine entered by a planned CALL, leave it (what
+/// `Engine::leave` does for it) and return true. Its save is read field by field from
+/// the frame in place: moving the frame out whole made the compiler copy it through
+/// the stack with a wide store that a narrower load right after could not forward from.
+#[inline]
+pub(crate) fn leave_planned(machine: &mut Machine, program: &Program) -> bool {
+    let Some(Frame {
+        call:
+            Some(CallSave {
+                l_mark,
+                saved_stack,
+                plan: Some(plan),
+            }),
+        loops_at_entry,
+        ..
+    }) = machine.frames.last()
+    else {
+        return false;
+    };
+    let (l_mark, saved_stack, plan, loops) = (*l_mark, *saved_stack, *plan, *loops_at_entry);
+    machine.frames.pop();
+    machine.loops.truncate(loops);
+    finish(machine, program, plan, l_mark, saved_stack);
+    true
+}
+
+#[inline(always)]
+fn finish(machine: &mut Machine, program: &Program, plan: u32, l_mark: usize, saved_stack: u32) {
     let Some((page, pc)) = machine.frames.last().map(|f| (f.page, f.pc)) else {
         return;
     };
@@ -103,7 +134,7 @@ pub(crate) fn return_planned(machine: &mut Machine, program: &Program, plan: u32
     };
     let local = machine.memory.span(program.slots.local);
     let mem = &mut machine.memory.bytes;
-    let saved = machine.l_stack.get_mut(save.l_mark..).unwrap_or_default();
+    let saved = machine.l_stack.get_mut(l_mark..).unwrap_or_default();
     for a in p.args.iter().filter(|a| a.output) {
         let v = load(mem, a.param, a.width);
         match in_local(local, a.var, a.width) {
@@ -112,7 +143,7 @@ pub(crate) fn return_planned(machine: &mut Machine, program: &Program, plan: u32
             None => store(mem, a.var, a.width, v),
         }
     }
-    restore_local(machine, local, save.l_mark);
-    machine.stack = save.saved_stack;
+    restore_local(machine, local, l_mark);
+    machine.stack = saved_stack;
     machine.set_pc(pc + 1);
 }

@@ -254,7 +254,9 @@ impl Engine {
                     // The unit's end: return from it.
                     self.machine.stack = st;
                     self.machine.set_pc(pc);
-                    self.leave()?;
+                    if !calls::leave_planned(&mut self.machine, &self.program) {
+                        self.leave()?;
+                    }
                     if SINGLE {
                         return Ok(Flow::Stepped);
                     }
