@@ -167,9 +167,9 @@ impl Op {
 /// What a chain step does (`ChainStep::kind`). With v the bit `bit` of the byte at
 /// `at`: a network's LD/LDN starts the network (t := v, resp. NOT v, the rest of the
 /// stack empty); A/AN make t := t AND v (NOT v); O/ON make t := t OR v (NOT v); a `=`
-/// writes t into that bit. Each kind has its own arm in the chain loop, so a network
-/// start does not depend on the t before it (the networks of a chain overlap in the
-/// CPU) and every other step is one operation on t.
+/// writes t into that bit. A network's start sets t without reading it, so the
+/// networks of a chain overlap in the CPU; the other logic steps look t up in
+/// `STEP_TABLE`, without a branch on the kind.
 pub(crate) const STEP_LOAD: u8 = 0;
 pub(crate) const STEP_LOADN: u8 = 1;
 pub(crate) const STEP_AND: u8 = 2;
