@@ -184,7 +184,14 @@ fn mov<const W: u8>(mem: &mut [u8], s: u32, src: u32, dst: u32) -> u32 {
 /// OUT := OUT op IN1 on `W` bytes, signed, with power flow; SM1.0 zero, SM1.1
 /// overflow, SM1.2 negative set, the other flags kept.
 #[inline(always)]
-fn math<const W: u8>(mem: &mut [u8], s: u32, op: Arith, src: u32, dst: u32, flags_at: usize) -> u32 {
+fn math<const W: u8>(
+    mem: &mut [u8],
+    s: u32,
+    op: Arith,
+    src: u32,
+    dst: u32,
+    flags_at: usize,
+) -> u32 {
     if s & 1 == 1 {
         let bits = u32::from(W) * 8;
         let a = sign_extend(load(mem, dst, W), bits);

@@ -1,10 +1,10 @@
-//! Fusing: runs of bit logic in a unit's operations become one chain of branch-free
-//! steps (docs/vm.md, "Speed"), and a breakpoint is patched in. Record numbering never
-//! changes, so a scan can stop at any record of a chain.
+//! Fusing: runs of bit logic in a unit's operations become one chain of steps (docs/vm.md,
+//! "Speed"), a network start alone one `NetworkLoad`, moves, math and compares one
+//! operation per width, and a breakpoint is patched in. Record numbering never changes,
+//! so a scan can stop at any record of a chain.
 
 use crate::op::{
-    Bit, ChainStep, Op, STEP_AND, STEP_ANDN, STEP_LOAD, STEP_LOADN, STEP_OR, STEP_ORN,
-    STEP_STORE,
+    Bit, ChainStep, Op, STEP_AND, STEP_ANDN, STEP_LOAD, STEP_LOADN, STEP_OR, STEP_ORN, STEP_STORE,
 };
 
 fn step(b: Bit, kind: u8) -> ChainStep {
@@ -44,7 +44,9 @@ fn network_start(ops: &[Op], k: usize) -> Option<ChainStep> {
 /// is A/AN/O/ON/`=` records, and whole networks that are a network record, LD/LDN and
 /// such records; it covers at least two records. Fused operations sit at the first
 /// record they cover; the records after keep their plain operations, so record
-/// numbering is unchanged and a scan can stop at any of them.
+/// numbering is unchanged and a scan can stop at any of them. A chain that is only a
+/// network record and its LD/LDN is a `NetworkLoad` instead. Every move, math and
+/// compare becomes its operation of its width (`by_width`).
 pub(crate) fn build(
     plain: &[Op],
     breakpoint: Option<usize>,

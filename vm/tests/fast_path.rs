@@ -178,7 +178,11 @@ fn nest(k: usize, depth: usize) -> String {
 fn deep_program() -> impl Strategy<Value = (String, usize)> {
     (program(), 1..CALL_DEPTH).prop_map(|(text, depth)| {
         let call = "NETWORK 90\nLD I0.0\nO I0.1\nAN I0.2\n= M3.0\nCALL NEST0, MW4, MD8, MW12\n";
-        let mut s = text.replacen("END_ORGANIZATION_BLOCK", &format!("{call}END_ORGANIZATION_BLOCK"), 1);
+        let mut s = text.replacen(
+            "END_ORGANIZATION_BLOCK",
+            &format!("{call}END_ORGANIZATION_BLOCK"),
+            1,
+        );
         for k in 0..depth {
             s.push_str(&nest(k, depth));
         }
