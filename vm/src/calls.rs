@@ -1,16 +1,61 @@
 //! Planned CALLs (docs/vm.md, CALL): a CALL whose arguments are plain variables of their
 //! parameters' widths runs from its plan (`decode::CallPlan`) on flat memory indices.
 //! The same semantics as the general CALL in `ops/control.rs`, without resolving
-//! operands at run time.
+//! operands at run time, and in one pass over the arguments: the caller's L is saved
+//! first, so an argument in the caller's L is read from (or, returning, written into)
+//! its saved copy, which the return then restores.
 
 use crate::decode::Unit;
 use crate::fast::{load, store};
 use crate::fault::Fault;
-use crate::machine::{CallSave, Machine};
+use crate::machine::{CallSave, Frame, Machine};
 use crate::program::Program;
+
+/// Where a variable of `width` bytes at `var` lies in the L area (`local`: its start
+/// and length in the flat memory): its offset in L, or None outside L.
+#[inline(always)]
+fn in_local(local: Option<(usize, usize)>, var: u32, width: u8) -> Option<usize> {
+    let (start, len) = local?;
+    let off = (var as usize).checked_sub(start)?;
+    (off + usize::from(width) <= len).then_some(off)
+}
+
+/// The size of L on every target today: its copies are of a size known here, inline
+/// moves instead of calls of `memmove` (other sizes take `Machine`'s general copy).
+const L_BYTES: usize = 32;
+
+/// `Machine::save_local` (the caller's L onto the L stack, then cleared).
+#[inline(always)]
+fn save_local(machine: &mut Machine, local: Option<(usize, usize)>) -> usize {
+    let Some((start, L_BYTES)) = local else {
+        return machine.save_local(local);
+    };
+    let mark = machine.l_stack.len();
+    let area = &mut machine.memory.bytes[start..start + L_BYTES];
+    let mut copy = [0u8; L_BYTES];
+    copy.copy_from_slice(area);
+    machine.l_stack.extend_from_slice(&copy);
+    area.fill(0);
+    mark
+}
+
+/// `Machine::restore_local` (the caller's L back from the L stack).
+#[inline(always)]
+fn restore_local(machine: &mut Machine, local: Option<(usize, usize)>, mark: usize) {
+    match (local, machine.l_stack.get(mark..mark + L_BYTES)) {
+        (Some((start, L_BYTES)), Some(saved)) => {
+            let mut copy = [0u8; L_BYTES];
+            copy.copy_from_slice(saved);
+            machine.memory.bytes[start..start + L_BYTES].copy_from_slice(&copy);
+            machine.l_stack.truncate(mark);
+        }
+        _ => machine.restore_local(local, mark),
+    }
+}
 
 /// Enter a planned CALL: arguments read in the caller's context, the caller's L saved
 /// and cleared, inputs copied into the parameters, a new frame.
+#[inline]
 pub(crate) fn enter_planned(
     machine: &mut Machine,
     program: &Program,
@@ -24,21 +69,15 @@ pub(crate) fn enter_planned(
     let Some(p) = unit.calls.get(plan as usize) else {
         return Ok(());
     };
-    let mem = &machine.memory.bytes;
-    machine.scratch.clear();
-    for a in &p.args {
-        machine.scratch.push(if a.input {
-            load(mem, a.var, a.width)
-        } else {
-            0
-        });
-    }
-    let l_mark = machine.save_local(machine.memory.span(program.slots.local));
-    let mem = &mut machine.memory.bytes;
-    for (a, &v) in p.args.iter().zip(&machine.scratch) {
-        if a.input {
-            store(mem, a.param, a.width, v);
-        }
+    let local = machine.memory.span(program.slots.local);
+    let l_mark = save_local(machine, local);
+    let (mem, saved) = (&mut machine.memory.bytes, &machine.l_stack[l_mark..]);
+    for a in p.args.iter().filter(|a| a.input) {
+        let v = match in_local(local, a.var, a.width) {
+            Some(off) => load(saved, off as u32, a.width),
+            None => load(mem, a.var, a.width),
+        };
+        store(mem, a.param, a.width, v);
     }
     let saved_stack = machine.stack;
     machine.push_frame(
@@ -54,29 +93,57 @@ pub(crate) fn enter_planned(
 
 /// The return of a planned CALL (its frame popped): outputs read from L, the caller's L
 /// and stack restored, outputs stored, the caller continues after it.
+#[inline]
 pub(crate) fn return_planned(machine: &mut Machine, program: &Program, plan: u32, save: CallSave) {
+    finish(machine, program, plan, save.l_mark, save.saved_stack);
+}
+
+/// If the top frame is a subroutine entered by a planned CALL, leave it (what
+/// `Engine::leave` does for it) and return true. Its save is read field by field from
+/// the frame in place: moving the frame out whole made the compiler copy it through
+/// the stack with a wide store that a narrower load right after could not forward from.
+#[inline]
+pub(crate) fn leave_planned(machine: &mut Machine, program: &Program) -> bool {
+    let Some(Frame {
+        call:
+            Some(CallSave {
+                l_mark,
+                saved_stack,
+                plan: Some(plan),
+            }),
+        loops_at_entry,
+        ..
+    }) = machine.frames.last()
+    else {
+        return false;
+    };
+    let (l_mark, saved_stack, plan, loops) = (*l_mark, *saved_stack, *plan, *loops_at_entry);
+    machine.frames.pop();
+    machine.loops.truncate(loops);
+    finish(machine, program, plan, l_mark, saved_stack);
+    true
+}
+
+#[inline(always)]
+fn finish(machine: &mut Machine, program: &Program, plan: u32, l_mark: usize, saved_stack: u32) {
     let Some((page, pc)) = machine.frames.last().map(|f| (f.page, f.pc)) else {
         return;
     };
     let Some(p) = program.unit(page).and_then(|u| u.calls.get(plan as usize)) else {
         return;
     };
-    let mem = &machine.memory.bytes;
-    machine.scratch.clear();
-    for a in &p.args {
-        machine.scratch.push(if a.output {
-            load(mem, a.param, a.width)
-        } else {
-            0
-        });
-    }
-    machine.restore_local(machine.memory.span(program.slots.local), save.l_mark);
-    machine.stack = save.saved_stack;
+    let local = machine.memory.span(program.slots.local);
     let mem = &mut machine.memory.bytes;
-    for (a, &v) in p.args.iter().zip(&machine.scratch) {
-        if a.output {
-            store(mem, a.var, a.width, v);
+    let saved = machine.l_stack.get_mut(l_mark..).unwrap_or_default();
+    for a in p.args.iter().filter(|a| a.output) {
+        let v = load(mem, a.param, a.width);
+        match in_local(local, a.var, a.width) {
+            // The caller's L comes back from its saved copy: the output goes there.
+            Some(off) => store(saved, off as u32, a.width, v),
+            None => store(mem, a.var, a.width, v),
         }
     }
+    restore_local(machine, local, l_mark);
+    machine.stack = saved_stack;
     machine.set_pc(pc + 1);
 }

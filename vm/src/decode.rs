@@ -209,8 +209,10 @@ impl Unit {
     #[inline(never)]
     pub fn unfused(&self, pc: usize, op: Op) -> Op {
         match op {
-            Op::Chain { .. } | Op::Break => self.displaced_op(pc).unwrap_or(op),
-            op => op,
+            Op::Chain { .. } | Op::NetworkLoad { .. } | Op::Break => {
+                self.displaced_op(pc).unwrap_or(op)
+            }
+            op => op.widened(),
         }
     }
 
@@ -245,8 +247,9 @@ impl Unit {
             }
             ops
         };
+        // Per-width forms are not kept: `Op::widened` gives their plain form back.
         self.displaced = (0..plain.len())
-            .filter(|&k| ops[k] != plain[k])
+            .filter(|&k| ops[k].widened() != plain[k])
             .map(|k| (k as u32, plain[k]))
             .collect();
         ops.shrink_to_fit();

@@ -6,6 +6,7 @@
 //! `debug.rs`, above it) and no protocol.
 
 use std::collections::VecDeque;
+use std::sync::Arc;
 
 use gutta_catalog::{Address, Width};
 
@@ -234,6 +235,9 @@ impl Engine {
 
     /// Run the top frames. `SINGLE`: return after one instruction (a breakpoint's own
     /// instruction runs); otherwise run until the frames are done or a breakpoint is next.
+    /// The running unit is borrowed from the program while the machine and the clock are
+    /// changed (no reference count per frame change); what needs the whole engine (a
+    /// generic instruction, leaving a unit) ends the borrow and continues at `'frames`.
     pub fn exec<const SINGLE: bool>(&mut self) -> Result<Flow, Fault> {
         let mask = self.machine.stack_mask;
         let flags_at = self.program.flags_at;
@@ -247,10 +251,11 @@ impl Engine {
             let mut pc = frame.pc;
             #[cfg(feature = "jit")]
             let page = frame.page;
-            let Some(unit) = self.program.unit(frame.page).cloned() else {
+            let Some(shared) = self.program.unit(frame.page) else {
                 self.leave()?;
                 continue;
             };
+            let unit: &Unit = shared;
             let ops: &[Op] = &unit.ops;
             let mut st = self.machine.stack;
             loop {
@@ -293,24 +298,26 @@ impl Engine {
                     pc = at;
                     self.clock.executed += ran;
                 }
-                let Some(&op) = ops.get(pc) else {
+                let Some(&fast) = ops.get(pc) else {
                     // The unit's end: return from it.
                     self.machine.stack = st;
                     self.machine.set_pc(pc);
-                    self.leave()?;
+                    if !calls::leave_planned(&mut self.machine, &self.program) {
+                        self.leave()?;
+                    }
                     if SINGLE {
                         return Ok(Flow::Stepped);
                     }
                     continue 'frames;
                 };
-                if op == Op::Break && !SINGLE {
+                if matches!(fast, Op::Break) && !SINGLE {
                     self.machine.stack = st;
                     self.machine.set_pc(pc);
                     return Ok(Flow::Break);
                 }
                 // One record, unfused (a breakpoint's own instruction when stepping).
-                let op = unit.unfused(pc, op);
-                if op == Op::Network {
+                let op = unit.unfused(pc, fast);
+                if matches!(op, Op::Network) {
                     st = 0;
                     pc += 1;
                     continue;
@@ -321,28 +328,28 @@ impl Engine {
                     self.machine.set_pc(pc);
                     return Err(Fault::Watchdog { limit: watchdog });
                 }
-                let mut next = pc + 1;
                 match op {
-                    _ if fast_op(&mut self.machine.memory.bytes, op, &mut st, mask, flags_at) => {}
-                    Op::Call { plan } if st & 1 == 1 => {
-                        self.machine.stack = st;
-                        self.machine.set_pc(pc);
-                        calls::enter_planned(&mut self.machine, &self.program, &unit, plan)?;
-                        if SINGLE {
-                            return Ok(Flow::Stepped);
+                    Op::Call { plan } => {
+                        if st & 1 == 1 {
+                            self.machine.stack = st;
+                            self.machine.set_pc(pc);
+                            calls::enter_planned(&mut self.machine, &self.program, unit, plan)?;
+                            if SINGLE {
+                                return Ok(Flow::Stepped);
+                            }
+                            continue 'frames;
                         }
-                        continue 'frames;
                     }
                     Op::Generic { boxed } => {
                         self.machine.stack = st;
                         self.machine.set_pc(pc);
+                        let unit = Arc::clone(shared);
                         let control = self.generic(&unit, pc, boxed)?;
-                        st = self.machine.stack;
-                        match control {
-                            Control::Next => {}
-                            Control::Goto(j) => next = j,
+                        let next = match control {
+                            Control::Next => pc + 1,
+                            Control::Goto(j) => j,
                             Control::Jump(label) => {
-                                next = unit.labels.get(&label).map_or(ops.len(), |&j| j + 1)
+                                unit.labels.get(&label).map_or(unit.ops.len(), |&j| j + 1)
                             }
                             Control::Return => {
                                 self.leave()?;
@@ -364,11 +371,19 @@ impl Engine {
                                 }
                                 continue 'frames;
                             }
+                        };
+                        // The semantic may have changed the stack; the frame continues.
+                        self.machine.set_pc(next);
+                        if SINGLE {
+                            return Ok(Flow::Stepped);
                         }
+                        continue 'frames;
                     }
-                    _ => {}
+                    _ => {
+                        fast_op(&mut self.machine.memory.bytes, op, &mut st, mask, flags_at);
+                    }
                 }
-                pc = next;
+                pc += 1;
                 if SINGLE {
                     self.machine.stack = st;
                     self.machine.set_pc(pc);

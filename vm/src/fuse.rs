@@ -1,54 +1,42 @@
-//! Fusing: runs of bit logic in a unit's operations become one chain of branch-free
-//! steps (docs/vm.md, "Speed"), and a breakpoint is patched in. Record numbering never
-//! changes, so a scan can stop at any record of a chain.
+//! Fusing: runs of bit logic in a unit's operations become one chain of steps (docs/vm.md,
+//! "Speed"), a network start alone one `NetworkLoad`, moves, math and compares one
+//! operation per width, and a breakpoint is patched in. Record numbering never changes,
+//! so a scan can stop at any record of a chain.
 
-use crate::op::{ChainStep, Op, STEP_AND, STEP_LOAD, STEP_OR, STEP_STORE};
+use crate::op::{
+    Bit, ChainStep, Op, STEP_AND, STEP_ANDN, STEP_LOAD, STEP_LOADN, STEP_OR, STEP_ORN, STEP_STORE,
+};
 
-/// `keep_or` of a kind: keep in bit 0, or in bit 1.
-const fn keep_or(kind: u8) -> u8 {
-    match kind {
-        STEP_AND => 0b01,
-        STEP_OR => 0b11,
-        STEP_LOAD => 0b10,
-        _ => 0,
+fn step(b: Bit, kind: u8) -> ChainStep {
+    ChainStep {
+        at: b.at,
+        bit: b.mask.trailing_zeros() as u8,
+        kind,
     }
 }
 
 fn chain_step(op: Op) -> Option<ChainStep> {
-    let (b, invert, kind) = match op {
-        Op::A(b) => (b, 0, STEP_AND),
-        Op::An(b) => (b, 1, STEP_AND),
-        Op::O(b) => (b, 0, STEP_OR),
-        Op::On(b) => (b, 1, STEP_OR),
-        Op::Assign(b) => (b, 0, STEP_STORE),
+    let (b, kind) = match op {
+        Op::A(b) => (b, STEP_AND),
+        Op::An(b) => (b, STEP_ANDN),
+        Op::O(b) => (b, STEP_OR),
+        Op::On(b) => (b, STEP_ORN),
+        Op::Assign(b) => (b, STEP_STORE),
         _ => return None,
     };
-    Some(ChainStep {
-        at: b.at,
-        bit: b.mask.trailing_zeros() as u8,
-        invert,
-        kind,
-        keep_or: keep_or(kind),
-    })
+    Some(step(b, kind))
 }
 
 /// A network record followed by LD/LDN at `k`: the chain step that starts it.
 fn network_start(ops: &[Op], k: usize) -> Option<ChainStep> {
-    if ops.get(k) != Some(&Op::Network) {
+    if !matches!(ops.get(k), Some(Op::Network)) {
         return None;
     }
-    let (b, invert) = match ops.get(k + 1) {
-        Some(&Op::Ld(b)) => (b, 0),
-        Some(&Op::Ldn(b)) => (b, 1),
-        _ => return None,
-    };
-    Some(ChainStep {
-        at: b.at,
-        bit: b.mask.trailing_zeros() as u8,
-        invert,
-        kind: STEP_LOAD,
-        keep_or: keep_or(STEP_LOAD),
-    })
+    match ops.get(k + 1) {
+        Some(&Op::Ld(b)) => Some(step(b, STEP_LOAD)),
+        Some(&Op::Ldn(b)) => Some(step(b, STEP_LOADN)),
+        _ => None,
+    }
 }
 
 /// The operations the fast path runs: `plain` with the breakpoint (if any) patched in,
@@ -56,7 +44,9 @@ fn network_start(ops: &[Op], k: usize) -> Option<ChainStep> {
 /// is A/AN/O/ON/`=` records, and whole networks that are a network record, LD/LDN and
 /// such records; it covers at least two records. Fused operations sit at the first
 /// record they cover; the records after keep their plain operations, so record
-/// numbering is unchanged and a scan can stop at any of them.
+/// numbering is unchanged and a scan can stop at any of them. A chain that is only a
+/// network record and its LD/LDN is a `NetworkLoad` instead. Every move, math and
+/// compare becomes its operation of its width (`by_width`).
 pub(crate) fn build(
     plain: &[Op],
     breakpoint: Option<usize>,
@@ -93,7 +83,19 @@ pub(crate) fn build(
             }
         }
         let records = j - k;
-        if records >= 2 {
+        if records == 2 && chain.len() - first == 1 {
+            // Just a network's start: one operation, no chain.
+            let step = chain[first];
+            ops[k] = Op::NetworkLoad {
+                bit: Bit {
+                    at: step.at,
+                    mask: 1 << step.bit,
+                },
+                invert: u8::from(step.kind == STEP_LOADN),
+            };
+            chain.truncate(first);
+            k = j;
+        } else if records >= 2 {
             let steps = chain.len() - first;
             ops[k] = Op::Chain {
                 first: u32::try_from(first).unwrap_or(u32::MAX),
@@ -106,5 +108,40 @@ pub(crate) fn build(
             k += 1;
         }
     }
+    for op in &mut ops {
+        *op = by_width(*op);
+    }
     ops
+}
+
+/// A move, math or compare as its operation of its width.
+fn by_width(op: Op) -> Op {
+    match op {
+        Op::Move { src, dst, width } => match width {
+            1 => Op::MoveB { src, dst },
+            2 => Op::MoveW { src, dst },
+            _ => Op::MoveD { src, dst },
+        },
+        Op::Math {
+            op,
+            src,
+            dst,
+            width,
+        } => match width {
+            2 => Op::MathW { op, src, dst },
+            _ => Op::MathD { op, src, dst },
+        },
+        Op::Compare {
+            combine,
+            rel,
+            a,
+            b,
+            width,
+        } => match width {
+            1 => Op::CompareB { combine, rel, a, b },
+            2 => Op::CompareW { combine, rel, a, b },
+            _ => Op::CompareD { combine, rel, a, b },
+        },
+        op => op,
+    }
 }

@@ -18,6 +18,7 @@ const MODULES: &[(&str, u8, &str)] = &[
     ("decode", 2, include_str!("decode.rs")),
     ("program", 3, include_str!("program.rs")),
     ("calls", 4, include_str!("calls.rs")),
+    ("tier", 4, include_str!("tier.rs")),
     ("ops", 4, include_str!("ops/mod.rs")),
     ("ops", 4, include_str!("ops/bits.rs")),
     ("ops", 4, include_str!("ops/comm.rs")),

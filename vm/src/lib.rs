@@ -16,7 +16,8 @@
 //! 2. `decode` (a unit's records into operations, CALL plans)
 //! 3. `program` (target, image data, config, decoded units)
 //! 4. `calls` (planned CALLs), `ops` (semantics: each sees an `Exec` with the parts it
-//!    may change, never the `Vm`)
+//!    may change, never the `Vm`), `tier` (the compiled tier: regions of a program's
+//!    units as native code through gutta-jit; feature `jit`)
 //! 5. `engine` (the parts together; the scan on its explicit frame stack)
 //! 6. `debug` (breakpoint, single steps), `load` (image -> engine)
 //! 7. this file: `Vm`, the public API, delegating to the above

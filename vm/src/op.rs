@@ -62,6 +62,12 @@ pub(crate) enum Op {
         records: u32,
         networks: u16,
     },
+    /// A network record and the LD (`invert` 0) or LDN (1) after it, fused: the two
+    /// records run as one (a network whose LD is followed by boxes, e.g. `LD SM0.0`).
+    NetworkLoad {
+        bit: Bit,
+        invert: u8,
+    },
     Ld(Bit),
     Ldn(Bit),
     A(Bit),
@@ -96,6 +102,48 @@ pub(crate) enum Op {
         b: u32,
         width: u8,
     },
+    /// `Move`, `Math` and `Compare` by width (the fast operations `fuse::build` makes
+    /// of them; `plain` keeps the forms above): one dispatch, no width at run time.
+    MoveB {
+        src: u32,
+        dst: u32,
+    },
+    MoveW {
+        src: u32,
+        dst: u32,
+    },
+    MoveD {
+        src: u32,
+        dst: u32,
+    },
+    MathW {
+        op: Arith,
+        src: u32,
+        dst: u32,
+    },
+    MathD {
+        op: Arith,
+        src: u32,
+        dst: u32,
+    },
+    CompareB {
+        combine: Combine,
+        rel: Rel,
+        a: u32,
+        b: u32,
+    },
+    CompareW {
+        combine: Combine,
+        rel: Rel,
+        a: u32,
+        b: u32,
+    },
+    CompareD {
+        combine: Combine,
+        rel: Rel,
+        a: u32,
+        b: u32,
+    },
     /// CALL with plain arguments whose widths match the parameters: `Unit::calls[plan]`.
     Call {
         plan: u32,
@@ -114,28 +162,111 @@ impl Op {
     pub fn is_network(self) -> bool {
         self == Op::Network
     }
+
+    /// The plain form of a per-width operation (`MoveW` -> `Move` of width 2, ...);
+    /// any other operation as it is.
+    pub fn widened(self) -> Op {
+        match self {
+            Op::MoveB { src, dst } => Op::Move { src, dst, width: 1 },
+            Op::MoveW { src, dst } => Op::Move { src, dst, width: 2 },
+            Op::MoveD { src, dst } => Op::Move { src, dst, width: 4 },
+            Op::MathW { op, src, dst } => Op::Math {
+                op,
+                src,
+                dst,
+                width: 2,
+            },
+            Op::MathD { op, src, dst } => Op::Math {
+                op,
+                src,
+                dst,
+                width: 4,
+            },
+            Op::CompareB {
+                combine,
+                rel,
+                a,
+                b,
+            } => Op::Compare {
+                combine,
+                rel,
+                a,
+                b,
+                width: 1,
+            },
+            Op::CompareW {
+                combine,
+                rel,
+                a,
+                b,
+            } => Op::Compare {
+                combine,
+                rel,
+                a,
+                b,
+                width: 2,
+            },
+            Op::CompareD {
+                combine,
+                rel,
+                a,
+                b,
+            } => Op::Compare {
+                combine,
+                rel,
+                a,
+                b,
+                width: 4,
+            },
+            op => op,
+        }
+    }
 }
 
-/// What a chain step does (`ChainStep::kind`).
-pub(crate) const STEP_AND: u8 = 0;
-pub(crate) const STEP_OR: u8 = 1;
-pub(crate) const STEP_LOAD: u8 = 2;
-pub(crate) const STEP_STORE: u8 = 3;
+/// What a chain step does (`ChainStep::kind`). With v the bit `bit` of the byte at
+/// `at`: a network's LD/LDN starts the network (t := v, resp. NOT v, the rest of the
+/// stack empty); A/AN make t := t AND v (NOT v); O/ON make t := t OR v (NOT v); a `=`
+/// writes t into that bit. A network's start sets t without reading it, so the
+/// networks of a chain overlap in the CPU; the other logic steps look t up in
+/// `STEP_TABLE`, without a branch on the kind.
+pub(crate) const STEP_LOAD: u8 = 0;
+pub(crate) const STEP_LOADN: u8 = 1;
+pub(crate) const STEP_AND: u8 = 2;
+pub(crate) const STEP_ANDN: u8 = 3;
+pub(crate) const STEP_OR: u8 = 4;
+pub(crate) const STEP_ORN: u8 = 5;
+pub(crate) const STEP_STORE: u8 = 6;
+
+/// The logic steps as one table: bit `kind * 4 + v * 2 + t` is the new t.
+pub(crate) const STEP_TABLE: u32 = {
+    let mut table = 0u32;
+    let mut kind = 0;
+    while kind < STEP_STORE {
+        let mut i = 0;
+        while i < 4 {
+            let (v, t) = (i >> 1, i & 1);
+            let new = match kind {
+                STEP_LOAD => v,
+                STEP_LOADN => v ^ 1,
+                STEP_AND => t & v,
+                STEP_ANDN => t & (v ^ 1),
+                STEP_OR => t | v,
+                _ => t | (v ^ 1),
+            };
+            table |= (new as u32) << (kind * 4 + i);
+            i += 1;
+        }
+        kind += 1;
+    }
+    table
+};
 
 /// One step of a fused chain. Only the top of the logic stack changes in a chain, so
-/// it is kept apart as `t` (0 or 1). With v the bit `bit` of the byte at `at` (inverted
-/// for LDN/AN/ON): a network's LD/LDN (`STEP_LOAD`) starts the network, t := v with the
-/// rest of the stack empty; A/AN (`STEP_AND`) make t := t AND v; O/ON (`STEP_OR`) make
-/// t := t OR v; a `=` (`STEP_STORE`) writes t into that bit.
+/// it is kept apart as `t` (0 or 1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct ChainStep {
     pub at: u32,
     /// The bit's number in its byte.
     pub bit: u8,
-    pub invert: u8,
     pub kind: u8,
-    /// Arithmetic form of the kind, for t in {0, 1}: t := ((t AND keep) + v + or) / 2
-    /// is t AND v for A (keep 1, or 0), t OR v for O (keep 1, or 1) and v for a
-    /// network's LD (keep 0, or 1).
-    pub keep_or: u8,
 }

@@ -162,7 +162,20 @@ fn simple_step(op: Op) -> Option<Step> {
             b,
             width,
         },
-        Op::Chain { .. } | Op::Call { .. } | Op::Generic { .. } | Op::Break => return None,
+        // Plain operations are never fused or per-width forms (`Unit::plain_op`).
+        Op::Chain { .. }
+        | Op::NetworkLoad { .. }
+        | Op::MoveB { .. }
+        | Op::MoveW { .. }
+        | Op::MoveD { .. }
+        | Op::MathW { .. }
+        | Op::MathD { .. }
+        | Op::CompareB { .. }
+        | Op::CompareW { .. }
+        | Op::CompareD { .. }
+        | Op::Call { .. }
+        | Op::Generic { .. }
+        | Op::Break => return None,
     })
 }
 

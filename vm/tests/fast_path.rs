@@ -1,11 +1,14 @@
 //! The pre-decoded operations against the semantics in `ops/`: random programs of bit
 //! logic, stack operations, moves, integer math, compares, pointer moves and calls run with
 //! `VmConfig::fast` on and off from the same inputs, and every byte of memory must
-//! agree after every scan.
+//! agree after every scan. A second generator nests planned CALLs up to CallDepth, trips
+//! the watchdog anywhere (inside fused chains and inside calls) and puts a breakpoint
+//! anywhere (inside fused operations) on the fast side only.
 
 mod common;
 
-use gutta_vm::{Vm, VmConfig};
+use gutta_format::UnitRef;
+use gutta_vm::{Position, ScanEnd, Vm, VmConfig};
 use proptest::prelude::*;
 
 fn bit() -> impl Strategy<Value = String> {
@@ -141,6 +144,70 @@ fn program() -> impl Strategy<Value = String> {
     })
 }
 
+/// CallDepth of the default PLC type (stdlib ManagerFun.xml): MAIN, NEST0.. and SUB
+/// nest that deep at most (8 subroutines on the default PLC type).
+const CALL_DEPTH: usize = 8;
+
+/// Subroutine `NEST{k}` of a chain of `depth` (SBR1..SBR7): bit logic gated by its INT
+/// input, a planned CALL of the next with its own L variables as the arguments (read from
+/// and written back into the saved L), math on its in-out and output.
+fn nest(k: usize, depth: usize) -> String {
+    // The last calls SUB (SBR0, same parameters): MAIN and depth + 1 subroutines deep.
+    let callee = if k + 1 < depth {
+        format!("NEST{}", k + 1)
+    } else {
+        "SUB".to_string()
+    };
+    let call = format!("NETWORK 2\nLDW>= #g, 0\nA SM0.0\nCALL {callee}, #g, #n, #r\n");
+    format!(
+        "SUBROUTINE_BLOCK NEST{k}:SBR{}\nVAR_INPUT\n  g : INT;\nEND_VAR\n\
+         VAR_IN_OUT\n  n : DINT;\nEND_VAR\nVAR_OUTPUT\n  r : INT;\nEND_VAR\n\
+         VAR\n  t : INT;\nEND_VAR\nBEGIN\nNETWORK 1\nLDW> #g, 0\nAN M0.{}\nO M1.{}\n\
+         = M2.{}\n+D 1, #n\nMOVW {}, #t\n{call}NETWORK 3\nLD SM0.0\n+I #t, #r\n\
+         +I {k}, #r\nEND_SUBROUTINE_BLOCK\n",
+        k + 1,
+        k % 8,
+        (k + 3) % 8,
+        k % 8,
+        k * 3,
+    )
+}
+
+/// `program()` with a chain of `depth` nested subroutines (MAIN -> NEST0 -> ... ), called
+/// from a network of MAIN that also runs some fused bit logic.
+fn deep_program() -> impl Strategy<Value = (String, usize)> {
+    (program(), 1..CALL_DEPTH).prop_map(|(text, depth)| {
+        let call = "NETWORK 90\nLD I0.0\nO I0.1\nAN I0.2\n= M3.0\nCALL NEST0, MW4, MD8, MW12\n";
+        let mut s = text.replacen(
+            "END_ORGANIZATION_BLOCK",
+            &format!("{call}END_ORGANIZATION_BLOCK"),
+            1,
+        );
+        for k in 0..depth {
+            s.push_str(&nest(k, depth));
+        }
+        (s, depth)
+    })
+}
+
+fn set_inputs(vm: &mut Vm, input: [u8; 4]) {
+    common::set(vm, "IB0", u32::from(input[0]));
+    common::set(vm, "IB1", u32::from(input[1]));
+    common::set(vm, "MB3", u32::from(input[2]));
+    common::set(vm, "MW4", u32::from(input[3]) * 257);
+}
+
+/// Run a scan through every pause at the breakpoint (each pause continues at once).
+fn scan_through_breakpoints(vm: &mut Vm) -> Result<(), gutta_vm::Fault> {
+    for _ in 0..1000 {
+        match vm.run_scan()? {
+            ScanEnd::Paused(_) => vm.debug_run(),
+            _ => return Ok(()),
+        }
+    }
+    panic!("a scan paused 1000 times");
+}
+
 fn all_memory(vm: &Vm) -> Vec<(u8, Vec<u8>)> {
     vm.target()
         .memory
@@ -167,6 +234,51 @@ proptest! {
             }
             prop_assert_eq!(fast.executed_last_scan(), slow.executed_last_scan());
             prop_assert!(all_memory(&fast) == all_memory(&slow), "memory differs after scan {}\n{}", scan, text);
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(96))]
+
+    /// Deep planned CALLs, a small watchdog and a breakpoint anywhere: the fast side
+    /// (paused at its breakpoint and continued) and the reference agree on every byte,
+    /// on the instructions executed and on where a watchdog fault happened.
+    #[test]
+    fn deep_calls_watchdog_and_breakpoints_agree(
+        (text, depth) in deep_program(),
+        cut in 0..120u64,
+        (unit, network, step) in (0..=CALL_DEPTH, 1..12u16, 0..8u16),
+        inputs in prop::collection::vec(any::<[u8; 4]>(), 1..4),
+    ) {
+        // The watchdog at `cut` percent of the first scan's instructions: most cases trip
+        // it, anywhere in the scan.
+        let mut probe = common::load(&text, VmConfig { fast: false, ..VmConfig::default() });
+        set_inputs(&mut probe, inputs[0]);
+        probe.scan().expect("scan");
+        let watchdog = (probe.executed_last_scan() * cut / 100).max(1);
+        let mut fast = common::load(&text, VmConfig { watchdog, ..VmConfig::default() });
+        let mut slow = common::load(&text, VmConfig { watchdog, fast: false, ..VmConfig::default() });
+        // MAIN, a nested subroutine or SUB (a position that is no instruction is
+        // refused: then no breakpoint).
+        let function = match unit {
+            0 => 0,
+            CALL_DEPTH => UnitRef::subroutine(0).page(&fast.target().plc).expect("page"),
+            k => UnitRef::subroutine(k.min(depth) as u16).page(&fast.target().plc).expect("page"),
+        };
+        let _ = fast.set_breakpoint(Some(Position { function, network, step }));
+        for (scan, input) in inputs.iter().enumerate() {
+            for vm in [&mut fast, &mut slow] {
+                set_inputs(vm, *input);
+            }
+            let (f, s) = (scan_through_breakpoints(&mut fast), slow.scan());
+            prop_assert_eq!(&f, &s, "scan {}\n{}", scan, text);
+            prop_assert_eq!(fast.fault_position(), slow.fault_position());
+            prop_assert_eq!(fast.executed_last_scan(), slow.executed_last_scan());
+            prop_assert!(all_memory(&fast) == all_memory(&slow), "memory differs after scan {}\n{}", scan, text);
+            if f.is_err() {
+                break;
+            }
         }
     }
 }
