@@ -51,7 +51,10 @@ fn bit_logic() -> Vec<Function> {
             Step::A { at: x, bit: xb },
             Step::An { at: n, bit: nb },
             Step::O { at: o, bit: ob },
-            Step::Assign { at: 2048 + q, bit: qb },
+            Step::Assign {
+                at: 2048 + q,
+                bit: qb,
+            },
         ]);
     }
     vec![Function { steps }]
@@ -157,7 +160,9 @@ fn main() {
             module = Some(m);
         }
         let module = module.expect("compiled at least once");
-        let mut memory: Vec<u8> = (0..MEMORY).map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8).collect();
+        let mut memory: Vec<u8> = (0..MEMORY)
+            .map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8)
+            .collect();
         let mut stack = 0;
         let executed = module.run(0, &mut memory, &mut stack);
         let mut per = Vec::new();
