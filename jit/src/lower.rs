@@ -51,9 +51,12 @@ pub(crate) fn lower(layout: &Layout, functions: &[Function]) -> Result<Compiled,
     signature.params.push(AbiParam::new(ptr));
     signature.returns.push(AbiParam::new(I64));
     let ids = (0..functions.len())
-        .map(|i| module.declare_function(&format!("gutta_jit_{i}"), Linkage::Local, &signature))
-        .collect::<Result<Vec<FuncId>, _>>()
-        .map_err(cranelift)?;
+        .map(|i| {
+            module
+                .declare_function(&format!("gutta_jit_{i}"), Linkage::Local, &signature)
+                .map_err(cranelift)
+        })
+        .collect::<Result<Vec<FuncId>, JitError>>()?;
     let mut ctx = module.make_context();
     let mut builder_ctx = FunctionBuilderContext::new();
     let mut code_bytes = 0;

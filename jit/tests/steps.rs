@@ -74,26 +74,54 @@ fn every_bit_step_on_every_bit_and_stack() {
     for f in 0..functions.len() {
         for byte in BYTES {
             for stack in STACKS {
-                let (_, _, count) = both(&layout, &functions, &module, f, &memory_with(&[(3, byte)]), stack);
+                let (_, _, count) = both(
+                    &layout,
+                    &functions,
+                    &module,
+                    f,
+                    &memory_with(&[(3, byte)]),
+                    stack,
+                );
                 assert_eq!(count, 1);
             }
         }
     }
     // Pinned values: LD of a set bit pushes 1 and drops the 10th level; = writes one bit.
-    let (_, s, _) = both(&layout, &functions, &module, 0, &memory_with(&[(3, 0x01)]), 0x1FF);
+    let (_, s, _) = both(
+        &layout,
+        &functions,
+        &module,
+        0,
+        &memory_with(&[(3, 0x01)]),
+        0x1FF,
+    );
     assert_eq!(s, 0x1FF);
     let assign_bit_5 = 5 * 7 + 6;
-    let (m, s, _) = both(&layout, &functions, &module, assign_bit_5, &memory_with(&[(3, 0xFF)]), 0x2);
+    let (m, s, _) = both(
+        &layout,
+        &functions,
+        &module,
+        assign_bit_5,
+        &memory_with(&[(3, 0xFF)]),
+        0x2,
+    );
     assert_eq!((m[3], s), (0xDF, 0x2));
 }
 
 #[test]
 fn stack_steps_keep_the_depth_mask() {
     let layout = layout();
-    let functions: Vec<Function> = [Step::Not, Step::Ald, Step::Old, Step::Lps, Step::Lrd, Step::Lpp]
-        .into_iter()
-        .map(|s| function(vec![s]))
-        .collect();
+    let functions: Vec<Function> = [
+        Step::Not,
+        Step::Ald,
+        Step::Old,
+        Step::Lps,
+        Step::Lrd,
+        Step::Lpp,
+    ]
+    .into_iter()
+    .map(|s| function(vec![s]))
+    .collect();
     let module = compile(&layout, &functions).expect("compiles");
     for f in 0..functions.len() {
         for stack in 0..0x400 {
@@ -126,7 +154,14 @@ fn bits_of_the_same_byte_see_each_others_writes() {
     ])];
     let module = compile(&layout, &functions).expect("compiles");
     for byte in 0..=255u8 {
-        let (m, _, count) = both(&layout, &functions, &module, 0, &memory_with(&[(7, byte)]), 0);
+        let (m, _, count) = both(
+            &layout,
+            &functions,
+            &module,
+            0,
+            &memory_with(&[(7, byte)]),
+            0,
+        );
         assert_eq!(count, 9);
         let b0 = byte & 1;
         let b2 = ((byte >> 2) & 1 == 0) || b0 == 1;
@@ -158,7 +193,11 @@ fn math(op: Arith, width: u8, dst: i32, src: i32, flags: u8) -> (i64, u8) {
     }
     let (m, _, _) = both(&layout, &functions, &module, 0, &memory, 0);
     if width == 2 {
-        assert_eq!(m[2..4], [0xEE, 0xEE], "a 2-byte result stays in its 2 bytes");
+        assert_eq!(
+            m[2..4],
+            [0xEE, 0xEE],
+            "a 2-byte result stays in its 2 bytes"
+        );
     }
     let r = if width == 2 {
         i64::from(i16::from_le_bytes([m[0], m[1]]))
@@ -174,17 +213,35 @@ fn math_overflow_edges_and_flags() {
     const O: u8 = 2;
     const N: u8 = 4;
     let m16 = i32::from(i16::MIN);
-    assert_eq!(math(Arith::Mul, 2, m16, -1, 0), (i64::from(i16::MIN), O | N));
-    assert_eq!(math(Arith::Add, 2, 0x7FFF, 1, 0), (i64::from(i16::MIN), O | N));
+    assert_eq!(
+        math(Arith::Mul, 2, m16, -1, 0),
+        (i64::from(i16::MIN), O | N)
+    );
+    assert_eq!(
+        math(Arith::Add, 2, 0x7FFF, 1, 0),
+        (i64::from(i16::MIN), O | N)
+    );
     assert_eq!(math(Arith::Sub, 2, m16, 1, 0), (0x7FFF, O));
     assert_eq!(math(Arith::Add, 2, 5, -5, 0), (0, Z));
     assert_eq!(math(Arith::Mul, 2, 256, 256, 0), (0, Z | O));
     assert_eq!(math(Arith::Sub, 2, 3, 5, 0), (-2, N));
-    assert_eq!(math(Arith::Mul, 4, i32::MIN, -1, 0), (i64::from(i32::MIN), O | N));
-    assert_eq!(math(Arith::Add, 4, i32::MAX, 1, 0), (i64::from(i32::MIN), O | N));
-    assert_eq!(math(Arith::Sub, 4, i32::MIN, 1, 0), (i64::from(i32::MAX), O));
+    assert_eq!(
+        math(Arith::Mul, 4, i32::MIN, -1, 0),
+        (i64::from(i32::MIN), O | N)
+    );
+    assert_eq!(
+        math(Arith::Add, 4, i32::MAX, 1, 0),
+        (i64::from(i32::MIN), O | N)
+    );
+    assert_eq!(
+        math(Arith::Sub, 4, i32::MIN, 1, 0),
+        (i64::from(i32::MAX), O)
+    );
     assert_eq!(math(Arith::Mul, 4, 0x10000, 0x10000, 0), (0, Z | O));
-    assert_eq!(math(Arith::Mul, 4, -46341, 46341, 0), (i64::from(-46341i32.wrapping_mul(46341)), O));
+    assert_eq!(
+        math(Arith::Mul, 4, -46341, 46341, 0),
+        (i64::from(-46341i32.wrapping_mul(46341)), O)
+    );
     // Flags bits 3..7 are kept, bits 0..2 replaced.
     assert_eq!(math(Arith::Add, 2, 1, 1, 0xFF), (2, 0xF8));
     assert_eq!(math(Arith::Add, 4, 0, 0, 0xA8 | O | N), (0, 0xA8 | Z));
@@ -210,8 +267,19 @@ fn math_and_move_run_only_with_power_flow() {
     let module = compile(&layout, &functions).expect("compiles");
     let memory = memory_with(&[(8, 7), (FLAGS, 0x07)]);
     let (m, _, count) = both(&layout, &functions, &module, 0, &memory, 0);
-    assert_eq!((m, count), (memory.clone(), 3), "nothing written without power flow");
-    let (m, _, _) = both(&layout, &functions, &module, 0, &memory_with(&[(8, 7), (20, 1)]), 0);
+    assert_eq!(
+        (m, count),
+        (memory.clone(), 3),
+        "nothing written without power flow"
+    );
+    let (m, _, _) = both(
+        &layout,
+        &functions,
+        &module,
+        0,
+        &memory_with(&[(8, 7), (20, 1)]),
+        0,
+    );
     assert_eq!((m[0], m[12], m[FLAGS as usize]), (7, 7, 0));
 }
 
@@ -230,7 +298,8 @@ fn math_whose_result_covers_the_flags_byte() {
     let module = compile(&layout, &functions).expect("compiles");
     for v in [0u8, 1, 0x80, 0xFF] {
         let mut memory = memory_with(&[(20, 1), (8, v), (11, v)]);
-        memory[(FLAGS - 1) as usize..(FLAGS + 3) as usize].copy_from_slice(&[0x11, 0xF3, 0x01, 0x80]);
+        memory[(FLAGS - 1) as usize..(FLAGS + 3) as usize]
+            .copy_from_slice(&[0x11, 0xF3, 0x01, 0x80]);
         both(&layout, &functions, &module, 0, &memory, 0);
     }
 }
@@ -294,9 +363,15 @@ fn compares_signed_and_unsigned_with_each_combine() {
     // Width 1 is unsigned: 200 > 1; width 2 is signed: -1 < 1.
     let gt_load = |width: usize| (width * 3) * 6 + 4;
     let mut memory = memory_with(&[(0, 200), (4, 1)]);
-    assert_eq!(both(&layout, &functions, &module, gt_load(0), &memory, 0).1, 1);
+    assert_eq!(
+        both(&layout, &functions, &module, gt_load(0), &memory, 0).1,
+        1
+    );
     memory[0..2].copy_from_slice(&[0xFF, 0xFF]);
-    assert_eq!(both(&layout, &functions, &module, gt_load(1), &memory, 0).1, 0);
+    assert_eq!(
+        both(&layout, &functions, &module, gt_load(1), &memory, 0).1,
+        0
+    );
 }
 
 /// Function 0 calls 1 (a leaf) with an input, an output and an in-out argument; the
@@ -346,10 +421,7 @@ fn calling() -> Vec<Function> {
         function(vec![
             Step::Network,
             Step::Ld { at: 20, bit: 0 },
-            Step::Call {
-                callee: 1,
-                args,
-            },
+            Step::Call { callee: 1, args },
             Step::Assign { at: 21, bit: 0 },
         ]),
         function(leaf),
@@ -367,7 +439,11 @@ fn a_call_runs_the_callee_with_its_own_l_and_restores_the_callers() {
     }
     let (m, s, count) = both(&layout, &functions, &module, 0, &memory, 0x1F0);
     assert_eq!(count, 3 + 5, "3 steps of the caller, 5 of the callee");
-    assert_eq!(m[4..8], [0x34, 0x12, 0, 0], "output: the moved input, upper L bytes zero");
+    assert_eq!(
+        m[4..8],
+        [0x34, 0x12, 0, 0],
+        "output: the moved input, upper L bytes zero"
+    );
     assert_eq!(m[8], 18, "in-out: 9 + 9");
     assert_eq!(m[40..56], memory[40..56], "the caller's L restored");
     assert_eq!(m[30], 0x08, "the callee's = ran");
@@ -395,7 +471,10 @@ fn calls_without_an_l_area_and_nested_calls() {
         callee: 2,
         args: vec![],
     });
-    functions.push(function(vec![Step::Ld { at: 0, bit: 2 }, Step::Assign { at: 31, bit: 0 }]));
+    functions.push(function(vec![
+        Step::Ld { at: 0, bit: 2 },
+        Step::Assign { at: 31, bit: 0 },
+    ]));
     let module = compile(&layout, &functions).expect("compiles");
     let memory = memory_with(&[(0, 0x04), (20, 1)]);
     let (m, _, count) = both(&layout, &functions, &module, 0, &memory, 0);
@@ -417,11 +496,25 @@ fn out_of_range_steps_are_refused() {
         })
     );
     assert!(matches!(
-        refused(Step::Move { src: 0, dst: MEMORY - 3, width: 4 }),
-        Err(JitError::OutOfRange { at: 61, width: 4, .. })
+        refused(Step::Move {
+            src: 0,
+            dst: MEMORY - 3,
+            width: 4
+        }),
+        Err(JitError::OutOfRange {
+            at: 61,
+            width: 4,
+            ..
+        })
     ));
     assert!(matches!(
-        refused(Step::Compare { combine: Combine::Or, rel: Rel::Eq, a: u32::MAX, b: 0, width: 2 }),
+        refused(Step::Compare {
+            combine: Combine::Or,
+            rel: Rel::Eq,
+            a: u32::MAX,
+            b: 0,
+            width: 2
+        }),
         Err(JitError::OutOfRange { .. })
     ));
     assert!(matches!(
@@ -429,19 +522,38 @@ fn out_of_range_steps_are_refused() {
         Err(JitError::BitNumber { bit: 8, .. })
     ));
     assert!(matches!(
-        refused(Step::Math { op: Arith::Add, src: 0, dst: 2, width: 1 }),
+        refused(Step::Math {
+            op: Arith::Add,
+            src: 0,
+            dst: 2,
+            width: 1
+        }),
         Err(JitError::Width { width: 1, .. })
     ));
     assert!(matches!(
-        refused(Step::Move { src: 0, dst: 2, width: 3 }),
+        refused(Step::Move {
+            src: 0,
+            dst: 2,
+            width: 3
+        }),
         Err(JitError::Width { width: 3, .. })
     ));
     assert!(matches!(
-        refused(Step::Call { callee: 1, args: vec![] }),
+        refused(Step::Call {
+            callee: 1,
+            args: vec![]
+        }),
         Err(JitError::NoSuchCallee { callee: 1, .. })
     ));
     // The last byte is fine.
-    assert_eq!(refused(Step::Move { src: 0, dst: MEMORY - 4, width: 4 }), Ok(()));
+    assert_eq!(
+        refused(Step::Move {
+            src: 0,
+            dst: MEMORY - 4,
+            width: 4
+        }),
+        Ok(())
+    );
     let arg = Arg {
         var: 0,
         param: MEMORY - 1,
@@ -456,7 +568,12 @@ fn out_of_range_steps_are_refused() {
     let two = [function(vec![]), function(vec![call])];
     assert!(matches!(
         compile(&layout, &two),
-        Err(JitError::OutOfRange { function: 1, step: 0, at: 63, width: 2 })
+        Err(JitError::OutOfRange {
+            function: 1,
+            step: 0,
+            at: 63,
+            width: 2
+        })
     ));
     for (flags_at, local) in [(MEMORY, None), (0, Some((MEMORY - 4, 5)))] {
         let bad = Layout {
@@ -485,7 +602,10 @@ fn cycles_of_calls_are_refused() {
         function(vec![call(1)]),
     ];
     let e = compile(&layout, &three).map(|_| ());
-    assert!(matches!(e, Err(JitError::Recursion { function: 1 | 2 })), "{e:?}");
+    assert!(
+        matches!(e, Err(JitError::Recursion { function: 1 | 2 })),
+        "{e:?}"
+    );
     assert!(e.unwrap_err().to_string().contains("cycle"));
     // A diamond is no cycle.
     let diamond = [
@@ -518,7 +638,10 @@ fn run_refuses_memory_of_another_length_before_running() {
 #[test]
 fn a_module_runs_on_another_thread() {
     let layout = layout();
-    let functions = vec![function(vec![Step::Ld { at: 0, bit: 1 }, Step::Assign { at: 1, bit: 0 }])];
+    let functions = vec![function(vec![
+        Step::Ld { at: 0, bit: 1 },
+        Step::Assign { at: 1, bit: 0 },
+    ])];
     let module = compile(&layout, &functions).expect("compiles");
     assert!(module.code_bytes() > 0);
     let handle = std::thread::spawn(move || {

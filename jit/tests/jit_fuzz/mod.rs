@@ -217,7 +217,10 @@ pub fn check_case(case: &Case) {
             &mut ref_memory,
             &mut ref_stack,
         );
-        assert_eq!(jit_memory, ref_memory, "memory after function {f}\n{case:#?}");
+        assert_eq!(
+            jit_memory, ref_memory,
+            "memory after function {f}\n{case:#?}"
+        );
         assert_eq!(jit_stack, ref_stack, "stack after function {f}\n{case:#?}");
         assert_eq!(jit_count, ref_count, "count of function {f}\n{case:#?}");
     }
