@@ -262,21 +262,22 @@ impl Engine {
                 #[cfg(feature = "jit")]
                 if !SINGLE && !self.native_hold {
                     if let Some(native) = &self.native {
-                        if let Some(r) = native.region(page, pc) {
+                        // Regions follow one another where a long run was cut.
+                        while let Some(r) = native.region(page, pc) {
                             // Native only where it cannot differ: the watchdog cannot
                             // trip inside, no CALL inside can pass CallDepth.
                             let remaining = watchdog.saturating_sub(self.clock.executed);
                             let depth = self.machine.frames.len() + r.depth as usize;
-                            if r.max_count <= remaining && depth <= usize::from(call_depth) + 1
-                            {
-                                let ran = native.module.run(
-                                    r.function as usize,
-                                    &mut self.machine.memory.bytes,
-                                    &mut st,
-                                );
-                                self.clock.executed += ran;
-                                pc += r.records as usize;
+                            if r.max_count > remaining || depth > usize::from(call_depth) + 1 {
+                                break;
                             }
+                            let ran = native.module.run(
+                                r.function as usize,
+                                &mut self.machine.memory.bytes,
+                                &mut st,
+                            );
+                            self.clock.executed += ran;
+                            pc += r.records as usize;
                         }
                     }
                 }

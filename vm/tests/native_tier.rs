@@ -307,3 +307,44 @@ fn a_breakpoint_inside_a_region_pauses_there() {
     assert_eq!(memory(&native), memory(&reference));
     assert_eq!(common::read(&native, "MW2"), 3);
 }
+
+/// A long MAIN is cut into several regions, run one after the other; the watchdog can
+/// trip in any of them (the region it would trip in runs interpreted).
+#[test]
+fn a_long_unit_runs_as_consecutive_regions() {
+    let mut text = String::from("ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\n");
+    for k in 0..200 {
+        text.push_str(&format!(
+            "NETWORK {}\nLD I0.{}\nA M{}.{}\nO Q1.{}\n= M{}.{}\nLD SM0.0\n+I 1, MW{}\n",
+            k + 1,
+            k % 8,
+            (k / 8) % 16,
+            (k * 3) % 8,
+            k % 5,
+            20 + k / 8,
+            k % 8,
+            (k % 10) * 2 + 108
+        ));
+    }
+    text.push_str("END_ORGANIZATION_BLOCK\n");
+    for watchdog in [10_000_000, 1_300, 700] {
+        let mut vms = load3(&text, watchdog);
+        assert!(
+            matches!(vms[2].tier(), TierState::Compiled { regions, .. } if *regions >= 2),
+            "{:?}",
+            vms[2].tier()
+        );
+        for scan in 0..3u32 {
+            let outcomes: Vec<_> = vms
+                .iter_mut()
+                .map(|vm| {
+                    common::set(vm, "IB0", 0x5A ^ scan * 77);
+                    (vm.scan(), vm.executed_last_scan(), vm.fault_position())
+                })
+                .collect();
+            assert_eq!(outcomes[1], outcomes[0], "scan {scan}, watchdog {watchdog}");
+            assert_eq!(outcomes[2], outcomes[0], "scan {scan}, watchdog {watchdog}");
+            assert!(memory(&vms[1]) == memory(&vms[0]) && memory(&vms[2]) == memory(&vms[0]));
+        }
+    }
+}
