@@ -15,29 +15,28 @@ use crate::memory::Memory;
 struct Sources {
     /// Timed events: number and period variable (None: the period does not parse).
     timed: Vec<(u32, Option<Address>)>,
-    /// Edge events whose input parses, in the target's order.
-    edges: Vec<Edge>,
+    /// Edge events whose input is a bit inside its area: read from `watched`.
+    bit_edges: Vec<Edge>,
+    /// The flat-memory bytes holding those bits, each once.
+    watched: Vec<usize>,
+    /// Other edge events whose input parses (read through `Memory::read`).
+    other_edges: Vec<(u32, bool, Address)>,
 }
 
-/// An edge event.
+/// An edge event on a bit input.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Edge {
     event: u32,
     /// Rising (else falling).
     rising: bool,
-    input: Address,
-    /// A bit input inside its area: its byte in the flat memory and its mask.
-    bit: Option<(usize, u8)>,
+    /// The input's byte (index into `Sources::watched`) and bit mask.
+    byte: usize,
+    mask: u8,
 }
 
-impl Edge {
-    /// The input is on (a bit read straight from its byte).
-    fn input_on(&self, memory: &Memory) -> bool {
-        match self.bit {
-            Some((at, mask)) => memory.bytes.get(at).is_some_and(|b| b & mask != 0),
-            None => memory.read(self.input).unwrap_or(0) == 1,
-        }
-    }
+/// Whether an input that was `before` and is `now` makes the edge.
+fn is_edge(rising: bool, before: bool, now: bool) -> bool {
+    (rising && now && !before) || (!rising && !now && before)
 }
 
 impl Sources {
@@ -53,19 +52,32 @@ impl Sources {
                 continue;
             }
             let rising = e.kind.eq_ignore_ascii_case("RisingEdge");
-            if rising || e.kind.eq_ignore_ascii_case("FallingEdge") {
-                if let Some(input) = parse(&e.input) {
-                    let bit = (input.width == Width::Bit)
-                        .then(|| memory.index_of(input))
-                        .flatten()
-                        .map(|at| (at, 1u8 << (input.bit & 7)));
-                    sources.edges.push(Edge {
+            if !rising && !e.kind.eq_ignore_ascii_case("FallingEdge") {
+                continue;
+            }
+            let Some(input) = parse(&e.input) else {
+                continue;
+            };
+            match (input.width == Width::Bit)
+                .then(|| memory.index_of(input))
+                .flatten()
+            {
+                Some(at) => {
+                    let byte = match sources.watched.iter().position(|&w| w == at) {
+                        Some(k) => k,
+                        None => {
+                            sources.watched.push(at);
+                            sources.watched.len() - 1
+                        }
+                    };
+                    sources.bit_edges.push(Edge {
                         event: e.number,
                         rising,
-                        input,
-                        bit,
+                        byte,
+                        mask: 1 << (input.bit & 7),
                     });
                 }
+                None => sources.other_edges.push((e.number, rising, input)),
             }
         }
         sources
@@ -85,7 +97,11 @@ pub(crate) struct Interrupts {
     pub pending: BTreeSet<u32>,
     /// The target's events, parsed at the first scan after a reset.
     sources: Option<Arc<Sources>>,
-    /// Edge events (by index in `sources.edges`): their input bit at the previous scan.
+    /// The watched input bytes at the previous scan (empty before the first).
+    last_bytes: Vec<u8>,
+    /// The watched input bytes now (a buffer kept between scans).
+    now_bytes: Vec<u8>,
+    /// Other edge events (by index): their input bit at the previous scan.
     last_input: Vec<Option<bool>>,
 }
 
@@ -101,6 +117,8 @@ impl Interrupts {
             elapsed,
             pending,
             sources,
+            last_bytes,
+            now_bytes,
             last_input,
         } = self;
         let sources: &Sources =
@@ -132,16 +150,32 @@ impl Interrupts {
         }
         // Edge events: the input bit now against the previous scan (the first scan only
         // records it, so entering RUN raises no edge). Recorded whether attached or not,
-        // so an ATCH later sees the right previous value.
-        last_input.resize(sources.edges.len(), None);
-        for (edge, last) in sources.edges.iter().zip(last_input.iter_mut()) {
-            let now = edge.input_on(memory);
+        // so an ATCH later sees the right previous value: the watched bytes are kept
+        // whole, and compared bit by bit only when one changed and an event is attached.
+        now_bytes.clear();
+        now_bytes.extend(
+            sources
+                .watched
+                .iter()
+                .map(|&at| memory.bytes.get(at).copied().unwrap_or(0)),
+        );
+        if last_bytes.len() == now_bytes.len() && last_bytes != now_bytes && !attached.is_empty() {
+            for e in &sources.bit_edges {
+                let before = last_bytes[e.byte] & e.mask != 0;
+                let now = now_bytes[e.byte] & e.mask != 0;
+                if is_edge(e.rising, before, now) && attached.contains_key(&e.event) {
+                    occurred.push(e.event);
+                }
+            }
+        }
+        std::mem::swap(last_bytes, now_bytes);
+        last_input.resize(sources.other_edges.len(), None);
+        for (&(event, rising, input), last) in sources.other_edges.iter().zip(last_input.iter_mut())
+        {
+            let now = memory.read(input).unwrap_or(0) == 1;
             if let Some(before) = last.replace(now) {
-                let rising = edge.rising;
-                if ((rising && now && !before) || (!rising && !now && before))
-                    && attached.contains_key(&edge.event)
-                {
-                    occurred.push(edge.event);
+                if is_edge(rising, before, now) && attached.contains_key(&event) {
+                    occurred.push(event);
                 }
             }
         }
