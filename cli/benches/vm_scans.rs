@@ -109,7 +109,7 @@ fn main() {
     );
     let row = |name: &str, unit: &str, values: Vec<f64>| {
         let (median, min, max) = spread(values);
-        println!("{name:<38} {median:>8.1} {unit:<8} ({min:.1}..{max:.1})");
+        println!("{name:<42} {median:>8.1} {unit:<8} ({min:.1}..{max:.1})");
     };
     row("process start (--scans 1)", "ms", start);
     row("library, Vm::scan", "ns/scan", library);
