@@ -2,8 +2,8 @@
 //! per-scan benchmark's program (vm/benches/awlsim/scan_cost.lad, 10 instructions, STOP
 //! after 1,000,000 scans) is compiled to an image in a temporary folder; the real
 //! gutta-vm process is timed from spawn to exit at N = 1,000,000 and at N = 1 (process
-//! start, reading, verifying and loading the image), and the difference over the
-//! scans is the command line's ns per scan. Next to it, the library's ns per scan of
+//! start, reading, verifying and loading the image); a run's time past the median start, over
+//! the scans, is the command line's ns per scan. Next to it, the library's ns per scan of
 //! the same image through `Vm::scan`, measured in the same run, and the ratio (bar:
 //! the command line adds at most 10%). Medians (min..max) of the runs.
 //! `cargo bench -p gutta-cli --bench vm_scans [-- --bench RUNS]`; without `--bench`
@@ -87,18 +87,25 @@ fn main() {
     // Warm-up: the binary and the image in the page cache, the library's code hot.
     cli_run(&dir, 1, &[]);
     library_run(&mut vm, scans.min(1000));
-    let mut start = Vec::with_capacity(runs);
-    let mut plain = Vec::with_capacity(runs);
-    let mut read = Vec::with_capacity(runs);
-    let mut library = Vec::with_capacity(runs);
-    let per_scan = |t: f64, t0: f64| (t - t0).max(0.0) / (scans - 1) as f64 * 1e9;
+    let (mut start, mut whole, mut whole_read, mut library) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for _ in 0..runs {
-        let t0 = cli_run(&dir, 1, &[]);
-        start.push(t0 * 1e3);
-        plain.push(per_scan(cli_run(&dir, scans, &[]), t0));
-        read.push(per_scan(cli_run(&dir, scans, &reads), t0));
+        start.push(cli_run(&dir, 1, &[]));
+        whole.push(cli_run(&dir, scans, &[]));
+        whole_read.push(cli_run(&dir, scans, &reads));
         library.push(library_run(&mut vm, scans) * 1e9);
     }
+    // The process start varies from run to run by more than a few scans: its median is
+    // what each run's scans are measured past.
+    let (start_median, _, _) = spread(start.clone());
+    let per_scan = |whole: &[f64]| -> Vec<f64> {
+        whole
+            .iter()
+            .map(|t| (t - start_median).max(0.0) / (scans - 1) as f64 * 1e9)
+            .collect()
+    };
+    let (plain, read) = (per_scan(&whole), per_scan(&whole_read));
+    let start: Vec<f64> = start.iter().map(|t| t * 1e3).collect();
     let _ = std::fs::remove_dir_all(&dir);
 
     let ratio = |cli: &[f64]| spread(cli.iter().zip(&library).map(|(c, l)| c / l).collect()).0;
