@@ -3,8 +3,10 @@
 //! program (moves, math, compares, calls), each against its native Rust transcription
 //! (crate gutta-bench-native, checked against the VM by its tests/agree.rs); the scan
 //! time of the AN2002 sample 3 master; the memory of a loaded EC30-EKSTM32-XC image.
-//! Medians of timed batches. `cargo bench -p gutta-vm --bench scan` measures;
-//! `cargo test --benches` (no `--bench`) only runs everything once.
+//! Issue 17's per-scan cost: ns per `Vm::scan` of a small program (awlsim/scan_cost.lad,
+//! 10 instructions) and of an empty MAIN, median and spread (min/max) of batches.
+//! Medians of timed batches. `cargo bench -p gutta-vm --bench scan` measures (`-- per-scan`:
+//! the per-scan table alone); `cargo test --benches` (no `--bench`) only runs everything once.
 
 #![allow(
     clippy::disallowed_methods,
@@ -200,8 +202,74 @@ fn load_micros(verified: &VerifiedImage, target: &Arc<Target>, n: usize) -> f64 
     median(times)
 }
 
+/// The per-scan benchmark's program (the awlsim comparison's logic).
+const SCAN_COST: &str = include_str!("awlsim/scan_cost.lad");
+
+/// A MAIN without instructions: what a scan costs around the program.
+const EMPTY_MAIN: &str = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nEND_ORGANIZATION_BLOCK\n";
+
+/// One row of the per-scan table: instructions per scan, ns per scan (median, min
+/// and max of the batches).
+struct PerScan {
+    instructions: u64,
+    median: f64,
+    min: f64,
+    max: f64,
+}
+
+/// ns per `Vm::scan` of `text` on a fresh VM: `batches` batches of `scans` scans, the
+/// VM reset (untimed) before each, so scan_cost.lad never reaches its STOP.
+fn per_scan(text: &str, batches: usize, scans: usize) -> PerScan {
+    let (verified, target, _) = image("per_scan.lad", text, None);
+    let mut vm = load(&verified, &target);
+    vm.scan().expect("first scan");
+    let instructions = vm.executed_last_scan();
+    let mut times: Vec<f64> = (0..batches)
+        .map(|_| {
+            vm.reset();
+            let t = batch(scans, &mut || vm.scan().expect("scan"));
+            assert!(vm.is_running(), "the program stopped within a batch");
+            t * 1e9
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    PerScan {
+        instructions,
+        median: times[times.len() / 2],
+        min: times[0],
+        max: times[times.len() - 1],
+    }
+}
+
+/// The per-scan table: scan_cost.lad and an empty MAIN.
+fn per_scan_section(bench: bool) {
+    let (batches, scans) = if bench { (31, 100_000) } else { (1, 1) };
+    println!(
+        "\nns per scan through Vm::scan (issue 17; median, min..max of {batches} x {scans} scans):"
+    );
+    println!(
+        "{:<22} {:>10} {:>8} {:>16}",
+        "program", "instr/scan", "ns/scan", "min..max"
+    );
+    for (name, text) in [("scan_cost.lad", SCAN_COST), ("empty MAIN", EMPTY_MAIN)] {
+        let r = per_scan(text, batches, scans);
+        println!(
+            "{:<22} {:>10} {:>8.1} {:>16}",
+            name,
+            r.instructions,
+            r.median,
+            format!("{:.1}..{:.1}", r.min, r.max)
+        );
+    }
+}
+
 fn main() {
     let bench = std::env::args().any(|a| a == "--bench");
+    if std::env::args().any(|a| a == "per-scan") {
+        // `cargo bench -p gutta-vm --bench scan -- per-scan`: this section alone.
+        per_scan_section(bench);
+        return;
+    }
     let effort = if bench {
         Effort {
             batches: 31,
@@ -307,4 +375,6 @@ fn main() {
             ),
         }
     }
+
+    per_scan_section(bench);
 }

@@ -2,8 +2,6 @@
 //! (SM0.0 always on, SM0.1 first scan, SM0.4 60 s, SM0.5 1 s, SM0.6 scan clock). Time
 //! advances only at the end of a scan; nothing here reads a real clock.
 
-use gutta_catalog::{Address, Width};
-
 use crate::memory::Memory;
 
 /// Virtual time and counts.
@@ -24,19 +22,18 @@ impl Clock {
         self.ms += u64::from(scan_ms);
     }
 
-    /// Write the system bits of SMB0 (slot `sm`) for the scan about to start.
+    /// Write the system bits of SMB0 (slot `sm`) for the scan about to start: one
+    /// read-modify-write of the byte (bits 2, 3 and 7 keep their values).
     pub fn set_system_bits(&self, memory: &mut Memory, sm: u8) {
-        let bit = |b: u8| Address {
-            slot: sm,
-            offset: 0,
-            width: Width::Bit,
-            bit: b,
+        let Some(smb0) = memory.area_mut(sm).and_then(|a| a.first_mut()) else {
+            return;
         };
         let t = self.ms;
-        let _ = memory.write(bit(0), 1);
-        let _ = memory.write(bit(1), u32::from(self.scans == 0));
-        let _ = memory.write(bit(4), u32::from((t / 30_000) % 2 == 1));
-        let _ = memory.write(bit(5), u32::from((t / 500) % 2 == 1));
-        let _ = memory.write(bit(6), u32::from(self.scans % 2 == 1));
+        let bits = 1
+            | u8::from(self.scans == 0) << 1
+            | u8::from((t / 30_000) % 2 == 1) << 4
+            | u8::from((t / 500) % 2 == 1) << 5
+            | u8::from(self.scans % 2 == 1) << 6;
+        *smb0 = (*smb0 & !0b0111_0011) | bits;
     }
 }

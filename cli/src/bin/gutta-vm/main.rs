@@ -190,57 +190,69 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
             .map_err(|e| Fatal::usage(format!("--break {text}: {e}")))?;
     }
 
-    let sample = |vm: &Vm| -> Result<Vec<u32>, Fatal> {
-        reads
-            .iter()
-            .map(|v| {
-                vm.read(v.address)
-                    .map_err(|e| Fatal::usage(format!("--read {}: {}", v.label(), e.0)))
-            })
-            .collect()
+    // The --read variables were resolved once, above; a scan only reads them, and only
+    // when --trace or --vcd needs their values after every scan.
+    let sample = |vm: &Vm, into: &mut [u32]| -> Result<(), Fatal> {
+        for (v, value) in reads.iter().zip(into.iter_mut()) {
+            *value = vm
+                .read(v.address)
+                .map_err(|e| Fatal::usage(format!("--read {}: {}", v.label(), e.0)))?;
+        }
+        Ok(())
     };
-    let mut values = sample(&vm)?;
+    let mut values = vec![0; reads.len()];
+    sample(&vm, &mut values)?;
     let mut vcd = cli.vcd.as_ref().map(|_| vcd::dump(&reads, &values));
     let mut changes: Vec<Change> = Vec::new();
     let stdout = std::io::stdout();
     let mut fault: Option<(u64, Fault)> = None;
     let mut paused: Option<(u64, Position)> = None;
+    let per_scan = cli.trace || vcd.is_some();
+    let mut now = values.clone();
     for n in 1..=cli.scans {
         match vm.run_scan() {
             Err(f) => fault = Some((n, f)),
             Ok(ScanEnd::Paused(at)) => paused = Some((n, at)),
+            // Nothing runs in STOP: the scans left would change nothing.
+            Ok(ScanEnd::Stopped) if !per_scan => break,
             Ok(_) => {}
         }
-        let now = sample(&vm)?;
-        let changed: Vec<usize> = (0..reads.len()).filter(|&i| now[i] != values[i]).collect();
-        if let Some(dump) = vcd.as_mut() {
-            dump.sample(vm.clock_ms(), &now);
-        }
-        if cli.trace {
-            for &i in &changed {
-                let c = Change {
-                    scan: n,
-                    var: i,
-                    from: values[i],
-                    to: now[i],
-                };
-                if !cli.json {
-                    let v = &reads[i];
-                    let _ = writeln!(
-                        stdout.lock(),
-                        "scan {n}: {} {} -> {}",
-                        v.label(),
-                        v.show(c.from),
-                        v.show(c.to)
-                    );
-                }
-                changes.push(c);
+        if per_scan {
+            sample(&vm, &mut now)?;
+            if let Some(dump) = vcd.as_mut() {
+                dump.sample(vm.clock_ms(), &now);
             }
+            if cli.trace {
+                for (i, (&from, &to)) in values.iter().zip(&now).enumerate() {
+                    if from == to {
+                        continue;
+                    }
+                    if !cli.json {
+                        let v = &reads[i];
+                        let _ = writeln!(
+                            stdout.lock(),
+                            "scan {n}: {} {} -> {}",
+                            v.label(),
+                            v.show(from),
+                            v.show(to)
+                        );
+                    }
+                    changes.push(Change {
+                        scan: n,
+                        var: i,
+                        from,
+                        to,
+                    });
+                }
+            }
+            values.copy_from_slice(&now);
         }
-        values = now;
         if fault.is_some() || paused.is_some() {
             break;
         }
+    }
+    if !per_scan {
+        sample(&vm, &mut values)?;
     }
     if let (Some(dump), Some(path)) = (vcd, &cli.vcd) {
         // The end of the run, so the last value shows for its whole time.
