@@ -56,8 +56,50 @@ fn image(name: &str, text: &str, target: Option<&str>) -> (VerifiedImage, Arc<Ta
     (verified, target, bytes)
 }
 
-fn load(verified: &VerifiedImage, target: &Arc<Target>) -> Vm {
-    Vm::new(verified.clone(), Arc::clone(target), VmConfig::default()).expect("loads")
+/// How the VM runs the program: the interpreter only, or compiled at load (the
+/// compiled tier, docs/vm-jit.md; by default it compiles after 100 scans).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Tier {
+    Interpreted,
+    Compiled,
+}
+
+impl Tier {
+    const BOTH: [Tier; 2] = [Tier::Interpreted, Tier::Compiled];
+
+    fn config(self) -> VmConfig {
+        VmConfig {
+            native_after: match self {
+                Tier::Interpreted => None,
+                Tier::Compiled => Some(0),
+            },
+            ..VmConfig::default()
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Tier::Interpreted => "interpreted",
+            Tier::Compiled => "compiled",
+        }
+    }
+}
+
+fn load(verified: &VerifiedImage, target: &Arc<Target>, tier: Tier) -> Vm {
+    Vm::new(verified.clone(), Arc::clone(target), tier.config()).expect("loads")
+}
+
+/// `load`, and for the compiled tier, proof that it compiled.
+fn load_checked(verified: &VerifiedImage, target: &Arc<Target>, tier: Tier) -> Vm {
+    let vm = load(verified, target, tier);
+    if tier == Tier::Compiled {
+        assert!(
+            matches!(vm.tier(), gutta_vm::TierState::Compiled { .. }),
+            "compiled: {:?}",
+            vm.tier()
+        );
+    }
+    vm
 }
 
 fn example(name: &str) -> String {
@@ -123,10 +165,10 @@ struct Row {
     vm_per_fenced: f64,
 }
 
-fn instructions(effort: Effort, program: &Program) -> Row {
+fn instructions(effort: Effort, program: &Program, tier: Tier) -> Row {
     let text = program.text;
     let (verified, target, _) = image("bench.lad", text, Some(BIG_TARGET));
-    let mut vm = load(&verified, &target);
+    let mut vm = load_checked(&verified, &target, tier);
     let mut native = Memory::default();
     mixed_inputs(|at, v| {
         set(&mut vm, &format!("MW{at}"), u32::from(v));
@@ -172,12 +214,17 @@ fn resident_bytes() -> Option<u64> {
 /// Bytes of resident memory per loaded VM: the growth while loading the last of three
 /// steps of `n` VMs each (the first steps soak up heap the compiler freed), and the
 /// same for the step before, as a consistency check.
-fn bytes_per_vm(verified: &VerifiedImage, target: &Arc<Target>, n: usize) -> Option<(f64, f64)> {
+fn bytes_per_vm(
+    verified: &VerifiedImage,
+    target: &Arc<Target>,
+    n: usize,
+    tier: Tier,
+) -> Option<(f64, f64)> {
     let mut vms = Vec::with_capacity(3 * n);
     let mut rss = vec![resident_bytes()?];
     for _ in 0..3 {
         for _ in 0..n {
-            vms.push(load(verified, target));
+            vms.push(load(verified, target, tier));
         }
         rss.push(resident_bytes()?);
     }
@@ -188,12 +235,12 @@ fn bytes_per_vm(verified: &VerifiedImage, target: &Arc<Target>, n: usize) -> Opt
 
 /// Median microseconds of `Vm::new` (the image's clone is made before the clock starts
 /// and the VM dropped after it stops).
-fn load_micros(verified: &VerifiedImage, target: &Arc<Target>, n: usize) -> f64 {
+fn load_micros(verified: &VerifiedImage, target: &Arc<Target>, n: usize, tier: Tier) -> f64 {
     let times = (0..n.max(1))
         .map(|_| {
             let image = verified.clone();
             let t = Instant::now();
-            let vm = Vm::new(image, Arc::clone(target), VmConfig::default()).expect("loads");
+            let vm = Vm::new(image, Arc::clone(target), tier.config()).expect("loads");
             let s = t.elapsed().as_secs_f64();
             drop(black_box(vm));
             s * 1e6
@@ -219,9 +266,9 @@ struct PerScan {
 
 /// ns per `Vm::scan` of `text` on a fresh VM: `batches` batches of `scans` scans, the
 /// VM reset (untimed) before each, so scan_cost.lad never reaches its STOP.
-fn per_scan(text: &str, batches: usize, scans: usize) -> PerScan {
+fn per_scan(text: &str, batches: usize, scans: usize, tier: Tier) -> PerScan {
     let (verified, target, _) = image("per_scan.lad", text, None);
-    let mut vm = load(&verified, &target);
+    let mut vm = load(&verified, &target, tier);
     vm.scan().expect("first scan");
     let instructions = vm.executed_last_scan();
     let mut times: Vec<f64> = (0..batches)
@@ -248,14 +295,22 @@ fn per_scan_section(bench: bool) {
         "\nns per scan through Vm::scan (issue 17; median, min..max of {batches} x {scans} scans):"
     );
     println!(
-        "{:<22} {:>10} {:>8} {:>16}",
-        "program", "instr/scan", "ns/scan", "min..max"
+        "{:<22} {:>12} {:>10} {:>8} {:>16}",
+        "program", "tier", "instr/scan", "ns/scan", "min..max"
     );
-    for (name, text) in [("scan_cost.lad", SCAN_COST), ("empty MAIN", EMPTY_MAIN)] {
-        let r = per_scan(text, batches, scans);
+    let programs = [("scan_cost.lad", SCAN_COST), ("empty MAIN", EMPTY_MAIN)];
+    for ((name, text), tier) in programs
+        .into_iter()
+        .flat_map(|p| Tier::BOTH.map(|t| (p, t)))
+    {
+        if text == EMPTY_MAIN && tier == Tier::Compiled {
+            continue; // nothing to compile
+        }
+        let r = per_scan(text, batches, scans, tier);
         println!(
-            "{:<22} {:>10} {:>8.1} {:>16}",
+            "{:<22} {:>12} {:>10} {:>8.1} {:>16}",
             name,
+            tier.name(),
             r.instructions,
             r.median,
             format!("{:.1}..{:.1}", r.min, r.max)
@@ -289,8 +344,8 @@ fn main() {
     println!("(fenced: native with a compiler barrier between networks, so each network");
     println!(" reads and writes memory instead of reusing values of the networks before it)");
     println!(
-        "{:<10} {:>10} {:>8} {:>10} {:>10} {:>10} {:>10}",
-        "program", "instr/scan", "VM", "native", "VM/native", "fenced", "VM/fenced"
+        "{:<10} {:>12} {:>10} {:>8} {:>10} {:>10} {:>10} {:>10}",
+        "program", "tier", "instr/scan", "VM", "native", "VM/native", "fenced", "VM/fenced"
     );
     let programs = [
         Program {
@@ -307,11 +362,20 @@ fn main() {
         },
     ];
     for program in &programs {
-        let r = instructions(effort, program);
-        println!(
-            "{:<10} {:>10} {:>8.2} {:>10.3} {:>9.1}x {:>10.3} {:>9.1}x",
-            program.name, r.per_scan, r.vm, r.native, r.vm_per_native, r.fenced, r.vm_per_fenced
-        );
+        for tier in Tier::BOTH {
+            let r = instructions(effort, program, tier);
+            println!(
+                "{:<10} {:>12} {:>10} {:>8.2} {:>10.3} {:>9.1}x {:>10.3} {:>9.1}x",
+                program.name,
+                tier.name(),
+                r.per_scan,
+                r.vm,
+                r.native,
+                r.vm_per_native,
+                r.fenced,
+                r.vm_per_fenced
+            );
+        }
     }
 
     let (verified, target, _) = image(
@@ -319,9 +383,15 @@ fn main() {
         &example("an2002_sample3_master.lad"),
         None,
     );
-    let mut master = load(&verified, &target);
-    set(&mut master, "I0.1", 1); // polling on: EXCH queued every 200 ms
-    let s = seconds_per_scan(effort, || master.scan().expect("scan"));
+    let mut per_tier = Vec::new();
+    for tier in Tier::BOTH {
+        let mut master = load(&verified, &target, tier);
+        set(&mut master, "I0.1", 1); // polling on: EXCH queued every 200 ms
+        per_tier.push(seconds_per_scan(effort, || master.scan().expect("scan")));
+    }
+    let mut master = load(&verified, &target, Tier::Compiled);
+    set(&mut master, "I0.1", 1);
+    master.scan().expect("scan");
     // The first table's D (done) bit and error number, after the next exchange at most
     // 200 ms of virtual time away.
     let read = |vm: &Vm, var: &str| {
@@ -340,10 +410,12 @@ fn main() {
         "no result within 40 scans".to_string()
     };
     println!(
-        "\nAN2002 sample 3 master on {}: {:.2} us per scan ({how}, I0.1 on).\n\
+        "\nAN2002 sample 3 master on {}: {:.2} us per scan interpreted, {:.2} us compiled \
+         ({how}, I0.1 on).\n\
          No port is attached: each exchange (every 200 ms) ends at once with {exchange}.",
         target.plc.name,
-        s * 1e6
+        per_tier[0] * 1e6,
+        per_tier[1] * 1e6
     );
 
     println!(
@@ -352,8 +424,8 @@ fn main() {
         effort.vms_per_step
     );
     println!(
-        "{:<22} {:>12} {:>14} {:>16} {:>10}",
-        "image", "image bytes", "bytes per VM", "(step before)", "load (us)"
+        "{:<22} {:>12} {:>12} {:>14} {:>16} {:>10}",
+        "image", "tier", "image bytes", "bytes per VM", "(step before)", "load (us)"
     );
     let images = [
         ("in1001_pointers.lad", example("in1001_pointers.lad")),
@@ -364,15 +436,23 @@ fn main() {
     ];
     for (name, text) in images {
         let (verified, target, bytes) = image(name, &text, Some(BIG_TARGET));
-        let load = load_micros(&verified, &target, effort.vms_per_step);
-        match bytes_per_vm(&verified, &target, effort.vms_per_step) {
-            Some((last, before)) => {
-                println!("{name:<22} {bytes:>12} {last:>14.0} {before:>16.0} {load:>10.0}")
+        for tier in Tier::BOTH {
+            // Compiling is slower than loading: fewer VMs (the code is per VM).
+            let n = match tier {
+                Tier::Interpreted => effort.vms_per_step,
+                Tier::Compiled => (effort.vms_per_step / 10).max(2),
+            };
+            let load = load_micros(&verified, &target, n, tier);
+            let t = tier.name();
+            match bytes_per_vm(&verified, &target, n, tier) {
+                Some((last, before)) => println!(
+                    "{name:<22} {t:>12} {bytes:>12} {last:>14.0} {before:>16.0} {load:>10.0}"
+                ),
+                None => println!(
+                    "{name:<22} {t:>12} {bytes:>12} {:>14} {:>16} {load:>10.0}",
+                    "no /proc", ""
+                ),
             }
-            None => println!(
-                "{name:<22} {bytes:>12} {:>14} {:>16} {load:>10.0}",
-                "no /proc", ""
-            ),
         }
     }
 
