@@ -19,6 +19,8 @@ pub struct RunOptions {
     pub fast: bool,
     /// Keep every value of the test's variables after each change, for a waveform.
     pub record: bool,
+    /// When the VM's compiled tier compiles (`VmConfig::native_after`).
+    pub native_after: Option<u64>,
 }
 
 impl Default for RunOptions {
@@ -26,6 +28,7 @@ impl Default for RunOptions {
         RunOptions {
             fast: true,
             record: false,
+            native_after: VmConfig::default().native_after,
         }
     }
 }
@@ -142,7 +145,7 @@ pub fn run_test(
         scan_ms: plan.scan_ms,
         watchdog: plan.watchdog.unwrap_or(VmConfig::default().watchdog),
         fast: options.fast,
-        ..VmConfig::default()
+        native_after: options.native_after,
     };
     let result = |failure: Option<Failure>, run: Option<Run>| {
         let (scans, time_ms, untils, trace) = match run {

@@ -1,6 +1,7 @@
 //! The VM corpus (docs/testing.md, "VM corpus"): every `tests/data/run/*.gtest` parsed,
 //! its program compiled for the header's PLC type and options, planned, and every test
-//! run with the VM's pre-decoded operations and again with the generic semantics.
+//! run with the VM's pre-decoded operations, again with the generic semantics, and
+//! again compiled at load (the compiled tier).
 //! Failures of all files are collected into one report (`file:line [engine] message`);
 //! a diagnostic of a test file (even a warning) fails too. It uses only gutta_gtest's
 //! public API, the one `gutta-cc test` uses, and never adjusts an expectation to what
@@ -20,8 +21,13 @@ use gutta_gtest::{plan, run_test, BuildError, ProgramUnderTest, RunOptions, Test
 /// Fewer files than this means the corpus went missing, not that it passed.
 const MIN_FILES: usize = 20;
 
-/// The engines every test runs on: the pre-decoded operations and the generic semantics.
-const ENGINES: [(&str, bool); 2] = [("fast", true), ("generic", false)];
+/// The engines every test runs on, (name, fast, native_after): the interpreter's fast
+/// operations, the generic semantics, and the compiled tier from load (docs/vm-jit.md).
+const ENGINES: [(&str, bool, Option<u64>); 3] = [
+    ("fast", true, None),
+    ("generic", false, None),
+    ("compiled", true, Some(0)),
+];
 
 /// Diagnostics as failure lines `name:line: CODE message`.
 fn diagnostic_lines<'a>(
@@ -102,10 +108,11 @@ fn check_file(
             return 0;
         }
     };
-    for (engine, fast) in ENGINES {
+    for (engine, fast, native_after) in ENGINES {
         for test in &plan.tests {
             let options = RunOptions {
                 fast,
+                native_after,
                 ..RunOptions::default()
             };
             let result = run_test(&program, &plan, test, options);
@@ -155,7 +162,7 @@ fn corpus_dir() -> PathBuf {
 }
 
 #[test]
-fn every_test_of_the_vm_corpus_passes_on_both_engines() {
+fn every_test_of_the_vm_corpus_passes_on_every_engine() {
     let dir = corpus_dir();
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
@@ -210,7 +217,7 @@ fn a_wrong_expectation_or_a_missing_fault_fails_naming_line_engine_and_scan() {
                 SCAN 3\n  EXPECT FAULT 3\n  EXPECT Q0.0 = 1\nEND_TEST\n";
     let wanted: Vec<String> = ENGINES
         .iter()
-        .flat_map(|(engine, _)| {
+        .flat_map(|(engine, ..)| {
             [
                 format!(
                     "t.gtest:7 [{engine}] wrong_value: EXPECT failed after scan 2 (20 ms): \

@@ -435,7 +435,11 @@ impl Engine {
 
     /// After a completed scan: compile the program when `VmConfig::native_after` scans
     /// have completed (once; never while a breakpoint is set).
+    #[inline]
     pub fn tier_up(&mut self) {
+        if self.tier != TierState::Interpreted {
+            return;
+        }
         let config = self.program.config;
         let due = config.native_after.is_some_and(|n| self.clock.scans >= n);
         if !config.fast || !due || self.tier != TierState::Interpreted || self.native_hold {

@@ -126,7 +126,9 @@ impl Interrupts {
         let mut occurred: Vec<u32> = Vec::new();
         if attached.is_empty() {
             // No timed event is attached: none accumulates time.
-            elapsed.clear();
+            if !elapsed.is_empty() {
+                elapsed.clear();
+            }
         } else {
             for &(event, period) in &sources.timed {
                 if !attached.contains_key(&event) {

@@ -165,6 +165,7 @@ pub(crate) fn test(cli: &Cli, args: &TestArgs) -> Result<ExitCode, Fatal> {
     let options = RunOptions {
         fast: true,
         record: args.vcd.is_some(),
+        ..RunOptions::default()
     };
     let outcomes = run_files(&jobs, args, options, json, color);
     let mut passed = 0;
