@@ -139,7 +139,7 @@ fn mixed_agrees_with_the_vm() {
 fn both_programs_take_both_branches() {
     // A transcription that skips box instructions or never overflows would still agree
     // on a program that never exercises them: check the stimulus does.
-    let (mut vm, target) = load(MIXED);
+    let (mut vm, target) = load(MIXED, VmConfig::default());
     let mut native = Memory::default();
     stimulate(0, &mut vm, &target, &mut native);
     gutta_bench_native::mixed_scan(&mut native);

@@ -109,8 +109,8 @@ fn a_recorded_run_keeps_every_value_change_for_the_waveform() {
     let r = run_with(
         "TEST t\nSET Start = 1\nSCAN 2\nSET Start = 0\nSCAN\nEXPECT Count = 2\nEND_TEST\n",
         RunOptions {
-            fast: true,
             record: true,
+            ..RunOptions::default()
         },
     );
     let trace = r[0].trace.as_ref().expect("recorded");
@@ -123,18 +123,12 @@ fn a_recorded_run_keeps_every_value_change_for_the_waveform() {
 #[test]
 fn both_engines_agree() {
     let tests = "TEST t\nSET Start = 1, I0.1 = 1\nADVANCE 1s\nSET Start = 0\nSCAN\nSET Start = 1\nSCAN\nEXPECT Count = 2, Q0.1 = 1, T4 >= 3\nEND_TEST\n";
-    let fast = run_with(
-        tests,
-        RunOptions {
-            fast: true,
-            record: false,
-        },
-    );
+    let fast = run_with(tests, RunOptions::default());
     let generic = run_with(
         tests,
         RunOptions {
             fast: false,
-            record: false,
+            ..RunOptions::default()
         },
     );
     assert!(fast[0].passed(), "{:?}", fast[0].failure);

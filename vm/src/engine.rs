@@ -450,11 +450,8 @@ impl Engine {
 
     #[cfg(feature = "jit")]
     fn compile_tier(&mut self) {
-        let compiled = crate::tier::compile(
-            &self.program,
-            &self.machine.memory,
-            self.machine.stack_mask,
-        );
+        let compiled =
+            crate::tier::compile(&self.program, &self.machine.memory, self.machine.stack_mask);
         self.tier = match compiled {
             Ok(Some(native)) => {
                 let state = TierState::Compiled {

@@ -182,36 +182,21 @@ impl Op {
                 dst,
                 width: 4,
             },
-            Op::CompareB {
-                combine,
-                rel,
-                a,
-                b,
-            } => Op::Compare {
+            Op::CompareB { combine, rel, a, b } => Op::Compare {
                 combine,
                 rel,
                 a,
                 b,
                 width: 1,
             },
-            Op::CompareW {
-                combine,
-                rel,
-                a,
-                b,
-            } => Op::Compare {
+            Op::CompareW { combine, rel, a, b } => Op::Compare {
                 combine,
                 rel,
                 a,
                 b,
                 width: 2,
             },
-            Op::CompareD {
-                combine,
-                rel,
-                a,
-                b,
-            } => Op::Compare {
+            Op::CompareD { combine, rel, a, b } => Op::Compare {
                 combine,
                 rel,
                 a,

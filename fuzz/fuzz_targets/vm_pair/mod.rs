@@ -27,11 +27,9 @@ pub fn scan_both(verified: &VerifiedImage, target: &Arc<Target>, inputs: u8) -> 
             },
         )
     };
-    let (Ok(mut slow), Ok(mut interpreted), Ok(mut fast)) = (
-        load(false, None),
-        load(true, None),
-        load(true, Some(0)),
-    ) else {
+    let (Ok(mut slow), Ok(mut interpreted), Ok(mut fast)) =
+        (load(false, None), load(true, None), load(true, Some(0)))
+    else {
         return None;
     };
     let ib0 = target.memory.parse_address("IB0").expect("IB0 exists");
@@ -39,10 +37,17 @@ pub fn scan_both(verified: &VerifiedImage, target: &Arc<Target>, inputs: u8) -> 
         let _ = vm.write(ib0, u32::from(inputs));
     }
     for scan in 0..3 {
-        let reference = (slow.scan(), slow.executed_last_scan(), slow.fault_position());
+        let reference = (
+            slow.scan(),
+            slow.executed_last_scan(),
+            slow.fault_position(),
+        );
         for (name, vm) in [("interpreted", &mut interpreted), ("compiled", &mut fast)] {
             let outcome = (vm.scan(), vm.executed_last_scan(), vm.fault_position());
-            assert_eq!(outcome, reference, "scan {scan}: {name} and generic agree on the outcome");
+            assert_eq!(
+                outcome, reference,
+                "scan {scan}: {name} and generic agree on the outcome"
+            );
             assert_eq!(
                 vm.memory(),
                 slow.memory(),
