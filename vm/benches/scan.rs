@@ -434,6 +434,7 @@ fn main() {
             gutta_bench_native::MIXED.to_string(),
         ),
     ];
+    let mut shared_code = Vec::new();
     for (name, text) in images {
         let (verified, target, bytes) = image(name, &text, Some(BIG_TARGET));
         for tier in Tier::BOTH {
@@ -442,6 +443,11 @@ fn main() {
                 Tier::Interpreted => effort.vms_per_step,
                 Tier::Compiled => (effort.vms_per_step / 10).max(2),
             };
+            if let gutta_vm::TierState::Compiled { code_bytes, .. } =
+                load(&verified, &target, tier).tier()
+            {
+                shared_code.push(format!("{name}: {code_bytes} bytes of machine code"));
+            }
             let load = load_micros(&verified, &target, n, tier);
             let t = tier.name();
             match bytes_per_vm(&verified, &target, n, tier) {
@@ -455,6 +461,10 @@ fn main() {
             }
         }
     }
+    println!(
+        "(compiled: the VMs of one program share its code, compiled once per process: {})",
+        shared_code.join("; ")
+    );
 
     per_scan_section(bench);
 }

@@ -115,8 +115,14 @@ pub enum TierState {
     /// tier is off (`VmConfig::fast` false, `native_after` None, no `jit` feature).
     #[default]
     Interpreted,
-    /// Compiled: regions of native code and their machine code size.
-    Compiled { regions: usize, code_bytes: usize },
+    /// Compiled: regions of native code and their machine code size; `shared` when
+    /// the code was compiled for another VM of the same program in this process and is
+    /// shared with it.
+    Compiled {
+        regions: usize,
+        code_bytes: usize,
+        shared: bool,
+    },
     /// Nothing in the program is worth compiling.
     NothingToCompile,
     /// The code generator refused (the interpreter runs everything): why.
@@ -457,6 +463,7 @@ impl Engine {
                 let state = TierState::Compiled {
                     regions: native.regions.iter().map(Vec::len).sum(),
                     code_bytes: native.module.code_bytes(),
+                    shared: native.shared,
                 };
                 self.native = Some(Box::new(native));
                 state

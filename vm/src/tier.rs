@@ -11,6 +11,7 @@
 //! apart from a resumed pause, which runs interpreted up to the next region).
 
 use std::collections::BTreeMap;
+use std::sync::{Arc, Mutex, PoisonError, Weak};
 
 use gutta_jit::{Arg, Function, Layout, Module, Step};
 
@@ -43,9 +44,12 @@ pub(crate) struct Region {
     pub depth: u32,
 }
 
-/// The compiled program: the module and, per unit page, its regions by first record.
+/// The compiled program: the module (shared by every VM of the same program in the
+/// process) and, per unit page, its regions by first record.
 pub(crate) struct Native {
-    pub module: Module,
+    pub module: Arc<Module>,
+    /// The module was compiled for another VM first.
+    pub shared: bool,
     pub regions: Vec<Vec<Region>>,
 }
 
@@ -328,6 +332,51 @@ pub(crate) fn compile(
             .span(program.slots.local)
             .map(|(start, len)| (start as u32, len as u32)),
     };
-    let module = gutta_jit::compile(&layout, &b.functions).map_err(|e| e.to_string())?;
-    Ok(Some(Native { module, regions }))
+    let (module, shared) = shared_module(layout, b.functions).map_err(|e| e.to_string())?;
+    Ok(Some(Native {
+        module,
+        regions,
+        shared,
+    }))
+}
+
+/// Code compiled in this process, by what it was compiled from: VMs of the same program
+/// on the same memory layout (many simulated PLCs, a test suite's fresh VMs) share one
+/// module instead of compiling it again. An entry lives while a VM uses its module.
+struct SharedCode {
+    layout: Layout,
+    functions: Vec<Function>,
+    module: Weak<Module>,
+}
+
+static SHARED: Mutex<Vec<SharedCode>> = Mutex::new(Vec::new());
+
+/// The module for `functions` on `layout`: one a VM of this process already uses, or
+/// newly compiled (outside the lock; two VMs compiling the same program at once may
+/// both compile it, which costs time, never correctness).
+fn shared_module(
+    layout: Layout,
+    functions: Vec<Function>,
+) -> Result<(Arc<Module>, bool), gutta_jit::JitError> {
+    {
+        let mut shared = SHARED.lock().unwrap_or_else(PoisonError::into_inner);
+        shared.retain(|s| s.module.strong_count() > 0);
+        let found = shared
+            .iter()
+            .find(|s| s.layout == layout && s.functions == functions)
+            .and_then(|s| s.module.upgrade());
+        if let Some(module) = found {
+            return Ok((module, true));
+        }
+    }
+    let module = Arc::new(gutta_jit::compile(&layout, &functions)?);
+    SHARED
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .push(SharedCode {
+            layout,
+            functions,
+            module: Arc::downgrade(&module),
+        });
+    Ok((module, false))
 }

@@ -219,11 +219,19 @@ fn a_program_of_compilable_networks_compiles_whole() {
         TierState::Compiled {
             regions,
             code_bytes,
+            ..
         } => {
             assert!(*regions >= 1 && *code_bytes > 0, "{:?}", native.tier());
         }
         other => panic!("not compiled: {other:?}"),
     }
+    // A second VM of the same program shares the code while the first one lives.
+    let [.., second] = load3(&text, 10_000_000);
+    assert!(
+        matches!(second.tier(), TierState::Compiled { shared: true, .. }),
+        "{:?}",
+        second.tier()
+    );
     for _ in 0..3 {
         reference.scan().expect("scan");
         native.scan().expect("scan");
@@ -237,7 +245,8 @@ fn a_program_of_compilable_networks_compiles_whole() {
 /// The default: compiled after `DEFAULT_NATIVE_AFTER` completed scans, not before.
 #[test]
 fn the_default_compiles_after_its_scans() {
-    let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD I0.0\nA M0.1\nAN M0.2\n= Q0.0\n\
+    // A program no other test compiles, so nothing is shared.
+    let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD I0.0\nA M0.1\nAN M0.2\n= Q0.7\n\
         END_ORGANIZATION_BLOCK\n";
     let mut vm = common::load(text, VmConfig::default());
     for _ in 1..gutta_vm::DEFAULT_NATIVE_AFTER {
