@@ -443,10 +443,15 @@ fn main() {
                 Tier::Interpreted => effort.vms_per_step,
                 Tier::Compiled => (effort.vms_per_step / 10).max(2),
             };
-            if let gutta_vm::TierState::Compiled { code_bytes, .. } =
-                load(&verified, &target, tier).tier()
-            {
-                shared_code.push(format!("{name}: {code_bytes} bytes of machine code"));
+            // The first VM of the program compiles it (later ones share the code).
+            let t = Instant::now();
+            let first = load(&verified, &target, tier);
+            let ms = t.elapsed().as_secs_f64() * 1e3;
+            if let gutta_vm::TierState::Compiled { code_bytes, .. } = first.tier() {
+                shared_code.push(format!(
+                    "{name}: {code_bytes} bytes of machine code, loaded and compiled in \
+                     {ms:.1} ms"
+                ));
             }
             let load = load_micros(&verified, &target, n, tier);
             let t = tier.name();
