@@ -31,6 +31,143 @@ fn cranelift(e: impl std::fmt::Display) -> JitError {
     JitError::Cranelift(e.to_string())
 }
 
+/// How much of the program a Call may inline: callees whose steps, with their own
+/// inlined callees expanded, number at most this are emitted in place of the Call; larger
+/// ones stay real calls so the code size stays bounded.
+const INLINE_LIMIT: usize = 64;
+
+/// What `lower` knows of every function before emitting any: whether a Call of it is
+/// inlined, its own instruction count, and which bytes of L it may touch.
+struct Plan {
+    /// Steps once inlined callees are expanded (saturating); inlined when <= INLINE_LIMIT.
+    expanded: Vec<usize>,
+    /// The steps that count (all but Network): what a run of it adds besides its Calls.
+    statics: Vec<i64>,
+    /// Per function, the bytes of L (relative to its start) any access of it, or of its
+    /// callees, or of its Calls' arguments, can touch.
+    touched: Vec<Vec<bool>>,
+}
+
+impl Plan {
+    fn new(layout: &Layout, functions: &[Function]) -> Plan {
+        let mut plan = Plan {
+            expanded: vec![usize::MAX; functions.len()],
+            statics: functions
+                .iter()
+                .map(|f| f.steps.iter().filter(|s| **s != Step::Network).count() as i64)
+                .collect(),
+            touched: vec![Vec::new(); functions.len()],
+        };
+        let mut done = vec![false; functions.len()];
+        for f in 0..functions.len() {
+            plan.visit(layout, functions, f, &mut done);
+        }
+        plan
+    }
+
+    /// Fill in function `f` after its callees (no cycles: `check.rs`).
+    fn visit(&mut self, layout: &Layout, functions: &[Function], f: usize, done: &mut [bool]) {
+        if done[f] {
+            return;
+        }
+        let local_len = layout.local.map_or(0, |(_, len)| len as usize);
+        let mut touched = vec![false; local_len];
+        let mut expanded = 0usize;
+        for step in &functions[f].steps {
+            expanded = expanded.saturating_add(1);
+            if let Step::Call { callee, args } = step {
+                let c = *callee as usize;
+                self.visit(layout, functions, c, done);
+                if self.inlined(c) {
+                    expanded = expanded.saturating_add(self.expanded[c]);
+                }
+                for a in args {
+                    mark(layout, &mut touched, a.var, a.width);
+                }
+                let call = self.call_touches(layout, c, args);
+                for (t, c) in touched.iter_mut().zip(call) {
+                    *t |= c;
+                }
+            } else {
+                for (at, width) in accesses(layout, step) {
+                    mark(layout, &mut touched, at, width);
+                }
+            }
+        }
+        self.expanded[f] = expanded;
+        self.touched[f] = touched;
+        done[f] = true;
+    }
+
+    fn inlined(&self, f: usize) -> bool {
+        self.expanded[f] <= INLINE_LIMIT
+    }
+
+    /// The bytes of L a Call of `callee` with `args` must save, clear and restore: what
+    /// the callee can touch and the parameters the inputs are stored into. Bytes outside
+    /// this set are neither read nor written between the save and the restore, so
+    /// clearing and restoring them cannot be observed.
+    fn call_touches(&self, layout: &Layout, callee: usize, args: &[crate::Arg]) -> Vec<bool> {
+        let mut touched = self.touched[callee].clone();
+        for a in args {
+            mark(layout, &mut touched, a.param, a.width);
+        }
+        touched
+    }
+}
+
+/// Mark the bytes `at..at + width` that lie in L.
+fn mark(layout: &Layout, touched: &mut [bool], at: u32, width: u8) {
+    let Some((start, len)) = layout.local else {
+        return;
+    };
+    let (lo, hi) = (u64::from(at), u64::from(at) + u64::from(width));
+    let (l_lo, l_hi) = (u64::from(start), u64::from(start) + u64::from(len));
+    for byte in lo.max(l_lo)..hi.min(l_hi) {
+        touched[(byte - l_lo) as usize] = true;
+    }
+}
+
+/// The memory (index, width) a step other than a Call reads or writes.
+fn accesses(layout: &Layout, step: &Step) -> Vec<(u32, u8)> {
+    match *step {
+        Step::Ld { at, .. }
+        | Step::Ldn { at, .. }
+        | Step::A { at, .. }
+        | Step::An { at, .. }
+        | Step::O { at, .. }
+        | Step::On { at, .. }
+        | Step::Assign { at, .. } => vec![(at, 1)],
+        Step::Move { src, dst, width } => vec![(src, width), (dst, width)],
+        Step::Math {
+            src, dst, width, ..
+        } => vec![(src, width), (dst, width), (layout.flags_at, 1)],
+        Step::Compare { a, b, width, .. } => vec![(a, width), (b, width)],
+        Step::Network
+        | Step::Not
+        | Step::Ald
+        | Step::Old
+        | Step::Lps
+        | Step::Lrd
+        | Step::Lpp
+        | Step::Call { .. } => Vec::new(),
+    }
+}
+
+/// The functions `steps` really calls (not inlined), looking through inlined callees.
+fn real_callees(plan: &Plan, functions: &[Function], steps: &[Step], out: &mut [bool]) {
+    for step in steps {
+        if let Step::Call { callee, .. } = step {
+            let c = *callee as usize;
+            if plan.inlined(c) {
+                real_callees(plan, functions, &functions[c].steps, out);
+            } else {
+                out[c] = true;
+            }
+        }
+    }
+}
+
 /// Compile checked functions (`check::check` passed).
 pub(crate) fn lower(layout: &Layout, functions: &[Function]) -> Result<Compiled, JitError> {
     let mut flags = settings::builder();
@@ -57,25 +194,25 @@ pub(crate) fn lower(layout: &Layout, functions: &[Function]) -> Result<Compiled,
                 .map_err(cranelift)
         })
         .collect::<Result<Vec<FuncId>, JitError>>()?;
+    let plan = Plan::new(layout, functions);
     let mut ctx = module.make_context();
     let mut builder_ctx = FunctionBuilderContext::new();
     let mut code_bytes = 0;
     for (function, &id) in functions.iter().zip(&ids) {
         ctx.func.signature = signature.clone();
-        // The functions this one calls, declared in it once each.
+        // The functions this one really calls, declared in it once each.
+        let mut called = vec![false; functions.len()];
+        real_callees(&plan, functions, &function.steps, &mut called);
         let mut callees: Vec<Option<FuncRef>> = vec![None; functions.len()];
-        for step in &function.steps {
-            if let Step::Call { callee, .. } = step {
-                let c = *callee as usize;
-                if callees[c].is_none() {
-                    callees[c] = Some(module.declare_func_in_func(ids[c], &mut ctx.func));
-                }
-            }
+        for (c, _) in called.iter().enumerate().filter(|(_, &called)| called) {
+            callees[c] = Some(module.declare_func_in_func(ids[c], &mut ctx.func));
         }
         build(
             &mut ctx,
             &mut builder_ctx,
             layout,
+            functions,
+            &plan,
             function,
             &callees,
             module.target_config(),
@@ -109,10 +246,13 @@ fn width_type(width: u8) -> Type {
 }
 
 /// Build the IR of one function into `ctx.func`.
+#[allow(clippy::too_many_arguments)]
 fn build(
     ctx: &mut Context,
     builder_ctx: &mut FunctionBuilderContext,
     layout: &Layout,
+    functions: &[Function],
+    plan: &Plan,
     function: &Function,
     callees: &[Option<FuncRef>],
     frontend: TargetFrontendConfig,
@@ -144,12 +284,12 @@ fn build(
         s,
         count,
         layout,
+        functions,
+        plan,
         callees,
-        frame: None,
+        callee_stack: None,
     };
-    for step in &function.steps {
-        e.step(step);
-    }
+    e.steps(&function.steps);
     let Emitter { mut b, .. } = e;
     let s_end = b.use_var(s);
     b.ins().store(MemFlagsData::trusted(), s_end, stack_ptr, 0);
@@ -158,22 +298,28 @@ fn build(
     b.finalize(frontend);
 }
 
-/// The stack slots of a function that calls: the callee's logic stack, the caller's L.
-#[derive(Clone, Copy)]
-struct Frame {
-    callee_stack: StackSlot,
-    saved_local: Option<StackSlot>,
+/// Move, Math and Call run only with power flow and leave the logic stack as it was (a
+/// Call restores the caller's): a run of them shares one test of the top.
+fn boxed(step: &Step) -> bool {
+    matches!(
+        step,
+        Step::Move { .. } | Step::Math { .. } | Step::Call { .. }
+    )
 }
 
 struct Emitter<'a, 'b> {
     b: FunctionBuilder<'a>,
     mem: Value,
     ptr: Type,
+    /// The logic stack of the steps being emitted (an inlined callee has its own).
     s: Variable,
     count: Variable,
     layout: &'b Layout,
+    functions: &'b [Function],
+    plan: &'b Plan,
     callees: &'b [Option<FuncRef>],
-    frame: Option<Frame>,
+    /// The callee's logic stack of a real call, made at the first one.
+    callee_stack: Option<StackSlot>,
 }
 
 impl Emitter<'_, '_> {
@@ -233,6 +379,45 @@ impl Emitter<'_, '_> {
         self.b.ins().band(s, keep)
     }
 
+    /// Emit `steps` on the current logic stack: runs of boxed steps in one power block.
+    fn steps(&mut self, steps: &[Step]) {
+        let mut i = 0;
+        while i < steps.len() {
+            if !boxed(&steps[i]) {
+                self.step(&steps[i]);
+                i += 1;
+                continue;
+            }
+            let run = steps[i..].iter().take_while(|s| boxed(s)).count();
+            let s = self.b.use_var(self.s);
+            self.with_power(s, |e| {
+                for step in &steps[i..i + run] {
+                    e.boxed(step);
+                }
+            });
+            i += run;
+        }
+    }
+
+    /// A Move, Math or Call, power flow known.
+    fn boxed(&mut self, step: &Step) {
+        match *step {
+            Step::Move { src, dst, width } => {
+                let v = self.load(width_type(width), src);
+                self.store(v, dst);
+            }
+            Step::Math {
+                op,
+                src,
+                dst,
+                width,
+            } => self.math(op, src, dst, width),
+            Step::Call { callee, ref args } => self.call(callee as usize, args),
+            _ => self.step(step),
+        }
+    }
+
+    /// A step that is not boxed (a boxed one here does nothing: `steps` routes them).
     fn step(&mut self, step: &Step) {
         let s = self.b.use_var(self.s);
         let new = match *step {
@@ -283,22 +468,6 @@ impl Emitter<'_, '_> {
                 self.b.ins().bor(rest, second)
             }
             Step::Lpp => self.b.ins().ushr_imm_u(s, 1),
-            Step::Move { src, dst, width } => {
-                self.with_power(s, |e| {
-                    let v = e.load(width_type(width), src);
-                    e.store(v, dst);
-                });
-                s
-            }
-            Step::Math {
-                op,
-                src,
-                dst,
-                width,
-            } => {
-                self.with_power(s, |e| e.math(op, src, dst, width));
-                s
-            }
             Step::Compare {
                 combine,
                 rel,
@@ -313,10 +482,8 @@ impl Emitter<'_, '_> {
                     Combine::Or => self.b.ins().bor(s, r),
                 }
             }
-            Step::Call { callee, ref args } => {
-                self.with_power(s, |e| e.call(callee, args));
-                s
-            }
+            // `steps` emits them in a power block.
+            Step::Move { .. } | Step::Math { .. } | Step::Call { .. } => s,
         };
         self.b.def_var(self.s, new);
     }
@@ -390,95 +557,110 @@ impl Emitter<'_, '_> {
         self.b.ins().uextend(I32, r)
     }
 
-    /// The stack slots of a calling function, made at its first Call.
-    fn frame(&mut self) -> Frame {
-        if let Some(frame) = self.frame {
-            return frame;
-        }
-        let callee_stack =
-            self.b
-                .create_sized_stack_slot(StackSlotData::new(StackSlotKind::ExplicitSlot, 4, 2));
-        let saved_local =
-            match self.layout.local {
-                Some((_, len)) if len > 0 => Some(self.b.create_sized_stack_slot(
-                    StackSlotData::new(StackSlotKind::ExplicitSlot, len, 3),
-                )),
-                _ => None,
-            };
-        let frame = Frame {
-            callee_stack,
-            saved_local,
-        };
-        self.frame = Some(frame);
-        frame
-    }
-
-    /// The pieces (offset, type) a copy of `len` bytes moves: 8 bytes at a time, then
-    /// 4, 2, 1.
-    fn pieces(len: u32) -> Vec<(u32, Type)> {
+    /// The pieces (offset, type) a copy of the L bytes marked in `touched` moves: each
+    /// run of marked bytes 8 bytes at a time, then 4, 2, 1.
+    fn pieces(touched: &[bool]) -> Vec<(u32, Type)> {
         let mut pieces = Vec::new();
-        let mut off = 0;
-        for (size, ty) in [(8, I64), (4, I32), (2, I16), (1, I8)] {
-            while len - off >= size {
-                pieces.push((off, ty));
-                off += size;
+        let mut at = 0;
+        while at < touched.len() {
+            if !touched[at] {
+                at += 1;
+                continue;
+            }
+            let end = at + touched[at..].iter().take_while(|t| **t).count();
+            for (size, ty) in [(8, I64), (4, I32), (2, I16), (1, I8)] {
+                while end - at >= size {
+                    pieces.push((at as u32, ty));
+                    at += size;
+                }
             }
         }
         pieces
     }
 
-    /// vm/src/calls.rs enter_planned + return_planned, the callee run in between.
-    fn call(&mut self, callee: u32, args: &[crate::Arg]) {
-        let Some(callee) = self.callees.get(callee as usize).copied().flatten() else {
-            // `lower` declares every callee of the function; unreachable once checked.
-            return;
-        };
-        let frame = self.frame();
+    /// vm/src/calls.rs enter_planned + return_planned with the callee run in between:
+    /// its steps emitted here (small callees) or a real call. Only the L bytes the callee
+    /// can touch are saved, cleared and restored (`Plan::call_touches`).
+    fn call(&mut self, callee: usize, args: &[crate::Arg]) {
         let inputs: Vec<Option<Value>> = args
             .iter()
             .map(|a| a.input.then(|| self.load(width_type(a.width), a.var)))
             .collect();
-        let local = self.layout.local.filter(|&(_, len)| len > 0);
-        if let (Some((start, len)), Some(slot)) = (local, frame.saved_local) {
-            let zero = self.b.ins().iconst(I64, 0);
-            for (off, ty) in Self::pieces(len) {
-                let v = self.load(ty, start + off);
-                self.b.ins().stack_store(self.ptr, v, slot, off as i32);
-                let z = if ty == I64 {
-                    zero
-                } else {
-                    self.b.ins().ireduce(ty, zero)
-                };
-                self.store(z, start + off);
-            }
+        let touched = self.plan.call_touches(self.layout, callee, args);
+        let pieces = Self::pieces(&touched);
+        let start = self.layout.local.map_or(0, |(start, _)| start);
+        let saved: Vec<Value> = pieces
+            .iter()
+            .map(|&(off, ty)| self.load(ty, start + off))
+            .collect();
+        for &(off, ty) in &pieces {
+            let zero = self.b.ins().iconst(ty, 0);
+            self.store(zero, start + off);
         }
         for (a, v) in args.iter().zip(&inputs) {
             if let Some(v) = *v {
                 self.store(v, a.param);
             }
         }
-        let empty = self.k(0);
-        self.b
-            .ins()
-            .stack_store(self.ptr, empty, frame.callee_stack, 0);
-        let stack = self.b.ins().stack_addr(self.ptr, frame.callee_stack, 0);
-        let call = self.b.ins().call(callee, &[self.mem, stack]);
-        let executed = self.b.inst_results(call)[0];
+        if self.plan.inlined(callee) {
+            self.inline(callee);
+        } else {
+            self.real_call(callee);
+        }
         let outputs: Vec<Option<Value>> = args
             .iter()
             .map(|a| a.output.then(|| self.load(width_type(a.width), a.param)))
             .collect();
-        if let (Some((start, len)), Some(slot)) = (local, frame.saved_local) {
-            for (off, ty) in Self::pieces(len) {
-                let v = self.b.ins().stack_load(self.ptr, ty, slot, off as i32);
-                self.store(v, start + off);
-            }
+        for (&(off, _), &v) in pieces.iter().zip(&saved) {
+            self.store(v, start + off);
         }
         for (a, v) in args.iter().zip(&outputs) {
             if let Some(v) = *v {
                 self.store(v, a.var);
             }
         }
+    }
+
+    /// The callee's steps in place, on a logic stack of their own that starts empty
+    /// (the caller's is untouched: it is another variable); its count added here, its
+    /// own Calls adding theirs in their power blocks.
+    fn inline(&mut self, callee: usize) {
+        let functions = self.functions;
+        let count = self.b.use_var(self.count);
+        let count = self.b.ins().iadd_imm_s(count, self.plan.statics[callee]);
+        self.b.def_var(self.count, count);
+        let caller = self.s;
+        self.s = self.b.declare_var(I32);
+        let empty = self.k(0);
+        self.b.def_var(self.s, empty);
+        self.steps(&functions[callee].steps);
+        self.s = caller;
+    }
+
+    /// A direct call with an empty logic stack in a stack slot; the count it returns
+    /// added to the caller's.
+    fn real_call(&mut self, callee: usize) {
+        let Some(func) = self.callees.get(callee).copied().flatten() else {
+            // `lower` declares every callee it does not inline; unreachable once checked.
+            return;
+        };
+        let slot = match self.callee_stack {
+            Some(slot) => slot,
+            None => {
+                let slot = self.b.create_sized_stack_slot(StackSlotData::new(
+                    StackSlotKind::ExplicitSlot,
+                    4,
+                    2,
+                ));
+                self.callee_stack = Some(slot);
+                slot
+            }
+        };
+        let empty = self.k(0);
+        self.b.ins().stack_store(self.ptr, empty, slot, 0);
+        let stack = self.b.ins().stack_addr(self.ptr, slot, 0);
+        let call = self.b.ins().call(func, &[self.mem, stack]);
+        let executed = self.b.inst_results(call)[0];
         let count = self.b.use_var(self.count);
         let count = self.b.ins().iadd(count, executed);
         self.b.def_var(self.count, count);
