@@ -277,18 +277,21 @@ fn build(
         .count() as i64;
     let c0 = b.ins().iconst(I64, instructions);
     b.def_var(count, c0);
+    let flags = b.declare_var(I32);
     let mut e = Emitter {
         b,
         mem,
         ptr,
         s,
         count,
+        flags,
         layout,
         functions,
         plan,
         callees,
         callee_stack: None,
     };
+    e.reload_flags();
     e.steps(&function.steps);
     let Emitter { mut b, .. } = e;
     let s_end = b.use_var(s);
@@ -314,6 +317,11 @@ struct Emitter<'a, 'b> {
     /// The logic stack of the steps being emitted (an inlined callee has its own).
     s: Variable,
     count: Variable,
+    /// The flags byte as it is in memory (zero-extended): read once at entry, set by
+    /// each Math, read again after any store that may change it (a result covering it,
+    /// a real call, an = of one of its bits). Math reads it from here, so successive
+    /// Math steps do not wait on each other's store of the byte.
+    flags: Variable,
     layout: &'b Layout,
     functions: &'b [Function],
     plan: &'b Plan,
@@ -344,6 +352,21 @@ impl Emitter<'_, '_> {
     fn store(&mut self, v: Value, at: u32) {
         let (base, off) = self.addr(at);
         self.b.ins().store(memory_flags(), v, base, off);
+        let width = self.b.func.dfg.value_type(v).bytes();
+        self.stored(at, width);
+    }
+
+    /// After a store of `width` bytes at `at`: read the flags byte again if it was one.
+    fn stored(&mut self, at: u32, width: u32) {
+        let flags_at = u64::from(self.layout.flags_at);
+        if (u64::from(at)..u64::from(at) + u64::from(width)).contains(&flags_at) {
+            self.reload_flags();
+        }
+    }
+
+    fn reload_flags(&mut self) {
+        let v = self.byte(self.layout.flags_at);
+        self.b.def_var(self.flags, v);
     }
 
     /// The byte at `at`, zero-extended to i32.
@@ -442,6 +465,7 @@ impl Emitter<'_, '_> {
                 let new = self.b.ins().bor(cleared, set);
                 let (base, off) = self.addr(at);
                 self.b.ins().istore8(memory_flags(), new, base, off);
+                self.stored(at, 1);
                 s
             }
             Step::Not => self.b.ins().bxor_imm_u(s, 1),
@@ -506,34 +530,31 @@ impl Emitter<'_, '_> {
     fn math(&mut self, op: Arith, src: u32, dst: u32, width: u8) {
         let ty = width_type(width);
         let a = self.load(ty, dst);
-        let a = self.b.ins().sextend(I64, a);
         let b = self.load(ty, src);
-        let b = self.b.ins().sextend(I64, b);
-        let exact = match op {
-            Arith::Add => self.b.ins().iadd(a, b),
-            Arith::Sub => self.b.ins().isub(a, b),
-            Arith::Mul => self.b.ins().imul(a, b),
+        // Signed overflow of the operation in the width: the exact result (in i64 from
+        // the sign-extended operands) does not fit.
+        let (r, overflow) = match op {
+            Arith::Add => self.b.ins().sadd_overflow(a, b),
+            Arith::Sub => self.b.ins().ssub_overflow(a, b),
+            Arith::Mul => self.b.ins().smul_overflow(a, b),
         };
-        let wrapped = self.b.ins().ireduce(ty, exact);
-        self.store(wrapped, dst);
-        let r = self.b.ins().sextend(I64, wrapped);
+        self.store(r, dst);
         let zero = self.b.ins().icmp_imm_s(IntCC::Equal, r, 0);
-        let overflow = self.b.ins().icmp(IntCC::NotEqual, r, exact);
         let negative = self.b.ins().icmp_imm_s(IntCC::SignedLessThan, r, 0);
         let zero = self.b.ins().uextend(I32, zero);
         let overflow = self.b.ins().uextend(I32, overflow);
         let overflow = self.b.ins().ishl_imm_u(overflow, 1);
         let negative = self.b.ins().uextend(I32, negative);
         let negative = self.b.ins().ishl_imm_u(negative, 2);
-        // Read after the result's store: dst may cover the flags byte.
-        let flags_at = self.layout.flags_at;
-        let old = self.byte(flags_at);
+        // After the result's store (`store` read the byte again if dst covers it).
+        let old = self.b.use_var(self.flags);
         let kept = self.b.ins().band_imm_u(old, 0xF8);
         let new = self.b.ins().bor(kept, zero);
         let new = self.b.ins().bor(new, overflow);
         let new = self.b.ins().bor(new, negative);
-        let (base, off) = self.addr(flags_at);
+        let (base, off) = self.addr(self.layout.flags_at);
         self.b.ins().istore8(memory_flags(), new, base, off);
+        self.b.def_var(self.flags, new);
     }
 
     /// a rel b (0 or 1, i32): width 1 unsigned, 2 and 4 signed.
@@ -661,6 +682,8 @@ impl Emitter<'_, '_> {
         let stack = self.b.ins().stack_addr(self.ptr, slot, 0);
         let call = self.b.ins().call(func, &[self.mem, stack]);
         let executed = self.b.inst_results(call)[0];
+        // The callee may have changed it.
+        self.reload_flags();
         let count = self.b.use_var(self.count);
         let count = self.b.ins().iadd(count, executed);
         self.b.def_var(self.count, count);
