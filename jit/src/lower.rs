@@ -310,6 +310,29 @@ fn boxed(step: &Step) -> bool {
     )
 }
 
+/// Whether a Math followed by `after` (the rest of its power run, which runs with it)
+/// leaves flags bits 0..2 that nothing can see: a later Math of the run sets them again
+/// and nothing up to and including that Math reads or writes the flags byte (a Call
+/// might, so it ends the search). Bits 3..7 stay what they were either way, and the
+/// later Math reads them from memory (`Emitter::flags`), so skipping the earlier flags
+/// is exact.
+fn flags_overwritten(layout: &Layout, after: &[Step]) -> bool {
+    let touches = |at: u32, width: u8| {
+        let flags = u64::from(layout.flags_at);
+        (u64::from(at)..u64::from(at) + u64::from(width)).contains(&flags)
+    };
+    for step in after {
+        match *step {
+            Step::Math {
+                src, dst, width, ..
+            } => return !touches(src, width) && !touches(dst, width),
+            Step::Move { src, dst, width } if !touches(src, width) && !touches(dst, width) => {}
+            _ => return false,
+        }
+    }
+    false
+}
+
 struct Emitter<'a, 'b> {
     b: FunctionBuilder<'a>,
     mem: Value,
@@ -413,17 +436,20 @@ impl Emitter<'_, '_> {
             }
             let run = steps[i..].iter().take_while(|s| boxed(s)).count();
             let s = self.b.use_var(self.s);
+            let boxes = &steps[i..i + run];
             self.with_power(s, |e| {
-                for step in &steps[i..i + run] {
-                    e.boxed(step);
+                for (k, step) in boxes.iter().enumerate() {
+                    let flags_live = !flags_overwritten(e.layout, &boxes[k + 1..]);
+                    e.boxed(step, flags_live);
                 }
             });
             i += run;
         }
     }
 
-    /// A Move, Math or Call, power flow known.
-    fn boxed(&mut self, step: &Step) {
+    /// A Move, Math or Call, power flow known; a Math sets the flags only if
+    /// `flags_live`.
+    fn boxed(&mut self, step: &Step, flags_live: bool) {
         match *step {
             Step::Move { src, dst, width } => {
                 let v = self.load(width_type(width), src);
@@ -434,7 +460,7 @@ impl Emitter<'_, '_> {
                 src,
                 dst,
                 width,
-            } => self.math(op, src, dst, width),
+            } => self.math(op, src, dst, width, flags_live),
             Step::Call { callee, ref args } => self.call(callee as usize, args),
             _ => self.step(step),
         }
@@ -527,7 +553,7 @@ impl Emitter<'_, '_> {
     }
 
     /// dst := dst op src (sign-extended to i64), the SM1 flags.
-    fn math(&mut self, op: Arith, src: u32, dst: u32, width: u8) {
+    fn math(&mut self, op: Arith, src: u32, dst: u32, width: u8, flags_live: bool) {
         let ty = width_type(width);
         let a = self.load(ty, dst);
         let b = self.load(ty, src);
@@ -539,6 +565,9 @@ impl Emitter<'_, '_> {
             Arith::Mul => self.b.ins().smul_overflow(a, b),
         };
         self.store(r, dst);
+        if !flags_live {
+            return;
+        }
         let zero = self.b.ins().icmp_imm_s(IntCC::Equal, r, 0);
         let negative = self.b.ins().icmp_imm_s(IntCC::SignedLessThan, r, 0);
         let zero = self.b.ins().uextend(I32, zero);
