@@ -150,11 +150,7 @@ fn vm_mixed() -> (Layout, Vec<Function>) {
     let mut steps = Vec::new();
     let mut net = 1u32;
     while steps.len() + 9 <= 8_190 {
-        let (a, b, c) = (
-            (net * 2) % 32,
-            32 + (net * 2) % 32,
-            64 + (net * 2) % 32,
-        );
+        let (a, b, c) = ((net * 2) % 32, 32 + (net * 2) % 32, 64 + (net * 2) % 32);
         let word = |n: u32| 576 + n;
         steps.extend([
             Step::Network,

@@ -277,14 +277,14 @@ fn build(
         .count() as i64;
     let c0 = b.ins().iconst(I64, instructions);
     b.def_var(count, c0);
-    let flags = b.declare_var(I32);
+    let flags_kept = b.declare_var(I32);
     let mut e = Emitter {
         b,
         mem,
         ptr,
         s,
         count,
-        flags,
+        flags_kept,
         layout,
         functions,
         plan,
@@ -314,7 +314,7 @@ fn boxed(step: &Step) -> bool {
 /// leaves flags bits 0..2 that nothing can see: a later Math of the run sets them again
 /// and nothing up to and including that Math reads or writes the flags byte (a Call
 /// might, so it ends the search). Bits 3..7 stay what they were either way, and the
-/// later Math reads them from memory (`Emitter::flags`), so skipping the earlier flags
+/// later Math reads them from memory (`Emitter::flags_kept`), so skipping the earlier flags
 /// is exact.
 fn flags_overwritten(layout: &Layout, after: &[Step]) -> bool {
     let touches = |at: u32, width: u8| {
@@ -340,11 +340,11 @@ struct Emitter<'a, 'b> {
     /// The logic stack of the steps being emitted (an inlined callee has its own).
     s: Variable,
     count: Variable,
-    /// The flags byte as it is in memory (zero-extended): read once at entry, set by
-    /// each Math, read again after any store that may change it (a result covering it,
-    /// a real call, an = of one of its bits). Math reads it from here, so successive
-    /// Math steps do not wait on each other's store of the byte.
-    flags: Variable,
+    /// Bits 3..7 of the flags byte as they are in memory: read once at entry, read
+    /// again after any store that may change them (a result covering the byte, a real
+    /// call, an = of one of its bits); a Math only sets bits 0..2. Math takes them from
+    /// here, so no Math waits on another's store of the byte, nor on its value.
+    flags_kept: Variable,
     layout: &'b Layout,
     functions: &'b [Function],
     plan: &'b Plan,
@@ -389,7 +389,8 @@ impl Emitter<'_, '_> {
 
     fn reload_flags(&mut self) {
         let v = self.byte(self.layout.flags_at);
-        self.b.def_var(self.flags, v);
+        let kept = self.b.ins().band_imm_u(v, 0xF8);
+        self.b.def_var(self.flags_kept, kept);
     }
 
     /// The byte at `at`, zero-extended to i32.
@@ -569,21 +570,25 @@ impl Emitter<'_, '_> {
             return;
         }
         let zero = self.b.ins().icmp_imm_s(IntCC::Equal, r, 0);
-        let negative = self.b.ins().icmp_imm_s(IntCC::SignedLessThan, r, 0);
         let zero = self.b.ins().uextend(I32, zero);
         let overflow = self.b.ins().uextend(I32, overflow);
         let overflow = self.b.ins().ishl_imm_u(overflow, 1);
-        let negative = self.b.ins().uextend(I32, negative);
-        let negative = self.b.ins().ishl_imm_u(negative, 2);
-        // After the result's store (`store` read the byte again if dst covers it).
-        let old = self.b.use_var(self.flags);
-        let kept = self.b.ins().band_imm_u(old, 0xF8);
+        // The sign bit moved to bit 2.
+        let r32 = if ty == I32 {
+            r
+        } else {
+            self.b.ins().uextend(I32, r)
+        };
+        let sign = self.b.ins().ushr_imm_u(r32, i64::from(width) * 8 - 3);
+        let negative = self.b.ins().band_imm_u(sign, 4);
+        // Bits 3..7 as they are after the result's store (`store` read them again if
+        // dst covers the byte).
+        let kept = self.b.use_var(self.flags_kept);
         let new = self.b.ins().bor(kept, zero);
         let new = self.b.ins().bor(new, overflow);
         let new = self.b.ins().bor(new, negative);
         let (base, off) = self.addr(self.layout.flags_at);
         self.b.ins().istore8(memory_flags(), new, base, off);
-        self.b.def_var(self.flags, new);
     }
 
     /// a rel b (0 or 1, i32): width 1 unsigned, 2 and 4 signed.

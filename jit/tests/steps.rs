@@ -791,7 +791,11 @@ fn nested_calls_with_and_without_power_and_a_compare_between_boxes() {
         assert_eq!(m[2], x, "output: L 42 (cleared) + the (squared) input");
         assert_eq!(m[10], 7, "the input variable unchanged");
         let compared = x > threshold;
-        assert_eq!(m[14], if compared { x } else { 0 }, "the Move after the Compare");
+        assert_eq!(
+            m[14],
+            if compared { x } else { 0 },
+            "the Move after the Compare"
+        );
         assert_eq!(m[18], x, "the real call ran with its input");
         assert_eq!(m[17] & 2, 2, "the callee's = after its Lpp");
         assert_eq!(m[40..56], memory[40..56], "the caller's L restored");
@@ -840,6 +844,72 @@ fn a_compare_between_boxed_steps_decides_the_boxes_after_it() {
         assert_eq!(m[2], 7 * power);
         let equal = power == 1 && third == 7;
         assert_eq!(m[4], if equal { 7 } else { 0 });
-        assert_eq!(m[6], if equal { 0 } else { 7 }, "runs when the AND was false");
+        assert_eq!(
+            m[6],
+            if equal { 0 } else { 7 },
+            "runs when the AND was false"
+        );
+    }
+}
+
+/// Two Math steps in one power run: the first one's flags are not stored when the second
+/// sets them again, unless something between (a Move of the flags byte) or the second
+/// itself (an operand on the flags byte) reads them.
+#[test]
+fn flags_of_a_math_are_kept_when_anything_reads_them_before_the_next_math() {
+    let layout = layout();
+    let math = |op, src, dst| Step::Math {
+        op,
+        src,
+        dst,
+        width: 2,
+    };
+    let functions = vec![
+        // Overwritten: only the second Math's flags remain (8 * 0 = 0: zero).
+        function(vec![
+            Step::Ld { at: 0, bit: 0 },
+            math(Arith::Sub, 4, 2),
+            math(Arith::Mul, 6, 8),
+        ]),
+        // A Move of the flags byte between the two sees the first's flags.
+        function(vec![
+            Step::Ld { at: 0, bit: 0 },
+            math(Arith::Sub, 4, 2),
+            Step::Move {
+                src: FLAGS,
+                dst: 12,
+                width: 1,
+            },
+            math(Arith::Mul, 6, 8),
+        ]),
+        // The second Math reads the flags byte as its source.
+        function(vec![
+            Step::Ld { at: 0, bit: 0 },
+            math(Arith::Sub, 4, 2),
+            math(Arith::Add, FLAGS - 1, 14),
+        ]),
+        // The first Math's result covers the flags byte, the second sets the flags.
+        function(vec![
+            Step::Ld { at: 0, bit: 0 },
+            math(Arith::Add, 4, FLAGS),
+            math(Arith::Mul, 6, 8),
+        ]),
+    ];
+    let module = compile(&layout, &functions).expect("compiles");
+    // 2: 1 - 0x7FFF overflows below (negative and overflow flags: no, 1 - 32767 is
+    // -32766: negative only); 8 * 0 = 0.
+    let memory = memory_with(&[(0, 1), (2, 1), (4, 0xFF), (5, 0x7F), (8, 8), (FLAGS, 0xF8)]);
+    for f in 0..functions.len() {
+        let (m, _, _) = both(&layout, &functions, &module, f, &memory, 0);
+        match f {
+            0 => assert_eq!(m[FLAGS as usize], 0xF8 | 1, "zero from the Mul"),
+            1 => assert_eq!(
+                (m[12], m[FLAGS as usize]),
+                (0xF8 | 4, 0xF8 | 1),
+                "the Move saw the Sub's negative flag"
+            ),
+            2 => assert_eq!(m[15], 0xF8 | 4, "the Add read the Sub's flags (high byte)"),
+            _ => {}
+        }
     }
 }
