@@ -31,18 +31,11 @@ fn cranelift(e: impl std::fmt::Display) -> JitError {
     JitError::Cranelift(e.to_string())
 }
 
-/// How much of the program a Call may inline: callees whose steps, with their own
-/// inlined callees expanded, number at most this are emitted in place of the Call; larger
-/// ones stay real calls so the code size stays bounded.
-const INLINE_LIMIT: usize = 64;
-
-/// What `lower` knows of every function before emitting any: whether a Call of it is
-/// inlined, its own instruction count, and which bytes of L it may touch.
+/// What `lower` knows of every function before emitting any: which bytes of L it may
+/// touch. (Inlining small callees in place of their Calls was measured and dropped: the
+/// scan benchmark's mixed program ran slower inlined, 0.86 against 0.59 ns/instr in
+/// `benches/compile.rs`, and compiled slower; docs/vm-jit.md.)
 struct Plan {
-    /// Steps once inlined callees are expanded (saturating); inlined when <= INLINE_LIMIT.
-    expanded: Vec<usize>,
-    /// The steps that count (all but Network): what a run of it adds besides its Calls.
-    statics: Vec<i64>,
     /// Per function, the bytes of L (relative to its start) any access of it, or of its
     /// callees, or of its Calls' arguments, can touch.
     touched: Vec<Vec<bool>>,
@@ -51,11 +44,6 @@ struct Plan {
 impl Plan {
     fn new(layout: &Layout, functions: &[Function]) -> Plan {
         let mut plan = Plan {
-            expanded: vec![usize::MAX; functions.len()],
-            statics: functions
-                .iter()
-                .map(|f| f.steps.iter().filter(|s| **s != Step::Network).count() as i64)
-                .collect(),
             touched: vec![Vec::new(); functions.len()],
         };
         let mut done = vec![false; functions.len()];
@@ -72,15 +60,10 @@ impl Plan {
         }
         let local_len = layout.local.map_or(0, |(_, len)| len as usize);
         let mut touched = vec![false; local_len];
-        let mut expanded = 0usize;
         for step in &functions[f].steps {
-            expanded = expanded.saturating_add(1);
             if let Step::Call { callee, args } = step {
                 let c = *callee as usize;
                 self.visit(layout, functions, c, done);
-                if self.inlined(c) {
-                    expanded = expanded.saturating_add(self.expanded[c]);
-                }
                 for a in args {
                     mark(layout, &mut touched, a.var, a.width);
                 }
@@ -94,13 +77,8 @@ impl Plan {
                 }
             }
         }
-        self.expanded[f] = expanded;
         self.touched[f] = touched;
         done[f] = true;
-    }
-
-    fn inlined(&self, f: usize) -> bool {
-        self.expanded[f] <= INLINE_LIMIT
     }
 
     /// The bytes of L a Call of `callee` with `args` must save, clear and restore: what
@@ -154,20 +132,6 @@ fn accesses(layout: &Layout, step: &Step) -> Vec<(u32, u8)> {
     }
 }
 
-/// The functions `steps` really calls (not inlined), looking through inlined callees.
-fn real_callees(plan: &Plan, functions: &[Function], steps: &[Step], out: &mut [bool]) {
-    for step in steps {
-        if let Step::Call { callee, .. } = step {
-            let c = *callee as usize;
-            if plan.inlined(c) {
-                real_callees(plan, functions, &functions[c].steps, out);
-            } else {
-                out[c] = true;
-            }
-        }
-    }
-}
-
 /// Compile checked functions (`check::check` passed).
 pub(crate) fn lower(layout: &Layout, functions: &[Function]) -> Result<Compiled, JitError> {
     let mut flags = settings::builder();
@@ -200,18 +164,20 @@ pub(crate) fn lower(layout: &Layout, functions: &[Function]) -> Result<Compiled,
     let mut code_bytes = 0;
     for (function, &id) in functions.iter().zip(&ids) {
         ctx.func.signature = signature.clone();
-        // The functions this one really calls, declared in it once each.
-        let mut called = vec![false; functions.len()];
-        real_callees(&plan, functions, &function.steps, &mut called);
+        // The functions this one calls, declared in it once each.
         let mut callees: Vec<Option<FuncRef>> = vec![None; functions.len()];
-        for (c, _) in called.iter().enumerate().filter(|(_, &called)| called) {
-            callees[c] = Some(module.declare_func_in_func(ids[c], &mut ctx.func));
+        for step in &function.steps {
+            if let Step::Call { callee, .. } = step {
+                let c = *callee as usize;
+                if callees[c].is_none() {
+                    callees[c] = Some(module.declare_func_in_func(ids[c], &mut ctx.func));
+                }
+            }
         }
         build(
             &mut ctx,
             &mut builder_ctx,
             layout,
-            functions,
             &plan,
             function,
             &callees,
@@ -246,12 +212,10 @@ fn width_type(width: u8) -> Type {
 }
 
 /// Build the IR of one function into `ctx.func`.
-#[allow(clippy::too_many_arguments)]
 fn build(
     ctx: &mut Context,
     builder_ctx: &mut FunctionBuilderContext,
     layout: &Layout,
-    functions: &[Function],
     plan: &Plan,
     function: &Function,
     callees: &[Option<FuncRef>],
@@ -286,7 +250,6 @@ fn build(
         count,
         flags_kept,
         layout,
-        functions,
         plan,
         callees,
         callee_stack: None,
@@ -337,7 +300,7 @@ struct Emitter<'a, 'b> {
     b: FunctionBuilder<'a>,
     mem: Value,
     ptr: Type,
-    /// The logic stack of the steps being emitted (an inlined callee has its own).
+    /// The logic stack.
     s: Variable,
     count: Variable,
     /// Bits 3..7 of the flags byte as they are in memory: read once at entry, read
@@ -346,7 +309,6 @@ struct Emitter<'a, 'b> {
     /// here, so no Math waits on another's store of the byte, nor on its value.
     flags_kept: Variable,
     layout: &'b Layout,
-    functions: &'b [Function],
     plan: &'b Plan,
     callees: &'b [Option<FuncRef>],
     /// The callee's logic stack of a real call, made at the first one.
@@ -657,11 +619,7 @@ impl Emitter<'_, '_> {
                 self.store(v, a.param);
             }
         }
-        if self.plan.inlined(callee) {
-            self.inline(callee);
-        } else {
-            self.real_call(callee);
-        }
+        self.real_call(callee);
         let outputs: Vec<Option<Value>> = args
             .iter()
             .map(|a| a.output.then(|| self.load(width_type(a.width), a.param)))
@@ -676,27 +634,11 @@ impl Emitter<'_, '_> {
         }
     }
 
-    /// The callee's steps in place, on a logic stack of their own that starts empty
-    /// (the caller's is untouched: it is another variable); its count added here, its
-    /// own Calls adding theirs in their power blocks.
-    fn inline(&mut self, callee: usize) {
-        let functions = self.functions;
-        let count = self.b.use_var(self.count);
-        let count = self.b.ins().iadd_imm_s(count, self.plan.statics[callee]);
-        self.b.def_var(self.count, count);
-        let caller = self.s;
-        self.s = self.b.declare_var(I32);
-        let empty = self.k(0);
-        self.b.def_var(self.s, empty);
-        self.steps(&functions[callee].steps);
-        self.s = caller;
-    }
-
     /// A direct call with an empty logic stack in a stack slot; the count it returns
     /// added to the caller's.
     fn real_call(&mut self, callee: usize) {
         let Some(func) = self.callees.get(callee).copied().flatten() else {
-            // `lower` declares every callee it does not inline; unreachable once checked.
+            // `lower` declares every callee of the function; unreachable once checked.
             return;
         };
         let slot = match self.callee_stack {

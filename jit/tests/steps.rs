@@ -653,9 +653,9 @@ fn a_module_runs_on_another_thread() {
     assert_eq!(handle.join().expect("the thread ran"), (1, 1, 2));
 }
 
-/// `steps` followed by Not pairs until it has more than 64 steps: too large to inline,
-/// so a Call of it stays a real call (the same semantics as its inlined form).
-fn too_large_to_inline(mut steps: Vec<Step>) -> Vec<Step> {
+/// `steps` followed by Not pairs until it has more than 64 steps (a long callee: the
+/// same results, more instructions).
+fn long(mut steps: Vec<Step>) -> Vec<Step> {
     while steps.len() <= 66 {
         steps.extend([Step::Not, Step::Not]);
     }
@@ -663,11 +663,11 @@ fn too_large_to_inline(mut steps: Vec<Step>) -> Vec<Step> {
 }
 
 #[test]
-fn inlined_and_really_called_callees_give_the_same_results() {
+fn a_long_callee_gives_the_same_results_and_counts_its_steps() {
     let layout = layout();
     let small = calling();
     let mut large = calling();
-    large[1].steps = too_large_to_inline(large[1].steps.clone());
+    large[1].steps = long(large[1].steps.clone());
     let extra = large[1].steps.len() as u64 - small[1].steps.len() as u64;
     let (ms, ml) = (
         compile(&layout, &small).expect("compiles"),
@@ -689,7 +689,7 @@ fn inlined_and_really_called_callees_give_the_same_results() {
 
 /// Function 0 calls 1 with power; 1 holds a Call of 2 that runs only when bit 0 of byte
 /// 16 is set, then (with power) boxed steps on both sides of a Compare and a Call of 3
-/// (too large to inline); 2 reads an L byte that is no parameter (cleared: 0) and
+/// (long); 2 reads an L byte that is no parameter (cleared: 0) and
 /// writes L.
 fn nested() -> Vec<Function> {
     let arg = |var, param, input, output| Arg {
@@ -762,7 +762,7 @@ fn nested() -> Vec<Function> {
                 width: 2,
             },
         ]),
-        function(too_large_to_inline(vec![
+        function(long(vec![
             Step::Network,
             Step::Ld { at: 55, bit: 7 },
             Step::Not,

@@ -74,7 +74,7 @@ pub fn decode(data: &[u8]) -> Case {
                 .map(|_| step(&mut r, &layout, f, count, loose))
                 .collect();
             if large {
-                grow_past_inlining(&mut steps);
+                grow(&mut steps);
             }
             Function { steps }
         })
@@ -90,9 +90,9 @@ pub fn decode(data: &[u8]) -> Case {
     }
 }
 
-/// Repeat `steps` (or Nots, when empty) until there are more than 64 of them, so a Call
-/// of the function stays a real call instead of being inlined (lower.rs INLINE_LIMIT).
-fn grow_past_inlining(steps: &mut Vec<Step>) {
+/// Repeat `steps` (or Nots, when empty) until there are more than 64 of them: long
+/// functions, many Calls and power runs in one function.
+fn grow(steps: &mut Vec<Step>) {
     if steps.is_empty() {
         steps.push(Step::Not);
     }
