@@ -1,8 +1,9 @@
 //! Steps to Cranelift IR to machine code: one Cranelift function per `Function`, of
 //! signature (mem: ptr, stack: ptr) -> i64 (the instructions executed). The logic stack
 //! lives in an SSA variable (loaded from `stack` at entry, stored at return), memory is
-//! accessed at compile-time-constant offsets from `mem`, Move/Math/Call run in a block
-//! entered only with power flow, a Call is a direct call. It trusts `check.rs`: every
+//! accessed at compile-time-constant offsets from `mem`, each run of Move/Math/Call
+//! shares one block entered only with power flow, a Call is a direct call that saves
+//! only the L bytes its callee can touch. It trusts `check.rs`: every
 //! offset it emits has been checked against the memory's length. No unsafe code here.
 
 use cranelift_codegen::ir::condcodes::IntCC;
@@ -515,7 +516,7 @@ impl Emitter<'_, '_> {
         self.b.switch_to_block(after);
     }
 
-    /// dst := dst op src (sign-extended to i64), the SM1 flags.
+    /// dst := dst op src in the width (signed overflow), the SM1 flags if `flags_live`.
     fn math(&mut self, op: Arith, src: u32, dst: u32, width: u8, flags_live: bool) {
         let ty = width_type(width);
         let a = self.load(ty, dst);
