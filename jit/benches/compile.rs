@@ -135,6 +135,101 @@ fn mixed() -> Vec<Function> {
     vec![Function { steps }, Function { steps: leaf }]
 }
 
+/// The scan benchmark's mixed program (vm/benches/scan.rs, bench-native `mixed`) as the
+/// VM hands it over: networks of LD SM0.0, MOVW, +I, *I, LDW>=, MOVD, +D and a CALL of
+/// ADD1 (an INT in, an INT out: LD SM0.0, MOVW #a,#r, +I 1,#r), the constants in memory,
+/// on the VM's layout (32 bytes of L).
+fn vm_mixed() -> (Layout, Vec<Function>) {
+    let layout = Layout {
+        memory_len: 13_056,
+        flags_at: 12_241,
+        stack_mask: 0x1FF,
+        local: Some((13_024, 32)),
+    };
+    let (sm0, one, two, three, hundred) = (12_240, 12_512, 12_516, 12_518, 12_520);
+    let mut steps = Vec::new();
+    let mut net = 1u32;
+    while steps.len() + 9 <= 8_190 {
+        let (a, b, c) = ((net * 2) % 32, 32 + (net * 2) % 32, 64 + (net * 2) % 32);
+        let word = |n: u32| 576 + n;
+        steps.extend([
+            Step::Network,
+            Step::Ld { at: sm0, bit: 0 },
+            Step::Move {
+                src: word(a),
+                dst: word(b),
+                width: 2,
+            },
+            Step::Math {
+                op: Arith::Add,
+                src: three,
+                dst: word(b),
+                width: 2,
+            },
+            Step::Math {
+                op: Arith::Mul,
+                src: two,
+                dst: word(b),
+                width: 2,
+            },
+            Step::Compare {
+                combine: Combine::Load,
+                rel: Rel::Ge,
+                a: word(b),
+                b: hundred,
+                width: 2,
+            },
+            Step::Move {
+                src: 616,
+                dst: 620,
+                width: 4,
+            },
+            Step::Math {
+                op: Arith::Add,
+                src: one,
+                dst: 620,
+                width: 4,
+            },
+            Step::Call {
+                callee: 1,
+                args: vec![
+                    Arg {
+                        var: word(b),
+                        param: 13_024,
+                        width: 2,
+                        input: true,
+                        output: false,
+                    },
+                    Arg {
+                        var: word(c),
+                        param: 13_026,
+                        width: 2,
+                        input: false,
+                        output: true,
+                    },
+                ],
+            },
+        ]);
+        net += 1;
+    }
+    let add1 = vec![
+        Step::Network,
+        Step::Ld { at: sm0, bit: 0 },
+        Step::Move {
+            src: 13_024,
+            dst: 13_026,
+            width: 2,
+        },
+        Step::Math {
+            op: Arith::Add,
+            src: one,
+            dst: 13_026,
+            width: 2,
+        },
+    ];
+    (layout, vec![Function { steps }, Function { steps: add1 }])
+}
+
 fn median(mut values: Vec<f64>) -> f64 {
     values.sort_by(f64::total_cmp);
     values[values.len() / 2]
@@ -143,13 +238,17 @@ fn median(mut values: Vec<f64>) -> f64 {
 fn main() {
     let bench = std::env::args().any(|a| a == "--bench");
     let (compiles, batches, runs) = if bench { (15, 31, 200) } else { (1, 1, 1) };
-    let layout = layout();
     println!("\ngutta-jit: {STEPS} steps, median of {compiles} compiles, run time median of {batches} x {runs} runs");
     println!(
         "{:<10} {:>12} {:>12} {:>12} {:>14} {:>12}",
         "program", "compile ms", "code bytes", "bytes/step", "instr/run", "ns/instr"
     );
-    for (name, functions) in [("bit logic", bit_logic()), ("mixed", mixed())] {
+    let (vm_layout, vm_functions) = vm_mixed();
+    for (name, layout, functions) in [
+        ("bit logic", layout(), bit_logic()),
+        ("mixed", layout(), mixed()),
+        ("vm mixed", vm_layout, vm_functions),
+    ] {
         let steps: usize = functions.iter().map(|f| f.steps.len()).sum();
         let mut times = Vec::new();
         let mut module = None;
@@ -160,9 +259,22 @@ fn main() {
             module = Some(m);
         }
         let module = module.expect("compiled at least once");
-        let mut memory: Vec<u8> = (0..MEMORY)
+        let mut memory: Vec<u8> = (0..layout.memory_len)
             .map(|i| (i.wrapping_mul(2_654_435_761) >> 13) as u8)
             .collect();
+        if name == "vm mixed" {
+            // As the scan benchmark sets them: SM0.0 on, the constants, the INT inputs
+            // MW0..MW30 large enough that every compare holds.
+            memory[12_240] = 1;
+            for (at, v) in [(12_512u32, 1u32), (12_516, 2), (12_518, 3), (12_520, 100)] {
+                let bytes = v.to_le_bytes();
+                let w = if at == 12_512 { 4 } else { 2 };
+                memory[at as usize..at as usize + w].copy_from_slice(&bytes[..w]);
+            }
+            for n in 0..16 {
+                memory[576 + 2 * n..578 + 2 * n].copy_from_slice(&1000u16.to_le_bytes());
+            }
+        }
         let mut stack = 0;
         let executed = module.run(0, &mut memory, &mut stack);
         let mut per = Vec::new();

@@ -1,8 +1,9 @@
 //! Steps to Cranelift IR to machine code: one Cranelift function per `Function`, of
 //! signature (mem: ptr, stack: ptr) -> i64 (the instructions executed). The logic stack
 //! lives in an SSA variable (loaded from `stack` at entry, stored at return), memory is
-//! accessed at compile-time-constant offsets from `mem`, Move/Math/Call run in a block
-//! entered only with power flow, a Call is a direct call. It trusts `check.rs`: every
+//! accessed at compile-time-constant offsets from `mem`, each run of Move/Math/Call
+//! shares one block entered only with power flow, a Call is a direct call that saves
+//! only the L bytes its callee can touch. It trusts `check.rs`: every
 //! offset it emits has been checked against the memory's length. No unsafe code here.
 
 use cranelift_codegen::ir::condcodes::IntCC;
@@ -31,6 +32,107 @@ fn cranelift(e: impl std::fmt::Display) -> JitError {
     JitError::Cranelift(e.to_string())
 }
 
+/// What `lower` knows of every function before emitting any: which bytes of L it may
+/// touch. (Inlining small callees in place of their Calls was measured and dropped: the
+/// scan benchmark's mixed program ran slower inlined, 0.86 against 0.59 ns/instr in
+/// `benches/compile.rs`, and compiled slower; docs/vm-jit.md.)
+struct Plan {
+    /// Per function, the bytes of L (relative to its start) any access of it, or of its
+    /// callees, or of its Calls' arguments, can touch.
+    touched: Vec<Vec<bool>>,
+}
+
+impl Plan {
+    fn new(layout: &Layout, functions: &[Function]) -> Plan {
+        let mut plan = Plan {
+            touched: vec![Vec::new(); functions.len()],
+        };
+        let mut done = vec![false; functions.len()];
+        for f in 0..functions.len() {
+            plan.visit(layout, functions, f, &mut done);
+        }
+        plan
+    }
+
+    /// Fill in function `f` after its callees (no cycles: `check.rs`).
+    fn visit(&mut self, layout: &Layout, functions: &[Function], f: usize, done: &mut [bool]) {
+        if done[f] {
+            return;
+        }
+        let local_len = layout.local.map_or(0, |(_, len)| len as usize);
+        let mut touched = vec![false; local_len];
+        for step in &functions[f].steps {
+            if let Step::Call { callee, args } = step {
+                let c = *callee as usize;
+                self.visit(layout, functions, c, done);
+                for a in args {
+                    mark(layout, &mut touched, a.var, a.width);
+                }
+                let call = self.call_touches(layout, c, args);
+                for (t, c) in touched.iter_mut().zip(call) {
+                    *t |= c;
+                }
+            } else {
+                for (at, width) in accesses(layout, step) {
+                    mark(layout, &mut touched, at, width);
+                }
+            }
+        }
+        self.touched[f] = touched;
+        done[f] = true;
+    }
+
+    /// The bytes of L a Call of `callee` with `args` must save, clear and restore: what
+    /// the callee can touch and the parameters the inputs are stored into. Bytes outside
+    /// this set are neither read nor written between the save and the restore, so
+    /// clearing and restoring them cannot be observed.
+    fn call_touches(&self, layout: &Layout, callee: usize, args: &[crate::Arg]) -> Vec<bool> {
+        let mut touched = self.touched[callee].clone();
+        for a in args {
+            mark(layout, &mut touched, a.param, a.width);
+        }
+        touched
+    }
+}
+
+/// Mark the bytes `at..at + width` that lie in L.
+fn mark(layout: &Layout, touched: &mut [bool], at: u32, width: u8) {
+    let Some((start, len)) = layout.local else {
+        return;
+    };
+    let (lo, hi) = (u64::from(at), u64::from(at) + u64::from(width));
+    let (l_lo, l_hi) = (u64::from(start), u64::from(start) + u64::from(len));
+    for byte in lo.max(l_lo)..hi.min(l_hi) {
+        touched[(byte - l_lo) as usize] = true;
+    }
+}
+
+/// The memory (index, width) a step other than a Call reads or writes.
+fn accesses(layout: &Layout, step: &Step) -> Vec<(u32, u8)> {
+    match *step {
+        Step::Ld { at, .. }
+        | Step::Ldn { at, .. }
+        | Step::A { at, .. }
+        | Step::An { at, .. }
+        | Step::O { at, .. }
+        | Step::On { at, .. }
+        | Step::Assign { at, .. } => vec![(at, 1)],
+        Step::Move { src, dst, width } => vec![(src, width), (dst, width)],
+        Step::Math {
+            src, dst, width, ..
+        } => vec![(src, width), (dst, width), (layout.flags_at, 1)],
+        Step::Compare { a, b, width, .. } => vec![(a, width), (b, width)],
+        Step::Network
+        | Step::Not
+        | Step::Ald
+        | Step::Old
+        | Step::Lps
+        | Step::Lrd
+        | Step::Lpp
+        | Step::Call { .. } => Vec::new(),
+    }
+}
+
 /// Compile checked functions (`check::check` passed).
 pub(crate) fn lower(layout: &Layout, functions: &[Function]) -> Result<Compiled, JitError> {
     let mut flags = settings::builder();
@@ -57,6 +159,7 @@ pub(crate) fn lower(layout: &Layout, functions: &[Function]) -> Result<Compiled,
                 .map_err(cranelift)
         })
         .collect::<Result<Vec<FuncId>, JitError>>()?;
+    let plan = Plan::new(layout, functions);
     let mut ctx = module.make_context();
     let mut builder_ctx = FunctionBuilderContext::new();
     let mut code_bytes = 0;
@@ -76,6 +179,7 @@ pub(crate) fn lower(layout: &Layout, functions: &[Function]) -> Result<Compiled,
             &mut ctx,
             &mut builder_ctx,
             layout,
+            &plan,
             function,
             &callees,
             module.target_config(),
@@ -113,6 +217,7 @@ fn build(
     ctx: &mut Context,
     builder_ctx: &mut FunctionBuilderContext,
     layout: &Layout,
+    plan: &Plan,
     function: &Function,
     callees: &[Option<FuncRef>],
     frontend: TargetFrontendConfig,
@@ -137,19 +242,21 @@ fn build(
         .count() as i64;
     let c0 = b.ins().iconst(I64, instructions);
     b.def_var(count, c0);
+    let flags_kept = b.declare_var(I32);
     let mut e = Emitter {
         b,
         mem,
         ptr,
         s,
         count,
+        flags_kept,
         layout,
+        plan,
         callees,
-        frame: None,
+        callee_stack: None,
     };
-    for step in &function.steps {
-        e.step(step);
-    }
+    e.reload_flags();
+    e.steps(&function.steps);
     let Emitter { mut b, .. } = e;
     let s_end = b.use_var(s);
     b.ins().store(MemFlagsData::trusted(), s_end, stack_ptr, 0);
@@ -158,22 +265,55 @@ fn build(
     b.finalize(frontend);
 }
 
-/// The stack slots of a function that calls: the callee's logic stack, the caller's L.
-#[derive(Clone, Copy)]
-struct Frame {
-    callee_stack: StackSlot,
-    saved_local: Option<StackSlot>,
+/// Move, Math and Call run only with power flow and leave the logic stack as it was (a
+/// Call restores the caller's): a run of them shares one test of the top.
+fn boxed(step: &Step) -> bool {
+    matches!(
+        step,
+        Step::Move { .. } | Step::Math { .. } | Step::Call { .. }
+    )
+}
+
+/// Whether a Math followed by `after` (the rest of its power run, which runs with it)
+/// leaves flags bits 0..2 that nothing can see: a later Math of the run sets them again
+/// and nothing up to and including that Math reads or writes the flags byte (a Call
+/// might, so it ends the search). Bits 3..7 stay what they were either way, and the
+/// later Math reads them from memory (`Emitter::flags_kept`), so skipping the earlier flags
+/// is exact.
+fn flags_overwritten(layout: &Layout, after: &[Step]) -> bool {
+    let touches = |at: u32, width: u8| {
+        let flags = u64::from(layout.flags_at);
+        (u64::from(at)..u64::from(at) + u64::from(width)).contains(&flags)
+    };
+    for step in after {
+        match *step {
+            Step::Math {
+                src, dst, width, ..
+            } => return !touches(src, width) && !touches(dst, width),
+            Step::Move { src, dst, width } if !touches(src, width) && !touches(dst, width) => {}
+            _ => return false,
+        }
+    }
+    false
 }
 
 struct Emitter<'a, 'b> {
     b: FunctionBuilder<'a>,
     mem: Value,
     ptr: Type,
+    /// The logic stack.
     s: Variable,
     count: Variable,
+    /// Bits 3..7 of the flags byte as they are in memory: read once at entry, read
+    /// again after any store that may change them (a result covering the byte, a real
+    /// call, an = of one of its bits); a Math only sets bits 0..2. Math takes them from
+    /// here, so no Math waits on another's store of the byte, nor on its value.
+    flags_kept: Variable,
     layout: &'b Layout,
+    plan: &'b Plan,
     callees: &'b [Option<FuncRef>],
-    frame: Option<Frame>,
+    /// The callee's logic stack of a real call, made at the first one.
+    callee_stack: Option<StackSlot>,
 }
 
 impl Emitter<'_, '_> {
@@ -198,6 +338,22 @@ impl Emitter<'_, '_> {
     fn store(&mut self, v: Value, at: u32) {
         let (base, off) = self.addr(at);
         self.b.ins().store(memory_flags(), v, base, off);
+        let width = self.b.func.dfg.value_type(v).bytes();
+        self.stored(at, width);
+    }
+
+    /// After a store of `width` bytes at `at`: read the flags byte again if it was one.
+    fn stored(&mut self, at: u32, width: u32) {
+        let flags_at = u64::from(self.layout.flags_at);
+        if (u64::from(at)..u64::from(at) + u64::from(width)).contains(&flags_at) {
+            self.reload_flags();
+        }
+    }
+
+    fn reload_flags(&mut self) {
+        let v = self.byte(self.layout.flags_at);
+        let kept = self.b.ins().band_imm_u(v, 0xF8);
+        self.b.def_var(self.flags_kept, kept);
     }
 
     /// The byte at `at`, zero-extended to i32.
@@ -233,6 +389,48 @@ impl Emitter<'_, '_> {
         self.b.ins().band(s, keep)
     }
 
+    /// Emit `steps` on the current logic stack: runs of boxed steps in one power block.
+    fn steps(&mut self, steps: &[Step]) {
+        let mut i = 0;
+        while i < steps.len() {
+            if !boxed(&steps[i]) {
+                self.step(&steps[i]);
+                i += 1;
+                continue;
+            }
+            let run = steps[i..].iter().take_while(|s| boxed(s)).count();
+            let s = self.b.use_var(self.s);
+            let boxes = &steps[i..i + run];
+            self.with_power(s, |e| {
+                for (k, step) in boxes.iter().enumerate() {
+                    let flags_live = !flags_overwritten(e.layout, &boxes[k + 1..]);
+                    e.boxed(step, flags_live);
+                }
+            });
+            i += run;
+        }
+    }
+
+    /// A Move, Math or Call, power flow known; a Math sets the flags only if
+    /// `flags_live`.
+    fn boxed(&mut self, step: &Step, flags_live: bool) {
+        match *step {
+            Step::Move { src, dst, width } => {
+                let v = self.load(width_type(width), src);
+                self.store(v, dst);
+            }
+            Step::Math {
+                op,
+                src,
+                dst,
+                width,
+            } => self.math(op, src, dst, width, flags_live),
+            Step::Call { callee, ref args } => self.call(callee as usize, args),
+            _ => self.step(step),
+        }
+    }
+
+    /// A step that is not boxed (a boxed one here does nothing: `steps` routes them).
     fn step(&mut self, step: &Step) {
         let s = self.b.use_var(self.s);
         let new = match *step {
@@ -257,6 +455,7 @@ impl Emitter<'_, '_> {
                 let new = self.b.ins().bor(cleared, set);
                 let (base, off) = self.addr(at);
                 self.b.ins().istore8(memory_flags(), new, base, off);
+                self.stored(at, 1);
                 s
             }
             Step::Not => self.b.ins().bxor_imm_u(s, 1),
@@ -283,22 +482,6 @@ impl Emitter<'_, '_> {
                 self.b.ins().bor(rest, second)
             }
             Step::Lpp => self.b.ins().ushr_imm_u(s, 1),
-            Step::Move { src, dst, width } => {
-                self.with_power(s, |e| {
-                    let v = e.load(width_type(width), src);
-                    e.store(v, dst);
-                });
-                s
-            }
-            Step::Math {
-                op,
-                src,
-                dst,
-                width,
-            } => {
-                self.with_power(s, |e| e.math(op, src, dst, width));
-                s
-            }
             Step::Compare {
                 combine,
                 rel,
@@ -313,10 +496,8 @@ impl Emitter<'_, '_> {
                     Combine::Or => self.b.ins().bor(s, r),
                 }
             }
-            Step::Call { callee, ref args } => {
-                self.with_power(s, |e| e.call(callee, args));
-                s
-            }
+            // `steps` emits them in a power block.
+            Step::Move { .. } | Step::Math { .. } | Step::Call { .. } => s,
         };
         self.b.def_var(self.s, new);
     }
@@ -335,37 +516,41 @@ impl Emitter<'_, '_> {
         self.b.switch_to_block(after);
     }
 
-    /// dst := dst op src (sign-extended to i64), the SM1 flags.
-    fn math(&mut self, op: Arith, src: u32, dst: u32, width: u8) {
+    /// dst := dst op src in the width (signed overflow), the SM1 flags if `flags_live`.
+    fn math(&mut self, op: Arith, src: u32, dst: u32, width: u8, flags_live: bool) {
         let ty = width_type(width);
         let a = self.load(ty, dst);
-        let a = self.b.ins().sextend(I64, a);
         let b = self.load(ty, src);
-        let b = self.b.ins().sextend(I64, b);
-        let exact = match op {
-            Arith::Add => self.b.ins().iadd(a, b),
-            Arith::Sub => self.b.ins().isub(a, b),
-            Arith::Mul => self.b.ins().imul(a, b),
+        // Signed overflow of the operation in the width: the exact result (in i64 from
+        // the sign-extended operands) does not fit.
+        let (r, overflow) = match op {
+            Arith::Add => self.b.ins().sadd_overflow(a, b),
+            Arith::Sub => self.b.ins().ssub_overflow(a, b),
+            Arith::Mul => self.b.ins().smul_overflow(a, b),
         };
-        let wrapped = self.b.ins().ireduce(ty, exact);
-        self.store(wrapped, dst);
-        let r = self.b.ins().sextend(I64, wrapped);
+        self.store(r, dst);
+        if !flags_live {
+            return;
+        }
         let zero = self.b.ins().icmp_imm_s(IntCC::Equal, r, 0);
-        let overflow = self.b.ins().icmp(IntCC::NotEqual, r, exact);
-        let negative = self.b.ins().icmp_imm_s(IntCC::SignedLessThan, r, 0);
         let zero = self.b.ins().uextend(I32, zero);
         let overflow = self.b.ins().uextend(I32, overflow);
         let overflow = self.b.ins().ishl_imm_u(overflow, 1);
-        let negative = self.b.ins().uextend(I32, negative);
-        let negative = self.b.ins().ishl_imm_u(negative, 2);
-        // Read after the result's store: dst may cover the flags byte.
-        let flags_at = self.layout.flags_at;
-        let old = self.byte(flags_at);
-        let kept = self.b.ins().band_imm_u(old, 0xF8);
+        // The sign bit moved to bit 2.
+        let r32 = if ty == I32 {
+            r
+        } else {
+            self.b.ins().uextend(I32, r)
+        };
+        let sign = self.b.ins().ushr_imm_u(r32, i64::from(width) * 8 - 3);
+        let negative = self.b.ins().band_imm_u(sign, 4);
+        // Bits 3..7 as they are after the result's store (`store` read them again if
+        // dst covers the byte).
+        let kept = self.b.use_var(self.flags_kept);
         let new = self.b.ins().bor(kept, zero);
         let new = self.b.ins().bor(new, overflow);
         let new = self.b.ins().bor(new, negative);
-        let (base, off) = self.addr(flags_at);
+        let (base, off) = self.addr(self.layout.flags_at);
         self.b.ins().istore8(memory_flags(), new, base, off);
     }
 
@@ -390,95 +575,92 @@ impl Emitter<'_, '_> {
         self.b.ins().uextend(I32, r)
     }
 
-    /// The stack slots of a calling function, made at its first Call.
-    fn frame(&mut self) -> Frame {
-        if let Some(frame) = self.frame {
-            return frame;
-        }
-        let callee_stack =
-            self.b
-                .create_sized_stack_slot(StackSlotData::new(StackSlotKind::ExplicitSlot, 4, 2));
-        let saved_local =
-            match self.layout.local {
-                Some((_, len)) if len > 0 => Some(self.b.create_sized_stack_slot(
-                    StackSlotData::new(StackSlotKind::ExplicitSlot, len, 3),
-                )),
-                _ => None,
-            };
-        let frame = Frame {
-            callee_stack,
-            saved_local,
-        };
-        self.frame = Some(frame);
-        frame
-    }
-
-    /// The pieces (offset, type) a copy of `len` bytes moves: 8 bytes at a time, then
-    /// 4, 2, 1.
-    fn pieces(len: u32) -> Vec<(u32, Type)> {
+    /// The pieces (offset, type) a copy of the L bytes marked in `touched` moves: each
+    /// run of marked bytes 8 bytes at a time, then 4, 2, 1.
+    fn pieces(touched: &[bool]) -> Vec<(u32, Type)> {
         let mut pieces = Vec::new();
-        let mut off = 0;
-        for (size, ty) in [(8, I64), (4, I32), (2, I16), (1, I8)] {
-            while len - off >= size {
-                pieces.push((off, ty));
-                off += size;
+        let mut at = 0;
+        while at < touched.len() {
+            if !touched[at] {
+                at += 1;
+                continue;
+            }
+            let end = at + touched[at..].iter().take_while(|t| **t).count();
+            for (size, ty) in [(8, I64), (4, I32), (2, I16), (1, I8)] {
+                while end - at >= size {
+                    pieces.push((at as u32, ty));
+                    at += size;
+                }
             }
         }
         pieces
     }
 
-    /// vm/src/calls.rs enter_planned + return_planned, the callee run in between.
-    fn call(&mut self, callee: u32, args: &[crate::Arg]) {
-        let Some(callee) = self.callees.get(callee as usize).copied().flatten() else {
-            // `lower` declares every callee of the function; unreachable once checked.
-            return;
-        };
-        let frame = self.frame();
+    /// vm/src/calls.rs enter_planned + return_planned with the callee run in between:
+    /// its steps emitted here (small callees) or a real call. Only the L bytes the callee
+    /// can touch are saved, cleared and restored (`Plan::call_touches`).
+    fn call(&mut self, callee: usize, args: &[crate::Arg]) {
         let inputs: Vec<Option<Value>> = args
             .iter()
             .map(|a| a.input.then(|| self.load(width_type(a.width), a.var)))
             .collect();
-        let local = self.layout.local.filter(|&(_, len)| len > 0);
-        if let (Some((start, len)), Some(slot)) = (local, frame.saved_local) {
-            let zero = self.b.ins().iconst(I64, 0);
-            for (off, ty) in Self::pieces(len) {
-                let v = self.load(ty, start + off);
-                self.b.ins().stack_store(self.ptr, v, slot, off as i32);
-                let z = if ty == I64 {
-                    zero
-                } else {
-                    self.b.ins().ireduce(ty, zero)
-                };
-                self.store(z, start + off);
-            }
+        let touched = self.plan.call_touches(self.layout, callee, args);
+        let pieces = Self::pieces(&touched);
+        let start = self.layout.local.map_or(0, |(start, _)| start);
+        let saved: Vec<Value> = pieces
+            .iter()
+            .map(|&(off, ty)| self.load(ty, start + off))
+            .collect();
+        for &(off, ty) in &pieces {
+            let zero = self.b.ins().iconst(ty, 0);
+            self.store(zero, start + off);
         }
         for (a, v) in args.iter().zip(&inputs) {
             if let Some(v) = *v {
                 self.store(v, a.param);
             }
         }
-        let empty = self.k(0);
-        self.b
-            .ins()
-            .stack_store(self.ptr, empty, frame.callee_stack, 0);
-        let stack = self.b.ins().stack_addr(self.ptr, frame.callee_stack, 0);
-        let call = self.b.ins().call(callee, &[self.mem, stack]);
-        let executed = self.b.inst_results(call)[0];
+        self.real_call(callee);
         let outputs: Vec<Option<Value>> = args
             .iter()
             .map(|a| a.output.then(|| self.load(width_type(a.width), a.param)))
             .collect();
-        if let (Some((start, len)), Some(slot)) = (local, frame.saved_local) {
-            for (off, ty) in Self::pieces(len) {
-                let v = self.b.ins().stack_load(self.ptr, ty, slot, off as i32);
-                self.store(v, start + off);
-            }
+        for (&(off, _), &v) in pieces.iter().zip(&saved) {
+            self.store(v, start + off);
         }
         for (a, v) in args.iter().zip(&outputs) {
             if let Some(v) = *v {
                 self.store(v, a.var);
             }
         }
+    }
+
+    /// A direct call with an empty logic stack in a stack slot; the count it returns
+    /// added to the caller's.
+    fn real_call(&mut self, callee: usize) {
+        let Some(func) = self.callees.get(callee).copied().flatten() else {
+            // `lower` declares every callee of the function; unreachable once checked.
+            return;
+        };
+        let slot = match self.callee_stack {
+            Some(slot) => slot,
+            None => {
+                let slot = self.b.create_sized_stack_slot(StackSlotData::new(
+                    StackSlotKind::ExplicitSlot,
+                    4,
+                    2,
+                ));
+                self.callee_stack = Some(slot);
+                slot
+            }
+        };
+        let empty = self.k(0);
+        self.b.ins().stack_store(self.ptr, empty, slot, 0);
+        let stack = self.b.ins().stack_addr(self.ptr, slot, 0);
+        let call = self.b.ins().call(func, &[self.mem, stack]);
+        let executed = self.b.inst_results(call)[0];
+        // The callee may have changed it.
+        self.reload_flags();
         let count = self.b.use_var(self.count);
         let count = self.b.ins().iadd(count, executed);
         self.b.def_var(self.count, count);

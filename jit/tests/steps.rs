@@ -652,3 +652,264 @@ fn a_module_runs_on_another_thread() {
     });
     assert_eq!(handle.join().expect("the thread ran"), (1, 1, 2));
 }
+
+/// `steps` followed by Not pairs until it has more than 64 steps (a long callee: the
+/// same results, more instructions).
+fn long(mut steps: Vec<Step>) -> Vec<Step> {
+    while steps.len() <= 66 {
+        steps.extend([Step::Not, Step::Not]);
+    }
+    steps
+}
+
+#[test]
+fn a_long_callee_gives_the_same_results_and_counts_its_steps() {
+    let layout = layout();
+    let small = calling();
+    let mut large = calling();
+    large[1].steps = long(large[1].steps.clone());
+    let extra = large[1].steps.len() as u64 - small[1].steps.len() as u64;
+    let (ms, ml) = (
+        compile(&layout, &small).expect("compiles"),
+        compile(&layout, &large).expect("compiles"),
+    );
+    for power in [0u8, 1] {
+        let mut memory = memory_with(&[(0, 0x34), (1, 0x12), (8, 9), (20, power)]);
+        for (i, b) in memory[40..56].iter_mut().enumerate() {
+            *b = 0xA0 + i as u8;
+        }
+        for stack in STACKS {
+            let (m1, s1, c1) = both(&layout, &small, &ms, 0, &memory, stack);
+            let (m2, s2, c2) = both(&layout, &large, &ml, 0, &memory, stack);
+            assert_eq!((m1, s1), (m2, s2));
+            assert_eq!(c2, c1 + u64::from(power) * extra);
+        }
+    }
+}
+
+/// Function 0 calls 1 with power; 1 holds a Call of 2 that runs only when bit 0 of byte
+/// 16 is set, then (with power) boxed steps on both sides of a Compare and a Call of 3
+/// (long); 2 reads an L byte that is no parameter (cleared: 0) and
+/// writes L.
+fn nested() -> Vec<Function> {
+    let arg = |var, param, input, output| Arg {
+        var,
+        param,
+        width: 2,
+        input,
+        output,
+    };
+    vec![
+        function(vec![
+            Step::Network,
+            Step::Ld { at: 20, bit: 0 },
+            Step::Call {
+                callee: 1,
+                args: vec![arg(0, 40, true, false), arg(2, 42, false, true)],
+            },
+            Step::Move {
+                src: 0,
+                dst: 10,
+                width: 2,
+            },
+        ]),
+        function(vec![
+            Step::Network,
+            Step::Ld { at: 16, bit: 0 },
+            Step::Call {
+                callee: 2,
+                args: vec![arg(40, 44, true, true)],
+            },
+            Step::Network,
+            Step::Ld { at: 20, bit: 0 },
+            Step::Math {
+                op: Arith::Add,
+                src: 40,
+                dst: 42,
+                width: 2,
+            },
+            Step::Compare {
+                combine: Combine::Load,
+                rel: Rel::Gt,
+                a: 42,
+                b: 12,
+                width: 2,
+            },
+            Step::Move {
+                src: 42,
+                dst: 14,
+                width: 2,
+            },
+            Step::Lpp,
+            Step::Call {
+                callee: 3,
+                args: vec![arg(42, 46, true, false)],
+            },
+            Step::Assign { at: 17, bit: 1 },
+        ]),
+        function(vec![
+            Step::Network,
+            Step::Ldn { at: 50, bit: 3 },
+            Step::Math {
+                op: Arith::Mul,
+                src: 44,
+                dst: 44,
+                width: 2,
+            },
+            Step::Move {
+                src: 44,
+                dst: 52,
+                width: 2,
+            },
+        ]),
+        function(long(vec![
+            Step::Network,
+            Step::Ld { at: 55, bit: 7 },
+            Step::Not,
+            Step::Move {
+                src: 46,
+                dst: 18,
+                width: 2,
+            },
+        ])),
+    ]
+}
+
+#[test]
+fn nested_calls_with_and_without_power_and_a_compare_between_boxes() {
+    let layout = layout();
+    let functions = nested();
+    let module = compile(&layout, &functions).expect("compiles");
+    let large = functions[3].steps.len() as u64 - 1;
+    for (inner, threshold) in [(0u8, 0u8), (1, 0), (1, 100), (0, 100)] {
+        let mut memory = memory_with(&[(0, 7), (2, 5), (12, threshold), (16, inner), (20, 1)]);
+        for (i, b) in memory[40..56].iter_mut().enumerate() {
+            *b = 0x90 ^ i as u8;
+        }
+        let (m, s, count) = both(&layout, &functions, &module, 0, &memory, 0);
+        let x = if inner == 1 { 49 } else { 7 };
+        assert_eq!(m[2], x, "output: L 42 (cleared) + the (squared) input");
+        assert_eq!(m[10], 7, "the input variable unchanged");
+        let compared = x > threshold;
+        assert_eq!(
+            m[14],
+            if compared { x } else { 0 },
+            "the Move after the Compare"
+        );
+        assert_eq!(m[18], x, "the real call ran with its input");
+        assert_eq!(m[17] & 2, 2, "the callee's = after its Lpp");
+        assert_eq!(m[40..56], memory[40..56], "the caller's L restored");
+        assert_eq!(s, 1);
+        // 3 of function 0, 9 of function 1 (each Call counts 1), what 2 and 3 ran.
+        let inner_count = if inner == 1 { 3 } else { 0 };
+        assert_eq!(count, 3 + 9 + inner_count + large);
+    }
+}
+
+#[test]
+fn a_compare_between_boxed_steps_decides_the_boxes_after_it() {
+    let layout = layout();
+    let functions = vec![function(vec![
+        Step::Ld { at: 0, bit: 0 },
+        Step::Move {
+            src: 1,
+            dst: 2,
+            width: 1,
+        },
+        Step::Compare {
+            combine: Combine::And,
+            rel: Rel::Eq,
+            a: 1,
+            b: 3,
+            width: 1,
+        },
+        Step::Move {
+            src: 1,
+            dst: 4,
+            width: 1,
+        },
+        Step::Not,
+        Step::Math {
+            op: Arith::Add,
+            src: 1,
+            dst: 6,
+            width: 2,
+        },
+    ])];
+    let module = compile(&layout, &functions).expect("compiles");
+    for (power, third) in [(1u8, 7u8), (1, 8), (0, 7)] {
+        let memory = memory_with(&[(0, power), (1, 7), (3, third)]);
+        let (m, _, count) = both(&layout, &functions, &module, 0, &memory, 0);
+        assert_eq!(count, 6);
+        assert_eq!(m[2], 7 * power);
+        let equal = power == 1 && third == 7;
+        assert_eq!(m[4], if equal { 7 } else { 0 });
+        assert_eq!(
+            m[6],
+            if equal { 0 } else { 7 },
+            "runs when the AND was false"
+        );
+    }
+}
+
+/// Two Math steps in one power run: the first one's flags are not stored when the second
+/// sets them again, unless something between (a Move of the flags byte) or the second
+/// itself (an operand on the flags byte) reads them.
+#[test]
+fn flags_of_a_math_are_kept_when_anything_reads_them_before_the_next_math() {
+    let layout = layout();
+    let math = |op, src, dst| Step::Math {
+        op,
+        src,
+        dst,
+        width: 2,
+    };
+    let functions = vec![
+        // Overwritten: only the second Math's flags remain (8 * 0 = 0: zero).
+        function(vec![
+            Step::Ld { at: 0, bit: 0 },
+            math(Arith::Sub, 4, 2),
+            math(Arith::Mul, 6, 8),
+        ]),
+        // A Move of the flags byte between the two sees the first's flags.
+        function(vec![
+            Step::Ld { at: 0, bit: 0 },
+            math(Arith::Sub, 4, 2),
+            Step::Move {
+                src: FLAGS,
+                dst: 12,
+                width: 1,
+            },
+            math(Arith::Mul, 6, 8),
+        ]),
+        // The second Math reads the flags byte as its source.
+        function(vec![
+            Step::Ld { at: 0, bit: 0 },
+            math(Arith::Sub, 4, 2),
+            math(Arith::Add, FLAGS - 1, 14),
+        ]),
+        // The first Math's result covers the flags byte, the second sets the flags.
+        function(vec![
+            Step::Ld { at: 0, bit: 0 },
+            math(Arith::Add, 4, FLAGS),
+            math(Arith::Mul, 6, 8),
+        ]),
+    ];
+    let module = compile(&layout, &functions).expect("compiles");
+    // 2: 1 - 0x7FFF overflows below (negative and overflow flags: no, 1 - 32767 is
+    // -32766: negative only); 8 * 0 = 0.
+    let memory = memory_with(&[(0, 1), (2, 1), (4, 0xFF), (5, 0x7F), (8, 8), (FLAGS, 0xF8)]);
+    for f in 0..functions.len() {
+        let (m, _, _) = both(&layout, &functions, &module, f, &memory, 0);
+        match f {
+            0 => assert_eq!(m[FLAGS as usize], 0xF8 | 1, "zero from the Mul"),
+            1 => assert_eq!(
+                (m[12], m[FLAGS as usize]),
+                (0xF8 | 4, 0xF8 | 1),
+                "the Move saw the Sub's negative flag"
+            ),
+            2 => assert_eq!(m[15], 0xF8 | 4, "the Add read the Sub's flags (high byte)"),
+            _ => {}
+        }
+    }
+}

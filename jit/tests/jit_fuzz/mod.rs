@@ -68,10 +68,15 @@ pub fn decode(data: &[u8]) -> Case {
     };
     let count = 1 + r.below(4);
     let functions = (0..count)
-        .map(|f| Function {
-            steps: (0..r.below(25))
+        .map(|f| {
+            let large = r.byte() & 3 == 0;
+            let mut steps: Vec<Step> = (0..r.below(25))
                 .map(|_| step(&mut r, &layout, f, count, loose))
-                .collect(),
+                .collect();
+            if large {
+                grow(&mut steps);
+            }
+            Function { steps }
         })
         .collect();
     let memory = (0..memory_len).map(|_| r.byte()).collect();
@@ -82,6 +87,19 @@ pub fn decode(data: &[u8]) -> Case {
         memory,
         stack,
         loose,
+    }
+}
+
+/// Repeat `steps` (or Nots, when empty) until there are more than 64 of them: long
+/// functions, many Calls and power runs in one function.
+fn grow(steps: &mut Vec<Step>) {
+    if steps.is_empty() {
+        steps.push(Step::Not);
+    }
+    let mut i = 0;
+    while steps.len() <= 64 {
+        steps.push(steps[i].clone());
+        i += 1;
     }
 }
 
