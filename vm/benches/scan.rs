@@ -213,24 +213,29 @@ fn resident_bytes() -> Option<u64> {
 
 /// Bytes of resident memory per loaded VM: the growth while loading the last of three
 /// steps of `n` VMs each (the first steps soak up heap the compiler freed), and the
-/// same for the step before, as a consistency check.
+/// same for the step before, as a consistency check. The VMs are returned: the caller
+/// keeps them while it measures the next tier, so that one grows the heap too instead of
+/// reusing what these freed.
 fn bytes_per_vm(
     verified: &VerifiedImage,
     target: &Arc<Target>,
     n: usize,
     tier: Tier,
-) -> Option<(f64, f64)> {
+) -> (Option<(f64, f64)>, Vec<Vm>) {
     let mut vms = Vec::with_capacity(3 * n);
-    let mut rss = vec![resident_bytes()?];
+    let Some(first) = resident_bytes() else {
+        return (None, vms);
+    };
+    let mut rss = vec![first];
     for _ in 0..3 {
         for _ in 0..n {
             vms.push(load(verified, target, tier));
         }
-        rss.push(resident_bytes()?);
+        rss.push(resident_bytes().unwrap_or(0));
     }
     black_box(&vms);
     let step = |k: usize| rss[k + 1].saturating_sub(rss[k]) as f64 / n as f64;
-    Some((step(2), step(1)))
+    (Some((step(2), step(1))), vms)
 }
 
 /// Median microseconds of `Vm::new` (the image's clone is made before the clock starts
@@ -437,12 +442,9 @@ fn main() {
     let mut shared_code = Vec::new();
     for (name, text) in images {
         let (verified, target, bytes) = image(name, &text, Some(BIG_TARGET));
+        let mut alive = Vec::new();
         for tier in Tier::BOTH {
-            // Compiling is slower than loading: fewer VMs (the code is per VM).
-            let n = match tier {
-                Tier::Interpreted => effort.vms_per_step,
-                Tier::Compiled => (effort.vms_per_step / 10).max(2),
-            };
+            let n = effort.vms_per_step;
             // The first VM of the program compiles it (later ones share the code).
             let t = Instant::now();
             let first = load(&verified, &target, tier);
@@ -455,7 +457,9 @@ fn main() {
             }
             let load = load_micros(&verified, &target, n, tier);
             let t = tier.name();
-            match bytes_per_vm(&verified, &target, n, tier) {
+            let (growth, vms) = bytes_per_vm(&verified, &target, n, tier);
+            alive.push(vms);
+            match growth {
                 Some((last, before)) => println!(
                     "{name:<22} {t:>12} {bytes:>12} {last:>14.0} {before:>16.0} {load:>10.0}"
                 ),
