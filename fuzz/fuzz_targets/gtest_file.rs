@@ -78,7 +78,7 @@ fuzz_target!(|data: &[u8]| {
     }
     let lines = text.lines().count().max(1) as u32;
     for test in &planned.tests {
-        let result = run_test(program, &planned, test, RunOptions { fast: true, record: true });
+        let result = run_test(program, &planned, test, RunOptions { record: true, ..RunOptions::default() });
         if let Some(failure) = &result.failure {
             assert!(failure.line >= 1 && failure.line <= lines, "line {} of {lines}", failure.line);
             let _ = report::failure_detail("fuzz.gtest", &source.file, &result);
