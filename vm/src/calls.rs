@@ -20,39 +20,6 @@ fn in_local(local: Option<(usize, usize)>, var: u32, width: u8) -> Option<usize>
     (off + usize::from(width) <= len).then_some(off)
 }
 
-/// The size of L on every target today: its copies are of a size known here, inline
-/// moves instead of calls of `memmove` (other sizes take `Machine`'s general copy).
-const L_BYTES: usize = 32;
-
-/// `Machine::save_local` (the caller's L onto the L stack, then cleared).
-#[inline(always)]
-fn save_local(machine: &mut Machine, local: Option<(usize, usize)>) -> usize {
-    let Some((start, L_BYTES)) = local else {
-        return machine.save_local(local);
-    };
-    let mark = machine.l_stack.len();
-    let area = &mut machine.memory.bytes[start..start + L_BYTES];
-    let mut copy = [0u8; L_BYTES];
-    copy.copy_from_slice(area);
-    machine.l_stack.extend_from_slice(&copy);
-    area.fill(0);
-    mark
-}
-
-/// `Machine::restore_local` (the caller's L back from the L stack).
-#[inline(always)]
-fn restore_local(machine: &mut Machine, local: Option<(usize, usize)>, mark: usize) {
-    match (local, machine.l_stack.get(mark..mark + L_BYTES)) {
-        (Some((start, L_BYTES)), Some(saved)) => {
-            let mut copy = [0u8; L_BYTES];
-            copy.copy_from_slice(saved);
-            machine.memory.bytes[start..start + L_BYTES].copy_from_slice(&copy);
-            machine.l_stack.truncate(mark);
-        }
-        _ => machine.restore_local(local, mark),
-    }
-}
-
 /// Enter a planned CALL: arguments read in the caller's context, the caller's L saved
 /// and cleared, inputs copied into the parameters, a new frame.
 #[inline]
@@ -70,7 +37,7 @@ pub(crate) fn enter_planned(
         return Ok(());
     };
     let local = machine.memory.span(program.slots.local);
-    let l_mark = save_local(machine, local);
+    let l_mark = machine.save_local(local);
     let (mem, saved) = (&mut machine.memory.bytes, &machine.l_stack[l_mark..]);
     for a in p.args.iter().filter(|a| a.input) {
         let v = match in_local(local, a.var, a.width) {
@@ -143,7 +110,7 @@ fn finish(machine: &mut Machine, program: &Program, plan: u32, l_mark: usize, sa
             None => store(mem, a.var, a.width, v),
         }
     }
-    restore_local(machine, local, l_mark);
+    machine.restore_local(local, l_mark);
     machine.stack = saved_stack;
     machine.set_pc(pc + 1);
 }

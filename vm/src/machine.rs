@@ -59,6 +59,10 @@ pub(crate) struct HiddenState {
     pub cells: HashMap<(u8, u32), [u32; 4]>,
 }
 
+/// The size of L on every target today; `save_local` and `restore_local` copy it with
+/// moves of a known size (other sizes take the general copy).
+const L_BYTES: usize = 32;
+
 /// Memory, logic stack and frames.
 #[derive(Debug)]
 pub(crate) struct Machine {
@@ -126,22 +130,44 @@ impl Machine {
 
     /// Save the caller's L (at `local`: start and length in the flat memory) on the L
     /// stack and clear it; returns where it starts on the L stack.
+    #[inline(always)]
     pub fn save_local(&mut self, local: Option<(usize, usize)>) -> usize {
         let mark = self.l_stack.len();
-        if let Some((start, len)) = local {
-            let area = &mut self.memory.bytes[start..start + len];
-            self.l_stack.extend_from_slice(area);
-            area.fill(0);
+        match local {
+            Some((start, L_BYTES)) => {
+                // L's size on every target today: a copy of known size, inline moves
+                // instead of a call of `memmove`.
+                let area = &mut self.memory.bytes[start..start + L_BYTES];
+                let mut copy = [0u8; L_BYTES];
+                copy.copy_from_slice(area);
+                self.l_stack.extend_from_slice(&copy);
+                area.fill(0);
+            }
+            Some((start, len)) => {
+                let area = &mut self.memory.bytes[start..start + len];
+                self.l_stack.extend_from_slice(area);
+                area.fill(0);
+            }
+            None => {}
         }
         mark
     }
 
     /// Restore the caller's L saved from `mark` and drop it from the L stack.
+    #[inline(always)]
     pub fn restore_local(&mut self, local: Option<(usize, usize)>, mark: usize) {
-        if let Some((start, len)) = local {
-            let saved = self.l_stack.get(mark..).unwrap_or(&[]);
-            let n = saved.len().min(len);
-            self.memory.bytes[start..start + n].copy_from_slice(&saved[..n]);
+        match (local, self.l_stack.get(mark..mark + L_BYTES)) {
+            (Some((start, L_BYTES)), Some(saved)) => {
+                let mut copy = [0u8; L_BYTES];
+                copy.copy_from_slice(saved);
+                self.memory.bytes[start..start + L_BYTES].copy_from_slice(&copy);
+            }
+            (Some((start, len)), _) => {
+                let saved = self.l_stack.get(mark..).unwrap_or(&[]);
+                let n = saved.len().min(len);
+                self.memory.bytes[start..start + n].copy_from_slice(&saved[..n]);
+            }
+            (None, _) => {}
         }
         self.l_stack.truncate(mark);
     }
