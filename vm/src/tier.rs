@@ -89,42 +89,22 @@ struct Builder<'a> {
     whole: BTreeMap<u8, Option<Callee>>,
 }
 
-fn bit(b: crate::op::Bit) -> (u32, u8) {
-    (b.at, b.mask.trailing_zeros() as u8)
+/// The step of a bit operation: its byte index and bit number.
+fn bit(b: crate::op::Bit, step: impl FnOnce(u32, u8) -> Step) -> Step {
+    step(b.at, b.mask.trailing_zeros() as u8)
 }
 
-/// The step of a plain operation that needs no callee, with its instruction count.
+/// The step of a plain operation that needs no callee (None: the tier cannot take it).
 fn simple_step(op: Op) -> Option<Step> {
     Some(match op {
         Op::Network => Step::Network,
-        Op::Ld(b) => {
-            let (at, bit) = bit(b);
-            Step::Ld { at, bit }
-        }
-        Op::Ldn(b) => {
-            let (at, bit) = bit(b);
-            Step::Ldn { at, bit }
-        }
-        Op::A(b) => {
-            let (at, bit) = bit(b);
-            Step::A { at, bit }
-        }
-        Op::An(b) => {
-            let (at, bit) = bit(b);
-            Step::An { at, bit }
-        }
-        Op::O(b) => {
-            let (at, bit) = bit(b);
-            Step::O { at, bit }
-        }
-        Op::On(b) => {
-            let (at, bit) = bit(b);
-            Step::On { at, bit }
-        }
-        Op::Assign(b) => {
-            let (at, bit) = bit(b);
-            Step::Assign { at, bit }
-        }
+        Op::Ld(b) => bit(b, |at, bit| Step::Ld { at, bit }),
+        Op::Ldn(b) => bit(b, |at, bit| Step::Ldn { at, bit }),
+        Op::A(b) => bit(b, |at, bit| Step::A { at, bit }),
+        Op::An(b) => bit(b, |at, bit| Step::An { at, bit }),
+        Op::O(b) => bit(b, |at, bit| Step::O { at, bit }),
+        Op::On(b) => bit(b, |at, bit| Step::On { at, bit }),
+        Op::Assign(b) => bit(b, |at, bit| Step::Assign { at, bit }),
         Op::Not => Step::Not,
         Op::Ald => Step::Ald,
         Op::Old => Step::Old,
