@@ -119,33 +119,16 @@ fn mbpoll_reads_and_writes_through_the_mapping() {
 
 #[test]
 fn pymodbus_over_tcp_and_rtu_with_function_13() {
-    let python = std::env::var("GUTTA_PYTHON").unwrap_or_else(|_| "python3".into());
-    let has_pymodbus = Command::new(&python)
-        .args(["-c", "import pymodbus"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !has_pymodbus {
-        common::tool_missing(&format!("{python} cannot import pymodbus"));
+    let Some(python) = common::pymodbus_python() else {
         return;
-    }
+    };
     let sim = start(&image_dir("pymodbus"));
-    let script = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/clients/pymodbus_check.py"
+    common::run_python_client(
+        &python,
+        "pymodbus_check.py",
+        &[sim.tcp.to_string(), sim.rtu.to_string()],
+        "0 failures",
     );
-    let out = Command::new(&python)
-        .arg(script)
-        .arg(sim.tcp.to_string())
-        .arg(sim.rtu.to_string())
-        .output()
-        .expect("runs python");
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{text}{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(text.contains("0 failures"), "{text}");
 }
 
 fn mbap(tid: u16, pdu: &[u8]) -> Vec<u8> {

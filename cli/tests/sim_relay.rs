@@ -238,30 +238,14 @@ fn mbpoll_reads_and_switches_channels() {
 
 #[test]
 fn pymodbus_reads_and_switches_channels() {
-    let python = std::env::var("GUTTA_PYTHON").unwrap_or_else(|_| "python3".into());
-    let has_pymodbus = Command::new(&python)
-        .args(["-c", "import pymodbus"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !has_pymodbus {
-        common::tool_missing(&format!("{python} cannot import pymodbus"));
+    let Some(python) = common::pymodbus_python() else {
         return;
-    }
+    };
     let board = start();
-    let script = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/clients/pymodbus_relay.py"
+    common::run_python_client(
+        &python,
+        "pymodbus_relay.py",
+        &[board.port.to_string()],
+        "pymodbus_relay: 0 failures",
     );
-    let out = Command::new(&python)
-        .arg(script)
-        .arg(board.port.to_string())
-        .output()
-        .expect("runs python");
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{text}{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(text.contains("pymodbus_relay: 0 failures"), "{text}");
 }

@@ -58,6 +58,40 @@ pub fn have(tool: &str) -> bool {
     external::have(INSTALL, tool)
 }
 
+/// The Python that has pymodbus (`GUTTA_PYTHON`, else `python3`), or None after
+/// `tool_missing` said it has not.
+pub fn pymodbus_python() -> Option<String> {
+    let python = std::env::var("GUTTA_PYTHON").unwrap_or_else(|_| "python3".into());
+    let has_pymodbus = std::process::Command::new(&python)
+        .args(["-c", "import pymodbus"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !has_pymodbus {
+        tool_missing(&format!("{python} cannot import pymodbus"));
+        return None;
+    }
+    Some(python)
+}
+
+/// Run the client script `tests/clients/SCRIPT` with `python` and `args`; it must exit
+/// 0 and print `PASSED` (its own summary line). Returns its output.
+pub fn run_python_client(python: &str, script: &str, args: &[String], passed: &str) -> String {
+    let path = format!("{}/tests/clients/{script}", env!("CARGO_MANIFEST_DIR"));
+    let out = std::process::Command::new(python)
+        .arg(path)
+        .args(args)
+        .output()
+        .expect("runs python");
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success(),
+        "{text}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(text.contains(passed), "{text}");
+    text
+}
+
 /// The port of a `gutta-sim: WHAT on HOST:PORT` listener line.
 pub fn listener_port(line: &str, what: &str) -> u16 {
     assert!(line.contains(what), "{line}");
