@@ -381,7 +381,7 @@ fn parse_area(raw: RawArea) -> Result<Area, CatalogError> {
             )
         })?;
     let size = attr_int(FILE, &ctx("Size"), &raw.size, 1, 65536)? as u32;
-    if size % unit.bytes() != 0 {
+    if !size.is_multiple_of(unit.bytes()) {
         return Err(err(
             CatalogErrorCode::Value,
             format!("Size {size} of area {name} is not a whole number of {unit}s"),

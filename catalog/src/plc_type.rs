@@ -49,7 +49,7 @@ pub struct ExchSupport {
 impl ExchSupport {
     pub fn parse(text: &str) -> Option<ExchSupport> {
         let parts: Vec<&str> = text.split('|').map(str::trim).collect();
-        if parts.is_empty() || parts.len() % 2 != 0 {
+        if parts.is_empty() || !parts.len().is_multiple_of(2) {
             return None;
         }
         let mut rules = Vec::with_capacity(parts.len() / 2);

@@ -277,7 +277,7 @@ pub fn encode_data(items: &[DataItem]) -> Vec<u8> {
 }
 
 pub fn decode_data(b: &[u8]) -> Result<Vec<DataItem>, DecodeError> {
-    if b.len() % 8 != 0 {
+    if !b.len().is_multiple_of(8) {
         return err(
             b.len() - b.len() % 8,
             format!("data page length {} is not a multiple of 8", b.len()),

@@ -124,7 +124,7 @@ fn hex_value(byte: u8) -> Option<u8> {
 
 /// ASCII hex pairs to bytes; `offset` is where `text` starts in the frame (for errors).
 fn parse_hex(text: &[u8], offset: usize) -> Result<Vec<u8>, FxError> {
-    if text.len() % 2 != 0 {
+    if !text.len().is_multiple_of(2) {
         return Err(FxError::BadLength {
             expected: text.len() + 1,
             found: text.len(),

@@ -83,7 +83,7 @@ impl Payload {
         match self {
             Empty => len == 0,
             Bytes(n) => len == n,
-            Multiple(n) => n != 0 && len % n == 0,
+            Multiple(n) => n != 0 && len.is_multiple_of(n),
             Any => true,
         }
     }

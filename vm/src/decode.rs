@@ -115,7 +115,7 @@ struct GenericRecords {
 
 impl GenericRecords {
     fn push(&mut self, pc: usize, generic: bool) {
-        if pc % 64 == 0 {
+        if pc.is_multiple_of(64) {
             let count = self.bits.last().map_or(0, |w| w.count_ones());
             let base = self.before.last().copied().unwrap_or(0);
             self.before.push(base + count);

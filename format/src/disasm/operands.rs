@@ -120,7 +120,7 @@ impl<'a> Disassembler<'a> {
         if !area.allows(at.width) {
             return Err(format!("area {} has no {} access", area.name, at.width));
         }
-        if area.fixed_width().is_some() && at.offset % area.unit.bytes() != 0 {
+        if area.fixed_width().is_some() && !at.offset.is_multiple_of(area.unit.bytes()) {
             return Err(format!(
                 "byte offset {} is not a whole {} of area {}",
                 at.offset, area.unit, area.name

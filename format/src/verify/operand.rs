@@ -426,7 +426,7 @@ fn inside(
             size: area.size,
         });
     }
-    if offset % area.unit.bytes() != 0 {
+    if !offset.is_multiple_of(area.unit.bytes()) {
         return Err(VerifyError::Misaligned {
             at,
             operand: site.describe(),

@@ -134,7 +134,7 @@ fn parse_bytes(words: &[String]) -> Result<Vec<u8>, Fatal> {
             words.join(" ")
         ))
     };
-    if text.is_empty() || text.len() % 2 != 0 {
+    if text.is_empty() || !text.len().is_multiple_of(2) {
         return Err(bad());
     }
     (0..text.len())

@@ -170,7 +170,7 @@ impl Session {
         }
         let client = self.client.as_mut().expect("connected above");
         let n = self.counters.updates.load(Ordering::Relaxed);
-        if n % SLOW_EVERY == 0 {
+        if n.is_multiple_of(SLOW_EVERY) {
             self.run = Some(client.status()? & 1 != 0);
             self.forced = forced(client, program)?;
         }
