@@ -51,7 +51,7 @@ async function start() {
     const path = vscode.workspace.getConfiguration('gutta').get('server.path');
     vscode.window.showErrorMessage(
       `GUTTA: could not start \`${path}\` (${e && e.message ? e.message : e}). ` +
-        'Install it with `cargo install --path lsp` or set `gutta.server.path`.',
+        'Install it with `cargo install --locked --path lsp` or set `gutta.server.path`.',
     );
   }
 }
