@@ -1,7 +1,7 @@
 //! The formatter: one .lad text in, the same program in the Micro/WIN export layout out
 //! (docs/language.md, "Layout"). It changes only blanks and blank lines between tokens,
 //! never a token, so it cannot change what the program means; a text with syntax errors
-//! is refused, not half formatted. The line classifier here ([`classify`]) is also the
+//! is refused, not half formatted. The line classifier here (`classify`) is also the
 //! folding ranges' view of the text. No I/O, no LSP types.
 
 use crate::source::Span;
@@ -233,7 +233,7 @@ pub struct Edit {
     pub text: String,
 }
 
-/// [`format`] as small edits, one per line that changes: each covers the line and the
+/// [`format()`] as small edits, one per line that changes: each covers the line and the
 /// blank lines before it (the blank lines at the end of the file are one more edit).
 /// The formatter keeps every non-blank line, in order, so line n of the text is the
 /// n-th non-blank line of the result. For range formatting: apply those that touch it.

@@ -37,7 +37,7 @@ pub fn has_marker(text: &str) -> bool {
 /// `ORGANIZATION_BLOCK` stays MAIN (INT0); a program without one keeps no INT0, so the
 /// checker reports the missing MAIN (E0408) instead of running INT_0 as the main program.
 /// Micro/WIN's template subroutine (an empty `SUBROUTINE_BLOCK` nothing calls,
-/// [`is_template_subroutine`]) is dropped too. A text `gutta-cc dis --format awl` wrote
+/// `is_template_subroutine`) is dropped too. A text `gutta-cc dis --format awl` wrote
 /// (its [`GUTTA_BOXES`] line) has no templates: its empty blocks are the image's and
 /// stay, so that it compiles back to the same image.
 pub fn apply(program: &mut Program, text: &str) {
