@@ -75,6 +75,23 @@ impl CheckedFile {
 
 /// Parse and check one source file. The target is the explicit one if given, else the
 /// file's `PLC_TYPE`, else the stdlib default.
+///
+/// ```rust
+/// use gutta_compiler::{check_source, source::SourceFile};
+///
+/// let text = "\
+/// ORGANIZATION_BLOCK MAIN:OB1
+/// BEGIN
+/// NETWORK 1
+/// LD     SM0.0
+/// MOVB   MB0, IB0
+/// END_ORGANIZATION_BLOCK
+/// ";
+/// let checked = check_source(SourceFile::new("main.lad", text), None);
+/// assert_eq!(checked.target.plc.name, gutta_catalog::stdlib::DEFAULT);
+/// let codes: Vec<&str> = checked.diagnostics().iter().map(|d| d.code.as_str()).collect();
+/// assert_eq!(codes, ["E0308"]); // inputs are read-only for programs
+/// ```
 pub fn check_source(file: SourceFile, explicit: Option<&ExplicitTarget>) -> CheckedFile {
     check_source_with(file, explicit, CompileOptions::default())
 }
@@ -243,6 +260,25 @@ impl Compiled {
 
 /// The whole pipeline: parse, check, lower, encode. Limit errors of the encoder join the
 /// file's diagnostics; `image` is set only when there are no errors at all.
+///
+/// ```rust
+/// use gutta_compiler::{compile, source::SourceFile};
+///
+/// let text = "\
+/// ORGANIZATION_BLOCK MAIN:OB1
+/// BEGIN
+/// NETWORK 1
+/// LD     SM0.0
+/// MOVW   3585, MW24
+/// END_ORGANIZATION_BLOCK
+/// ";
+/// // No PLC_TYPE line and no explicit target: the stdlib default (CPU-EC20).
+/// let compiled = compile(SourceFile::new("main.lad", text), None);
+/// assert!(!compiled.checked.has_errors(), "{:?}", compiled.checked.diagnostics());
+/// let image = compiled.image.expect("a program without errors has an image");
+/// assert_eq!(image.plc_type, "CPU-EC20");
+/// assert!(!image.pages.is_empty());
+/// ```
 pub fn compile(file: SourceFile, explicit: Option<&ExplicitTarget>) -> Compiled {
     compile_with(file, explicit, CompileOptions::default())
 }
