@@ -25,7 +25,13 @@ pub const FACTORY_PASSWORD: [u8; 16] = [0xFF; 16];
 /// Why an operation failed.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum LinkError {
-    /// The transport failed (connect, read, write).
+    /// The transport could not be opened: `message` says where and why, `failure` which
+    /// of the cases a caller can give advice for.
+    Connect {
+        message: String,
+        failure: ConnectFailure,
+    },
+    /// The transport failed (read, write, a socket option).
     Io(String),
     /// No answer after every attempt.
     Timeout { attempts: u32 },
@@ -49,11 +55,24 @@ pub enum LinkError {
     LockedOut,
 }
 
+/// Why a transport could not be opened.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ConnectFailure {
+    /// Nothing listens at the TCP address: the connection was refused.
+    Refused,
+    /// The serial device does not exist.
+    NoDevice,
+    /// Anything else: an unknown host, no route, a timeout, no permission.
+    Other,
+}
+
 impl std::fmt::Display for LinkError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
+            LinkError::Connect { message, .. } => f.write_str(message),
             LinkError::Io(e) => write!(f, "{e}"),
-            LinkError::Timeout { attempts } => write!(f, "no answer after {attempts} attempt(s)"),
+            LinkError::Timeout { attempts: 1 } => f.write_str("no answer after 1 attempt"),
+            LinkError::Timeout { attempts } => write!(f, "no answer after {attempts} attempts"),
             LinkError::Protocol(e) => write!(f, "protocol error: {e}"),
             LinkError::Refused { function, what } => {
                 write!(f, "the PLC refused {what} (function {function:04X})")

@@ -20,7 +20,7 @@ use gutta_protocol::master::{Master, MasterConfig, MasterEvent};
 use gutta_protocol::stream::TcpSplitter;
 use gutta_protocol::tcp::{decode_tcp, encode_tcp};
 
-use crate::LinkError;
+use crate::{ConnectFailure, LinkError};
 
 /// One request, one answer.
 pub trait Transport: std::fmt::Debug {
@@ -178,8 +178,21 @@ pub fn rtu_over_tcp(
 
 /// A TCP connection for requests: no Nagle delay, reads that wake every POLL.
 fn connect_tcp(address: &str) -> Result<TcpStream, LinkError> {
-    let stream = TcpStream::connect(address)
-        .map_err(|e| LinkError::Io(format!("cannot connect to {address}: {e}")))?;
+    let stream = TcpStream::connect(address).map_err(|e| {
+        let refused = e.kind() == ErrorKind::ConnectionRefused;
+        LinkError::Connect {
+            message: if refused {
+                format!("cannot connect to {address}: connection refused")
+            } else {
+                format!("cannot connect to {address}: {e}")
+            },
+            failure: if refused {
+                ConnectFailure::Refused
+            } else {
+                ConnectFailure::Other
+            },
+        }
+    })?;
     stream
         .set_nodelay(true)
         .and_then(|_| stream.set_read_timeout(Some(POLL)))
@@ -198,7 +211,24 @@ pub fn serial(
     let mut port = serialport::new(device, line.baud)
         .timeout(POLL)
         .open()
-        .map_err(|e| LinkError::Io(format!("cannot open {device}: {e}")))?;
+        .map_err(|e| {
+            let missing = matches!(
+                e.kind(),
+                serialport::ErrorKind::Io(ErrorKind::NotFound) | serialport::ErrorKind::NoDevice
+            ) && !std::path::Path::new(device).exists();
+            LinkError::Connect {
+                message: if missing {
+                    format!("cannot open {device}: no such device")
+                } else {
+                    format!("cannot open {device}: {e}")
+                },
+                failure: if missing {
+                    ConnectFailure::NoDevice
+                } else {
+                    ConnectFailure::Other
+                },
+            }
+        })?;
     Line::set_line(&mut port, line).map_err(|e| LinkError::Io(format!("{device}: {e}")))?;
     Ok(RtuTransport::new(port, timeout_ms, retries))
 }

@@ -11,7 +11,7 @@ use std::sync::Arc;
 use gutta_catalog::{stdlib, Address, Target, Width};
 use gutta_format::{Operand, PackedOperand, SymbolTable};
 use gutta_link::transport::{rtu_over_tcp, serial, TcpTransport};
-use gutta_link::{Client, LinkError};
+use gutta_link::{Client, ConnectFailure, LinkError};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::json;
 
@@ -65,6 +65,31 @@ pub(crate) fn client_line(args: &LinkArgs) -> gutta_format::LineSettings {
     }
 }
 
+/// A transport that could not be opened, with what to try: a refused address names
+/// the simulator that could listen there, a missing serial device says so.
+pub(crate) fn connect_error(e: LinkError, flag: &str, at: &str) -> Fatal {
+    let hint = match &e {
+        LinkError::Connect {
+            failure: ConnectFailure::Refused,
+            ..
+        } => Some(format!(
+            "is a PLC or gutta-sim listening at {at}? Check the address, or start a simulated PLC there: `gutta-sim {flag} {at}`"
+        )),
+        LinkError::Connect {
+            failure: ConnectFailure::NoDevice,
+            ..
+        } => Some(format!(
+            "{at} does not exist: check the device name and that the adapter is plugged in (`ls /dev/ttyUSB* /dev/ttyACM*`)"
+        )),
+        _ => None,
+    };
+    let fatal = link_error(e);
+    match hint {
+        Some(hint) => fatal.with_hint(hint),
+        None => fatal,
+    }
+}
+
 /// Connect as the options say.
 fn connect(args: &LinkArgs) -> Result<Client, Fatal> {
     Ok(Client::new(transport(args)?, args.station))
@@ -73,11 +98,20 @@ fn connect(args: &LinkArgs) -> Result<Client, Fatal> {
 /// The transport the options ask for (`monitor.rs` counts the requests through it).
 pub(crate) fn transport(args: &LinkArgs) -> Result<Box<dyn gutta_link::Transport>, Fatal> {
     Ok(if let Some(a) = &args.tcp {
-        Box::new(TcpTransport::connect(a, args.timeout, args.retries).map_err(link_error)?)
+        Box::new(
+            TcpTransport::connect(a, args.timeout, args.retries)
+                .map_err(|e| connect_error(e, "--tcp", a))?,
+        )
     } else if let Some(a) = &args.rtu_tcp {
-        Box::new(rtu_over_tcp(a, args.timeout, args.retries).map_err(link_error)?)
+        Box::new(
+            rtu_over_tcp(a, args.timeout, args.retries)
+                .map_err(|e| connect_error(e, "--rtu-tcp", a))?,
+        )
     } else if let Some(d) = &args.serial {
-        Box::new(serial(d, client_line(args), args.timeout, args.retries).map_err(link_error)?)
+        Box::new(
+            serial(d, client_line(args), args.timeout, args.retries)
+                .map_err(|e| connect_error(e, "--serial", d))?,
+        )
     } else {
         return Err(Fatal::usage(
             "no PLC given: use --tcp HOST:PORT, --rtu-tcp HOST:PORT or --serial DEVICE",
@@ -120,13 +154,39 @@ pub(crate) fn value_of(a: &Address, bytes: [u8; 4]) -> u32 {
     }
 }
 
-/// Connect, log in, find the target and resolve the variables.
+/// Check the variables named on the command line before connecting, so a misspelt
+/// name gets its did-you-mean with no PLC at the address: with --plc/--target (or a
+/// project's) every variable resolves now, and an assignment's value parses; without,
+/// the names and formats that fit no target are refused, the rest waits for the PLC's
+/// type.
+pub(crate) fn check_early(
+    online: &Online,
+    texts: &[String],
+    symbols: &SymbolTable,
+    assignments: bool,
+) -> Result<(), Fatal> {
+    match explicit_target(online.targets)? {
+        Some(e) if assignments => texts
+            .iter()
+            .try_for_each(|t| vars::resolve_assignment(t, symbols, &e.target).map(drop)),
+        Some(e) => texts
+            .iter()
+            .try_for_each(|t| vars::resolve(t, symbols, &e.target).map(drop)),
+        None => texts
+            .iter()
+            .try_for_each(|t| vars::check_without_target(t, symbols)),
+    }
+    .map_err(Fatal::usage)
+}
+
+/// Check the variables, connect, log in, find the target and resolve the variables.
 pub(crate) fn login_with_vars(
     online: &Online,
     vars: &[String],
     args: &LinkArgs,
 ) -> Result<(Client, Arc<Target>, Vec<Var>), Fatal> {
     let symbols = online.symbols(vec![])?;
+    check_early(online, vars, &symbols, false)?;
     let mut client = login(args)?;
     let target = plc_target(online.targets, &mut client)?;
     let vars = resolve_all(vars, &symbols, &target)?;
@@ -405,6 +465,7 @@ pub(crate) fn write(
     force: bool,
 ) -> Result<ExitCode, Fatal> {
     let symbols = online.symbols(vec![])?;
+    check_early(online, assignments, &symbols, true)?;
     let mut client = login(args)?;
     let target = plc_target(online.targets, &mut client)?;
     let (vars, values): (Vec<Var>, Vec<u32>) = assignments

@@ -10,7 +10,7 @@ use gutta_format::SourceMap;
 use gutta_link::message::{debug_state, Breakpoint, DebugStep};
 use serde_json::json;
 
-use crate::client::{link_error, login, plc_target, read_values, resolve_all, Online};
+use crate::client::{check_early, link_error, login, plc_target, read_values, resolve_all, Online};
 use crate::{Fatal, LinkArgs};
 
 /// The image directory `debug` takes its source map from when `--image` is not given.
@@ -40,6 +40,44 @@ fn debug_source_map(image: Option<&Path>) -> Result<Option<SourceMap>, Fatal> {
     }
 }
 
+/// A `debug` action as the command line gives it.
+#[derive(Debug, Clone, Copy)]
+enum Action<'a> {
+    Break(&'a str),
+    Clear,
+    Stop,
+    Run,
+    Reset,
+    Step(DebugStep),
+    Info,
+}
+
+impl<'a> Action<'a> {
+    /// The action and its argument, or the usage error that lists them.
+    fn parse(words: &'a [String]) -> Result<Action<'a>, Fatal> {
+        let first = words.first().map_or("", String::as_str);
+        Ok(match (first, words.get(1).map(String::as_str)) {
+            ("break", Some(at)) => Action::Break(at),
+            ("clear", None) => Action::Clear,
+            ("stop", None) => Action::Stop,
+            ("run", None) => Action::Run,
+            ("reset", None) => Action::Reset,
+            ("step", Some(kind)) => Action::Step(match kind {
+                "in" => DebugStep::In,
+                "over" => DebugStep::Over,
+                "out" => DebugStep::Out,
+                other => return Err(Fatal::usage(format!("step `{other}`: in, over or out"))),
+            }),
+            ("info", None) => Action::Info,
+            (other, _) => {
+                return Err(Fatal::usage(format!(
+                    "debug `{other}`: break POSITION, clear, stop, run, step in|over|out, reset or info"
+                )))
+            }
+        })
+    }
+}
+
 /// `gutta-cc debug ACTION [ARG] [--watch VAR...]`: UM4001's DEBUG_* functions; every
 /// action ends with a report of where the program is: file:line and the instruction
 /// (with a source map), the logic stack and the watched values.
@@ -53,13 +91,27 @@ pub(crate) fn debug(
     let map = debug_source_map(image)?;
     // The image's own symbols (its source map's), then --symbols files.
     let symbols = online.symbols(map.iter().map(|m| m.symbols.clone()).collect())?;
+    // What the command line names is checked before connecting: the action, the
+    // watched variables, and a breakpoint when the PLC type is known.
+    let words = action;
+    let action = Action::parse(words)?;
+    check_early(online, watch, &symbols, false)?;
+    if let (Some(e), Action::Break(at)) = (crate::explicit_target(online.targets)?, action) {
+        let map_name = gutta_io::source_map_path(image.unwrap_or(Path::new(DEFAULT_DEBUG_IMAGE)));
+        gutta_format::parse_breakpoint(
+            at,
+            &e.target.plc,
+            map.as_ref(),
+            &map_name.display().to_string(),
+        )
+        .map_err(Fatal::usage)?;
+    }
     let mut client = login(args)?;
     let target = plc_target(online.targets, &mut client)?;
     let watched = resolve_all(watch, &symbols, &target)?;
     let plc = &target.plc;
-    let arg = action.get(1).map(String::as_str);
-    match (action[0].as_str(), arg) {
-        ("break", Some(at)) => {
+    match action {
+        Action::Break(at) => {
             let map_name =
                 gutta_io::source_map_path(image.unwrap_or(Path::new(DEFAULT_DEBUG_IMAGE)));
             let at = gutta_format::parse_breakpoint(
@@ -79,25 +131,12 @@ pub(crate) fn debug(
                 step,
             }))
         }
-        ("clear", None) => client.set_breakpoint(None),
-        ("stop", None) => client.debug_run(false),
-        ("run", None) => client.debug_run(true),
-        ("reset", None) => client.debug_reset(),
-        ("step", Some(kind)) => {
-            let step = match kind {
-                "in" => DebugStep::In,
-                "over" => DebugStep::Over,
-                "out" => DebugStep::Out,
-                other => return Err(Fatal::usage(format!("step `{other}`: in, over or out"))),
-            };
-            client.debug_step(step)
-        }
-        ("info", None) => Ok(()),
-        (other, _) => {
-            return Err(Fatal::usage(format!(
-                "debug `{other}`: break POSITION, clear, stop, run, step in|over|out, reset or info"
-            )))
-        }
+        Action::Clear => client.set_breakpoint(None),
+        Action::Stop => client.debug_run(false),
+        Action::Run => client.debug_run(true),
+        Action::Reset => client.debug_reset(),
+        Action::Step(step) => client.debug_step(step),
+        Action::Info => Ok(()),
     }
     .map_err(link_error)?;
     // Every action ends by showing where the program is.
@@ -121,7 +160,7 @@ pub(crate) fn debug(
     online.print(
         json!({
             "command": "debug",
-            "action": action[0],
+            "action": words[0],
             "breakpoint": breakpoint.json(),
             "paused_at": paused.json(),
             "mode": if state & debug_state::RUN != 0 { "run" } else { "step" },

@@ -179,8 +179,16 @@ impl FxClient {
     fn connect(endpoint: &FxEndpoint) -> Result<FxClient, Fatal> {
         let line: Box<dyn Line> = match (&endpoint.tcp, &endpoint.serial) {
             (Some(address), _) => {
-                let stream = TcpStream::connect(address)
-                    .map_err(|e| Fatal::link(format!("cannot connect to {address}: {e}")))?;
+                let stream = TcpStream::connect(address).map_err(|e| {
+                    if e.kind() == std::io::ErrorKind::ConnectionRefused {
+                        Fatal::link(format!("cannot connect to {address}: connection refused"))
+                            .with_hint(format!(
+                                "is an FX-style port or gutta-sim listening at {address}? Check the address, or start a simulated one there: `gutta-sim --device fx --tcp {address}`"
+                            ))
+                    } else {
+                        Fatal::link(format!("cannot connect to {address}: {e}"))
+                    }
+                })?;
                 let _ = stream.set_nodelay(true);
                 Box::new(stream)
             }

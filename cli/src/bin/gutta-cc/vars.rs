@@ -141,6 +141,28 @@ fn symbol_address(s: &Symbol, target: &Target) -> Result<Address, String> {
     })
 }
 
+/// What can be known of `NAME[:fmt]` (or `NAME[:fmt]=VALUE`) without a target, before
+/// connecting to learn the PLC type: a name that is neither a symbol nor shaped like an
+/// address, or an unknown `:fmt`, is an error on every target. Addresses, a symbol's
+/// address and values wait for the target (`resolve`).
+#[allow(dead_code)] // gutta-cc's (this file is shared)
+pub fn check_without_target(text: &str, symbols: &SymbolTable) -> Result<(), String> {
+    let text = text.split_once('=').map_or(text, |(var, _)| var).trim();
+    let (name, suffix) = match text.split_once(':') {
+        Some((name, suffix)) => (name.trim(), Some(suffix.trim())),
+        None => (text, None),
+    };
+    if symbols.get(name).is_none() && !gutta_catalog::is_address_shaped(name) {
+        return Err(unknown_name(name, symbols, None));
+    }
+    match suffix {
+        Some(s) if ValueFormat::from_suffix(s).is_none() => Err(format!(
+            "`{text}`: unknown format `:{s}` (bool, int, uint, hex, real, or a type such as DINT)"
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// A direct address, or the error for a name that is neither a symbol nor an address.
 fn address(name: &str, symbols: &SymbolTable, target: &Target) -> Result<Address, String> {
     let error = match target.memory.parse_address(name) {
@@ -150,8 +172,15 @@ fn address(name: &str, symbols: &SymbolTable, target: &Target) -> Result<Address
     if gutta_catalog::is_address_shaped(name) {
         return Err(format!("`{name}` on {}: {error}", target.name()));
     }
+    Err(unknown_name(name, symbols, Some(target.name())))
+}
+
+/// The error for a name that is neither a symbol nor an address (on `target`, when
+/// known): the symbols it is close to, else where symbols come from.
+fn unknown_name(name: &str, symbols: &SymbolTable, target: Option<&str>) -> String {
+    let on = target.map(|t| format!(" on {t}")).unwrap_or_default();
     let similar = symbols.similar(name);
-    Err(if !similar.is_empty() {
+    if !similar.is_empty() {
         format!(
             "`{name}` is neither a symbol nor an address: did you mean {}?",
             similar
@@ -161,17 +190,13 @@ fn address(name: &str, symbols: &SymbolTable, target: &Target) -> Result<Address
                 .join(" or ")
         )
     } else if symbols.is_empty() {
-        format!(
-            "`{name}` is not an address on {}, and no symbols are known: {SYMBOL_SOURCES}",
-            target.name()
-        )
+        format!("`{name}` is not an address{on}, and no symbols are known: {SYMBOL_SOURCES}")
     } else {
         format!(
-            "`{name}` is neither a symbol ({} known) nor an address on {}",
-            symbols.symbols.len(),
-            target.name()
+            "`{name}` is neither a symbol ({} known) nor an address{on}",
+            symbols.symbols.len()
         )
-    })
+    }
 }
 
 /// The symbols of `files` (program sources `.lad`, whose SYMBOLS blocks count; any other
@@ -272,6 +297,10 @@ mod tests {
         assert_eq!(temp.json_value(21.5f32.to_bits()), serde_json::json!(21.5));
         assert!(format("Count:real").is_err_and(|e| e.contains("double word")));
         assert!(format("Lmap").is_err_and(|e| e.contains("did you mean `Lamp`?")));
+        assert!(check_without_target("Lmap=1", &symbols)
+            .is_err_and(|e| e.contains("did you mean `Lamp`?")));
+        assert!(check_without_target("MW10:hex", &symbols).is_ok());
+        assert!(check_without_target("Temp:nope", &symbols).is_err_and(|e| e.contains(":nope")));
         let (var, raw) = resolve_assignment("Count=-1", &symbols, &target).expect("fits");
         assert_eq!((var.canonical.as_str(), raw), ("MW10", 0xFFFF));
     }
