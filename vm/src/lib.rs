@@ -60,6 +60,42 @@ pub use program::{VmConfig, DEFAULT_NATIVE_AFTER};
 pub use terminals::ForceError;
 
 /// A loaded PLC.
+///
+/// An image runs only once verified for its target: compile, verify, load, scan.
+///
+/// ```rust
+/// use std::sync::Arc;
+///
+/// use gutta_catalog::stdlib;
+/// use gutta_compiler::{compile, source::SourceFile};
+/// use gutta_vm::{Vm, VmConfig};
+///
+/// let text = "\
+/// ORGANIZATION_BLOCK MAIN:OB1
+/// BEGIN
+/// NETWORK 1
+/// LD     SM0.0
+/// MOVW   3585, MW24
+/// +I     1, MW26
+/// END_ORGANIZATION_BLOCK
+/// ";
+/// let target = stdlib::shared(stdlib::DEFAULT)?;
+/// let image = compile(SourceFile::new("main.lad", text), None)
+///     .image
+///     .expect("the program compiles");
+/// let verified = gutta_format::verify(&image, &target)?;
+/// let mut vm = Vm::new(verified, Arc::clone(&target), VmConfig::default())?;
+/// for _ in 0..3 {
+///     vm.scan()?;
+/// }
+/// let read = |var: &str| {
+///     let address = target.memory.parse_address(var).expect("an address");
+///     vm.read(address).expect("inside its area")
+/// };
+/// assert_eq!(read("MW24"), 3585);
+/// assert_eq!(read("MW26"), 3); // one increment per scan
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug)]
 pub struct Vm {
     engine: engine::Engine,
