@@ -101,6 +101,53 @@ impl std::fmt::Display for LinkError {
 impl std::error::Error for LinkError {}
 
 /// A PLC on a transport.
+///
+/// Any [`Transport`] will do. Here it is a simulated PLC (gutta-sim) in the same
+/// process, each request PDU answered by its session, running a program that writes
+/// 3585 to MW24: log in, ask its name and status, read MW24.
+///
+/// ```rust
+/// use std::sync::Arc;
+///
+/// use gutta_compiler::{compile, source::SourceFile};
+/// use gutta_format::{Operand, PackedOperand};
+/// use gutta_link::{Client, LinkError, Transport, FACTORY_PASSWORD};
+/// use gutta_sim::plc::{ConnectionId, Plc};
+///
+/// #[derive(Debug)]
+/// struct InProcess(Plc);
+///
+/// impl Transport for InProcess {
+///     fn exchange(&mut self, _station: u8, pdu: &[u8]) -> Result<Vec<u8>, LinkError> {
+///         Ok(gutta_sim::session::answer(&mut self.0, ConnectionId(1), pdu, 0))
+///     }
+/// }
+///
+/// let text = "\
+/// ORGANIZATION_BLOCK MAIN:OB1
+/// BEGIN
+/// NETWORK 1
+/// LD     SM0.0
+/// MOVW   3585, MW24
+/// END_ORGANIZATION_BLOCK
+/// ";
+/// let target = gutta_catalog::stdlib::shared(gutta_catalog::stdlib::DEFAULT)?;
+/// let image = compile(SourceFile::new("main.lad", text), None)
+///     .image
+///     .expect("the program compiles");
+/// let mut plc = Plc::new(Arc::clone(&target), image.pages, Default::default())?;
+/// plc.scan()?;
+///
+/// let mut client = Client::new(Box::new(InProcess(plc)), 1);
+/// client.attach(&FACTORY_PASSWORD)?;
+/// assert_eq!(client.plc_name()?, "CPU-EC20");
+/// let status = client.status()?; // bit0 RUN, bit1 RESET, bit2 ATTACH, bit3 ERROR
+/// assert_eq!(status & 0b1101, 0b0101, "running, logged in, no error");
+/// let mw24 = target.memory.parse_address("MW24").expect("an address");
+/// let values = client.read_vars(&[PackedOperand::encode(Operand::Value(mw24)).0])?;
+/// assert_eq!(u32::from_le_bytes(values[0]) & 0xFFFF, 3585);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 #[derive(Debug)]
 pub struct Client {
     transport: Box<dyn Transport>,
