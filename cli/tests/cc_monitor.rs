@@ -2,8 +2,8 @@
 //! over TCP, the monitor serving it on a free port; headless Chromium loads the page and
 //! the contact of the input set is `on`, then not once the input is cleared; no
 //! STATUS_VAR_READ while no page is open; forced inputs reported; another program in the
-//! PLC is said instead of values (the page and `--once`). The browser test needs
-//! chromium.
+//! PLC is said instead of values (the page and `--once`), and so is a PLC without a
+//! program. The browser test needs chromium.
 
 mod common;
 
@@ -201,6 +201,7 @@ fn another_program_in_the_plc_is_said_instead_of_values() {
     let state = json(&monitor, "/state");
     assert_eq!(state["live"], false, "{state}");
     assert_eq!(state["program_matches"], false, "{state}");
+    assert_eq!(state["program"], "other", "{state}");
     let message = state["message"].as_str().expect("a message");
     assert!(
         message.contains(&format!(
@@ -247,4 +248,31 @@ fn once_prints_one_live_update() {
         "{state}"
     );
     assert_eq!(state["updates"], 1, "{state}");
+}
+
+#[test]
+fn a_plc_without_a_program_is_said_so() {
+    // A fresh simulator holds nothing: the monitor says to download, not "another program".
+    let (source, _) = setup("empty", PROGRAM);
+    let sim = common::sim("CPU-EC20", None);
+    let once = cc(&[
+        "monitor",
+        source.to_str().expect("path"),
+        "--tcp",
+        &sim.1,
+        "--once",
+    ]);
+    assert_eq!(once.status.code(), Some(1), "{}", stderr(&once));
+    let state: serde_json::Value = serde_json::from_str(stdout(&once).trim()).expect("JSON");
+    assert_eq!(state["live"], false, "{state}");
+    assert_eq!(state["program_matches"], false, "{state}");
+    assert_eq!(state["program"], "none", "{state}");
+    assert_eq!(
+        state["message"],
+        format!(
+            "the PLC holds no program: download {} first with `gutta-cc download`, then reload",
+            source.display()
+        ),
+        "{state}"
+    );
 }

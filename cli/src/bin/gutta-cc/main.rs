@@ -343,8 +343,8 @@ enum Command {
         /// Milliseconds between updates while a page is open.
         #[arg(long, value_name = "MS", default_value_t = 50)]
         interval: u64,
-        /// Print one update (the `/state` JSON) and exit: 0 live, 1 the PLC runs another
-        /// program or does not answer.
+        /// Print one update (the `/state` JSON) and exit: 0 live, 1 the PLC holds no
+        /// program or another one, or does not answer.
         #[arg(long)]
         once: bool,
         #[command(flatten)]

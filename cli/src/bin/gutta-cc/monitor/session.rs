@@ -68,13 +68,24 @@ pub(crate) struct Counters {
     pub updates: AtomicU64,
 }
 
+/// What the PLC holds, against the compiled image.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Held {
+    /// Exactly the compiled image.
+    Same,
+    /// Another program.
+    Other,
+    /// No program at all (a fresh or cleared PLC).
+    Nothing,
+}
+
 /// The PLC connection and what the last slow read found.
 pub(crate) struct Session {
     link: LinkArgs,
     password: [u8; 16],
     client: Option<Client>,
-    /// Whether the PLC's pages are the compiled image's (checked on every connection).
-    matches: bool,
+    /// What the PLC holds against the compiled image (checked on every connection).
+    held: Held,
     run: Option<bool>,
     forced: Vec<String>,
     pub counters: Arc<Counters>,
@@ -97,30 +108,33 @@ impl Session {
             link: link.clone(),
             password,
             client: None,
-            matches: false,
+            held: Held::Nothing,
             run: None,
             forced: Vec::new(),
             counters,
         };
-        session.matches = session
+        session.held = session
             .check(&mut client, program)
             .map_err(client::link_error)?;
         session.client = Some(client);
         Ok(session)
     }
 
-    /// Whether the PLC holds exactly the compiled image (a PLC without a program does
-    /// not).
-    fn check(&self, client: &mut Client, program: &Program) -> Result<bool, LinkError> {
+    /// Whether the PLC holds exactly the compiled image, another program, or none.
+    fn check(&self, client: &mut Client, program: &Program) -> Result<Held, LinkError> {
         let pack = program.target.plc.exch_pack_size as usize;
         if client
             .page_list(gutta_protocol::function::PageArea::Program)?
             .is_empty()
         {
-            return Ok(false);
+            return Ok(Held::Nothing);
         }
         let uploaded = gutta_link::upload(client, &self.password, pack)?;
-        Ok(uploaded == program.image)
+        Ok(if uploaded == program.image {
+            Held::Same
+        } else {
+            Held::Other
+        })
     }
 
     /// A new connection after a failure: log in with the password that worked, check
@@ -135,7 +149,7 @@ impl Session {
             self.link.station,
         );
         client.attach(&self.password)?;
-        self.matches = self.check(&mut client, program)?;
+        self.held = self.check(&mut client, program)?;
         self.client = Some(client);
         Ok(())
     }
@@ -146,6 +160,13 @@ impl Session {
         let started = Instant::now();
         match self.read(program) {
             Ok(Some(values)) => self.live_state(program, &values, started),
+            Ok(None) if self.held == Held::Nothing => self.state(
+                program,
+                format!(
+                    "the PLC holds no program: download {} first with `gutta-cc download`, then reload",
+                    program.name
+                ),
+            ),
             Ok(None) => self.state(
                 program,
                 format!(
@@ -160,12 +181,13 @@ impl Session {
         }
     }
 
-    /// The values by canonical address, or None when the PLC runs another program.
+    /// The values by canonical address, or None when the PLC runs another program or
+    /// none.
     fn read(&mut self, program: &Program) -> Result<Option<BTreeMap<String, u32>>, LinkError> {
         if self.client.is_none() {
             self.reconnect(program)?;
         }
-        if !self.matches {
+        if self.held != Held::Same {
             return Ok(None);
         }
         let client = self.client.as_mut().expect("connected above");
@@ -239,7 +261,12 @@ impl Session {
             "source": program.name,
             "live": false,
             "message": message,
-            "program_matches": self.matches,
+            "program_matches": self.held == Held::Same,
+            "program": match self.held {
+                Held::Same => "same",
+                Held::Other => "other",
+                Held::Nothing => "none",
+            },
             "run": self.run,
             "networks": [],
             "values": {},
