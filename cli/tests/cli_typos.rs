@@ -93,3 +93,29 @@ fn a_global_flag_before_a_command_keeps_the_command() {
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     assert!(stdout(&out).contains("400019"), "{}", stdout(&out));
 }
+
+#[test]
+fn help_of_a_mistyped_command_suggests_the_command() {
+    let out = cc(&["help", "donwload"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    let text = stderr(&out);
+    assert!(
+        text.contains("unknown command 'donwload'; did you mean 'download'?"),
+        "{text}"
+    );
+    assert!(
+        text.contains("hint: `gutta-cc help download` shows its usage"),
+        "{text}"
+    );
+    let out = cc(&["help", "xyzzy"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("no such command 'xyzzy'"),
+        "{}",
+        stderr(&out)
+    );
+    // A real command's help is still help.
+    let out = cc(&["help", "download"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert!(stdout(&out).contains("Usage: gutta-cc download"));
+}

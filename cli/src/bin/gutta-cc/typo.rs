@@ -15,36 +15,58 @@ use gutta_cli::fatal::Fatal;
 /// Check the first positional word of `args` (the program name first) against the
 /// subcommands of `command`: a word close to one is `unknown command 'donwload'; did you
 /// mean 'download'?`, a word far from all and not a file `no such file or command`.
+/// After `help`, the next word is checked the same way (`help donwload`).
 pub(crate) fn check_first_word(command: &Command, args: &[OsString]) -> Result<(), Fatal> {
     let mut command = command.clone();
     command.build();
-    let Some(word) = first_positional(&command, args).map(|i| args[i].to_string_lossy()) else {
+    let Some(i) = first_positional(&command, args) else {
         return Ok(());
     };
-    let word = word.into_owned();
+    let word = args[i].to_string_lossy().into_owned();
     let names: Vec<&str> = command.get_subcommands().map(|s| s.get_name()).collect();
-    let is_command = command
-        .get_subcommands()
-        .any(|s| s.get_name() == word || s.get_all_aliases().any(|a| a == word));
-    if is_command || looks_like_a_file(&word) {
+    let is_command = |word: &str| {
+        command
+            .get_subcommands()
+            .any(|s| s.get_name() == word || s.get_all_aliases().any(|a| a == word))
+    };
+    // `help WORD`: WORD must be a command, with the same did-you-mean.
+    if word == "help" && is_command("help") {
+        return match args.get(i + 1).map(|a| a.to_string_lossy()) {
+            Some(topic) if !topic.starts_with('-') && !is_command(&topic) => {
+                Err(unknown(&topic, &names, true))
+            }
+            _ => Ok(()),
+        };
+    }
+    if is_command(&word) || looks_like_a_file(&word) {
         return Ok(());
     }
+    Err(unknown(&word, &names, false))
+}
+
+/// The error for `word`, which is no command: did-you-mean for a near miss; else the
+/// commands (`help` takes only those), or a note on source files.
+fn unknown(word: &str, names: &[&str], after_help: bool) -> Fatal {
     let lower = word.to_lowercase();
     let closest = names
         .iter()
         .map(|name| (gutta_catalog::edit_distance(&lower, name), *name))
         .min();
     match closest {
-        Some((distance, name)) if distance <= allowed_distance(&word) => Err(Fatal::usage(
-            format!("unknown command '{word}'; did you mean '{name}'?"),
-        )
-        .with_hint(format!("`gutta-cc {name} --help` shows its usage"))),
-        _ => Err(
-            Fatal::usage(format!("no such file or command '{word}'")).with_hint(format!(
-                "commands: {}; a source file needs its path or extension (main.lad)",
-                names.join(", ")
-            )),
-        ),
+        Some((distance, name)) if distance <= allowed_distance(word) => Fatal::usage(format!(
+            "unknown command '{word}'; did you mean '{name}'?"
+        ))
+        .with_hint(if after_help {
+            format!("`gutta-cc help {name}` shows its usage")
+        } else {
+            format!("`gutta-cc {name} --help` shows its usage")
+        }),
+        _ if after_help => Fatal::usage(format!("no such command '{word}'"))
+            .with_hint(format!("commands: {}", names.join(", "))),
+        _ => Fatal::usage(format!("no such file or command '{word}'")).with_hint(format!(
+            "commands: {}; a source file needs its path or extension (main.lad)",
+            names.join(", ")
+        )),
     }
 }
 
