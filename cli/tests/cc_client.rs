@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{cc, text, Sim};
+use common::{cc, stdout, text, Sim};
 
 use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader};
@@ -56,8 +56,18 @@ fn download_then_operate_the_plc() {
         String::from_utf8_lossy(&o.stdout),
         "MW24 = 3585\nMW26 = 3586\nQ0.0 = 0\n"
     );
-    assert!(run(&["stop"]).status.success());
+    // run and stop say what they did, and when the PLC already was so.
+    let o = run(&["stop"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert_eq!(stdout(&o), "the PLC is stopped (it was running)\n");
     assert!(text(&run(&["status"])).starts_with("CPU-EC20: STOP"));
+    assert_eq!(stdout(&run(&["stop"])), "the PLC was already stopped\n");
+    let o = run(&["stop", "--message-format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).expect("JSON");
+    assert_eq!(
+        v,
+        serde_json::json!({"command": "stop", "ok": true, "run": false, "changed": false})
+    );
     let o = run(&["write", "MW40=16#BEEF", "AIW0=100", "Q0.1=1"]);
     assert!(o.status.success(), "{}", text(&o));
     // Words read signed (issue 11): 16#BEEF is -16657; `:hex` shows the bits.
@@ -77,7 +87,16 @@ fn download_then_operate_the_plc() {
     let o = run(&["write", "MB0=300"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o).contains("does not fit"), "{}", text(&o));
-    assert!(run(&["run"]).status.success());
+    let o = run(&["run"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert_eq!(stdout(&o), "the PLC runs (it was stopped)\n");
+    let o = run(&["run", "--message-format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(stdout(&o).trim()).expect("JSON");
+    assert_eq!(
+        v,
+        serde_json::json!({"command": "run", "ok": true, "run": true, "changed": false})
+    );
+    assert_eq!(stdout(&run(&["run"])), "the PLC already runs\n");
     // Inputs are terminals: written while the PLC runs, they hold across scans (about
     // ten in 100 ms at the simulator's 10 ms period) until written again.
     assert!(run(&["write", "AIW0=1234", "I0.3=1"]).status.success());

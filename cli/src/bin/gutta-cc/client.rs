@@ -443,10 +443,35 @@ pub(crate) fn status(online: &Online, args: &LinkArgs) -> Result<ExitCode, Fatal
 
 pub(crate) fn run_stop(online: &Online, args: &LinkArgs, run: bool) -> Result<ExitCode, Fatal> {
     let mut client = login(args)?;
+    let running = |client: &mut Client| client.status().map(|s| s & 1 != 0);
+    let before = running(&mut client).map_err(link_error)?;
     client.set_running(run).map_err(link_error)?;
+    let after = running(&mut client).map_err(link_error)?;
+    if after != run {
+        return Err(Fatal::link(format!(
+            "the PLC accepted `{}` but its status says it {}",
+            if run { "run" } else { "stop" },
+            if after { "runs" } else { "is stopped" }
+        ))
+        .with_hint("`gutta-cc status` shows its status byte (ERROR: the program stopped it)"));
+    }
     let command = if run { "run" } else { "stop" };
-    online.print(json!({"command": command, "ok": true}), String::new);
+    online.print(
+        json!({"command": command, "ok": true, "run": after, "changed": before != after}),
+        || run_stop_message(run, before),
+    );
     Ok(ExitCode::SUCCESS)
+}
+
+/// What `run` or `stop` did, given whether the PLC ran before.
+fn run_stop_message(run: bool, before: bool) -> String {
+    match (run, before) {
+        (true, true) => "the PLC already runs",
+        (true, false) => "the PLC runs (it was stopped)",
+        (false, false) => "the PLC was already stopped",
+        (false, true) => "the PLC is stopped (it was running)",
+    }
+    .to_string()
 }
 
 pub(crate) fn read(online: &Online, vars: &[String], args: &LinkArgs) -> Result<ExitCode, Fatal> {
