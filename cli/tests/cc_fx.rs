@@ -68,6 +68,11 @@ fn read_write_force_config_and_baud() {
         "wrote 2 bytes at 0E02\n"
     );
     assert_eq!(ok(&fx(&["read", "0E02", "2"], a)), "0E02: B1 5E\n");
+    // One byte is a byte, not "1 bytes".
+    assert_eq!(
+        ok(&fx(&["write", "0E04", "07"], a)),
+        "wrote 1 byte at 0E04\n"
+    );
     assert_eq!(ok(&fx(&["force-on", "0801"], a)), "forced bit 0801 on\n");
     assert_eq!(ok(&fx(&["read", "0100", "1"], a)), "0100: 02\n");
     ok(&fx(&["force-off", "0801"], a));

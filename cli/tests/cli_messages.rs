@@ -2,7 +2,8 @@
 //! through the real binary: a refused connection says whether a PLC or gutta-sim
 //! listens there and how to start one (text and the JSON error's `hint`), a missing
 //! serial device says so, and a misspelt symbol gets its did-you-mean before any
-//! connection is tried, so even with nothing listening.
+//! connection is tried, so even with nothing listening. Counts agree with their nouns
+//! (`1 network`, `1 error`).
 
 mod common;
 
@@ -125,6 +126,52 @@ fn a_misspelt_symbol_is_reported_before_connecting() {
     assert_eq!(out.status.code(), Some(2));
     assert!(
         stderr(&out).contains("debug `jump`: break POSITION, clear"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+#[test]
+fn counts_agree_with_their_nouns() {
+    let dir = temp_dir("counts");
+    let one = dir.join("one.lad");
+    std::fs::write(
+        &one,
+        "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nNOP\nEND_ORGANIZATION_BLOCK\n",
+    )
+    .expect("writes");
+    let out = cc_in(&dir, &["--check", "one.lad"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(
+        stderr(&out),
+        "one.lad: ok on CPU-EC20 (1 block, 1 instruction, 0 data blocks)\n"
+    );
+    std::fs::write(
+        dir.join("lamp.lad"),
+        "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.0\n= Q0.0\nEND_ORGANIZATION_BLOCK\n",
+    )
+    .expect("writes");
+    let out = cc_in(&dir, &["ladder", "lamp.lad", "-o", "lamp.svg"]);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    assert_eq!(
+        stderr(&out),
+        "lamp.lad: 1 network drawn as ladder, 0 as STL, into lamp.svg\n"
+    );
+    std::fs::write(
+        dir.join("bad.lad"),
+        "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nNOP 0\nEND_ORGANIZATION_BLOCK\n",
+    )
+    .expect("writes");
+    let out = cc_in(&dir, &["--check", "bad.lad"]);
+    assert!(
+        stderr(&out).ends_with("bad.lad: 1 error, 0 warnings\n"),
+        "{}",
+        stderr(&out)
+    );
+    let out = cc_in(&dir, &["monitor", "bad.lad", "--tcp", &refused_address()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("bad.lad has 1 error: `gutta-cc --check bad.lad` shows it;"),
         "{}",
         stderr(&out)
     );

@@ -9,6 +9,7 @@ use std::process::ExitCode;
 use std::sync::Arc;
 
 use gutta_catalog::{stdlib, Address, Target, Width};
+use gutta_cli::plural::count;
 use gutta_format::{Operand, PackedOperand, SymbolTable};
 use gutta_link::transport::{rtu_over_tcp, serial, TcpTransport};
 use gutta_link::{Client, ConnectFailure, LinkError};
@@ -299,13 +300,15 @@ pub(crate) fn download(online: &Online, dir: &Path, args: &LinkArgs) -> Result<E
         "requests": report.requests,
         "seconds": seconds,
     });
-    online.print(summary, || format!(
-        "downloaded {} pages of {} bytes: {} bytes written and read back in {} requests ({seconds:.2} s); the PLC verified and runs the image",
-        report.pages,
-        report.bytes,
-        bar.position(),
-        report.requests,
-    ));
+    online.print(summary, || {
+        format!(
+            "downloaded {} of {}: {} written and read back in {} ({seconds:.2} s); the PLC verified and runs the image",
+            count(report.pages, "page"),
+            count(report.bytes, "byte"),
+            count(bar.position(), "byte"),
+            count(report.requests, "request"),
+        )
+    });
     // The reset applied the image's system block: say where the PLC answers now, when
     // that differs from how this download reached it.
     let port0 = image
@@ -398,8 +401,9 @@ pub(crate) fn upload(online: &Online, dir: &Path, args: &LinkArgs) -> Result<Exi
         }),
         || {
             format!(
-                "uploaded {} pages ({bytes} bytes) of a {} into {}",
-                image.pages.len(),
+                "uploaded {} ({}) of a {} into {}",
+                count(image.pages.len(), "page"),
+                count(bytes, "byte"),
                 image.plc_type,
                 dir.display()
             )

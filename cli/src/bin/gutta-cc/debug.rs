@@ -175,8 +175,11 @@ pub(crate) fn debug(
                 format!("breakpoint: {}", breakpoint.text()),
                 format!("paused at:  {}", paused.text()),
                 format!(
-                    "mode: {mode}; logic stack {:#06X}; call depth {}; saved L {} bytes; error {}",
-                    info.stack_logic, info.sp, info.stack_data, info.error
+                    "mode: {mode}; logic stack {:#06X}; call depth {}; saved L {}; error {}",
+                    info.stack_logic,
+                    info.sp,
+                    gutta_cli::plural::count(info.stack_data, "byte"),
+                    info.error
                 ),
             ];
             lines.extend(

@@ -10,6 +10,7 @@ use std::time::{Duration, Instant};
 
 use clap::{Args, Subcommand};
 use gutta_cli::fatal::Fatal;
+use gutta_cli::plural::count;
 use gutta_format::LineSettings;
 use gutta_protocol::fx::{
     BaudRate, FxReply, FxRequest, FxSplitter, FxToken, CONFIG_START, MAX_DATA, PROGRAM_CHUNK,
@@ -243,9 +244,9 @@ impl FxClient {
             })
             .collect();
         let mut fatal = Fatal::link(format!(
-            "{} failed after {} attempts: {}",
+            "{} failed after {}: {}",
             describe(request),
-            misses.len(),
+            count(misses.len(), "attempt"),
             what.join(", ")
         ));
         if misses.iter().all(|m| matches!(m, Miss::Nak)) {
@@ -314,21 +315,32 @@ impl FxClient {
 fn describe(request: &FxRequest) -> String {
     match request {
         FxRequest::Enquiry => "ENQ".into(),
-        FxRequest::Read { address, len } => format!("read (30) {len} bytes at {address:04X}"),
+        FxRequest::Read { address, len } => {
+            format!("read (30) {} at {address:04X}", count(*len, "byte"))
+        }
         FxRequest::Write { address, data } => {
-            format!("write (31) {} bytes at {address:04X}", data.len())
+            format!("write (31) {} at {address:04X}", count(data.len(), "byte"))
         }
         FxRequest::ForceOn { bit } => format!("force on (37) bit {bit:04X}"),
         FxRequest::ForceOff { bit } => format!("force off (38) bit {bit:04X}"),
         FxRequest::Baud(rate) => format!("baud (41) {rate}"),
         FxRequest::ReadConfig { address, len } => {
-            format!("read configuration (E00) {len} bytes at {address:04X}")
+            format!(
+                "read configuration (E00) {} at {address:04X}",
+                count(*len, "byte")
+            )
         }
         FxRequest::ReadProgram { address, len } => {
-            format!("read program (E01) {len} bytes at {address:04X}")
+            format!(
+                "read program (E01) {} at {address:04X}",
+                count(*len, "byte")
+            )
         }
         FxRequest::WriteProgram { address, data } => {
-            format!("write program (E11) {} bytes at {address:04X}", data.len())
+            format!(
+                "write program (E11) {} at {address:04X}",
+                count(data.len(), "byte")
+            )
         }
         FxRequest::EndProgramWrite => "end of program write (E87)".into(),
     }
@@ -390,8 +402,8 @@ pub(crate) fn run(action: &FxAction) -> Result<std::process::ExitCode, Fatal> {
             let data = parse_bytes(bytes)?;
             if data.len() > MAX_DATA {
                 return Err(Fatal::usage(format!(
-                    "{} bytes: a write carries at most {MAX_DATA}",
-                    data.len()
+                    "{}: a write carries at most {MAX_DATA}",
+                    count(data.len(), "byte")
                 )));
             }
             let mut client = FxClient::connect(endpoint)?;
@@ -400,7 +412,7 @@ pub(crate) fn run(action: &FxAction) -> Result<std::process::ExitCode, Fatal> {
                 address: *address,
                 data,
             })?;
-            format!("wrote {n} bytes at {address:04X}\n")
+            format!("wrote {} at {address:04X}\n", count(n, "byte"))
         }
         FxAction::ForceOn { address, endpoint } => {
             FxClient::connect(endpoint)?.expect_ack(&FxRequest::ForceOn { bit: *address })?;
@@ -465,7 +477,8 @@ fn upload(output: &Path, size: usize, endpoint: &FxEndpoint) -> Result<String, F
     gutta_io::write_file_atomically(output, &program)
         .map_err(|e| Fatal::io(format!("cannot write {}: {e}", output.display())))?;
     Ok(format!(
-        "uploaded {size} bytes of program memory (805C-{:04X}) to {}\n",
+        "uploaded {} of program memory (805C-{:04X}) to {}\n",
+        count(size, "byte"),
         usize::from(PROGRAM_START) + size - 1,
         output.display()
     ))
@@ -476,9 +489,9 @@ fn download(file: &Path, endpoint: &FxEndpoint) -> Result<String, Fatal> {
         .map_err(|e| Fatal::io(format!("cannot read {}: {e}", file.display())))?;
     if program.is_empty() || program.len() > PROGRAM_SIZE {
         return Err(Fatal::usage(format!(
-            "{}: {} bytes; program memory holds 1..{PROGRAM_SIZE}",
+            "{}: {}; program memory holds 1..{PROGRAM_SIZE}",
             file.display(),
-            program.len()
+            count(program.len(), "byte")
         )));
     }
     let mut client = FxClient::connect(endpoint)?;
@@ -523,8 +536,8 @@ fn download(file: &Path, endpoint: &FxEndpoint) -> Result<String, Fatal> {
         }
     }
     Ok(format!(
-        "downloaded {} bytes to program memory (805C-{:04X}), read back and compared, write ended (E87)\n",
-        program.len(),
+        "downloaded {} to program memory (805C-{:04X}), read back and compared, write ended (E87)\n",
+        count(program.len(), "byte"),
         usize::from(PROGRAM_START) + program.len() - 1
     ))
 }

@@ -108,10 +108,9 @@ pub(crate) fn ladder(cli: &Cli, input: &Path, out: &Path) -> Result<ExitCode, Fa
     write_atomically(out, text.as_bytes())?;
     let (drawn, stl) = census(&ladder);
     eprintln!(
-        "{}: {} networks drawn as ladder, {} as STL, into {}",
+        "{}: {} drawn as ladder, {stl} as STL, into {}",
         input.display(),
-        drawn,
-        stl,
+        gutta_cli::plural::count(drawn, "network"),
         out.display()
     );
     Ok(ExitCode::SUCCESS)

@@ -11,6 +11,7 @@ use clap::{ArgMatches, CommandFactory, FromArgMatches, Parser, Subcommand, Value
 use gutta_catalog::stdlib;
 use gutta_cli::color::ColorChoice;
 use gutta_cli::fatal::{report_clap_error, Fatal, MessageFormat};
+use gutta_cli::plural::count;
 use gutta_cli::shell::Shell;
 use gutta_compiler::diagnostics::json;
 use gutta_compiler::diagnostics::render::{render, RenderStyle};
@@ -700,7 +701,7 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
     program.options.scale_timer_presets = cli.scale_timer_presets;
     let name = match program.sources.len() {
         1 => program.sources[0].name.clone(),
-        n => format!("{n} files"),
+        n => count(n, "file"),
     };
     let explicit = explicit_target(&cli.target)?;
     let color = gutta_cli::color::use_color(cli.color, std::io::stderr().is_terminal());
@@ -749,9 +750,9 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
             let warnings = checked.diagnostics().len() - errors;
             if errors > 0 {
                 eprintln!(
-                    "{name}: {errors} error{}, {warnings} warning{}",
-                    plural(errors),
-                    plural(warnings)
+                    "{name}: {}, {}",
+                    count(errors, "error"),
+                    count(warnings, "warning")
                 );
             } else if let (Some((image, _)), Some(dir)) = (&image, &cli.output) {
                 eprintln!(
@@ -771,14 +772,16 @@ fn run(mut cli: Cli) -> Result<ExitCode, Fatal> {
                     .map(|n| n.instructions.len())
                     .sum();
                 eprintln!(
-                    "{name}: ok on {} ({} block{}, {instructions} instruction{}, {} data block{}{})",
+                    "{name}: ok on {} ({}, {}, {}{})",
                     p.target_name,
-                    p.units.len(),
-                    plural(p.units.len()),
-                    plural(instructions),
-                    p.data_blocks.len(),
-                    plural(p.data_blocks.len()),
-                    if warnings > 0 { format!(", {warnings} warning{}", plural(warnings)) } else { String::new() }
+                    count(p.units.len(), "block"),
+                    count(instructions, "instruction"),
+                    count(p.data_blocks.len(), "data block"),
+                    if warnings > 0 {
+                        format!(", {}", count(warnings, "warning"))
+                    } else {
+                        String::new()
+                    }
                 );
                 if let Some(line) = checked.microwin_summary() {
                     eprintln!("{name}: {line}");
@@ -834,14 +837,6 @@ fn read_source(path: &Path, table: bool) -> Result<SourceFile, Fatal> {
         eprintln!("note: {name} is not UTF-8; read as {}", encoding.as_str());
     }
     Ok(file)
-}
-
-fn plural(n: usize) -> &'static str {
-    if n == 1 {
-        ""
-    } else {
-        "s"
-    }
 }
 
 fn explicit_target(args: &TargetArgs) -> Result<Option<ExplicitTarget>, Fatal> {

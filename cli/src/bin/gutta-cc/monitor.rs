@@ -19,6 +19,7 @@ use axum::http::header;
 use axum::response::IntoResponse;
 use axum::routing::get;
 use gutta_catalog::ValueFormat;
+use gutta_cli::plural::count;
 use gutta_compiler::{compile_program, ProgramSources};
 use gutta_ladder::html::{ladder_html, HtmlOptions};
 use serde_json::json;
@@ -289,7 +290,9 @@ fn load(cli: &Cli, given: Option<&Path>) -> Result<Program, Fatal> {
             .filter(|d| d.is_error())
             .count();
         return Err(Fatal::program(format!(
-            "{name} has {errors} error(s): `gutta-cc --check {name}` shows them; the monitor needs the compiled image"
+            "{name} has {}: `gutta-cc --check {name}` shows {}; the monitor needs the compiled image",
+            count(errors, "error"),
+            if errors == 1 { "it" } else { "them" }
         )));
     };
     let checked = &compiled.checked;

@@ -505,7 +505,7 @@ fn build_program(
     let explicit = command_line.or(own.as_ref().and_then(Option::as_ref));
     let name = match sources.sources.len() {
         1 => sources.sources[0].name.clone(),
-        n => format!("{n} files"),
+        n => gutta_cli::plural::count(n, "file"),
     };
     match ProgramUnderTest::build(sources, explicit) {
         Ok(p) => Ok(Arc::new(p)),

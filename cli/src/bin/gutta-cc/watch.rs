@@ -41,8 +41,8 @@ impl Sampler {
     fn sample(&mut self) -> Result<(), Fatal> {
         let now = client::read_values(&mut self.client, &self.target, &self.vars).map_err(|e| {
             Fatal::usage(format!(
-                "lost the connection to the PLC after {} samples: {e}",
-                self.samples
+                "lost the connection to the PLC after {}: {e}",
+                gutta_cli::plural::count(self.samples, "sample")
             ))
         })?;
         if self.samples > 0 {

@@ -329,7 +329,8 @@ async fn run_plc(cli: Cli) -> Result<(), Fatal> {
             let elapsed = now - window_start;
             if elapsed.as_secs_f64() >= every {
                 say(&format!(
-                    "gutta-sim: stats: {window_scans} scans in {:.2} s, period max {:.1} ms",
+                    "gutta-sim: stats: {} in {:.2} s, period max {:.1} ms",
+                    gutta_cli::plural::count(window_scans, "scan"),
                     elapsed.as_secs_f64(),
                     window_max.as_secs_f64() * 1e3
                 ));
