@@ -108,3 +108,31 @@ pub const SHARED_FLAGS: &[SharedFlag] = &[
         meaning: "print the man page (gutta-cc: the `man` command)",
     },
 ];
+
+/// The value parser of `--plc`: any text is taken (the tool loads the PLC type and says
+/// which stdlib name was meant when none matches), and the stdlib's PLC types are the
+/// possible values shell completion offers. `--help` does not list them
+/// (`hide_possible_values`); `gutta-cc list-targets` does.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct PlcName;
+
+impl clap::builder::TypedValueParser for PlcName {
+    type Value = String;
+
+    fn parse_ref(
+        &self,
+        command: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &std::ffi::OsStr,
+    ) -> Result<String, clap::Error> {
+        clap::builder::StringValueParser::new().parse_ref(command, arg, value)
+    }
+
+    fn possible_values(
+        &self,
+    ) -> Option<Box<dyn Iterator<Item = clap::builder::PossibleValue> + '_>> {
+        Some(Box::new(
+            gutta_catalog::stdlib::names().map(clap::builder::PossibleValue::new),
+        ))
+    }
+}

@@ -14,7 +14,22 @@ use crate::fatal::Fatal;
 pub fn completion_script(mut command: Command, bin: &str, shell: Shell) -> Vec<u8> {
     let mut script = Vec::new();
     clap_complete::generate(shell, &mut command, bin, &mut script);
+    if shell == Shell::Bash && bin.contains('-') {
+        return bash_hyphen_fix(&script, bin);
+    }
     script
+}
+
+/// clap_complete's bash script for a hyphenated binary (`gutta-cc`) spells a
+/// subcommand's case arm `gutta__subcmd__cc__subcmd__status` while its dispatch loop
+/// sets `gutta__cc__subcmd__status`, so no subcommand's options or values would
+/// complete (clap-rs/clap#6421): spell the arms as the loop does.
+fn bash_hyphen_fix(script: &[u8], bin: &str) -> Vec<u8> {
+    const SEP: &str = "__subcmd__";
+    let text = String::from_utf8_lossy(script);
+    let wrong = format!("{}{SEP}", bin.replace('-', SEP));
+    let right = format!("{}{SEP}", bin.replace('-', "__"));
+    text.replace(&wrong, &right).into_bytes()
 }
 
 /// The man page (roff) of `command` alone.

@@ -1,7 +1,8 @@
 //! Shell completions and man pages from the real binaries: gutta-cc's `completions` and
 //! `man` commands, gutta-vm's and gutta-sim's `--completions` and `--man` flags. The
 //! scripts are loaded by the real shells (bash always; zsh and fish when installed, see
-//! common::INSTALL) and the pages rendered by groff and man without warnings.
+//! common::INSTALL) and the pages rendered by groff and man without warnings. Every
+//! script offers the stdlib PLC types for --plc.
 
 mod common;
 
@@ -19,6 +20,13 @@ const SOME_COMMANDS: &[&str] = &["download", "read", "dis", "explain", "completi
 fn ok(out: Output) -> String {
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     stdout(&out)
+}
+
+fn tool(bin: &str, args: &[&str]) -> Output {
+    Command::new(bin)
+        .args(args)
+        .output()
+        .expect("the tool runs")
 }
 
 fn sh(shell: &str, script: &str) -> Output {
@@ -40,6 +48,36 @@ fn gutta_cc_scripts_name_the_commands() {
         }
         assert!(script.contains("rtu-tcp"), "{shell} script lacks --rtu-tcp");
     }
+}
+
+#[test]
+fn every_script_offers_the_plc_types() {
+    for shell in ["bash", "zsh", "fish"] {
+        let scripts = [
+            ("gutta-cc", ok(cc(&["completions", shell]))),
+            ("gutta-vm", ok(tool(VM, &["--completions", shell]))),
+            ("gutta-sim", ok(tool(SIM, &["--completions", shell]))),
+        ];
+        for (tool, script) in scripts {
+            for plc in gutta_catalog::stdlib::names() {
+                assert!(script.contains(plc), "{tool}'s {shell} script lacks {plc}");
+            }
+        }
+    }
+}
+
+#[test]
+fn bash_completes_a_plc_type() {
+    // What bash offers after `gutta-cc status --plc EC30-EKS<TAB>`.
+    let out = sh(
+        "bash",
+        r#"source <("$CC_BIN" completions bash)
+COMP_WORDS=(gutta-cc status --plc EC30-EKS); COMP_CWORD=3; COMP_LINE="${COMP_WORDS[*]}"; COMP_POINT=${#COMP_LINE}
+$(complete -p gutta-cc | sed -E 's/.* -F ([^ ]+) .*/\1/') gutta-cc EC30-EKS --plc
+printf '%s\n' "${COMPREPLY[@]}""#,
+    );
+    let offered: Vec<String> = ok(out).lines().map(str::to_string).collect();
+    assert_eq!(offered, ["EC30-EKSTM32", "EC30-EKSTM32-XC"], "{offered:?}");
 }
 
 #[test]
@@ -189,4 +227,17 @@ fn the_shell_flags_stand_alone() {
         .output()
         .expect("runs");
     assert_eq!(out.status.code(), Some(2), "--completions is used alone");
+}
+
+#[test]
+fn an_unknown_plc_type_is_still_the_tools_error() {
+    // The completion values do not make clap judge --plc: the tools' own error, with
+    // the known names, stays.
+    let wanted = "no stdlib PLC type `CPU-EC2` (known: CPU-EC20, ";
+    let out = cc(&["modbus", "MW0", "--plc", "CPU-EC2"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains(wanted), "{}", stderr(&out));
+    let out = tool(SIM, &["--plc", "CPU-EC2", "--tcp", "127.0.0.1:0"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains(wanted), "{}", stderr(&out));
 }

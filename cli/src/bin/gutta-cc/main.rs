@@ -76,7 +76,7 @@ struct Cli {
 #[derive(Debug, Clone, clap::Args)]
 struct TargetArgs {
     /// PLC type from the stdlib (overrides PLC_TYPE in the file).
-    #[arg(long, global = true, value_name = "NAME")]
+    #[arg(long, global = true, value_name = "NAME", value_parser = gutta_cli::flags::PlcName, hide_possible_values = true)]
     plc: Option<String>,
     /// A target folder holding PlcType.xml, ManagerVar.xml and ManagerFun.xml.
     #[arg(long, global = true, value_name = "DIR", conflicts_with = "plc")]

@@ -55,7 +55,7 @@ struct Cli {
     #[arg(long, value_enum, default_value_t = Device::Plc)]
     device: Device,
     /// PLC type from the stdlib (default: the image's, else the stdlib default).
-    #[arg(long, value_name = "NAME")]
+    #[arg(long, value_name = "NAME", value_parser = gutta_cli::flags::PlcName, hide_possible_values = true)]
     plc: Option<String>,
     /// A target folder holding PlcType.xml, ManagerVar.xml and ManagerFun.xml.
     #[arg(long, value_name = "DIR", conflicts_with = "plc")]

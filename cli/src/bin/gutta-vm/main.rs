@@ -84,7 +84,7 @@ struct Cli {
     #[arg(long = "break", value_name = "FUNCTION:NETWORK:STEP|FILE:LINE")]
     breakpoint: Option<String>,
     /// PLC type from the stdlib (instead of the image's PLC type).
-    #[arg(long, value_name = "NAME")]
+    #[arg(long, value_name = "NAME", value_parser = gutta_cli::flags::PlcName, hide_possible_values = true)]
     plc: Option<String>,
     /// A target folder holding PlcType.xml, ManagerVar.xml and ManagerFun.xml.
     #[arg(long, value_name = "DIR", conflicts_with = "plc")]
