@@ -1,7 +1,8 @@
 //! The help of the three tools as users read it: `gutta-cc --help` lists every command
 //! under a task group, every command's `--help` ends with 2-4 examples, and the examples
 //! are run for real so they stay true: the offline ones (compile, dis, explain, man,
-//! gutta-vm...) in a scratch directory, the online ones against a `gutta-sim`.
+//! gutta-vm...) in a scratch directory, the online ones against a `gutta-sim`. No help
+//! text names a vendor or seed document or a source file.
 
 mod common;
 
@@ -232,4 +233,60 @@ fn the_online_examples_run_against_the_simulator() {
         ran += 1;
     }
     assert!(ran >= 15, "only {ran} online examples");
+}
+
+/// What help texts must not name: the vendor documents, the project's seed documents,
+/// source files and their folders. Users get docs/*.md pages and words instead.
+const INTERNAL_REFERENCES: &[&str] = &["UM4001", "IN1001", "AN2002", "seed", ".rs", "../shared"];
+
+/// The subcommands a `Commands:` section lists (clap's own layout), `help` aside.
+fn clap_commands(help: &str) -> Vec<String> {
+    help.lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter_map(|l| l.split_whitespace().next())
+        .filter(|name| *name != "help")
+        .map(str::to_string)
+        .collect()
+}
+
+#[test]
+fn help_texts_name_no_internal_documents_or_source_files() {
+    let run = |tool: &str, args: &[&str]| {
+        ok(&std::process::Command::new(tool)
+            .args(args)
+            .output()
+            .expect("runs"))
+    };
+    let mut helps: Vec<(String, String)> = Vec::new();
+    for tool in [CC, VM, SIM] {
+        for flag in ["-h", "--help"] {
+            helps.push((format!("{tool} {flag}"), run(tool, &[flag])));
+        }
+    }
+    let commands = listed_commands(&ok(&cc(&["--help"])));
+    assert!(commands.iter().any(|c| c == "fx"), "{commands:?}");
+    for command in &commands {
+        for flag in ["-h", "--help"] {
+            let text = run(CC, &[command, flag]);
+            for sub in clap_commands(&text) {
+                let name = format!("gutta-cc {command} {sub} {flag}");
+                helps.push((name, run(CC, &[command, &sub, flag])));
+            }
+            helps.push((format!("gutta-cc {command} {flag}"), text));
+        }
+    }
+    assert!(
+        helps.iter().any(|(n, _)| n.contains("fx download-program")),
+        "fx's subcommands were not found"
+    );
+    for (name, text) in &helps {
+        for pattern in INTERNAL_REFERENCES {
+            assert!(
+                !text.to_lowercase().contains(&pattern.to_lowercase()),
+                "`{name}` names `{pattern}`:\n{text}"
+            );
+        }
+    }
 }

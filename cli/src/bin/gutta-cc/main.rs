@@ -175,8 +175,8 @@ enum Command {
         /// The code, e.g. E0302.
         code: String,
     },
-    /// Download an image directory into a PLC (UM4001: the PLC type must match; the PLC
-    /// is cleared, every page written and read back, then reset to run the image).
+    /// Download an image directory into a PLC (the PLC type must match; the PLC is
+    /// cleared, every page written and read back, then reset to run the image).
     #[command(
         after_help = "Examples:\n  gutta-cc download image/ --tcp 127.0.0.1:5020\n  gutta-cc download image/ --serial /dev/ttyUSB0 --baud 9600 --parity even\n  gutta-cc download image/ --tcp 127.0.0.1:5020 --station 1 --message-format json"
     )]

@@ -102,9 +102,9 @@ struct Cli {
 enum Device {
     /// The GUTTA PLC (Modbus TCP, RTU over TCP, serial RTU).
     Plc,
-    /// The FX-style programming port (`fx.rs`).
+    /// The FX-style programming port (docs/devices.md).
     Fx,
-    /// The 32-channel Modbus-TCP relay board of seed document 004 (--tcp only).
+    /// The 32-channel Modbus-TCP relay board (--tcp only; docs/devices.md).
     RelayBoard,
 }
 
