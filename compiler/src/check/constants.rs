@@ -5,6 +5,7 @@
 
 use gutta_catalog::{rules, DataType, OperandSpec, Width};
 
+use super::memory::width_words;
 use super::operands::types_text;
 use super::{CheckedOperand, Checker, ConstValue};
 use crate::diagnostics::{Code, Diagnostic};
@@ -38,9 +39,34 @@ impl Checker<'_> {
                     types_text(&spec.types)
                 ),
             )
-            .label("has a fraction or exponent"),
+            .label("has a fraction or exponent")
+            .help(self.integer_help(spec, mnemonic)),
         );
         None
+    }
+
+    /// E0312's help: what an integer operand may be (`PT of TON takes an integer (INT):
+    /// a constant such as `20`, a word such as `MW0`, or a symbol declared as one`).
+    fn integer_help(&self, spec: &OperandSpec, mnemonic: &str) -> String {
+        let width = rules::access_width(spec);
+        let variable = self
+            .example_place(&rules::DataRules::from_spec(spec), width)
+            .map(|at| {
+                format!(
+                    " {} such as `{at}`, or a symbol declared as one",
+                    width_words(width)
+                )
+            });
+        let constant = match (spec.min, spec.max) {
+            (Some(lo), Some(hi)) if !(lo..=hi).contains(&20) => lo,
+            _ => 20,
+        };
+        format!(
+            "{} of {mnemonic} takes an integer ({}): a constant such as `{constant}`{}",
+            spec.name,
+            types_text(&spec.types),
+            variable.map_or(String::new(), |v| format!(",{v}"))
+        )
     }
 
     /// Whether a constant may stand here; reports why not.

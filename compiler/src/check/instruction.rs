@@ -4,14 +4,14 @@
 
 use std::collections::BTreeMap;
 
-use gutta_catalog::{BlockKind, Flow, InstrId, Instruction, OperandSpec, Role, Width};
+use gutta_catalog::{AreaKind, BlockKind, Flow, InstrId, Instruction, OperandSpec, Role, Width};
 
 use super::calls::CallSite;
 use super::code::CodeContext;
 use super::{CheckedInstruction, CheckedOperand, Checker, Use};
 use crate::diagnostics::{Code, Diagnostic};
 use crate::source::Span;
-use crate::syntax::ast::Operand;
+use crate::syntax::ast::{Operand, OperandKind};
 
 impl Checker<'_> {
     /// One instruction's operands against its operand specs (count, each operand,
@@ -45,7 +45,12 @@ impl Checker<'_> {
                     self.warnings(&spec.mnemonic, os, &c, op.span, cx);
                     out.push(c);
                 }
-                None => ok = false,
+                None => {
+                    ok = false;
+                    if let OperandKind::Real(v) = op.kind {
+                        self.timer_unit_note(&out, v, op.span);
+                    }
+                }
             }
         }
         if spec.call_arguments {
@@ -95,13 +100,46 @@ impl Checker<'_> {
                 at,
                 format!("`{}` takes {want}, found {}", spec.mnemonic, ops.len()),
             )
-            .help(if spec.example.is_empty() {
-                spec.summary.clone()
-            } else {
-                format!("for example: {}", spec.example.lines().next().unwrap_or(""))
-            }),
+            .help(example_use(spec).unwrap_or_else(|| spec.summary.clone())),
         );
         false
+    }
+
+    /// E0312 on a timer's preset (`TON T4, 2.5`): a second help line with the timer's
+    /// unit on this target (its `<Timers>` row) and, read as seconds, the preset that
+    /// means the time written (`T4 counts in 100 ms units on CPU-EC20: 25 for 2.5 s`).
+    fn timer_unit_note(&mut self, before: &[CheckedOperand], seconds: f64, span: Span) {
+        let memory = &self.target.memory;
+        let Some((timer, ms)) = before.iter().find_map(|c| match c {
+            CheckedOperand::Memory { address, .. } => {
+                let area = memory.area_by_slot(address.slot)?;
+                if area.kind != AreaKind::Timer {
+                    return None;
+                }
+                let ms = memory.timer_resolution(address.offset / area.unit.bytes())?;
+                Some((memory.format_address(address), ms))
+            }
+            _ => None,
+        }) else {
+            return;
+        };
+        let units = seconds * 1000.0 / f64::from(ms);
+        let mut note = format!("{timer} counts in {ms} ms units on {}", self.target.name());
+        if units.fract() == 0.0 && (1.0..=32767.0).contains(&units) {
+            note.push_str(&format!(": {units} for {} s", self.slice(span)));
+        }
+        let Some(d) = self
+            .diags
+            .iter_mut()
+            .rev()
+            .find(|d| d.code == Code::RealNotAllowed && d.primary.span == span)
+        else {
+            return;
+        };
+        d.help = Some(match d.help.take() {
+            Some(h) => format!("{h}\n{note}"),
+            None => note,
+        });
     }
 
     /// A CALL of the subroutine its first checked operand names: a call-graph edge and
@@ -206,6 +244,59 @@ impl Checker<'_> {
                     .with_secondary(first, "also driven here"),
                 );
             }
+        }
+    }
+}
+
+/// The help of E0301: the line of the instruction's example that uses the instruction
+/// itself (not the `LD` before it), as `for example `TON T4, 20` (2 s with a 100 ms
+/// timer)`: the mnemonic and its operands one blank apart, the line's comment in
+/// parentheses. None when no example line starts with the mnemonic.
+fn example_use(spec: &Instruction) -> Option<String> {
+    spec.example.lines().find_map(|line| {
+        let (code, comment) = match line.split_once("//") {
+            Some((code, comment)) => (code.trim(), Some(comment.trim())),
+            None => (line.trim(), None),
+        };
+        let (first, operands) = code
+            .split_once(char::is_whitespace)
+            .map_or((code, ""), |(m, rest)| (m, rest.trim()));
+        if !first.eq_ignore_ascii_case(&spec.mnemonic) {
+            return None;
+        }
+        let shown = if operands.is_empty() {
+            first.to_string()
+        } else {
+            format!("{first} {operands}")
+        };
+        Some(match comment.filter(|c| !c.is_empty()) {
+            Some(c) => format!("for example `{shown}` ({c})"),
+            None => format!("for example `{shown}`"),
+        })
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::example_use;
+
+    #[test]
+    fn the_example_shown_uses_the_instruction_itself() {
+        let target = gutta_catalog::stdlib::default_target().expect("stdlib");
+        let ton = target.instructions.lookup("TON").expect("TON");
+        assert_eq!(
+            example_use(target.instructions.get(ton)).as_deref(),
+            Some("for example `TON T4, 20` (2 s with a 100 ms timer)")
+        );
+        // Every instruction's example has a line that uses it: the help never falls
+        // back to the summary for the stdlib set.
+        for spec in &target.instructions.instructions {
+            let help = example_use(spec).unwrap_or_default();
+            assert!(
+                help.starts_with(&format!("for example `{}", spec.mnemonic)),
+                "{}: {help:?}",
+                spec.mnemonic
+            );
         }
     }
 }

@@ -221,25 +221,91 @@ impl Checker<'_> {
                 .help(help),
             );
         } else {
-            self.report(
-                Diagnostic::new(
-                    Code::WidthMismatch,
-                    site.name,
-                    format!(
-                        "{} of {mnemonic} is {}; `{shown}` is a {}",
-                        spec.name,
-                        want_text(want, &spec.types),
-                        var.address.width
-                    ),
-                )
-                .label(format!(
-                    "{} bits, expected {}",
-                    var.address.width.bits(),
-                    want.bits()
-                )),
-            );
+            let have = var.address.width.bits();
+            let mut d = Diagnostic::new(
+                Code::WidthMismatch,
+                site.name,
+                format!(
+                    "{} of {mnemonic} is {}; `{shown}` is a {}",
+                    spec.name,
+                    want_text(want, &spec.types),
+                    var.address.width
+                ),
+            )
+            .label(format!(
+                "{have} bit{}, expected {}",
+                if have == 1 { "" } else { "s" },
+                want.bits()
+            ))
+            .help(self.width_help(site, want));
+            if let Some(def) = var.declared {
+                d = d.with_secondary(self.out.definitions[def].span, self.declared_as(shown, var));
+            }
+            self.report(d);
         }
         false
+    }
+
+    /// E0302's help: what the operand must be, as the addresses of the areas the
+    /// operand accepts at that width (`OUT of INCW takes a word: QW, MW, SMW, LW, T, C,
+    /// or a symbol declared as one`). K is left out: constants are written as numbers.
+    fn width_help(&self, site: &VariableSite<'_>, want: Width) -> String {
+        let places: Vec<String> = self
+            .target
+            .memory
+            .areas
+            .iter()
+            .filter(|a| {
+                a.kind != AreaKind::Constant
+                    && a.allows(want)
+                    && site.rules.accepts_area(a)
+                    && site.rules.may_write(a)
+            })
+            .map(|a| match (a.fixed_width(), want.letter()) {
+                (None, Some(letter)) => format!("{}{letter}", a.name),
+                _ => a.name.clone(),
+            })
+            .collect();
+        let sep = if want == Width::Bit { " of" } else { ":" };
+        format!(
+            "{} of {} takes {}{sep} {}, or a symbol declared as one",
+            site.spec.name,
+            site.mnemonic,
+            width_words(want),
+            places.join(", ")
+        )
+    }
+
+    /// An address the operand accepts at `width`, for help lines: in M when it may be
+    /// (`MW0`, `M0.0`), else in the first area it accepts (`T0`); never in K.
+    pub(super) fn example_place(&self, rules: &DataRules<'_>, width: Width) -> Option<String> {
+        let fits = |a: &&Area| {
+            a.kind != AreaKind::Constant
+                && a.allows(width)
+                && rules.accepts_area(a)
+                && rules.may_write(a)
+        };
+        let areas = &self.target.memory.areas;
+        let area = areas
+            .iter()
+            .filter(fits)
+            .find(|a| a.kind == AreaKind::Memory)
+            .or_else(|| areas.iter().find(fits))?;
+        Some(match (width, area.fixed_width()) {
+            (Width::Bit, _) => format!("{}0.0", area.name),
+            (_, Some(_)) => format!("{}0", area.name),
+            (w, None) => format!("{}{}0", area.name, w.letter().unwrap_or('?')),
+        })
+    }
+
+    /// The label at a symbol's or local's declaration: what it was declared as
+    /// (`` `Running` is declared here as M0.0 ``, `` `#n` is declared here as BYTE ``).
+    fn declared_as(&self, shown: &str, var: &Variable) -> String {
+        let what = match var.ty {
+            Some(ty) => ty.to_string(),
+            None => self.target.memory.format_address(&var.address),
+        };
+        format!("`{shown}` is declared here as {what}")
     }
 
     fn type_accepted(&mut self, site: &VariableSite<'_>, var: &Variable) -> bool {
@@ -291,5 +357,15 @@ fn want_text(w: Width, types: &[DataType]) -> String {
     match w {
         Width::Bit => "a BOOL".to_string(),
         _ => format!("a {} ({})", w.keyword(), types_text(types)),
+    }
+}
+
+/// A width in words for help lines: `a bit`, `a byte`, `a word`, `a double word`.
+pub(super) fn width_words(w: Width) -> &'static str {
+    match w {
+        Width::Bit => "a bit",
+        Width::Byte => "a byte",
+        Width::Word => "a word",
+        Width::Dword => "a double word",
     }
 }

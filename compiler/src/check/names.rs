@@ -10,10 +10,12 @@ use gutta_catalog::s7200::{S7200AreaKind, S7200Name};
 use crate::diagnostics::{Code, Diagnostic, Label, Suggestion};
 use crate::source::Span;
 
-/// A variable before its use is applied: where it is, and its declared type if any.
+/// A variable before its use is applied: where it is, its declared type if any, and
+/// the definition of the symbol or local it was named by (None for a direct address).
 pub(super) struct Variable {
     pub address: Address,
     pub ty: Option<DataType>,
+    pub declared: Option<usize>,
 }
 
 impl Checker<'_> {
@@ -42,6 +44,7 @@ impl Checker<'_> {
             return Some(Variable {
                 address,
                 ty: Some(ty),
+                declared: Some(def),
             });
         }
         let other = self
@@ -82,13 +85,18 @@ impl Checker<'_> {
         let key = text.to_ascii_uppercase();
         if let Some(&(address, def)) = self.symbols.get(&key) {
             self.reference(name, def);
-            return Some(Variable { address, ty: None });
+            return Some(Variable {
+                address,
+                ty: None,
+                declared: Some(def),
+            });
         }
         if let Some(a) = self.microwin_system_name(text) {
             self.out.addresses.push((name, a));
             return Some(Variable {
                 address: a,
                 ty: None,
+                declared: None,
             });
         }
         if self.looks_like_address(text) {
@@ -97,6 +105,7 @@ impl Checker<'_> {
             return Some(Variable {
                 address: a,
                 ty: None,
+                declared: None,
             });
         }
         self.not_a_variable(name);
