@@ -109,3 +109,38 @@ fn an_unclosed_block_gets_its_end_line() {
     assert!(text.contains("= Q0.0\nEND_ORGANIZATION_BLOCK\nSUBROUTINE_BLOCK"));
     assert!(text.ends_with("LD I0.0\nEND_SUBROUTINE_BLOCK\n"), "{text}");
 }
+
+/// A misspelt END_ keyword is one diagnostic, whose one fix (also the editor's one
+/// quick fix) writes the keyword over the word: the line is replaced, not followed by a
+/// second END_ line.
+#[test]
+fn a_misspelt_end_is_replaced_not_added() {
+    let text =
+        "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD I0.0\n= Q0.0\nEND_ORGANISATION_BLOCK\n";
+    let checked = check(text);
+    let [d] = checked.diagnostics() else {
+        panic!("one diagnostic: {:?}", checked.diagnostics());
+    };
+    assert_eq!(d.code, Code::MisspeltEnd);
+    assert_eq!(
+        d.help.as_deref(),
+        Some("did you mean `END_ORGANIZATION_BLOCK`?")
+    );
+    let word = text.find("END_ORGANISATION_BLOCK").expect("word");
+    assert_eq!(
+        d.primary.span.range(),
+        word..word + "END_ORGANISATION_BLOCK".len()
+    );
+
+    let actions = gutta_compiler::analysis::actions::code_actions(&checked, d.primary.span);
+    assert_eq!(actions.len(), 1, "{actions:?}");
+    assert!(actions[0].preferred);
+    assert_eq!(actions[0].title, "Replace with `END_ORGANIZATION_BLOCK`");
+    assert_eq!(
+        actions[0].edits,
+        vec![(d.primary.span, "END_ORGANIZATION_BLOCK".to_string())]
+    );
+    let fixed = apply(text, d);
+    assert_eq!(fixed, text.replace("ORGANISATION", "ORGANIZATION"));
+    assert!(check(&fixed).diagnostics().is_empty(), "{fixed}");
+}

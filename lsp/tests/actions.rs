@@ -68,3 +68,24 @@ fn quick_fixes_for_typos_undefined_symbols_and_missing_ends() {
     );
     assert!(actions(&mut s, &u, on("BEGIN")).is_empty());
 }
+
+/// A misspelt END_ keyword: one quick fix, replacing the word (not adding a second END_
+/// line), for the one diagnostic of the line.
+#[test]
+fn misspelt_end_is_replaced() {
+    let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD     I0.0\n=      Q0.0\nEND_ORGANISATION_BLOCK\n";
+    let mut s = TestServer::start();
+    let u = uri("main.lad");
+    s.open(&u, text);
+    let p = find(text, "END_ORGANISATION", 0, 3);
+    let found = actions(&mut s, &u, Range::new(p, p));
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert!(
+        found[0].starts_with(
+            "Replace with `END_ORGANIZATION_BLOCK` (preferred: Some(true), fixes Some(String(\"E0116\")))"
+        ),
+        "{}",
+        found[0]
+    );
+    insta::assert_snapshot!("misspelt_end", found.join("\n"));
+}

@@ -72,6 +72,8 @@ codes! {
         "A symbol table row is `Symbol,Address,Comment` (CSV) or the same separated by tabs: a name that is one word (letters, digits, `_`), a direct address optionally followed by `:TYPE` (`MD8:REAL`), and an optional comment. The message says what is wrong: a missing name or address, extra fields, a quote that is not closed, or text after a closing quote.";
     E0115 MisplacedMend Error "MEND not at the end of the main program"
         "In a STEP 7-Micro/WIN export (docs/microwin.md) `MEND`, S7-200's unconditional end of the main program, is accepted as the last instruction of the `ORGANIZATION_BLOCK`, where GUTTA's main program (MAIN, INT0) ends anyway, and compiles to nothing. In a subroutine or interrupt routine, or with code after it in the main program (which S7-200 would never run), it is this error: remove it, or end a subroutine with `RET` and an interrupt routine with `RETI`.";
+    E0116 MisspeltEnd Error "misspelt END keyword"
+        "A line starts with a word that looks like an `END_...` keyword but is none, such as `END_ORGANISATION_BLOCK` for `END_ORGANIZATION_BLOCK`. The help names the keyword meant: the one the open block or `VAR` section ends with when the word is close to it, else the closest `END_` keyword. The line closes what that keyword would close, so the block is not also reported as unterminated; the fix replaces the word.";
 
     // ---- E02xx: names --------------------------------------------------------------
     E0201 UnknownMnemonic Error "unknown mnemonic"

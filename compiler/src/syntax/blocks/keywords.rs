@@ -49,6 +49,14 @@ const KEYWORDS: &[(&str, Kw)] = &[
     ("END_VAR", Kw::EndVar),
 ];
 
+/// The `END_...` keywords, for the did-you-mean of a misspelt one.
+pub(super) fn end_keywords() -> impl Iterator<Item = &'static str> {
+    KEYWORDS
+        .iter()
+        .map(|(k, _)| *k)
+        .filter(|k| k.starts_with("END_"))
+}
+
 /// Whether a word is a reserved keyword of the block structure.
 pub fn is_keyword(word: &str) -> bool {
     keyword(word).is_some()

@@ -7,7 +7,8 @@
 
 use chumsky::prelude::*;
 
-use crate::diagnostics::{Code, Diagnostic, Fix};
+use crate::check::suggest::closest;
+use crate::diagnostics::{Code, Diagnostic, Fix, Suggestion};
 use crate::source::Span;
 use crate::syntax::ast::{BlockKind, Program, VarSection};
 use crate::syntax::lexer::{LineLexer, Spanned, Tok};
@@ -237,6 +238,11 @@ impl<'t> BlockParser<'t> {
                 self.keyword_line(kw, first_span, line_span, toks, comment);
                 return;
             }
+            if let Some(kw) = self.misspelt_end(first_span) {
+                self.junk_run = false;
+                self.keyword_line(kw, first_span, line_span, toks, comment);
+                return;
+            }
         }
         self.content_line(toks, line_span, comment);
     }
@@ -350,6 +356,38 @@ impl<'t> BlockParser<'t> {
                 .last()
                 .map(|d| (d.span, "SYSTEM_BLOCK", "END_SYSTEM_BLOCK")),
         }
+    }
+
+    /// A first word that is a misspelt `END_...` keyword (`END_ORGANISATION_BLOCK`):
+    /// one E0116 with the keyword meant and the fix that writes it over the word, and
+    /// the keyword, for the line to close what it would close. The keyword meant is the
+    /// one the open section or block ends with when it is close enough, else the
+    /// closest END_ keyword, else (a word starting `END_` in an open block) the open
+    /// block's own. None outside blocks (the line is stray text there) and for other
+    /// words (no mnemonic starts with `END_`; `END` is one).
+    fn misspelt_end(&mut self, word_span: Span) -> Option<Kw> {
+        let word = self.slice(word_span);
+        let upper = word.to_ascii_uppercase();
+        if self.state == State::Top || !upper.starts_with("END") || upper == "END" {
+            return None;
+        }
+        let block_end = self.open_block_keywords().map(|(_, _, end)| end);
+        let section_end = matches!(self.state, State::Vars { .. }).then_some("END_VAR");
+        let expected = section_end.into_iter().chain(block_end);
+        let meant = closest(word, expected)
+            .or_else(|| closest(word, keywords::end_keywords()))
+            .or_else(|| block_end.filter(|_| upper.starts_with("END_")))?;
+        let kw = keyword(meant)?;
+        self.report(
+            Diagnostic::new(
+                Code::MisspeltEnd,
+                word_span,
+                format!("`{word}` is not a keyword"),
+            )
+            .label("misspelt END_ keyword")
+            .suggest(Suggestion::new(word_span, meant)),
+        );
+        Some(kw)
     }
 
     /// A block keyword opens a block: whatever is open is closed first (reported).
