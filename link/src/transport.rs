@@ -17,6 +17,7 @@ use std::time::{Duration, Instant};
 
 use gutta_format::LineSettings;
 use gutta_protocol::master::{Master, MasterConfig, MasterEvent};
+use gutta_protocol::modbus::EXCEPTION_BIT;
 use gutta_protocol::stream::TcpSplitter;
 use gutta_protocol::tcp::{decode_tcp, encode_tcp};
 
@@ -265,6 +266,11 @@ impl<S: Read + Write + Line + std::fmt::Debug> Transport for RtuTransport<S> {
             };
             match event {
                 MasterEvent::Response(frame) => return Ok(frame.pdu),
+                // The transport's answer is the PDU, over TCP and RTU alike: the
+                // exception's two bytes, which `Client` reports as an exception.
+                MasterEvent::Exception { function, code, .. } => {
+                    return Ok(vec![function | EXCEPTION_BIT, code])
+                }
                 MasterEvent::Retry(bytes) => self
                     .port
                     .write_all(&bytes)
@@ -281,5 +287,71 @@ impl<S: Read + Write + Line + std::fmt::Debug> Transport for RtuTransport<S> {
                 MasterEvent::Pending | MasterEvent::Idle => {}
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Client;
+    use gutta_protocol::rtu::encode_rtu;
+
+    /// A line that delivers `answer` to the first read and then stays silent.
+    #[derive(Debug, Default)]
+    struct Scripted {
+        answer: Vec<u8>,
+    }
+
+    impl Read for Scripted {
+        fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+            if self.answer.is_empty() {
+                std::thread::sleep(Duration::from_millis(1));
+                return Err(ErrorKind::WouldBlock.into());
+            }
+            let n = self.answer.len().min(buf.len());
+            buf[..n].copy_from_slice(&self.answer[..n]);
+            self.answer.drain(..n);
+            Ok(n)
+        }
+    }
+
+    impl Write for Scripted {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    impl Line for Scripted {
+        fn set_line(&mut self, _line: LineSettings) -> Result<(), String> {
+            Ok(())
+        }
+    }
+
+    fn client(answer: Vec<u8>) -> Client {
+        Client::new(Box::new(RtuTransport::new(Scripted { answer }, 50, 0)), 1)
+    }
+
+    #[test]
+    fn an_exception_over_rtu_is_the_clients_exception() {
+        let mut c = client(encode_rtu(1, &[0x83, 0x02]));
+        assert_eq!(
+            c.modbus(&[0x03, 0x00, 0x00, 0x00, 0x01]),
+            Err(LinkError::Exception {
+                function: 0x03,
+                code: 0x02
+            })
+        );
+    }
+
+    #[test]
+    fn a_long_exception_over_rtu_is_no_answer() {
+        let mut c = client(encode_rtu(1, &[0x83, 0x02, 0x00, 0x00]));
+        assert_eq!(
+            c.modbus(&[0x03, 0x00, 0x00, 0x00, 0x01]),
+            Err(LinkError::Timeout { attempts: 1 })
+        );
     }
 }

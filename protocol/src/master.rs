@@ -70,9 +70,15 @@ pub enum MasterEvent {
     Pending,
     /// No request outstanding; bytes were discarded.
     Idle,
-    /// The matching answer (may be a Modbus exception or a GUTTA failure: the caller
-    /// interprets the PDU). The master is idle again.
+    /// The matching normal answer: the request's function code (never its exception).
+    /// For function 13 it carries the request's GUTTA function or its failure (bit 15)
+    /// and its packet: the caller decodes the GUTTA data. The master is idle again.
     Response(RtuFrame),
+    /// The matching Modbus exception answer, `[station][function | 0x80][code]`:
+    /// `function` is the request's function code (without the exception bit), `code`
+    /// the exception code as received (any byte; `modbus::ExceptionCode` names the ones
+    /// a GUTTA PLC sends). The master is idle again.
+    Exception { station: u8, function: u8, code: u8 },
     /// The timeout passed: write these bytes (the same request) again.
     Retry(Vec<u8>),
     /// Gave up. The master is idle again.
@@ -98,8 +104,8 @@ pub fn expects_answer(station: u8, function: u8) -> bool {
     station != 0 || function == MODBUS_FUNCTION_GUTTA
 }
 
-/// The master state machine: Idle -> (send) -> Waiting -> Response | Retry -> ... |
-/// Failed -> Idle.
+/// The master state machine: Idle -> (send) -> Waiting -> Response | Exception |
+/// Retry -> ... | Failed -> Idle.
 #[derive(Debug, Clone)]
 pub struct Master {
     config: MasterConfig,
@@ -127,7 +133,8 @@ impl Master {
         self.outstanding.is_some()
     }
 
-    /// Valid frames received that did not answer the outstanding request.
+    /// Valid frames (CRC checked) received while a request was outstanding that did not
+    /// answer it.
     pub fn ignored_frames(&self) -> u64 {
         self.ignored_frames
     }
@@ -140,7 +147,7 @@ impl Master {
     /// Starts a request; returns the RTU frame to write. A broadcast (station 0) of any
     /// function but 13 expects no answer: the bytes are returned and the master stays
     /// idle. Station 0 with function 13 is answered by the PLC (AN2002), from whatever
-    /// station it has, so any station's answer is accepted.
+    /// station it has, so an answer from any station but 0 is accepted.
     pub fn send(&mut self, station: u8, pdu: &[u8], now: u64) -> Result<Vec<u8>, MasterError> {
         if self.outstanding.is_some() {
             return Err(MasterError::Busy);
@@ -181,11 +188,13 @@ impl Master {
         self.splitter.clear();
     }
 
-    /// Feeds received bytes. A matching answer completes the request. A frame with a
-    /// bad CRC counts as a lost answer: the request is retried when its timeout passes
-    /// (unless a good answer arrives first), and fails with `Crc` instead of `Timeout`
-    /// if it was the last attempt. Non-matching valid frames and framing noise are
-    /// ignored.
+    /// Feeds received bytes. A matching answer completes the request: `Response`, or
+    /// `Exception` for a well-formed Modbus exception. A frame with a bad CRC counts as
+    /// a lost answer: the request is retried when its timeout passes (unless a good
+    /// answer arrives first), and fails with `Crc` instead of `Timeout` if it was the
+    /// last attempt. Valid frames that do not answer (another station, station 0,
+    /// another function, GUTTA packet, or an exception of the wrong shape) are counted
+    /// in `ignored_frames` and ignored; framing noise is dropped.
     pub fn on_bytes(&mut self, bytes: &[u8], _now: u64) -> MasterEvent {
         let Some(outstanding) = self.outstanding.as_mut() else {
             return MasterEvent::Idle;
@@ -193,13 +202,13 @@ impl Master {
         self.splitter.push(bytes);
         while let Some(result) = self.splitter.next_frame() {
             match result {
-                Ok(wire) => match decode_rtu(&wire) {
-                    Ok(frame) if answers(outstanding, &frame) => {
+                Ok(wire) => match decode_rtu(&wire).ok().and_then(|f| answer(outstanding, f)) {
+                    Some(event) => {
                         self.outstanding = None;
                         self.splitter.clear();
-                        return MasterEvent::Response(frame);
+                        return event;
                     }
-                    _ => self.ignored_frames += 1,
+                    None => self.ignored_frames += 1,
                 },
                 Err(FrameError::CrcMismatch { .. }) => outstanding.crc_error_seen = true,
                 Err(_) => {}
@@ -235,29 +244,44 @@ impl Master {
     }
 }
 
-/// Whether `frame` answers the outstanding request: same station (any for a function 13
-/// broadcast), same function or its exception; for function 13 also the same GUTTA
-/// function (or its failure) and packet.
-fn answers(outstanding: &Outstanding, frame: &RtuFrame) -> bool {
-    if outstanding.station != 0 && frame.station != outstanding.station {
-        return false;
+/// The event `frame` completes the outstanding request with, or `None` if it does not
+/// answer it (docs/protocol.md, "What the master does with each frame"):
+/// - station 0 never answers: it is the broadcast address, no slave's, so a frame from
+///   it is a request on the line (another master's, or our own echoed), not an answer;
+/// - otherwise the request's station, or any station for a function 13 broadcast;
+/// - `[function | 0x80, code]`, exactly two PDU bytes, is the exception answer (for
+///   function 13 too: UM4001 adds nothing to the Modbus exception, which carries no
+///   GUTTA function or packet); the exception bit with any other PDU length is not an
+///   answer but garbage on the line;
+/// - the request's function is the normal answer; for function 13 only GUTTA data of
+///   the request's GUTTA function (or its failure, bit 15) and packet.
+fn answer(outstanding: &Outstanding, frame: RtuFrame) -> Option<MasterEvent> {
+    if frame.station == 0 || (outstanding.station != 0 && frame.station != outstanding.station) {
+        return None;
     }
-    let Some(function) = frame.function() else {
-        return false;
-    };
-    if function == outstanding.function | EXCEPTION_BIT {
-        return true;
+    let function = frame.function()?;
+    let exception = outstanding.function | EXCEPTION_BIT;
+    if function == exception && function != outstanding.function {
+        return match frame.pdu[..] {
+            [_, code] => Some(MasterEvent::Exception {
+                station: frame.station,
+                function: outstanding.function,
+                code,
+            }),
+            _ => None,
+        };
     }
     if function != outstanding.function {
-        return false;
+        return None;
     }
-    match outstanding.gutta {
+    let answers = match outstanding.gutta {
         None => true,
         Some((code, packet)) => GuttaFrame::from_pdu(&frame.pdu).is_ok_and(|answer| {
             (answer.function == code || answer.function == code | FAILURE_BIT)
                 && answer.packet == packet
         }),
-    }
+    };
+    answers.then_some(MasterEvent::Response(frame))
 }
 
 #[cfg(test)]
@@ -353,11 +377,13 @@ mod tests {
         let exception = encode_rtu(1, &[0x82, 0x02]);
         assert_eq!(
             m.on_bytes(&exception, 3),
-            MasterEvent::Response(RtuFrame {
+            MasterEvent::Exception {
                 station: 1,
-                pdu: vec![0x82, 0x02]
-            })
+                function: 0x02,
+                code: 0x02
+            }
         );
+        assert!(!m.is_busy());
     }
 
     #[test]
@@ -404,5 +430,185 @@ mod tests {
             m.send(1, &[0x0D, 0, 5], 5),
             Err(MasterError::BadRequest { .. })
         ));
+    }
+
+    /// GUTTA PLC_CLEAR (0100), single packet: its success answer is the same GUTTA data.
+    const CLEAR: [u8; 7] = [0x0D, 0x00, 0x04, 0x01, 0x00, 0x80, 0x00];
+    /// The request of the `frames` fuzz target: PROGRAM_INSTRUCTION_READ (0800), packet 1.
+    const READ_PAGE_0: [u8; 7] = [0x0D, 0x00, 0x04, 0x08, 0x00, 0x00, 0x01];
+
+    /// What `answer` makes of `pdu` from `station` for the request `send` just started.
+    fn judge(m: &Master, station: u8, pdu: &[u8]) -> Option<MasterEvent> {
+        let outstanding = m.outstanding.as_ref().expect("a request is outstanding");
+        answer(
+            outstanding,
+            RtuFrame {
+                station,
+                pdu: pdu.to_vec(),
+            },
+        )
+    }
+
+    #[test]
+    fn an_exception_answer_is_exactly_two_pdu_bytes() {
+        for (station, request) in [(1, &READ_PAGE_0[..]), (0, &READ_PAGE_0[..])] {
+            let mut m = master(0);
+            m.send(station, request, 0).expect("idle");
+            // Short: the function with the exception bit and no code.
+            assert_eq!(judge(&m, 1, &[0x8D]), None);
+            // Long: a code and two more bytes.
+            assert_eq!(judge(&m, 1, &[0x8D, 0x02, 0x00, 0x00]), None);
+            // Well-formed: function | 0x80 and one code byte.
+            assert_eq!(
+                judge(&m, 1, &[0x8D, 0x06]),
+                Some(MasterEvent::Exception {
+                    station: 1,
+                    function: 0x0D,
+                    code: 0x06
+                })
+            );
+            // Another function's exception is not this request's answer.
+            assert_eq!(judge(&m, 1, &[0x83, 0x02]), None);
+        }
+        let mut m = master(0);
+        m.send(1, &READ_INPUTS, 0).expect("idle");
+        assert_eq!(judge(&m, 1, &[0x82]), None);
+        assert_eq!(judge(&m, 1, &[0x82, 0x02, 0x01]), None);
+        assert_eq!(
+            judge(&m, 1, &[0x82, 0x02]),
+            Some(MasterEvent::Exception {
+                station: 1,
+                function: 0x02,
+                code: 0x02
+            })
+        );
+    }
+
+    #[test]
+    fn a_short_exception_on_the_line_is_no_answer_and_the_request_is_retried() {
+        let mut m = master(1);
+        let wire = m.send(1, &READ_PAGE_0, 0).expect("idle");
+        // `01 8D CRC CRC`: the splitter waits for the fifth byte of an exception frame.
+        assert_eq!(
+            m.on_bytes(&encode_rtu(1, &[0x8D]), 10),
+            MasterEvent::Pending
+        );
+        assert_eq!(m.on_tick(100), Some(MasterEvent::Retry(wire)));
+        assert_eq!(
+            m.on_tick(200),
+            Some(MasterEvent::Failed(MasterError::Timeout { attempts: 2 }))
+        );
+        assert_eq!(m.ignored_frames(), 0);
+    }
+
+    #[test]
+    fn a_long_exception_on_the_line_is_no_answer_and_the_request_is_retried() {
+        let mut m = master(1);
+        let wire = m.send(1, &READ_PAGE_0, 0).expect("idle");
+        // Framed as a five-byte exception its CRC does not check; the rest is noise.
+        let long = encode_rtu(1, &[0x8D, 0x02, 0x00, 0x00]);
+        assert_eq!(m.on_bytes(&long, 10), MasterEvent::Pending);
+        assert_eq!(m.on_tick(100), Some(MasterEvent::Retry(wire)));
+        assert_eq!(m.on_bytes(&long, 110), MasterEvent::Pending);
+        assert_eq!(
+            m.on_tick(200),
+            Some(MasterEvent::Failed(MasterError::Crc { attempts: 2 }))
+        );
+    }
+
+    #[test]
+    fn a_well_formed_exception_on_the_line_answers_function_13() {
+        let mut m = master(1);
+        m.send(1, &READ_PAGE_0, 0).expect("idle");
+        assert_eq!(
+            m.on_bytes(&encode_rtu(1, &[0x8D, 0x06]), 10),
+            MasterEvent::Exception {
+                station: 1,
+                function: 0x0D,
+                code: 0x06
+            }
+        );
+        assert!(!m.is_busy());
+        assert_eq!(m.ignored_frames(), 0);
+    }
+
+    /// Issue 32, as filed: a frame from station 0 whose PDU is function 13's exception
+    /// with four bytes, while a function 13 broadcast waits. With its own CRC it is not
+    /// the answer by shape, nor by station; on the line the splitter sees bad CRCs, so
+    /// the timeout and the retry take over.
+    #[test]
+    fn issue_32_a_long_exception_from_station_0_is_not_the_answer() {
+        let mut m = master(1);
+        let wire = m.send(0, &READ_PAGE_0, 0).expect("idle");
+        let pdu = [0x8D, 0x2F, 0x8D, 0x60];
+        assert_eq!(judge(&m, 0, &pdu), None);
+        assert_eq!(judge(&m, 0x2F, &pdu), None);
+        assert_eq!(m.on_bytes(&encode_rtu(0, &pdu), 10), MasterEvent::Pending);
+        assert_eq!(m.on_tick(100), Some(MasterEvent::Retry(wire)));
+        assert_eq!(
+            m.on_tick(200),
+            Some(MasterEvent::Failed(MasterError::Timeout { attempts: 2 }))
+        );
+        assert!(!m.is_busy());
+    }
+
+    /// Issue 32, the fuzzer's input replayed as the `frames` target does (first byte:
+    /// chunk size, the rest the received stream). The frame the master took is
+    /// `2F 8D 60 25 71`, the only CRC-valid window: a well-formed exception (code 0x60)
+    /// from station 0x2F to the function 13 broadcast, preceded by noise. It is the
+    /// answer, now as the typed `Exception`, never as a `Response`.
+    #[test]
+    fn issue_32_the_fuzz_input_ends_in_a_well_formed_exception() {
+        let input = [141u8, 0, 0, 141, 47, 141, 96, 37, 113];
+        let mut m = Master::new(MasterConfig {
+            timeout_ms: 10,
+            retries: 1,
+            ..MasterConfig::default()
+        });
+        m.send(0, &READ_PAGE_0, 0).expect("idle");
+        assert_eq!(
+            m.on_bytes(&input[1..], 3),
+            MasterEvent::Exception {
+                station: 0x2F,
+                function: 0x0D,
+                code: 0x60
+            }
+        );
+        assert_eq!(m.ignored_frames(), 0);
+    }
+
+    /// Station 0 is no slave's address: a frame from it is a request on the line, such
+    /// as the echo of our own broadcast, which for PLC_CLEAR is byte for byte what its
+    /// success answer would be. It is counted and ignored; the PLC's answer follows.
+    #[test]
+    fn a_frame_from_station_0_is_never_the_answer() {
+        let mut m = master(0);
+        let wire = m.send(0, &CLEAR, 0).expect("idle");
+        assert_eq!(m.on_bytes(&wire, 1), MasterEvent::Pending);
+        assert_eq!(
+            m.on_bytes(&encode_rtu(0, &[0x8D, 0x06]), 2),
+            MasterEvent::Pending
+        );
+        assert_eq!(m.ignored_frames(), 2);
+        assert_eq!(
+            m.on_bytes(&encode_rtu(7, &CLEAR), 3),
+            MasterEvent::Response(RtuFrame {
+                station: 7,
+                pdu: CLEAR.to_vec()
+            })
+        );
+    }
+
+    /// Modbus RTU has no transaction id: an answer to the first attempt that arrives
+    /// after the retry answers the retry (the same request); the second answer then
+    /// finds the master idle and is discarded, uncounted.
+    #[test]
+    fn a_late_answer_after_a_retry_is_the_answer_and_the_next_finds_it_idle() {
+        let mut m = master(1);
+        let wire = m.send(1, &READ_INPUTS, 0).expect("idle");
+        assert_eq!(m.on_tick(100), Some(MasterEvent::Retry(wire)));
+        assert!(matches!(m.on_bytes(&ANSWER, 120), MasterEvent::Response(_)));
+        assert_eq!(m.on_bytes(&ANSWER, 130), MasterEvent::Idle);
+        assert_eq!(m.ignored_frames(), 0);
     }
 }

@@ -19,7 +19,8 @@ use std::time::{Duration, Instant};
 use gutta_format::LineSettings;
 use gutta_protocol::gateway::{answer_to_rtu, Gateway};
 use gutta_protocol::master::{Master, MasterConfig, MasterEvent};
-use gutta_protocol::rtu::decode_rtu;
+use gutta_protocol::modbus::EXCEPTION_BIT;
+use gutta_protocol::rtu::{decode_rtu, encode_rtu};
 use gutta_protocol::stream::TcpSplitter;
 use gutta_protocol::tcp::MAX_STANDARD_MBAP_LENGTH;
 use gutta_sim::ports::PortFactory;
@@ -174,6 +175,12 @@ impl StreamPort {
             };
             match event {
                 MasterEvent::Response(f) => return Ok(f.encode()),
+                // EXCH hands the PLC program the answer frame as received.
+                MasterEvent::Exception {
+                    station,
+                    function,
+                    code,
+                } => return Ok(encode_rtu(station, &[function | EXCEPTION_BIT, code])),
                 MasterEvent::Failed(gutta_protocol::master::MasterError::Crc { .. }) => {
                     return Err(PortError::Crc)
                 }
