@@ -14,6 +14,7 @@ mod instructions;
 mod memory;
 pub mod modbus;
 mod plc_type;
+pub mod plural;
 pub mod rules;
 pub mod s7200;
 pub mod s7200_timers;

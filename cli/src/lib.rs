@@ -1,11 +1,12 @@
 //! The conventions the three command-line tools (gutta-cc, gutta-vm, gutta-sim) share:
 //! fatal errors with a kind and their JSON form, the NO_COLOR rule, shell completions
 //! and man pages, the table of flags the tools spell alike (docs/cli.md), and counts
-//! with their nouns (`plural.rs`: `1 page`, `2 pages`). It must not know any one
+//! with their nouns (`plural`, whose home is gutta-catalog so the libraries' messages
+//! share it: `1 page`, `2 pages`). It must not know any one
 //! tool's commands or do any tool's work.
 
 pub mod color;
 pub mod fatal;
 pub mod flags;
-pub mod plural;
+pub use gutta_catalog::plural;
 pub mod shell;

@@ -491,8 +491,8 @@ impl Session {
                 Ok(line) => got.push(line),
                 Err(_) => {
                     return Err(format!(
-                        "the server printed {} line(s) within 30 s: {got:?}",
-                        got.len()
+                        "the server printed {} within 30 s: {got:?}",
+                        gutta_cli::plural::count(got.len(), "line")
                     ))
                 }
             }
@@ -627,7 +627,7 @@ fn every_console_example_prints_what_it_shows() {
     });
     assert!(
         failures.is_empty(),
-        "{} console example(s) do not print what the docs show:\n\n{}",
+        "console examples that do not print what the docs show ({}):\n\n{}",
         failures.len(),
         failures.join("\n")
     );

@@ -22,7 +22,7 @@ mod units;
 use std::collections::BTreeSet;
 use std::fmt;
 
-use gutta_catalog::{AreaKind, Target};
+use gutta_catalog::{plural, AreaKind, Target};
 
 use crate::{Image, PageId, PageKind};
 
@@ -244,7 +244,8 @@ impl<'a> Disassembler<'a> {
                 Some(PageId::new(PageKind::Const, 0)),
                 first,
                 format!(
-                    "{unused} byte(s) of the const page, the first {k}B{first}, are no printed constant's value"
+                    "{} of the const page, the first {k}B{first}, are no printed constant's value",
+                    plural::count(unused, "byte")
                 ),
             );
         }

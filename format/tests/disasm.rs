@@ -521,7 +521,7 @@ fn call_arguments_take_the_callee_parameter_types() {
     );
     // K3's byte 2 is only read as a bit: compiling the text would not reproduce it.
     let e = error_at(&d, PageKind::Const, 0, 3);
-    assert!(e.reason.contains("1 byte(s)"), "{e}");
+    assert!(e.reason.contains("1 byte after"), "{e}");
     assert_eq!(d.errors.len(), 1, "{:?}", d.errors);
 }
 
@@ -817,7 +817,7 @@ fn system_values_no_key_spells_are_errors() {
         .image());
     assert!(error_at(&d, PageKind::System, 0, 1)
         .reason
-        .contains("2 port(s)"));
+        .contains("2 ports"));
     bytes.truncate(5);
     let d = dis(&Build::new()
         .main(&[Record::Network(1)])
@@ -929,7 +929,7 @@ fn const_bytes_no_constant_uses_are_errors() {
     assert!(has_line(&d.text, "MOVW   5, MW0"), "{}", d.text);
     let e = error_at(&d, PageKind::Const, 0, 2);
     assert!(
-        e.reason.contains("2 byte(s)") && e.reason.contains("KB2"),
+        e.reason.contains("2 bytes of the const page") && e.reason.contains("KB2"),
         "{e}"
     );
 }
@@ -942,7 +942,7 @@ fn calls_need_the_callee_argument_count() {
         .image();
     let d = dis(&image);
     let e = error_at(&d, PageKind::Instruction, 0, 4);
-    assert!(e.reason.contains("takes 0 argument(s)"), "{e}");
+    assert!(e.reason.contains("takes 0 arguments"), "{e}");
 }
 
 /// Random pages of every kind, some with valid opcodes and operands: the disassembler

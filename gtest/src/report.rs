@@ -6,6 +6,7 @@
 use std::fmt::Write as _;
 use std::time::Duration;
 
+use gutta_catalog::plural;
 use gutta_compiler::source::{LineIndex, SourceFile};
 use gutta_vm::vcd::{Dump, Signal};
 use quick_junit::{NonSuccessKind, Report, TestCase, TestCaseStatus, TestSuite};
@@ -101,7 +102,8 @@ pub fn failure_message(failure: &Failure) -> String {
     match &failure.kind {
         FailureKind::Expect(m) => format!("EXPECT failed {at}: {}", joined(m)),
         FailureKind::Until { within, mismatches } => format!(
-            "UNTIL did not hold within {within} scans, {at}: {}",
+            "UNTIL did not hold within {}, {at}: {}",
+            plural::count(*within, "scan"),
             joined(mismatches)
         ),
         FailureKind::Fault {
@@ -175,7 +177,11 @@ pub fn failure_detail(display: &str, file: &SourceFile, result: &TestResult) -> 
     match &failure.kind {
         FailureKind::Expect(m) => mismatch_lines(&mut out, m),
         FailureKind::Until { within, mismatches } => {
-            let _ = writeln!(out, "    not true within {within} scans; at the last:");
+            let _ = writeln!(
+                out,
+                "    not true within {}; at the last:",
+                plural::count(*within, "scan")
+            );
             mismatch_lines(&mut out, mismatches);
         }
         _ => {

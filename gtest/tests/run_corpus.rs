@@ -184,7 +184,7 @@ fn every_test_of_the_vm_corpus_passes_on_every_engine() {
         .sum();
     assert!(
         failures.is_empty(),
-        "{} failure(s) in {} files ({tests} tests) of tests/data/run:\n{}",
+        "failures ({}) in {} files ({tests} tests) of tests/data/run:\n{}",
         failures.len(),
         files.len(),
         failures.join("\n")

@@ -185,7 +185,7 @@ impl fmt::Display for JitError {
                 width,
             } => write!(
                 f,
-                "function {function}, step {step}: {width} byte(s) at index {at} lie outside the memory"
+                "function {function}, step {step}: a {width}-byte access at index {at} lies outside the memory"
             ),
             JitError::BitNumber {
                 function,

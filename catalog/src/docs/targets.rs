@@ -39,8 +39,8 @@ const DOCUMENT_NAMES: &[(&str, &str, &str)] = &[
 const INTRO: &str = "\
 The PLC types of IN1001, as shipped in `stdlib/targets/<Name>/` (PlcType.xml and
 ManagerVar.xml; all share `stdlib/ManagerFun.xml`); each file exists once. The file
-schema is in [target-schema.md](target-schema.md); the memory facts come from GUTTA.md
-section 2 (IN1001). Every table below is generated from the files;
+schema is in [target-schema.md](target-schema.md); the memory facts come from IN1001,
+the GUTTA memory manual ([sources.md](sources.md)). Every table below is generated from the files;
 `catalog/tests/targets.rs` checks the files against a table transcribed by hand from
 that section.
 ";

@@ -4,7 +4,7 @@
 
 use std::collections::BTreeMap;
 
-use gutta_catalog::{AreaKind, Target};
+use gutta_catalog::{plural, AreaKind, Target};
 use gutta_format::{encode_data, encode_instructions, Image, PageId, PageKind, Record};
 
 mod listing;
@@ -150,17 +150,13 @@ pub fn summary(image: &Image, target: &Target) -> String {
         .map(|a| a.size)
         .unwrap_or(0);
     let count = |k: PageKind| image.pages.keys().filter(|id| id.kind == k).count();
+    let arguments = image.total(PageKind::Argument);
     let mut parts = vec![
         format!(
-            "instructions {} / {} bytes in {} block{}",
+            "instructions {} / {} bytes in {}",
             thousands(image.total(PageKind::Instruction)),
             thousands(plc.program_block_instruction_binary_size as usize),
-            count(PageKind::Instruction),
-            if count(PageKind::Instruction) == 1 {
-                ""
-            } else {
-                "s"
-            }
+            plural::count(count(PageKind::Instruction), "block"),
         ),
         format!(
             "const {} / {}",
@@ -168,20 +164,19 @@ pub fn summary(image: &Image, target: &Target) -> String {
             thousands(plc.program_block_const_binary_size.min(k_size) as usize)
         ),
         format!(
-            "arguments {} bytes",
-            thousands(image.total(PageKind::Argument))
+            "arguments {} {}",
+            thousands(arguments),
+            plural::noun_for(arguments as u64, "byte")
         ),
     ];
     let data_pages = count(PageKind::Data);
     if data_pages > 0 {
         let items = image.total(PageKind::Data) / 8;
         parts.push(format!(
-            "data {} page{} / {}, {} item{}",
-            data_pages,
-            if data_pages == 1 { "" } else { "s" },
+            "data {} / {}, {}",
+            plural::count(data_pages, "page"),
             plc.data_block_page_size,
-            items,
-            if items == 1 { "" } else { "s" }
+            plural::count(items, "item"),
         ));
     }
     if count(PageKind::System) > 0 {

@@ -1,7 +1,7 @@
 //! Data pages as `DATA_BLOCK DATn` rows and the system page as `SYSTEM_BLOCK` keys,
 //! each value spelled so the compiler writes the same bytes back.
 
-use gutta_catalog::{DataType, Width};
+use gutta_catalog::{plural, DataType, Width};
 
 use super::operands::operand_name;
 use super::Disassembler;
@@ -60,8 +60,8 @@ impl Disassembler<'_> {
         }
         if whole < bytes.len() {
             let reason = format!(
-                "{} byte(s) after the last whole 8-byte item",
-                bytes.len() - whole
+                "{} after the last whole 8-byte item",
+                plural::count(bytes.len() - whole, "byte")
             );
             self.cannot_decode("  ", "the end of the page", id, whole, &reason);
         }
@@ -135,8 +135,8 @@ impl Disassembler<'_> {
         let ports = self.target.memory.serial_ports as usize;
         if page.ports.len() != ports {
             let reason = format!(
-                "the page has {} port(s), {} has {ports}",
-                page.ports.len(),
+                "the page has {}, {} has {ports}",
+                plural::count(page.ports.len(), "port"),
                 self.target.name()
             );
             self.error(Some(id), 1, reason);

@@ -3,7 +3,7 @@
 //! operand types, labels, units and literals. An operand whose bits no text
 //! reproduces is an error string, never a guess.
 
-use gutta_catalog::rules;
+use gutta_catalog::{plural, rules};
 use gutta_catalog::{
     Address, Area, AreaKind, BlockKind, DataType, Instruction, OperandKind, OperandSpec, Role,
     Width,
@@ -147,9 +147,10 @@ impl<'a> Disassembler<'a> {
             return Err((
                 None,
                 format!(
-                    "{} takes {}{fixed} operand(s), the record has {}",
+                    "{} takes {}{}, the record has {}",
                     ins.mnemonic,
                     if ins.call_arguments { "at least " } else { "" },
+                    plural::count(fixed, "operand"),
                     ops.len()
                 ),
             ));
@@ -220,8 +221,8 @@ impl<'a> Disassembler<'a> {
             return Err((
                 None,
                 format!(
-                    "{unit} takes {} argument(s), the record passes {passed}",
-                    params.len()
+                    "{unit} takes {}, the record passes {passed}",
+                    plural::count(params.len(), "argument")
                 ),
             ));
         }

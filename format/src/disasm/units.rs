@@ -4,7 +4,7 @@
 //! instruction page. Operand spelling is in `operands.rs`.
 
 use gutta_catalog::rules::LocalLayout;
-use gutta_catalog::{Address, AreaKind, BlockKind, DataType};
+use gutta_catalog::{plural, Address, AreaKind, BlockKind, DataType};
 
 use super::{Disassembler, Format};
 use crate::{
@@ -76,8 +76,10 @@ impl Disassembler<'_> {
         let Some(unit) = UnitRef::from_page(number, &self.target.plc) else {
             let plc = &self.target.plc;
             let reason = format!(
-                "page {number:02X} is no program unit of {}: it has {} interrupt routines and {} subroutines",
-                plc.name, plc.program_block_page_int_size, plc.program_block_page_sbr_size
+                "page {number:02X} is no program unit of {}: it has {} and {}",
+                plc.name,
+                plural::count(plc.program_block_page_int_size, "interrupt routine"),
+                plural::count(plc.program_block_page_sbr_size, "subroutine")
             );
             self.cannot_decode(
                 "",

@@ -4,7 +4,7 @@
 
 use std::fmt;
 
-use gutta_catalog::{BlockKind, Width};
+use gutta_catalog::{plural, BlockKind, Width};
 
 use crate::{DecodeError, PackedOperand, PageId, UnitRef};
 
@@ -571,7 +571,8 @@ impl VerifyError {
                 size,
                 ..
             } => format!(
-                "{operand}: {bytes} byte(s) at offset {offset} reach past the {size} bytes of {area}"
+                "{operand}: {} at offset {offset} reach past the {size} bytes of {area}",
+                plural::count(*bytes, "byte")
             ),
             E::Misaligned {
                 operand,

@@ -1,4 +1,4 @@
-//! Counts with their nouns, for every count the tools print: `count(1, "network")` is
+//! Counts with their nouns, for every count the tools and libraries print: `count(1, "network")` is
 //! `1 network`, `count(3, "byte")` is `3 bytes`, never `1 pages` or `page(s)`. It only
 //! knows English plurals of the nouns the tools use; a noun with another plural takes
 //! `count_as`.
@@ -22,6 +22,16 @@ pub fn count_as<N: Display + PartialEq + From<u8>>(n: N, singular: &str, plural:
         format!("{n} {singular}")
     } else {
         format!("{n} {plural}")
+    }
+}
+
+/// The noun alone, in the plural unless `n` is 1, for a count printed another way
+/// (with thousands separators): `noun_for(1, "byte")` is `byte`.
+pub fn noun_for(n: u64, noun: &str) -> String {
+    if n == 1 {
+        noun.to_string()
+    } else {
+        plural(noun)
     }
 }
 
@@ -60,5 +70,7 @@ mod tests {
         assert_eq!(count(2usize, "box"), "2 boxes");
         assert_eq!(count_as(1usize, "child", "children"), "1 child");
         assert_eq!(count_as(4usize, "child", "children"), "4 children");
+        assert_eq!(noun_for(1, "byte"), "byte");
+        assert_eq!(noun_for(1_204, "byte"), "bytes");
     }
 }
