@@ -47,17 +47,28 @@ pub fn load(name: &str) -> Result<Target, CatalogError> {
         .find(|(n, _, _)| n.eq_ignore_ascii_case(name))
         .ok_or_else(|| {
             let known: Vec<&str> = names().collect();
-            CatalogError::new(
-                CatalogErrorCode::NotFound,
-                name,
-                format!("no stdlib PLC type `{name}` (known: {})", known.join(", ")),
-            )
+            let mut message = format!("no stdlib PLC type `{name}` (known: {})", known.join(", "));
+            if let Some(near) = nearest(name) {
+                message.push_str(&format!("; did you mean `{near}`?"));
+            }
+            CatalogError::new(CatalogErrorCode::NotFound, name, message)
         })?;
     Target::load(TargetSources {
         plc_type: plc,
         manager_var: var,
         manager_fun: MANAGER_FUN,
     })
+}
+
+/// The stdlib name closest to a mistyped one (case folded), if it is close: at most
+/// two edits, and fewer than half the name's length.
+fn nearest(name: &str) -> Option<&'static str> {
+    let wanted = name.to_ascii_uppercase();
+    names()
+        .map(|n| (crate::edit_distance(&wanted, &n.to_ascii_uppercase()), n))
+        .filter(|(d, _)| *d <= 2 && *d * 2 < wanted.len().max(1))
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, n)| n)
 }
 
 /// Load the default target.
@@ -74,5 +85,18 @@ pub fn shared(name: &str) -> Result<Arc<Target>, CatalogError> {
     match cache.iter().find(|(n, _)| n.eq_ignore_ascii_case(name)) {
         Some((_, result)) => result.clone(),
         None => load(name).map(Arc::new),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::load;
+
+    #[test]
+    fn a_mistyped_name_gets_the_nearest_stdlib_type() {
+        let e = load("cpu-ec2").expect_err("not a stdlib type");
+        assert!(e.to_string().contains("did you mean `CPU-EC20`?"), "{e}");
+        let e = load("S7-200").expect_err("not a stdlib type");
+        assert!(!e.to_string().contains("did you mean"), "{e}");
     }
 }

@@ -75,6 +75,8 @@ fn json_samples_follow_the_blinking_lamp() {
         .map(|s| s["time_ms"].as_u64().expect("time_ms"))
         .collect();
     assert!(times.windows(2).all(|w| w[0] < w[1]), "{times:?}");
+    // Counted from the first sample, whose time is 0.
+    assert_eq!(times[0], 0, "{times:?}");
     let lamp: Vec<u64> = samples
         .iter()
         .map(|s| {

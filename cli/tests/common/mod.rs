@@ -17,7 +17,7 @@ use gutta_format::Image;
 /// How to get every external tool these tests use.
 pub const INSTALL: &str = "run `bash .ci/run`, or: apt-get install mbpoll socat \
      tmux libmodbus-dev pkg-config zsh fish neovim chromium; python3 -m venv .ci/venv && .ci/venv/bin/pip install \
-     pymodbus==3.6.9; export GUTTA_PYTHON=$PWD/.ci/venv/bin/python";
+     pymodbus==3.6.9 pytest==9.2.0 pytest-lsp==1.0.1; export GUTTA_PYTHON=$PWD/.ci/venv/bin/python";
 
 /// `text` compiled for CPU-EC20 (it must compile).
 pub fn image(name: &str, text: &str) -> Image {

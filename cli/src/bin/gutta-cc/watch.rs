@@ -32,7 +32,10 @@ struct Sampler {
     vars: Vec<Var>,
     values: Vec<u32>,
     changed: Vec<Option<Instant>>,
+    /// When the first sample's values arrived: time 0 of `time_ms`.
     start: Instant,
+    /// When the latest sample's values arrived.
+    sampled: Instant,
     samples: u64,
 }
 
@@ -40,7 +43,7 @@ impl Sampler {
     /// Read every variable (in as few requests as the protocol allows).
     fn sample(&mut self) -> Result<(), Fatal> {
         let now = client::read_values(&mut self.client, &self.target, &self.vars).map_err(|e| {
-            Fatal::usage(format!(
+            Fatal::link(format!(
                 "lost the connection to the PLC after {}: {e}",
                 gutta_cli::plural::count(self.samples, "sample")
             ))
@@ -53,12 +56,17 @@ impl Sampler {
             }
         }
         self.values = now;
+        self.sampled = Instant::now();
+        if self.samples == 0 {
+            self.start = self.sampled;
+        }
         self.samples += 1;
         Ok(())
     }
 
+    /// The latest sample's time, counted from the first sample (whose is 0).
     fn time_ms(&self) -> u128 {
-        self.start.elapsed().as_millis()
+        self.sampled.duration_since(self.start).as_millis()
     }
 
     /// `{"time_ms", "values": [{"name", "address", "format", "value", "raw"}]}`.
@@ -137,6 +145,7 @@ pub(crate) fn watch(
         values: vec![0; n],
         changed: vec![None; n],
         start: Instant::now(),
+        sampled: Instant::now(),
         samples: 0,
     };
     let interval = Duration::from_millis(options.interval_ms.max(1));
