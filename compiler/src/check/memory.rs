@@ -233,8 +233,8 @@ impl Checker<'_> {
                 ),
             )
             .label(format!(
-                "{have} bit{}, expected {}",
-                if have == 1 { "" } else { "s" },
+                "{}, expected {}",
+                gutta_catalog::plural::count(have, "bit"),
                 want.bits()
             ))
             .help(self.width_help(site, want));
