@@ -71,8 +71,11 @@ impl std::fmt::Display for LinkError {
         match self {
             LinkError::Connect { message, .. } => f.write_str(message),
             LinkError::Io(e) => write!(f, "{e}"),
-            LinkError::Timeout { attempts: 1 } => f.write_str("no answer after 1 attempt"),
-            LinkError::Timeout { attempts } => write!(f, "no answer after {attempts} attempts"),
+            LinkError::Timeout { attempts } => write!(
+                f,
+                "no answer after {}",
+                gutta_catalog::plural::count(*attempts, "attempt")
+            ),
             LinkError::Protocol(e) => write!(f, "protocol error: {e}"),
             LinkError::Refused { function, what } => {
                 write!(f, "the PLC refused {what} (function {function:04X})")

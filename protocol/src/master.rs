@@ -5,6 +5,8 @@
 
 use std::fmt;
 
+use gutta_catalog::plural;
+
 use crate::gutta::{GuttaFrame, FAILURE_BIT, MODBUS_FUNCTION_GUTTA};
 use crate::modbus::EXCEPTION_BIT;
 use crate::rtu::{decode_rtu, encode_rtu, FrameError, RtuFrame};
@@ -52,10 +54,14 @@ impl fmt::Display for MasterError {
             MasterError::Busy => write!(f, "a request is already outstanding"),
             MasterError::BadRequest { detail } => write!(f, "bad request: {detail}"),
             MasterError::Timeout { attempts } => {
-                write!(f, "no answer after {attempts} attempt(s)")
+                write!(f, "no answer after {}", plural::count(*attempts, "attempt"))
             }
             MasterError::Crc { attempts } => {
-                write!(f, "answer with a CRC error after {attempts} attempt(s)")
+                write!(
+                    f,
+                    "answer with a CRC error after {}",
+                    plural::count(*attempts, "attempt")
+                )
             }
         }
     }
