@@ -244,8 +244,9 @@ impl<'a> Disassembler<'a> {
                 Some(PageId::new(PageKind::Const, 0)),
                 first,
                 format!(
-                    "{} of the const page, the first {k}B{first}, are no printed constant's value",
-                    plural::count(unused, "byte")
+                    "{} of the const page, the first {k}B{first}, {} no printed constant's value",
+                    plural::count(unused, "byte"),
+                    if unused == 1 { "is" } else { "are" }
                 ),
             );
         }

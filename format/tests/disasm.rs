@@ -521,7 +521,11 @@ fn call_arguments_take_the_callee_parameter_types() {
     );
     // K3's byte 2 is only read as a bit: compiling the text would not reproduce it.
     let e = error_at(&d, PageKind::Const, 0, 3);
-    assert!(e.reason.contains("1 byte after"), "{e}");
+    assert!(
+        e.reason
+            .contains("1 byte of the const page, the first KB3, is no"),
+        "{e}"
+    );
     assert_eq!(d.errors.len(), 1, "{:?}", d.errors);
 }
 
