@@ -3,19 +3,11 @@
 //! release profile ships lean binaries. Reads README.md, docs/ and Cargo.toml; runs the
 //! binaries the first command names (never cargo itself).
 
-use std::path::{Path, PathBuf};
+mod common;
+
 use std::process::Command;
 
-fn repo() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("the workspace root")
-        .to_path_buf()
-}
-
-fn read(path: &Path) -> String {
-    std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-}
+use common::docs::{read, repo};
 
 /// The body of the first fenced block of `lang` after `heading` in `text`.
 fn block_after<'a>(text: &'a str, heading: &str, lang: &str) -> &'a str {

@@ -5,6 +5,7 @@
 
 #![allow(dead_code)]
 
+pub mod docs;
 mod external;
 
 use std::path::PathBuf;
