@@ -66,7 +66,7 @@ fn the_first_command_prints_what_the_readme_says() {
         "the first cargo run must show the build's progress: {first}"
     );
 
-    let shown = block_after(&readme, "Then it prints:", "console");
+    let shown = block_after(&readme, "it prints:", "console");
     let (prompt, expected) = shown.split_once('\n').expect("a command and its output");
     let prompt = prompt.strip_prefix("$ ").expect("a `$ ` command line");
     assert_eq!(
