@@ -33,8 +33,15 @@ fn program() -> &'static ProgramUnderTest {
 
 fn assert_span(text: &str, span: Span) {
     let (start, end) = (span.start as usize, span.end as usize);
-    assert!(start <= end && end <= text.len(), "span {start}..{end} outside {} bytes", text.len());
-    assert!(text.is_char_boundary(start) && text.is_char_boundary(end), "span {start}..{end}");
+    assert!(
+        start <= end && end <= text.len(),
+        "span {start}..{end} outside {} bytes",
+        text.len()
+    );
+    assert!(
+        text.is_char_boundary(start) && text.is_char_boundary(end),
+        "span {start}..{end}"
+    );
 }
 
 fn scans(step: &Step) -> u64 {
@@ -78,13 +85,30 @@ fuzz_target!(|data: &[u8]| {
     }
     let lines = text.lines().count().max(1) as u32;
     for test in &planned.tests {
-        let result = run_test(program, &planned, test, RunOptions { record: true, ..RunOptions::default() });
+        let result = run_test(
+            program,
+            &planned,
+            test,
+            RunOptions {
+                record: true,
+                ..RunOptions::default()
+            },
+        );
         if let Some(failure) = &result.failure {
-            assert!(failure.line >= 1 && failure.line <= lines, "line {} of {lines}", failure.line);
+            assert!(
+                failure.line >= 1 && failure.line <= lines,
+                "line {} of {lines}",
+                failure.line
+            );
             let _ = report::failure_detail("fuzz.gtest", &source.file, &result);
             let _ = report::failure_message(failure);
         }
-        let _ = report::json_test("fuzz.gtest", &source.file, &result, std::time::Duration::ZERO);
+        let _ = report::json_test(
+            "fuzz.gtest",
+            &source.file,
+            &result,
+            std::time::Duration::ZERO,
+        );
         let _ = report::vcd(test, &result);
     }
 });
