@@ -5,7 +5,7 @@
 //! mnemonic; the VM refuses an image that uses an instruction it has no semantics for.
 //!
 //! Modules in layers, lowest first; a module uses only modules of lower layers, so the
-//! module graph has no cycles (`layers.rs` checks it):
+//! module graph has no cycles (`tests/layers.rs` checks it on the real module graph):
 //!
 //! 0. `fault` (run-time faults), `memory` (the flat byte memory), `op` (decoded
 //!    operations), `vcd` (waveform text, used by the tools)
@@ -32,8 +32,6 @@ mod fast;
 mod fault;
 mod fuse;
 mod interrupts;
-#[cfg(test)]
-mod layers;
 mod load;
 mod machine;
 mod memory;
