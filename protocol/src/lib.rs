@@ -16,6 +16,7 @@ pub mod gutta;
 pub mod master;
 pub mod message;
 pub mod modbus;
+pub mod modbus_registry;
 pub mod registry;
 pub mod relay;
 pub mod rtu;
@@ -31,6 +32,7 @@ pub use message::{
     Breakpoint, Command, DebugInfo, DebugStep, MessageError, Reply, Request, Response,
 };
 pub use modbus::{ExceptionCode, ModbusError, ModbusRequest, ModbusResponse};
+pub use modbus_registry::{ModbusFunction, MODBUS_FUNCTIONS};
 pub use registry::{FunctionSpec, Needs, Packets, Payload, FUNCTIONS};
 pub use rtu::{crc16, decode_rtu, encode_rtu, FrameError, RtuFrame};
 pub use stream::{RtuSplitter, Side, TcpSplitter};

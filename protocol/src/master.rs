@@ -104,10 +104,10 @@ struct Outstanding {
 }
 
 /// Whether a request to `station` with `function` is answered: not a broadcast
-/// (station 0), except GUTTA function 13, which a PLC answers from its own station
-/// (AN2002).
+/// (station 0), except a function whose `modbus_registry` row says so (GUTTA function
+/// 13, which a PLC answers from its own station; AN2002).
 pub fn expects_answer(station: u8, function: u8) -> bool {
-    station != 0 || function == MODBUS_FUNCTION_GUTTA
+    station != 0 || crate::modbus_registry::lookup(function).is_some_and(|f| f.answers_broadcast)
 }
 
 /// The master state machine: Idle -> (send) -> Waiting -> Response | Exception |

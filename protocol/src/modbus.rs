@@ -477,11 +477,9 @@ pub fn unpack_bits(bytes: &[u8], quantity: usize) -> Vec<bool> {
         .collect()
 }
 
+/// The data functions (`modbus_registry`'s rows the Modbus slave serves).
 fn is_supported(function: u8) -> bool {
-    matches!(
-        function,
-        READ_COILS..=WRITE_SINGLE_REGISTER | WRITE_MULTIPLE_COILS | WRITE_MULTIPLE_REGISTERS
-    )
+    crate::modbus_registry::is_data_function(function)
 }
 
 fn push_words(out: &mut Vec<u8>, words: &[u16]) {

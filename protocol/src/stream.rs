@@ -5,7 +5,7 @@
 //! mismatch is reported once as an error and exactly one byte (the presumed station
 //! byte) is dropped; splitting then restarts at the next byte. No I/O.
 
-use crate::gutta::MODBUS_FUNCTION_GUTTA;
+use crate::modbus_registry;
 use crate::rtu::{crc16, FrameError, MIN_RTU_FRAME};
 use crate::tcp::{MbapHeader, MBAP_LEN};
 
@@ -131,50 +131,18 @@ impl ByteQueue {
     }
 }
 
-/// Function codes this crate frames: 01-06, 13 (GUTTA), 15, 16.
-fn is_framed_function(function: u8) -> bool {
-    matches!(function, 1..=6 | MODBUS_FUNCTION_GUTTA | 15 | 16)
-}
-
 /// The length of the RTU frame at the start of `b` as seen from `side`; `Ok(None)` if
-/// more bytes are needed to tell.
-///
-/// Requests (slave side): 01-06 are 8 bytes; 15/16 are 9 + byte count (byte 6), which
-/// must not be 0. Responses (master side): 01-04 are 5 + byte count (byte 2), which must
-/// not be 0 and must be even for 03/04; 05/06/15/16 are 8 bytes; an exception (function
-/// | 0x80 of a framed function) is 5 bytes. Function 13 either way: 6 + the GUTTA length
-/// field (bytes 2-3, high byte first), which must be at least 4.
+/// more bytes are needed to tell. The function code's row in `modbus_registry` says the
+/// shape of a request (slave side) or an answer (master side); an exception (a known
+/// code with bit 7 set) is an answer of 5 bytes; any other code is unknown.
+/// docs/protocol.md's splitter table is generated from the same rows.
 pub fn rtu_frame_len(side: Side, b: &[u8]) -> Result<Option<usize>, FrameError> {
     let Some(&function) = b.get(1) else {
         return Ok(None);
     };
-    let bad = |detail| Err(FrameError::BadLength { function, detail });
-    match (side, function) {
-        (_, MODBUS_FUNCTION_GUTTA) => {
-            let Some(&[hi, lo]) = b.get(2..4) else {
-                return Ok(None);
-            };
-            let length = u16::from_be_bytes([hi, lo]);
-            if length < 4 {
-                return bad("GUTTA length below 4");
-            }
-            Ok(Some(6 + usize::from(length)))
-        }
-        (Side::Slave, 1..=6) => Ok(Some(8)),
-        (Side::Slave, 15 | 16) => match b.get(6) {
-            None => Ok(None),
-            Some(0) => bad("byte count 0"),
-            Some(&count) => Ok(Some(9 + usize::from(count))),
-        },
-        (Side::Master, 1..=4) => match b.get(2) {
-            None => Ok(None),
-            Some(0) => bad("byte count 0"),
-            Some(&count) if function >= 3 && count % 2 != 0 => bad("odd register byte count"),
-            Some(&count) => Ok(Some(5 + usize::from(count))),
-        },
-        (Side::Master, 5 | 6 | 15 | 16) => Ok(Some(8)),
-        (Side::Master, f) if f & 0x80 != 0 && is_framed_function(f & 0x7F) => Ok(Some(5)),
-        _ => Err(FrameError::UnknownFunction { function }),
+    match modbus_registry::shape(side, function) {
+        Some(shape) => shape.rtu_frame_len(function, b),
+        None => Err(FrameError::UnknownFunction { function }),
     }
 }
 

@@ -1,4 +1,5 @@
-//! Standard Modbus data functions on a simulated PLC's memory: 01 read coils (Q), 02
+//! Standard Modbus data functions on a simulated PLC's memory (the rows of
+//! gutta-protocol's `modbus_registry` answered by the slave): 01 read coils (Q), 02
 //! read discrete inputs (I), 03 read holding registers (AQ, M, V, T, C, HC, SM, J), 04
 //! read input registers (AI), 05 write single coil, 06 write single register, 15 write
 //! multiple coils, 16 write multiple registers. The mapping is the target's
@@ -17,12 +18,14 @@
 
 use gutta_catalog::{Address, ModbusTable};
 use gutta_protocol::modbus::{pack_bits, ExceptionCode, ModbusRequest, ModbusResponse};
+use gutta_protocol::modbus_registry;
 use gutta_protocol::rtu::{decode_rtu, RtuFrame};
 use gutta_vm::Vm;
 
-/// Whether `function` is one `serve` handles.
+/// Whether `function` is one `serve` handles: its row in gutta-protocol's
+/// `modbus_registry` says the Modbus slave answers it (01-06, 15, 16).
 pub fn is_data_function(function: u8) -> bool {
-    matches!(function, 1..=6 | 15 | 16)
+    modbus_registry::is_data_function(function)
 }
 
 /// The objects a Modbus slave serves: which functions it takes, which objects exist,
