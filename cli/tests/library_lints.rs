@@ -7,8 +7,9 @@
 use std::path::Path;
 
 /// The library packages: no I/O (link's transport module alone allows it).
-const LIBRARIES: [&str; 10] = [
-    "catalog", "format", "compiler", "vm", "protocol", "sim", "link", "gtest", "ladder", "jit",
+const LIBRARIES: [&str; 11] = [
+    "catalog", "format", "compiler", "analysis", "vm", "protocol", "sim", "link", "gtest",
+    "ladder", "jit",
 ];
 
 /// The packages whose job is I/O: the binaries, the binaries' shared file I/O, and the

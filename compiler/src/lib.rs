@@ -4,7 +4,6 @@
 //! one joined text with a file table (`SourceFile::join`) through the same pipeline. The
 //! library does no I/O: sources and targets come in as data; `gutta-cc` does the I/O.
 
-pub mod analysis;
 pub mod check;
 pub mod diagnostics;
 pub mod encode;

@@ -202,34 +202,6 @@ fn dis_format_awl_writes_s7_200_numbers_that_compile_back() {
     );
 }
 
-#[test]
-fn completion_offers_s7_200_numbers_in_an_export() {
-    use gutta_compiler::analysis::completion::completions;
-    use gutta_compiler::check_source;
-    let target = renumbered();
-    let offered = |name: &str, text: &str| -> Vec<String> {
-        let checked = check_source(SourceFile::new(name, text), Some(&target));
-        let at = text.find("DTCH ").expect("DTCH") + 5;
-        completions(&checked, at)
-            .items
-            .into_iter()
-            .map(|i| i.label)
-            .collect()
-    };
-    let main =
-        "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.1\nDTCH \nEND_ORGANIZATION_BLOCK\n";
-    // S7-200's 10 is GUTTA's 20 there; GUTTA's 11 has no S7-200 number.
-    let export = offered("main.awl", main);
-    assert!(export.contains(&"10".to_string()), "{export:?}");
-    assert!(!export.contains(&"20".to_string()) && !export.contains(&"11".to_string()));
-    let lad = offered("main.lad", main);
-    assert!(
-        lad.contains(&"20".to_string()) && lad.contains(&"11".to_string()),
-        "{lad:?}"
-    );
-    assert!(!lad.contains(&"10".to_string()), "{lad:?}");
-}
-
 /// docs/microwin.md's table of interrupt events ("Interrupt events") is every stdlib
 /// target's data: each row's S7-200 event maps to the GUTTA event it names, and every
 /// mapped event has a row.

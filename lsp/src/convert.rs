@@ -1,6 +1,6 @@
 //! Compiler data (byte spans in a program's joined text, our `Diagnostic`) to LSP types
 //! (URIs, UTF-16 ranges, `lsp_types::Diagnostic`). Only conversion: what to say comes
-//! from the compiler's analysis, positions from the program (workspace.rs).
+//! from gutta-analysis, positions from the program (workspace.rs).
 
 use std::path::{Path, PathBuf};
 

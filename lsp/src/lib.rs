@@ -3,7 +3,7 @@
 //! in tests) and dispatches to handlers/ through one table; documents.rs holds the open
 //! texts and converts UTF-16 positions, workspace.rs knows which program a document
 //! belongs to, convert.rs turns compiler data into LSP types. Every answer comes from
-//! gutta-compiler's analysis API; only this crate knows LSP types and UTF-16 positions.
+//! gutta-analysis (the editor analysis over the compiler); only this crate knows LSP types and UTF-16 positions.
 
 pub mod convert;
 pub mod documents;

@@ -17,8 +17,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
 use crossbeam_channel::Sender;
+use gutta_analysis::inlay::operand_addresses;
 use gutta_catalog::{Address, Width};
-use gutta_compiler::analysis::inlay::operand_addresses;
 use gutta_compiler::source::{PartKind, Span};
 use gutta_compiler::CheckedFile;
 use lsp_server::{Message, Notification, Request, RequestId};

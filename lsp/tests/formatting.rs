@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 
 use common::{uri, TestServer};
 
-use gutta_compiler::analysis::format::{format, format_edits};
+use gutta_analysis::format::{format, format_edits};
 use gutta_compiler::source::SourceFile;
 use lsp_types::request::{Formatting, RangeFormatting};
 use lsp_types::{

@@ -2,7 +2,7 @@
 //! range, each with the LSP diagnostic it fixes and its edit; preferred when it is its
 //! diagnostic's only fix. No fix is computed here.
 
-use gutta_compiler::analysis::actions;
+use gutta_analysis::actions;
 use gutta_compiler::source::Span;
 use lsp_types::{
     CodeAction, CodeActionKind, CodeActionOptions, CodeActionOrCommand, CodeActionParams,

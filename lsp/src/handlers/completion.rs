@@ -2,7 +2,7 @@
 //! item replaces the word being typed (a text edit), keeps the analysis's order through
 //! `sortText`, and inserts plain text (no snippets). No completion logic here.
 
-use gutta_compiler::analysis::completion::{self, CompletionKind};
+use gutta_analysis::completion::{self, CompletionKind};
 use lsp_types::{
     CompletionItem, CompletionItemKind, CompletionList, CompletionOptions, CompletionParams,
     CompletionResponse, CompletionTextEdit, Documentation, InsertTextFormat, MarkupContent,

@@ -1,7 +1,7 @@
-//! textDocument/foldingRange: the compiler's folding ranges of the open document
-//! (gutta_compiler::analysis::folding) as LSP line ranges. Only conversion.
+//! textDocument/foldingRange: the analysis's folding ranges of the open document
+//! (gutta_analysis::folding) as LSP line ranges. Only conversion.
 
-use gutta_compiler::analysis::folding::{folding_ranges, FoldKind};
+use gutta_analysis::folding::{folding_ranges, FoldKind};
 use lsp_types::{FoldingRange, FoldingRangeKind, FoldingRangeParams};
 
 use crate::documents::Lines;

@@ -1,10 +1,10 @@
-//! textDocument/formatting: the open document's text through the compiler's formatter
-//! (gutta_compiler::analysis::format), answered as one edit of the lines that change
+//! textDocument/formatting: the open document's text through the analysis's formatter
+//! (gutta_analysis::format), answered as one edit of the lines that change
 //! (so the editor keeps the cursor and folds elsewhere); textDocument/rangeFormatting:
 //! the formatter's line edits that touch the range. A text with syntax errors is left
 //! as it is (no edits) and the reason logged. No layout rule lives here.
 
-use gutta_compiler::analysis::format::{format, format_edits, FormatRefusal};
+use gutta_analysis::format::{format, format_edits, FormatRefusal};
 use lsp_types::notification::LogMessage;
 use lsp_types::{
     DocumentFormattingParams, DocumentRangeFormattingParams, LogMessageParams, MessageType, Range,

@@ -1,12 +1,12 @@
-//! textDocument/inlayHint: the compiler's inlay hints (gutta_compiler::analysis::inlay)
+//! textDocument/inlayHint: the analysis's inlay hints (gutta_analysis::inlay)
 //! for the requested range, converted to LSP positions. Which hints are shown comes from
 //! `initializationOptions.inlayHints` (docs/editors.md): `false` for none, or
 //! `{ "symbolAddresses": bool, "modbus": bool }` (both default true).
 //! `visible_operands` is the hook for live values: operands of a range and their
 //! addresses.
 
+use gutta_analysis::inlay::{inlay_hints, operand_addresses, InlayKind, InlayOptions};
 use gutta_catalog::Address;
-use gutta_compiler::analysis::inlay::{inlay_hints, operand_addresses, InlayKind, InlayOptions};
 use gutta_compiler::source::Span;
 use lsp_types::{InlayHint, InlayHintKind, InlayHintLabel, InlayHintParams, Range, Uri};
 use serde_json::Value;

@@ -1,7 +1,7 @@
 //! The dispatch table: one row per LSP method, each pointing at a handler in this
 //! folder (one file per feature group). A feature adds its rows here and one line to
 //! `capabilities()` in lib.rs. Handlers only convert: the logic lives in
-//! gutta-compiler's analysis.
+//! gutta-analysis.
 
 pub mod actions;
 pub mod completion;

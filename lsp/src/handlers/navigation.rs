@@ -1,8 +1,8 @@
 //! Hover, go to definition, references and document highlight: the position becomes a
-//! byte offset in the document's program, gutta-compiler's `analysis::navigation`
+//! byte offset in the document's program, gutta-analysis's `navigation`
 //! answers, and the spans become locations in whichever file of the program they lie.
 
-use gutta_compiler::analysis::navigation::{self, Access};
+use gutta_analysis::navigation::{self, Access};
 use lsp_types::{
     DocumentHighlight, DocumentHighlightKind, DocumentHighlightParams, GotoDefinitionParams,
     GotoDefinitionResponse, Hover, HoverContents, HoverParams, Location, MarkupContent, MarkupKind,

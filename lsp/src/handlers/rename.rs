@@ -5,7 +5,7 @@
 
 use std::collections::HashMap;
 
-use gutta_compiler::analysis::rename;
+use gutta_analysis::rename;
 use gutta_compiler::source::Span;
 use lsp_types::{
     OneOf, PrepareRenameResponse, RenameOptions, RenameParams, TextDocumentPositionParams,

@@ -1,7 +1,7 @@
 //! textDocument/signatureHelp: the instruction whose operands the cursor is in, from the
 //! analysis, as one LSP signature (parameter labels as UTF-16 offsets into it).
 
-use gutta_compiler::analysis::signature;
+use gutta_analysis::signature;
 use lsp_types::{
     Documentation, ParameterInformation, ParameterLabel, SignatureHelp, SignatureHelpOptions,
     SignatureHelpParams, SignatureInformation,

@@ -1,10 +1,10 @@
 //! Document symbols (the outline of one file: SYMBOLS, blocks > locals and networks,
 //! data blocks, the system block) and workspace symbols (every definition of every
-//! open program, fuzzy-matched), from gutta-compiler's `analysis::outline` and
-//! `analysis::workspace_symbols`.
+//! open program, fuzzy-matched), from gutta-analysis's `outline` and
+//! `workspace_symbols`.
 
-use gutta_compiler::analysis::outline::{outline, OutlineItem, OutlineKind};
-use gutta_compiler::analysis::workspace_symbols;
+use gutta_analysis::outline::{outline, OutlineItem, OutlineKind};
+use gutta_analysis::workspace_symbols;
 use gutta_compiler::check::DefKind;
 use lsp_types::{
     DocumentSymbol, DocumentSymbolParams, DocumentSymbolResponse, OneOf, SymbolKind,

@@ -1,8 +1,8 @@
-//! textDocument/semanticTokens/full and /range: the compiler's semantic tokens of the
-//! document's part of its program (gutta_compiler::analysis::tokens), encoded as LSP's
-//! relative integers. The legend is the compiler's (`TokenKind::ALL`, `MODIFIERS`).
+//! textDocument/semanticTokens/full and /range: the analysis's semantic tokens of the
+//! document's part of its program (gutta_analysis::tokens), encoded as LSP's
+//! relative integers. The legend is the analysis's (`TokenKind::ALL`, `MODIFIERS`).
 
-use gutta_compiler::analysis::tokens::{semantic_tokens, TokenKind, MODIFIERS};
+use gutta_analysis::tokens::{semantic_tokens, TokenKind, MODIFIERS};
 use gutta_compiler::source::Span;
 use lsp_types::{
     Range, SemanticToken, SemanticTokenModifier, SemanticTokenType, SemanticTokens,

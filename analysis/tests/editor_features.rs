@@ -8,7 +8,7 @@
 mod common;
 
 use common::{lad_files, root};
-use gutta_compiler::analysis::{actions, completion, rename, signature};
+use gutta_analysis::{actions, completion, rename, signature};
 use gutta_compiler::check_source;
 use gutta_compiler::source::{SourceFile, Span};
 

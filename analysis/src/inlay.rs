@@ -7,9 +7,9 @@ use std::collections::HashMap;
 
 use gutta_catalog::{Address, ModbusLocation, Width};
 
-use crate::check::DefKind;
-use crate::source::Span;
-use crate::CheckedFile;
+use gutta_compiler::check::DefKind;
+use gutta_compiler::source::Span;
+use gutta_compiler::CheckedFile;
 
 /// Which hints to give (the server's `initializationOptions.inlayHints`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -161,12 +161,12 @@ pub(crate) fn symbol_addresses(checked: &CheckedFile) -> HashMap<usize, Address>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::source::SourceFile;
+    use gutta_compiler::source::SourceFile;
 
     const TEXT: &str = "SYMBOLS\n  Start : I0.0\n  Speed : MW20\nEND_SYMBOLS\nORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD Start\nMOVW Speed, MW22\n= Q0.0\nEND_ORGANIZATION_BLOCK\n";
 
     fn hints(options: InlayOptions) -> Vec<String> {
-        let checked = crate::check_source(SourceFile::new("t.lad", TEXT), None);
+        let checked = gutta_compiler::check_source(SourceFile::new("t.lad", TEXT), None);
         inlay_hints(&checked, Span::new(0, TEXT.len()), options)
             .into_iter()
             .map(|h| {
@@ -209,7 +209,7 @@ mod tests {
 
     #[test]
     fn operands_with_their_addresses_for_live_values() {
-        let checked = crate::check_source(SourceFile::new("t.lad", TEXT), None);
+        let checked = gutta_compiler::check_source(SourceFile::new("t.lad", TEXT), None);
         let found: Vec<String> = operand_addresses(&checked, Span::new(0, TEXT.len()))
             .iter()
             .map(|(s, a)| {

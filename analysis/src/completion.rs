@@ -12,10 +12,10 @@ use gutta_catalog::{
 
 use super::place::{cursor_at, Block, Cursor, Place};
 use super::signature::operand_specs;
-use crate::check::DefKind;
-use crate::source::Span;
-use crate::syntax::ast::{self, VarSection};
-use crate::CheckedFile;
+use gutta_compiler::check::DefKind;
+use gutta_compiler::source::Span;
+use gutta_compiler::syntax::ast::{self, VarSection};
+use gutta_compiler::CheckedFile;
 
 /// What a completion item is (an editor shows an icon for it).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -603,7 +603,7 @@ fn literal(checked: &CheckedFile, spec: &OperandSpec, items: &mut Items) {
 /// `PORTn.FIELD` for each serial port of the target, and `PASSWORD`.
 fn system_keys(target: &Target, items: &mut Items) {
     for port in 0..target.memory.serial_ports {
-        for field in crate::check::PORT_KEYS {
+        for field in gutta_compiler::check::PORT_KEYS {
             items.add(0, CompletionKind::Value, format!("PORT{port}.{field}"));
         }
     }
@@ -644,7 +644,7 @@ fn system_values(key: &str, items: &mut Items) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::source::SourceFile;
+    use gutta_compiler::source::SourceFile;
 
     const PROGRAM: &str =
         "SYMBOLS\n  Start : I0.0 // go\n  Speed : MW10\n  Ptr : MD20\nEND_SYMBOLS\n\
@@ -660,7 +660,7 @@ mod tests {
         let text = PROGRAM.replacen(slot, line, 1);
         let offset = text.find('|').expect("a cursor");
         let text = text.replacen('|', "", 1);
-        let checked = crate::check_source(SourceFile::new("t.lad", text), None);
+        let checked = gutta_compiler::check_source(SourceFile::new("t.lad", text), None);
         completions(&checked, offset)
     }
 
@@ -744,7 +744,7 @@ mod tests {
         }
         let offset = text.len() - 3;
         text.push_str("END_ORGANIZATION_BLOCK\n");
-        let checked = crate::check_source(SourceFile::new("t.lad", text), None);
+        let checked = gutta_compiler::check_source(SourceFile::new("t.lad", text), None);
         let c = completions(&checked, offset);
         assert!(has(&labels(&c), "Q") && !has(&labels(&c), "I"));
     }

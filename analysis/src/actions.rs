@@ -4,9 +4,9 @@
 //! (or creates the block) with the address left for the user. An action is preferred
 //! when it is its diagnostic's only one. Plain data; nothing is applied here.
 
-use crate::diagnostics::{Code, Diagnostic};
-use crate::source::{PartKind, Span};
-use crate::CheckedFile;
+use gutta_compiler::diagnostics::{Code, Diagnostic};
+use gutta_compiler::source::{PartKind, Span};
+use gutta_compiler::CheckedFile;
 
 /// One quick fix.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -123,10 +123,10 @@ fn block_insertion_point(file: &str) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::source::SourceFile;
+    use gutta_compiler::source::SourceFile;
 
     fn fixed(text: &str, at: &str, title: &str) -> String {
-        let c = crate::check_source(SourceFile::new("t.lad", text), None);
+        let c = gutta_compiler::check_source(SourceFile::new("t.lad", text), None);
         let offset = text.find(at).expect("the text");
         let actions = code_actions(&c, Span::new(offset, offset));
         let a = actions
@@ -151,7 +151,7 @@ mod tests {
         );
         assert!(out.contains("MOVW MW0, MW2"), "{out}");
         let text = format!("SYMBOLS\n  Start : I0.0\nEND_SYMBOLS\n{MAIN}LD Strat\n= Q0.0\nEND_ORGANIZATION_BLOCK\n");
-        let c = crate::check_source(SourceFile::new("t.lad", text.as_str()), None);
+        let c = gutta_compiler::check_source(SourceFile::new("t.lad", text.as_str()), None);
         let at = text.find("Strat").unwrap();
         let actions = code_actions(&c, Span::new(at, at + 2));
         assert_eq!(actions.len(), 2, "{actions:?}");
@@ -176,7 +176,7 @@ mod tests {
             out.starts_with("// header\nPLC_TYPE CPU-EC20\nSYMBOLS\n  Pump : // TODO: address\nEND_SYMBOLS\n\nORGANIZATION_BLOCK"),
             "{out}"
         );
-        let c = crate::check_source(SourceFile::new("t.lad", text.as_str()), None);
+        let c = gutta_compiler::check_source(SourceFile::new("t.lad", text.as_str()), None);
         let at = text.find("Pump").unwrap();
         assert!(code_actions(&c, Span::new(at, at))[0].preferred);
     }

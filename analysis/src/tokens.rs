@@ -7,11 +7,11 @@ use std::collections::HashMap;
 
 use gutta_catalog::{Address, AreaKind, DataType};
 
-use crate::analysis::inlay::symbol_addresses;
-use crate::check::DefKind;
-use crate::source::{PartKind, Span};
-use crate::syntax::lexer::{lex, Tok};
-use crate::CheckedFile;
+use crate::inlay::symbol_addresses;
+use gutta_compiler::check::DefKind;
+use gutta_compiler::source::{PartKind, Span};
+use gutta_compiler::syntax::lexer::{lex, Tok};
+use gutta_compiler::CheckedFile;
 
 /// What a token is. The order is the legend's (`TokenKind::ALL`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -240,7 +240,7 @@ pub fn semantic_tokens(checked: &CheckedFile, part: Span, range: Span) -> Vec<Se
                         Some((*n, TokenKind::Block, modifier::DECLARATION))
                     } else if let Some(a) = addresses.get(&span.start) {
                         Some((span, TokenKind::Variable, area_of(a)))
-                    } else if crate::syntax::is_reserved(word) {
+                    } else if gutta_compiler::syntax::is_reserved(word) {
                         system_block = word.eq_ignore_ascii_case("SYSTEM_BLOCK");
                         Some((span, TokenKind::Keyword, 0))
                     } else if word.eq_ignore_ascii_case("PLC_TYPE") {
@@ -276,10 +276,10 @@ pub fn semantic_tokens(checked: &CheckedFile, part: Span, range: Span) -> Vec<Se
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::source::SourceFile;
+    use gutta_compiler::source::SourceFile;
 
     fn shown(text: &str) -> Vec<String> {
-        let checked = crate::check_source(SourceFile::new("t.lad", text), None);
+        let checked = gutta_compiler::check_source(SourceFile::new("t.lad", text), None);
         let all = Span::new(0, text.len());
         semantic_tokens(&checked, all, all)
             .into_iter()
@@ -336,7 +336,7 @@ mod tests {
     #[test]
     fn a_range_keeps_the_tokens_it_overlaps() {
         let text = "ORGANIZATION_BLOCK MAIN\nBEGIN\nNETWORK 1\nLD I0.0\nEND_ORGANIZATION_BLOCK\n";
-        let checked = crate::check_source(SourceFile::new("t.lad", text), None);
+        let checked = gutta_compiler::check_source(SourceFile::new("t.lad", text), None);
         let all = Span::new(0, text.len());
         let line = Span::new(40, 47);
         let kinds: Vec<TokenKind> = semantic_tokens(&checked, all, line)

@@ -7,10 +7,10 @@
 use std::fmt;
 
 use super::navigation;
-use crate::check::{reads_as_address, DefKind, Definition};
-use crate::source::Span;
-use crate::syntax::{is_reserved, table::is_word};
-use crate::CheckedFile;
+use gutta_compiler::check::{reads_as_address, DefKind, Definition};
+use gutta_compiler::source::Span;
+use gutta_compiler::syntax::{is_reserved, table::is_word};
+use gutta_compiler::CheckedFile;
 
 /// Why a rename is refused.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -237,8 +237,8 @@ fn check_label(checked: &CheckedFile, d: usize, new: &str) -> Result<(), RenameE
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::source::SourceFile;
-    use crate::{check_program, ProgramSources};
+    use gutta_compiler::source::SourceFile;
+    use gutta_compiler::{check_program, ProgramSources};
 
     const A: &str = "SYMBOLS\n  Start : I0.0 // go\nEND_SYMBOLS\n\
         ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD Start\nJMP 3\nCALL ADD3, MW0\n\
@@ -327,7 +327,7 @@ mod tests {
         let text =
             "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.0\nEND_ORGANIZATION_BLOCK\n\
             DATA_BLOCK Init:DAT0\n  MW0 INT 5\nEND_DATA_BLOCK\n";
-        let c = crate::check_source(SourceFile::new("t.lad", text), None);
+        let c = gutta_compiler::check_source(SourceFile::new("t.lad", text), None);
         assert!(c.diagnostics().is_empty(), "{:?}", c.diagnostics());
         let out = apply(&c, "Init", 0, "Start_values").expect("renamed");
         assert!(out.contains("DATA_BLOCK Start_values:DAT0"));
@@ -339,7 +339,7 @@ mod tests {
         let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.0\nCALL SBR0\n\
             END_ORGANIZATION_BLOCK\nSUBROUTINE_BLOCK SBR0\nBEGIN\nNETWORK 1\nLD SM0.0\n\
             END_SUBROUTINE_BLOCK\n";
-        let c = crate::check_source(SourceFile::new("t.lad", text), None);
+        let c = gutta_compiler::check_source(SourceFile::new("t.lad", text), None);
         let out = apply(&c, "SBR0\nBEGIN", 0, "Helper").expect("renamed");
         assert!(out.contains("SUBROUTINE_BLOCK Helper:SBR0") && out.contains("CALL SBR0"));
     }

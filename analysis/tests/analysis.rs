@@ -1,7 +1,7 @@
 //! The analysis API the language server will adapt: definitions, references and hover
 //! with byte spans, from text alone.
 
-use gutta_compiler::analysis::Analysis;
+use gutta_analysis::Analysis;
 use gutta_compiler::check::DefKind;
 
 const PROGRAM: &str = "SYMBOLS\n  Start : I0.0 // push button\nEND_SYMBOLS\n\

@@ -2,8 +2,8 @@
 //! fuzzily (the query's characters in order, case-insensitive), best matches first.
 //! Plain data over `&CheckedFile`; no LSP types, no I/O.
 
-use crate::check::Definition;
-use crate::CheckedFile;
+use gutta_compiler::check::Definition;
+use gutta_compiler::CheckedFile;
 
 /// How well `name` matches `query`: `None` when it does not; lower is better (an exact
 /// name 0, a prefix 1, a substring 2, then scattered characters by how spread out).
@@ -48,7 +48,7 @@ pub fn search<'a>(checked: &'a CheckedFile, query: &str) -> Vec<(&'a Definition,
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::source::SourceFile;
+    use gutta_compiler::source::SourceFile;
 
     #[test]
     fn exact_beats_prefix_beats_substring_beats_scattered() {
@@ -63,7 +63,7 @@ mod tests {
     #[test]
     fn search_finds_symbols_blocks_and_locals() {
         let text = "SYMBOLS\n  MotorRun : Q0.0\n  Start : I0.0\nEND_SYMBOLS\nORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNetwork 1\nLD     Start\n=      MotorRun\nEND_ORGANIZATION_BLOCK\n";
-        let c = crate::check_source(SourceFile::new("m.lad", text), None);
+        let c = gutta_compiler::check_source(SourceFile::new("m.lad", text), None);
         let names: Vec<&str> = search(&c, "mr")
             .iter()
             .map(|(d, _)| d.name.as_str())

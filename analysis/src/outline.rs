@@ -7,9 +7,9 @@ use std::ops::Range;
 
 use gutta_catalog::BlockKind;
 
-use crate::source::{PartKind, Span};
-use crate::syntax::ast::{BlockHeader, BlockNumber, BlockPrefix, SymbolDecl};
-use crate::CheckedFile;
+use gutta_compiler::source::{PartKind, Span};
+use gutta_compiler::syntax::ast::{BlockHeader, BlockNumber, BlockPrefix, SymbolDecl};
+use gutta_compiler::CheckedFile;
 
 use super::navigation::unit_extent;
 
@@ -289,8 +289,8 @@ fn selection(header: &BlockHeader) -> Span {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::source::SourceFile;
-    use crate::{check_program, ProgramSources};
+    use gutta_compiler::source::SourceFile;
+    use gutta_compiler::{check_program, ProgramSources};
 
     fn render(checked: &CheckedFile, items: &[OutlineItem], depth: usize, out: &mut String) {
         for i in items {

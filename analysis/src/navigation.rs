@@ -7,10 +7,10 @@ use std::fmt::Write as _;
 
 use gutta_catalog::{Address, InstrId, OperandKind as SpecKind};
 
-use crate::check::{DefKind, Definition, Reference};
-use crate::source::Span;
-use crate::syntax::ast::{OperandKind, SymbolDecl, Unit, VarSection};
-use crate::CheckedFile;
+use gutta_compiler::check::{DefKind, Definition, Reference};
+use gutta_compiler::source::Span;
+use gutta_compiler::syntax::ast::{OperandKind, SymbolDecl, Unit, VarSection};
+use gutta_compiler::CheckedFile;
 
 /// What the text at an offset is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -185,7 +185,7 @@ fn written_operands(checked: &CheckedFile) -> HashMap<u32, u32> {
 /// Call `f` with every checked instruction's id and its operands.
 fn for_each_instruction(
     checked: &CheckedFile,
-    mut f: impl FnMut(InstrId, &[crate::syntax::ast::Operand]),
+    mut f: impl FnMut(InstrId, &[gutta_compiler::syntax::ast::Operand]),
 ) {
     let mnemonics: HashMap<Span, InstrId> = checked.output.mnemonics.iter().copied().collect();
     for unit in &checked.ast.units {
@@ -455,8 +455,8 @@ fn address_hover(checked: &CheckedFile, a: &Address) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::source::SourceFile;
-    use crate::{check_program, ProgramSources};
+    use gutta_compiler::source::SourceFile;
+    use gutta_compiler::{check_program, ProgramSources};
 
     const MAIN: &str = "SYMBOLS\n  Start : I0.0 // push button\nEND_SYMBOLS\nORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNetwork 1 // go\nLD     Start\nJMP    3\nCALL   ADD3, 2, 3, MW12\nLBL    3\nLD     Start\n=      Q0.0\nEND_ORGANIZATION_BLOCK\n";
     const SUB: &str = "SUBROUTINE_BLOCK ADD3:SBR0\nTITLE=r := a + b\nVAR_INPUT\n  a : INT; // first\n  b : INT;\nEND_VAR\nVAR_OUTPUT\n  r : INT;\nEND_VAR\nBEGIN\nNetwork 1\nLD     SM0.0\nMOVW   #a, #r\n+I     #b, #r\nEND_SUBROUTINE_BLOCK\n";
@@ -565,15 +565,15 @@ mod tests {
         let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNetwork 1\nLD     I0.0\nTON    T33, +50\n\
                     Network 2\nLD     T33\n=      Q0.0\nEND_ORGANIZATION_BLOCK\n";
         let with = |scale| {
-            crate::check_program(
+            gutta_compiler::check_program(
                 ProgramSources {
                     sources: vec![SourceFile::new("main.awl", text)],
-                    options: crate::CompileOptions {
+                    options: gutta_compiler::CompileOptions {
                         scale_timer_presets: scale,
                     },
                     ..Default::default()
                 },
-                Some(&crate::ExplicitTarget {
+                Some(&gutta_compiler::ExplicitTarget {
                     target: gutta_catalog::stdlib::shared("CPU-EC20-M3").unwrap(),
                     origin: "--plc CPU-EC20-M3".into(),
                 }),

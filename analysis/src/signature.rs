@@ -6,8 +6,8 @@ use gutta_catalog::rules::parameter_spec;
 use gutta_catalog::{Instruction, OperandKind, OperandSpec, Role};
 
 use super::place::{cursor_at, Place};
-use crate::syntax::ast::VarSection;
-use crate::CheckedFile;
+use gutta_compiler::syntax::ast::VarSection;
+use gutta_compiler::CheckedFile;
 
 /// One operand of a signature: its byte range in the signature's label, and a line
 /// saying what it takes.
@@ -58,7 +58,7 @@ pub fn signature_help(checked: &CheckedFile, offset: usize) -> Option<Signature>
 /// the line that holds `offset`).
 pub(super) fn operand_specs(
     checked: &CheckedFile,
-    mnemonic: crate::source::Span,
+    mnemonic: gutta_compiler::source::Span,
     offset: usize,
 ) -> Option<(&Instruction, Vec<OperandSpec>)> {
     let text = &checked.file.text;
@@ -186,7 +186,7 @@ fn operand_documentation(checked: &CheckedFile, spec: &OperandSpec) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::source::SourceFile;
+    use gutta_compiler::source::SourceFile;
 
     fn help(body: &str) -> Option<Signature> {
         let text = format!(
@@ -196,7 +196,7 @@ mod tests {
         );
         let offset = text.find('|').expect("a cursor");
         let text = text.replacen('|', "", 1);
-        let checked = crate::check_source(SourceFile::new("t.lad", text), None);
+        let checked = gutta_compiler::check_source(SourceFile::new("t.lad", text), None);
         signature_help(&checked, offset)
     }
 

@@ -3,8 +3,8 @@
 //! place) and its position in the line (a mnemonic, the n-th operand, a system key...).
 //! Completion and signature help share it. No items, no messages here.
 
-use crate::source::{PartKind, Span};
-use crate::CheckedFile;
+use gutta_compiler::source::{PartKind, Span};
+use gutta_compiler::CheckedFile;
 
 /// The block the cursor's line belongs to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -231,12 +231,12 @@ fn in_comment(before: &str) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::source::SourceFile;
+    use gutta_compiler::source::SourceFile;
 
     fn at(text: &str) -> Cursor {
         let offset = text.find('|').expect("a cursor");
         let text = text.replacen('|', "", 1);
-        let checked = crate::check_source(SourceFile::new("t.lad", text), None);
+        let checked = gutta_compiler::check_source(SourceFile::new("t.lad", text), None);
         cursor_at(&checked, offset)
     }
 
@@ -285,7 +285,7 @@ mod tests {
 
     #[test]
     fn nothing_in_a_symbol_table() {
-        let program = crate::ProgramSources {
+        let program = gutta_compiler::ProgramSources {
             sources: vec![SourceFile::new(
                 "a.lad",
                 "ORGANIZATION_BLOCK MAIN\nEND_ORGANIZATION_BLOCK\n",
@@ -293,7 +293,7 @@ mod tests {
             symbol_tables: vec![SourceFile::new("t.csv", "Symbol,Address,Comment\nS")],
             ..Default::default()
         };
-        let checked = crate::check_program(program, None);
+        let checked = gutta_compiler::check_program(program, None);
         let end = checked.file.text.len() - 1;
         assert_eq!(cursor_at(&checked, end).place, Place::Comment);
     }

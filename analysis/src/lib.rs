@@ -1,6 +1,8 @@
 //! The analysis API for editors: text in; diagnostics, definitions, references and
 //! hover text out, all with byte spans. Plain data only; no LSP types, no I/O. Each
-//! editor feature has its own module here over `&CheckedFile` and byte offsets.
+//! editor feature has its own module here over `&CheckedFile` and byte offsets. The
+//! package sits on gutta-compiler (as rust-analyzer's `ide` sits on `hir`) and uses only
+//! its public API; the language server adapts it to LSP, and a studio can call it as is.
 
 pub mod actions;
 pub mod completion;
@@ -15,10 +17,10 @@ pub mod signature;
 pub mod tokens;
 pub mod workspace_symbols;
 
-use crate::check::Definition;
-use crate::diagnostics::Diagnostic;
-use crate::source::{SourceFile, Span};
-use crate::{check_source, CheckedFile, ExplicitTarget};
+use gutta_compiler::check::Definition;
+use gutta_compiler::diagnostics::Diagnostic;
+use gutta_compiler::source::{SourceFile, Span};
+use gutta_compiler::{check_source, CheckedFile, ExplicitTarget};
 
 /// One analysed document.
 #[derive(Debug, Clone)]

@@ -3,8 +3,8 @@
 //! formatter's line classifier, so it works on text with syntax errors too. Byte spans
 //! of whole lines; no LSP types.
 
-use crate::analysis::format::{classify, LineInfo, LineKind, Section};
-use crate::source::Span;
+use crate::format::{classify, LineInfo, LineKind, Section};
+use gutta_compiler::source::Span;
 
 /// What a folding range holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -4,8 +4,8 @@
 //! is refused, not half formatted. The line classifier here (`classify`) is also the
 //! folding ranges' view of the text. No I/O, no LSP types.
 
-use crate::source::Span;
-use crate::syntax::lexer::{lex, Spanned, Tok};
+use gutta_compiler::source::Span;
+use gutta_compiler::syntax::lexer::{lex, Spanned, Tok};
 
 /// Instruction lines: the mnemonic padded to this many characters, operands after it.
 pub const MNEMONIC_COLUMN: usize = 7;
@@ -199,7 +199,7 @@ pub fn format(text: &str) -> Result<String, FormatRefusal> {
         Some(rest) => ("\u{FEFF}", rest),
         None => ("", text),
     };
-    let parsed = crate::syntax::parse(body);
+    let parsed = gutta_compiler::syntax::parse(body);
     if let Some(d) = parsed.diagnostics.first() {
         return Err(FormatRefusal {
             span: d.primary.span,
