@@ -13,10 +13,9 @@ use gutta_format::LineSettings;
 use gutta_protocol::fx::{BaudRate, FxSplitter};
 use gutta_sim::fx::FxDevice;
 use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt};
-use tokio::net::TcpListener;
 use tokio_serial::SerialPortBuilderExt;
 
-use crate::{say, switch_line};
+use crate::{listen, say, switch_line};
 
 /// Where the FX device is served.
 pub struct FxOptions<'a> {
@@ -48,27 +47,10 @@ pub async fn run(options: FxOptions<'_>, ctrl_c: impl Future<Output = ()>) -> Re
     };
     let device = Arc::new(Mutex::new(FxDevice::new()));
     for address in options.tcp {
-        let listener = TcpListener::bind(address)
-            .await
-            .map_err(|e| Fatal::io(format!("cannot listen on {address}: {e}")))?;
-        let local = listener
-            .local_addr()
-            .map_err(|e| Fatal::io(format!("{address}: {e}")))?;
-        say(&format!("gutta-sim: fx-tcp on {local}"));
+        let listener = listen::bind(address, "fx-tcp").await?;
         let device = Arc::clone(&device);
-        tokio::spawn(async move {
-            loop {
-                match listener.accept().await {
-                    Ok((stream, _)) => {
-                        let _ = stream.set_nodelay(true);
-                        tokio::spawn(serve(stream, Arc::clone(&device), None, |_, _| Ok(())));
-                    }
-                    Err(e) => {
-                        eprintln!("gutta-sim: accept failed: {e}");
-                        tokio::time::sleep(std::time::Duration::from_millis(100)).await;
-                    }
-                }
-            }
+        listen::accept_forever(listener, move |stream| {
+            serve(stream, Arc::clone(&device), None, |_, _| Ok(()))
         });
     }
     for device_path in options.serial {
@@ -87,9 +69,7 @@ pub async fn run(options: FxOptions<'_>, ctrl_c: impl Future<Output = ()>) -> Re
             |port, line| gutta_link::transport::configure(port, line),
         ));
     }
-    ctrl_c.await;
-    say("gutta-sim: stopped by Ctrl-C");
-    Ok(())
+    listen::until_ctrl_c(ctrl_c).await
 }
 
 /// A serial line and its settings now.

@@ -5,6 +5,7 @@
 //! the protocol logic is the library's (gutta-sim).
 
 mod fx;
+mod listen;
 mod ports;
 #[cfg(test)]
 mod ports_tests;
@@ -24,7 +25,6 @@ use gutta_sim::plc::{ConnectionId, Plc};
 use gutta_sim::session::{Framing, Session};
 use gutta_vm::VmConfig;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
-use tokio::net::TcpListener;
 use tokio_serial::SerialPortBuilderExt;
 
 use crate::ports::{PortSpec, PortWiring};
@@ -243,37 +243,18 @@ async fn run_plc(cli: Cli) -> Result<(), Fatal> {
 
     let mut listeners = Vec::new();
     for (framing, addresses) in [(Framing::Tcp, &cli.tcp), (Framing::Rtu, &cli.rtu_tcp)] {
+        let kind = match framing {
+            Framing::Tcp => "modbus-tcp",
+            Framing::Rtu => "rtu-over-tcp",
+        };
         for address in addresses {
-            let listener = TcpListener::bind(address)
-                .await
-                .map_err(|e| Fatal::io(format!("cannot listen on {address}: {e}")))?;
-            let local = listener
-                .local_addr()
-                .map_err(|e| Fatal::io(format!("{address}: {e}")))?;
-            let name = match framing {
-                Framing::Tcp => "modbus-tcp",
-                Framing::Rtu => "rtu-over-tcp",
-            };
-            say(&format!("gutta-sim: {name} on {local}"));
-            listeners.push((framing, listener));
+            listeners.push((framing, listen::bind(address, kind).await?));
         }
     }
     for (framing, listener) in listeners {
         let plc = Arc::clone(&plc);
-        tokio::spawn(async move {
-            loop {
-                match listener.accept().await {
-                    Ok((stream, _)) => {
-                        let _ = stream.set_nodelay(true);
-                        let plc = Arc::clone(&plc);
-                        tokio::spawn(serve(stream, framing, plc, start, None));
-                    }
-                    Err(e) => {
-                        eprintln!("gutta-sim: accept failed: {e}");
-                        tokio::time::sleep(Duration::from_millis(100)).await;
-                    }
-                }
-            }
+        listen::accept_forever(listener, move |stream| {
+            serve(stream, framing, Arc::clone(&plc), start, None)
         });
     }
 
@@ -315,11 +296,7 @@ async fn run_plc(cli: Cli) -> Result<(), Fatal> {
     loop {
         tokio::select! {
             _ = tick.tick() => {}
-            () = &mut ctrl_c => {
-                // A clean stop (the help's exit status 0): the PLC's state is not kept.
-                say("gutta-sim: stopped by Ctrl-C");
-                return Ok(());
-            }
+            () = &mut ctrl_c => return listen::stopped_by_ctrl_c(),
         }
         let now = Instant::now();
         window_max = window_max.max(now - last_scan);

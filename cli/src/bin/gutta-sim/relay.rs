@@ -10,10 +10,10 @@ use std::sync::{Arc, Mutex};
 use gutta_cli::fatal::Fatal;
 use gutta_sim::relay::{RelayBoard, RelaySession};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
-use tokio::net::{TcpListener, TcpStream};
+use tokio::net::TcpStream;
 use tokio::sync::broadcast;
 
-use crate::say;
+use crate::listen;
 
 /// A status frame every connection sends.
 type Report = [u8; 12];
@@ -24,36 +24,16 @@ pub async fn run(addresses: &[String], ctrl_c: impl Future<Output = ()>) -> Resu
     let (reports, _) = broadcast::channel::<Report>(64);
     let mut listeners = Vec::new();
     for address in addresses {
-        let listener = TcpListener::bind(address)
-            .await
-            .map_err(|e| Fatal::io(format!("cannot listen on {address}: {e}")))?;
-        let local = listener
-            .local_addr()
-            .map_err(|e| Fatal::io(format!("{address}: {e}")))?;
-        say(&format!("gutta-sim: relay-board on {local}"));
-        listeners.push(listener);
+        listeners.push(listen::bind(address, "relay-board").await?);
     }
     for listener in listeners {
         let (board, reports) = (Arc::clone(&board), reports.clone());
-        tokio::spawn(async move {
-            loop {
-                match listener.accept().await {
-                    Ok((stream, _)) => {
-                        let _ = stream.set_nodelay(true);
-                        let receiver = reports.subscribe();
-                        tokio::spawn(serve(stream, Arc::clone(&board), reports.clone(), receiver));
-                    }
-                    Err(e) => {
-                        eprintln!("gutta-sim: accept failed: {e}");
-                        tokio::time::sleep(std::time::Duration::from_millis(100)).await;
-                    }
-                }
-            }
+        listen::accept_forever(listener, move |stream| {
+            let receiver = reports.subscribe();
+            serve(stream, Arc::clone(&board), reports.clone(), receiver)
         });
     }
-    ctrl_c.await;
-    say("gutta-sim: stopped by Ctrl-C");
-    Ok(())
+    listen::until_ctrl_c(ctrl_c).await
 }
 
 /// One connection: answers its requests and passes on every report, until it closes
