@@ -5,6 +5,8 @@
 
 #![allow(clippy::disallowed_methods, reason = "tests read their data files")]
 
+// The compiler tests' helpers (the same repository, the same programs).
+#[path = "../../compiler/tests/common/mod.rs"]
 mod common;
 
 use common::{lad_files, root};

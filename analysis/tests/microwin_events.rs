@@ -5,30 +5,15 @@
 //! renumbered target (a stdlib target with its event table edited) shows that the
 //! numbers come from the data, not from an identity.
 
-use std::sync::Arc;
+// The renumbered target is the compiler tests' (the same data, one definition).
+#[path = "../../compiler/tests/common/mod.rs"]
+mod common;
 
 use gutta_analysis::completion::completions;
-use gutta_catalog::{stdlib, Target};
+use gutta_compiler::check_source;
 use gutta_compiler::source::SourceFile;
-use gutta_compiler::{check_source, ExplicitTarget};
 
-/// CPU-EC20 with timed interrupt 0 renumbered to GUTTA event 20 (still S7-200's 10),
-/// and timed interrupt 1 (GUTTA 11) given no S7-200 number.
-fn renumbered() -> ExplicitTarget {
-    let mut target: Target = (*stdlib::shared("CPU-EC20").expect("stdlib target")).clone();
-    for e in &mut target.memory.events {
-        match e.number {
-            10 => e.number = 20,
-            11 => e.microwin = None,
-            _ => {}
-        }
-    }
-    target.memory.events.sort_by_key(|e| e.number);
-    ExplicitTarget {
-        target: Arc::new(target),
-        origin: "a renumbered CPU-EC20".to_string(),
-    }
-}
+use common::renumbered;
 
 #[test]
 fn completion_offers_s7_200_numbers_in_an_export() {

@@ -8,31 +8,15 @@
 
 #![allow(clippy::disallowed_methods, reason = "a test reads docs/microwin.md")]
 
-use std::sync::Arc;
+mod common;
 
-use gutta_catalog::{stdlib, Target};
+use gutta_catalog::stdlib;
 use gutta_compiler::diagnostics::render::{render, RenderStyle};
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, Compiled, ExplicitTarget};
 use gutta_format::disasm::{disassemble_as, disassemble_with_errors, Format};
 
-/// CPU-EC20 with timed interrupt 0 renumbered to GUTTA event 20 (still S7-200's 10),
-/// and timed interrupt 1 (GUTTA 11) given no S7-200 number.
-fn renumbered() -> ExplicitTarget {
-    let mut target: Target = (*stdlib::shared("CPU-EC20").expect("stdlib target")).clone();
-    for e in &mut target.memory.events {
-        match e.number {
-            10 => e.number = 20,
-            11 => e.microwin = None,
-            _ => {}
-        }
-    }
-    target.memory.events.sort_by_key(|e| e.number);
-    ExplicitTarget {
-        target: Arc::new(target),
-        origin: "a renumbered CPU-EC20".to_string(),
-    }
-}
+use common::renumbered;
 
 fn stdlib_target(name: &str) -> ExplicitTarget {
     ExplicitTarget {

@@ -6,8 +6,10 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-use gutta_compiler::CheckedFile;
+use gutta_catalog::{stdlib, Target};
+use gutta_compiler::{CheckedFile, ExplicitTarget};
 
 /// The repository root.
 pub fn root() -> PathBuf {
@@ -60,4 +62,22 @@ pub fn actual(c: &CheckedFile) -> BTreeMap<(u32, String), usize> {
         *map.entry((line, d.code.as_str().to_string())).or_insert(0) += 1;
     }
     map
+}
+
+/// CPU-EC20 with timed interrupt 0 renumbered to GUTTA event 20 (still S7-200's 10),
+/// and timed interrupt 1 (GUTTA 11) given no S7-200 number.
+pub fn renumbered() -> ExplicitTarget {
+    let mut target: Target = (*stdlib::shared("CPU-EC20").expect("stdlib target")).clone();
+    for e in &mut target.memory.events {
+        match e.number {
+            10 => e.number = 20,
+            11 => e.microwin = None,
+            _ => {}
+        }
+    }
+    target.memory.events.sort_by_key(|e| e.number);
+    ExplicitTarget {
+        target: Arc::new(target),
+        origin: "a renumbered CPU-EC20".to_string(),
+    }
 }
