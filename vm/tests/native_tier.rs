@@ -14,24 +14,10 @@ use gutta_vm::{Position, ScanEnd, TierState, Vm, VmConfig};
 use proptest::prelude::*;
 
 fn configs(watchdog: u64) -> [VmConfig; 3] {
-    let base = VmConfig {
+    common::three_engines(VmConfig {
         watchdog,
         ..VmConfig::default()
-    };
-    [
-        VmConfig {
-            fast: false,
-            ..base
-        },
-        VmConfig {
-            native_after: None,
-            ..base
-        },
-        VmConfig {
-            native_after: Some(0),
-            ..base
-        },
-    ]
+    })
 }
 
 fn load3(text: &str, watchdog: u64) -> [Vm; 3] {

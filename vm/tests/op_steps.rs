@@ -455,22 +455,7 @@ mod differential {
 
     fn engines() -> Engines {
         let text = program();
-        let base = VmConfig::default();
-        let vms = [
-            VmConfig {
-                fast: false,
-                ..base
-            },
-            VmConfig {
-                native_after: None,
-                ..base
-            },
-            VmConfig {
-                native_after: Some(0),
-                ..base
-            },
-        ]
-        .map(|c| common::load(&text, c));
+        let vms = common::three_engines(VmConfig::default()).map(|c| common::load(&text, c));
         assert!(
             matches!(vms[2].tier(), TierState::Compiled { regions: 1, .. }),
             "MAIN must compile whole: {:?}",

@@ -36,3 +36,23 @@ pub fn set(vm: &mut Vm, var: &str, v: u32) {
     let a = vm.target().memory.parse_address(var).expect("address");
     vm.write(a, v).expect("write");
 }
+
+/// The three engines the tier tests compare, from `base`: the generic semantics (`fast`
+/// off, every instruction through `ops/`), the interpreter (`native_after: None`) and
+/// the compiled tier at load (`native_after: Some(0)`).
+pub fn three_engines(base: VmConfig) -> [VmConfig; 3] {
+    [
+        VmConfig {
+            fast: false,
+            ..base
+        },
+        VmConfig {
+            native_after: None,
+            ..base
+        },
+        VmConfig {
+            native_after: Some(0),
+            ..base
+        },
+    ]
+}
