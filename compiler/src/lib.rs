@@ -9,6 +9,7 @@ pub mod diagnostics;
 pub mod encode;
 pub mod lower;
 pub mod source;
+pub mod suggest;
 pub mod syntax;
 
 use std::sync::Arc;

@@ -5,9 +5,9 @@
 //! line) and parsing never fails. It knows no target and no program: names stay text
 //! until `resolve.rs`.
 
-use gutta_compiler::check::suggest::closest;
 use gutta_compiler::diagnostics::{Code, Diagnostic};
 use gutta_compiler::source::Span;
+use gutta_compiler::suggest::closest;
 use gutta_compiler::syntax::numbers::{convert, Number};
 
 /// The header keywords (before the first test).

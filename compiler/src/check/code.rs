@@ -305,7 +305,7 @@ impl Checker<'_> {
                 self.report(d);
                 return None;
             }
-            let hint = super::suggest::closest(text, set.names().map(|(n, _)| n))
+            let hint = crate::suggest::closest(text, set.names().map(|(n, _)| n))
                 .map(|s| Suggestion::new(ins.mnemonic, s));
             self.report(
                 Diagnostic::new(

@@ -14,7 +14,6 @@ mod memory;
 mod names;
 mod operands;
 pub mod program;
-pub mod suggest;
 mod symbols;
 mod system;
 mod timer_bits;

@@ -65,7 +65,7 @@ impl Checker<'_> {
                     .iter()
                     .map(|l| l.name.clone())
                     .collect();
-                let hint = super::suggest::closest(text, cands.iter().map(String::as_str))
+                let hint = crate::suggest::closest(text, cands.iter().map(String::as_str))
                     .map(|s| Suggestion::new(name, s).shown_as(format!("#{s}")));
                 Diagnostic::new(
                     Code::UndefinedLocal,
@@ -175,7 +175,7 @@ impl Checker<'_> {
                     .filter_map(|b| b.microwin.clone()),
             );
         }
-        let hint = super::suggest::closest(text, names.iter().map(String::as_str));
+        let hint = crate::suggest::closest(text, names.iter().map(String::as_str));
         let d = Diagnostic::new(
             Code::UndefinedSymbol,
             name,

@@ -188,7 +188,7 @@ impl Checker<'_> {
         }
         let Some(&u) = self.unit_names.get(&key) else {
             let cands: Vec<String> = self.units.iter().map(|u| u.name.clone()).collect();
-            let hint = super::suggest::closest(text, cands.iter().map(String::as_str))
+            let hint = crate::suggest::closest(text, cands.iter().map(String::as_str))
                 .map(|s| Suggestion::new(name, s));
             self.report(
                 Diagnostic::new(

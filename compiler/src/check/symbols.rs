@@ -64,7 +64,7 @@ impl Checker<'_> {
         let text = self.slice(span);
         let Ok(ty) = text.parse::<DataType>() else {
             let known: Vec<&str> = DataType::ALL.iter().map(|t| t.keyword()).collect();
-            let hint = super::suggest::closest(text, known.iter().copied());
+            let hint = crate::suggest::closest(text, known.iter().copied());
             self.report(
                 Diagnostic::new(
                     Code::UnknownDataType,

@@ -125,7 +125,7 @@ impl Checker<'_> {
         else {
             let mut all: Vec<String> = PORT_KEYS.iter().map(|k| format!("PORT0.{k}")).collect();
             all.push("PASSWORD".into());
-            let hint = super::suggest::closest(key, all.iter().map(String::as_str))
+            let hint = crate::suggest::closest(key, all.iter().map(String::as_str))
                 .map(|s| Suggestion::new(e.key, s));
             self.report(
                 Diagnostic::new(
@@ -138,7 +138,7 @@ impl Checker<'_> {
             return None;
         };
         if !PORT_KEYS.contains(&field) {
-            let hint = super::suggest::closest(field, PORT_KEYS)
+            let hint = crate::suggest::closest(field, PORT_KEYS)
                 .map(|s| Suggestion::new(e.key, format!("PORT{port}.{s}")));
             self.report(
                 Diagnostic::new(

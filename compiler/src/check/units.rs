@@ -409,7 +409,7 @@ impl Checker<'_> {
         let ty_text = self.slice(v.ty);
         let Ok(ty) = ty_text.parse::<DataType>() else {
             let known: Vec<&str> = DataType::ALL.iter().map(|t| t.keyword()).collect();
-            let hint = super::suggest::closest(ty_text, known.iter().copied());
+            let hint = crate::suggest::closest(ty_text, known.iter().copied());
             self.report(
                 Diagnostic::new(
                     Code::UnknownDataType,

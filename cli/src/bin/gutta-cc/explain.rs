@@ -5,8 +5,8 @@
 //! its own.
 
 use gutta_catalog::CatalogErrorCode;
-use gutta_compiler::check::suggest::closest;
 use gutta_compiler::diagnostics::Code;
+use gutta_compiler::suggest::closest;
 use gutta_format::VerifyCode;
 
 /// docs/image-format.md: its Verification table has one row per V code.

@@ -7,9 +7,9 @@
 
 use chumsky::prelude::*;
 
-use crate::check::suggest::closest;
 use crate::diagnostics::{Code, Diagnostic, Fix, Suggestion};
 use crate::source::Span;
+use crate::suggest::closest;
 use crate::syntax::ast::{BlockKind, Program, VarSection};
 use crate::syntax::lexer::{LineLexer, Spanned, Tok};
 use crate::syntax::lines::span as sp;

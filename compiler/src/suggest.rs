@@ -1,4 +1,5 @@
-//! "Did you mean" suggestions: the closest candidate by edit distance.
+//! "Did you mean" suggestions: the closest candidate by edit distance. Below the
+//! parser and the checker (both use it), so the parser never imports the checker.
 
 /// Edit distance on ASCII-uppercased text: names and mnemonics are case-insensitive.
 fn distance(a: &str, b: &str) -> usize {
