@@ -5,9 +5,11 @@
 //! network I/O itself: callers hand it bytes (see [`TargetSources`]); the stdlib
 //! targets are embedded at build time ([`stdlib`]). The compiler, the VM and the
 //! language server are all driven by the tables it returns; [`rules`] holds the rules
-//! on those tables that both the compiler's checker and the image verifier apply.
+//! on those tables that both the compiler's checker and the image verifier apply;
+//! [`choose_target`] is the one rule for which PLC type applies.
 
 mod address;
+mod choice;
 pub mod docs;
 mod error;
 mod instructions;
@@ -26,6 +28,7 @@ mod value;
 mod xml_util;
 
 pub use address::{is_address_shaped, parse_value, Address, AddressError};
+pub use choice::{choose_target, ChosenTarget, OwnName, TargetInputs, TargetOrigin, TargetSpec};
 pub use error::{CatalogError, CatalogErrorCode};
 pub use instructions::{
     BlockKind, Flow, InstrId, Instruction, InstructionSet, OperandKind, OperandSpec, Role,

@@ -14,18 +14,20 @@ pub mod syntax;
 
 use std::sync::Arc;
 
-use gutta_catalog::{stdlib, Target};
+use gutta_catalog::{choose_target, stdlib, OwnName, Target, TargetInputs, TargetSpec};
 
 use crate::check::CheckOutput;
 use crate::diagnostics::{Code, Diagnostic, Suggestion};
 use crate::source::{LineIndex, PartKind, SourceFile};
 use crate::syntax::ast::Program;
 
-/// Where the target comes from when the command line chose one.
+/// A target the caller chose (`gutta_catalog::choose_target`: the command line, a test
+/// file or a project), loaded, with where it came from.
 #[derive(Debug, Clone)]
 pub struct ExplicitTarget {
     pub target: Arc<Target>,
-    /// `--plc NAME` or `--target DIR`, for the W0204 message.
+    /// Where it came from, for the W0204 message: `gutta_catalog::TargetOrigin`'s
+    /// wording (`--plc NAME`).
     pub origin: String,
 }
 
@@ -174,6 +176,10 @@ fn parse_joined(file: &SourceFile, microwin: bool) -> syntax::ParseOutput {
     parsed
 }
 
+/// The program's target: the caller's explicit one (chosen by
+/// `gutta_catalog::choose_target` from the command line, a test file or a project; W0204
+/// when the program's `PLC_TYPE` names another), else the rule applied to the program's
+/// own `PLC_TYPE` (an unknown name is reported with its did-you-mean, then the default).
 fn resolve_target(
     ast: &Program,
     explicit: Option<&ExplicitTarget>,
@@ -199,7 +205,11 @@ fn resolve_target(
         }
         return e.target.clone();
     }
-    if let Some((name, span)) = written {
+    let chosen = choose_target(&TargetInputs {
+        own: written.map(|(name, _)| OwnName::Source(name)),
+        ..TargetInputs::default()
+    });
+    if let (TargetSpec::Stdlib(name), Some((_, span))) = (&chosen.spec, written) {
         match stdlib::shared(name) {
             Ok(t) => return t,
             Err(_) => {

@@ -7,6 +7,7 @@
 mod image_dir;
 mod project;
 mod source_map;
+mod target;
 
 use std::path::Path;
 
@@ -18,6 +19,7 @@ pub use project::{
     find_manifest, Connection, Endpoint, Parity, Project, ProjectTarget, DEFAULT_OUTPUT, MANIFEST,
 };
 pub use source_map::{read_source_map, source_map_path, write_image_with_map};
+pub use target::load_target;
 
 /// Read a target folder: PlcType.xml and ManagerVar.xml, and ManagerFun.xml if present
 /// (else the stdlib instruction set). Errors carry the catalog's T codes.

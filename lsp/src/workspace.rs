@@ -8,11 +8,11 @@
 
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
+use gutta_catalog::{choose_target, TargetInputs};
 use gutta_compiler::source::{FilePart, SourceFile};
 use gutta_compiler::{check_program, CheckedFile, ExplicitTarget, ProgramSources};
-use gutta_io::{Project, ProjectTarget};
+use gutta_io::Project;
 use lsp_types::{Position, Uri};
 
 use crate::documents::{path_to_uri, uri_to_path, Documents, Lines};
@@ -422,21 +422,20 @@ fn fallback_uri(name: &str) -> Uri {
 /// `[program] plc`/`target` as the compiler's explicit target; a target that does not
 /// load is a warning, and the sources' PLC_TYPE decides instead.
 fn project_target(p: &Project, warnings: &mut Vec<String>) -> Option<ExplicitTarget> {
-    let (target, key) = match &p.plc {
-        ProjectTarget::Unspecified => return None,
-        ProjectTarget::Stdlib(name) => (
-            gutta_catalog::stdlib::shared(name).map_err(|e| e.to_string()),
-            "plc",
-        ),
-        ProjectTarget::Folder(dir) => (gutta_io::load_target_dir(dir).map(Arc::new), "target"),
-    };
-    match target {
+    let project = p.plc.spec();
+    let chosen = choose_target(&TargetInputs {
+        project: project.as_ref(),
+        ..TargetInputs::default()
+    })
+    .named()?;
+    match gutta_io::load_target(&chosen.spec) {
         Ok(target) => Some(ExplicitTarget {
             target,
-            origin: format!("[program] {key} in gutta.toml"),
+            origin: chosen.origin.to_string(),
         }),
         Err(e) => {
-            warnings.push(format!("{}: [program] {key}: {e}", p.manifest.display()));
+            let key = chosen.origin.project_key().unwrap_or_default();
+            warnings.push(format!("{}: {key}: {e}", p.manifest.display()));
             None
         }
     }
