@@ -1,7 +1,7 @@
 //! The flags that several tools take, with the one spelling and value name they share
 //! (docs/cli.md, "Shared flags"); cli/tests/cli_shared_flags.rs reads each tool's
 //! `--help` against this table. It must not define the flags; each tool's clap
-//! attributes do.
+//! attributes do, except `--plc`/`--target`, declared once in `target.rs`.
 
 /// A flag spelt alike wherever it appears.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,6 +1,7 @@
 //! The conventions the three command-line tools (gutta-cc, gutta-vm, gutta-sim) share:
 //! fatal errors with a kind and their JSON form, the NO_COLOR rule, shell completions
-//! and man pages, the table of flags the tools spell alike (docs/cli.md), and counts
+//! and man pages, the table of flags the tools spell alike (docs/cli.md), the `--plc`/`--target`
+//! flags and the target they choose (`target`), reading a program's files (`sources`), and counts
 //! with their nouns (`plural`, whose home is gutta-catalog so the libraries' messages
 //! share it: `1 page`, `2 pages`). It must not know any one
 //! tool's commands or do any tool's work.
@@ -10,3 +11,5 @@ pub mod fatal;
 pub mod flags;
 pub use gutta_catalog::plural;
 pub mod shell;
+pub mod sources;
+pub mod target;

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 
-use gutta_catalog::{stdlib, Address, Target, Width};
+use gutta_catalog::{Address, Target, Width};
 use gutta_cli::plural::count;
 use gutta_format::{Operand, PackedOperand, SymbolTable};
 use gutta_link::transport::{rtu_over_tcp, serial, TcpTransport};
@@ -16,8 +16,10 @@ use gutta_link::{Client, ConnectFailure, LinkError};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::json;
 
+use crate::args::LinkArgs;
 use crate::vars::{self, Var};
-use crate::{explicit_target, Fatal, LinkArgs, TargetArgs};
+use gutta_cli::fatal::Fatal;
+use gutta_cli::target::TargetArgs;
 
 /// What every client command needs besides the link: the target options, where symbols
 /// come from, and whether to print JSON. A project passes its own sources here.
@@ -32,7 +34,7 @@ pub(crate) struct Online<'a> {
 impl Online<'_> {
     /// The symbols of `symbol_files` and of `tables` (an image's source map).
     pub fn symbols(&self, tables: Vec<SymbolTable>) -> Result<SymbolTable, Fatal> {
-        let explicit = explicit_target(self.targets)?;
+        let explicit = self.targets.explicit()?;
         vars::symbol_context(self.symbol_files, tables, explicit.as_ref()).map_err(Fatal::usage)
     }
 
@@ -58,9 +60,9 @@ pub(crate) fn client_line(args: &LinkArgs) -> gutta_format::LineSettings {
     gutta_format::LineSettings {
         baud: args.baud,
         parity: match args.parity {
-            crate::Parity::None => 0,
-            crate::Parity::Even => 1,
-            crate::Parity::Odd => 2,
+            crate::args::Parity::None => 0,
+            crate::args::Parity::Even => 1,
+            crate::args::Parity::Odd => 2,
         },
         ..gutta_format::LineSettings::DEFAULT
     }
@@ -129,15 +131,7 @@ pub(crate) fn login(args: &LinkArgs) -> Result<Client, Fatal> {
 
 /// The PLC's target: --plc/--target, else its GET_PLC_NAME from the stdlib.
 pub(crate) fn plc_target(targets: &TargetArgs, client: &mut Client) -> Result<Arc<Target>, Fatal> {
-    if let Some(e) = explicit_target(targets)? {
-        return Ok(e.target);
-    }
-    let name = client.plc_name().map_err(link_error)?;
-    stdlib::shared(&name).map_err(|e| {
-        Fatal::target(format!(
-            "the PLC is a {name}: {e} (pass --target DIR for a vendor PLC type)"
-        ))
-    })
+    targets.for_plc(|| client.plc_name().map_err(link_error))
 }
 
 pub(crate) fn packed(a: Address) -> u32 {
@@ -166,7 +160,7 @@ pub(crate) fn check_early(
     symbols: &SymbolTable,
     assignments: bool,
 ) -> Result<(), Fatal> {
-    match explicit_target(online.targets)? {
+    match online.targets.explicit()? {
         Some(e) if assignments => texts
             .iter()
             .try_for_each(|t| vars::resolve_assignment(t, symbols, &e.target).map(drop)),
@@ -245,7 +239,7 @@ fn print_values(online: &Online, command: &str, vars: &[Var], raw: &[u32]) {
 }
 
 pub(crate) fn download(online: &Online, dir: &Path, args: &LinkArgs) -> Result<ExitCode, Fatal> {
-    let (image, target) = crate::image_and_target(online.targets, dir)?;
+    let (image, target) = online.targets.read_image(dir)?;
     gutta_format::verify(&image, &target)
         .map_err(|e| Fatal::program(format!("{}: {e}", dir.display())))?;
     // Every byte is written, then read back and compared: the bar and the summary both

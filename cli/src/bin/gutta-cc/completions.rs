@@ -12,14 +12,14 @@ use gutta_cli::shell::{self, Shell};
 
 /// Print the completion script for `shell` on stdout.
 pub(crate) fn completions(shell: Shell) -> Result<ExitCode, Fatal> {
-    let script = shell::completion_script(crate::cli_command(), "gutta-cc", shell);
+    let script = shell::completion_script(crate::args::cli_command(), "gutta-cc", shell);
     write_stdout(&script)
 }
 
 /// Write every man page into `output`, or print one (gutta-cc's, or `subcommand`'s) on
 /// stdout.
 pub(crate) fn man(subcommand: Option<&str>, output: Option<&Path>) -> Result<ExitCode, Fatal> {
-    let mut command = crate::cli_command();
+    let mut command = crate::args::cli_command();
     command.build();
     if let Some(dir) = output {
         let written = shell::write_man_pages(&command, dir)?;

@@ -10,8 +10,9 @@ use gutta_format::SourceMap;
 use gutta_link::message::{debug_state, Breakpoint, DebugStep};
 use serde_json::json;
 
+use crate::args::LinkArgs;
 use crate::client::{check_early, link_error, login, plc_target, read_values, resolve_all, Online};
-use crate::{Fatal, LinkArgs};
+use gutta_cli::fatal::Fatal;
 
 /// The image directory `debug` takes its source map from when `--image` is not given.
 const DEFAULT_DEBUG_IMAGE: &str = "image";
@@ -96,7 +97,7 @@ pub(crate) fn debug(
     let words = action;
     let action = Action::parse(words)?;
     check_early(online, watch, &symbols, false)?;
-    if let (Some(e), Action::Break(at)) = (crate::explicit_target(online.targets)?, action) {
+    if let (Some(e), Action::Break(at)) = (online.targets.explicit()?, action) {
         let map_name = gutta_io::source_map_path(image.unwrap_or(Path::new(DEFAULT_DEBUG_IMAGE)));
         gutta_format::parse_breakpoint(
             at,

@@ -89,3 +89,10 @@ fn unknown(wanted: &str) -> String {
         None => format!("no code `{wanted}` ({known})"),
     }
 }
+
+/// `explain CODE`: the registry's text; an unknown code is a usage error (exit 2).
+pub(crate) fn run(code: &str) -> Result<std::process::ExitCode, gutta_cli::fatal::Fatal> {
+    let text = explanation(code).map_err(gutta_cli::fatal::Fatal::usage)?;
+    println!("{text}");
+    Ok(std::process::ExitCode::SUCCESS)
+}

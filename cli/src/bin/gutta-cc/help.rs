@@ -145,7 +145,7 @@ mod tests {
 
     #[test]
     fn every_subcommand_is_in_a_group() {
-        let missing = ungrouped(&crate::Cli::command());
+        let missing = ungrouped(&crate::args::Cli::command());
         assert!(
             missing.is_empty(),
             "subcommands in no group of help.rs COMMAND_GROUPS: {missing:?}"
@@ -154,7 +154,9 @@ mod tests {
 
     #[test]
     fn the_help_lists_each_group_with_its_commands() {
-        let help = grouped(crate::Cli::command()).render_help().to_string();
+        let help = grouped(crate::args::Cli::command())
+            .render_help()
+            .to_string();
         for heading in ["Build:", "Online", "Inspect:", "Shell:"] {
             assert!(help.contains(heading), "{heading} missing from:\n{help}");
         }

@@ -16,7 +16,9 @@ use gutta_io::Project;
 use gutta_ladder::html::{ladder_html, HtmlOptions};
 use gutta_ladder::svg::ladder_svg;
 
-use crate::{explicit_target, read_program, Cli};
+use gutta_cli::sources::read_program;
+
+use crate::args::Cli;
 
 /// What the output file is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -38,9 +40,9 @@ fn output_kind(out: &Path) -> Result<OutputKind, Fatal> {
 
 /// The checked program of `input`: an image directory, a project, or source files.
 pub(crate) fn checked_input(cli: &Cli, input: &Path) -> Result<CheckedFile, Fatal> {
-    let explicit = explicit_target(&cli.target)?;
+    let explicit = cli.target.explicit()?;
     if input.join("manifest.json").is_file() {
-        let (image, target) = crate::image_and_target(&cli.target, input)?;
+        let (image, target) = cli.target.read_image(input)?;
         let text = gutta_format::disasm::disassemble(&image, &target)
             .map_err(|e| Fatal::program(format!("{}: cannot disassemble: {e}", input.display())))?;
         let name = format!("{} (disassembled)", input.display());
@@ -72,9 +74,11 @@ pub(crate) fn checked_input(cli: &Cli, input: &Path) -> Result<CheckedFile, Fata
         let mut program = read_program(&project.sources, &project.symbols)?;
         program.options.scale_timer_presets =
             project.scale_timer_presets || cli.scale_timer_presets;
-        let mut target = cli.target.clone();
-        crate::project::apply_target(&mut target, &project);
-        let explicit = explicit_target(&target)?;
+        let target = gutta_cli::target::TargetArgs {
+            project: project.plc.spec(),
+            ..cli.target.clone()
+        };
+        let explicit = target.explicit()?;
         return Ok(check_program(program, explicit.as_ref()));
     }
     let mut program = read_program(&[input.to_path_buf()], &cli.symbols)?;

@@ -24,8 +24,9 @@ use gutta_compiler::{compile_program, ProgramSources};
 use gutta_ladder::html::{ladder_html, HtmlOptions};
 use serde_json::json;
 
+use crate::args::{Cli, LinkArgs};
 use crate::vars::Var;
-use crate::{Cli, Fatal, LinkArgs};
+use gutta_cli::fatal::Fatal;
 use session::{Program, Session};
 
 /// The page's script: fetch `/state`, set the classes and the values.
@@ -274,13 +275,17 @@ fn load(cli: &Cli, given: Option<&Path>) -> Result<Program, Fatal> {
     };
     let mut sources = ProgramSources::default();
     for f in &files {
-        sources.sources.push(crate::read_source(f, false)?);
+        sources
+            .sources
+            .push(gutta_cli::sources::read_source(f, false)?);
     }
     for t in &tables {
-        sources.symbol_tables.push(crate::read_source(t, true)?);
+        sources
+            .symbol_tables
+            .push(gutta_cli::sources::read_source(t, true)?);
     }
     sources.options.scale_timer_presets = scale;
-    let explicit = crate::explicit_target(&cli.target)?;
+    let explicit = cli.target.explicit()?;
     let compiled = compile_program(sources, explicit.as_ref());
     let Some(image) = compiled.image.clone() else {
         let errors = compiled

@@ -1,17 +1,19 @@
 //! Projects on the command line (docs/projects.md): `gutta-cc new` (a project from the
 //! templates in cli/templates/), `gutta-cc build`, and a found gutta.toml's values put
 //! into a parsed command line where the user gave none. Reading and validating
-//! gutta.toml is gutta_io::Project's; compiling is the compile path's in main.rs.
+//! gutta.toml is gutta_io::Project's; compiling is compile.rs's.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::parser::ValueSource;
 use clap::ArgMatches;
-use gutta_catalog::stdlib;
-use gutta_io::{Connection, Endpoint, Project, ProjectTarget};
+use gutta_catalog::{stdlib, TargetOrigin};
+use gutta_cli::fatal::Fatal;
+use gutta_cli::target::TargetArgs;
+use gutta_io::{Connection, Endpoint, Project};
 
-use crate::{Cli, Fatal, LinkArgs, Parity, TargetArgs};
+use crate::args::{Cli, Command, LinkArgs, Parity};
 
 /// The files `gutta-cc new` writes: path in the project, template text.
 const TEMPLATES: &[(&str, &str)] = &[
@@ -53,7 +55,14 @@ pub(crate) fn required(project: Option<&Project>, command: &str) -> Result<Proje
 
 /// `gutta-cc new NAME [--plc PLC]`: a project that builds, runs and passes its tests as
 /// created.
-pub(crate) fn new(path: &Path, plc: Option<&str>) -> Result<ExitCode, Fatal> {
+pub(crate) fn new(path: &Path, target: &TargetArgs) -> Result<ExitCode, Fatal> {
+    if target.target.is_some() {
+        return Err(Fatal::usage(format!(
+            "`gutta-cc new` takes --plc NAME; for a target folder, set {}",
+            TargetOrigin::ProjectFolder
+        )));
+    }
+    let plc = target.plc.as_deref();
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
@@ -123,45 +132,50 @@ fn check_name(name: &str) -> Result<(), Fatal> {
     }
 }
 
-/// `gutta-cc build [--output DIR]` as the compile path runs it: the project's sources as
-/// the files, its tables (then the user's --symbols) as --symbols, the output directory
-/// as -o. The build runs in the project folder, as cargo builds in its workspace's:
-/// diagnostics, the summary and the source map name files as gutta.toml does
-/// (`src/main.lad`), wherever in the project the command was given; paths from the
-/// command line keep meaning what they meant where it was given.
-pub(crate) fn build_command(
-    cli: &mut Cli,
+/// `gutta-cc build [--output DIR]`: the project's sources as one program, its tables
+/// then `user_tables` (the user's --symbols) as symbol tables, into the output directory.
+/// Files are named as gutta.toml names them (`src/main.lad`: relative to the project
+/// folder, as cargo names its workspace's files), in diagnostics, the summary and the
+/// source map, wherever in the project the command was given; paths from the command
+/// line keep meaning what they meant where it was given.
+pub(crate) fn build(
+    cli: &Cli,
     project: &Project,
-    output: Option<PathBuf>,
-) -> Result<(), Fatal> {
+    output: Option<&Path>,
+    user_tables: &[PathBuf],
+) -> Result<ExitCode, Fatal> {
     let cwd = current_dir()?;
     let output = output.map_or_else(|| project.output.clone(), |o| cwd.join(o));
-    let user_tables: Vec<PathBuf> = cli.symbols.iter().map(|s| cwd.join(s)).collect();
-    if let Some(dir) = &mut cli.target.target {
-        *dir = cwd.join(&*dir);
-    }
-    std::env::set_current_dir(&project.root).map_err(|e| {
-        Fatal::io(format!(
-            "cannot enter the project folder {}: {e}",
-            project.root.display()
-        ))
-    })?;
     let in_project = |p: &PathBuf| {
         p.strip_prefix(&project.root)
             .map(Path::to_path_buf)
             .unwrap_or_else(|_| p.clone())
     };
-    cli.command = None;
-    cli.files = project.sources.iter().map(in_project).collect();
-    cli.symbols = project
+    let files: Vec<PathBuf> = project.sources.iter().map(in_project).collect();
+    let user_tables: Vec<PathBuf> = user_tables.iter().map(|s| cwd.join(s)).collect();
+    let tables: Vec<PathBuf> = project
         .symbols
         .iter()
         .chain(&user_tables)
         .map(in_project)
         .collect();
-    cli.output = Some(in_project(&output));
-    cli.scale_timer_presets |= project.scale_timer_presets;
-    Ok(())
+    // --target DIR as the user gave it, made absolute (W0204 names it so).
+    let target = TargetArgs {
+        target: cli.target.target.as_ref().map(|dir| cwd.join(dir)),
+        ..cli.target.clone()
+    };
+    crate::compile::compile(
+        cli,
+        &crate::compile::Job {
+            base: &project.root,
+            files: &files,
+            tables: &tables,
+            output: Some(&in_project(&output)),
+            emit: None,
+            scale_timer_presets: cli.scale_timer_presets || project.scale_timer_presets,
+            target: &target,
+        },
+    )
 }
 
 fn current_dir() -> Result<PathBuf, Fatal> {
@@ -195,25 +209,6 @@ pub(crate) fn context_files(project: &Project) -> Vec<PathBuf> {
         .chain(&project.symbols)
         .map(|p| shown(p))
         .collect()
-}
-
-/// `[program] plc`/`target` into the command line's --plc/--target when it has neither.
-pub(crate) fn apply_target(target: &mut TargetArgs, project: &Project) {
-    if target.plc.is_some() || target.target.is_some() {
-        return;
-    }
-    let key = match &project.plc {
-        ProjectTarget::Stdlib(name) => {
-            target.plc = Some(name.clone());
-            "plc"
-        }
-        ProjectTarget::Folder(dir) => {
-            target.target = Some(dir.clone());
-            "target"
-        }
-        ProjectTarget::Unspecified => return,
-    };
-    target.origin = Some(format!("[program] {key} in gutta.toml"));
 }
 
 /// `[connection]` into the link flags the command line did not give (`matches`: the
@@ -253,21 +248,72 @@ pub(crate) fn apply_connection(link: &mut LinkArgs, matches: &ArgMatches, c: &Co
 /// (the build's diagnostics and summary printed); `None` when the build failed, so the
 /// PLC is never touched.
 pub(crate) fn build_for_download(cli: &Cli, project: &Project) -> Result<Option<PathBuf>, Fatal> {
-    let mut build = cli.clone();
-    build.project = None;
     // The client's symbol context holds the project's files; the build takes only the
     // user's own --symbols and the project's tables.
-    build.symbols.retain(|s| {
-        !project
-            .sources
-            .iter()
-            .chain(&project.symbols)
-            .any(|p| shown(p) == *s)
-    });
-    let cwd = current_dir()?;
-    build_command(&mut build, project, None)?;
-    let code = crate::run(build)?;
-    std::env::set_current_dir(&cwd)
-        .map_err(|e| Fatal::io(format!("cannot return to {}: {e}", cwd.display())))?;
+    let user_tables: Vec<PathBuf> = cli
+        .symbols
+        .iter()
+        .filter(|s| {
+            !project
+                .sources
+                .iter()
+                .chain(&project.symbols)
+                .any(|p| shown(p) == **s)
+        })
+        .cloned()
+        .collect();
+    let code = build(cli, project, None, &user_tables)?;
     Ok((code == ExitCode::SUCCESS).then(|| project.output.clone()))
+}
+
+/// Inside a project (docs/projects.md), what the command line leaves out comes from
+/// gutta.toml: the link flags not given on the command line from `[connection]`,
+/// --plc/--target from `[program]` (the target resolver's project input), the symbol
+/// context (--symbols) from the project's sources and tables, and `debug`'s image from
+/// the build output. Compiling files, `new`, `dis`, `explain` and `list-targets` do not
+/// look for a project; outside one, nothing changes.
+pub(crate) fn apply(cli: &mut Cli, matches: &ArgMatches) -> Result<(), Fatal> {
+    let uses_project = !matches!(
+        cli.command,
+        None | Some(
+            Command::New { .. }
+                | Command::Dis { .. }
+                | Command::Ladder { .. }
+                | Command::Explain { .. }
+                | Command::ListTargets
+                | Command::Completions { .. }
+                | Command::Man { .. }
+        )
+    );
+    if !uses_project {
+        return Ok(());
+    }
+    let Some(project) = find()? else {
+        return Ok(());
+    };
+    if matches!(cli.command, Some(Command::Test { .. })) {
+        // `test` takes each test file's program, target and symbols itself.
+        cli.project = Some(project);
+        return Ok(());
+    }
+    cli.target.project = project.plc.spec();
+    let link = cli.command.as_mut().and_then(Command::link_mut);
+    if let (Some(link), Some((_, sub))) = (link, matches.subcommand()) {
+        apply_connection(link, sub, &project.connection);
+    }
+    let building = matches!(cli.command, Some(Command::Build { .. }));
+    if cli.symbols.is_empty() && !building {
+        cli.symbols = context_files(&project);
+    }
+    if let Some(Command::Debug {
+        image: image @ None,
+        ..
+    }) = &mut cli.command
+    {
+        if project.output.is_dir() {
+            *image = Some(shown(&project.output));
+        }
+    }
+    cli.project = Some(project);
+    Ok(())
 }

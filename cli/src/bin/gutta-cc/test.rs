@@ -14,6 +14,7 @@ use std::sync::mpsc;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use gutta_catalog::{choose_target, TargetInputs};
 use gutta_cli::fatal::{Fatal, MessageFormat};
 use gutta_compiler::diagnostics::json::to_json_lines;
 use gutta_compiler::diagnostics::render::{render, RenderStyle};
@@ -22,9 +23,11 @@ use gutta_compiler::source::{LineIndex, SourceFile, Span};
 use gutta_compiler::{ExplicitTarget, ProgramSources};
 use gutta_gtest::report::{self, FileResults, Style};
 use gutta_gtest::{BuildError, Plan, ProgramUnderTest, RunOptions, TestResult, TestSource};
-use gutta_io::{Project, ProjectTarget};
+use gutta_io::Project;
 
-use crate::{explicit_target, read_source, Cli, TargetArgs};
+use gutta_cli::sources::read_source;
+
+use crate::args::Cli;
 
 /// What `gutta-cc test` was asked.
 #[derive(Debug, Clone)]
@@ -81,7 +84,7 @@ pub(crate) fn test(cli: &Cli, args: &TestArgs) -> Result<ExitCode, Fatal> {
         unicode: err_color,
     };
     let files = find_files(cli.project.as_ref(), &args.paths)?;
-    let command_line_target = explicit_target(&cli.target)?;
+    let command_line_target = cli.target.explicit()?;
     let mut jobs: Vec<TestFileJob> = files
         .iter()
         .map(|path| read_test_file(path, render_style))
@@ -476,33 +479,21 @@ fn build_program(
         }
     };
     sources.options.scale_timer_presets = scale || cli.scale_timer_presets;
-    // The target: the command line's --plc/--target, else the test file's PLC_TYPE, else
-    // the project's, else the program's own PLC_TYPE (or the stdlib default).
-    let from_header = match plc {
-        Some(name) => Some(TargetArgs {
-            plc: Some(name.clone()),
-            target: None,
-            origin: Some(format!("PLC_TYPE {name} in the test file")),
-        }),
-        None => match project_target {
-            Some(ProjectTarget::Stdlib(name)) => Some(TargetArgs {
-                plc: Some(name),
-                target: None,
-                origin: Some("[program] plc in gutta.toml".into()),
-            }),
-            Some(ProjectTarget::Folder(dir)) => Some(TargetArgs {
-                plc: None,
-                target: Some(dir),
-                origin: Some("[program] target in gutta.toml".into()),
-            }),
-            _ => None,
-        },
+    // The target, by the one rule: the command line's (loaded once, above), the test
+    // file's PLC_TYPE, the project's, else the program's own PLC_TYPE or the default.
+    let project_target = project_target.and_then(|t| t.spec());
+    let inputs = TargetInputs {
+        test_file: plc.as_deref(),
+        project: project_target.as_ref(),
+        ..cli.target.inputs()
     };
-    let own = match (command_line, &from_header) {
-        (Some(_), _) | (None, None) => None,
-        (None, Some(args)) => Some(explicit_target(args).map_err(|e| fail(e.message.clone()))?),
+    let own = match choose_target(&inputs).named() {
+        Some(chosen) if !chosen.origin.is_command_line() => {
+            Some(gutta_cli::target::load_explicit(&chosen).map_err(|e| fail(e.message.clone()))?)
+        }
+        _ => None,
     };
-    let explicit = command_line.or(own.as_ref().and_then(Option::as_ref));
+    let explicit = own.as_ref().or(command_line);
     let name = match sources.sources.len() {
         1 => sources.sources[0].name.clone(),
         n => gutta_cli::plural::count(n, "file"),

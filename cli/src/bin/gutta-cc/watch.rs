@@ -15,9 +15,10 @@ use gutta_catalog::Target;
 use gutta_link::Client;
 use serde_json::json;
 
+use crate::args::LinkArgs;
 use crate::client::{self, Online};
 use crate::vars::Var;
-use crate::{Fatal, LinkArgs};
+use gutta_cli::fatal::Fatal;
 
 pub(crate) struct Options {
     pub interval_ms: u64,

@@ -18,8 +18,9 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use clap::Parser;
-use gutta_catalog::{stdlib, Target};
+use gutta_catalog::{choose_target, OwnName, Target, TargetInputs, TargetSpec};
 use gutta_cli::fatal::{Fatal, MessageFormat};
+use gutta_cli::target::TargetArgs;
 use gutta_format::LineSettings;
 use gutta_sim::plc::{ConnectionId, Plc};
 use gutta_sim::session::{Framing, Session};
@@ -45,7 +46,8 @@ Examples:
   gutta-sim --plc CPU-EC20 --tcp 0.0.0.0:502 --stats-every 5
 
 --completions SHELL prints a completion script, --man the man page.
-Exit status: 0 after a clean stop (Ctrl-C included), 2 for usage, image or network errors."
+Exit status: 0 after a clean stop (Ctrl-C included), 2 for usage, image or network errors.",
+    mut_arg("plc", |a| a.help("PLC type from the stdlib (default: the image's, else the stdlib default)"))
 )]
 struct Cli {
     /// An image directory written by `gutta-cc -o` (the PLC starts empty without one).
@@ -54,12 +56,8 @@ struct Cli {
     /// port (raw frames on --tcp, 7E1 on --serial) or the Modbus-TCP relay board (--tcp).
     #[arg(long, value_enum, default_value_t = Device::Plc)]
     device: Device,
-    /// PLC type from the stdlib (default: the image's, else the stdlib default).
-    #[arg(long, value_name = "NAME", value_parser = gutta_cli::flags::PlcName, hide_possible_values = true)]
-    plc: Option<String>,
-    /// A target folder holding PlcType.xml, ManagerVar.xml and ManagerFun.xml.
-    #[arg(long, value_name = "DIR", conflicts_with = "plc")]
-    target: Option<PathBuf>,
+    #[command(flatten)]
+    target: TargetArgs,
     /// Serve Modbus TCP on this address (repeatable).
     #[arg(long = "tcp", value_name = "HOST:PORT")]
     tcp: Vec<String>,
@@ -150,14 +148,24 @@ fn main() -> ExitCode {
     }
 }
 
-fn target_for(cli: &Cli, image_plc: Option<&str>) -> Result<Arc<Target>, Fatal> {
-    if let Some(dir) = &cli.target {
-        return gutta_io::load_target_dir(dir)
-            .map(Arc::new)
-            .map_err(|e| Fatal::target(format!("--target {}: {e}", dir.display())));
-    }
-    let name = cli.plc.as_deref().or(image_plc).unwrap_or(stdlib::DEFAULT);
-    stdlib::shared(name).map_err(|e| Fatal::target(format!("PLC type {name}: {e}")))
+/// --plc/--target, else the image's PLC type, else the stdlib default; a load error says
+/// which folder or PLC type failed.
+fn target_for(cli: &Cli, image: Option<&gutta_format::Image>) -> Result<Arc<Target>, Fatal> {
+    let chosen = choose_target(&TargetInputs {
+        own: image
+            .zip(cli.image.as_deref())
+            .map(|(i, dir)| OwnName::Image {
+                plc: &i.plc_type,
+                dir,
+            }),
+        ..cli.target.inputs()
+    });
+    gutta_io::load_target(&chosen.spec).map_err(|e| {
+        Fatal::target(match &chosen.spec {
+            TargetSpec::Folder(dir) => format!("--target {}: {e}", dir.display()),
+            TargetSpec::Stdlib(name) => format!("PLC type {name}: {e}"),
+        })
+    })
 }
 
 /// Ctrl-C: SIGINT on Unix, its handler installed now (before the listeners announce
@@ -205,22 +213,14 @@ async fn run_relay_board(cli: Cli) -> Result<(), Fatal> {
     relay::run(&cli.tcp, interrupted()?).await
 }
 
-async fn run_plc(cli: Cli) -> Result<(), Fatal> {
-    if cli.tcp.is_empty() && cli.rtu_tcp.is_empty() && cli.serial.is_empty() {
-        return Err(Fatal::usage(
-            "nothing to serve: give --tcp HOST:PORT, --rtu-tcp HOST:PORT and/or --serial DEVICE",
-        ));
-    }
-    let ctrl_c = interrupted()?;
-    tokio::pin!(ctrl_c);
-    if cli.device == Device::Fx {
-        return run_fx(&cli, ctrl_c).await;
-    }
+/// The simulated PLC: the image (verified on its target) or none, its scan time and
+/// its EXCH port wiring (--port0/--port1).
+fn load_plc(cli: &Cli) -> Result<Plc, Fatal> {
     let image = match &cli.image {
         Some(dir) => Some(gutta_io::read_image_dir(dir).map_err(Fatal::io)?),
         None => None,
     };
-    let target = target_for(&cli, image.as_ref().map(|i| i.plc_type.as_str()))?;
+    let target = target_for(cli, image.as_ref())?;
     if let Some(image) = &image {
         gutta_format::verify(image, &target)
             .map_err(|e| Fatal::program(format!("the image does not verify: {e}")))?;
@@ -238,26 +238,12 @@ async fn run_plc(cli: Cli) -> Result<(), Fatal> {
         }
     }
     plc.set_port_factory(Box::new(wiring));
-    let plc = Arc::new(Mutex::new(plc));
-    let start = Instant::now();
+    Ok(plc)
+}
 
-    let mut listeners = Vec::new();
-    for (framing, addresses) in [(Framing::Tcp, &cli.tcp), (Framing::Rtu, &cli.rtu_tcp)] {
-        let kind = match framing {
-            Framing::Tcp => "modbus-tcp",
-            Framing::Rtu => "rtu-over-tcp",
-        };
-        for address in addresses {
-            listeners.push((framing, listen::bind(address, kind).await?));
-        }
-    }
-    for (framing, listener) in listeners {
-        let plc = Arc::clone(&plc);
-        listen::accept_forever(listener, move |stream| {
-            serve(stream, framing, Arc::clone(&plc), start, None)
-        });
-    }
-
+/// Serve the GUTTA protocol over RTU on each --serial device, its line following the
+/// PLC's port settings.
+fn open_serial_lines(cli: &Cli, plc: &Arc<Mutex<Plc>>, start: Instant) -> Result<(), Fatal> {
     for (n, device) in cli.serial.iter().enumerate() {
         let path = device.display().to_string();
         let follow = Follow {
@@ -277,7 +263,7 @@ async fn run_plc(cli: Cli) -> Result<(), Fatal> {
         gutta_link::transport::configure(&mut port, line)
             .map_err(|e| Fatal::io(format!("{path}: {e}")))?;
         say(&format!("gutta-sim: rtu-serial on {path} ({line})"));
-        let plc = Arc::clone(&plc);
+        let plc = Arc::clone(plc);
         tokio::spawn(serve(
             port,
             Framing::Rtu,
@@ -286,6 +272,41 @@ async fn run_plc(cli: Cli) -> Result<(), Fatal> {
             Some(Follow { line, ..follow }),
         ));
     }
+    Ok(())
+}
+
+async fn run_plc(cli: Cli) -> Result<(), Fatal> {
+    if cli.tcp.is_empty() && cli.rtu_tcp.is_empty() && cli.serial.is_empty() {
+        return Err(Fatal::usage(
+            "nothing to serve: give --tcp HOST:PORT, --rtu-tcp HOST:PORT and/or --serial DEVICE",
+        ));
+    }
+    let ctrl_c = interrupted()?;
+    tokio::pin!(ctrl_c);
+    if cli.device == Device::Fx {
+        return run_fx(&cli, ctrl_c).await;
+    }
+    let plc = Arc::new(Mutex::new(load_plc(&cli)?));
+    let start = Instant::now();
+
+    let mut listeners = Vec::new();
+    for (framing, addresses) in [(Framing::Tcp, &cli.tcp), (Framing::Rtu, &cli.rtu_tcp)] {
+        let kind = match framing {
+            Framing::Tcp => "modbus-tcp",
+            Framing::Rtu => "rtu-over-tcp",
+        };
+        for address in addresses {
+            listeners.push((framing, listen::bind(address, kind).await?));
+        }
+    }
+    for (framing, listener) in listeners {
+        let plc = Arc::clone(&plc);
+        listen::accept_forever(listener, move |stream| {
+            serve(stream, framing, Arc::clone(&plc), start, None)
+        });
+    }
+
+    open_serial_lines(&cli, &plc, start)?;
 
     // The scan cycle, in real time.
     let mut tick = tokio::time::interval(Duration::from_millis(u64::from(cli.scan_ms.max(1))));
@@ -337,8 +358,8 @@ async fn run_plc(cli: Cli) -> Result<(), Fatal> {
 /// `--device fx`: the options that mean something to it, the others refused.
 async fn run_fx(cli: &Cli, ctrl_c: impl std::future::Future<Output = ()>) -> Result<(), Fatal> {
     let plc_only = cli.image.is_some()
-        || cli.plc.is_some()
-        || cli.target.is_some()
+        || cli.target.plc.is_some()
+        || cli.target.target.is_some()
         || !cli.rtu_tcp.is_empty()
         || cli.port0.is_some()
         || cli.port1.is_some();

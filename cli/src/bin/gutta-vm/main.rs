@@ -9,8 +9,9 @@ use std::process::ExitCode;
 use std::sync::Arc;
 
 use clap::Parser;
-use gutta_catalog::{stdlib, Target};
+use gutta_catalog::{choose_target, OwnName, Target, TargetInputs};
 use gutta_cli::fatal::{Fatal, MessageFormat};
+use gutta_cli::target::TargetArgs;
 use gutta_format::{MappedInstruction, SourceMap};
 use gutta_vm::{Fault, Position, ScanEnd, Vm, VmConfig};
 
@@ -31,7 +32,8 @@ Examples:
   gutta-vm image/ --break MAIN:2:0 --read MW24 --message-format json
 
 --completions SHELL prints a completion script, --man the man page.
-Exit status: 0 ok, 1 the program faulted, 2 usage, I/O or verification errors."
+Exit status: 0 ok, 1 the program faulted, 2 usage, I/O or verification errors.",
+    mut_arg("plc", |a| a.help("PLC type from the stdlib (instead of the image's PLC type)"))
 )]
 struct Cli {
     /// The image directory (holding manifest.json), as written by `gutta-cc -o`.
@@ -83,12 +85,8 @@ struct Cli {
     /// line without an instruction stands for the next line that has one.
     #[arg(long = "break", value_name = "FUNCTION:NETWORK:STEP|FILE:LINE")]
     breakpoint: Option<String>,
-    /// PLC type from the stdlib (instead of the image's PLC type).
-    #[arg(long, value_name = "NAME", value_parser = gutta_cli::flags::PlcName, hide_possible_values = true)]
-    plc: Option<String>,
-    /// A target folder holding PlcType.xml, ManagerVar.xml and ManagerFun.xml.
-    #[arg(long, value_name = "DIR", conflicts_with = "plc")]
-    target: Option<PathBuf>,
+    #[command(flatten)]
+    target: TargetArgs,
 }
 
 /// The name errors start with and JSON errors carry.
@@ -128,17 +126,64 @@ struct Change {
     to: u32,
 }
 
+/// The run set up: the VM with the image loaded and --set, --force and --break applied,
+/// its target, the source map, and the --read variables.
+struct Loaded {
+    vm: Vm,
+    target: Arc<Target>,
+    map: Option<SourceMap>,
+    reads: Vec<Var>,
+}
+
+/// What the scans did: the --read values after the last one, --trace's changes, and the
+/// fault or breakpoint that ended the run early.
+struct Outcome {
+    values: Vec<u32>,
+    changes: Vec<Change>,
+    fault: Option<(u64, Fault)>,
+    paused: Option<(u64, Position)>,
+}
+
 fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
-    let image = gutta_io::read_image_dir(&cli.image).map_err(Fatal::io)?;
-    let target = match explicit_target(cli)? {
-        Some(t) => t,
-        None => stdlib::shared(&image.plc_type).map_err(|e| {
-            Fatal::target(format!(
-                "the image is for {}: {e} (pass --target DIR for a vendor PLC type)",
-                image.plc_type
-            ))
-        })?,
+    let mut loaded = load(cli)?;
+    let outcome = scan(cli, &mut loaded)?;
+    let source = Source {
+        map: loaded.map.as_ref(),
+        target: &loaded.target,
     };
+    if cli.json {
+        let report = json_report(
+            &loaded.vm,
+            &loaded.reads,
+            &outcome.values,
+            cli.trace.then_some(outcome.changes.as_slice()),
+            outcome.fault.as_ref(),
+            outcome.paused,
+            &source,
+        );
+        let _ = writeln!(std::io::stdout().lock(), "{report}");
+    } else {
+        print_human(&loaded, &outcome, &source);
+    }
+    Ok(if outcome.fault.is_some() {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+/// Read and verify the image on its target (--plc/--target, else the image's PLC type,
+/// read once), load it, resolve the variables and apply --set, --force and --break.
+fn load(cli: &Cli) -> Result<Loaded, Fatal> {
+    let image = gutta_io::read_image_dir(&cli.image).map_err(Fatal::io)?;
+    let chosen = choose_target(&TargetInputs {
+        own: Some(OwnName::Image {
+            plc: &image.plc_type,
+            dir: &cli.image,
+        }),
+        ..cli.target.inputs()
+    });
+    let target = gutta_cli::target::load(&chosen)?;
     let verified = gutta_format::verify(&image, &target)
         .map_err(|e| Fatal::program(format!("{}: {e}", cli.image.display())))?;
     let map = match gutta_io::read_source_map(&cli.image, &image) {
@@ -157,10 +202,13 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
         .map_err(|e| Fatal::program(format!("{}: cannot load: {e}", cli.image.display())))?;
 
     // The image's own symbols (its source map's), then --symbols files.
-    let explicit = explicit_target(cli)?.map(|target| gutta_compiler::ExplicitTarget {
-        target,
-        origin: "--plc/--target".into(),
-    });
+    let explicit = chosen
+        .origin
+        .is_command_line()
+        .then(|| gutta_compiler::ExplicitTarget {
+            target: Arc::clone(&target),
+            origin: chosen.origin.to_string(),
+        });
     let symbols = vars::symbol_context(
         &cli.symbols,
         map.iter().map(|m| m.symbols.clone()).collect(),
@@ -189,9 +237,21 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
         vm.set_breakpoint(Some(at))
             .map_err(|e| Fatal::usage(format!("--break {text}: {e}")))?;
     }
+    Ok(Loaded {
+        vm,
+        target,
+        map,
+        reads,
+    })
+}
 
-    // The --read variables were resolved once, above; a scan only reads them, and only
-    // when --trace or --vcd needs their values after every scan.
+/// Run --scans scans (fewer after a fault, a breakpoint, or STOP when nothing samples
+/// per scan), printing --trace's lines and writing the --vcd file.
+fn scan(cli: &Cli, loaded: &mut Loaded) -> Result<Outcome, Fatal> {
+    let Loaded { vm, reads, .. } = loaded;
+    let reads: &[Var] = reads;
+    // The --read variables were resolved once, in `load`; a scan only reads them, and
+    // only when --trace or --vcd needs their values after every scan.
     let sample = |vm: &Vm, into: &mut [u32]| -> Result<(), Fatal> {
         for (v, value) in reads.iter().zip(into.iter_mut()) {
             *value = vm
@@ -201,8 +261,8 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
         Ok(())
     };
     let mut values = vec![0; reads.len()];
-    sample(&vm, &mut values)?;
-    let mut vcd = cli.vcd.as_ref().map(|_| vcd::dump(&reads, &values));
+    sample(vm, &mut values)?;
+    let mut vcd = cli.vcd.as_ref().map(|_| vcd::dump(reads, &values));
     let mut changes: Vec<Change> = Vec::new();
     let stdout = std::io::stdout();
     let mut fault: Option<(u64, Fault)> = None;
@@ -218,7 +278,7 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
             Ok(_) => {}
         }
         if per_scan {
-            sample(&vm, &mut now)?;
+            sample(vm, &mut now)?;
             if let Some(dump) = vcd.as_mut() {
                 dump.sample(vm.clock_ms(), &now);
             }
@@ -252,7 +312,7 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
         }
     }
     if !per_scan {
-        sample(&vm, &mut values)?;
+        sample(vm, &mut values)?;
     }
     if let (Some(dump), Some(path)) = (vcd, &cli.vcd) {
         // The end of the run, so the last value shows for its whole time.
@@ -260,78 +320,62 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
         std::fs::write(path, text)
             .map_err(|e| Fatal::io(format!("cannot write {}: {e}", path.display())))?;
     }
+    Ok(Outcome {
+        values,
+        changes,
+        fault,
+        paused,
+    })
+}
 
-    if cli.json {
-        let _ = writeln!(
-            stdout.lock(),
-            "{}",
-            json_report(
-                &vm,
-                &reads,
-                &values,
-                cli.trace.then_some(changes.as_slice()),
-                fault.as_ref(),
-                paused,
-                &Source {
-                    map: map.as_ref(),
-                    target: &target,
-                }
-            )
-        );
-    } else {
-        let mut out = String::new();
-        for (v, value) in reads.iter().zip(&values) {
-            let _ = writeln!(out, "{} = {}", v.label(), v.show(*value));
+/// The --read values on stdout; where the run paused or faulted on stderr.
+fn print_human(loaded: &Loaded, outcome: &Outcome, source: &Source) {
+    let Loaded {
+        vm, target, reads, ..
+    } = loaded;
+    let mut out = String::new();
+    for (v, value) in reads.iter().zip(&outcome.values) {
+        let _ = writeln!(out, "{} = {}", v.label(), v.show(*value));
+    }
+    let _ = std::io::stdout().lock().write_all(out.as_bytes());
+    if let Some((n, at)) = outcome.paused {
+        match source.instruction(at) {
+            Some(i) => eprintln!(
+                "gutta-vm: paused at {} in scan {n}; values are before that instruction",
+                source.describe(at, i)
+            ),
+            None => eprintln!(
+                "gutta-vm: paused at breakpoint {} (function {}) network {} step {} in scan {n}; values are before that instruction",
+                function_name(target, at.function),
+                at.function,
+                at.network,
+                at.step
+            ),
         }
-        let _ = stdout.lock().write_all(out.as_bytes());
-        let source = Source {
-            map: map.as_ref(),
-            target: &target,
-        };
-        if let Some((n, at)) = paused {
-            match source.instruction(at) {
-                Some(i) => eprintln!(
-                    "gutta-vm: paused at {} in scan {n}; values are before that instruction",
-                    source.describe(at, i)
-                ),
-                None => eprintln!(
-                    "gutta-vm: paused at breakpoint {} (function {}) network {} step {} in scan {n}; values are before that instruction",
-                    function_name(&target, at.function),
-                    at.function,
+        eprintln!(
+            "gutta-vm: logic stack (top first): {}",
+            logic_stack(vm, target)
+        );
+    }
+    if let Some((n, f)) = &outcome.fault {
+        eprintln!(
+            "gutta-vm: fault in scan {n}: {f} (error code {}, {})",
+            f.code(),
+            fault_kind(f)
+        );
+        if let Some(at) = vm.fault_position() {
+            let place = match source.instruction(at) {
+                Some(i) => source.describe(at, i),
+                None => format!(
+                    "{} network {} step {}",
+                    function_name(target, at.function),
                     at.network,
                     at.step
                 ),
-            }
-            eprintln!(
-                "gutta-vm: logic stack (top first): {}",
-                logic_stack(&vm, &target)
-            );
-        }
-        if let Some((n, f)) = &fault {
-            eprintln!(
-                "gutta-vm: fault in scan {n}: {f} (error code {}, {})",
-                f.code(),
-                fault_kind(f)
-            );
-            if let Some(at) = vm.fault_position() {
-                let place = match source.instruction(at) {
-                    Some(i) => source.describe(at, i),
-                    None => format!(
-                        "{} network {} step {}",
-                        function_name(&target, at.function),
-                        at.network,
-                        at.step
-                    ),
-                };
-                eprintln!("gutta-vm: the fault is in {place}");
-            }
+            };
+            eprintln!("gutta-vm: the fault is in {place}");
         }
     }
-    Ok(if fault.is_some() {
-        ExitCode::from(1)
-    } else {
-        ExitCode::SUCCESS
-    })
 }
 
 /// Where instructions are in the source, when the image has its source map.
@@ -489,18 +533,4 @@ fn parse_assignments(
                 .map_err(|e| Fatal::usage(format!("{option} {e}")))
         })
         .collect()
-}
-
-fn explicit_target(cli: &Cli) -> Result<Option<Arc<Target>>, Fatal> {
-    if let Some(name) = &cli.plc {
-        return stdlib::shared(name)
-            .map(Some)
-            .map_err(|e| Fatal::target(e.to_string()));
-    }
-    if let Some(dir) = &cli.target {
-        return gutta_io::load_target_dir(dir)
-            .map(|t| Some(Arc::new(t)))
-            .map_err(Fatal::target);
-    }
-    Ok(None)
 }

@@ -17,9 +17,9 @@ use gutta_link::{Client, LinkError, Transport};
 use serde_json::json;
 
 use super::plan::ReadPlan;
+use crate::args::LinkArgs;
 use crate::client;
 use crate::vars::Var;
-use crate::LinkArgs;
 
 /// Every update reads the RUN state and the force values again after this many updates
 /// (and on the first): at 20 updates a second, twice a second.
