@@ -168,6 +168,6 @@ mod tests {
             ..TargetArgs::default()
         };
         let explicit = project.explicit().expect("loads").expect("named");
-        assert_eq!(explicit.origin, "[program] plc in gutta.toml");
+        assert_eq!(explicit.origin, TargetOrigin::ProjectPlc.to_string());
     }
 }

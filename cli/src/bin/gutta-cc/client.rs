@@ -9,7 +9,9 @@ use std::process::ExitCode;
 use std::sync::Arc;
 
 use gutta_catalog::{Address, Target, Width};
+use gutta_cli::fatal::Fatal;
 use gutta_cli::plural::count;
+use gutta_cli::target::TargetArgs;
 use gutta_format::{Operand, PackedOperand, SymbolTable};
 use gutta_link::transport::{rtu_over_tcp, serial, TcpTransport};
 use gutta_link::{Client, ConnectFailure, LinkError};
@@ -18,8 +20,6 @@ use serde_json::json;
 
 use crate::args::LinkArgs;
 use crate::vars::{self, Var};
-use gutta_cli::fatal::Fatal;
-use gutta_cli::target::TargetArgs;
 
 /// What every client command needs besides the link: the target options, where symbols
 /// come from, and whether to print JSON. A project passes its own sources here.

@@ -6,13 +6,13 @@
 use std::path::Path;
 use std::process::ExitCode;
 
+use gutta_cli::fatal::Fatal;
 use gutta_format::SourceMap;
 use gutta_link::message::{debug_state, Breakpoint, DebugStep};
 use serde_json::json;
 
 use crate::args::LinkArgs;
 use crate::client::{check_early, link_error, login, plc_target, read_values, resolve_all, Online};
-use gutta_cli::fatal::Fatal;
 
 /// The image directory `debug` takes its source map from when `--image` is not given.
 const DEFAULT_DEBUG_IMAGE: &str = "image";

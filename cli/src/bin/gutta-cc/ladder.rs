@@ -8,15 +8,15 @@ use std::io::IsTerminal;
 use std::path::Path;
 use std::process::ExitCode;
 
+use gutta_catalog::TargetOrigin;
 use gutta_cli::fatal::Fatal;
+use gutta_cli::sources::read_program;
 use gutta_compiler::diagnostics::render::{render, RenderStyle};
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{check_program, CheckedFile, ProgramSources};
 use gutta_io::Project;
 use gutta_ladder::html::{ladder_html, HtmlOptions};
 use gutta_ladder::svg::ladder_svg;
-
-use gutta_cli::sources::read_program;
 
 use crate::args::Cli;
 
@@ -48,7 +48,7 @@ pub(crate) fn checked_input(cli: &Cli, input: &Path) -> Result<CheckedFile, Fata
         let name = format!("{} (disassembled)", input.display());
         let explicit = gutta_compiler::ExplicitTarget {
             target,
-            origin: format!("the image in {}", input.display()),
+            origin: TargetOrigin::Image(input.to_path_buf()).to_string(),
         };
         return Ok(check_program(
             ProgramSources::single(SourceFile::new(name, text)),

@@ -5,10 +5,10 @@
 
 use std::io::IsTerminal;
 
+use gutta_cli::fatal::Fatal;
 use gutta_link::{Client, LinkError, FACTORY_PASSWORD};
 
 use crate::args::LinkArgs;
-use gutta_cli::fatal::Fatal;
 
 /// The environment variable that holds the password (an empty value means unset).
 pub(crate) const PASSWORD_ENV: &str = "GUTTA_PASSWORD";

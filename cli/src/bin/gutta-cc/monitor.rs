@@ -19,14 +19,15 @@ use axum::http::header;
 use axum::response::IntoResponse;
 use axum::routing::get;
 use gutta_catalog::ValueFormat;
+use gutta_cli::fatal::Fatal;
 use gutta_cli::plural::count;
+use gutta_cli::sources::read_source;
 use gutta_compiler::{compile_program, ProgramSources};
 use gutta_ladder::html::{ladder_html, HtmlOptions};
 use serde_json::json;
 
 use crate::args::{Cli, LinkArgs};
 use crate::vars::Var;
-use gutta_cli::fatal::Fatal;
 use session::{Program, Session};
 
 /// The page's script: fetch `/state`, set the classes and the values.
@@ -275,14 +276,10 @@ fn load(cli: &Cli, given: Option<&Path>) -> Result<Program, Fatal> {
     };
     let mut sources = ProgramSources::default();
     for f in &files {
-        sources
-            .sources
-            .push(gutta_cli::sources::read_source(f, false)?);
+        sources.sources.push(read_source(f, false)?);
     }
     for t in &tables {
-        sources
-            .symbol_tables
-            .push(gutta_cli::sources::read_source(t, true)?);
+        sources.symbol_tables.push(read_source(t, true)?);
     }
     sources.options.scale_timer_presets = scale;
     let explicit = cli.target.explicit()?;

@@ -16,6 +16,7 @@ use std::time::{Duration, Instant};
 
 use gutta_catalog::{choose_target, TargetInputs};
 use gutta_cli::fatal::{Fatal, MessageFormat};
+use gutta_cli::sources::read_source;
 use gutta_compiler::diagnostics::json::to_json_lines;
 use gutta_compiler::diagnostics::render::{render, RenderStyle};
 use gutta_compiler::diagnostics::{Code, Diagnostic};
@@ -24,8 +25,6 @@ use gutta_compiler::{ExplicitTarget, ProgramSources};
 use gutta_gtest::report::{self, FileResults, Style};
 use gutta_gtest::{BuildError, Plan, ProgramUnderTest, RunOptions, TestResult, TestSource};
 use gutta_io::Project;
-
-use gutta_cli::sources::read_source;
 
 use crate::args::Cli;
 

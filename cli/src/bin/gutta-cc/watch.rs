@@ -12,13 +12,13 @@ use std::time::{Duration, Instant};
 use crossterm::event::{self, Event, KeyCode, KeyEvent, KeyModifiers};
 use crossterm::{cursor, queue, terminal};
 use gutta_catalog::Target;
+use gutta_cli::fatal::Fatal;
 use gutta_link::Client;
 use serde_json::json;
 
 use crate::args::LinkArgs;
 use crate::client::{self, Online};
 use crate::vars::Var;
-use gutta_cli::fatal::Fatal;
 
 pub(crate) struct Options {
     pub interval_ms: u64,
