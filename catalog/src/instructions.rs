@@ -1,12 +1,14 @@
 //! `ManagerFun.xml`: the instruction set of a PLC type: mnemonics, opcodes, operand
-//! roles, allowed data types, areas and uses, power-flow behaviour and descriptions.
-//! Schema: docs/target-schema.md.
+//! roles, allowed data types, areas and uses, power-flow behaviour, what each
+//! instruction is (timer or counter kind, ladder element, pins) and descriptions.
+//! Schema: docs/instruction-schema.md.
 
 use std::collections::BTreeSet;
 use std::str::FromStr;
 
 use serde::Deserialize;
 
+use crate::instruction_kinds::{CompareOp, Join, LadderClass, Logic, LoopRole, TimerCounterKind};
 use crate::text::decode_xml_text;
 use crate::xml_util::{attr_bool, attr_int, from_xml};
 use crate::{CatalogError, CatalogErrorCode, DataType, MemoryMap};
@@ -224,6 +226,39 @@ pub struct Instruction {
     pub description: String,
     /// STL example lines.
     pub example: String,
+    /// The timer or counter it is (`Kind`), for the six timer and counter instructions.
+    pub kind: Option<TimerCounterKind>,
+    /// The ladder element it is drawn as (`Ladder`).
+    pub ladder: LadderClass,
+    /// Reads or writes the physical I/O at once (`LDI`, `=I`; `Immediate`).
+    pub immediate: bool,
+    /// How a `Combine` instruction joins (`Logic`); `None` for the other flows.
+    pub logic: Option<Logic>,
+    /// A compare contact's relation (`Compare`).
+    pub compare: Option<CompareOp>,
+    /// The box's power inputs, in the order STL loads them: the first is the one on
+    /// the series path (`EN`, a timer's `IN`, a counter's `CU`), the rest are lower
+    /// levels of the logic stack with paths of their own (`R`; `CD`, `R`).
+    /// Empty for contacts, coils and stack operations (`PowerInputs`).
+    pub power_inputs: Vec<String>,
+    /// The box's power output (`ENO`, a timer's `Q`); `None` for a box that ends the
+    /// power path (`JMP`, `FOR`, `END`) and for everything not a box (`PowerOutput`).
+    pub power_output: Option<String>,
+    /// Its part in a FOR/NEXT loop (`Loop`).
+    pub loop_role: Option<LoopRole>,
+}
+
+impl Instruction {
+    /// How a contact instruction starts or joins its path: `Load` for `Flow="Load"`,
+    /// `And`/`Or` for `Flow="Combine"` (its `Logic`), `None` otherwise.
+    pub fn join(&self) -> Option<Join> {
+        match (self.flow, self.logic) {
+            (Flow::Load, _) => Some(Join::Load),
+            (Flow::Combine, Some(Logic::And)) => Some(Join::And),
+            (Flow::Combine, Some(Logic::Or)) => Some(Join::Or),
+            _ => None,
+        }
+    }
 }
 
 /// The instruction set with case-insensitive lookup.
@@ -274,6 +309,22 @@ struct RawInstruction {
     units: Option<String>,
     #[serde(rename = "@Summary")]
     summary: String,
+    #[serde(rename = "@Kind")]
+    kind: Option<String>,
+    #[serde(rename = "@Ladder")]
+    ladder: Option<String>,
+    #[serde(rename = "@Immediate")]
+    immediate: Option<String>,
+    #[serde(rename = "@Logic")]
+    logic: Option<String>,
+    #[serde(rename = "@Compare")]
+    compare: Option<String>,
+    #[serde(rename = "@PowerInputs")]
+    power_inputs: Option<String>,
+    #[serde(rename = "@PowerOutput")]
+    power_output: Option<String>,
+    #[serde(rename = "@Loop")]
+    loop_role: Option<String>,
     #[serde(rename = "Operand", default)]
     operands: Vec<RawOperand>,
     #[serde(rename = "Description", default)]
@@ -466,6 +517,200 @@ fn parse_operand(m: &str, raw: RawOperand) -> Result<OperandSpec, CatalogError> 
     })
 }
 
+/// What an instruction is, parsed from its `Kind`, `Ladder`, `Immediate`, `Logic`,
+/// `Compare`, `PowerInputs`, `PowerOutput` and `Loop` attributes and checked against
+/// its flow (docs/instruction-schema.md, "What an instruction is").
+struct Nature {
+    kind: Option<TimerCounterKind>,
+    ladder: LadderClass,
+    immediate: bool,
+    logic: Option<Logic>,
+    compare: Option<CompareOp>,
+    power_inputs: Vec<String>,
+    power_output: Option<String>,
+    loop_role: Option<LoopRole>,
+}
+
+/// An optional keyword attribute: `None` when absent, T0003 naming the keywords the
+/// schema allows when unknown.
+fn keyword<T: FromStr>(
+    m: &str,
+    attr: &str,
+    value: Option<&str>,
+    allowed: impl Iterator<Item = &'static str>,
+) -> Result<Option<T>, CatalogError> {
+    let Some(text) = value else {
+        return Ok(None);
+    };
+    text.trim().parse::<T>().map(Some).map_err(|_| {
+        let allowed: Vec<&str> = allowed.collect();
+        err(
+            CatalogErrorCode::Value,
+            format!(
+                "unknown {attr} `{text}` of {m}; expected one of {}",
+                allowed.join(", ")
+            ),
+        )
+    })
+}
+
+/// T0002: an attribute given where it has no meaning, or missing where it is needed.
+fn shape(m: &str, text: String) -> CatalogError {
+    err(CatalogErrorCode::Syntax, format!("{m}: {text}"))
+}
+
+fn parse_nature(
+    m: &str,
+    flow: Flow,
+    stack_needs: u8,
+    raw: &RawInstruction,
+) -> Result<Nature, CatalogError> {
+    let kind: Option<TimerCounterKind> = keyword(
+        m,
+        "Kind",
+        raw.kind.as_deref(),
+        TimerCounterKind::all().map(TimerCounterKind::keyword),
+    )?;
+    if kind.is_some() && flow != Flow::Stack {
+        return Err(shape(m, "Kind goes with Flow=\"Stack\"".into()));
+    }
+    let given: Option<LadderClass> = keyword(
+        m,
+        "Ladder",
+        raw.ladder.as_deref(),
+        LadderClass::all().map(LadderClass::keyword),
+    )?;
+    let is_box = kind.is_some() || matches!(flow, Flow::Box | Flow::Always);
+    let ladder = match given {
+        Some(class) => class,
+        None if is_box => LadderClass::Box,
+        None => {
+            return Err(shape(
+                m,
+                format!("Flow=\"{}\" needs a Ladder attribute", flow.keyword()),
+            ))
+        }
+    };
+    let fits = match flow {
+        Flow::Load | Flow::Combine => ladder.is_contact(),
+        Flow::Output => ladder.is_coil(),
+        Flow::Box | Flow::Always => ladder == LadderClass::Box,
+        Flow::Stack if kind.is_some() => ladder == LadderClass::Box,
+        Flow::Stack => ladder.is_stack(),
+    };
+    if !fits {
+        return Err(err(
+            CatalogErrorCode::Value,
+            format!(
+                "Ladder=\"{}\" of {m} does not fit Flow=\"{}\"",
+                ladder.keyword(),
+                flow.keyword()
+            ),
+        ));
+    }
+    let immediate = attr_bool(
+        FILE,
+        &format!("Immediate of {m}"),
+        raw.immediate.as_deref(),
+        false,
+    )?;
+    let bit =
+        matches!(ladder, LadderClass::Contact | LadderClass::ClosedContact) || ladder.is_coil();
+    if immediate && !bit {
+        return Err(shape(
+            m,
+            "Immediate goes with bit contacts and coils only".into(),
+        ));
+    }
+    let logic: Option<Logic> = keyword(
+        m,
+        "Logic",
+        raw.logic.as_deref(),
+        Logic::all().map(Logic::keyword),
+    )?;
+    if logic.is_some() != (flow == Flow::Combine) {
+        return Err(shape(
+            m,
+            "Logic goes with Flow=\"Combine\" and only there".into(),
+        ));
+    }
+    let compare: Option<CompareOp> = keyword(
+        m,
+        "Compare",
+        raw.compare.as_deref(),
+        CompareOp::all().map(CompareOp::keyword),
+    )?;
+    if compare.is_some() != (ladder == LadderClass::Compare) {
+        return Err(shape(
+            m,
+            "Compare goes with Ladder=\"Compare\" and only there".into(),
+        ));
+    }
+    let words = |text: &str| -> Vec<String> {
+        text.split_whitespace()
+            .map(str::to_ascii_uppercase)
+            .collect()
+    };
+    let power_inputs = match raw.power_inputs.as_deref() {
+        Some(text) => words(text),
+        None if matches!(flow, Flow::Box | Flow::Always) => vec!["EN".to_string()],
+        None => Vec::new(),
+    };
+    let power_output = match raw.power_output.as_deref().map(str::trim) {
+        Some("") => None,
+        Some(text) => Some(text.to_ascii_uppercase()),
+        None if flow == Flow::Box => Some("ENO".to_string()),
+        None => None,
+    };
+    if !is_box && (raw.power_inputs.is_some() || raw.power_output.is_some()) {
+        return Err(shape(
+            m,
+            "PowerInputs and PowerOutput go with boxes only".into(),
+        ));
+    }
+    if power_output
+        .as_deref()
+        .is_some_and(|o| o.contains(char::is_whitespace))
+    {
+        return Err(err(
+            CatalogErrorCode::Value,
+            format!("PowerOutput of {m} must be one name"),
+        ));
+    }
+    if kind.is_some() {
+        if power_inputs.len() != usize::from(stack_needs) || power_output.is_none() {
+            return Err(err(
+                CatalogErrorCode::Value,
+                format!(
+                    "{m} is a timer or counter: it needs one name in PowerInputs per level \
+                     it reads ({stack_needs}) and a PowerOutput"
+                ),
+            ));
+        }
+    } else if is_box && power_inputs.len() != 1 {
+        return Err(err(
+            CatalogErrorCode::Value,
+            format!("PowerInputs of {m} must be one name"),
+        ));
+    }
+    let loop_role: Option<LoopRole> = keyword(
+        m,
+        "Loop",
+        raw.loop_role.as_deref(),
+        LoopRole::all().map(LoopRole::keyword),
+    )?;
+    Ok(Nature {
+        kind,
+        ladder,
+        immediate,
+        logic,
+        compare,
+        power_inputs,
+        power_output,
+        loop_role,
+    })
+}
+
 fn parse_instruction(raw: RawInstruction) -> Result<Instruction, CatalogError> {
     let mnemonic = raw.mnemonic.trim().to_ascii_uppercase();
     if mnemonic.is_empty() || mnemonic.chars().any(char::is_whitespace) {
@@ -512,6 +757,7 @@ fn parse_instruction(raw: RawInstruction) -> Result<Instruction, CatalogError> {
             format!("{m} pops more levels than it needs"),
         ));
     }
+    let nature = parse_nature(m, flow, stack_needs, &raw)?;
     let operands = raw
         .operands
         .into_iter()
@@ -535,6 +781,14 @@ fn parse_instruction(raw: RawInstruction) -> Result<Instruction, CatalogError> {
         })?,
     };
     Ok(Instruction {
+        kind: nature.kind,
+        ladder: nature.ladder,
+        immediate: nature.immediate,
+        logic: nature.logic,
+        compare: nature.compare,
+        power_inputs: nature.power_inputs,
+        power_output: nature.power_output,
+        loop_role: nature.loop_role,
         aliases,
         opcode,
         family: raw.family.trim().to_string(),
@@ -650,6 +904,39 @@ impl InstructionSet {
         self.instructions
             .iter()
             .position(|i| i.opcode == opcode)
+            .map(|i| InstrId(i as u16))
+    }
+
+    /// The instruction of a timer or counter kind.
+    pub fn by_kind(&self, kind: TimerCounterKind) -> Option<InstrId> {
+        self.position(|i| i.kind == Some(kind))
+    }
+
+    /// The instruction with a part in FOR/NEXT loops (`FOR`, `NEXT`).
+    pub fn by_loop_role(&self, role: LoopRole) -> Option<InstrId> {
+        self.position(|i| i.loop_role == Some(role))
+    }
+
+    /// The compare contact that loads (`Join::Load`) or combines a relation of two
+    /// operands of type `ty`, not immediate: `(Join::And, CompareOp::Ge, INT)` is `AW>=`.
+    pub fn compare(&self, join: Join, op: CompareOp, ty: DataType) -> Option<InstrId> {
+        self.position(|i| {
+            i.compare == Some(op)
+                && i.join() == Some(join)
+                && i.operands.first().and_then(|o| o.types.first()) == Some(&ty)
+        })
+    }
+
+    /// The bit contact or coil of a ladder class and join, not immediate: the plain
+    /// form an S7-200 timer bit's `LD`/`AN`/`R` line has (`(ClosedContact, Or)` is `ON`).
+    pub fn plain(&self, ladder: LadderClass, join: Option<Join>) -> Option<InstrId> {
+        self.position(|i| i.ladder == ladder && i.join() == join && !i.immediate)
+    }
+
+    fn position(&self, test: impl Fn(&Instruction) -> bool) -> Option<InstrId> {
+        self.instructions
+            .iter()
+            .position(test)
             .map(|i| InstrId(i as u16))
     }
 
