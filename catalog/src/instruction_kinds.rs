@@ -240,6 +240,12 @@ impl CompareOp {
         }
     }
 
+    /// The relation written as STL and ladder write it (`>=`), the inverse of
+    /// [`CompareOp::symbol`].
+    pub fn from_symbol(symbol: &str) -> Option<CompareOp> {
+        CompareOp::all().find(|op| op.symbol() == symbol)
+    }
+
     /// The relation that holds exactly when this one does not (`>=` <-> `<`).
     pub fn negated(self) -> CompareOp {
         match self {
@@ -294,6 +300,7 @@ mod tests {
         for op in CompareOp::all() {
             assert_eq!(op.keyword().parse(), Ok(op));
             assert_eq!(op.negated().negated(), op);
+            assert_eq!(CompareOp::from_symbol(op.symbol()), Some(op));
         }
         assert_eq!("TIMER".parse::<TimerCounterKind>(), Err(()));
         assert_eq!(TimerCounterKind::all().filter(|k| k.is_timer()).count(), 3);

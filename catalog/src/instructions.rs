@@ -735,6 +735,26 @@ impl InstructionSet {
         })
     }
 
+    /// The same contact in another STL form: `LD` -> `A` -> `O`, `LDNI` -> `ONI`,
+    /// `AW>=` -> `LDW>=` (same ladder element, immediacy, relation and operand types).
+    /// `None` for an instruction that is not a contact.
+    pub fn with_join(&self, id: InstrId, join: Join) -> Option<InstrId> {
+        let from = self.get(id);
+        if !from.ladder.is_contact() {
+            return None;
+        }
+        let types = |i: &Instruction| -> Vec<Vec<DataType>> {
+            i.operands.iter().map(|o| o.types.clone()).collect()
+        };
+        self.position(|i| {
+            i.join() == Some(join)
+                && i.ladder == from.ladder
+                && i.immediate == from.immediate
+                && i.compare == from.compare
+                && types(i) == types(from)
+        })
+    }
+
     /// The bit contact or coil of a ladder class and join, not immediate: the plain
     /// form an S7-200 timer bit's `LD`/`AN`/`R` line has (`(ClosedContact, Or)` is `ON`).
     pub fn plain(&self, ladder: LadderClass, join: Option<Join>) -> Option<InstrId> {

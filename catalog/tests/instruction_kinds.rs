@@ -170,6 +170,24 @@ fn contacts_and_compares_are_found_by_what_they_are() {
     );
     assert_eq!(plain(LadderClass::ResetCoil, None), Some("R"));
     assert_eq!(plain(LadderClass::Pop, None), Some("LPP"));
+    // Every contact has its three STL forms, and they lead back to it.
+    let forms = |m: &str| {
+        let id = set.lookup(m).expect(m);
+        [Join::Load, Join::And, Join::Or].map(|j| set.with_join(id, j).map(name))
+    };
+    assert_eq!(forms("LDNI"), [Some("LDNI"), Some("ANI"), Some("ONI")]);
+    assert_eq!(forms("A"), [Some("LD"), Some("A"), Some("O")]);
+    assert_eq!(forms("OW>="), [Some("LDW>="), Some("AW>="), Some("OW>=")]);
+    assert_eq!(forms("MOVW"), [None, None, None]);
+    for (i, ins) in set.instructions.iter().enumerate() {
+        let id = gutta_catalog::InstrId(i as u16);
+        if let Some(join) = ins.join() {
+            for other in [Join::Load, Join::And, Join::Or] {
+                let there = set.with_join(id, other).expect("every form exists");
+                assert_eq!(set.with_join(there, join), Some(id), "{}", ins.mnemonic);
+            }
+        }
+    }
     assert_eq!(set.by_loop_role(LoopRole::Start).map(name), Some("FOR"));
     assert_eq!(set.by_loop_role(LoopRole::End).map(name), Some("NEXT"));
 }

@@ -8,7 +8,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use gutta_catalog::{Target, TimerCounterKind, Width};
+use gutta_catalog::{CompareOp, Target, TimerCounterKind, Width};
 use gutta_format::SymbolTable;
 
 use crate::model::{BoxElement, Branch, BranchEnd, Contact, ContactKind, Ladder, Node, Operand};
@@ -117,14 +117,8 @@ impl Evaluator<'_, '_> {
         };
         let ty = relation.chars().last().unwrap_or('W');
         let op = &relation[..relation.len() - ty.len_utf8()];
-        let holds = |o: std::cmp::Ordering| match op {
-            "=" => o.is_eq(),
-            "<>" => o.is_ne(),
-            "<" => o.is_lt(),
-            "<=" => o.is_le(),
-            ">" => o.is_gt(),
-            _ => o.is_ge(),
-        };
+        let op = CompareOp::from_symbol(op).unwrap_or(CompareOp::Ge);
+        let holds = |o: std::cmp::Ordering| op.holds(o);
         let width = match ty {
             'B' => Width::Byte,
             'D' | 'R' => Width::Dword,
