@@ -1,12 +1,16 @@
 //! `ManagerFun.xml`: the instruction set of a PLC type: mnemonics, opcodes, operand
-//! roles, allowed data types, areas and uses, power-flow behaviour and descriptions.
-//! Schema: docs/target-schema.md.
+//! roles, allowed data types, areas and uses, power-flow behaviour, what each
+//! instruction is (timer or counter kind, ladder element, pins) and descriptions.
+//! Schema: docs/instruction-schema.md.
 
 use std::collections::BTreeSet;
 use std::str::FromStr;
 
 use serde::Deserialize;
 
+mod nature;
+
+use crate::instruction_kinds::{CompareOp, Join, LadderClass, Logic, LoopRole, TimerCounterKind};
 use crate::text::decode_xml_text;
 use crate::xml_util::{attr_bool, attr_int, from_xml};
 use crate::{CatalogError, CatalogErrorCode, DataType, MemoryMap};
@@ -224,6 +228,39 @@ pub struct Instruction {
     pub description: String,
     /// STL example lines.
     pub example: String,
+    /// The timer or counter it is (`Kind`), for the six timer and counter instructions.
+    pub kind: Option<TimerCounterKind>,
+    /// The ladder element it is drawn as (`Ladder`).
+    pub ladder: LadderClass,
+    /// Reads or writes the physical I/O at once (`LDI`, `=I`; `Immediate`).
+    pub immediate: bool,
+    /// How a `Combine` instruction joins (`Logic`); `None` for the other flows.
+    pub logic: Option<Logic>,
+    /// A compare contact's relation (`Compare`).
+    pub compare: Option<CompareOp>,
+    /// The box's power inputs, in the order STL loads them: the first is the one on
+    /// the series path (`EN`, a timer's `IN`, a counter's `CU`), the rest are lower
+    /// levels of the logic stack with paths of their own (`R`; `CD`, `R`).
+    /// Empty for contacts, coils and stack operations (`PowerInputs`).
+    pub power_inputs: Vec<String>,
+    /// The box's power output (`ENO`, a timer's `Q`); `None` for a box that ends the
+    /// power path (`JMP`, `FOR`, `END`) and for everything not a box (`PowerOutput`).
+    pub power_output: Option<String>,
+    /// Its part in a FOR/NEXT loop (`Loop`).
+    pub loop_role: Option<LoopRole>,
+}
+
+impl Instruction {
+    /// How a contact instruction starts or joins its path: `Load` for `Flow="Load"`,
+    /// `And`/`Or` for `Flow="Combine"` (its `Logic`), `None` otherwise.
+    pub fn join(&self) -> Option<Join> {
+        match (self.flow, self.logic) {
+            (Flow::Load, _) => Some(Join::Load),
+            (Flow::Combine, Some(Logic::And)) => Some(Join::And),
+            (Flow::Combine, Some(Logic::Or)) => Some(Join::Or),
+            _ => None,
+        }
+    }
 }
 
 /// The instruction set with case-insensitive lookup.
@@ -274,6 +311,22 @@ struct RawInstruction {
     units: Option<String>,
     #[serde(rename = "@Summary")]
     summary: String,
+    #[serde(rename = "@Kind")]
+    kind: Option<String>,
+    #[serde(rename = "@Ladder")]
+    ladder: Option<String>,
+    #[serde(rename = "@Immediate")]
+    immediate: Option<String>,
+    #[serde(rename = "@Logic")]
+    logic: Option<String>,
+    #[serde(rename = "@Compare")]
+    compare: Option<String>,
+    #[serde(rename = "@PowerInputs")]
+    power_inputs: Option<String>,
+    #[serde(rename = "@PowerOutput")]
+    power_output: Option<String>,
+    #[serde(rename = "@Loop")]
+    loop_role: Option<String>,
     #[serde(rename = "Operand", default)]
     operands: Vec<RawOperand>,
     #[serde(rename = "Description", default)]
@@ -512,6 +565,7 @@ fn parse_instruction(raw: RawInstruction) -> Result<Instruction, CatalogError> {
             format!("{m} pops more levels than it needs"),
         ));
     }
+    let nature = nature::parse(m, flow, stack_needs, &raw)?;
     let operands = raw
         .operands
         .into_iter()
@@ -535,6 +589,14 @@ fn parse_instruction(raw: RawInstruction) -> Result<Instruction, CatalogError> {
         })?,
     };
     Ok(Instruction {
+        kind: nature.kind,
+        ladder: nature.ladder,
+        immediate: nature.immediate,
+        logic: nature.logic,
+        compare: nature.compare,
+        power_inputs: nature.power_inputs,
+        power_output: nature.power_output,
+        loop_role: nature.loop_role,
         aliases,
         opcode,
         family: raw.family.trim().to_string(),
@@ -650,6 +712,59 @@ impl InstructionSet {
         self.instructions
             .iter()
             .position(|i| i.opcode == opcode)
+            .map(|i| InstrId(i as u16))
+    }
+
+    /// The instruction of a timer or counter kind.
+    pub fn by_kind(&self, kind: TimerCounterKind) -> Option<InstrId> {
+        self.position(|i| i.kind == Some(kind))
+    }
+
+    /// The instruction with a part in FOR/NEXT loops (`FOR`, `NEXT`).
+    pub fn by_loop_role(&self, role: LoopRole) -> Option<InstrId> {
+        self.position(|i| i.loop_role == Some(role))
+    }
+
+    /// The compare contact that loads (`Join::Load`) or combines a relation of two
+    /// operands of type `ty`, not immediate: `(Join::And, CompareOp::Ge, INT)` is `AW>=`.
+    pub fn compare(&self, join: Join, op: CompareOp, ty: DataType) -> Option<InstrId> {
+        self.position(|i| {
+            i.compare == Some(op)
+                && i.join() == Some(join)
+                && i.operands.first().and_then(|o| o.types.first()) == Some(&ty)
+        })
+    }
+
+    /// The same contact in another STL form: `LD` -> `A` -> `O`, `LDNI` -> `ONI`,
+    /// `AW>=` -> `LDW>=` (same ladder element, immediacy, relation and operand types).
+    /// `None` for an instruction that is not a contact.
+    pub fn with_join(&self, id: InstrId, join: Join) -> Option<InstrId> {
+        let from = self.get(id);
+        if !from.ladder.is_contact() {
+            return None;
+        }
+        let types = |i: &Instruction| -> Vec<Vec<DataType>> {
+            i.operands.iter().map(|o| o.types.clone()).collect()
+        };
+        self.position(|i| {
+            i.join() == Some(join)
+                && i.ladder == from.ladder
+                && i.immediate == from.immediate
+                && i.compare == from.compare
+                && types(i) == types(from)
+        })
+    }
+
+    /// The bit contact or coil of a ladder class and join, not immediate: the plain
+    /// form an S7-200 timer bit's `LD`/`AN`/`R` line has (`(ClosedContact, Or)` is `ON`).
+    pub fn plain(&self, ladder: LadderClass, join: Option<Join>) -> Option<InstrId> {
+        self.position(|i| i.ladder == ladder && i.join() == join && !i.immediate)
+    }
+
+    fn position(&self, test: impl Fn(&Instruction) -> bool) -> Option<InstrId> {
+        self.instructions
+            .iter()
+            .position(test)
             .map(|i| InstrId(i as u16))
     }
 

@@ -12,6 +12,7 @@ mod address;
 mod choice;
 pub mod docs;
 mod error;
+mod instruction_kinds;
 mod instructions;
 mod memory;
 pub mod modbus;
@@ -30,6 +31,7 @@ mod xml_util;
 pub use address::{is_address_shaped, parse_value, Address, AddressError};
 pub use choice::{choose_target, ChosenTarget, OwnName, TargetInputs, TargetOrigin, TargetSpec};
 pub use error::{CatalogError, CatalogErrorCode};
+pub use instruction_kinds::{CompareOp, Join, LadderClass, Logic, LoopRole, TimerCounterKind};
 pub use instructions::{
     BlockKind, Flow, InstrId, Instruction, InstructionSet, OperandKind, OperandSpec, Role,
     UnitScope,
@@ -90,5 +92,16 @@ impl Target {
     /// The PLC type's identity (`PlcType.xml` `Name`).
     pub fn name(&self) -> &str {
         &self.plc.name
+    }
+
+    /// How many milliseconds one unit of timer `number` lasts when an instruction of
+    /// `kind` drives it: the target's `<Timers>` row holding the number (on GUTTA the
+    /// resolution depends on the number alone). `None` for a counter kind or a number
+    /// the target has no row for.
+    pub fn timer_resolution(&self, kind: TimerCounterKind, number: u32) -> Option<u32> {
+        if !kind.is_timer() {
+            return None;
+        }
+        self.memory.timer_resolution(number)
     }
 }

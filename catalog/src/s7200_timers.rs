@@ -4,6 +4,8 @@
 //! S7-200 system manual; the compiler compares it with the target's `<Timers>` rows
 //! (docs/microwin.md, "Timer resolutions").
 
+use crate::TimerCounterKind;
+
 /// The S7-200's two timer families: their numbers' resolutions differ.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum S7200TimerFamily {
@@ -14,7 +16,23 @@ pub enum S7200TimerFamily {
 }
 
 impl S7200TimerFamily {
-    /// The family of a GUTTA timer mnemonic, if it is one.
+    /// The family of a timer kind (`None` for a counter): what the S7-200 numbers a
+    /// `TON`, `TOF` or `TONR` by. Read the kind from the catalog (`Instruction::kind`).
+    pub fn of_kind(kind: TimerCounterKind) -> Option<S7200TimerFamily> {
+        match kind {
+            TimerCounterKind::OnDelay | TimerCounterKind::OffDelay => {
+                Some(S7200TimerFamily::OnOffDelay)
+            }
+            TimerCounterKind::RetentiveOnDelay => Some(S7200TimerFamily::Retentive),
+            TimerCounterKind::CountUp
+            | TimerCounterKind::CountDown
+            | TimerCounterKind::CountUpDown => None,
+        }
+    }
+
+    /// The family of a GUTTA timer mnemonic, if it is one. Superseded by
+    /// [`S7200TimerFamily::of_kind`]; kept only until the Micro/WIN pass
+    /// (compiler/src/check/timer_bits.rs) reads the kind, then to be removed.
     pub fn of_mnemonic(mnemonic: &str) -> Option<S7200TimerFamily> {
         match mnemonic.to_ascii_uppercase().as_str() {
             "TON" | "TOF" => Some(S7200TimerFamily::OnOffDelay),
@@ -111,6 +129,26 @@ mod tests {
             let r = s7200_timer_resolution(Retentive, n).is_some();
             assert!(on ^ r, "T{n}");
         }
+    }
+
+    #[test]
+    fn the_family_follows_the_catalogs_kind() {
+        let set = crate::stdlib::default_target()
+            .expect("stdlib")
+            .instructions;
+        for ins in &set.instructions {
+            let by_kind = ins.kind.and_then(S7200TimerFamily::of_kind);
+            assert_eq!(
+                by_kind,
+                S7200TimerFamily::of_mnemonic(&ins.mnemonic),
+                "{}",
+                ins.mnemonic
+            );
+        }
+        assert_eq!(
+            S7200TimerFamily::of_kind(TimerCounterKind::RetentiveOnDelay),
+            Some(S7200TimerFamily::Retentive)
+        );
     }
 
     #[test]

@@ -153,7 +153,7 @@ fn rung_of(
     let count = elements.len();
     let mut builder = RungBuilder::default();
     for (i, (element, origin)) in elements.into_iter().enumerate() {
-        let ends_loop = matches!(&element, Element::EndBox(b) if b.mnemonic == "FOR");
+        let ends_loop = matches!(&element, Element::EndBox(_, true));
         if ends_loop && i + 1 < count {
             return Err(format!(
                 "{} starts a loop whose body is in the same network",

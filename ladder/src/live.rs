@@ -8,7 +8,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use gutta_catalog::{Target, Width};
+use gutta_catalog::{CompareOp, Target, TimerCounterKind, Width};
 use gutta_format::SymbolTable;
 
 use crate::model::{BoxElement, Branch, BranchEnd, Contact, ContactKind, Ladder, Node, Operand};
@@ -117,14 +117,8 @@ impl Evaluator<'_, '_> {
         };
         let ty = relation.chars().last().unwrap_or('W');
         let op = &relation[..relation.len() - ty.len_utf8()];
-        let holds = |o: std::cmp::Ordering| match op {
-            "=" => o.is_eq(),
-            "<>" => o.is_ne(),
-            "<" => o.is_lt(),
-            "<=" => o.is_le(),
-            ">" => o.is_gt(),
-            _ => o.is_ge(),
-        };
+        let op = CompareOp::from_symbol(op).unwrap_or(CompareOp::Ge);
+        let holds = |o: std::cmp::Ordering| op.holds(o);
         let width = match ty {
             'B' => Width::Byte,
             'D' | 'R' => Width::Dword,
@@ -150,12 +144,9 @@ impl Evaluator<'_, '_> {
         for (_, path) in &b.power_inputs {
             self.node(path, true, on);
         }
-        let out = match b.output {
-            None => power,
-            Some(_) => match b.mnemonic.as_str() {
-                "TON" | "TOF" | "TONR" | "CTU" | "CTD" | "CTUD" => self.done(b, power),
-                _ => power,
-            },
+        let out = match (&b.output, timer_counter_kind(b, self.snapshot.target)) {
+            (Some(_), Some(kind)) => self.done(b, kind, power),
+            _ => power,
         };
         if out {
             on.insert(b.id);
@@ -166,7 +157,7 @@ impl Evaluator<'_, '_> {
     /// A timer's or counter's done output, from its current value (the box's title) and
     /// its preset (the first pin): TON `IN && T >= PT` (or PT <= 0), TONR `T >= PT`, TOF
     /// `IN || 0 < T < PT`, CTU and CTUD `C >= PV`, CTD `C == 0`.
-    fn done(&self, b: &BoxElement, power: bool) -> bool {
+    fn done(&self, b: &BoxElement, kind: TimerCounterKind, power: bool) -> bool {
         let current = counted_address(b, self.snapshot.target, self.snapshot.symbols)
             .and_then(|a| self.snapshot.values.get(&a).copied())
             .map(|raw| i64::from(raw as u16 as i16));
@@ -176,14 +167,14 @@ impl Evaluator<'_, '_> {
             .and_then(|p| self.number(&p.operand, Width::Word))
             .map(|raw| i64::from(raw as u16 as i16));
         let (Some(value), Some(preset)) = (current, preset) else {
-            return b.mnemonic == "TOF" && power;
+            return kind == TimerCounterKind::OffDelay && power;
         };
-        match b.mnemonic.as_str() {
-            "TON" => power && (preset <= 0 || value >= preset),
-            "TONR" => value >= preset,
-            "TOF" => power || (0 < value && value < preset),
-            "CTD" => value == 0,
-            _ => value >= preset,
+        match kind {
+            TimerCounterKind::OnDelay => power && (preset <= 0 || value >= preset),
+            TimerCounterKind::RetentiveOnDelay => value >= preset,
+            TimerCounterKind::OffDelay => power || (0 < value && value < preset),
+            TimerCounterKind::CountDown => value == 0,
+            TimerCounterKind::CountUp | TimerCounterKind::CountUpDown => value >= preset,
         }
     }
 
@@ -226,15 +217,16 @@ fn constant(text: &str) -> Option<u32> {
     None
 }
 
+/// The timer or counter a box is, as the catalog says of its instruction.
+fn timer_counter_kind(b: &BoxElement, target: &Target) -> Option<TimerCounterKind> {
+    let id = target.instructions.lookup(&b.mnemonic)?;
+    target.instructions.get(id).kind
+}
+
 /// The canonical address of a timer's or counter's number (its title: `T37`, or a
 /// symbol naming it).
 pub fn counted_address(b: &BoxElement, target: &Target, symbols: &SymbolTable) -> Option<String> {
-    if !matches!(
-        b.mnemonic.as_str(),
-        "TON" | "TOF" | "TONR" | "CTU" | "CTD" | "CTUD"
-    ) {
-        return None;
-    }
+    timer_counter_kind(b, target)?;
     let title = b.title.trim();
     let address = match symbols.get(title) {
         Some(s) => target.memory.parse_address(&s.address).ok()?,

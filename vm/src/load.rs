@@ -54,7 +54,7 @@ pub(crate) fn load(
         .instructions
         .instructions
         .iter()
-        .map(|i| ops::semantics(&i.mnemonic))
+        .map(ops::semantics)
         .collect();
     let mut missing: Vec<String> = Vec::new();
     for unit in image.units().values() {

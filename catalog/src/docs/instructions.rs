@@ -120,6 +120,7 @@ fn write_instruction(out: &mut String, ins: &Instruction) {
         ins.stack_needs,
         signed(ins.stack_delta)
     );
+    let _ = writeln!(out, "\n{}", nature(ins));
     if ins.units != crate::UnitScope::ALL {
         let _ = writeln!(out, "\nOnly in: {}.", ins.units.describe());
     }
@@ -150,6 +151,36 @@ fn write_instruction(out: &mut String, ins: &Instruction) {
     if !ins.example.is_empty() {
         let _ = write!(out, "\n```stl\n{}\n```\n", ins.example);
     }
+}
+
+/// What the instruction is: its ladder element and what goes with it
+/// (docs/instruction-schema.md, "What an instruction is").
+fn nature(ins: &Instruction) -> String {
+    let mut parts = vec![format!("Ladder **{}**", ins.ladder.keyword())];
+    if let Some(logic) = ins.logic {
+        parts.push(format!("joins with **{}**", logic.keyword()));
+    }
+    if let Some(op) = ins.compare {
+        parts.push(format!("relation `{}`", op.symbol()));
+    }
+    if ins.immediate {
+        parts.push("immediate".to_string());
+    }
+    if let Some(kind) = ins.kind {
+        parts.push(format!("kind **{}**", kind.keyword()));
+    }
+    if !ins.power_inputs.is_empty() {
+        let pins: Vec<String> = ins.power_inputs.iter().map(|p| format!("`{p}`")).collect();
+        parts.push(format!("power inputs {}", pins.join(", ")));
+        parts.push(match &ins.power_output {
+            Some(o) => format!("power output `{o}`"),
+            None => "no power output".to_string(),
+        });
+    }
+    if let Some(role) = ins.loop_role {
+        parts.push(format!("loop **{}**", role.keyword()));
+    }
+    parts.join(" · ")
 }
 
 fn write_operand_row(out: &mut String, op: &OperandSpec) {

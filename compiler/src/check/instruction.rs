@@ -4,7 +4,9 @@
 
 use std::collections::BTreeMap;
 
-use gutta_catalog::{AreaKind, BlockKind, Flow, InstrId, Instruction, OperandSpec, Role, Width};
+use gutta_catalog::{
+    AreaKind, BlockKind, Flow, InstrId, Instruction, LadderClass, OperandSpec, Role, Width,
+};
 
 use super::calls::CallSite;
 use super::code::CodeContext;
@@ -42,7 +44,7 @@ impl Checker<'_> {
                             ok = false;
                         }
                     }
-                    self.warnings(&spec.mnemonic, os, &c, op.span, cx);
+                    self.warnings(spec, os, &c, op.span, cx);
                     out.push(c);
                 }
                 None => {
@@ -203,7 +205,7 @@ impl Checker<'_> {
     /// W-codes: a bit assigned with `=` twice, a timer or counter driven twice.
     fn warnings(
         &mut self,
-        mnemonic: &str,
+        instruction: &Instruction,
         spec: &OperandSpec,
         c: &CheckedOperand,
         span: Span,
@@ -217,7 +219,8 @@ impl Checker<'_> {
         else {
             return;
         };
-        if mnemonic == "=" && address.width == Width::Bit {
+        let plain_coil = instruction.ladder == LadderClass::Coil && !instruction.immediate;
+        if plain_coil && address.width == Width::Bit {
             let key = (address.slot, address.offset, address.bit);
             if let Some(first) = cx.coils.insert(key, span) {
                 self.report(
@@ -283,7 +286,10 @@ mod tests {
     #[test]
     fn the_example_shown_uses_the_instruction_itself() {
         let target = gutta_catalog::stdlib::default_target().expect("stdlib");
-        let ton = target.instructions.lookup("TON").expect("TON");
+        let ton = target
+            .instructions
+            .by_kind(gutta_catalog::TimerCounterKind::OnDelay)
+            .expect("an on-delay timer");
         assert_eq!(
             example_use(target.instructions.get(ton)).as_deref(),
             Some("for example `TON T4, 20` (2 s with a 100 ms timer)")

@@ -1,12 +1,14 @@
 //! One STL instruction as a ladder element (docs/ladder.md, "Which networks are
 //! ladder"): what it does to the power path (a contact loaded, in series or in
 //! parallel; a stack operation; a coil or a box) and the element as drawn, its operands
-//! resolved through the program's symbols and the target's address syntax. Knows
-//! nothing of the logic stack: `rung.rs` places the elements.
+//! resolved through the program's symbols and the target's address syntax. What an
+//! instruction is comes from the catalog (`Ladder`, `Kind`, `PowerInputs`... of
+//! ManagerFun.xml), never from its mnemonic. Knows nothing of the logic stack:
+//! `rung.rs` places the elements.
 
 use std::collections::HashMap;
 
-use gutta_catalog::{Flow, Instruction};
+use gutta_catalog::{DataType, Flow, Instruction, LadderClass, LoopRole};
 use gutta_compiler::syntax::ast::{self, OperandKind, Prefix, VarSection};
 use gutta_compiler::CheckedFile;
 use gutta_format::SymbolTable;
@@ -46,28 +48,17 @@ pub(super) enum Element {
     /// A box whose power output continues the path (`MOVW`, `CALL`, a GUTTA timer).
     SeriesBox(BoxElement),
     /// A box that ends the branch and leaves the power where it was (`JMP`, `FOR`, an
-    /// S7-200 timer of a Micro/WIN export).
-    EndBox(BoxElement),
+    /// S7-200 timer of a Micro/WIN export); with whether it opens a loop (`FOR`).
+    EndBox(BoxElement, bool),
     /// A counter: its inputs besides the main one are the lower levels of the stack,
-    /// named by `power_inputs` (deepest first), taken by `rung.rs`.
-    Counter(BoxElement, &'static [&'static str]),
+    /// named by the catalog's `PowerInputs` after the first (deepest first), taken by
+    /// `rung.rs`.
+    Counter(BoxElement, Vec<String>),
     /// Runs without power flow (`LBL`, `NEXT`, `RET`): only alone in a network.
     Always(BoxElement),
     /// No ladder drawing (an instruction of a kind this builder does not know).
     Unknown,
 }
-
-/// A counter's main power input, its further inputs (lower stack levels, deepest
-/// first) and its output: the stack order of docs/instructions.md ("Timer and
-/// counter"), as `vm/src/ops/timers.rs` pops them.
-const COUNTERS: [(&str, &str, &[&str]); 3] = [
-    ("CTU", "CU", &["R"]),
-    ("CTD", "CD", &["LD"]),
-    ("CTUD", "CU", &["CD", "R"]),
-];
-
-/// Box-flow instructions that end the power path: nothing is drawn after them.
-const ENDING_BOXES: [&str; 6] = ["JMP", "FOR", "END", "STOP", "CRET", "CRETI"];
 
 /// What the builder reads of the program besides one instruction.
 pub(super) struct Resolver<'a> {
@@ -173,108 +164,93 @@ impl<'a> Resolver<'a> {
             .map(|o| self.operand(o))
             .collect();
         let line = self.line(ins.span.start);
-        let m = spec.mnemonic.as_str();
-        Some(match spec.flow {
-            Flow::Load | Flow::Combine => {
-                let join = match (spec.flow, m.as_bytes().first()) {
-                    (Flow::Load, _) => Join::Load,
-                    (_, Some(b'O')) => Join::Parallel,
-                    _ => Join::Series,
+        Some(match spec.ladder {
+            LadderClass::Contact | LadderClass::ClosedContact | LadderClass::Compare => {
+                let join = match spec.join() {
+                    Some(gutta_catalog::Join::Load) | None => Join::Load,
+                    Some(gutta_catalog::Join::And) => Join::Series,
+                    Some(gutta_catalog::Join::Or) => Join::Parallel,
                 };
                 Element::Contact(join, contact(spec, ops, line))
             }
-            Flow::Stack => self.stack_element(spec, ops, line),
-            Flow::Output => match coil_kind(m) {
-                Some(kind) => {
-                    let mut ops = ops.into_iter();
-                    let Some(operand) = ops.next() else {
-                        return Some(Element::Unknown);
-                    };
-                    Element::Coil(Coil {
-                        id: 0,
-                        kind,
-                        mnemonic: m.to_string(),
-                        operand,
-                        count: ops.next(),
-                        line,
-                    })
-                }
-                None => Element::Unknown,
-            },
-            Flow::Box => {
-                let ends = ENDING_BOXES.contains(&m);
-                let b = if m == "CALL" {
-                    self.call_box(ops, line)
-                } else {
-                    box_element(spec, ops, line, "EN", (!ends).then_some("ENO"))
-                };
-                if ends {
-                    Element::EndBox(b)
-                } else {
-                    Element::SeriesBox(b)
-                }
-            }
-            Flow::Always => Element::Always(box_element(spec, ops, line, "EN", None)),
-        })
-    }
-
-    fn stack_element(&self, spec: &Instruction, ops: Vec<Operand>, line: u32) -> Element {
-        let m = spec.mnemonic.as_str();
-        let contact_kind = match m {
-            "NOT" => Some(ContactKind::Not),
-            "EU" => Some(ContactKind::PositiveEdge),
-            "ED" => Some(ContactKind::NegativeEdge),
-            _ => None,
-        };
-        if let Some(kind) = contact_kind {
-            let c = Contact {
-                id: 0,
-                kind,
-                mnemonic: m.to_string(),
-                immediate: false,
-                operands: Vec::new(),
-                relation: None,
-                line,
-            };
-            return Element::Contact(Join::Series, c);
-        }
-        match m {
-            "ALD" => return Element::Stack(StackOp::Ald),
-            "OLD" => return Element::Stack(StackOp::Old),
-            "LPS" => return Element::Stack(StackOp::Lps),
-            "LRD" => return Element::Stack(StackOp::Lrd),
-            "LPP" => return Element::Stack(StackOp::Lpp),
-            "LDS" => {
+            LadderClass::Not => series_contact(spec, ContactKind::Not, line),
+            LadderClass::RisingEdge => series_contact(spec, ContactKind::PositiveEdge, line),
+            LadderClass::FallingEdge => series_contact(spec, ContactKind::NegativeEdge, line),
+            LadderClass::AndBlock => Element::Stack(StackOp::Ald),
+            LadderClass::OrBlock => Element::Stack(StackOp::Old),
+            LadderClass::Push => Element::Stack(StackOp::Lps),
+            LadderClass::Read => Element::Stack(StackOp::Lrd),
+            LadderClass::Pop => Element::Stack(StackOp::Lpp),
+            LadderClass::LoadStack => {
                 let n = ops
                     .first()
                     .and_then(|o| o.written.parse().ok())
                     .unwrap_or(-1);
-                return Element::Stack(StackOp::Lds(n));
+                Element::Stack(StackOp::Lds(n))
             }
-            _ => {}
+            LadderClass::Coil | LadderClass::SetCoil | LadderClass::ResetCoil => {
+                let mut ops = ops.into_iter();
+                let Some(operand) = ops.next() else {
+                    return Some(Element::Unknown);
+                };
+                Element::Coil(Coil {
+                    id: 0,
+                    kind: coil_kind(spec),
+                    mnemonic: spec.mnemonic.clone(),
+                    operand,
+                    count: ops.next(),
+                    line,
+                })
+            }
+            LadderClass::Box => self.box_of(spec, ops, line),
+        })
+    }
+
+    /// A box: a timer, a counter, a CALL, a box that ends the power path, one that
+    /// continues it, or one that runs without power flow.
+    fn box_of(&self, spec: &Instruction, ops: Vec<Operand>, line: u32) -> Element {
+        let enable = spec.power_inputs.first().map_or("EN", String::as_str);
+        let output = spec.power_output.as_deref();
+        match spec.kind {
+            Some(kind) if kind.is_timer() => {
+                // In a Micro/WIN export (without GUTTA's timer boxes) a timer leaves its
+                // input on the stack, as on an S7-200: a box at the end of its branch.
+                let s7200 = self.checked.ast.microwin && !self.checked.ast.gutta_boxes;
+                let mut b = box_element(spec, ops, line, enable, output.filter(|_| !s7200));
+                title_from_first_pin(&mut b);
+                return if s7200 {
+                    Element::EndBox(b, false)
+                } else {
+                    Element::SeriesBox(b)
+                };
+            }
+            Some(_) => {
+                let mut b = box_element(spec, ops, line, enable, output);
+                title_from_first_pin(&mut b);
+                return Element::Counter(b, spec.power_inputs[1..].to_vec());
+            }
+            None => {}
         }
-        if let Some((_, enable, inputs)) = COUNTERS.iter().find(|(c, ..)| *c == m) {
-            let mut b = box_element(spec, ops, line, enable, Some("Q"));
-            title_from_first_pin(&mut b);
-            return Element::Counter(b, inputs);
+        match spec.flow {
+            Flow::Box => {
+                let b = if spec.call_arguments {
+                    self.call_box(spec, ops, line)
+                } else {
+                    box_element(spec, ops, line, enable, output)
+                };
+                if output.is_none() {
+                    Element::EndBox(b, spec.loop_role == Some(LoopRole::Start))
+                } else {
+                    Element::SeriesBox(b)
+                }
+            }
+            Flow::Always => Element::Always(box_element(spec, ops, line, enable, None)),
+            Flow::Load | Flow::Combine | Flow::Output | Flow::Stack => Element::Unknown,
         }
-        if spec.stack_needs == 1 && spec.stack_delta == 0 && spec.family == "Timer and counter" {
-            // A timer. In a Micro/WIN export (without GUTTA's timer boxes) it leaves its
-            // input on the stack, as on an S7-200: a box at the end of its branch.
-            let s7200 = self.checked.ast.microwin && !self.checked.ast.gutta_boxes;
-            let mut b = box_element(spec, ops, line, "IN", (!s7200).then_some("Q"));
-            title_from_first_pin(&mut b);
-            return if s7200 {
-                Element::EndBox(b)
-            } else {
-                Element::SeriesBox(b)
-            };
-        }
-        Element::Unknown
     }
 
     /// `CALL SBR, args...`: titled by the subroutine, a pin per parameter.
-    fn call_box(&self, ops: Vec<Operand>, line: u32) -> BoxElement {
+    fn call_box(&self, spec: &Instruction, ops: Vec<Operand>, line: u32) -> BoxElement {
         let mut ops = ops.into_iter();
         let block = ops.next();
         let written = block.map(|b| b.written).unwrap_or_default();
@@ -299,12 +275,12 @@ impl<'a> Resolver<'a> {
             .collect();
         BoxElement {
             id: 0,
-            mnemonic: "CALL".to_string(),
+            mnemonic: spec.mnemonic.clone(),
             title,
             pins,
             power_inputs: Vec::new(),
-            enable: "EN".to_string(),
-            output: Some("ENO".to_string()),
+            enable: spec.power_inputs.first().cloned().unwrap_or_default(),
+            output: spec.power_output.clone(),
             line,
         }
     }
@@ -312,56 +288,58 @@ impl<'a> Resolver<'a> {
 
 /// A contact of a Load or Combine instruction.
 fn contact(spec: &Instruction, operands: Vec<Operand>, line: u32) -> Contact {
-    let m = spec.mnemonic.as_str();
-    let (kind, immediate, relation) = if spec.family == "Compare" {
-        (ContactKind::Compare, false, compare_relation(m))
-    } else {
-        let base = m
-            .strip_prefix("LD")
-            .or_else(|| m.strip_prefix('A'))
-            .or_else(|| m.strip_prefix('O'))
-            .unwrap_or(m);
-        let negated = base.starts_with('N');
-        let immediate = base.ends_with('I');
-        let kind = if negated {
-            ContactKind::NormallyClosed
-        } else {
-            ContactKind::NormallyOpen
-        };
-        (kind, immediate, None)
+    let kind = match spec.ladder {
+        LadderClass::Compare => ContactKind::Compare,
+        LadderClass::ClosedContact => ContactKind::NormallyClosed,
+        _ => ContactKind::NormallyOpen,
     };
     Contact {
         id: 0,
         kind,
-        mnemonic: m.to_string(),
-        immediate,
+        mnemonic: spec.mnemonic.clone(),
+        immediate: spec.immediate,
         operands,
-        relation,
+        relation: compare_relation(spec),
         line,
     }
 }
 
-/// `LDW>=` -> `>=W`, `AB=` -> `=B`, `OR<` -> `<R`: the relation, then the type letter.
-fn compare_relation(mnemonic: &str) -> Option<String> {
-    let rest = mnemonic
-        .strip_prefix("LD")
-        .or_else(|| mnemonic.strip_prefix('A'))
-        .or_else(|| mnemonic.strip_prefix('O'))?;
-    let mut chars = rest.chars();
-    let ty = chars.next()?;
-    Some(format!("{}{ty}", chars.as_str()))
+/// `NOT`, `EU`, `ED`: a contact without operands in series with the top.
+fn series_contact(spec: &Instruction, kind: ContactKind, line: u32) -> Element {
+    let c = Contact {
+        id: 0,
+        kind,
+        mnemonic: spec.mnemonic.clone(),
+        immediate: false,
+        operands: Vec::new(),
+        relation: None,
+        line,
+    };
+    Element::Contact(Join::Series, c)
 }
 
-fn coil_kind(mnemonic: &str) -> Option<CoilKind> {
-    Some(match mnemonic {
-        "=" => CoilKind::Out,
-        "S" => CoilKind::Set,
-        "R" => CoilKind::Reset,
-        "=I" => CoilKind::OutImmediate,
-        "SI" => CoilKind::SetImmediate,
-        "RI" => CoilKind::ResetImmediate,
-        _ => return None,
-    })
+/// A compare's relation as drawn inside the contact: the relation, then the letter of
+/// the type compared (`>=W`, `=B`, `<>D`, `<R`), as S7-200 STL names the compares.
+fn compare_relation(spec: &Instruction) -> Option<String> {
+    let op = spec.compare?;
+    let letter = match spec.operands.first()?.types.first()? {
+        DataType::Byte | DataType::Sint | DataType::Usint => 'B',
+        DataType::Real => 'R',
+        DataType::Dint | DataType::Dword | DataType::Udint => 'D',
+        _ => 'W',
+    };
+    Some(format!("{}{letter}", op.symbol()))
+}
+
+fn coil_kind(spec: &Instruction) -> CoilKind {
+    match (spec.ladder, spec.immediate) {
+        (LadderClass::SetCoil, false) => CoilKind::Set,
+        (LadderClass::SetCoil, true) => CoilKind::SetImmediate,
+        (LadderClass::ResetCoil, false) => CoilKind::Reset,
+        (LadderClass::ResetCoil, true) => CoilKind::ResetImmediate,
+        (_, false) => CoilKind::Out,
+        (_, true) => CoilKind::OutImmediate,
+    }
 }
 
 /// A box with a pin per operand, named by the catalog.
@@ -414,9 +392,24 @@ mod tests {
 
     #[test]
     fn compare_relations_put_the_type_after_the_relation() {
-        assert_eq!(compare_relation("LDW>=").as_deref(), Some(">=W"));
-        assert_eq!(compare_relation("AB=").as_deref(), Some("=B"));
-        assert_eq!(compare_relation("OR<").as_deref(), Some("<R"));
-        assert_eq!(compare_relation("OD<>").as_deref(), Some("<>D"));
+        let set = gutta_catalog::stdlib::default_target()
+            .expect("stdlib")
+            .instructions;
+        let relation = |m: &str| compare_relation(set.get(set.lookup(m).expect(m)));
+        assert_eq!(relation("LDW>=").as_deref(), Some(">=W"));
+        assert_eq!(relation("AB=").as_deref(), Some("=B"));
+        assert_eq!(relation("OR<").as_deref(), Some("<R"));
+        assert_eq!(relation("OD<>").as_deref(), Some("<>D"));
+        assert_eq!(relation("LD"), None);
+        // Every compare is drawn with the relation and type its STL name ends with.
+        for spec in set.instructions.iter().filter(|i| i.compare.is_some()) {
+            let drawn = compare_relation(spec).expect("a relation");
+            let (rel, ty) = drawn.split_at(drawn.len() - 1);
+            assert!(
+                spec.mnemonic.ends_with(&format!("{ty}{rel}")),
+                "{}: {drawn}",
+                spec.mnemonic
+            );
+        }
     }
 }

@@ -95,7 +95,7 @@ impl RungBuilder {
                 self.series(Node::Box(b), origin)
             }
             Element::Coil(c) => self.output(BranchEnd::Coil(c), &origin),
-            Element::EndBox(b) => self.output(BranchEnd::Box(b), &origin),
+            Element::EndBox(b, _) => self.output(BranchEnd::Box(b), &origin),
             Element::Stack(op) => self.stack_op(op, origin),
             Element::Always(_) => Err(format!(
                 "{} runs without power flow, and the network has power flow",

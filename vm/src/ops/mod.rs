@@ -54,14 +54,18 @@ pub enum Control {
 /// A semantic.
 pub type Handler = fn(&mut Exec<'_>) -> Result<Control, Fault>;
 
-/// The semantics of a mnemonic, if the VM has them.
-pub fn semantics(mnemonic: &str) -> Option<Handler> {
+/// The semantics of an instruction, if the VM has them: timers and counters by their
+/// kind (ManagerFun.xml `Kind`), every other instruction by its mnemonic.
+pub fn semantics(instruction: &gutta_catalog::Instruction) -> Option<Handler> {
+    if let Some(kind) = instruction.kind {
+        return Some(timers::semantics(kind));
+    }
+    let mnemonic = instruction.mnemonic.as_str();
     bits::lookup(mnemonic)
         .or_else(|| compare::lookup(mnemonic))
         .or_else(|| moves::lookup(mnemonic))
         .or_else(|| math::lookup(mnemonic))
         .or_else(|| control::lookup(mnemonic))
-        .or_else(|| timers::lookup(mnemonic))
         .or_else(|| shift::lookup(mnemonic))
         .or_else(|| convert::lookup(mnemonic))
         .or_else(|| table::lookup(mnemonic))

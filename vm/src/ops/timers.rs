@@ -1,5 +1,5 @@
 //! Timers (TON, TOF, TONR) and counters (CTU, CTD, CTUD), as ManagerFun.xml describes
-//! them. All six are Flow `Stack`: they run on every execution, whatever the power
+//! them, chosen by the instruction's `Kind` ([`semantics`]). All six are Flow `Stack`: they run on every execution, whatever the power
 //! flow, and leave their done state on top of the logic stack.
 //!
 //! Time: each execution of a timer counts `scan_ms` virtual milliseconds since its
@@ -16,7 +16,7 @@
 
 use super::{Control, Exec, Handler};
 use crate::fault::Fault;
-use gutta_catalog::Address;
+use gutta_catalog::{Address, TimerCounterKind};
 
 const RUNNING: u32 = 1;
 const ARMED: u32 = 2;
@@ -212,14 +212,14 @@ fn ctud(e: &mut Exec<'_>) -> Result<Control, Fault> {
     Ok(Control::Next)
 }
 
-pub fn lookup(m: &str) -> Option<Handler> {
-    Some(match m {
-        "TON" => ton,
-        "TOF" => tof,
-        "TONR" => tonr,
-        "CTU" => ctu,
-        "CTD" => ctd,
-        "CTUD" => ctud,
-        _ => return None,
-    })
+/// The semantics of a timer or counter kind.
+pub fn semantics(kind: TimerCounterKind) -> Handler {
+    match kind {
+        TimerCounterKind::OnDelay => ton,
+        TimerCounterKind::OffDelay => tof,
+        TimerCounterKind::RetentiveOnDelay => tonr,
+        TimerCounterKind::CountUp => ctu,
+        TimerCounterKind::CountDown => ctd,
+        TimerCounterKind::CountUpDown => ctud,
+    }
 }
