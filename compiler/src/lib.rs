@@ -8,6 +8,7 @@ pub mod check;
 pub mod diagnostics;
 pub mod encode;
 pub mod lower;
+pub mod microwin;
 pub mod source;
 pub mod suggest;
 pub mod syntax;
@@ -18,6 +19,7 @@ use gutta_catalog::{stdlib, Target};
 
 use crate::check::CheckOutput;
 use crate::diagnostics::{Code, Diagnostic, Suggestion};
+use crate::microwin::Desugared;
 use crate::source::{LineIndex, PartKind, SourceFile};
 use crate::syntax::ast::Program;
 
@@ -47,6 +49,9 @@ pub struct CheckedFile {
     pub target: Arc<Target>,
     pub ast: Program,
     pub output: CheckOutput,
+    /// In a Micro/WIN export, every event operand that translated (`10` of
+    /// `ATCH INT_0, 10`): the S7-200 event it names and the GUTTA event it compiles to.
+    pub s7200_events: Vec<microwin::EventTranslation>,
 }
 
 impl CheckedFile {
@@ -63,8 +68,8 @@ impl CheckedFile {
     /// summary and the listing (docs/microwin.md); None when there is nothing to show.
     pub fn microwin_summary(&self) -> Option<String> {
         let parts: Vec<String> = [
-            syntax::microwin::interrupt_summary(&self.ast),
-            check::events::event_summary(&self.output.s7200_events, &self.target),
+            microwin::interrupt_summary(&self.ast),
+            microwin::event_summary(&self.s7200_events, &self.target),
         ]
         .into_iter()
         .flatten()
@@ -102,26 +107,22 @@ pub fn check_source_with(
     explicit: Option<&ExplicitTarget>,
     options: CompileOptions,
 ) -> CheckedFile {
-    let microwin = is_microwin(&file);
-    let parsed = if file.is_joined() {
-        parse_joined(&file, microwin)
-    } else if microwin {
-        syntax::parse_microwin_files(&file.text, &[file.text.len()])
-    } else {
-        syntax::parse(&file.text)
-    };
-    let mut parsed = parsed;
-    parsed.program.gutta_boxes = microwin && syntax::microwin::has_gutta_boxes(&file.text);
-    let mut diagnostics = parsed.diagnostics;
+    let microwin = microwin::is_export(&file);
+    let mut parsed = parse(&file, microwin);
+    let mut diagnostics = std::mem::take(&mut parsed.diagnostics);
     let target = resolve_target(&parsed.program, explicit, &mut diagnostics);
+    let mut desugared = Desugared::default();
     if microwin {
-        diagnostics.extend(syntax::microwin::shadowed_system_names(
-            &parsed.program,
-            &file.text,
-            &target,
-        ));
+        desugared = microwin::desugar(&mut parsed.program, &file.text, &target);
+        diagnostics.append(&mut desugared.diagnostics);
     }
-    let mut output = check::check(&file.text, &parsed.program, &target, options);
+    let mut output = check::check(
+        &file.text,
+        &parsed.program,
+        &target,
+        &desugared.conventions,
+        options,
+    );
     diagnostics.append(&mut output.diagnostics);
     diagnostics.sort_by_key(|d| (d.primary.span.start, d.primary.span.end));
     if diagnostics.iter().any(Diagnostic::is_error) {
@@ -135,26 +136,14 @@ pub fn check_source_with(
         target,
         ast: parsed.program,
         output,
+        s7200_events: desugared.events,
     }
 }
 
-/// Whether the program is in the Micro/WIN dialect: one of its sources is a Micro/WIN
-/// export (`syntax::microwin::is_microwin`: `.awl`, or the marker line).
-fn is_microwin(file: &SourceFile) -> bool {
-    if !file.is_joined() {
-        return syntax::microwin::is_microwin(&file.name, &file.text);
-    }
-    file.parts()
-        .iter()
-        .filter(|p| p.kind == PartKind::Source)
-        .any(|p| {
-            syntax::microwin::is_microwin(&p.name, file.text.get(p.start..p.end).unwrap_or(""))
-        })
-}
-
-/// The sources of a joined text parsed as one program, then its symbol tables' rows
+/// The sources of a text (one file, or several joined) parsed as one program, with the
+/// dialect's line rules when it is a Micro/WIN export, then its symbol tables' rows
 /// added to its symbols (after the SYMBOLS blocks', as they follow in the text).
-fn parse_joined(file: &SourceFile, microwin: bool) -> syntax::ParseOutput {
+fn parse(file: &SourceFile, microwin: bool) -> syntax::ParseOutput {
     let parts = file.parts();
     let ends: Vec<usize> = parts
         .iter()

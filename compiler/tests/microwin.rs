@@ -17,8 +17,8 @@ use std::path::PathBuf;
 
 use common::{actual, expected, root};
 use gutta_compiler::compile;
+use gutta_compiler::microwin;
 use gutta_compiler::source::{SourceEncoding, SourceFile};
-use gutta_compiler::syntax::microwin;
 
 fn corpus() -> Vec<PathBuf> {
     let dir = root().join("tests/data/microwin");

@@ -63,8 +63,8 @@ impl Checker<'_> {
             checked.push(unit);
         }
         self.call_graph(&cx.calls);
-        if self.ast.microwin {
-            self.timer_bits(&mut checked, &cx.bit_uses, &cx.boxes);
+        if let Some(rules) = self.conventions.timer_bits {
+            self.timer_bits(&mut checked, &cx.bit_uses, &cx.boxes, rules);
         }
         // Order: interrupts by number (MAIN first), then subroutines by number.
         checked.sort_by_key(|u: &CheckedUnit| (u.kind == BlockKind::Subroutine, u.number));
@@ -231,7 +231,7 @@ impl Checker<'_> {
             }
             self.placement(info, spec, ins.mnemonic);
             self.for_next(id, ins.mnemonic, loops);
-            if self.ast.microwin {
+            if self.conventions.timer_bits.is_some() {
                 match self.timer_bit(ui, spec, ops) {
                     Some(Some((op, address, operand))) => {
                         cx.bit_uses.push(BitUse {
@@ -256,7 +256,10 @@ impl Checker<'_> {
                 }
             }
             if let Some(ci) = self.instruction(ui, id, ins.mnemonic, ops, ins.span, cx) {
-                if self.ast.microwin && spec.family == "Timer and counter" && ops.len() >= 2 {
+                if self.conventions.timer_bits.is_some()
+                    && spec.family == "Timer and counter"
+                    && ops.len() >= 2
+                {
                     cx.boxes.push(TimerBox {
                         unit: ui,
                         network: cx.network,

@@ -8,7 +8,6 @@ mod calls;
 mod code;
 mod constants;
 mod data;
-pub mod events;
 mod instruction;
 mod memory;
 mod names;
@@ -75,9 +74,40 @@ pub struct CheckOutput {
     /// In a Micro/WIN export, S7-200 timer and counter bit operands (`T37` of
     /// `LD T37`) and what they compile to, one Markdown line (for hover).
     pub s7200_bits: Vec<(Span, String)>,
-    /// In a Micro/WIN export, every event operand (`10` of `ATCH INT_0, 10`) with the
-    /// S7-200 event it names and the GUTTA event it compiles to.
-    pub s7200_events: Vec<events::EventTranslation>,
+}
+
+/// What a stage before the checker (a dialect's: `crate::microwin`) settled, as plain
+/// data the checker applies without knowing why. The default is GUTTA's own language.
+#[derive(Debug, Clone, Default)]
+pub struct Conventions {
+    /// Names that stand for an address unless a symbol of the program takes them
+    /// (case-insensitive, the first match wins); also offered as suggestions.
+    pub predefined_names: Vec<PredefinedName>,
+    /// A block operand `INTn` names interrupt routine INT(n + this).
+    pub interrupt_operand_offset: u32,
+    /// Literal operands an earlier stage already turned into the number to check, by
+    /// span; None where it refused the operand (and reported it).
+    pub renumbered_literals: HashMap<Span, Option<i64>>,
+    /// E0408's help (the program has no MAIN), when it must say more than the default.
+    pub missing_main_help: Option<&'static str>,
+    /// How timer and counter bits are read (`timer_bits.rs`); None: they are not.
+    pub timer_bits: Option<TimerBitRules>,
+}
+
+/// A name the program may use without declaring it ([`Conventions::predefined_names`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PredefinedName {
+    pub name: String,
+    /// None: offered as a suggestion, but it resolves to nothing.
+    pub address: Option<Address>,
+}
+
+/// Timer and counter bits read the S7-200 way (`timer_bits.rs`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct TimerBitRules {
+    /// A timer box followed by an instruction that reads the top of the logic stack is
+    /// wrapped in `LPS`/`LPP`, as an S7-200 timer leaves the stack as it found it.
+    pub keep_stack_around_boxes: bool,
 }
 
 /// Per-unit facts gathered before the code is checked.
@@ -110,6 +140,7 @@ pub(crate) struct Checker<'a> {
     /// Upper-case names that resolved to nothing: their one diagnostic and later uses.
     pub unknown_names: HashMap<String, names::UnknownName>,
     pub options: CompileOptions,
+    pub conventions: &'a Conventions,
 }
 
 impl<'a> Checker<'a> {
@@ -145,7 +176,13 @@ impl<'a> Checker<'a> {
 }
 
 /// Check a parsed program against a target.
-pub fn check(text: &str, ast: &Program, target: &Target, options: CompileOptions) -> CheckOutput {
+pub fn check(
+    text: &str,
+    ast: &Program,
+    target: &Target,
+    conventions: &Conventions,
+    options: CompileOptions,
+) -> CheckOutput {
     let mut c = Checker {
         text,
         target,
@@ -158,6 +195,7 @@ pub fn check(text: &str, ast: &Program, target: &Target, options: CompileOptions
         data_names: HashMap::new(),
         unknown_names: HashMap::new(),
         options,
+        conventions,
     };
     c.symbols();
     c.units();

@@ -245,6 +245,7 @@ impl Checker<'_> {
         checked: &mut [CheckedUnit],
         uses: &[BitUse],
         boxes: &[TimerBox],
+        rules: super::TimerBitRules,
     ) {
         let scaled = self.timer_resolutions(checked, boxes);
         let drivers = self.drivers(checked, boxes);
@@ -259,7 +260,7 @@ impl Checker<'_> {
             };
             edits.insert((u.unit, u.network, u.index), replacement);
         }
-        if !self.ast.gutta_boxes {
+        if rules.keep_stack_around_boxes {
             self.keep_stack_around_boxes(checked, boxes, &mut edits);
         }
         for ((unit, network, index), replacement) in edits.into_iter().rev() {

@@ -13,11 +13,12 @@ pub struct Program {
     pub units: Vec<Unit>,
     pub data_blocks: Vec<DataBlock>,
     pub system_blocks: Vec<SystemBlock>,
-    /// The program is a STEP 7-Micro/WIN export (docs/microwin.md, `syntax::microwin`).
+    /// The program is a STEP 7-Micro/WIN export (docs/microwin.md), set by the dialect's
+    /// stage (`crate::microwin`) for the tools; the checker never reads it.
     pub microwin: bool,
     /// In that dialect, where each S7-200 interrupt block went, in file order.
     pub interrupt_placements: Vec<InterruptPlacement>,
-    /// In that dialect, timer boxes keep GUTTA's stack meaning (`microwin::GUTTA_BOXES`).
+    /// In that dialect, timer boxes keep GUTTA's stack meaning (`source::GUTTA_BOXES`).
     pub gutta_boxes: bool,
 }
 

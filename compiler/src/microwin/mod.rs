@@ -1,0 +1,75 @@
+//! The STEP 7-Micro/WIN dialect as a stage of its own (docs/microwin.md): parse ->
+//! [`desugar`] -> check. A program is in the dialect when one of its sources is an
+//! export ([`is_export`]: a `.awl` name or the marker line, read by `source.rs`); the
+//! parser applies the dialect's line rules (`NOP 0`, `MEND`, `NAME:SBRn` operands) and
+//! this stage does the rest before the checker runs: it places S7-200 interrupt blocks
+//! on GUTTA's numbers and drops template blocks (`interrupts.rs`), translates S7-200
+//! event numbers (`events.rs`) and hands Micro/WIN's system symbols over as predefined
+//! names (`names.rs`). What the checker must apply it gets as plain data
+//! ([`check::Conventions`](crate::check::Conventions)); it never asks whether a program
+//! is an export. This module imports the syntax tree, diagnostics and the checker's
+//! plain-data types; nothing but `lib.rs` imports it.
+
+mod events;
+mod interrupts;
+mod names;
+
+use gutta_catalog::Target;
+
+use crate::check::{Conventions, TimerBitRules};
+use crate::diagnostics::Diagnostic;
+use crate::source::{PartKind, SourceFile};
+use crate::syntax::ast::Program;
+
+pub use crate::source::{has_gutta_boxes, has_marker, is_microwin, GUTTA_BOXES, MARKER};
+pub use events::{event_summary, EventTranslation};
+pub use interrupts::interrupt_summary;
+
+/// What the stage found that later stages and tools need to know: its diagnostics,
+/// what the checker applies, and the facts the compile summary and hover show.
+#[derive(Debug, Clone, Default)]
+pub struct Desugared {
+    pub diagnostics: Vec<Diagnostic>,
+    pub conventions: Conventions,
+    /// Every event operand that translated (`10` of `ATCH INT_0, 10`), in program order.
+    pub events: Vec<EventTranslation>,
+}
+
+/// Whether the program is in the Micro/WIN dialect: one of its sources is a Micro/WIN
+/// export ([`is_microwin`]: `.awl`, or the marker line).
+pub fn is_export(file: &SourceFile) -> bool {
+    file.parts()
+        .iter()
+        .filter(|p| p.kind == PartKind::Source)
+        .any(|p| is_microwin(&p.name, file.text.get(p.start..p.end).unwrap_or("")))
+}
+
+/// The dialect's stage on a parsed program (its line rules applied by the parser): the
+/// program becomes an ordinary one, marked as an export, and what the checker must
+/// apply comes back as [`Conventions`].
+pub fn desugar(program: &mut Program, text: &str, target: &Target) -> Desugared {
+    program.microwin = true;
+    program.gutta_boxes = has_gutta_boxes(text);
+    interrupts::place(program, text);
+    let mut diagnostics = names::shadowed_system_names(program, text, target);
+    let mut events = Vec::new();
+    let renumbered_literals =
+        events::translate(program, text, target, &mut diagnostics, &mut events);
+    let conventions = Conventions {
+        predefined_names: names::system_names(target),
+        interrupt_operand_offset: interrupts::INTERRUPT_OFFSET,
+        renumbered_literals,
+        missing_main_help: Some(MISSING_MAIN_HELP),
+        timer_bits: Some(TimerBitRules {
+            keep_stack_around_boxes: !program.gutta_boxes,
+        }),
+    };
+    Desugared {
+        diagnostics,
+        conventions,
+        events,
+    }
+}
+
+/// E0408's help in an export: the S7-200's INT0 is no main program here.
+const MISSING_MAIN_HELP: &str = "add `ORGANIZATION_BLOCK MAIN:OB1` ... `END_ORGANIZATION_BLOCK`; in a Micro/WIN export an S7-200 INTERRUPT_BLOCK INTn is interrupt routine INT(n+1), never the main program";
