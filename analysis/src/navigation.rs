@@ -130,7 +130,6 @@ pub fn hover(checked: &CheckedFile, offset: usize) -> Option<(Span, String)> {
     };
     // An S7-200 timer or counter bit of a Micro/WIN export: what it compiles to.
     if let Some((_, note)) = checked
-        .output
         .s7200_bits
         .iter()
         .find(|(s, _)| s.start as usize <= offset && offset <= s.end as usize)

@@ -3,6 +3,15 @@
 //! program of several files and symbol tables ([`check_program`], [`compile_program`]) is
 //! one joined text with a file table (`SourceFile::join`) through the same pipeline. The
 //! library does no I/O: sources and targets come in as data; `gutta-cc` does the I/O.
+//!
+//! The stages, in order: `syntax` (text -> tree; a Micro/WIN export with its dialect's
+//! line rules), the target (`PLC_TYPE` or the command line), `microwin::desugar` (only
+//! for an export: interrupt blocks placed, template blocks dropped, S7-200 event
+//! numbers translated, system symbols predefined; the checker gets what it must apply
+//! as plain data, `check::Conventions`), `check` (names, operands, limits: the checked
+//! program), `microwin::Desugared::after_check` (an export's timer and counter bits given
+//! their instructions), then `lower` and `encode`. Only this file and `microwin/` know
+//! whether a program is an export.
 
 pub mod check;
 pub mod diagnostics;
@@ -52,6 +61,9 @@ pub struct CheckedFile {
     /// In a Micro/WIN export, every event operand that translated (`10` of
     /// `ATCH INT_0, 10`): the S7-200 event it names and the GUTTA event it compiles to.
     pub s7200_events: Vec<microwin::EventTranslation>,
+    /// In a Micro/WIN export, S7-200 timer and counter bit operands (`T37` of
+    /// `LD T37`) and what they compile to, one Markdown line each (for hover).
+    pub s7200_bits: Vec<(source::Span, String)>,
 }
 
 impl CheckedFile {
@@ -116,14 +128,10 @@ pub fn check_source_with(
         desugared = microwin::desugar(&mut parsed.program, &file.text, &target);
         diagnostics.append(&mut desugared.diagnostics);
     }
-    let mut output = check::check(
-        &file.text,
-        &parsed.program,
-        &target,
-        &desugared.conventions,
-        options,
-    );
+    let mut output = check::check(&file.text, &parsed.program, &target, &desugared.conventions);
     diagnostics.append(&mut output.diagnostics);
+    let mut timer_bits = desugared.after_check(&mut output, &file.text, &target, options);
+    diagnostics.append(&mut timer_bits.diagnostics);
     diagnostics.sort_by_key(|d| (d.primary.span.start, d.primary.span.end));
     if diagnostics.iter().any(Diagnostic::is_error) {
         output.program = None;
@@ -137,6 +145,7 @@ pub fn check_source_with(
         ast: parsed.program,
         output,
         s7200_events: desugared.events,
+        s7200_bits: timer_bits.notes,
     }
 }
 

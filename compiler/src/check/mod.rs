@@ -4,6 +4,7 @@
 //! for the language server. It skips parser error nodes without reporting them again.
 
 mod address;
+mod bit_lines;
 mod calls;
 mod code;
 mod constants;
@@ -15,17 +16,16 @@ mod operands;
 pub mod program;
 mod symbols;
 mod system;
-mod timer_bits;
 mod units;
 
 use std::collections::HashMap;
 
-use gutta_catalog::{Address, BlockKind, Target};
+use gutta_catalog::{Address, BlockKind, InstrId, Target};
 
 use crate::diagnostics::Diagnostic;
 use crate::source::Span;
 use crate::syntax::ast::Program;
-use crate::CompileOptions;
+pub use bit_lines::{BitLines, BitOp, BitUse, TimerBox};
 pub use program::*;
 pub use system::PORT_KEYS;
 
@@ -62,7 +62,9 @@ pub struct Reference {
 /// Everything the checker learned about one file.
 #[derive(Debug, Clone, Default)]
 pub struct CheckOutput {
-    /// Set when there were no errors.
+    /// The checked program: from [`check`] always (with what checked of a program with
+    /// errors); the pipeline (`crate::check_source`) keeps it only when no diagnostic
+    /// of any stage is an error.
     pub program: Option<CheckedProgram>,
     pub diagnostics: Vec<Diagnostic>,
     pub definitions: Vec<Definition>,
@@ -71,9 +73,9 @@ pub struct CheckOutput {
     pub addresses: Vec<(Span, Address)>,
     /// Mnemonic spans with their instruction (for hover).
     pub mnemonics: Vec<(Span, gutta_catalog::InstrId)>,
-    /// In a Micro/WIN export, S7-200 timer and counter bit operands (`T37` of
-    /// `LD T37`) and what they compile to, one Markdown line (for hover).
-    pub s7200_bits: Vec<(Span, String)>,
+    /// Lines that use a timer's or counter's bit and the timer boxes, where the
+    /// conventions ask for them (`bit_lines.rs`), for the pass after checking.
+    pub bit_lines: BitLines,
 }
 
 /// What a stage before the checker (a dialect's: `crate::microwin`) settled, as plain
@@ -90,8 +92,10 @@ pub struct Conventions {
     pub renumbered_literals: HashMap<Span, Option<i64>>,
     /// E0408's help (the program has no MAIN), when it must say more than the default.
     pub missing_main_help: Option<&'static str>,
-    /// How timer and counter bits are read (`timer_bits.rs`); None: they are not.
-    pub timer_bits: Option<TimerBitRules>,
+    /// The instructions whose lines use a timer's or counter's bit when their first
+    /// operand is a timer or counter (`LD T37`), and what each does; None: no line does
+    /// (`bit_lines.rs`). When set, timer and counter boxes are recorded too.
+    pub timer_bit_lines: Option<HashMap<InstrId, BitOp>>,
 }
 
 /// A name the program may use without declaring it ([`Conventions::predefined_names`]).
@@ -100,14 +104,6 @@ pub struct PredefinedName {
     pub name: String,
     /// None: offered as a suggestion, but it resolves to nothing.
     pub address: Option<Address>,
-}
-
-/// Timer and counter bits read the S7-200 way (`timer_bits.rs`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct TimerBitRules {
-    /// A timer box followed by an instruction that reads the top of the logic stack is
-    /// wrapped in `LPS`/`LPP`, as an S7-200 timer leaves the stack as it found it.
-    pub keep_stack_around_boxes: bool,
 }
 
 /// Per-unit facts gathered before the code is checked.
@@ -139,7 +135,6 @@ pub(crate) struct Checker<'a> {
     pub data_names: HashMap<String, usize>,
     /// Upper-case names that resolved to nothing: their one diagnostic and later uses.
     pub unknown_names: HashMap<String, names::UnknownName>,
-    pub options: CompileOptions,
     pub conventions: &'a Conventions,
 }
 
@@ -176,13 +171,7 @@ impl<'a> Checker<'a> {
 }
 
 /// Check a parsed program against a target.
-pub fn check(
-    text: &str,
-    ast: &Program,
-    target: &Target,
-    conventions: &Conventions,
-    options: CompileOptions,
-) -> CheckOutput {
+pub fn check(text: &str, ast: &Program, target: &Target, conventions: &Conventions) -> CheckOutput {
     let mut c = Checker {
         text,
         target,
@@ -194,27 +183,24 @@ pub fn check(
         units: Vec::new(),
         data_names: HashMap::new(),
         unknown_names: HashMap::new(),
-        options,
         conventions,
     };
     c.symbols();
     c.units();
     let data_blocks = c.data_blocks();
     let system = c.system_block();
-    let units = c.code();
+    let (units, bit_lines) = c.code();
     c.list_later_uses();
     let mut out = std::mem::take(&mut c.out);
-    let errors = c.diags.iter().any(|d| d.is_error());
     out.diagnostics = c.diags;
-    if !errors {
-        out.program = Some(CheckedProgram {
-            target_name: target.name().to_string(),
-            units,
-            data_blocks,
-            system,
-            system_span: ast.system_blocks.first().map(|b| b.span),
-        });
-    }
+    out.bit_lines = bit_lines;
+    out.program = Some(CheckedProgram {
+        target_name: target.name().to_string(),
+        units,
+        data_blocks,
+        system,
+        system_span: ast.system_blocks.first().map(|b| b.span),
+    });
     out
 }
 

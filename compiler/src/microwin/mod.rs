@@ -5,7 +5,9 @@
 //! this stage does the rest before the checker runs: it places S7-200 interrupt blocks
 //! on GUTTA's numbers and drops template blocks (`interrupts.rs`), translates S7-200
 //! event numbers (`events.rs`) and hands Micro/WIN's system symbols over as predefined
-//! names (`names.rs`). What the checker must apply it gets as plain data
+//! names (`names.rs`); after the checker, its pass over the checked code gives the
+//! timer and counter bit lines the checker left as placeholders their instructions
+//! (`timer_bits.rs`). What the checker must apply it gets as plain data
 //! ([`check::Conventions`](crate::check::Conventions)); it never asks whether a program
 //! is an export. This module imports the syntax tree, diagnostics and the checker's
 //! plain-data types; nothing but `lib.rs` imports it.
@@ -13,17 +15,20 @@
 mod events;
 mod interrupts;
 mod names;
+mod timer_bits;
 
 use gutta_catalog::Target;
 
-use crate::check::{Conventions, TimerBitRules};
+use crate::check::{CheckOutput, Conventions};
 use crate::diagnostics::Diagnostic;
 use crate::source::{PartKind, SourceFile};
 use crate::syntax::ast::Program;
+use crate::CompileOptions;
 
 pub use crate::source::{has_gutta_boxes, has_marker, is_microwin, GUTTA_BOXES, MARKER};
 pub use events::{event_summary, EventTranslation};
 pub use interrupts::interrupt_summary;
+pub use timer_bits::TimerBitReport;
 
 /// What the stage found that later stages and tools need to know: its diagnostics,
 /// what the checker applies, and the facts the compile summary and hover show.
@@ -33,6 +38,9 @@ pub struct Desugared {
     pub conventions: Conventions,
     /// Every event operand that translated (`10` of `ATCH INT_0, 10`), in program order.
     pub events: Vec<EventTranslation>,
+    /// A timer box keeps the S7-200 logic stack (`LPS`/`LPP` around it) unless the
+    /// export says boxes keep GUTTA's meaning (`GUTTA_BOXES`).
+    pub keep_stack_around_boxes: bool,
 }
 
 /// Whether the program is in the Micro/WIN dialect: one of its sources is a Micro/WIN
@@ -60,14 +68,39 @@ pub fn desugar(program: &mut Program, text: &str, target: &Target) -> Desugared 
         interrupt_operand_offset: interrupts::INTERRUPT_OFFSET,
         renumbered_literals,
         missing_main_help: Some(MISSING_MAIN_HELP),
-        timer_bits: Some(TimerBitRules {
-            keep_stack_around_boxes: !program.gutta_boxes,
-        }),
+        timer_bit_lines: Some(timer_bits::bit_lines(target)),
     };
     Desugared {
         diagnostics,
         conventions,
         events,
+        keep_stack_around_boxes: !program.gutta_boxes,
+    }
+}
+
+impl Desugared {
+    /// The dialect's pass over the checked code (`timer_bits.rs`): the placeholders the
+    /// checker left for timer and counter bits get their instructions, timer boxes keep
+    /// the S7-200 logic stack, presets are scaled or warned about. Outside the dialect
+    /// the checker records no such line and nothing happens.
+    pub fn after_check(
+        &self,
+        output: &mut CheckOutput,
+        text: &str,
+        target: &Target,
+        options: CompileOptions,
+    ) -> TimerBitReport {
+        let Some(program) = output.program.as_mut() else {
+            return TimerBitReport::default();
+        };
+        timer_bits::rewrite(
+            &mut program.units,
+            &output.bit_lines,
+            text,
+            target,
+            options,
+            self.keep_stack_around_boxes,
+        )
     }
 }
 

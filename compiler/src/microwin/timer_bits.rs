@@ -1,69 +1,77 @@
-//! S7-200 timer and counter bits in the Micro/WIN dialect (docs/microwin.md, "Timer and
-//! counter bits" and "Timer resolutions"). GUTTA's T and C areas hold only current
-//! values, so a line that uses a timer's or counter's bit the S7-200 way (`LD T37`,
-//! `AN C0`, `R T37, 1`) is checked here and becomes GUTTA instructions with the same
-//! effect: a read compares the current value with the preset of the instruction that
-//! drives the number (`LDW>= T37, 100` after `TON T37, 100`), a reset writes the
-//! current value. A TOF's bit is "the current value is below the preset", which holds
-//! from the first scan on because MAIN starts with a network that sets such a timer's
-//! current value to its preset on the first scan. A timer box followed by an
-//! instruction that reads the top of the logic stack is wrapped in `LPS`/`LPP`, since
-//! on an S7-200 a timer leaves the stack as it was and on GUTTA it leaves its done
-//! state. Timer numbers whose S7-200 resolution differs from the target's get W0207,
-//! and with `--scale-timer-presets` their constant presets are scaled.
+//! S7-200 timer and counter bits (docs/microwin.md, "Timer and counter bits" and "Timer
+//! resolutions"): the dialect's pass over the checked code. GUTTA's T and C areas hold
+//! only current values, so a line that uses a timer's or counter's bit the S7-200 way
+//! (`LD T37`, `AN C0`, `R T37, 1`), which the checker left as a placeholder
+//! (`check::BitUse`), becomes GUTTA instructions with the same effect: a read compares
+//! the current value with the preset of the instruction that drives the number
+//! (`LDW>= T37, 100` after `TON T37, 100`), a reset writes the current value. A TOF's
+//! bit is "the current value is below the preset", which holds from the first scan on
+//! because MAIN starts with a network that sets such a timer's current value to its
+//! preset on the first scan. A timer box followed by an instruction that reads the top
+//! of the logic stack is wrapped in `LPS`/`LPP`, since on an S7-200 a timer leaves the
+//! stack as it was and on GUTTA it leaves its done state. Timer numbers whose S7-200
+//! resolution differs from the target's get W0207, and with `--scale-timer-presets`
+//! their constant presets are scaled.
 //!
-//! The code check (`code.rs`) records what it meets: [`BitUse`]s (a placeholder
-//! instruction stands where the bit was used) and [`TimerBox`]es; [`Checker::timer_bits`]
-//! runs once all units are checked, since a bit may be read before (or in another block
-//! than) the instruction that gives it its meaning.
+//! It runs once the checker has checked every unit, since a bit may be read before (or
+//! in another block than) the instruction that gives it its meaning, and it needs the
+//! resolved operands (addresses, constant presets) only the checker has.
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 
 use gutta_catalog::s7200_timers::{s7200_timer_resolution, scale_preset, S7200TimerFamily};
-use gutta_catalog::{Address, AreaKind, BlockKind, Flow, InstrId, Instruction, Width};
+use gutta_catalog::{Address, AreaKind, BlockKind, Flow, InstrId, Instruction, Target, Width};
 
-use super::names::Variable;
-use super::Use;
-use super::{CheckedInstruction, CheckedNetwork, CheckedOperand, CheckedUnit, Checker, ConstValue};
+use crate::check::{
+    BitLines, BitOp, BitUse, CheckedInstruction, CheckedNetwork, CheckedOperand, CheckedUnit,
+    ConstValue, TimerBox, Use,
+};
 use crate::diagnostics::{Code, Diagnostic};
 use crate::source::Span;
-use crate::syntax::ast::{Operand, OperandKind, Prefix};
+use crate::CompileOptions;
 
-/// What a line does with a timer's or counter's bit.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum BitOp {
-    /// `LD`/`A`/`O` (`load` is `LDW`, `AW` or `OW`, the compare's prefix), negated for
-    /// `LDN`/`AN`/`ON`.
-    Read { load: &'static str, negated: bool },
-    /// `R T37, count`.
-    Reset { count: u32 },
+/// The instructions whose lines use a timer's or counter's bit when their first operand
+/// is a timer or counter, and what each does (`check::Conventions::timer_bit_lines`).
+pub(super) fn bit_lines(target: &Target) -> HashMap<InstrId, BitOp> {
+    let set = &target.instructions;
+    ["LD", "A", "O", "LDN", "AN", "ON", "R", "S"]
+        .into_iter()
+        .filter_map(|m| Some((set.lookup(m)?, bit_op(m)?)))
+        .collect()
 }
 
-/// A timer or counter bit used in the dialect; its placeholder instruction is at
-/// `checked[unit].networks[network].instructions[index]`.
-#[derive(Debug, Clone)]
-pub(super) struct BitUse {
-    pub unit: usize,
-    pub network: usize,
-    pub index: usize,
-    pub op: BitOp,
-    /// The first (or only) timer or counter, as a word address.
-    pub address: Address,
-    /// The operand naming it, and the whole line.
-    pub operand: Span,
-    pub span: Span,
-}
-
-/// A timer or counter instruction (`TON T37, 100`) of the dialect that checked.
-#[derive(Debug, Clone)]
-pub(super) struct TimerBox {
-    pub unit: usize,
-    pub network: usize,
-    pub index: usize,
-    /// Logic stack levels before it, when known.
-    pub depth: Option<i32>,
-    pub preset: Span,
-    pub span: Span,
+/// What a line of `mnemonic` does with a timer's or counter's bit (the count of `R` and
+/// `S` is the line's, filled in by the checker).
+fn bit_op(mnemonic: &str) -> Option<BitOp> {
+    Some(match mnemonic {
+        "LD" => BitOp::Read {
+            load: "LDW",
+            negated: false,
+        },
+        "A" => BitOp::Read {
+            load: "AW",
+            negated: false,
+        },
+        "O" => BitOp::Read {
+            load: "OW",
+            negated: false,
+        },
+        "LDN" => BitOp::Read {
+            load: "LDW",
+            negated: true,
+        },
+        "AN" => BitOp::Read {
+            load: "AW",
+            negated: true,
+        },
+        "ON" => BitOp::Read {
+            load: "OW",
+            negated: true,
+        },
+        "R" => BitOp::Reset { count: 0 },
+        "S" => BitOp::Set { count: 0 },
+        _ => return None,
+    })
 }
 
 /// What a timer or counter number's bit means, by the kind of instruction driving it.
@@ -116,136 +124,65 @@ struct Driver {
 /// there (it is then not below any preset).
 const CURRENT_MAX: i64 = 32767;
 
-impl Checker<'_> {
-    /// In the dialect, whether the line uses a timer's or counter's bit: `None` when it
-    /// does not (the ordinary check goes on); `Some(None)` when it does and was refused
-    /// (reported); otherwise what it does and with which number.
-    pub(super) fn timer_bit(
-        &mut self,
-        ui: usize,
-        spec: &Instruction,
-        ops: &[Operand],
-    ) -> Option<Option<(BitOp, Address, Span)>> {
-        let op = match spec.mnemonic.as_str() {
-            "LD" => BitOp::Read {
-                load: "LDW",
-                negated: false,
-            },
-            "A" => BitOp::Read {
-                load: "AW",
-                negated: false,
-            },
-            "O" => BitOp::Read {
-                load: "OW",
-                negated: false,
-            },
-            "LDN" => BitOp::Read {
-                load: "LDW",
-                negated: true,
-            },
-            "AN" => BitOp::Read {
-                load: "AW",
-                negated: true,
-            },
-            "ON" => BitOp::Read {
-                load: "OW",
-                negated: true,
-            },
-            "R" | "S" => BitOp::Reset { count: 0 },
-            _ => return None,
-        };
-        let first = ops.first()?;
-        let OperandKind::Name {
-            prefix: Prefix::None,
-            local: false,
-            name,
-        } = first.kind
-        else {
-            return None;
-        };
-        self.peek_timer_or_counter(name)?;
-        let Variable { address, .. } = self.variable(ui, false, name)?;
-        let op = match op {
-            BitOp::Reset { .. } => {
-                let count = match ops.get(1).map(|o| o.kind) {
-                    Some(OperandKind::Integer(n)) if ops.len() == 2 && (1..=255).contains(&n) => {
-                        n as u32
-                    }
-                    _ => return None,
-                };
-                if spec.mnemonic == "S" {
-                    self.report(
-                        Diagnostic::new(
-                            Code::S7200TimerBit,
-                            first.span,
-                            format!(
-                                "`S {}` sets an S7-200 timer or counter bit; GUTTA has no such bits",
-                                self.slice(name)
-                            ),
-                        )
-                        .label("no counterpart on GUTTA")
-                        .help("keep the state in an M bit (`S M10.0, 1`) and read that bit"),
-                    );
-                    return Some(None);
-                }
-                let end = address.offset + 2 * count;
-                let size = self
-                    .target
-                    .memory
-                    .area_by_slot(address.slot)
-                    .map_or(0, |a| a.size);
-                if end > size {
-                    self.report(
-                        Diagnostic::new(
-                            Code::AddressOutOfTarget,
-                            first.span.to(ops[1].span),
-                            format!(
-                                "`R {}, {count}` resets numbers up to {}, past the end of {}'s area ({} numbers)",
-                                self.slice(name),
-                                end / 2 - 1,
-                                self.target.name(),
-                                size / 2
-                            ),
-                        )
-                        .label("out of the area"),
-                    );
-                    return Some(None);
-                }
-                BitOp::Reset { count }
-            }
-            read => {
-                if ops.len() != 1 {
-                    return None;
-                }
-                read
-            }
-        };
-        Some(Some((op, address, first.span)))
+/// The pass's view: what it reads, what it reports and the hover notes it writes.
+struct TimerBitPass<'a> {
+    text: &'a str,
+    target: &'a Target,
+    options: CompileOptions,
+    diags: Vec<Diagnostic>,
+    /// S7-200 timer and counter bit operands (`T37` of `LD T37`) and what they compile
+    /// to, one Markdown line each (for hover).
+    notes: Vec<(Span, String)>,
+}
+
+/// What the pass gives back: its diagnostics and the hover notes of the bit operands.
+#[derive(Debug, Clone, Default)]
+pub struct TimerBitReport {
+    pub diagnostics: Vec<Diagnostic>,
+    pub notes: Vec<(Span, String)>,
+}
+
+/// Give every recorded bit use its instructions in `units` (the checked program's), scale
+/// or warn about timer resolutions, keep the S7-200 logic stack around timer boxes
+/// (`keep_stack`) and start MAIN with the off-delay timers' first-scan network.
+pub(super) fn rewrite(
+    units: &mut [CheckedUnit],
+    lines: &BitLines,
+    text: &str,
+    target: &Target,
+    options: CompileOptions,
+    keep_stack: bool,
+) -> TimerBitReport {
+    let mut pass = TimerBitPass {
+        text,
+        target,
+        options,
+        diags: Vec::new(),
+        notes: Vec::new(),
+    };
+    pass.timer_bits(units, &lines.uses, &lines.boxes, keep_stack);
+    TimerBitReport {
+        diagnostics: pass.diags,
+        notes: pass.notes,
+    }
+}
+
+impl TimerBitPass<'_> {
+    fn slice(&self, s: Span) -> &str {
+        self.text.get(s.range()).unwrap_or("")
     }
 
-    /// The word address a name stands for when it is a timer or counter of the target
-    /// (a symbol or a direct address), without reporting anything.
-    fn peek_timer_or_counter(&self, name: Span) -> Option<Address> {
-        let text = self.slice(name);
-        let address = match self.symbols.get(&text.to_ascii_uppercase()) {
-            Some(&(a, _)) => a,
-            None if self.looks_like_address(text) => self.target.memory.parse_address(text).ok()?,
-            None => return None,
-        };
-        let area = self.target.memory.area_by_slot(address.slot)?;
-        matches!(area.kind, AreaKind::Timer | AreaKind::Counter).then_some(address)
+    fn report(&mut self, d: Diagnostic) {
+        self.diags.push(d);
     }
 
-    /// Give every recorded bit use its instructions, scale or warn about timer
-    /// resolutions, keep the S7-200 logic stack around timer boxes, and start MAIN with
-    /// the off-delay timers' first-scan network. `checked` is in unit order (before the
-    /// code check sorts it).
-    pub(super) fn timer_bits(
+    /// [`rewrite`]'s work: `checked` is the checked program's units, in its order.
+    fn timer_bits(
         &mut self,
         checked: &mut [CheckedUnit],
         uses: &[BitUse],
         boxes: &[TimerBox],
-        rules: super::TimerBitRules,
+        keep_stack: bool,
     ) {
         let scaled = self.timer_resolutions(checked, boxes);
         let drivers = self.drivers(checked, boxes);
@@ -260,7 +197,7 @@ impl Checker<'_> {
             };
             edits.insert((u.unit, u.network, u.index), replacement);
         }
-        if rules.keep_stack_around_boxes {
+        if keep_stack {
             self.keep_stack_around_boxes(checked, boxes, &mut edits);
         }
         for ((unit, network, index), replacement) in edits.into_iter().rev() {
@@ -351,14 +288,32 @@ impl Checker<'_> {
                     "S7-200 {what} bit: compiled as `{mnemonic} {name}, {shown}`, the bit of `{}`{extra}",
                     self.slice(driver.span)
                 );
-                self.out.s7200_bits.push((u.operand, note));
+                self.notes.push((u.operand, note));
                 Some(vec![CheckedInstruction {
                     id,
                     operands: vec![driver.timer, right],
                     span: u.span,
                 }])
             }
+            BitOp::Set { .. } => {
+                self.report(
+                    Diagnostic::new(
+                        Code::S7200TimerBit,
+                        u.operand,
+                        format!(
+                            "`S {}` sets an S7-200 timer or counter bit; GUTTA has no such bits",
+                            self.slice(u.name)
+                        ),
+                    )
+                    .label("no counterpart on GUTTA")
+                    .help("keep the state in an M bit (`S M10.0, 1`) and read that bit"),
+                );
+                None
+            }
             BitOp::Reset { count } => {
+                if !self.reset_fits(u, count) {
+                    return None;
+                }
                 let movw = self.instruction_id("MOVW", u.span)?;
                 let mut out = Vec::new();
                 if count > 1 {
@@ -413,6 +368,34 @@ impl Checker<'_> {
                 Some(out)
             }
         }
+    }
+
+    /// Whether `R T37, count` resets numbers of the area only; if not, reported.
+    fn reset_fits(&mut self, u: &BitUse, count: u32) -> bool {
+        let end = u.address.offset + 2 * count;
+        let size = self
+            .target
+            .memory
+            .area_by_slot(u.address.slot)
+            .map_or(0, |a| a.size);
+        if end <= size {
+            return true;
+        }
+        self.report(
+            Diagnostic::new(
+                Code::AddressOutOfTarget,
+                u.operands,
+                format!(
+                    "`R {}, {count}` resets numbers up to {}, past the end of {}'s area ({} numbers)",
+                    self.slice(u.name),
+                    end / 2 - 1,
+                    self.target.name(),
+                    size / 2
+                ),
+            )
+            .label("out of the area"),
+        );
+        false
     }
 
     /// The one instruction kind and preset that give a number's bit its meaning, or an
@@ -515,12 +498,7 @@ impl Checker<'_> {
                 continue;
             };
             let next_spec = set.get(next.id);
-            let reads_top = match next_spec.flow {
-                Flow::Load | Flow::Always => false,
-                Flow::Stack => !matches!(next_spec.mnemonic.as_str(), "LPP" | "LRD"),
-                Flow::Combine | Flow::Output | Flow::Box => true,
-            };
-            if !reads_top {
+            if !reads_top_of_stack(next_spec) {
                 continue;
             }
             if b.depth.is_some_and(|d| d >= max) {
@@ -746,6 +724,16 @@ impl Checker<'_> {
             }
         }
         scaled_presets
+    }
+}
+
+/// Whether an instruction reads the top of the logic stack (the catalog's `Flow`; of
+/// the stack instructions, all but `LPP` and `LRD`, which replace it).
+fn reads_top_of_stack(spec: &Instruction) -> bool {
+    match spec.flow {
+        Flow::Load | Flow::Always => false,
+        Flow::Stack => !matches!(spec.mnemonic.as_str(), "LPP" | "LRD"),
+        Flow::Combine | Flow::Output | Flow::Box => true,
     }
 }
 
