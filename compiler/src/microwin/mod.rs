@@ -106,3 +106,51 @@ impl Desugared {
 
 /// E0408's help in an export: the S7-200's INT0 is no main program here.
 const MISSING_MAIN_HELP: &str = "add `ORGANIZATION_BLOCK MAIN:OB1` ... `END_ORGANIZATION_BLOCK`; in a Micro/WIN export an S7-200 INTERRUPT_BLOCK INTn is interrupt routine INT(n+1), never the main program";
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::check::BitOp;
+    use crate::source::Span;
+
+    /// The stage leaves an ordinary program and says what the checker must apply.
+    #[test]
+    fn an_export_becomes_a_program_and_conventions() {
+        let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD Always_On\nATCH INT_0, 10\nLD T37\n= Q0.0\nEND_ORGANIZATION_BLOCK\n\
+INTERRUPT_BLOCK INT_0:INT0\nBEGIN\nNETWORK 1\nLD SM0.0\n= Q0.1\nEND_INTERRUPT_BLOCK\n";
+        let target = gutta_catalog::stdlib::shared(gutta_catalog::stdlib::DEFAULT).unwrap();
+        let mut program = crate::syntax::parse_microwin_files(text, &[text.len()]).program;
+        let out = desugar(&mut program, text, &target);
+        assert!(program.microwin && !program.gutta_boxes);
+        assert_eq!(
+            program.units[1].header.number.map(|(n, _)| n.number),
+            Some(1)
+        );
+        let c = &out.conventions;
+        assert_eq!(c.interrupt_operand_offset, 1);
+        let always_on = c
+            .predefined_names
+            .iter()
+            .find(|p| p.name == "Always_On")
+            .and_then(|p| p.address);
+        assert_eq!(always_on, target.memory.parse_address("SM0.0").ok());
+        let ten = text.find("10").unwrap();
+        let renumbered = c.renumbered_literals.get(&Span::new(ten, ten + 2));
+        let event = target
+            .memory
+            .event_for_s7200(10)
+            .map(|e| i64::from(e.number));
+        assert_eq!(renumbered.copied(), Some(event));
+        let ld = target.instructions.lookup("LD").unwrap();
+        let lines = c.timer_bit_lines.as_ref().unwrap();
+        assert!(matches!(
+            lines.get(&ld),
+            Some(BitOp::Read { negated: false, .. })
+        ));
+        assert_eq!(lines.len(), 8, "{lines:?}");
+        assert!(out.keep_stack_around_boxes);
+        // GUTTA's own language: nothing to apply.
+        let gutta = Conventions::default();
+        assert!(gutta.timer_bit_lines.is_none() && gutta.predefined_names.is_empty());
+    }
+}

@@ -34,9 +34,8 @@ use crate::CompileOptions;
 /// is a timer or counter, and what each does (`check::Conventions::timer_bit_lines`).
 pub(super) fn bit_lines(target: &Target) -> HashMap<InstrId, BitOp> {
     let set = &target.instructions;
-    ["LD", "A", "O", "LDN", "AN", "ON", "R", "S"]
-        .into_iter()
-        .filter_map(|m| Some((set.lookup(m)?, bit_op(m)?)))
+    set.names()
+        .filter_map(|(_, id)| Some((id, bit_op(&set.get(id).mnemonic)?)))
         .collect()
 }
 
