@@ -7,7 +7,7 @@
 //! event numbers (`events.rs`) and hands Micro/WIN's system symbols over as predefined
 //! names (`names.rs`); after the checker, its pass over the checked code gives the
 //! timer and counter bit lines the checker left as placeholders their instructions
-//! (`timer_bits.rs`). What the checker must apply it gets as plain data
+//! (`timer_bits/`). What the checker must apply it gets as plain data
 //! ([`check::Conventions`](crate::check::Conventions)); it never asks whether a program
 //! is an export. This module imports the syntax tree, diagnostics and the checker's
 //! plain-data types; nothing but `lib.rs` imports it.
@@ -79,7 +79,7 @@ pub fn desugar(program: &mut Program, text: &str, target: &Target) -> Desugared 
 }
 
 impl Desugared {
-    /// The dialect's pass over the checked code (`timer_bits.rs`): the placeholders the
+    /// The dialect's pass over the checked code (`timer_bits/`): the placeholders the
     /// checker left for timer and counter bits get their instructions, timer boxes keep
     /// the S7-200 logic stack, presets are scaled or warned about. Outside the dialect
     /// the checker records no such line and nothing happens.

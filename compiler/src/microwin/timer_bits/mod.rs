@@ -15,20 +15,25 @@
 //!
 //! It runs once the checker has checked every unit, since a bit may be read before (or
 //! in another block than) the instruction that gives it its meaning, and it needs the
-//! resolved operands (addresses, constant presets) only the checker has.
+//! resolved operands (addresses, constant presets) only the checker has. Here: the bit
+//! uses and the drivers that give them a meaning; `stack.rs` (LPS/LPP around boxes),
+//! `first_scan.rs` (the TOF first-scan network), `resolutions.rs` (W0207, scaling).
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 
-use gutta_catalog::s7200_timers::{s7200_timer_resolution, scale_preset, S7200TimerFamily};
-use gutta_catalog::{Address, AreaKind, BlockKind, Flow, InstrId, Instruction, Target, Width};
+use gutta_catalog::{Address, AreaKind, InstrId, Target, Width};
 
 use crate::check::{
-    BitLines, BitOp, BitUse, CheckedInstruction, CheckedNetwork, CheckedOperand, CheckedUnit,
-    ConstValue, TimerBox, Use,
+    BitLines, BitOp, BitUse, CheckedInstruction, CheckedOperand, CheckedUnit, ConstValue, TimerBox,
+    Use,
 };
 use crate::diagnostics::{Code, Diagnostic};
 use crate::source::Span;
 use crate::CompileOptions;
+
+mod first_scan;
+mod resolutions;
+mod stack;
 
 /// The instructions whose lines use a timer's or counter's bit when their first operand
 /// is a timer or counter, and what each does (`check::Conventions::timer_bit_lines`).
@@ -473,267 +478,6 @@ impl TimerBitPass<'_> {
         }
         id
     }
-
-    /// Wrap each timer box that an instruction reading the top of the stack follows
-    /// in `LPS`/`LPP`: an S7-200 timer leaves the stack as it found it.
-    fn keep_stack_around_boxes(
-        &mut self,
-        checked: &[CheckedUnit],
-        boxes: &[TimerBox],
-        edits: &mut BTreeMap<(usize, usize, usize), Vec<CheckedInstruction>>,
-    ) {
-        let set = &self.target.instructions;
-        let (Some(lps), Some(lpp)) = (set.lookup("LPS"), set.lookup("LPP")) else {
-            return;
-        };
-        let max = i32::from(set.logic_stack_depth);
-        for b in boxes {
-            let list = &checked[b.unit].networks[b.network].instructions;
-            let ins = &list[b.index];
-            if S7200TimerFamily::of_mnemonic(&set.get(ins.id).mnemonic).is_none() {
-                continue;
-            }
-            let Some(next) = list.get(b.index + 1) else {
-                continue;
-            };
-            let next_spec = set.get(next.id);
-            if !reads_top_of_stack(next_spec) {
-                continue;
-            }
-            if b.depth.is_some_and(|d| d >= max) {
-                self.report(
-                    Diagnostic::new(
-                        Code::StackOverflow,
-                        b.span,
-                        format!(
-                            "an S7-200 timer keeps its input on the logic stack for the next instruction; \
-                             here that needs one more level than the {max} the stack holds"
-                        ),
-                    )
-                    .help("combine branches with ALD or OLD before the timer"),
-                );
-                continue;
-            }
-            let at = ins.span;
-            edits.insert(
-                (b.unit, b.network, b.index),
-                vec![
-                    CheckedInstruction {
-                        id: lps,
-                        operands: Vec::new(),
-                        span: at,
-                    },
-                    ins.clone(),
-                    CheckedInstruction {
-                        id: lpp,
-                        operands: Vec::new(),
-                        span: at,
-                    },
-                ],
-            );
-        }
-    }
-
-    /// MAIN's first-scan network: `LD` the first-scan bit, then set every off-delay
-    /// timer whose bit is used to its start value.
-    fn first_scan_network(
-        &mut self,
-        checked: &mut [CheckedUnit],
-        inits: &[(CheckedOperand, CheckedOperand, Span)],
-    ) {
-        let at = inits[0].2;
-        let Some(main) = checked
-            .iter_mut()
-            .find(|u| u.kind == BlockKind::Interrupt && u.number == 0)
-        else {
-            return; // E0408 says MAIN is missing.
-        };
-        let first_scan = self
-            .target
-            .memory
-            .system_bits
-            .iter()
-            .find(|b| b.name == "FIRST_SCAN")
-            .and_then(|b| self.target.memory.parse_address(&b.address).ok());
-        let (Some(bit), Some(ld), Some(movw)) = (
-            first_scan,
-            self.target.instructions.lookup("LD"),
-            self.target.instructions.lookup("MOVW"),
-        ) else {
-            self.report(Diagnostic::new(
-                Code::S7200TimerBit,
-                at,
-                format!(
-                    "{} has no first-scan bit (`FIRST_SCAN`), which a TOF's S7-200 bit needs",
-                    self.target.name()
-                ),
-            ));
-            return;
-        };
-        let mut instructions = vec![CheckedInstruction {
-            id: ld,
-            operands: vec![CheckedOperand::Memory {
-                address: bit,
-                use_: Use::Value,
-                width: Width::Bit,
-            }],
-            span: at,
-        }];
-        instructions.extend(inits.iter().map(|(start, timer, span)| CheckedInstruction {
-            id: movw,
-            operands: vec![*start, *timer],
-            span: *span,
-        }));
-        match main.networks.first_mut() {
-            Some(first) if first.number == 0 => {
-                first.instructions.splice(0..0, instructions);
-            }
-            _ => main.networks.insert(
-                0,
-                CheckedNetwork {
-                    number: 0,
-                    title: None,
-                    span: at,
-                    instructions,
-                },
-            ),
-        }
-    }
-
-    /// W0207 for every timer number whose S7-200 resolution differs from the target's,
-    /// once per number; with `--scale-timer-presets` its constant presets are scaled
-    /// instead (W0207 only where rounding changes the time, or the preset is in memory).
-    /// Returns the spans of the presets it scaled.
-    fn timer_resolutions(
-        &mut self,
-        checked: &mut [CheckedUnit],
-        boxes: &[TimerBox],
-    ) -> HashSet<Span> {
-        let mut scaled_presets = HashSet::new();
-        let mut warned: HashSet<u32> = HashSet::new();
-        for b in boxes {
-            let ins = &checked[b.unit].networks[b.network].instructions[b.index];
-            let mnemonic = self.target.instructions.get(ins.id).mnemonic.clone();
-            let Some(family) = S7200TimerFamily::of_mnemonic(&mnemonic) else {
-                continue;
-            };
-            let Some(CheckedOperand::Memory { address, .. }) = ins.operands.first() else {
-                continue;
-            };
-            let number = address.offset / 2;
-            let (Some(s7), Some(here)) = (
-                s7200_timer_resolution(family, number),
-                self.target.memory.timer_resolution(number),
-            ) else {
-                continue;
-            };
-            if s7 == here {
-                continue;
-            }
-            let preset = ins.operands.get(1).copied();
-            let constant = match preset {
-                Some(CheckedOperand::Constant {
-                    value: ConstValue::Integer(v),
-                    ..
-                }) => Some(v),
-                _ => None,
-            };
-            let timer = format!("T{number}");
-            let target = self.target.name().to_string();
-            let both = format!(
-                "`{timer}` counts {s7} ms on an S7-200 ({}) and {here} ms on {target}",
-                family.describe()
-            );
-            if !self.options.scale_timer_presets {
-                if !warned.insert(number) {
-                    continue;
-                }
-                let effect = match constant {
-                    Some(v) => format!(
-                        "its preset {v} means {} on an S7-200 and {} here",
-                        duration(v, s7),
-                        duration(v, here)
-                    ),
-                    None => format!(
-                        "its preset `{}` is in units of {here} ms here, not {s7} ms",
-                        self.slice(b.preset)
-                    ),
-                };
-                let help = match constant.and_then(|v| scale_preset(v, s7, here)) {
-                    Some(scaled) => format!(
-                        "--scale-timer-presets keeps the S7-200 timing ({} becomes {scaled}), or use a timer number with {s7} ms here",
-                        constant.unwrap_or_default()
-                    ),
-                    None => format!("use a timer number that counts {s7} ms on {target}, or rewrite the preset"),
-                };
-                self.report(
-                    Diagnostic::new(Code::TimerResolution, b.preset, format!("{both}: {effect}"))
-                        .help(help),
-                );
-                continue;
-            }
-            let Some(v) = constant else {
-                if warned.insert(number) {
-                    self.report(
-                        Diagnostic::new(
-                            Code::TimerResolution,
-                            b.preset,
-                            format!(
-                                "{both}: the preset `{}` is in memory, so --scale-timer-presets cannot scale it",
-                                self.slice(b.preset)
-                            ),
-                        )
-                        .help(format!("store the preset in units of {here} ms")),
-                    );
-                }
-                continue;
-            };
-            let Some(scaled) = scale_preset(v, s7, here) else {
-                self.report(
-                    Diagnostic::new(
-                        Code::ConstantOutOfRange,
-                        b.preset,
-                        format!(
-                            "{both}: the preset {v} ({}) does not fit a preset in {here} ms units (at most 32767)",
-                            duration(v, s7)
-                        ),
-                    )
-                    .help(format!("use a timer number that counts {s7} ms on {target}")),
-                );
-                continue;
-            };
-            if scaled * i64::from(here) != v * i64::from(s7) && warned.insert(number) {
-                self.report(Diagnostic::new(
-                    Code::TimerResolution,
-                    b.preset,
-                    format!(
-                        "{both}: the preset {v} ({}) is scaled to {scaled} ({}), the nearest it can count",
-                        duration(v, s7),
-                        duration(scaled, here)
-                    ),
-                ));
-            }
-            if let Some(CheckedOperand::Constant { value, .. }) =
-                checked[b.unit].networks[b.network].instructions[b.index]
-                    .operands
-                    .get_mut(1)
-            {
-                *value = ConstValue::Integer(scaled);
-                scaled_presets.insert(b.preset);
-            }
-        }
-        scaled_presets
-    }
-}
-
-/// Whether an instruction reads the top of the logic stack (the catalog's `Flow`; of
-/// the stack instructions, all but `LPP` and `LRD`, which replace it).
-fn reads_top_of_stack(spec: &Instruction) -> bool {
-    match spec.flow {
-        Flow::Load | Flow::Always => false,
-        Flow::Stack => !matches!(spec.mnemonic.as_str(), "LPP" | "LRD"),
-        Flow::Combine | Flow::Output | Flow::Box => true,
-    }
 }
 
 /// A WORD constant operand.
@@ -763,30 +507,5 @@ fn off_delay_start(preset: &CheckedOperand) -> CheckedOperand {
     match preset {
         CheckedOperand::Constant { .. } => *preset,
         _ => word_constant(CURRENT_MAX),
-    }
-}
-
-/// `units` of `ms` milliseconds, for messages: `5 s`, `0.5 s`, `40 ms`.
-fn duration(units: i64, ms: u32) -> String {
-    let total = units * i64::from(ms);
-    if total.abs() < 1000 {
-        format!("{total} ms")
-    } else if total % 1000 == 0 {
-        format!("{} s", total / 1000)
-    } else {
-        format!("{} s", total as f64 / 1000.0)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::duration;
-
-    #[test]
-    fn durations_read_naturally() {
-        assert_eq!(duration(5, 100), "500 ms");
-        assert_eq!(duration(50, 100), "5 s");
-        assert_eq!(duration(15, 100), "1.5 s");
-        assert_eq!(duration(4, 10), "40 ms");
     }
 }
