@@ -64,16 +64,14 @@ impl Checker<'_> {
         }
         self.call_graph(&cx.calls);
         // Order: interrupts by number (MAIN first), then subroutines by number.
-        let mut order: Vec<usize> = (0..checked.len()).collect();
-        order.sort_by_key(|&i| (checked[i].kind == BlockKind::Subroutine, checked[i].number));
-        let mut position = vec![0; order.len()];
-        for (new, &old) in order.iter().enumerate() {
-            position[old] = new;
+        let mut indexed: Vec<(usize, CheckedUnit)> = checked.into_iter().enumerate().collect();
+        indexed.sort_by_key(|(_, u)| (u.kind == BlockKind::Subroutine, u.number));
+        let mut position = vec![0; indexed.len()];
+        for (new, (old, _)) in indexed.iter().enumerate() {
+            position[*old] = new;
         }
         cx.bit_lines.renumber_units(&position);
-        let mut slots: Vec<Option<CheckedUnit>> = checked.into_iter().map(Some).collect();
-        let sorted = order.iter().filter_map(|&i| slots[i].take()).collect();
-        (sorted, cx.bit_lines)
+        (indexed.into_iter().map(|(_, u)| u).collect(), cx.bit_lines)
     }
 
     /// `LBL n` of every unit: unit -> label -> span.

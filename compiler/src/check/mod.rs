@@ -170,7 +170,8 @@ impl<'a> Checker<'a> {
     }
 }
 
-/// Check a parsed program against a target.
+/// Check a parsed program against a target, applying what an earlier stage settled
+/// (`Conventions::default()` for GUTTA's own language).
 pub fn check(text: &str, ast: &Program, target: &Target, conventions: &Conventions) -> CheckOutput {
     let mut c = Checker {
         text,
