@@ -58,12 +58,8 @@ pub struct CheckedFile {
     pub target: Arc<Target>,
     pub ast: Program,
     pub output: CheckOutput,
-    /// In a Micro/WIN export, every event operand that translated (`10` of
-    /// `ATCH INT_0, 10`): the S7-200 event it names and the GUTTA event it compiles to.
-    pub s7200_events: Vec<microwin::EventTranslation>,
-    /// In a Micro/WIN export, S7-200 timer and counter bit operands (`T37` of
-    /// `LD T37`) and what they compile to, one Markdown line each (for hover).
-    pub s7200_bits: Vec<(source::Span, String)>,
+    /// Set for a Micro/WIN export: what the dialect's stage did to it (docs/microwin.md).
+    pub microwin: Option<microwin::Export>,
 }
 
 impl CheckedFile {
@@ -79,14 +75,7 @@ impl CheckedFile {
     /// event numbers that compile to another GUTTA number, as one line for the compile
     /// summary and the listing (docs/microwin.md); None when there is nothing to show.
     pub fn microwin_summary(&self) -> Option<String> {
-        let parts: Vec<String> = [
-            microwin::interrupt_summary(&self.ast),
-            microwin::event_summary(&self.s7200_events, &self.target),
-        ]
-        .into_iter()
-        .flatten()
-        .collect();
-        (!parts.is_empty()).then(|| parts.join("; "))
+        self.microwin.as_ref()?.summary(&self.target)
     }
 }
 
@@ -126,12 +115,11 @@ pub fn check_source_with(
     let mut desugared = Desugared::default();
     if microwin {
         desugared = microwin::desugar(&mut parsed.program, &file.text, &target);
-        diagnostics.append(&mut desugared.diagnostics);
     }
+    diagnostics.append(&mut desugared.diagnostics);
     let mut output = check::check(&file.text, &parsed.program, &target, &desugared.conventions);
     diagnostics.append(&mut output.diagnostics);
-    let mut timer_bits = desugared.after_check(&mut output, &file.text, &target, options);
-    diagnostics.append(&mut timer_bits.diagnostics);
+    diagnostics.extend(desugared.after_check(&mut output, &file.text, &target, options));
     diagnostics.sort_by_key(|d| (d.primary.span.start, d.primary.span.end));
     if diagnostics.iter().any(Diagnostic::is_error) {
         output.program = None;
@@ -144,8 +132,7 @@ pub fn check_source_with(
         target,
         ast: parsed.program,
         output,
-        s7200_events: desugared.events,
-        s7200_bits: timer_bits.notes,
+        microwin: desugared.export,
     }
 }
 

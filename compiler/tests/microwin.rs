@@ -274,7 +274,10 @@ fn a_program_split_one_block_per_file_compiles() {
     assert!(compiled.image.is_some());
     assert_eq!(c.target.name(), "CPU-EC20");
     assert_eq!(
-        microwin::interrupt_summary(&c.ast).as_deref(),
+        c.microwin
+            .as_ref()
+            .and_then(|m| microwin::interrupt_summary(&m.interrupt_placements))
+            .as_deref(),
         directive(&expected, "summary")
     );
     let blocks: Vec<String> = c

@@ -4,7 +4,19 @@
 //! that says where each went. It edits block headers only; code is never touched.
 
 use crate::source::{has_gutta_boxes, Span};
-use crate::syntax::ast::{BlockKind, BlockPrefix, InterruptPlacement, Program, Unit};
+use crate::syntax::ast::{BlockKind, BlockPrefix, Program, Unit};
+
+/// An S7-200 `INTERRUPT_BLOCK NAME:INTn` of a Micro/WIN export and its GUTTA page.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct InterruptPlacement {
+    /// The block's name as written (`INT_0`, `中断程序_0`).
+    pub name: String,
+    /// S7-200's number (`INT0` -> 0).
+    pub s7_number: u32,
+    /// GUTTA's interrupt number (S7-200's plus one), or None: the block was empty and
+    /// nothing attaches it, so it was dropped.
+    pub gutta_number: Option<u32>,
+}
 
 /// How far S7-200's interrupt numbers are from GUTTA's: `INTn` is GUTTA's INT(n+1).
 pub(super) const INTERRUPT_OFFSET: u32 = 1;
@@ -18,7 +30,7 @@ pub(super) const INTERRUPT_OFFSET: u32 = 1;
 /// text `gutta-cc dis --format awl` wrote (its `GUTTA_BOXES` line) has no templates:
 /// its empty blocks are the image's and stay, so that it compiles back to the same
 /// image.
-pub(super) fn place(program: &mut Program, text: &str) {
+pub(super) fn place(program: &mut Program, text: &str) -> Vec<InterruptPlacement> {
     let templates = !has_gutta_boxes(text);
     let slice = |s: Span| text.get(s.range()).unwrap_or("");
     let named: Vec<String> = program
@@ -60,7 +72,7 @@ pub(super) fn place(program: &mut Program, text: &str) {
         });
     }
     program.units = kept;
-    program.interrupt_placements = placements;
+    placements
 }
 
 /// Whether a unit is Micro/WIN's template subroutine: a `SUBROUTINE_BLOCK` with no
@@ -105,12 +117,11 @@ fn s7_interrupt(unit: &Unit, text: &str) -> Option<u32> {
 /// The placement of the S7-200 interrupt blocks as one line for the compile summary and
 /// the listing: `S7-200 interrupts: INT_0 (INT0) -> INT1; INT_1 (INT1) empty, not
 /// attached: dropped`; None when the program has none.
-pub fn interrupt_summary(program: &Program) -> Option<String> {
-    if program.interrupt_placements.is_empty() {
+pub fn interrupt_summary(placements: &[InterruptPlacement]) -> Option<String> {
+    if placements.is_empty() {
         return None;
     }
-    let parts: Vec<String> = program
-        .interrupt_placements
+    let parts: Vec<String> = placements
         .iter()
         .map(|p| match p.gutta_number {
             Some(g) => format!("{} (INT{}) -> INT{g}", p.name, p.s7_number),
@@ -134,10 +145,10 @@ INTERRUPT_BLOCK INT_0:INT0\nBEGIN\nNETWORK 1\nEND_INTERRUPT_BLOCK\n\
 INTERRUPT_BLOCK INT_1:INT1\nBEGIN\nNETWORK 1\nEND_INTERRUPT_BLOCK\n\
 INTERRUPT_BLOCK INT_2:INT2\nBEGIN\nNETWORK 1\nLD SM0.0\n= Q0.0\nEND_INTERRUPT_BLOCK\n";
         let mut program = crate::syntax::parse(text).program;
-        place(&mut program, text);
+        let placements = place(&mut program, text);
         assert_eq!(program.units.len(), 3);
         assert_eq!(
-            interrupt_summary(&program).as_deref(),
+            interrupt_summary(&placements).as_deref(),
             Some("S7-200 interrupts: INT_0 (INT0) empty, not attached: dropped; INT_1 (INT1) -> INT2; INT_2 (INT2) -> INT3")
         );
     }

@@ -21,26 +21,54 @@ use gutta_catalog::Target;
 
 use crate::check::{CheckOutput, Conventions};
 use crate::diagnostics::Diagnostic;
-use crate::source::{PartKind, SourceFile};
+use crate::source::{PartKind, SourceFile, Span};
 use crate::syntax::ast::Program;
 use crate::CompileOptions;
 
 pub use crate::source::{has_gutta_boxes, has_marker, is_microwin, GUTTA_BOXES, MARKER};
 pub use events::{event_summary, EventTranslation};
-pub use interrupts::interrupt_summary;
-pub use timer_bits::TimerBitReport;
+pub use interrupts::{interrupt_summary, InterruptPlacement};
 
 /// What the stage found that later stages and tools need to know: its diagnostics,
-/// what the checker applies, and the facts the compile summary and hover show.
+/// what the checker applies, and what it did to the export.
 #[derive(Debug, Clone, Default)]
 pub struct Desugared {
     pub diagnostics: Vec<Diagnostic>,
     pub conventions: Conventions,
+    /// Set by [`desugar`]: None for a program in GUTTA's own language.
+    pub export: Option<Export>,
+}
+
+/// What the dialect's stage did to a Micro/WIN export, for the compile summary, hover and
+/// the tools (`CheckedFile::microwin`): the program itself is an ordinary one.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Export {
+    /// Where each S7-200 interrupt block went, in file order.
+    pub interrupt_placements: Vec<InterruptPlacement>,
+    /// Timer boxes keep GUTTA's stack meaning (a [`GUTTA_BOXES`] line): no `LPS`/`LPP`
+    /// around them.
+    pub gutta_boxes: bool,
     /// Every event operand that translated (`10` of `ATCH INT_0, 10`), in program order.
     pub events: Vec<EventTranslation>,
-    /// A timer box keeps the S7-200 logic stack (`LPS`/`LPP` around it) unless the
-    /// export says boxes keep GUTTA's meaning (`GUTTA_BOXES`).
-    pub keep_stack_around_boxes: bool,
+    /// S7-200 timer and counter bit operands (`T37` of `LD T37`) and what they compile
+    /// to, one Markdown line each (for hover); set by [`Desugared::after_check`].
+    pub bits: Vec<(Span, String)>,
+}
+
+impl Export {
+    /// Where its S7-200 interrupt blocks went and the S7-200 event numbers that compile
+    /// to another GUTTA number, as one line for the compile summary and the listing;
+    /// None when there is nothing to show.
+    pub fn summary(&self, target: &Target) -> Option<String> {
+        let parts: Vec<String> = [
+            interrupt_summary(&self.interrupt_placements),
+            event_summary(&self.events, target),
+        ]
+        .into_iter()
+        .flatten()
+        .collect();
+        (!parts.is_empty()).then(|| parts.join("; "))
+    }
 }
 
 /// Whether the program is in the Micro/WIN dialect: one of its sources is a Micro/WIN
@@ -53,12 +81,10 @@ pub fn is_export(file: &SourceFile) -> bool {
 }
 
 /// The dialect's stage on a parsed program (its line rules applied by the parser): the
-/// program becomes an ordinary one, marked as an export, and what the checker must
-/// apply comes back as [`Conventions`].
+/// program becomes an ordinary one, what the checker must apply comes back as
+/// [`Conventions`] and what the stage did as an [`Export`].
 pub fn desugar(program: &mut Program, text: &str, target: &Target) -> Desugared {
-    program.microwin = true;
-    program.gutta_boxes = has_gutta_boxes(text);
-    interrupts::place(program, text);
+    let interrupt_placements = interrupts::place(program, text);
     let mut diagnostics = names::shadowed_system_names(program, text, target);
     let mut events = Vec::new();
     let renumbered_literals =
@@ -73,34 +99,40 @@ pub fn desugar(program: &mut Program, text: &str, target: &Target) -> Desugared 
     Desugared {
         diagnostics,
         conventions,
-        events,
-        keep_stack_around_boxes: !program.gutta_boxes,
+        export: Some(Export {
+            interrupt_placements,
+            gutta_boxes: has_gutta_boxes(text),
+            events,
+            bits: Vec::new(),
+        }),
     }
 }
 
 impl Desugared {
     /// The dialect's pass over the checked code (`timer_bits/`): the placeholders the
     /// checker left for timer and counter bits get their instructions, timer boxes keep
-    /// the S7-200 logic stack, presets are scaled or warned about. Outside the dialect
-    /// the checker records no such line and nothing happens.
+    /// the S7-200 logic stack, presets are scaled or warned about; its diagnostics come
+    /// back. Outside the dialect nothing happens.
     pub fn after_check(
-        &self,
+        &mut self,
         output: &mut CheckOutput,
         text: &str,
         target: &Target,
         options: CompileOptions,
-    ) -> TimerBitReport {
-        let Some(program) = output.program.as_mut() else {
-            return TimerBitReport::default();
+    ) -> Vec<Diagnostic> {
+        let (Some(export), Some(program)) = (self.export.as_mut(), output.program.as_mut()) else {
+            return Vec::new();
         };
-        timer_bits::rewrite(
+        let report = timer_bits::rewrite(
             &mut program.units,
             &output.bit_lines,
             text,
             target,
             options,
-            self.keep_stack_around_boxes,
-        )
+            !export.gutta_boxes,
+        );
+        export.bits = report.notes;
+        report.diagnostics
     }
 }
 
@@ -111,7 +143,6 @@ const MISSING_MAIN_HELP: &str = "add `ORGANIZATION_BLOCK MAIN:OB1` ... `END_ORGA
 mod tests {
     use super::*;
     use crate::check::BitOp;
-    use crate::source::Span;
 
     /// The stage leaves an ordinary program and says what the checker must apply.
     #[test]
@@ -121,7 +152,8 @@ INTERRUPT_BLOCK INT_0:INT0\nBEGIN\nNETWORK 1\nLD SM0.0\n= Q0.1\nEND_INTERRUPT_BL
         let target = gutta_catalog::stdlib::shared(gutta_catalog::stdlib::DEFAULT).unwrap();
         let mut program = crate::syntax::parse_microwin_files(text, &[text.len()]).program;
         let out = desugar(&mut program, text, &target);
-        assert!(program.microwin && !program.gutta_boxes);
+        let export = out.export.as_ref().unwrap();
+        assert!(!export.gutta_boxes && export.events.len() == 1);
         assert_eq!(
             program.units[1].header.number.map(|(n, _)| n.number),
             Some(1)
@@ -148,7 +180,6 @@ INTERRUPT_BLOCK INT_0:INT0\nBEGIN\nNETWORK 1\nLD SM0.0\n= Q0.1\nEND_INTERRUPT_BL
             Some(BitOp::Read { negated: false, .. })
         ));
         assert_eq!(lines.len(), 8, "{lines:?}");
-        assert!(out.keep_stack_around_boxes);
         // GUTTA's own language: nothing to apply.
         let gutta = Conventions::default();
         assert!(gutta.timer_bit_lines.is_none() && gutta.predefined_names.is_empty());

@@ -149,7 +149,7 @@ impl<'a> Resolver<'a> {
             return (Some(symbol.address.clone()), Some(symbol.name.clone()));
         }
         let memory = &self.checked.target.memory;
-        if self.checked.ast.microwin {
+        if self.checked.microwin.is_some() {
             if let Some(bit) = memory.microwin_system_bit(name) {
                 let address = memory.parse_address(&bit.address).ok();
                 let symbol = bit.microwin.clone();
@@ -261,7 +261,11 @@ impl<'a> Resolver<'a> {
         if spec.stack_needs == 1 && spec.stack_delta == 0 && spec.family == "Timer and counter" {
             // A timer. In a Micro/WIN export (without GUTTA's timer boxes) it leaves its
             // input on the stack, as on an S7-200: a box at the end of its branch.
-            let s7200 = self.checked.ast.microwin && !self.checked.ast.gutta_boxes;
+            let s7200 = self
+                .checked
+                .microwin
+                .as_ref()
+                .is_some_and(|m| !m.gutta_boxes);
             let mut b = box_element(spec, ops, line, "IN", (!s7200).then_some("Q"));
             title_from_first_pin(&mut b);
             return if s7200 {

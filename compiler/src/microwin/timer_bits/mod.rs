@@ -141,7 +141,7 @@ struct TimerBitPass<'a> {
 
 /// What the pass gives back: its diagnostics and the hover notes of the bit operands.
 #[derive(Debug, Clone, Default)]
-pub struct TimerBitReport {
+pub(super) struct TimerBitReport {
     pub diagnostics: Vec<Diagnostic>,
     pub notes: Vec<(Span, String)>,
 }
