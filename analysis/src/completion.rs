@@ -576,7 +576,7 @@ fn literal(checked: &CheckedFile, spec: &OperandSpec, items: &mut Items) {
         for e in events {
             // A Micro/WIN export names events by their S7-200 numbers
             // (docs/microwin.md, "Interrupt events").
-            let number = match (checked.ast.microwin, e.microwin) {
+            let number = match (checked.microwin.is_some(), e.microwin) {
                 (false, _) => e.number,
                 (true, Some(s7)) => s7,
                 (true, None) => continue,

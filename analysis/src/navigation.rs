@@ -130,9 +130,9 @@ pub fn hover(checked: &CheckedFile, offset: usize) -> Option<(Span, String)> {
     };
     // An S7-200 timer or counter bit of a Micro/WIN export: what it compiles to.
     if let Some((_, note)) = checked
-        .output
-        .s7200_bits
+        .microwin
         .iter()
+        .flat_map(|m| &m.bits)
         .find(|(s, _)| s.start as usize <= offset && offset <= s.end as usize)
     {
         text = format!("{text}\n\n{note}");

@@ -30,17 +30,6 @@ impl S7200TimerFamily {
         }
     }
 
-    /// The family of a GUTTA timer mnemonic, if it is one. Superseded by
-    /// [`S7200TimerFamily::of_kind`]; kept only until the Micro/WIN pass
-    /// (compiler/src/check/timer_bits.rs) reads the kind, then to be removed.
-    pub fn of_mnemonic(mnemonic: &str) -> Option<S7200TimerFamily> {
-        match mnemonic.to_ascii_uppercase().as_str() {
-            "TON" | "TOF" => Some(S7200TimerFamily::OnOffDelay),
-            "TONR" => Some(S7200TimerFamily::Retentive),
-            _ => None,
-        }
-    }
-
     /// How the family is named in messages.
     pub fn describe(self) -> &'static str {
         match self {
@@ -138,12 +127,12 @@ mod tests {
             .instructions;
         for ins in &set.instructions {
             let by_kind = ins.kind.and_then(S7200TimerFamily::of_kind);
-            assert_eq!(
-                by_kind,
-                S7200TimerFamily::of_mnemonic(&ins.mnemonic),
-                "{}",
-                ins.mnemonic
-            );
+            let expected = match ins.mnemonic.as_str() {
+                "TON" | "TOF" => Some(S7200TimerFamily::OnOffDelay),
+                "TONR" => Some(S7200TimerFamily::Retentive),
+                _ => None,
+            };
+            assert_eq!(by_kind, expected, "{}", ins.mnemonic);
         }
         assert_eq!(
             S7200TimerFamily::of_kind(TimerCounterKind::RetentiveOnDelay),

@@ -3,11 +3,21 @@
 //! program of several files and symbol tables ([`check_program`], [`compile_program`]) is
 //! one joined text with a file table (`SourceFile::join`) through the same pipeline. The
 //! library does no I/O: sources and targets come in as data; `gutta-cc` does the I/O.
+//!
+//! The stages, in order: `syntax` (text -> tree; a Micro/WIN export with its dialect's
+//! line rules), the target (`PLC_TYPE` or the command line), `microwin::desugar` (only
+//! for an export: interrupt blocks placed, template blocks dropped, S7-200 event
+//! numbers translated, system symbols predefined; the checker gets what it must apply
+//! as plain data, `check::Conventions`), `check` (names, operands, limits: the checked
+//! program), `microwin::Desugared::after_check` (an export's timer and counter bits given
+//! their instructions), then `lower` and `encode`. Only this file and `microwin/` know
+//! whether a program is an export.
 
 pub mod check;
 pub mod diagnostics;
 pub mod encode;
 pub mod lower;
+pub mod microwin;
 pub mod source;
 pub mod suggest;
 pub mod syntax;
@@ -18,6 +28,7 @@ use gutta_catalog::{choose_target, stdlib, OwnName, Target, TargetInputs, Target
 
 use crate::check::CheckOutput;
 use crate::diagnostics::{Code, Diagnostic, Suggestion};
+use crate::microwin::Desugared;
 use crate::source::{LineIndex, PartKind, SourceFile};
 use crate::syntax::ast::Program;
 
@@ -49,6 +60,8 @@ pub struct CheckedFile {
     pub target: Arc<Target>,
     pub ast: Program,
     pub output: CheckOutput,
+    /// Set for a Micro/WIN export: what the dialect's stage did to it (docs/microwin.md).
+    pub microwin: Option<microwin::Export>,
 }
 
 impl CheckedFile {
@@ -64,14 +77,7 @@ impl CheckedFile {
     /// event numbers that compile to another GUTTA number, as one line for the compile
     /// summary and the listing (docs/microwin.md); None when there is nothing to show.
     pub fn microwin_summary(&self) -> Option<String> {
-        let parts: Vec<String> = [
-            syntax::microwin::interrupt_summary(&self.ast),
-            check::events::event_summary(&self.output.s7200_events, &self.target),
-        ]
-        .into_iter()
-        .flatten()
-        .collect();
-        (!parts.is_empty()).then(|| parts.join("; "))
+        self.microwin.as_ref()?.summary(&self.target)
     }
 }
 
@@ -104,27 +110,18 @@ pub fn check_source_with(
     explicit: Option<&ExplicitTarget>,
     options: CompileOptions,
 ) -> CheckedFile {
-    let microwin = is_microwin(&file);
-    let parsed = if file.is_joined() {
-        parse_joined(&file, microwin)
-    } else if microwin {
-        syntax::parse_microwin_files(&file.text, &[file.text.len()])
-    } else {
-        syntax::parse(&file.text)
-    };
-    let mut parsed = parsed;
-    parsed.program.gutta_boxes = microwin && syntax::microwin::has_gutta_boxes(&file.text);
-    let mut diagnostics = parsed.diagnostics;
+    let microwin = microwin::is_export(&file);
+    let mut parsed = parse(&file, microwin);
+    let mut diagnostics = std::mem::take(&mut parsed.diagnostics);
     let target = resolve_target(&parsed.program, explicit, &mut diagnostics);
+    let mut desugared = Desugared::default();
     if microwin {
-        diagnostics.extend(syntax::microwin::shadowed_system_names(
-            &parsed.program,
-            &file.text,
-            &target,
-        ));
+        desugared = microwin::desugar(&mut parsed.program, &file.text, &target);
     }
-    let mut output = check::check(&file.text, &parsed.program, &target, options);
+    diagnostics.append(&mut desugared.diagnostics);
+    let mut output = check::check(&file.text, &parsed.program, &target, &desugared.conventions);
     diagnostics.append(&mut output.diagnostics);
+    diagnostics.extend(desugared.after_check(&mut output, &file.text, &target, options));
     diagnostics.sort_by_key(|d| (d.primary.span.start, d.primary.span.end));
     if diagnostics.iter().any(Diagnostic::is_error) {
         output.program = None;
@@ -137,26 +134,14 @@ pub fn check_source_with(
         target,
         ast: parsed.program,
         output,
+        microwin: desugared.export,
     }
 }
 
-/// Whether the program is in the Micro/WIN dialect: one of its sources is a Micro/WIN
-/// export (`syntax::microwin::is_microwin`: `.awl`, or the marker line).
-fn is_microwin(file: &SourceFile) -> bool {
-    if !file.is_joined() {
-        return syntax::microwin::is_microwin(&file.name, &file.text);
-    }
-    file.parts()
-        .iter()
-        .filter(|p| p.kind == PartKind::Source)
-        .any(|p| {
-            syntax::microwin::is_microwin(&p.name, file.text.get(p.start..p.end).unwrap_or(""))
-        })
-}
-
-/// The sources of a joined text parsed as one program, then its symbol tables' rows
+/// The sources of a text (one file, or several joined) parsed as one program, with the
+/// dialect's line rules when it is a Micro/WIN export, then its symbol tables' rows
 /// added to its symbols (after the SYMBOLS blocks', as they follow in the text).
-fn parse_joined(file: &SourceFile, microwin: bool) -> syntax::ParseOutput {
+fn parse(file: &SourceFile, microwin: bool) -> syntax::ParseOutput {
     let parts = file.parts();
     let ends: Vec<usize> = parts
         .iter()

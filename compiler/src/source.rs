@@ -244,7 +244,7 @@ impl SourceFile {
     ) -> Result<(SourceFile, SourceEncoding), EncodingError> {
         let name = name.into();
         let head = String::from_utf8_lossy(&bytes[..bytes.len().min(256)]).into_owned();
-        if table || crate::syntax::microwin::is_microwin(&name, &head) {
+        if table || is_microwin(&name, &head) {
             return Ok(SourceFile::from_code_page_bytes(name, bytes));
         }
         SourceFile::from_bytes(name, bytes).map(|f| (f, SourceEncoding::Utf8))
@@ -253,6 +253,40 @@ impl SourceFile {
     pub fn slice(&self, span: Span) -> &str {
         self.text.get(span.range()).unwrap_or("")
     }
+}
+
+/// The first line that makes a `.lad` file a Micro/WIN export (any case, blanks around).
+pub const MARKER: &str = "// dialect: microwin";
+
+/// Whether a file is a Micro/WIN export (docs/microwin.md): its name ends in `.awl` (any
+/// case), or its first line is [`MARKER`]. Which dialect a file is in is read here, with
+/// its code page, before any stage runs; the dialect's stage is `crate::microwin`.
+pub fn is_microwin(name: &str, text: &str) -> bool {
+    let awl = name
+        .rsplit_once('.')
+        .is_some_and(|(_, ext)| ext.eq_ignore_ascii_case("awl"));
+    awl || has_marker(text)
+}
+
+/// Whether the text's first line is [`MARKER`] (a BOM before it is allowed).
+pub fn has_marker(text: &str) -> bool {
+    let text = text.strip_prefix('\u{FEFF}').unwrap_or(text);
+    text.lines()
+        .next()
+        .is_some_and(|l| l.trim().eq_ignore_ascii_case(MARKER))
+}
+
+/// The comment line that keeps GUTTA's meaning of timer and counter boxes in a
+/// Micro/WIN export: a box leaves its done state on the logic stack, as on GUTTA, not
+/// its input, as on an S7-200 (docs/microwin.md, "Timer and counter bits").
+/// `gutta-cc dis --format awl` writes it, so that its text compiles back to the same
+/// image.
+pub const GUTTA_BOXES: &str = "// timer-boxes: gutta";
+
+/// Whether a line of the text is [`GUTTA_BOXES`] (any case, blanks around).
+pub fn has_gutta_boxes(text: &str) -> bool {
+    text.lines()
+        .any(|l| l.trim().eq_ignore_ascii_case(GUTTA_BOXES))
 }
 
 /// The text encoding a source file was read in.
@@ -359,6 +393,17 @@ mod tests {
         assert_eq!(idx.line_col(&f.text, q), LineCol { line: 2, column: 3 });
         let end = f.text.find('\r').unwrap();
         assert_eq!(idx.line_col(&f.text, end), LineCol { line: 1, column: 6 });
+    }
+
+    #[test]
+    fn awl_names_and_the_marker_choose_the_dialect() {
+        assert!(is_microwin("a/b/MAIN.AWL", "ORGANIZATION_BLOCK MAIN:OB1"));
+        assert!(is_microwin("x.lad", "\u{FEFF}  // Dialect: MicroWIN \r\nX"));
+        assert!(!is_microwin(
+            "x.lad",
+            "ORGANIZATION_BLOCK MAIN:OB1\n// dialect: microwin"
+        ));
+        assert!(!is_microwin("awl", ""));
     }
 
     #[test]

@@ -17,8 +17,8 @@ use std::path::PathBuf;
 
 use common::{actual, expected, root};
 use gutta_compiler::compile;
+use gutta_compiler::microwin;
 use gutta_compiler::source::{SourceEncoding, SourceFile};
-use gutta_compiler::syntax::microwin;
 
 fn corpus() -> Vec<PathBuf> {
     let dir = root().join("tests/data/microwin");
@@ -274,7 +274,10 @@ fn a_program_split_one_block_per_file_compiles() {
     assert!(compiled.image.is_some());
     assert_eq!(c.target.name(), "CPU-EC20");
     assert_eq!(
-        microwin::interrupt_summary(&c.ast).as_deref(),
+        c.microwin
+            .as_ref()
+            .and_then(|m| microwin::interrupt_summary(&m.interrupt_placements))
+            .as_deref(),
         directive(&expected, "summary")
     );
     let blocks: Vec<String> = c

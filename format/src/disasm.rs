@@ -187,7 +187,7 @@ impl<'a> Disassembler<'a> {
             );
         }
         if self.format == Format::Awl {
-            // compiler::syntax::microwin::GUTTA_BOXES: timer boxes as on GUTTA.
+            // compiler::source::GUTTA_BOXES: timer boxes as on GUTTA.
             self.line("// timer-boxes: gutta");
         }
         self.line(&format!("PLC_TYPE {name}"));

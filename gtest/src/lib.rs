@@ -57,7 +57,7 @@ impl ProgramUnderTest {
         Ok(ProgramUnderTest {
             image,
             symbols: checked.symbols(),
-            microwin: checked.ast.microwin,
+            microwin: checked.microwin.is_some(),
             target,
         })
     }

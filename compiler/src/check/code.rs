@@ -5,10 +5,10 @@
 
 use std::collections::{BTreeMap, HashMap};
 
-use gutta_catalog::{rules, BlockKind, InstrId, Instruction};
+use gutta_catalog::{rules, BlockKind, InstrId, Instruction, LoopRole};
 
+use super::bit_lines::{BitLines, TimerBox};
 use super::calls::CallSite;
-use super::timer_bits::{BitUse, TimerBox};
 use super::{CheckedInstruction, CheckedNetwork, CheckedUnit, Checker, DefKind, UnitInfo};
 use crate::diagnostics::{Code, Diagnostic, Suggestion};
 use crate::source::Span;
@@ -24,10 +24,9 @@ pub(super) struct CodeContext {
     pub coils: HashMap<(u8, u32, u8), Span>,
     /// Timers and counters driven: (slot, offset) -> first instruction.
     pub timers: HashMap<(u8, u32), Span>,
-    /// In the Micro/WIN dialect: timer and counter bits used, timer and counter
-    /// instructions (`timer_bits.rs`), and the network being checked (its index).
-    pub bit_uses: Vec<BitUse>,
-    pub boxes: Vec<TimerBox>,
+    /// Where an earlier stage asks for them: timer and counter bits used and timer and
+    /// counter instructions (`bit_lines.rs`); and the network being checked (its index).
+    pub bit_lines: BitLines,
     pub network: usize,
 }
 
@@ -47,14 +46,15 @@ struct ForLoops {
 }
 
 impl Checker<'_> {
-    pub(super) fn code(&mut self) -> Vec<CheckedUnit> {
+    /// Every unit's code, sorted (interrupts by number, MAIN first, then subroutines by
+    /// number), and the bit lines and timer boxes met, their unit indices into it.
+    pub(super) fn code(&mut self) -> (Vec<CheckedUnit>, BitLines) {
         let mut cx = CodeContext {
             labels: self.labels(),
             calls: Vec::new(),
             coils: HashMap::new(),
             timers: HashMap::new(),
-            bit_uses: Vec::new(),
-            boxes: Vec::new(),
+            bit_lines: BitLines::default(),
             network: 0,
         };
         let mut checked = Vec::new();
@@ -63,12 +63,15 @@ impl Checker<'_> {
             checked.push(unit);
         }
         self.call_graph(&cx.calls);
-        if self.ast.microwin {
-            self.timer_bits(&mut checked, &cx.bit_uses, &cx.boxes);
-        }
         // Order: interrupts by number (MAIN first), then subroutines by number.
-        checked.sort_by_key(|u: &CheckedUnit| (u.kind == BlockKind::Subroutine, u.number));
-        checked
+        let mut indexed: Vec<(usize, CheckedUnit)> = checked.into_iter().enumerate().collect();
+        indexed.sort_by_key(|(_, u)| (u.kind == BlockKind::Subroutine, u.number));
+        let mut position = vec![0; indexed.len()];
+        for (new, (old, _)) in indexed.iter().enumerate() {
+            position[*old] = new;
+        }
+        cx.bit_lines.renumber_units(&position);
+        (indexed.into_iter().map(|(_, u)| u).collect(), cx.bit_lines)
     }
 
     /// `LBL n` of every unit: unit -> label -> span.
@@ -141,8 +144,8 @@ impl Checker<'_> {
         let u = &ast.units[info.ast_index];
         let set = &self.target.instructions;
         let mut loops = ForLoops {
-            for_id: set.lookup("FOR"),
-            next_id: set.lookup("NEXT"),
+            for_id: set.by_loop_role(LoopRole::Start),
+            next_id: set.by_loop_role(LoopRole::End),
             max_depth: usize::from(set.for_depth),
             open: Vec::new(),
         };
@@ -231,33 +234,23 @@ impl Checker<'_> {
             }
             self.placement(info, spec, ins.mnemonic);
             self.for_next(id, ins.mnemonic, loops);
-            if self.ast.microwin {
-                match self.timer_bit(ui, spec, ops) {
-                    Some(Some((op, address, operand))) => {
-                        cx.bit_uses.push(BitUse {
-                            unit: ui,
-                            network: cx.network,
-                            index: instructions.len(),
-                            op,
-                            address,
-                            operand,
-                            span: ins.span,
-                        });
-                        // A placeholder: `timer_bits` puts the instructions here.
-                        instructions.push(CheckedInstruction {
-                            id,
-                            operands: Vec::new(),
-                            span: ins.span,
-                        });
-                        continue;
-                    }
-                    Some(None) => continue,
-                    None => {}
-                }
+            let at = (ui, cx.network, instructions.len());
+            if let Some(bit_use) = self.bit_line(at, id, ops, ins.span) {
+                cx.bit_lines.uses.push(bit_use);
+                // A placeholder: the pass after checking puts the instructions here.
+                instructions.push(CheckedInstruction {
+                    id,
+                    operands: Vec::new(),
+                    span: ins.span,
+                });
+                continue;
             }
             if let Some(ci) = self.instruction(ui, id, ins.mnemonic, ops, ins.span, cx) {
-                if self.ast.microwin && spec.family == "Timer and counter" && ops.len() >= 2 {
-                    cx.boxes.push(TimerBox {
+                if self.conventions.timer_bit_lines.is_some()
+                    && spec.family == "Timer and counter"
+                    && ops.len() >= 2
+                {
+                    cx.bit_lines.boxes.push(TimerBox {
                         unit: ui,
                         network: cx.network,
                         index: instructions.len(),

@@ -4,11 +4,11 @@
 //! for the language server. It skips parser error nodes without reporting them again.
 
 mod address;
+mod bit_lines;
 mod calls;
 mod code;
 mod constants;
 mod data;
-pub mod events;
 mod instruction;
 mod memory;
 mod names;
@@ -16,17 +16,16 @@ mod operands;
 pub mod program;
 mod symbols;
 mod system;
-mod timer_bits;
 mod units;
 
 use std::collections::HashMap;
 
-use gutta_catalog::{Address, BlockKind, Target};
+use gutta_catalog::{Address, BlockKind, InstrId, Target};
 
 use crate::diagnostics::Diagnostic;
 use crate::source::Span;
 use crate::syntax::ast::Program;
-use crate::CompileOptions;
+pub use bit_lines::{BitLines, BitOp, BitUse, TimerBox};
 pub use program::*;
 pub use system::PORT_KEYS;
 
@@ -63,7 +62,9 @@ pub struct Reference {
 /// Everything the checker learned about one file.
 #[derive(Debug, Clone, Default)]
 pub struct CheckOutput {
-    /// Set when there were no errors.
+    /// The checked program: from [`check`] always (with what checked of a program with
+    /// errors); the pipeline (`crate::check_source`) keeps it only when no diagnostic
+    /// of any stage is an error.
     pub program: Option<CheckedProgram>,
     pub diagnostics: Vec<Diagnostic>,
     pub definitions: Vec<Definition>,
@@ -72,12 +73,37 @@ pub struct CheckOutput {
     pub addresses: Vec<(Span, Address)>,
     /// Mnemonic spans with their instruction (for hover).
     pub mnemonics: Vec<(Span, gutta_catalog::InstrId)>,
-    /// In a Micro/WIN export, S7-200 timer and counter bit operands (`T37` of
-    /// `LD T37`) and what they compile to, one Markdown line (for hover).
-    pub s7200_bits: Vec<(Span, String)>,
-    /// In a Micro/WIN export, every event operand (`10` of `ATCH INT_0, 10`) with the
-    /// S7-200 event it names and the GUTTA event it compiles to.
-    pub s7200_events: Vec<events::EventTranslation>,
+    /// Lines that use a timer's or counter's bit and the timer boxes, where the
+    /// conventions ask for them (`bit_lines.rs`), for the pass after checking.
+    pub bit_lines: BitLines,
+}
+
+/// What a stage before the checker (a dialect's: `crate::microwin`) settled, as plain
+/// data the checker applies without knowing why. The default is GUTTA's own language.
+#[derive(Debug, Clone, Default)]
+pub struct Conventions {
+    /// Names that stand for an address unless a symbol of the program takes them
+    /// (case-insensitive, the first match wins); also offered as suggestions.
+    pub predefined_names: Vec<PredefinedName>,
+    /// A block operand `INTn` names interrupt routine INT(n + this).
+    pub interrupt_operand_offset: u32,
+    /// Literal operands an earlier stage already turned into the number to check, by
+    /// span; None where it refused the operand (and reported it).
+    pub renumbered_literals: HashMap<Span, Option<i64>>,
+    /// E0408's help (the program has no MAIN), when it must say more than the default.
+    pub missing_main_help: Option<&'static str>,
+    /// The instructions whose lines use a timer's or counter's bit when their first
+    /// operand is a timer or counter (`LD T37`), and what each does; None: no line does
+    /// (`bit_lines.rs`). When set, timer and counter boxes are recorded too.
+    pub timer_bit_lines: Option<HashMap<InstrId, BitOp>>,
+}
+
+/// A name the program may use without declaring it ([`Conventions::predefined_names`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PredefinedName {
+    pub name: String,
+    /// None: offered as a suggestion, but it resolves to nothing.
+    pub address: Option<Address>,
 }
 
 /// Per-unit facts gathered before the code is checked.
@@ -109,7 +135,7 @@ pub(crate) struct Checker<'a> {
     pub data_names: HashMap<String, usize>,
     /// Upper-case names that resolved to nothing: their one diagnostic and later uses.
     pub unknown_names: HashMap<String, names::UnknownName>,
-    pub options: CompileOptions,
+    pub conventions: &'a Conventions,
 }
 
 impl<'a> Checker<'a> {
@@ -144,8 +170,9 @@ impl<'a> Checker<'a> {
     }
 }
 
-/// Check a parsed program against a target.
-pub fn check(text: &str, ast: &Program, target: &Target, options: CompileOptions) -> CheckOutput {
+/// Check a parsed program against a target, applying what an earlier stage settled
+/// (`Conventions::default()` for GUTTA's own language).
+pub fn check(text: &str, ast: &Program, target: &Target, conventions: &Conventions) -> CheckOutput {
     let mut c = Checker {
         text,
         target,
@@ -157,26 +184,24 @@ pub fn check(text: &str, ast: &Program, target: &Target, options: CompileOptions
         units: Vec::new(),
         data_names: HashMap::new(),
         unknown_names: HashMap::new(),
-        options,
+        conventions,
     };
     c.symbols();
     c.units();
     let data_blocks = c.data_blocks();
     let system = c.system_block();
-    let units = c.code();
+    let (units, bit_lines) = c.code();
     c.list_later_uses();
     let mut out = std::mem::take(&mut c.out);
-    let errors = c.diags.iter().any(|d| d.is_error());
     out.diagnostics = c.diags;
-    if !errors {
-        out.program = Some(CheckedProgram {
-            target_name: target.name().to_string(),
-            units,
-            data_blocks,
-            system,
-            system_span: ast.system_blocks.first().map(|b| b.span),
-        });
-    }
+    out.bit_lines = bit_lines;
+    out.program = Some(CheckedProgram {
+        target_name: target.name().to_string(),
+        units,
+        data_blocks,
+        system,
+        system_span: ast.system_blocks.first().map(|b| b.span),
+    });
     out
 }
 

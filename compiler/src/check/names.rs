@@ -91,7 +91,7 @@ impl Checker<'_> {
                 declared: Some(def),
             });
         }
-        if let Some(a) = self.microwin_system_name(text) {
+        if let Some(a) = self.predefined_name(text) {
             self.out.addresses.push((name, a));
             return Some(Variable {
                 address: a,
@@ -112,14 +112,14 @@ impl Checker<'_> {
         None
     }
 
-    /// In the Micro/WIN dialect, Micro/WIN's system symbol `text` (`Always_On`) as the
-    /// target's address for it (the target's `MicroWin` attribute); user symbols win.
-    fn microwin_system_name(&self, text: &str) -> Option<Address> {
-        if !self.ast.microwin {
-            return None;
-        }
-        let bit = self.target.memory.microwin_system_bit(text)?;
-        self.target.memory.parse_address(&bit.address).ok()
+    /// A predefined name (`Conventions`: in a Micro/WIN export, Micro/WIN's system
+    /// symbols such as `Always_On`) as its address; user symbols win.
+    fn predefined_name(&self, text: &str) -> Option<Address> {
+        self.conventions
+            .predefined_names
+            .iter()
+            .find(|p| p.name.eq_ignore_ascii_case(text))?
+            .address
     }
 
     /// A name that is no variable: a unit's, or nothing defined.
@@ -164,17 +164,13 @@ impl Checker<'_> {
             .values()
             .map(|(_, d)| self.out.definitions[*d].name.clone())
             .collect();
-        // In a Micro/WIN export, the target's Micro/WIN system names are names too
-        // (`Alway_On` -> `Always_On`).
-        if self.ast.microwin {
-            names.extend(
-                self.target
-                    .memory
-                    .system_bits
-                    .iter()
-                    .filter_map(|b| b.microwin.clone()),
-            );
-        }
+        // Predefined names are names too (in a Micro/WIN export `Alway_On` -> `Always_On`).
+        names.extend(
+            self.conventions
+                .predefined_names
+                .iter()
+                .map(|p| p.name.clone()),
+        );
         let hint = crate::suggest::closest(text, names.iter().map(String::as_str));
         let d = Diagnostic::new(
             Code::UndefinedSymbol,

@@ -1,6 +1,6 @@
 //! Operands against their instruction's operand spec, by the spec's kind: labels,
-//! literals (`PORT`, `EVNT` narrowed to the target; S7-200 event numbers in a Micro/WIN
-//! export through `events.rs`), program units, and data operands
+//! literals (`PORT`, `EVNT` narrowed to the target; a number an earlier stage renumbered
+//! is checked as renumbered, `Conventions`), program units, and data operands
 //! (variables in `memory.rs`, constants in `constants.rs`). The rules come from the
 //! target's description through `gutta_catalog::rules`, the same the verifier applies.
 
@@ -123,10 +123,10 @@ impl Checker<'_> {
             );
             return None;
         };
-        let n = if self.ast.microwin && rules::is_event_operand(spec) {
-            self.s7200_event_operand(span, n, spec, mnemonic)?
-        } else {
-            n
+        // An event number an earlier stage translated (docs/microwin.md, "Interrupt events").
+        let n = match self.conventions.renumbered_literals.get(&span) {
+            Some(renumbered) => (*renumbered)?,
+            None => n,
         };
         match rules::check_literal(spec, &self.target.memory, n) {
             Ok(()) => Some(CheckedOperand::Literal(n)),
@@ -162,6 +162,21 @@ impl Checker<'_> {
         }
     }
 
+    /// The key (upper case) under which a block operand is looked up: a numbered
+    /// interrupt `INTn` is INT(n + the interrupt operand offset, `Conventions`), any
+    /// other text is as written.
+    fn block_key(&self, text: &str) -> String {
+        let key = text.to_ascii_uppercase();
+        let offset = self.conventions.interrupt_operand_offset;
+        if offset == 0 {
+            return key;
+        }
+        match key.strip_prefix("INT").map(str::parse::<u32>) {
+            Some(Ok(n)) => format!("INT{}", n + offset),
+            _ => key,
+        }
+    }
+
     /// `CALL ADD3`, `ATCH TICK, 10`: a unit of the kind the spec names.
     fn block_operand(
         &mut self,
@@ -170,7 +185,7 @@ impl Checker<'_> {
         mnemonic: &str,
     ) -> Option<CheckedOperand> {
         let text = self.slice(name);
-        let key = crate::syntax::microwin::block_key(self.ast, text);
+        let key = self.block_key(text);
         if !self.unit_names.contains_key(&key)
             && (self.looks_like_address(text) || self.symbols.contains_key(&key))
         {

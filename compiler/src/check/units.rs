@@ -42,11 +42,9 @@ impl Checker<'_> {
             .iter()
             .any(|u| u.kind == BlockKind::Interrupt && u.number == 0)
         {
-            let help = if self.ast.microwin {
-                "add `ORGANIZATION_BLOCK MAIN:OB1` ... `END_ORGANIZATION_BLOCK`; in a Micro/WIN export an S7-200 INTERRUPT_BLOCK INTn is interrupt routine INT(n+1), never the main program"
-            } else {
-                "add `ORGANIZATION_BLOCK MAIN:OB1` ... `BEGIN` ... `END_ORGANIZATION_BLOCK`"
-            };
+            let help = self.conventions.missing_main_help.unwrap_or(
+                "add `ORGANIZATION_BLOCK MAIN:OB1` ... `BEGIN` ... `END_ORGANIZATION_BLOCK`",
+            );
             self.report(
                 Diagnostic::new(
                     Code::MissingMain,

@@ -13,24 +13,6 @@ pub struct Program {
     pub units: Vec<Unit>,
     pub data_blocks: Vec<DataBlock>,
     pub system_blocks: Vec<SystemBlock>,
-    /// The program is a STEP 7-Micro/WIN export (docs/microwin.md, `syntax::microwin`).
-    pub microwin: bool,
-    /// In that dialect, where each S7-200 interrupt block went, in file order.
-    pub interrupt_placements: Vec<InterruptPlacement>,
-    /// In that dialect, timer boxes keep GUTTA's stack meaning (`microwin::GUTTA_BOXES`).
-    pub gutta_boxes: bool,
-}
-
-/// An S7-200 `INTERRUPT_BLOCK NAME:INTn` of a Micro/WIN export and its GUTTA page.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct InterruptPlacement {
-    /// The block's name as written (`INT_0`, `中断程序_0`).
-    pub name: String,
-    /// S7-200's number (`INT0` -> 0).
-    pub s7_number: u32,
-    /// GUTTA's interrupt number (S7-200's plus one), or None: the block was empty and
-    /// nothing attaches it, so it was dropped.
-    pub gutta_number: Option<u32>,
 }
 
 /// `Name : ADDRESS // comment` or `Name : ADDRESS : TYPE // comment` in a SYMBOLS

@@ -6,7 +6,6 @@ pub mod ast;
 mod blocks;
 pub mod lexer;
 mod lines;
-pub mod microwin;
 pub mod numbers;
 pub mod table;
 

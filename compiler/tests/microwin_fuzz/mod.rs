@@ -93,6 +93,6 @@ pub fn run(data: &[u8]) -> Compiled {
     let json = to_json_lines(&checked.file, &checked.index, checked.diagnostics());
     assert_eq!(json.lines().count(), checked.diagnostics().len());
     assert_eq!(compiled.image.is_some(), !checked.has_errors());
-    let _ = gutta_compiler::syntax::microwin::interrupt_summary(&checked.ast);
+    let _ = checked.microwin_summary();
     compiled
 }

@@ -140,7 +140,7 @@ impl<'a> Resolver<'a> {
             return (Some(symbol.address.clone()), Some(symbol.name.clone()));
         }
         let memory = &self.checked.target.memory;
-        if self.checked.ast.microwin {
+        if self.checked.microwin.is_some() {
             if let Some(bit) = memory.microwin_system_bit(name) {
                 let address = memory.parse_address(&bit.address).ok();
                 let symbol = bit.microwin.clone();
@@ -215,7 +215,11 @@ impl<'a> Resolver<'a> {
             Some(kind) if kind.is_timer() => {
                 // In a Micro/WIN export (without GUTTA's timer boxes) a timer leaves its
                 // input on the stack, as on an S7-200: a box at the end of its branch.
-                let s7200 = self.checked.ast.microwin && !self.checked.ast.gutta_boxes;
+                let s7200 = self
+                    .checked
+                    .microwin
+                    .as_ref()
+                    .is_some_and(|m| !m.gutta_boxes);
                 let mut b = box_element(spec, ops, line, enable, output.filter(|_| !s7200));
                 title_from_first_pin(&mut b);
                 return if s7200 {

@@ -64,12 +64,11 @@ pub fn parse_files(text: &str, ends: &[usize]) -> ParseOutput {
     parse_files_in(text, ends, false)
 }
 
-/// [`parse_files`] for a program in the Micro/WIN dialect (`syntax::microwin`): its line
-/// rules (`NOP 0`, `MEND`, `NAME:SBRn` operands), then its tree pass.
+/// [`parse_files`] for a program in the Micro/WIN dialect with its line rules (`NOP 0`,
+/// `MEND`, `NAME:SBRn` operands, `code.rs`). The tree it gives is the parser's; the
+/// dialect's own stage (`crate::microwin::desugar`) runs on it before the checker.
 pub fn parse_microwin_files(text: &str, ends: &[usize]) -> ParseOutput {
-    let mut out = parse_files_in(text, ends, true);
-    super::microwin::apply(&mut out.program, text);
-    out
+    parse_files_in(text, ends, true)
 }
 
 fn parse_files_in(text: &str, ends: &[usize], microwin: bool) -> ParseOutput {
@@ -132,7 +131,7 @@ struct BlockParser<'t> {
     blocks_before_file: usize,
     /// The current file's PLC_TYPE line, once seen.
     file_plc_type: Option<Span>,
-    /// The program is in the Micro/WIN dialect (`syntax::microwin`).
+    /// The program is in the Micro/WIN dialect: apply its line rules (`code.rs`).
     microwin: bool,
     /// In that dialect, the current unit's `MEND`, and whether E0115 was reported.
     mend: Option<(Span, bool)>,
