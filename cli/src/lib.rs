@@ -10,3 +10,4 @@ pub mod fatal;
 pub mod flags;
 pub use gutta_catalog::plural;
 pub mod shell;
+pub mod vars;
