@@ -23,6 +23,8 @@ use gutta_protocol::tcp::{decode_tcp, encode_tcp};
 
 use crate::{ConnectFailure, LinkError};
 
+pub mod fx;
+
 /// A transport's answer to one request PDU: the answer PDU, or a Modbus exception.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Answer {
