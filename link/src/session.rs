@@ -7,8 +7,8 @@
 //! `GUTTA_PASSWORD`'s value and a prompt.
 
 use gutta_catalog::{Address, Target};
-use gutta_format::{LineSettings, PackedOperand};
-use gutta_io::{Connection, Endpoint, Parity};
+use gutta_format::{LineSettings, PackedOperand, Parity};
+use gutta_io::{Connection, Endpoint};
 
 use gutta_protocol::transfer::PackSize;
 
@@ -97,27 +97,15 @@ pub fn serial_line(baud: Option<u32>, parity: Option<Parity>) -> LineSettings {
     let default = LineSettings::DEFAULT;
     LineSettings {
         baud: baud.unwrap_or(default.baud),
-        parity: parity.map_or(default.parity, parity_code),
+        parity: parity.map_or(default.parity, Parity::code),
         ..default
     }
 }
 
-/// A parity as a line's (and a system block's) parity byte: 0 none, 1 even, 2 odd.
-pub fn parity_code(parity: Parity) -> u8 {
-    match parity {
-        Parity::None => 0,
-        Parity::Even => 1,
-        Parity::Odd => 2,
-    }
-}
-
-/// A line's parity byte as the word the flags and `[connection]` spell.
-pub fn parity_name(code: u8) -> &'static str {
-    match code {
-        0 => "none",
-        2 => "odd",
-        _ => "even",
-    }
+/// A line's parity code as the parity a serial port gets: a code other than 0..2 is
+/// even, as [`crate::transport::configure`] sets it.
+pub fn line_parity(line: &LineSettings) -> Parity {
+    Parity::from_code(line.parity).unwrap_or(Parity::Even)
 }
 
 /// Where the password a login tries first comes from.
@@ -426,7 +414,7 @@ mod tests {
         assert_eq!(config.line, LineSettings::DEFAULT);
         assert_eq!(config.describe(), "serial /dev/ttyUSB0");
         let odd = serial_line(Some(9600), Some(Parity::Odd));
-        assert_eq!((odd.baud, parity_name(odd.parity)), (9600, "odd"));
+        assert_eq!((odd.baud, line_parity(&odd)), (9600, Parity::Odd));
         assert!(LinkConfig::from_connection(&Connection::default()).is_none());
     }
 }

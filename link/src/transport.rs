@@ -86,10 +86,10 @@ pub fn configure(port: &mut dyn serialport::SerialPort, line: LineSettings) -> R
         7 => DataBits::Seven,
         _ => DataBits::Eight,
     };
-    let parity = match line.parity {
-        0 => Parity::None,
-        2 => Parity::Odd,
-        _ => Parity::Even,
+    let parity = match crate::session::line_parity(&line) {
+        gutta_format::Parity::None => Parity::None,
+        gutta_format::Parity::Odd => Parity::Odd,
+        gutta_format::Parity::Even => Parity::Even,
     };
     let stop_bits = if line.stop_bits == 2 {
         StopBits::Two

@@ -14,7 +14,7 @@ use gutta_catalog::{stdlib, Target};
 use gutta_cli::plural::count;
 use gutta_format::SymbolTable;
 use gutta_io::Endpoint;
-use gutta_link::session::{parity_name, serial_line};
+use gutta_link::session::{line_parity, serial_line};
 use gutta_link::{Client, ConnectFailure, LinkConfig, LinkError, Session};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::json;
@@ -70,9 +70,9 @@ pub(crate) fn link_config(args: &LinkArgs) -> Result<LinkConfig, Fatal> {
         ));
     };
     let parity = match args.parity {
-        crate::Parity::None => gutta_io::Parity::None,
-        crate::Parity::Even => gutta_io::Parity::Even,
-        crate::Parity::Odd => gutta_io::Parity::Odd,
+        crate::Parity::None => gutta_format::Parity::None,
+        crate::Parity::Even => gutta_format::Parity::Even,
+        crate::Parity::Odd => gutta_format::Parity::Odd,
     };
     Ok(LinkConfig {
         endpoint,
@@ -301,7 +301,7 @@ pub(crate) fn download(online: &Online, dir: &Path, args: &LinkArgs) -> Result<E
                     "note": "station moved",
                     "station": port.address,
                     "baud": line.baud,
-                    "parity": parity_name(line.parity),
+                    "parity": line_parity(&line).name(),
                 })
             );
         } else if moved || serial {
@@ -318,7 +318,7 @@ pub(crate) fn download(online: &Online, dir: &Path, args: &LinkArgs) -> Result<E
                     format!(
                         " --baud {} --parity {}",
                         line.baud,
-                        parity_name(line.parity)
+                        line_parity(&line).name()
                     )
                 } else {
                     String::new()
