@@ -8,7 +8,7 @@ use std::net::TcpStream;
 use std::time::{Duration, Instant};
 
 use gutta_format::LineSettings;
-use gutta_protocol::fx::{FxReply, FxRequest};
+use gutta_protocol::fx::{program_chunks, FxReply, FxRequest};
 use gutta_protocol::fx_client::{FxClient, FxClientConfig, FxEvent, FxFailure};
 
 /// Where the FX-style port is.
@@ -33,6 +33,9 @@ pub enum FxLinkError {
     Failed(FxFailure),
     /// The device answered, but not what the request expects.
     Unexpected(String),
+    /// A program byte read back differs from the one written (the write was not
+    /// ended with E87).
+    Mismatch { address: usize, wrote: u8, read: u8 },
 }
 
 impl std::fmt::Display for FxLinkError {
@@ -43,6 +46,15 @@ impl std::fmt::Display for FxLinkError {
             | FxLinkError::Send(message)
             | FxLinkError::Unexpected(message) => f.write_str(message),
             FxLinkError::Failed(failure) => write!(f, "{failure}"),
+            FxLinkError::Mismatch {
+                address,
+                wrote,
+                read,
+            } => write!(
+                f,
+                "read-back differs at {address:04X}: wrote {wrote:02X}, read {read:02X}; \
+                 the write was not ended (no E87)"
+            ),
         }
     }
 }
@@ -215,5 +227,62 @@ impl FxLink {
                 request.describe()
             ))),
         }
+    }
+
+    /// Read `size` bytes of program memory from 805C (`E01`, 0xFE bytes a frame);
+    /// `progress` is told the bytes of each frame.
+    pub fn upload_program(
+        &mut self,
+        size: usize,
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<Vec<u8>, FxLinkError> {
+        let mut program = Vec::with_capacity(size);
+        for (address, len) in program_chunks(size) {
+            let request = FxRequest::ReadProgram {
+                address,
+                len: len as u8,
+            };
+            program.extend(self.expect_data(&request, len)?);
+            progress(len);
+        }
+        Ok(program)
+    }
+
+    /// Write `program` into program memory from 805C (`E11`), read it back and
+    /// compare (`E01`), then end the write (`E87`); a difference leaves the write
+    /// unended. `progress` is told the bytes of each frame written and read back.
+    pub fn download_program(
+        &mut self,
+        program: &[u8],
+        progress: &mut dyn FnMut(usize),
+    ) -> Result<(), FxLinkError> {
+        let chunks: Vec<(u16, usize)> = program_chunks(program.len()).collect();
+        let mut offset = 0;
+        for &(address, len) in &chunks {
+            self.expect_ack(&FxRequest::WriteProgram {
+                address,
+                data: program[offset..offset + len].to_vec(),
+            })?;
+            offset += len;
+            progress(len);
+        }
+        offset = 0;
+        for &(address, len) in &chunks {
+            let request = FxRequest::ReadProgram {
+                address,
+                len: len as u8,
+            };
+            let back = self.expect_data(&request, len)?;
+            if let Some(n) = (0..len).find(|&n| back[n] != program[offset + n]) {
+                return Err(FxLinkError::Mismatch {
+                    address: usize::from(address) + n,
+                    wrote: program[offset + n],
+                    read: back[n],
+                });
+            }
+            offset += len;
+            progress(len);
+        }
+        self.expect_ack(&FxRequest::EndProgramWrite)
     }
 }

@@ -15,12 +15,9 @@ use gutta_link::transport::{
     fx::{FxLink, FxLinkError},
 };
 use gutta_protocol::fx::{
-    BaudRate, FxRequest, CONFIG_START, MAX_DATA, PROGRAM_CHUNK, PROGRAM_START,
+    BaudRate, FxRequest, CONFIG_START, MAX_DATA, PROGRAM_SIZE, PROGRAM_START,
 };
 use indicatif::{ProgressBar, ProgressStyle};
-
-/// Program memory's size: from 805C to the end of the 64 KiB address space.
-const PROGRAM_SIZE: usize = 0x1_0000 - PROGRAM_START as usize;
 
 /// Where the FX-style port is.
 #[derive(Debug, Clone, Args)]
@@ -208,16 +205,6 @@ fn progress(total: usize, prefix: &'static str) -> Result<ProgressBar, Fatal> {
         .with_prefix(prefix))
 }
 
-/// The chunks of program memory `[PROGRAM_START, PROGRAM_START + size)`: address, length.
-fn program_chunks(size: usize) -> impl Iterator<Item = (u16, usize)> {
-    let chunk = usize::from(PROGRAM_CHUNK);
-    (0..size).step_by(chunk).map(move |offset| {
-        // size <= PROGRAM_SIZE keeps every address inside 0x805C..=0xFFFF.
-        let address = PROGRAM_START.wrapping_add(offset as u16);
-        (address, chunk.min(size - offset))
-    })
-}
-
 /// Runs one `gutta-cc fx` subcommand; prints its result on stdout.
 pub(crate) fn run(action: &FxAction) -> Result<std::process::ExitCode, Fatal> {
     let out = match action {
@@ -312,21 +299,12 @@ fn upload(output: &Path, size: usize, endpoint: &FxEndpoint) -> Result<String, F
     }
     let mut client = connect(endpoint)?;
     let bar = progress(size, "uploading")?;
-    let mut program = Vec::with_capacity(size);
-    for (address, len) in program_chunks(size) {
-        let request = FxRequest::ReadProgram {
-            address,
-            len: len as u8,
-        };
-        match client.expect_data(&request, len) {
-            Ok(data) => program.extend(data),
-            Err(e) => {
-                bar.abandon();
-                return Err(fatal(e));
-            }
-        }
-        bar.inc(len as u64);
-    }
+    let program = client
+        .upload_program(size, &mut |n| bar.inc(n as u64))
+        .map_err(|e| {
+            bar.abandon();
+            fatal(e)
+        })?;
     bar.finish_and_clear();
     gutta_io::write_file_atomically(output, &program)
         .map_err(|e| Fatal::io(format!("cannot write {}: {e}", output.display())))?;
@@ -351,48 +329,13 @@ fn download(file: &Path, endpoint: &FxEndpoint) -> Result<String, Fatal> {
     let mut client = connect(endpoint)?;
     // Every byte is written, then read back: the bar counts both.
     let bar = progress(2 * program.len(), "downloading")?;
-    let result = (|| {
-        let chunks: Vec<(u16, usize)> = program_chunks(program.len()).collect();
-        let mut offset = 0;
-        for &(address, len) in &chunks {
-            client
-                .expect_ack(&FxRequest::WriteProgram {
-                    address,
-                    data: program[offset..offset + len].to_vec(),
-                })
-                .map_err(fatal)?;
-            offset += len;
-            bar.inc(len as u64);
-        }
-        offset = 0;
-        for &(address, len) in &chunks {
-            let request = FxRequest::ReadProgram {
-                address,
-                len: len as u8,
-            };
-            let back = client.expect_data(&request, len).map_err(fatal)?;
-            if let Some(n) = (0..len).find(|&n| back[n] != program[offset + n]) {
-                return Err(Fatal::link(format!(
-                    "read-back differs at {:04X}: wrote {:02X}, read {:02X}; the write was not ended (no E87)",
-                    usize::from(address) + n,
-                    program[offset + n],
-                    back[n]
-                )));
-            }
-            offset += len;
-            bar.inc(len as u64);
-        }
-        client
-            .expect_ack(&FxRequest::EndProgramWrite)
-            .map_err(fatal)
-    })();
-    match result {
-        Ok(()) => bar.finish_and_clear(),
-        Err(e) => {
+    client
+        .download_program(&program, &mut |n| bar.inc(n as u64))
+        .map_err(|e| {
             bar.abandon();
-            return Err(e);
-        }
-    }
+            fatal(e)
+        })?;
+    bar.finish_and_clear();
     Ok(format!(
         "downloaded {} to program memory (805C-{:04X}), read back and compared, write ended (E87)\n",
         count(program.len(), "byte"),
