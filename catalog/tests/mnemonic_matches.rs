@@ -69,7 +69,11 @@ const REMAINING: &[(&str, &[&str], &str)] = &[
         &["LBL", "FOR", "NEXT"],
         "FOR/NEXT: InstructionSet::by_loop_role",
     ),
-    ("format/src/verify/error.rs", &["NEXT"], "the loop error's wording"),
+    (
+        "format/src/verify/error.rs",
+        &["NEXT"],
+        "the loop error's wording",
+    ),
     (
         "analysis/src/completion.rs",
         &["LBL"],

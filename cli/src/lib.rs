@@ -3,8 +3,9 @@
 //! and man pages, the table of flags the tools spell alike (docs/cli.md), the `--plc`/`--target`
 //! flags and the target they choose (`target`), reading a program's files (`sources`), and counts
 //! with their nouns (`plural`, whose home is gutta-catalog so the libraries' messages
-//! share it: `1 page`, `2 pages`). It must not know any one
-//! tool's commands or do any tool's work.
+//! share it: `1 page`, `2 pages`), and the variables gutta-cc and gutta-vm name on the
+//! command line (`vars`: gutta-link's typed `Var` with its JSON and the symbol context).
+//! It must not know any one tool's commands or do any tool's work.
 
 pub mod color;
 pub mod fatal;
@@ -13,3 +14,4 @@ pub use gutta_catalog::plural;
 pub mod shell;
 pub mod sources;
 pub mod target;
+pub mod vars;

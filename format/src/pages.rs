@@ -323,6 +323,54 @@ impl PortEntry {
     }
 }
 
+/// A serial line's parity: the one type of it (a system block's `PORTn.PARITY`,
+/// gutta.toml's and the client's `parity`). In a system page, `PortEntry` and
+/// `LineSettings` it is its code.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Parity {
+    None,
+    Even,
+    Odd,
+}
+
+impl Parity {
+    /// The code: 0 none, 1 even, 2 odd.
+    pub fn code(self) -> u8 {
+        match self {
+            Parity::None => 0,
+            Parity::Even => 1,
+            Parity::Odd => 2,
+        }
+    }
+
+    /// A code as a parity; `None` for a code other than 0..2.
+    pub fn from_code(code: u8) -> Option<Parity> {
+        match code {
+            0 => Some(Parity::None),
+            1 => Some(Parity::Even),
+            2 => Some(Parity::Odd),
+            _ => None,
+        }
+    }
+
+    /// Every parity, in code order.
+    pub const ALL: [Parity; 3] = [Parity::None, Parity::Even, Parity::Odd];
+
+    /// A parity by its name (`none`, `even`, `odd`, as [`Parity::name`] gives it).
+    pub fn from_name(name: &str) -> Option<Parity> {
+        Parity::ALL.into_iter().find(|p| p.name() == name)
+    }
+
+    /// `none`, `even`, `odd`: as gutta.toml and the flags spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Parity::None => "none",
+            Parity::Even => "even",
+            Parity::Odd => "odd",
+        }
+    }
+}
+
 /// A serial line's settings: what a port of the system page says, or `DEFAULT`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct LineSettings {
@@ -347,11 +395,11 @@ impl LineSettings {
 impl std::fmt::Display for LineSettings {
     /// `19200 8E1`.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let parity = match self.parity {
-            0 => 'N',
-            1 => 'E',
-            2 => 'O',
-            _ => '?',
+        let parity = match Parity::from_code(self.parity) {
+            Some(Parity::None) => 'N',
+            Some(Parity::Even) => 'E',
+            Some(Parity::Odd) => 'O',
+            None => '?',
         };
         write!(
             f,

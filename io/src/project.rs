@@ -65,12 +65,8 @@ pub enum Endpoint {
     Serial(String),
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Parity {
-    None,
-    Even,
-    Odd,
-}
+/// `parity`: gutta-format's, the one type of a serial line's parity.
+pub use gutta_format::Parity;
 
 /// Every key a section may hold, for the unknown-key error and its did-you-mean.
 const SECTIONS: &[(&str, &[&str])] = &[

@@ -2,7 +2,10 @@
 //! over TCP, serial RTU) with the PLC operations of UM4001, and the download of an
 //! image as the vendor tool does it. No printing: callers report progress.
 
+pub mod plan;
+pub mod session;
 pub mod transport;
+pub mod var;
 
 use std::collections::BTreeMap;
 
@@ -17,7 +20,12 @@ use gutta_protocol::transfer::{split_page, PackSize};
 
 /// The typed GUTTA messages the client's operations take and return.
 pub use gutta_protocol::message;
-pub use transport::Transport;
+pub use session::{
+    Credentials, LinkConfig, LoginError, NoPrompt, PasswordPrompt, PasswordSource, Session,
+    PASSWORD_ENV,
+};
+pub use transport::{Answer, Transport};
+pub use var::Var;
 
 /// The factory password: 16 x 0xFF.
 pub const FACTORY_PASSWORD: [u8; 16] = [0xFF; 16];
@@ -114,15 +122,16 @@ impl std::error::Error for LinkError {}
 ///
 /// use gutta_compiler::{compile, source::SourceFile};
 /// use gutta_format::{Operand, PackedOperand};
-/// use gutta_link::{Client, LinkError, Transport, FACTORY_PASSWORD};
+/// use gutta_link::{Answer, Client, LinkError, Transport, FACTORY_PASSWORD};
 /// use gutta_sim::plc::{ConnectionId, Plc};
 ///
 /// #[derive(Debug)]
 /// struct InProcess(Plc);
 ///
 /// impl Transport for InProcess {
-///     fn exchange(&mut self, _station: u8, pdu: &[u8]) -> Result<Vec<u8>, LinkError> {
-///         Ok(gutta_sim::session::answer(&mut self.0, ConnectionId(1), pdu, 0))
+///     fn exchange(&mut self, _station: u8, pdu: &[u8]) -> Result<Answer, LinkError> {
+///         let pdu = gutta_sim::session::answer(&mut self.0, ConnectionId(1), pdu, 0);
+///         Ok(Answer::from_pdu(pdu))
 ///     }
 /// }
 ///
@@ -195,21 +204,20 @@ impl Client {
             .encode()
             .and_then(|frame| frame.to_pdu().map_err(Into::into))
             .map_err(|e| LinkError::Protocol(e.to_string()))?;
-        let answer = self.transport.exchange(self.station, &pdu)?;
-        if let [f, code] = answer[..] {
-            let busy = ExceptionCode::ServerDeviceBusy.byte();
-            if f & 0x80 != 0 && pdu.first() == Some(&(f & 0x7F)) && code == busy {
+        let answer = match self.transport.exchange(self.station, &pdu)? {
+            Answer::Pdu(answer) => answer,
+            Answer::Exception { function, code }
+                if code == ExceptionCode::ServerDeviceBusy.byte()
+                    && pdu.first() == Some(&function) =>
+            {
                 return Err(LinkError::Busy {
                     what: what.to_string(),
-                });
+                })
             }
-            if f & 0x80 != 0 {
-                return Err(LinkError::Exception {
-                    function: f & 0x7F,
-                    code,
-                });
+            Answer::Exception { function, code } => {
+                return Err(LinkError::Exception { function, code })
             }
-        }
+        };
         let response = GuttaFrame::from_pdu(&answer)
             .map_err(MessageError::from)
             .and_then(|frame| Response::decode(&frame))
@@ -249,13 +257,9 @@ impl Client {
 
     /// A standard Modbus request PDU; the answer PDU (exceptions are errors).
     pub fn modbus(&mut self, pdu: &[u8]) -> Result<Vec<u8>, LinkError> {
-        let answer = self.transport.exchange(self.station, pdu)?;
-        match answer[..] {
-            [f, code] if f & 0x80 != 0 => Err(LinkError::Exception {
-                function: f & 0x7F,
-                code,
-            }),
-            _ => Ok(answer),
+        match self.transport.exchange(self.station, pdu)? {
+            Answer::Pdu(answer) => Ok(answer),
+            Answer::Exception { function, code } => Err(LinkError::Exception { function, code }),
         }
     }
 

@@ -17,15 +17,40 @@ use std::time::{Duration, Instant};
 
 use gutta_format::LineSettings;
 use gutta_protocol::master::{Master, MasterConfig, MasterEvent};
-use gutta_protocol::modbus::EXCEPTION_BIT;
+use gutta_protocol::modbus::exception_of;
 use gutta_protocol::stream::TcpSplitter;
 use gutta_protocol::tcp::{decode_tcp, encode_tcp};
 
 use crate::{ConnectFailure, LinkError};
 
+pub mod fx;
+
+/// A transport's answer to one request PDU: the answer PDU, or a Modbus exception.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Answer {
+    Pdu(Vec<u8>),
+    /// `function` is the request's function code (without the exception bit), `code`
+    /// the exception code as received.
+    Exception {
+        function: u8,
+        code: u8,
+    },
+}
+
+impl Answer {
+    /// An answer PDU received whole (Modbus TCP, a PLC in the same process): an
+    /// exception in its exact shape (`modbus::exception_of`) is one.
+    pub fn from_pdu(pdu: Vec<u8>) -> Answer {
+        match exception_of(&pdu) {
+            Some((function, code)) => Answer::Exception { function, code },
+            None => Answer::Pdu(pdu),
+        }
+    }
+}
+
 /// One request, one answer.
 pub trait Transport: std::fmt::Debug {
-    fn exchange(&mut self, station: u8, pdu: &[u8]) -> Result<Vec<u8>, LinkError>;
+    fn exchange(&mut self, station: u8, pdu: &[u8]) -> Result<Answer, LinkError>;
 
     /// Switch a serial line to `line` (PLC_CLEAR and a reset change the PLC's); a
     /// transport without a line ignores it.
@@ -61,10 +86,10 @@ pub fn configure(port: &mut dyn serialport::SerialPort, line: LineSettings) -> R
         7 => DataBits::Seven,
         _ => DataBits::Eight,
     };
-    let parity = match line.parity {
-        0 => Parity::None,
-        2 => Parity::Odd,
-        _ => Parity::Even,
+    let parity = match crate::session::line_parity(&line) {
+        gutta_format::Parity::None => Parity::None,
+        gutta_format::Parity::Odd => Parity::Odd,
+        gutta_format::Parity::Even => Parity::Even,
     };
     let stop_bits = if line.stop_bits == 2 {
         StopBits::Two
@@ -103,7 +128,7 @@ impl TcpTransport {
 }
 
 impl Transport for TcpTransport {
-    fn exchange(&mut self, station: u8, pdu: &[u8]) -> Result<Vec<u8>, LinkError> {
+    fn exchange(&mut self, station: u8, pdu: &[u8]) -> Result<Answer, LinkError> {
         for _ in 0..=self.retries {
             self.transaction = self.transaction.wrapping_add(1);
             let frame = encode_tcp(self.transaction, station, pdu)
@@ -126,7 +151,7 @@ impl Transport for TcpTransport {
                     let frame =
                         decode_tcp(&frame).map_err(|e| LinkError::Protocol(e.to_string()))?;
                     if frame.transaction == self.transaction {
-                        return Ok(frame.pdu);
+                        return Ok(Answer::from_pdu(frame.pdu));
                     }
                 }
             }
@@ -242,7 +267,7 @@ impl<S: Read + Write + Line + std::fmt::Debug> Transport for RtuTransport<S> {
         Line::set_line(&mut self.port, line).map_err(LinkError::Io)
     }
 
-    fn exchange(&mut self, station: u8, pdu: &[u8]) -> Result<Vec<u8>, LinkError> {
+    fn exchange(&mut self, station: u8, pdu: &[u8]) -> Result<Answer, LinkError> {
         let bytes = self
             .master
             .send(station, pdu, self.now())
@@ -265,11 +290,9 @@ impl<S: Read + Write + Line + std::fmt::Debug> Transport for RtuTransport<S> {
                 Err(e) => return Err(LinkError::Io(e.to_string())),
             };
             match event {
-                MasterEvent::Response(frame) => return Ok(frame.pdu),
-                // The transport's answer is the PDU, over TCP and RTU alike: the
-                // exception's two bytes, which `Client` reports as an exception.
+                MasterEvent::Response(frame) => return Ok(Answer::Pdu(frame.pdu)),
                 MasterEvent::Exception { function, code, .. } => {
-                    return Ok(vec![function | EXCEPTION_BIT, code])
+                    return Ok(Answer::Exception { function, code })
                 }
                 MasterEvent::Retry(bytes) => self
                     .port

@@ -7,7 +7,6 @@
 //! asked about. This file decides which operands and what to show; it knows no
 //! positions (the handler converts) and never waits for the PLC.
 
-mod batch;
 mod poller;
 
 use std::collections::BTreeMap;

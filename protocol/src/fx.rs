@@ -28,6 +28,22 @@ pub const PROGRAM_START: u16 = 0x805C;
 pub const CONFIG_START: u16 = 0x8000;
 /// How many bytes one `E01` frame of an upload reads (805C, 815A, 8258, 8356, ...).
 pub const PROGRAM_CHUNK: u8 = 0xFE;
+/// Program memory's size: from [`PROGRAM_START`] to the end of the 64 KiB address space.
+pub const PROGRAM_SIZE: usize = 0x1_0000 - PROGRAM_START as usize;
+
+/// The `E01`/`E11` frames of program memory `[PROGRAM_START, PROGRAM_START + size)`:
+/// address and length, [`PROGRAM_CHUNK`] bytes each but the last (`size` at most
+/// [`PROGRAM_SIZE`]).
+pub fn program_chunks(size: usize) -> impl Iterator<Item = (u16, usize)> {
+    let chunk = usize::from(PROGRAM_CHUNK);
+    (0..size.min(PROGRAM_SIZE))
+        .step_by(chunk)
+        .map(move |offset| {
+            // offset < PROGRAM_SIZE keeps every address inside 0x805C..=0xFFFF.
+            let address = PROGRAM_START.wrapping_add(offset as u16);
+            (address, chunk.min(size.min(PROGRAM_SIZE) - offset))
+        })
+}
 
 /// Everything that can be wrong with a frame or a request.
 #[derive(Debug, Clone, PartialEq, Eq)]

@@ -11,6 +11,7 @@
 
 pub mod function;
 pub mod fx;
+pub mod fx_client;
 pub mod gateway;
 pub mod gutta;
 pub mod master;

@@ -8,7 +8,7 @@ use std::fmt;
 use gutta_catalog::plural;
 
 use crate::gutta::{GuttaFrame, FAILURE_BIT, MODBUS_FUNCTION_GUTTA};
-use crate::modbus::EXCEPTION_BIT;
+use crate::modbus::{exception_of, EXCEPTION_BIT};
 use crate::rtu::{decode_rtu, encode_rtu, FrameError, RtuFrame};
 use crate::stream::{RtuSplitter, Side, DEFAULT_MAX_RTU_FRAME};
 
@@ -268,14 +268,11 @@ fn answer(outstanding: &Outstanding, frame: RtuFrame) -> Option<MasterEvent> {
     let function = frame.function()?;
     let exception = outstanding.function | EXCEPTION_BIT;
     if function == exception && function != outstanding.function {
-        return match frame.pdu[..] {
-            [_, code] => Some(MasterEvent::Exception {
-                station: frame.station,
-                function: outstanding.function,
-                code,
-            }),
-            _ => None,
-        };
+        return exception_of(&frame.pdu).map(|(function, code)| MasterEvent::Exception {
+            station: frame.station,
+            function,
+            code,
+        });
     }
     if function != outstanding.function {
         return None;

@@ -62,6 +62,17 @@ pub fn exception(function: u8, code: ExceptionCode) -> Vec<u8> {
     vec![function | EXCEPTION_BIT, code.byte()]
 }
 
+/// An answer PDU in the exact shape of a Modbus exception, `[function | 0x80][code]`
+/// (two bytes, nothing else): the function (without the exception bit) and the code as
+/// received. The one reading of that shape: the master's exception event and the
+/// client's Modbus TCP answers both go through it.
+pub fn exception_of(pdu: &[u8]) -> Option<(u8, u8)> {
+    match *pdu {
+        [f, code] if f & EXCEPTION_BIT != 0 => Some((f & !EXCEPTION_BIT, code)),
+        _ => None,
+    }
+}
+
 /// Errors of decoding or encoding a Modbus PDU.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum ModbusError {

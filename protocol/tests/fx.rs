@@ -368,3 +368,19 @@ proptest! {
         prop_assert!(FxRequest::decode(&frame).is_err());
     }
 }
+
+#[test]
+fn program_memory_goes_in_frames_of_fe_bytes_from_805c() {
+    use gutta_protocol::fx::{program_chunks, PROGRAM_SIZE};
+    let chunks: Vec<(u16, usize)> = program_chunks(0x200).collect();
+    assert_eq!(
+        chunks,
+        [(0x805C, 0xFE), (0x815A, 0xFE), (0x8258, 0x04)],
+        "the E01 series of seed 001"
+    );
+    let all: Vec<(u16, usize)> = program_chunks(PROGRAM_SIZE).collect();
+    assert_eq!(all.iter().map(|(_, n)| n).sum::<usize>(), PROGRAM_SIZE);
+    let (last, len) = all[all.len() - 1];
+    assert_eq!(usize::from(last) + len, 0x1_0000);
+    assert_eq!(program_chunks(0).count(), 0);
+}

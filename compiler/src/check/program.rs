@@ -109,13 +109,8 @@ pub struct CheckedDataBlock {
     pub items: Vec<DataItem>,
 }
 
-/// Parity of a serial port.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Parity {
-    None,
-    Even,
-    Odd,
-}
+/// Parity of a serial port: gutta-format's, the one type of it.
+pub use gutta_format::Parity;
 
 /// One serial port's settings.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -11,7 +11,7 @@ use gutta_format::{
     SystemPage, UnitRef, Use,
 };
 
-use crate::check::{CheckedOperand, CheckedProgram, ConstValue, Parity, SystemConfig};
+use crate::check::{CheckedOperand, CheckedProgram, ConstValue, SystemConfig};
 use crate::source::Span;
 use crate::syntax::ast::VarSection;
 use consts::{const_bytes, ConstPool};
@@ -190,11 +190,7 @@ fn system_page(s: &SystemConfig) -> SystemPage {
             address: p.address,
             baud: p.baud,
             data_bits: p.data_bits,
-            parity: match p.parity {
-                Parity::None => 0,
-                Parity::Even => 1,
-                Parity::Odd => 2,
-            },
+            parity: p.parity.code(),
             stop_bits: p.stop_bits,
             timeout: p.timeout,
             frame_gap: p.frame_gap,

@@ -148,11 +148,9 @@ impl Disassembler<'_> {
                 0 => Ok("MODBUS".to_string()),
                 k => Err(format!("protocol code {k} is not 0 (Modbus RTU)")),
             };
-            let parity = match port.parity {
-                0 => Ok("NONE".to_string()),
-                1 => Ok("EVEN".to_string()),
-                2 => Ok("ODD".to_string()),
-                k => Err(format!("parity code {k} is not 0..2")),
+            let parity = match crate::Parity::from_code(port.parity) {
+                Some(p) => Ok(p.name().to_uppercase()),
+                None => Err(format!("parity code {} is not 0..2", port.parity)),
             };
             let keys = [
                 ("PROTOCOL", at, protocol),

@@ -12,11 +12,9 @@ use std::thread;
 use std::time::{Duration, Instant};
 
 use gutta_catalog::Address;
-use gutta_io::{Connection, Endpoint, Parity};
-use gutta_link::transport::{rtu_over_tcp, serial, TcpTransport};
-use gutta_link::{Client, LinkError, FACTORY_PASSWORD};
-
-use super::batch;
+use gutta_io::Connection;
+use gutta_link::plan::ReadPlan;
+use gutta_link::{Credentials, LinkConfig, LoginError, NoPrompt, Session};
 
 /// How often the wanted values are read.
 pub const PERIOD: Duration = Duration::from_millis(500);
@@ -30,7 +28,7 @@ const TICK: Duration = Duration::from_millis(25);
 
 /// The environment variable holding the PLC's password (gutta-cc's too); unset or
 /// empty: the factory password.
-pub const PASSWORD_ENV: &str = "GUTTA_PASSWORD";
+pub use gutta_link::PASSWORD_ENV;
 
 /// What the poller tells the server: values changed (refresh the hints), or the PLC
 /// stopped answering (warn the user once).
@@ -44,62 +42,31 @@ pub enum Event {
 /// the poller's thread.
 pub type Notify = Arc<dyn Fn(Event) + Send + Sync>;
 
-/// How to reach the PLC: a project's `[connection]` with gutta-cc's defaults filled in.
+/// How to reach the PLC: a project's `[connection]` with gutta-cc's defaults filled in
+/// (gutta-link's `LinkConfig`), and the packet size its reads are batched by.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct LinkSettings {
-    pub endpoint: Endpoint,
-    pub station: u8,
-    pub timeout_ms: u64,
-    pub retries: u32,
-    pub line: gutta_format::LineSettings,
-    /// STATUS_VAR_READ reads per request (the PLC's ExchPackSize / 4).
-    pub per_request: usize,
+    pub config: LinkConfig,
+    /// The PLC's ExchPackSize.
+    pub exch_pack_size: u32,
 }
 
 impl LinkSettings {
     /// `None` when the project names no PLC.
     pub fn from_connection(c: &Connection, exch_pack_size: u32) -> Option<LinkSettings> {
-        let endpoint = c.endpoint.clone()?;
         Some(LinkSettings {
-            endpoint,
-            station: c.station.unwrap_or(1),
-            timeout_ms: c.timeout_ms.unwrap_or(1000),
-            retries: c.retries.unwrap_or(2),
-            line: gutta_format::LineSettings {
-                baud: c.baud.unwrap_or(19200),
-                parity: match c.parity {
-                    Some(Parity::None) => 0,
-                    Some(Parity::Odd) => 2,
-                    Some(Parity::Even) | None => 1,
-                },
-                ..gutta_format::LineSettings::DEFAULT
-            },
-            per_request: (exch_pack_size as usize / 4).max(1),
+            config: LinkConfig::from_connection(c)?,
+            exch_pack_size,
         })
     }
 
-    /// `tcp 127.0.0.1:502`, for messages.
-    pub fn describe(&self) -> String {
-        match &self.endpoint {
-            Endpoint::Tcp(a) => format!("tcp {a}"),
-            Endpoint::RtuTcp(a) => format!("rtu-tcp {a}"),
-            Endpoint::Serial(d) => format!("serial {d}"),
-        }
-    }
-
-    fn connect(&self) -> Result<Client, LinkError> {
-        let transport: Box<dyn gutta_link::Transport> = match &self.endpoint {
-            Endpoint::Tcp(a) => Box::new(TcpTransport::connect(a, self.timeout_ms, self.retries)?),
-            Endpoint::RtuTcp(a) => Box::new(rtu_over_tcp(a, self.timeout_ms, self.retries)?),
-            Endpoint::Serial(d) => Box::new(serial(d, self.line, self.timeout_ms, self.retries)?),
-        };
-        let mut client = Client::new(transport, self.station);
-        let password = match std::env::var(PASSWORD_ENV) {
-            Ok(p) if !p.is_empty() => gutta_format::password_bytes(Some(&p)),
-            _ => FACTORY_PASSWORD,
-        };
-        client.attach(&password)?;
-        Ok(client)
+    /// Connect and log in: GUTTA_PASSWORD or the factory password (nobody to prompt).
+    fn open(&self) -> Result<Session, LoginError> {
+        let environment = std::env::var(PASSWORD_ENV).ok();
+        let credentials = Credentials::lookup(None, environment.as_deref());
+        let mut session = Session::open(&self.config, &credentials, &mut NoPrompt)?;
+        session.set_exch_pack_size(self.exch_pack_size);
+        Ok(session)
     }
 }
 
@@ -185,7 +152,7 @@ struct Worker {
 
 impl Worker {
     fn run(self) {
-        let mut client: Option<Client> = None;
+        let mut session: Option<Session> = None;
         let mut backoff = PERIOD;
         let mut next_attempt = Instant::now();
         let mut warned = false;
@@ -196,23 +163,23 @@ impl Worker {
                 (s.wanted.clone(), s.asked)
             };
             if asked.elapsed() > IDLE_AFTER {
-                client = None;
+                session = None;
             } else if !wanted.is_empty() && started >= next_attempt {
-                match self.poll(&mut client, &wanted) {
+                match self.poll(&mut session, &wanted) {
                     Ok(values) => {
                         backoff = PERIOD;
                         warned = false;
                         self.publish(values);
                     }
                     Err(e) => {
-                        client = None;
+                        session = None;
                         self.publish(Values::new());
                         if !warned {
                             warned = true;
                             (self.notify)(Event::Unreachable(format!(
                                 "live values: the PLC at {} does not answer ({e}); \
                                  showing `?` and retrying",
-                                self.settings.describe()
+                                self.settings.config.describe()
                             )));
                         }
                         next_attempt = Instant::now() + backoff;
@@ -225,24 +192,17 @@ impl Worker {
     }
 
     /// Connect and log in if needed, then read every wanted address.
-    fn poll(&self, client: &mut Option<Client>, wanted: &[Address]) -> Result<Values, LinkError> {
-        let c = match client {
-            Some(c) => c,
-            None => client.insert(self.settings.connect()?),
+    fn poll(
+        &self,
+        session: &mut Option<Session>,
+        wanted: &[Address],
+    ) -> Result<Values, LoginError> {
+        let plc = match session {
+            Some(plc) => plc,
+            None => session.insert(self.settings.open()?),
         };
-        let plan = batch::plan(wanted, self.settings.per_request);
-        let mut windows = Vec::new();
-        for request in &plan.requests {
-            let packed: Vec<u32> = request.iter().map(|w| batch::packed(*w)).collect();
-            windows.extend(c.read_vars(&packed)?);
-        }
-        let mut values = Values::new();
-        for (a, &(w, at)) in wanted.iter().zip(&plan.slots) {
-            if let Some(bytes) = windows.get(w) {
-                values.insert(*a, batch::value_in(a, *bytes, at));
-            }
-        }
-        Ok(values)
+        let values = plc.read_plan(&ReadPlan::new(wanted))?;
+        Ok(wanted.iter().copied().zip(values).collect())
     }
 
     /// Keep `values` (those of addresses no longer wanted are dropped); tell the client

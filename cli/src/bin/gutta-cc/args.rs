@@ -4,11 +4,13 @@
 
 use std::path::PathBuf;
 
+use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{CommandFactory, Parser, Subcommand, ValueEnum};
 use gutta_cli::color::ColorChoice;
 use gutta_cli::fatal::MessageFormat;
 use gutta_cli::shell::Shell;
 use gutta_cli::target::TargetArgs;
+use gutta_format::Parity;
 
 use crate::{client, fx, help};
 
@@ -363,12 +365,10 @@ pub(crate) enum Command {
     },
 }
 
-/// Serial parity, as a system block's PORTn.PARITY.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub(crate) enum Parity {
-    None,
-    Even,
-    Odd,
+/// `--parity`: gutta_format's one `Parity`, by the names gutta.toml uses.
+fn parity_parser() -> impl TypedValueParser<Value = Parity> {
+    PossibleValuesParser::new(Parity::ALL.map(Parity::name))
+        .try_map(|name| Parity::from_name(&name).ok_or("not a parity"))
 }
 
 /// How to reach a PLC.
@@ -387,7 +387,7 @@ pub(crate) struct LinkArgs {
     #[arg(long, value_name = "BAUD", default_value_t = 19200)]
     pub(crate) baud: u32,
     /// Parity for --serial: the PLC's port 0 (its system block), even without one.
-    #[arg(long, value_name = "PARITY", default_value = "even")]
+    #[arg(long, value_name = "PARITY", default_value = "even", value_parser = parity_parser())]
     pub(crate) parity: Parity,
     /// The PLC's login password (the system block's). Visible to other users: prefer
     /// GUTTA_PASSWORD, or the prompt a terminal gets when the factory password is refused.

@@ -1,25 +1,28 @@
 //! `gutta-cc download|upload|status|run|stop|read|write|force|unforce`: the client
-//! commands, over gutta-link, with their human and JSON output (one object per line on
-//! stdout); `debug.rs` and `watch.rs` build on the connection helpers here. Variables and
-//! values go through `vars.rs`; this file does not parse them.
+//! commands, over gutta-link's `Session`, with their human and JSON output (one object
+//! per line on stdout); `debug.rs`, `watch.rs` and the monitor build on the connection
+//! helpers here (the flags made into a `LinkConfig`, the connect errors' hints).
+//! Variables and values go through `gutta_cli::vars`; this file does not parse them, and
+//! the session batches and masks the reads.
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 
-use gutta_catalog::{Address, Target, Width};
+use gutta_catalog::Target;
 use gutta_cli::fatal::Fatal;
 use gutta_cli::plural::count;
 use gutta_cli::target::TargetArgs;
-use gutta_format::{Operand, PackedOperand, SymbolTable};
-use gutta_link::transport::{rtu_over_tcp, serial, TcpTransport};
-use gutta_link::{Client, ConnectFailure, LinkError};
+use gutta_cli::vars::{self, Var, VarJson};
+use gutta_format::SymbolTable;
+use gutta_io::Endpoint;
+use gutta_link::session::{line_parity, serial_line};
+use gutta_link::{Client, ConnectFailure, LinkConfig, LinkError, Session};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::json;
 
 use crate::args::LinkArgs;
-use crate::vars::{self, Var};
 
 /// What every client command needs besides the link: the target options, where symbols
 /// come from, and whether to print JSON. A project passes its own sources here.
@@ -55,17 +58,27 @@ pub(crate) fn link_error(e: LinkError) -> Fatal {
     Fatal::link(e.to_string())
 }
 
-/// The serial line the options ask for.
-pub(crate) fn client_line(args: &LinkArgs) -> gutta_format::LineSettings {
-    gutta_format::LineSettings {
-        baud: args.baud,
-        parity: match args.parity {
-            crate::args::Parity::None => 0,
-            crate::args::Parity::Even => 1,
-            crate::args::Parity::Odd => 2,
-        },
-        ..gutta_format::LineSettings::DEFAULT
-    }
+/// The link the options ask for (a project's `[connection]` is in them already).
+pub(crate) fn link_config(args: &LinkArgs) -> Result<LinkConfig, Fatal> {
+    let endpoint = if let Some(a) = &args.tcp {
+        Endpoint::Tcp(a.clone())
+    } else if let Some(a) = &args.rtu_tcp {
+        Endpoint::RtuTcp(a.clone())
+    } else if let Some(d) = &args.serial {
+        Endpoint::Serial(d.clone())
+    } else {
+        return Err(Fatal::usage(
+            "no PLC given: use --tcp HOST:PORT, --rtu-tcp HOST:PORT or --serial DEVICE",
+        ));
+    };
+    let parity = args.parity;
+    Ok(LinkConfig {
+        endpoint,
+        station: args.station,
+        timeout_ms: args.timeout,
+        retries: args.retries,
+        line: serial_line(Some(args.baud), Some(parity)),
+    })
 }
 
 /// A transport that could not be opened, with what to try: a refused address names
@@ -93,60 +106,29 @@ pub(crate) fn connect_error(e: LinkError, flag: &str, at: &str) -> Fatal {
     }
 }
 
-/// Connect as the options say.
-fn connect(args: &LinkArgs) -> Result<Client, Fatal> {
-    Ok(Client::new(transport(args)?, args.station))
-}
-
-/// The transport the options ask for (`monitor.rs` counts the requests through it).
-pub(crate) fn transport(args: &LinkArgs) -> Result<Box<dyn gutta_link::Transport>, Fatal> {
-    Ok(if let Some(a) = &args.tcp {
-        Box::new(
-            TcpTransport::connect(a, args.timeout, args.retries)
-                .map_err(|e| connect_error(e, "--tcp", a))?,
-        )
-    } else if let Some(a) = &args.rtu_tcp {
-        Box::new(
-            rtu_over_tcp(a, args.timeout, args.retries)
-                .map_err(|e| connect_error(e, "--rtu-tcp", a))?,
-        )
-    } else if let Some(d) = &args.serial {
-        Box::new(
-            serial(d, client_line(args), args.timeout, args.retries)
-                .map_err(|e| connect_error(e, "--serial", d))?,
-        )
-    } else {
-        return Err(Fatal::usage(
-            "no PLC given: use --tcp HOST:PORT, --rtu-tcp HOST:PORT or --serial DEVICE",
-        ));
+/// The transport `config` names, with what to try when it cannot be opened
+/// (`monitor.rs` counts the requests through it).
+pub(crate) fn transport(config: &LinkConfig) -> Result<Box<dyn gutta_link::Transport>, Fatal> {
+    config.transport().map_err(|e| {
+        let flag = match config.endpoint {
+            Endpoint::Tcp(_) => "--tcp",
+            Endpoint::RtuTcp(_) => "--rtu-tcp",
+            Endpoint::Serial(_) => "--serial",
+        };
+        connect_error(e, flag, config.address())
     })
 }
 
 /// Connect and log in.
-pub(crate) fn login(args: &LinkArgs) -> Result<Client, Fatal> {
-    let mut client = connect(args)?;
-    crate::login::log_in(&mut client, args)?;
-    Ok(client)
+pub(crate) fn login(args: &LinkArgs) -> Result<Session, Fatal> {
+    let config = link_config(args)?;
+    let client = Client::new(transport(&config)?, config.station);
+    crate::login::log_in(client, config.address(), args)
 }
 
 /// The PLC's target: --plc/--target, else its GET_PLC_NAME from the stdlib.
 pub(crate) fn plc_target(targets: &TargetArgs, client: &mut Client) -> Result<Arc<Target>, Fatal> {
     targets.for_plc(|| client.plc_name().map_err(link_error))
-}
-
-pub(crate) fn packed(a: Address) -> u32 {
-    PackedOperand::encode(Operand::Value(a)).0
-}
-
-/// A variable's value from the 4 bytes STATUS_VAR_READ returns from its first byte.
-pub(crate) fn value_of(a: &Address, bytes: [u8; 4]) -> u32 {
-    let raw = u32::from_le_bytes(bytes);
-    match a.width {
-        Width::Bit => (raw >> a.bit) & 1,
-        Width::Byte => raw & 0xFF,
-        Width::Word => raw & 0xFFFF,
-        Width::Dword => raw,
-    }
 }
 
 /// Check the variables named on the command line before connecting, so a misspelt
@@ -179,13 +161,23 @@ pub(crate) fn login_with_vars(
     online: &Online,
     vars: &[String],
     args: &LinkArgs,
-) -> Result<(Client, Arc<Target>, Vec<Var>), Fatal> {
+) -> Result<(Session, Vec<Var>), Fatal> {
     let symbols = online.symbols(vec![])?;
     check_early(online, vars, &symbols, false)?;
-    let mut client = login(args)?;
-    let target = plc_target(online.targets, &mut client)?;
+    let (session, target) = login_with_target(online, args)?;
     let vars = resolve_all(vars, &symbols, &target)?;
-    Ok((client, target, vars))
+    Ok((session, vars))
+}
+
+/// Connect, log in and find the target; the session batches by its ExchPackSize.
+pub(crate) fn login_with_target(
+    online: &Online,
+    args: &LinkArgs,
+) -> Result<(Session, Arc<Target>), Fatal> {
+    let mut session = login(args)?;
+    let target = plc_target(online.targets, session.client())?;
+    session.set_target(&target);
+    Ok((session, target))
 }
 
 pub(crate) fn resolve_all(
@@ -197,28 +189,6 @@ pub(crate) fn resolve_all(
         .iter()
         .map(|v| vars::resolve(v, symbols, target).map_err(Fatal::usage))
         .collect()
-}
-
-/// The raw values of `vars`, in as few STATUS_VAR_READ requests as the PLC's packet
-/// size allows.
-pub(crate) fn read_values(
-    client: &mut Client,
-    target: &Target,
-    vars: &[Var],
-) -> Result<Vec<u32>, LinkError> {
-    let per_request = (target.plc.exch_pack_size as usize / 4).max(1);
-    let mut values = Vec::with_capacity(vars.len());
-    for chunk in vars.chunks(per_request) {
-        let packed: Vec<u32> = chunk.iter().map(|v| packed(v.address)).collect();
-        let bytes = client.read_vars(&packed)?;
-        values.extend(
-            chunk
-                .iter()
-                .zip(bytes)
-                .map(|(v, b)| value_of(&v.address, b)),
-        );
-    }
-    Ok(values)
 }
 
 /// `NAME (ADDR) = VALUE` lines, or `{"command", "values": [...]}`.
@@ -245,9 +215,9 @@ pub(crate) fn download(online: &Online, dir: &Path, args: &LinkArgs) -> Result<E
     // Every byte is written, then read back and compared: the bar and the summary both
     // count the bytes transferred, the image's bytes twice.
     let total: usize = 2 * image.pages.values().map(Vec::len).sum::<usize>();
-    let mut client = connect(args)?;
     // Log in first: the password (perhaps typed at a prompt) the download logs in with.
-    let password = crate::login::log_in(&mut client, args)?;
+    let mut session = login(args)?;
+    let password = session.password();
     // A progress bar on a terminal; nothing when stderr is a file or a pipe (CI logs).
     let bar = if std::io::stderr().is_terminal() && !online.json {
         let style = ProgressStyle::with_template(
@@ -264,7 +234,7 @@ pub(crate) fn download(online: &Online, dir: &Path, args: &LinkArgs) -> Result<E
     let start = std::time::Instant::now();
     let mut progress = |n: usize| bar.inc(n as u64);
     let result = gutta_link::download(
-        &mut client,
+        session.client(),
         &image,
         &password,
         target.plc.exch_pack_size as usize,
@@ -312,7 +282,7 @@ pub(crate) fn download(online: &Online, dir: &Path, args: &LinkArgs) -> Result<E
     if let Some(port) = port0 {
         let line = port.line();
         let moved = port.address != args.station && args.station != 0;
-        let serial = args.serial.is_some() && line != client_line(args);
+        let serial = args.serial.is_some() && line != link_config(args)?.line;
         if (moved || serial) && online.json {
             println!(
                 "{}",
@@ -321,7 +291,7 @@ pub(crate) fn download(online: &Online, dir: &Path, args: &LinkArgs) -> Result<E
                     "note": "station moved",
                     "station": port.address,
                     "baud": line.baud,
-                    "parity": parity_name(line.parity),
+                    "parity": line_parity(&line).name(),
                 })
             );
         } else if moved || serial {
@@ -338,7 +308,7 @@ pub(crate) fn download(online: &Online, dir: &Path, args: &LinkArgs) -> Result<E
                     format!(
                         " --baud {} --parity {}",
                         line.baud,
-                        parity_name(line.parity)
+                        line_parity(&line).name()
                     )
                 } else {
                     String::new()
@@ -349,19 +319,11 @@ pub(crate) fn download(online: &Online, dir: &Path, args: &LinkArgs) -> Result<E
     Ok(ExitCode::SUCCESS)
 }
 
-fn parity_name(parity: u8) -> &'static str {
-    match parity {
-        0 => "none",
-        2 => "odd",
-        _ => "even",
-    }
-}
-
 pub(crate) fn upload(online: &Online, dir: &Path, args: &LinkArgs) -> Result<ExitCode, Fatal> {
-    let mut client = connect(args)?;
     // The PLC type decides the packet size; log in first to ask it.
-    let password = crate::login::log_in(&mut client, args)?;
-    let target = plc_target(online.targets, &mut client)?;
+    let (mut session, target) = login_with_target(online, args)?;
+    let password = session.password();
+    let client = session.client();
     // A fresh or cleared PLC has no program pages (and then no const page to read):
     // say so, exit 1, and write nothing.
     let program = client
@@ -377,7 +339,7 @@ pub(crate) fn upload(online: &Online, dir: &Path, args: &LinkArgs) -> Result<Exi
         eprintln!("gutta-cc: no program: the PLC holds no program to upload");
         return Ok(ExitCode::from(1));
     }
-    let image = gutta_link::upload(&mut client, &password, target.plc.exch_pack_size as usize)
+    let image = gutta_link::upload(client, &password, target.plc.exch_pack_size as usize)
         .map_err(link_error)?;
     if let Err(e) = gutta_format::verify(&image, &target) {
         eprintln!("gutta-cc: warning: the uploaded program does not verify: {e}");
@@ -407,7 +369,8 @@ pub(crate) fn upload(online: &Online, dir: &Path, args: &LinkArgs) -> Result<Exi
 }
 
 pub(crate) fn status(online: &Online, args: &LinkArgs) -> Result<ExitCode, Fatal> {
-    let mut client = login(args)?;
+    let mut session = login(args)?;
+    let client = session.client();
     let name = client.plc_name().map_err(link_error)?;
     let s = client.status().map_err(link_error)?;
     let flags = [(1, "RUN"), (2, "RESET"), (4, "ATTACH"), (8, "ERROR")];
@@ -440,11 +403,12 @@ pub(crate) fn status(online: &Online, args: &LinkArgs) -> Result<ExitCode, Fatal
 }
 
 pub(crate) fn run_stop(online: &Online, args: &LinkArgs, run: bool) -> Result<ExitCode, Fatal> {
-    let mut client = login(args)?;
+    let mut session = login(args)?;
+    let client = session.client();
     let running = |client: &mut Client| client.status().map(|s| s & 1 != 0);
-    let before = running(&mut client).map_err(link_error)?;
+    let before = running(client).map_err(link_error)?;
     client.set_running(run).map_err(link_error)?;
-    let after = running(&mut client).map_err(link_error)?;
+    let after = running(client).map_err(link_error)?;
     if after != run {
         return Err(Fatal::link(format!(
             "the PLC accepted `{}` but its status says it {}",
@@ -473,8 +437,8 @@ fn run_stop_message(run: bool, before: bool) -> String {
 }
 
 pub(crate) fn read(online: &Online, vars: &[String], args: &LinkArgs) -> Result<ExitCode, Fatal> {
-    let (mut client, target, vars) = login_with_vars(online, vars, args)?;
-    let values = read_values(&mut client, &target, &vars).map_err(link_error)?;
+    let (mut session, vars) = login_with_vars(online, vars, args)?;
+    let values = session.read(&vars).map_err(link_error)?;
     print_values(online, "read", &vars, &values);
     Ok(ExitCode::SUCCESS)
 }
@@ -489,20 +453,18 @@ pub(crate) fn write(
 ) -> Result<ExitCode, Fatal> {
     let symbols = online.symbols(vec![])?;
     check_early(online, assignments, &symbols, true)?;
-    let mut client = login(args)?;
-    let target = plc_target(online.targets, &mut client)?;
-    let (vars, values): (Vec<Var>, Vec<u32>) = assignments
+    let (mut session, target) = login_with_target(online, args)?;
+    let pairs = assignments
         .iter()
         .map(|item| vars::resolve_assignment(item, &symbols, &target).map_err(Fatal::usage))
-        .collect::<Result<Vec<_>, Fatal>>()?
-        .into_iter()
-        .unzip();
-    let pairs: Vec<(u32, u32)> = vars
-        .iter()
-        .zip(&values)
-        .map(|(v, raw)| (packed(v.address), *raw))
-        .collect();
-    client.write_vars(&pairs, force).map_err(link_error)?;
+        .collect::<Result<Vec<_>, Fatal>>()?;
+    if force {
+        session.force(&pairs)
+    } else {
+        session.write(&pairs)
+    }
+    .map_err(link_error)?;
+    let (vars, values): (Vec<Var>, Vec<u32>) = pairs.into_iter().unzip();
     print_values(
         online,
         if force { "force" } else { "write" },
@@ -512,22 +474,15 @@ pub(crate) fn write(
     Ok(ExitCode::SUCCESS)
 }
 
-/// `gutta-cc unforce VAR...`: STATUS_VAR_FORCE_WRITE with USE = 15, which gutta-sim
-/// reads as "release" (UM4001 has no unforce). The value sent is the variable's current
-/// value, so a PLC that ignores USE keeps it where it is rather than jumping.
+/// `gutta-cc unforce VAR...`: `Session::unforce` (STATUS_VAR_FORCE_WRITE with USE = 15,
+/// the current value sent with it).
 pub(crate) fn unforce(
     online: &Online,
     vars: &[String],
     args: &LinkArgs,
 ) -> Result<ExitCode, Fatal> {
-    let (mut client, target, vars) = login_with_vars(online, vars, args)?;
-    let current = read_values(&mut client, &target, &vars).map_err(link_error)?;
-    let pairs: Vec<(u32, u32)> = vars
-        .iter()
-        .zip(&current)
-        .map(|(v, raw)| (PackedOperand::force_release(v.address).0, *raw))
-        .collect();
-    client.write_vars(&pairs, true).map_err(link_error)?;
+    let (mut session, vars) = login_with_vars(online, vars, args)?;
+    let current = session.unforce(&vars).map_err(link_error)?;
     online.print(
         json!({
             "command": "unforce",

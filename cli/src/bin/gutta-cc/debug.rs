@@ -7,12 +7,13 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use gutta_cli::fatal::Fatal;
+use gutta_cli::vars::VarJson;
 use gutta_format::SourceMap;
 use gutta_link::message::{debug_state, Breakpoint, DebugStep};
 use serde_json::json;
 
 use crate::args::LinkArgs;
-use crate::client::{check_early, link_error, login, plc_target, read_values, resolve_all, Online};
+use crate::client::{check_early, link_error, login_with_target, resolve_all, Online};
 
 /// The image directory `debug` takes its source map from when `--image` is not given.
 const DEFAULT_DEBUG_IMAGE: &str = "image";
@@ -107,8 +108,8 @@ pub(crate) fn debug(
         )
         .map_err(Fatal::usage)?;
     }
-    let mut client = login(args)?;
-    let target = plc_target(online.targets, &mut client)?;
+    let (mut session, target) = login_with_target(online, args)?;
+    let client = session.client();
     let watched = resolve_all(watch, &symbols, &target)?;
     let plc = &target.plc;
     match action {
@@ -142,7 +143,7 @@ pub(crate) fn debug(
     .map_err(link_error)?;
     // Every action ends by showing where the program is.
     let (state, info) = client.debug_info().map_err(link_error)?;
-    let values = read_values(&mut client, &target, &watched).map_err(link_error)?;
+    let values = session.read(&watched).map_err(link_error)?;
     let at = |f: u8, n: u16, s: u16| Place {
         position: (f != 0xFF).then(|| format!("{}:{n}:{s}", gutta_format::function_name(f, plc))),
         source: map.as_ref().and_then(|m| {

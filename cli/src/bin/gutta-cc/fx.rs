@@ -1,25 +1,23 @@
 //! `gutta-cc fx`: a client of the FX-style programming port (seed 001; docs/devices.md)
 //! over raw TCP (`--tcp`, e.g. `gutta-sim --device fx`) or a serial line at 7E1
-//! (`--serial`). The frames are gutta_protocol::fx's; here are only the line, the
-//! retries on NAK or silence, the progress bar and the messages.
+//! (`--serial`). The frames are gutta_protocol::fx's, the retries on NAK or silence
+//! gutta_protocol::fx_client's, the line gutta-link's `transport::fx`; here are only the
+//! arguments, the progress bar, the hints and the output.
 
-use std::io::{IsTerminal, Read, Write};
-use std::net::TcpStream;
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
 
 use clap::{Args, Subcommand};
 use gutta_cli::fatal::Fatal;
 use gutta_cli::plural::count;
-use gutta_format::LineSettings;
+use gutta_link::transport::{
+    self,
+    fx::{FxLink, FxLinkError},
+};
 use gutta_protocol::fx::{
-    BaudRate, FxReply, FxRequest, FxSplitter, FxToken, CONFIG_START, MAX_DATA, PROGRAM_CHUNK,
-    PROGRAM_START,
+    BaudRate, FxRequest, CONFIG_START, MAX_DATA, PROGRAM_SIZE, PROGRAM_START,
 };
 use indicatif::{ProgressBar, ProgressStyle};
-
-/// Program memory's size: from 805C to the end of the 64 KiB address space.
-const PROGRAM_SIZE: usize = 0x1_0000 - PROGRAM_START as usize;
 
 /// Where the FX-style port is.
 #[derive(Debug, Clone, Args)]
@@ -144,205 +142,43 @@ fn parse_bytes(words: &[String]) -> Result<Vec<u8>, Fatal> {
         .collect()
 }
 
-/// A byte line with a settable read timeout.
-trait Line: Read + Write {
-    fn set_wait(&mut self, wait: Duration) -> std::io::Result<()>;
+/// Open the port `endpoint` names.
+fn connect(endpoint: &FxEndpoint) -> Result<FxLink, Fatal> {
+    let to = match (&endpoint.tcp, &endpoint.serial) {
+        (Some(address), _) => transport::fx::FxEndpoint::Tcp(address.clone()),
+        (None, Some(device)) => transport::fx::FxEndpoint::Serial {
+            device: device.clone(),
+            baud: endpoint.baud,
+        },
+        (None, None) => return Err(Fatal::usage("give --tcp HOST:PORT or --serial DEVICE")),
+    };
+    FxLink::connect(&to, endpoint.timeout, endpoint.retries).map_err(|e| match (&e, &to) {
+        (FxLinkError::Connect { refused: true, .. }, transport::fx::FxEndpoint::Tcp(address)) => {
+            Fatal::link(e.to_string()).with_hint(format!(
+                "is an FX-style port or gutta-sim listening at {address}? Check the address, or start a simulated one there: `gutta-sim --device fx --tcp {address}`"
+            ))
+        }
+        _ => fatal(e),
+    })
 }
 
-impl Line for TcpStream {
-    fn set_wait(&mut self, wait: Duration) -> std::io::Result<()> {
-        self.set_read_timeout(Some(wait.max(Duration::from_millis(1))))
-    }
-}
-
-impl Line for Box<dyn serialport::SerialPort> {
-    fn set_wait(&mut self, wait: Duration) -> std::io::Result<()> {
-        self.set_timeout(wait).map_err(std::io::Error::other)
-    }
-}
-
-/// The client: a line, its splitter, and how hard to try.
-struct FxClient {
-    line: Box<dyn Line>,
-    splitter: FxSplitter,
-    timeout: Duration,
-    retries: u32,
-}
-
-/// Why an exchange failed on one attempt.
-enum Miss {
-    Nak,
-    Silence,
-    Garbled(String),
-}
-
-impl FxClient {
-    fn connect(endpoint: &FxEndpoint) -> Result<FxClient, Fatal> {
-        let line: Box<dyn Line> = match (&endpoint.tcp, &endpoint.serial) {
-            (Some(address), _) => {
-                let stream = TcpStream::connect(address).map_err(|e| {
-                    if e.kind() == std::io::ErrorKind::ConnectionRefused {
-                        Fatal::link(format!("cannot connect to {address}: connection refused"))
-                            .with_hint(format!(
-                                "is an FX-style port or gutta-sim listening at {address}? Check the address, or start a simulated one there: `gutta-sim --device fx --tcp {address}`"
-                            ))
-                    } else {
-                        Fatal::link(format!("cannot connect to {address}: {e}"))
-                    }
-                })?;
-                let _ = stream.set_nodelay(true);
-                Box::new(stream)
-            }
-            (None, Some(path)) => {
-                let settings = LineSettings {
-                    baud: endpoint.baud,
-                    data_bits: 7,
-                    parity: 1,
-                    stop_bits: 1,
-                };
-                let mut port = serialport::new(path, endpoint.baud)
-                    .timeout(Duration::from_millis(endpoint.timeout))
-                    .open()
-                    .map_err(|e| Fatal::link(format!("cannot open {path}: {e}")))?;
-                gutta_link::transport::configure(port.as_mut(), settings)
-                    .map_err(|e| Fatal::link(format!("{path}: {e}")))?;
-                Box::new(port)
-            }
-            (None, None) => return Err(Fatal::usage("give --tcp HOST:PORT or --serial DEVICE")),
-        };
-        Ok(FxClient {
-            line,
-            splitter: FxSplitter::new(),
-            timeout: Duration::from_millis(endpoint.timeout),
-            retries: endpoint.retries,
-        })
-    }
-
-    /// Sends `request` until the device answers ACK or data, at most 1 + retries times.
-    fn exchange(&mut self, request: &FxRequest) -> Result<FxReply, Fatal> {
-        let frame = request
-            .encode()
-            .map_err(|e| Fatal::usage(format!("cannot send {request:?}: {e}")))?;
-        let mut misses = Vec::new();
-        for _ in 0..=self.retries {
-            self.splitter = FxSplitter::new();
-            self.line
-                .write_all(&frame)
-                .and_then(|()| self.line.flush())
-                .map_err(|e| Fatal::link(format!("cannot send: {e}")))?;
-            match self.answer() {
-                Ok(reply) => return Ok(reply),
-                Err(miss) => misses.push(miss),
+/// A failed exchange as the user reads it, with what to check.
+fn fatal(e: FxLinkError) -> Fatal {
+    match e {
+        FxLinkError::BadRequest(message) => Fatal::usage(message),
+        FxLinkError::Failed(failure) => {
+            let fatal = Fatal::link(failure.to_string());
+            if failure.all_nak() {
+                fatal.with_hint(
+                    "the device refuses the request: check the address range (docs/devices.md)",
+                )
+            } else if failure.all_silent() {
+                fatal.with_hint("check the endpoint, the baud rate and --timeout")
+            } else {
+                fatal
             }
         }
-        let what: Vec<String> = misses
-            .iter()
-            .map(|miss| match miss {
-                Miss::Nak => "NAK".to_string(),
-                Miss::Silence => format!("no answer in {} ms", self.timeout.as_millis()),
-                Miss::Garbled(e) => format!("a broken answer ({e})"),
-            })
-            .collect();
-        let mut fatal = Fatal::link(format!(
-            "{} failed after {}: {}",
-            describe(request),
-            count(misses.len(), "attempt"),
-            what.join(", ")
-        ));
-        if misses.iter().all(|m| matches!(m, Miss::Nak)) {
-            fatal = fatal.with_hint(
-                "the device refuses the request: check the address range (docs/devices.md)",
-            );
-        } else if misses.iter().all(|m| matches!(m, Miss::Silence)) {
-            fatal = fatal.with_hint("check the endpoint, the baud rate and --timeout");
-        }
-        Err(fatal)
-    }
-
-    /// The next ACK, NAK or data frame, within the timeout.
-    fn answer(&mut self) -> Result<FxReply, Miss> {
-        let deadline = Instant::now() + self.timeout;
-        let mut buf = [0u8; 1024];
-        loop {
-            let left = deadline.saturating_duration_since(Instant::now());
-            if left.is_zero() {
-                return Err(Miss::Silence);
-            }
-            self.line.set_wait(left).map_err(|_| Miss::Silence)?;
-            let n = match self.line.read(&mut buf) {
-                Ok(0) => return Err(Miss::Garbled("the connection closed".into())),
-                Ok(n) => n,
-                Err(e)
-                    if matches!(
-                        e.kind(),
-                        std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
-                    ) =>
-                {
-                    return Err(Miss::Silence)
-                }
-                Err(e) => return Err(Miss::Garbled(e.to_string())),
-            };
-            if let Some(token) = self.splitter.push(&buf[..n]).into_iter().next() {
-                return match token {
-                    FxToken::Nak => Err(Miss::Nak),
-                    other => FxReply::from_token(other).map_err(|e| Miss::Garbled(e.to_string())),
-                };
-            }
-        }
-    }
-
-    fn expect_ack(&mut self, request: &FxRequest) -> Result<(), Fatal> {
-        match self.exchange(request)? {
-            FxReply::Ack => Ok(()),
-            other => Err(Fatal::link(format!(
-                "{}: expected ACK, got {other:?}",
-                describe(request)
-            ))),
-        }
-    }
-
-    fn expect_data(&mut self, request: &FxRequest, len: usize) -> Result<Vec<u8>, Fatal> {
-        match self.exchange(request)? {
-            FxReply::Data(data) if data.len() == len => Ok(data),
-            other => Err(Fatal::link(format!(
-                "{}: expected {len} data bytes, got {other:?}",
-                describe(request)
-            ))),
-        }
-    }
-}
-
-fn describe(request: &FxRequest) -> String {
-    match request {
-        FxRequest::Enquiry => "ENQ".into(),
-        FxRequest::Read { address, len } => {
-            format!("read (30) {} at {address:04X}", count(*len, "byte"))
-        }
-        FxRequest::Write { address, data } => {
-            format!("write (31) {} at {address:04X}", count(data.len(), "byte"))
-        }
-        FxRequest::ForceOn { bit } => format!("force on (37) bit {bit:04X}"),
-        FxRequest::ForceOff { bit } => format!("force off (38) bit {bit:04X}"),
-        FxRequest::Baud(rate) => format!("baud (41) {rate}"),
-        FxRequest::ReadConfig { address, len } => {
-            format!(
-                "read configuration (E00) {} at {address:04X}",
-                count(*len, "byte")
-            )
-        }
-        FxRequest::ReadProgram { address, len } => {
-            format!(
-                "read program (E01) {} at {address:04X}",
-                count(*len, "byte")
-            )
-        }
-        FxRequest::WriteProgram { address, data } => {
-            format!(
-                "write program (E11) {} at {address:04X}",
-                count(data.len(), "byte")
-            )
-        }
-        FxRequest::EndProgramWrite => "end of program write (E87)".into(),
+        e => Fatal::link(e.to_string()),
     }
 }
 
@@ -369,16 +205,6 @@ fn progress(total: usize, prefix: &'static str) -> Result<ProgressBar, Fatal> {
         .with_prefix(prefix))
 }
 
-/// The chunks of program memory `[PROGRAM_START, PROGRAM_START + size)`: address, length.
-fn program_chunks(size: usize) -> impl Iterator<Item = (u16, usize)> {
-    let chunk = usize::from(PROGRAM_CHUNK);
-    (0..size).step_by(chunk).map(move |offset| {
-        // size <= PROGRAM_SIZE keeps every address inside 0x805C..=0xFFFF.
-        let address = PROGRAM_START.wrapping_add(offset as u16);
-        (address, chunk.min(size - offset))
-    })
-}
-
 /// Runs one `gutta-cc fx` subcommand; prints its result on stdout.
 pub(crate) fn run(action: &FxAction) -> Result<std::process::ExitCode, Fatal> {
     let out = match action {
@@ -387,12 +213,17 @@ pub(crate) fn run(action: &FxAction) -> Result<std::process::ExitCode, Fatal> {
             len,
             endpoint,
         } => {
-            let mut client = FxClient::connect(endpoint)?;
+            let mut client = connect(endpoint)?;
             let request = FxRequest::Read {
                 address: *address,
                 len: *len,
             };
-            dump(*address, &client.expect_data(&request, usize::from(*len))?)
+            dump(
+                *address,
+                &client
+                    .expect_data(&request, usize::from(*len))
+                    .map_err(fatal)?,
+            )
         }
         FxAction::Write {
             address,
@@ -406,20 +237,26 @@ pub(crate) fn run(action: &FxAction) -> Result<std::process::ExitCode, Fatal> {
                     count(data.len(), "byte")
                 )));
             }
-            let mut client = FxClient::connect(endpoint)?;
+            let mut client = connect(endpoint)?;
             let n = data.len();
-            client.expect_ack(&FxRequest::Write {
-                address: *address,
-                data,
-            })?;
+            client
+                .expect_ack(&FxRequest::Write {
+                    address: *address,
+                    data,
+                })
+                .map_err(fatal)?;
             format!("wrote {} at {address:04X}\n", count(n, "byte"))
         }
         FxAction::ForceOn { address, endpoint } => {
-            FxClient::connect(endpoint)?.expect_ack(&FxRequest::ForceOn { bit: *address })?;
+            connect(endpoint)?
+                .expect_ack(&FxRequest::ForceOn { bit: *address })
+                .map_err(fatal)?;
             format!("forced bit {address:04X} on\n")
         }
         FxAction::ForceOff { address, endpoint } => {
-            FxClient::connect(endpoint)?.expect_ack(&FxRequest::ForceOff { bit: *address })?;
+            connect(endpoint)?
+                .expect_ack(&FxRequest::ForceOff { bit: *address })
+                .map_err(fatal)?;
             format!("forced bit {address:04X} off\n")
         }
         FxAction::Baud { rate, endpoint } => {
@@ -428,7 +265,9 @@ pub(crate) fn run(action: &FxAction) -> Result<std::process::ExitCode, Fatal> {
                     "{rate} baud: the port runs at 9600, 19200, 38400, 57600 or 115200"
                 ))
             })?;
-            FxClient::connect(endpoint)?.expect_ack(&FxRequest::Baud(rate))?;
+            connect(endpoint)?
+                .expect_ack(&FxRequest::Baud(rate))
+                .map_err(fatal)?;
             format!("the device now runs at {rate} baud (give --baud {rate} from now on)\n")
         }
         FxAction::Config { endpoint } => {
@@ -436,7 +275,9 @@ pub(crate) fn run(action: &FxAction) -> Result<std::process::ExitCode, Fatal> {
                 address: CONFIG_START,
                 len: 0xFE,
             };
-            let data = FxClient::connect(endpoint)?.expect_data(&request, 0xFE)?;
+            let data = connect(endpoint)?
+                .expect_data(&request, 0xFE)
+                .map_err(fatal)?;
             dump(CONFIG_START, &data)
         }
         FxAction::UploadProgram {
@@ -456,23 +297,14 @@ fn upload(output: &Path, size: usize, endpoint: &FxEndpoint) -> Result<String, F
             "--size {size}: program memory holds 1..{PROGRAM_SIZE} bytes"
         )));
     }
-    let mut client = FxClient::connect(endpoint)?;
+    let mut client = connect(endpoint)?;
     let bar = progress(size, "uploading")?;
-    let mut program = Vec::with_capacity(size);
-    for (address, len) in program_chunks(size) {
-        let request = FxRequest::ReadProgram {
-            address,
-            len: len as u8,
-        };
-        match client.expect_data(&request, len) {
-            Ok(data) => program.extend(data),
-            Err(e) => {
-                bar.abandon();
-                return Err(e);
-            }
-        }
-        bar.inc(len as u64);
-    }
+    let program = client
+        .upload_program(size, &mut |n| bar.inc(n as u64))
+        .map_err(|e| {
+            bar.abandon();
+            fatal(e)
+        })?;
     bar.finish_and_clear();
     gutta_io::write_file_atomically(output, &program)
         .map_err(|e| Fatal::io(format!("cannot write {}: {e}", output.display())))?;
@@ -494,47 +326,16 @@ fn download(file: &Path, endpoint: &FxEndpoint) -> Result<String, Fatal> {
             count(program.len(), "byte")
         )));
     }
-    let mut client = FxClient::connect(endpoint)?;
+    let mut client = connect(endpoint)?;
     // Every byte is written, then read back: the bar counts both.
     let bar = progress(2 * program.len(), "downloading")?;
-    let result = (|| {
-        let chunks: Vec<(u16, usize)> = program_chunks(program.len()).collect();
-        let mut offset = 0;
-        for &(address, len) in &chunks {
-            client.expect_ack(&FxRequest::WriteProgram {
-                address,
-                data: program[offset..offset + len].to_vec(),
-            })?;
-            offset += len;
-            bar.inc(len as u64);
-        }
-        offset = 0;
-        for &(address, len) in &chunks {
-            let request = FxRequest::ReadProgram {
-                address,
-                len: len as u8,
-            };
-            let back = client.expect_data(&request, len)?;
-            if let Some(n) = (0..len).find(|&n| back[n] != program[offset + n]) {
-                return Err(Fatal::link(format!(
-                    "read-back differs at {:04X}: wrote {:02X}, read {:02X}; the write was not ended (no E87)",
-                    usize::from(address) + n,
-                    program[offset + n],
-                    back[n]
-                )));
-            }
-            offset += len;
-            bar.inc(len as u64);
-        }
-        client.expect_ack(&FxRequest::EndProgramWrite)
-    })();
-    match result {
-        Ok(()) => bar.finish_and_clear(),
-        Err(e) => {
+    client
+        .download_program(&program, &mut |n| bar.inc(n as u64))
+        .map_err(|e| {
             bar.abandon();
-            return Err(e);
-        }
-    }
+            fatal(e)
+        })?;
+    bar.finish_and_clear();
     Ok(format!(
         "downloaded {} to program memory (805C-{:04X}), read back and compared, write ended (E87)\n",
         count(program.len(), "byte"),

@@ -22,7 +22,6 @@ mod login;
 mod monitor;
 mod project;
 mod test;
-mod vars;
 mod watch;
 
 mod completions;

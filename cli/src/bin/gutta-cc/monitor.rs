@@ -6,7 +6,6 @@
 //! `gutta_ladder::live`'s, the PLC side `monitor/session.rs`'s; this file only wires
 //! them to HTTP and the command line.
 
-mod plan;
 mod session;
 
 use std::path::{Path, PathBuf};
@@ -27,7 +26,7 @@ use gutta_ladder::html::{ladder_html, HtmlOptions};
 use serde_json::json;
 
 use crate::args::{Cli, LinkArgs};
-use crate::vars::Var;
+use gutta_cli::vars::Var;
 use session::{Program, Session};
 
 /// The page's script: fetch `/state`, set the classes and the values.
@@ -127,13 +126,7 @@ pub(crate) fn monitor(cli: &Cli, options: &Options, link: &LinkArgs) -> Result<E
     });
     let counters = session.counters.clone();
     let interval = Duration::from_millis(options.interval_ms.max(1));
-    let plc = link
-        .tcp
-        .as_deref()
-        .or(link.rtu_tcp.as_deref())
-        .or(link.serial.as_deref())
-        .unwrap_or("the PLC")
-        .to_string();
+    let plc = session.address().to_string();
     let name = program.name.clone();
     let http = options.http.clone();
     // The link's transports are not Send: the session stays on this thread, the
@@ -320,7 +313,7 @@ fn load(cli: &Cli, given: Option<&Path>) -> Result<Program, Fatal> {
         .collect();
     let addresses: Vec<_> = vars.iter().map(|v: &Var| v.address).collect();
     Ok(Program {
-        plan: plan::ReadPlan::new(&addresses),
+        plan: gutta_link::plan::ReadPlan::new(&addresses),
         name,
         ladder,
         target,

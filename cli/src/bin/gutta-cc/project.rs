@@ -13,7 +13,7 @@ use gutta_cli::fatal::Fatal;
 use gutta_cli::target::TargetArgs;
 use gutta_io::{Connection, Endpoint, Project};
 
-use crate::args::{Cli, Command, LinkArgs, Parity};
+use crate::args::{Cli, Command, LinkArgs};
 
 /// The files `gutta-cc new` writes: path in the project, template text.
 const TEMPLATES: &[(&str, &str)] = &[
@@ -227,11 +227,7 @@ pub(crate) fn apply_connection(link: &mut LinkArgs, matches: &ArgMatches, c: &Co
         link.baud = baud;
     }
     if let (Some(parity), true) = (c.parity, unset("parity")) {
-        link.parity = match parity {
-            gutta_io::Parity::None => Parity::None,
-            gutta_io::Parity::Even => Parity::Even,
-            gutta_io::Parity::Odd => Parity::Odd,
-        };
+        link.parity = parity;
     }
     if let (Some(station), true) = (c.station, unset("station")) {
         link.station = station;

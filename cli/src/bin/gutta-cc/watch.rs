@@ -1,24 +1,22 @@
 //! `gutta-cc watch VAR...`: sample variables every `--interval` and show them: a live
 //! table on a terminal (crossterm, alternate screen, restored on every exit), one line
 //! per sample when stdout is not a terminal, one JSON object per sample with `--json`,
-//! one sample with `--once`. Resolving variables and reading them belong to `vars.rs`
-//! and `client.rs`; this file only samples and draws.
+//! one sample with `--once`. Resolving variables belongs to `gutta_cli::vars`, reading
+//! them to gutta-link's `Session` (through `client.rs`); this file only samples and draws.
 
 use std::io::{IsTerminal, Write};
 use std::process::ExitCode;
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use crossterm::event::{self, Event, KeyCode, KeyEvent, KeyModifiers};
 use crossterm::{cursor, queue, terminal};
-use gutta_catalog::Target;
 use gutta_cli::fatal::Fatal;
-use gutta_link::Client;
+use gutta_link::Session;
 use serde_json::json;
 
 use crate::args::LinkArgs;
 use crate::client::{self, Online};
-use crate::vars::Var;
+use gutta_cli::vars::{Var, VarJson};
 
 pub(crate) struct Options {
     pub interval_ms: u64,
@@ -28,8 +26,7 @@ pub(crate) struct Options {
 
 /// The variables, their last values and when each last changed.
 struct Sampler {
-    client: Client,
-    target: Arc<Target>,
+    session: Session,
     vars: Vec<Var>,
     values: Vec<u32>,
     changed: Vec<Option<Instant>>,
@@ -43,7 +40,7 @@ struct Sampler {
 impl Sampler {
     /// Read every variable (in as few requests as the protocol allows).
     fn sample(&mut self) -> Result<(), Fatal> {
-        let now = client::read_values(&mut self.client, &self.target, &self.vars).map_err(|e| {
+        let now = self.session.read(&self.vars).map_err(|e| {
             Fatal::link(format!(
                 "lost the connection to the PLC after {}: {e}",
                 gutta_cli::plural::count(self.samples, "sample")
@@ -137,11 +134,10 @@ pub(crate) fn watch(
     options: &Options,
     link: &LinkArgs,
 ) -> Result<ExitCode, Fatal> {
-    let (client, target, vars) = client::login_with_vars(online, vars, link)?;
+    let (session, vars) = client::login_with_vars(online, vars, link)?;
     let n = vars.len();
     let mut sampler = Sampler {
-        client,
-        target,
+        session,
         vars,
         values: vec![0; n],
         changed: vec![None; n],
@@ -207,13 +203,7 @@ impl Drop for Screen {
 /// restored, then the error.
 fn live(sampler: &mut Sampler, interval: Duration, link: &LinkArgs) -> Result<ExitCode, Fatal> {
     let screen = Screen::enter()?;
-    let plc = link
-        .tcp
-        .as_deref()
-        .or(link.rtu_tcp.as_deref())
-        .or(link.serial.as_deref())
-        .unwrap_or("the PLC")
-        .to_string();
+    let plc = client::link_config(link)?.address().to_string();
     let result = (|| -> Result<(), Fatal> {
         loop {
             let next = Instant::now() + interval;

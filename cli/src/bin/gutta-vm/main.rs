@@ -112,11 +112,9 @@ fn main() -> ExitCode {
     }
 }
 
-#[path = "../gutta-cc/vars.rs"]
-mod vars;
 mod vcd;
 
-use vars::Var;
+use gutta_cli::vars::{self, Var, VarJson};
 
 /// One change seen by --trace.
 struct Change {

@@ -3,7 +3,7 @@
 
 use gutta_vm::vcd::{Dump, Signal};
 
-use crate::vars::Var;
+use gutta_cli::vars::Var;
 
 /// The dump of `reads`, starting at their `initial` values.
 pub fn dump(reads: &[Var], initial: &[u32]) -> Dump {

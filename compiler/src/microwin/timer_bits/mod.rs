@@ -455,7 +455,10 @@ impl TimerBitPass<'_> {
     /// The target's word compare contact (`LDW>=`, `AW<`, ...) the dialect emits for a
     /// bit read, or an error naming the compare it lacks.
     fn compare_id(&mut self, join: Join, relation: CompareOp, at: Span) -> Option<InstrId> {
-        let id = self.target.instructions.compare(join, relation, DataType::Int);
+        let id = self
+            .target
+            .instructions
+            .compare(join, relation, DataType::Int);
         if id.is_none() {
             let prefix = match join {
                 Join::Load => "LD",

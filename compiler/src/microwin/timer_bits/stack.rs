@@ -22,15 +22,22 @@ impl TimerBitPass<'_> {
         edits: &mut BTreeMap<(usize, usize, usize), Vec<CheckedInstruction>>,
     ) {
         let set = &self.target.instructions;
-        let (Some(lps), Some(lpp)) = (set.plain(LadderClass::Push, None),
-            set.plain(LadderClass::Pop, None),) else {
+        let (Some(lps), Some(lpp)) = (
+            set.plain(LadderClass::Push, None),
+            set.plain(LadderClass::Pop, None),
+        ) else {
             return;
         };
         let max = i32::from(set.logic_stack_depth);
         for b in boxes {
             let list = &checked[b.unit].networks[b.network].instructions;
             let ins = &list[b.index];
-            if set.get(ins.id).kind.and_then(S7200TimerFamily::of_kind).is_none() {
+            if set
+                .get(ins.id)
+                .kind
+                .and_then(S7200TimerFamily::of_kind)
+                .is_none()
+            {
                 continue;
             }
             let Some(next) = list.get(b.index + 1) else {

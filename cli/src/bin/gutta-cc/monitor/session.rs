@@ -13,13 +13,13 @@ use gutta_catalog::Target;
 use gutta_format::{Image, SymbolTable};
 use gutta_ladder::live::{rung_power, Snapshot};
 use gutta_ladder::model::{Body, Ladder};
-use gutta_link::{Client, LinkError, Transport};
+use gutta_link::plan::ReadPlan;
+use gutta_link::{Client, LinkConfig, LinkError, Transport};
 use serde_json::json;
 
-use super::plan::ReadPlan;
 use crate::args::LinkArgs;
 use crate::client;
-use crate::vars::Var;
+use gutta_cli::vars::Var;
 
 /// Every update reads the RUN state and the force values again after this many updates
 /// (and on the first): at 20 updates a second, twice a second.
@@ -33,7 +33,7 @@ struct Counted {
 }
 
 impl Transport for Counted {
-    fn exchange(&mut self, station: u8, pdu: &[u8]) -> Result<Vec<u8>, LinkError> {
+    fn exchange(&mut self, station: u8, pdu: &[u8]) -> Result<gutta_link::Answer, LinkError> {
         self.requests.fetch_add(1, Ordering::Relaxed);
         self.inner.exchange(station, pdu)
     }
@@ -81,9 +81,9 @@ enum Held {
 
 /// The PLC connection and what the last slow read found.
 pub(crate) struct Session {
-    link: LinkArgs,
+    config: LinkConfig,
     password: [u8; 16],
-    client: Option<Client>,
+    plc: Option<gutta_link::Session>,
     /// What the PLC holds against the compiled image (checked on every connection).
     held: Held,
     run: Option<bool>,
@@ -96,33 +96,41 @@ impl Session {
     /// program.
     pub fn start(program: &Program, link: &LinkArgs) -> Result<Session, crate::Fatal> {
         let counters = Arc::new(Counters::default());
-        let mut client = Client::new(
+        let config = client::link_config(link)?;
+        let client = Client::new(
             Box::new(Counted {
-                inner: client::transport(link)?,
+                inner: client::transport(&config)?,
                 requests: counters.requests.clone(),
             }),
-            link.station,
+            config.station,
         );
-        let password = crate::login::log_in(&mut client, link)?;
+        let mut plc = crate::login::log_in(client, config.address(), link)?;
+        plc.set_target(&program.target);
         let mut session = Session {
-            link: link.clone(),
-            password,
-            client: None,
+            password: plc.password(),
+            config,
+            plc: None,
             held: Held::Nothing,
             run: None,
             forced: Vec::new(),
             counters,
         };
         session.held = session
-            .check(&mut client, program)
+            .check(&mut plc, program)
             .map_err(client::link_error)?;
-        session.client = Some(client);
+        session.plc = Some(plc);
         Ok(session)
     }
 
+    /// How the user named the PLC.
+    pub fn address(&self) -> &str {
+        self.config.address()
+    }
+
     /// Whether the PLC holds exactly the compiled image, another program, or none.
-    fn check(&self, client: &mut Client, program: &Program) -> Result<Held, LinkError> {
-        let pack = program.target.plc.exch_pack_size as usize;
+    fn check(&self, plc: &mut gutta_link::Session, program: &Program) -> Result<Held, LinkError> {
+        let pack = plc.pack_size();
+        let client = plc.client();
         if client
             .page_list(gutta_protocol::function::PageArea::Program)?
             .is_empty()
@@ -140,17 +148,18 @@ impl Session {
     /// A new connection after a failure: log in with the password that worked, check
     /// the program again (it may have been downloaded meanwhile).
     fn reconnect(&mut self, program: &Program) -> Result<(), LinkError> {
-        let transport = client::transport(&self.link).map_err(|e| LinkError::Io(e.message))?;
-        let mut client = Client::new(
+        let transport = client::transport(&self.config).map_err(|e| LinkError::Io(e.message))?;
+        let client = Client::new(
             Box::new(Counted {
                 inner: transport,
                 requests: self.counters.requests.clone(),
             }),
-            self.link.station,
+            self.config.station,
         );
-        client.attach(&self.password)?;
-        self.held = self.check(&mut client, program)?;
-        self.client = Some(client);
+        let mut plc = gutta_link::Session::reattach(client, self.password)?;
+        plc.set_target(&program.target);
+        self.held = self.check(&mut plc, program)?;
+        self.plc = Some(plc);
         Ok(())
     }
 
@@ -175,7 +184,7 @@ impl Session {
                 ),
             ),
             Err(e) => {
-                self.client = None;
+                self.plc = None;
                 self.state(program, format!("the PLC does not answer: {e}"))
             }
         }
@@ -184,26 +193,24 @@ impl Session {
     /// The values by canonical address, or None when the PLC runs another program or
     /// none.
     fn read(&mut self, program: &Program) -> Result<Option<BTreeMap<String, u32>>, LinkError> {
-        if self.client.is_none() {
+        if self.plc.is_none() {
             self.reconnect(program)?;
         }
         if self.held != Held::Same {
             return Ok(None);
         }
-        let client = self.client.as_mut().expect("connected above");
+        let plc = self.plc.as_mut().expect("connected above");
         let n = self.counters.updates.load(Ordering::Relaxed);
         if n.is_multiple_of(SLOW_EVERY) {
-            self.run = Some(client.status()? & 1 != 0);
-            self.forced = forced(client, program)?;
+            self.run = Some(plc.client().status()? & 1 != 0);
+            self.forced = forced(plc, program)?;
         }
-        let per_request = (program.target.plc.exch_pack_size as usize / 4).max(1);
-        let mut windows = Vec::with_capacity(program.plan.windows.len());
-        for chunk in program.plan.windows.chunks(per_request) {
-            let packed: Vec<u32> = chunk.iter().map(|a| client::packed(*a)).collect();
-            self.counters.var_reads.fetch_add(1, Ordering::Relaxed);
-            windows.extend(client.read_vars(&packed)?);
-        }
-        let raw = program.plan.values(&windows);
+        let sent = plc.var_reads();
+        let raw = plc.read_plan(&program.plan);
+        self.counters
+            .var_reads
+            .fetch_add(plc.var_reads() - sent, Ordering::Relaxed);
+        let raw = raw?;
         self.counters.updates.fetch_add(1, Ordering::Relaxed);
         Ok(Some(
             program
@@ -271,7 +278,7 @@ impl Session {
             "networks": [],
             "values": {},
             "forced": [],
-            "read_addresses": program.plan.windows.len(),
+            "read_addresses": program.plan.windows().len(),
             "updates": self.counters.updates.load(Ordering::Relaxed),
             "var_reads": self.counters.var_reads.load(Ordering::Relaxed),
             "plc_requests": self.counters.requests.load(Ordering::Relaxed),
@@ -281,7 +288,7 @@ impl Session {
 
 /// The I and Q operands whose force value is set (STATUS_VAR_FORCE_READ returns the force
 /// value image, not the mask: a bit forced to 0 does not show; docs/ladder.md).
-fn forced(client: &mut Client, program: &Program) -> Result<Vec<String>, LinkError> {
+fn forced(plc: &mut gutta_link::Session, program: &Program) -> Result<Vec<String>, LinkError> {
     let memory = &program.target.memory;
     let forceable: Vec<&Var> = program
         .vars
@@ -292,16 +299,12 @@ fn forced(client: &mut Client, program: &Program) -> Result<Vec<String>, LinkErr
                 .is_some_and(|a| matches!(a.name.as_str(), "I" | "Q"))
         })
         .collect();
-    let per_request = (program.target.plc.exch_pack_size as usize / 4).max(1);
-    let mut out = Vec::new();
-    for chunk in forceable.chunks(per_request) {
-        let packed: Vec<u32> = chunk.iter().map(|v| client::packed(v.address)).collect();
-        let bytes = client.read_forces(&packed)?;
-        for (v, b) in chunk.iter().zip(bytes) {
-            if client::value_of(&v.address, b) != 0 {
-                out.push(v.canonical.clone());
-            }
-        }
-    }
-    Ok(out)
+    let addresses: Vec<_> = forceable.iter().map(|v| v.address).collect();
+    let values = plc.read_forces(&addresses)?;
+    Ok(forceable
+        .iter()
+        .zip(values)
+        .filter(|(_, value)| *value != 0)
+        .map(|(v, _)| v.canonical.clone())
+        .collect())
 }

@@ -1,16 +1,10 @@
-//! What a variable named on the command line stands for: `NAME` (a symbol) or a direct
-//! address, with an optional `:fmt` suffix (`MW2:int`, `Temp:hex`), resolved to an
-//! address and the format its values print and parse in; and the symbol context those
-//! names come from (program sources and symbol tables). Shared by gutta-cc and gutta-vm
-//! (which includes this file): it neither prints nor talks to a PLC, and its errors are
-//! plain messages the caller prefixes.
-
-use std::path::PathBuf;
+//! A typed variable: `NAME` (a symbol) or a direct address, with an optional `:fmt`
+//! suffix (`MW2:int`, `Temp:hex`), resolved on a target to an address and the format
+//! its values print and parse in. What a [`crate::Session`] reads and writes, and what
+//! gutta-vm's `--read`/`--set` name. Plain data: it neither prints nor talks to a PLC,
+//! and its errors are plain messages the caller prefixes.
 
 use gutta_catalog::{Address, Target, ValueFormat};
-use gutta_compiler::diagnostics::Code;
-use gutta_compiler::source::SourceFile;
-use gutta_compiler::{check_program, ExplicitTarget, ProgramSources};
 use gutta_format::{Symbol, SymbolTable};
 
 /// Where symbols come from, for the hint of an unknown name.
@@ -38,7 +32,6 @@ impl Var {
     }
 
     /// The symbol's name, else the address: a short name for tables and VCD signals.
-    #[allow(dead_code)] // gutta-vm's (this file is shared)
     pub fn name(&self) -> &str {
         self.symbol.as_deref().unwrap_or(&self.canonical)
     }
@@ -53,28 +46,6 @@ impl Var {
         self.format
             .parse(text, self.address.width)
             .map_err(|e| format!("{}: {e}", self.label()))
-    }
-
-    /// The value as JSON: a number when the text is one (`-1`, `21.5`), else the text
-    /// (`16#00FF`, `nan`).
-    pub fn json_value(&self, raw: u32) -> serde_json::Value {
-        let text = self.show(raw);
-        match serde_json::from_str::<serde_json::Value>(&text) {
-            Ok(v @ serde_json::Value::Number(_)) => v,
-            _ => serde_json::Value::String(text),
-        }
-    }
-
-    /// `{"name", "address", "format", "value", "raw"}`: one value in JSON output.
-    #[allow(dead_code)] // gutta-cc's (this file is shared)
-    pub fn json(&self, raw: u32) -> serde_json::Value {
-        serde_json::json!({
-            "name": self.symbol,
-            "address": self.canonical,
-            "format": self.format.name(),
-            "value": self.json_value(raw),
-            "raw": raw,
-        })
     }
 }
 
@@ -145,7 +116,6 @@ fn symbol_address(s: &Symbol, target: &Target) -> Result<Address, String> {
 /// connecting to learn the PLC type: a name that is neither a symbol nor shaped like an
 /// address, or an unknown `:fmt`, is an error on every target. Addresses, a symbol's
 /// address and values wait for the target (`resolve`).
-#[allow(dead_code)] // gutta-cc's (this file is shared)
 pub fn check_without_target(text: &str, symbols: &SymbolTable) -> Result<(), String> {
     let text = text.split_once('=').map_or(text, |(var, _)| var).trim();
     let (name, suffix) = match text.split_once(':') {
@@ -199,68 +169,6 @@ fn unknown_name(name: &str, symbols: &SymbolTable, target: Option<&str>) -> Stri
     }
 }
 
-/// The symbols of `files` (program sources `.lad`, whose SYMBOLS blocks count; any other
-/// file a symbol table) and of `tables` (e.g. an image's source map), one namespace. A
-/// source with errors is refused: its symbols may be wrong.
-/// The errors of symbol declarations and tables: these make a symbol context wrong.
-const SYMBOL_CODES: [Code; 6] = [
-    Code::BadSymbolTable,
-    Code::BadSymbolTableRow,
-    Code::DuplicateSymbol,
-    Code::BadSymbolName,
-    Code::UnknownDataType,
-    Code::SymbolTypeWidth,
-];
-
-pub fn symbol_context(
-    files: &[PathBuf],
-    tables: Vec<SymbolTable>,
-    explicit: Option<&ExplicitTarget>,
-) -> Result<SymbolTable, String> {
-    let mut symbols: Vec<Symbol> = tables.into_iter().flat_map(|t| t.symbols).collect();
-    // The .lad files are one program (a project's sources), the others its tables: they
-    // are checked together, as `gutta-cc build` compiles them, so a symbol declared in one
-    // file and a duplicate in another are seen. Only the declarations' own errors stop the
-    // command; a program being edited still lends its symbols.
-    let mut program = ProgramSources::default();
-    for path in files {
-        let name = path.display().to_string();
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| format!("--symbols {name}: cannot read it: {e}"))?;
-        let file = SourceFile::new(&name, &text);
-        if path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("lad"))
-        {
-            program.sources.push(file);
-        } else {
-            program.symbol_tables.push(file);
-        }
-    }
-    if !files.is_empty() {
-        let checked = check_program(program, explicit);
-        if let Some(d) = checked
-            .diagnostics()
-            .iter()
-            .find(|d| d.is_error() && SYMBOL_CODES.contains(&d.code))
-        {
-            let at = checked
-                .file
-                .locate(&checked.index, d.primary.span.start as usize);
-            return Err(format!(
-                "{}:{}:{}: [{}] {} (`gutta-cc --check` shows every error)",
-                at.file,
-                at.line,
-                at.column,
-                d.code.as_str(),
-                d.message
-            ));
-        }
-        symbols.extend(checked.symbols().symbols);
-    }
-    Ok(SymbolTable::new(symbols))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -294,7 +202,7 @@ mod tests {
         let temp = resolve("Temp", &symbols, &target).expect("Temp");
         assert_eq!(temp.label(), "Temp (MD8)");
         assert_eq!(temp.parse("-3.5"), Ok((-3.5f32).to_bits()));
-        assert_eq!(temp.json_value(21.5f32.to_bits()), serde_json::json!(21.5));
+        assert_eq!(temp.show(21.5f32.to_bits()), "21.5");
         assert!(format("Count:real").is_err_and(|e| e.contains("double word")));
         assert!(format("Lmap").is_err_and(|e| e.contains("did you mean `Lamp`?")));
         assert!(check_without_target("Lmap=1", &symbols)
