@@ -507,7 +507,7 @@ fn labels(checked: &CheckedFile, cursor: &Cursor, ins: &Instruction, items: &mut
     let Some(ui) = cursor.unit else { return };
     let set = &checked.target.instructions;
     let defines = set
-        .lookup("LBL")
+        .label_definition()
         .is_some_and(|id| std::ptr::eq(set.get(id), ins));
     let defined: Vec<u16> = checked
         .output

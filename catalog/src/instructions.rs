@@ -248,6 +248,9 @@ pub struct Instruction {
     pub power_output: Option<String>,
     /// Its part in a FOR/NEXT loop (`Loop`).
     pub loop_role: Option<LoopRole>,
+    /// It defines the label its operand names, the target of jumps (`LBL`;
+    /// `DefinesLabel`).
+    pub defines_label: bool,
 }
 
 impl Instruction {
@@ -327,6 +330,8 @@ struct RawInstruction {
     power_output: Option<String>,
     #[serde(rename = "@Loop")]
     loop_role: Option<String>,
+    #[serde(rename = "@DefinesLabel")]
+    defines_label: Option<String>,
     #[serde(rename = "Operand", default)]
     operands: Vec<RawOperand>,
     #[serde(rename = "Description", default)]
@@ -597,6 +602,7 @@ fn parse_instruction(raw: RawInstruction) -> Result<Instruction, CatalogError> {
         power_inputs: nature.power_inputs,
         power_output: nature.power_output,
         loop_role: nature.loop_role,
+        defines_label: nature.defines_label,
         aliases,
         opcode,
         family: raw.family.trim().to_string(),
@@ -718,6 +724,11 @@ impl InstructionSet {
     /// The instruction of a timer or counter kind.
     pub fn by_kind(&self, kind: TimerCounterKind) -> Option<InstrId> {
         self.position(|i| i.kind == Some(kind))
+    }
+
+    /// The instruction that defines a label (`LBL`).
+    pub fn label_definition(&self) -> Option<InstrId> {
+        self.position(|i| i.defines_label)
     }
 
     /// The instruction with a part in FOR/NEXT loops (`FOR`, `NEXT`).

@@ -20,6 +20,24 @@ fn edited(from: &str, to: &str) -> Result<InstructionSet, gutta_catalog::Catalog
 }
 
 #[test]
+fn one_instruction_defines_labels_and_its_operand_is_a_label() {
+    let set = shipped();
+    let definers: Vec<&str> = set
+        .instructions
+        .iter()
+        .filter(|i| i.defines_label)
+        .map(|i| i.mnemonic.as_str())
+        .collect();
+    assert_eq!(definers, ["LBL"]);
+    let lbl = set.get(set.label_definition().expect("a label definition"));
+    assert!(
+        matches!(lbl.operands.as_slice(), [o] if o.kind == gutta_catalog::OperandKind::Label),
+        "{:?}",
+        lbl.operands
+    );
+}
+
+#[test]
 fn every_timer_and_counter_has_its_kind_and_pins() {
     let set = shipped();
     // The decisions, as Micro/WIN draws the boxes: power inputs in STL load order,

@@ -22,6 +22,7 @@ pub(super) struct Nature {
     pub(super) power_inputs: Vec<String>,
     pub(super) power_output: Option<String>,
     pub(super) loop_role: Option<LoopRole>,
+    pub(super) defines_label: bool,
 }
 
 /// An optional keyword attribute: `None` when absent, T0003 naming the keywords the
@@ -192,6 +193,12 @@ pub(super) fn parse(
         raw.loop_role.as_deref(),
         LoopRole::all().map(LoopRole::keyword),
     )?;
+    let defines_label = attr_bool(
+        FILE,
+        &format!("DefinesLabel of {m}"),
+        raw.defines_label.as_deref(),
+        false,
+    )?;
     Ok(Nature {
         kind,
         ladder,
@@ -201,5 +208,6 @@ pub(super) fn parse(
         power_inputs,
         power_output,
         loop_role,
+        defines_label,
     })
 }

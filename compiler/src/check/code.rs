@@ -77,7 +77,7 @@ impl Checker<'_> {
     /// `LBL n` of every unit: unit -> label -> span.
     fn labels(&mut self) -> Vec<BTreeMap<u16, Span>> {
         let set = &self.target.instructions;
-        let lbl = set.lookup("LBL");
+        let lbl = set.label_definition();
         let range = lbl
             .and_then(|id| set.get(id).operands.first())
             .map_or(0..=255, rules::label_range);

@@ -6,7 +6,7 @@
 use std::collections::BTreeMap;
 
 use gutta_catalog::rules::{self, DataRules};
-use gutta_catalog::{BlockKind, InstrId, Instruction, InstructionSet, Role, Target};
+use gutta_catalog::{BlockKind, InstrId, Instruction, InstructionSet, LoopRole, Role, Target};
 
 use super::error::{Location, VerifyError};
 use super::operand::{Checked, OperandChecker, Site};
@@ -171,7 +171,7 @@ impl InstructionCode<'_> {
                 index: i,
             };
             match checker.check_spec(self.operand_at(i), site, *op, spec)? {
-                Checked::Label(label) if ins.mnemonic == "LBL" => {
+                Checked::Label(label) if ins.defines_label => {
                     if let Some(&first) = labels.first.get(&label) {
                         return Err(VerifyError::DuplicateLabel {
                             at: self.at(),
@@ -253,8 +253,8 @@ impl<'t> LoopPairing<'t> {
     fn new(target: &'t Target) -> LoopPairing<'t> {
         LoopPairing {
             set: &target.instructions,
-            for_id: target.instructions.lookup("FOR"),
-            next_id: target.instructions.lookup("NEXT"),
+            for_id: target.instructions.by_loop_role(LoopRole::Start),
+            next_id: target.instructions.by_loop_role(LoopRole::End),
             open: Vec::new(),
         }
     }
@@ -280,7 +280,8 @@ impl<'t> LoopPairing<'t> {
             let Some((_, for_index)) = self.open.pop() else {
                 return Err(VerifyError::UnmatchedLoop {
                     at,
-                    mnemonic: "NEXT".to_string(),
+                    mnemonic: self.set.get(id).mnemonic.clone(),
+                    role: LoopRole::End,
                 });
             };
             unit.loops.insert(for_index, index);
@@ -292,7 +293,10 @@ impl<'t> LoopPairing<'t> {
         match self.open.first() {
             Some(&(at, _)) => Err(VerifyError::UnmatchedLoop {
                 at,
-                mnemonic: "FOR".to_string(),
+                mnemonic: self
+                    .for_id
+                    .map_or_else(String::new, |id| self.set.get(id).mnemonic.clone()),
+                role: LoopRole::Start,
             }),
             None => Ok(()),
         }

@@ -4,7 +4,7 @@
 
 use std::fmt;
 
-use gutta_catalog::{plural, BlockKind, Width};
+use gutta_catalog::{plural, BlockKind, LoopRole, Width};
 
 use crate::{DecodeError, PackedOperand, PageId, UnitRef};
 
@@ -292,6 +292,8 @@ pub enum VerifyError {
         at: Location,
         /// `FOR` or `NEXT`: the instruction at `at`.
         mnemonic: String,
+        /// Its part in the loop: a start without its end, or an end without its start.
+        role: LoopRole,
     },
     CallCycle {
         /// The `CALL` that closes the cycle.
@@ -633,7 +635,10 @@ impl VerifyError {
             E::OverlappingLocals { local, other, .. } => format!(
                 "local {local} shares bits of L with local {other}: every local is its own variable"
             ),
-            E::UnmatchedLoop { mnemonic, .. } if mnemonic == "NEXT" => {
+            E::UnmatchedLoop {
+                role: LoopRole::End,
+                ..
+            } => {
                 "this NEXT closes no FOR: every NEXT ends the innermost open FOR of its page"
                     .to_string()
             }

@@ -11,6 +11,7 @@ use gutta_cli::fatal::MessageFormat;
 use gutta_cli::shell::Shell;
 use gutta_cli::target::TargetArgs;
 use gutta_format::Parity;
+use gutta_link::LinkConfig;
 
 use crate::{client, fx, help};
 
@@ -394,13 +395,13 @@ pub(crate) struct LinkArgs {
     #[arg(long, value_name = "TEXT")]
     pub(crate) password: Option<String>,
     /// The PLC's station address.
-    #[arg(long, value_name = "N", default_value_t = 1)]
+    #[arg(long, value_name = "N", default_value_t = LinkConfig::STATION)]
     pub(crate) station: u8,
     /// Milliseconds to wait for each answer.
-    #[arg(long, value_name = "MS", default_value_t = 1000)]
+    #[arg(long, value_name = "MS", default_value_t = LinkConfig::TIMEOUT_MS)]
     pub(crate) timeout: u64,
     /// Attempts after the first when an answer does not come.
-    #[arg(long, value_name = "N", default_value_t = 2)]
+    #[arg(long, value_name = "N", default_value_t = LinkConfig::RETRIES)]
     pub(crate) retries: u32,
 }
 
