@@ -10,6 +10,7 @@ pub mod folding;
 pub mod format;
 pub mod inlay;
 pub mod navigation;
+pub mod network_edit;
 pub mod outline;
 mod place;
 pub mod rename;
