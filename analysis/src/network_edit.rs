@@ -5,6 +5,17 @@
 //! the NETWORK lines that must move up); every other byte of the file stays as it was.
 //! Works on the syntax tree of the text (`ast::Program`, from [`parse`] or a
 //! `CheckedFile`'s `ast`), whose spans say where each block and network is. No I/O.
+//!
+//! ```rust
+//! use gutta_analysis::network_edit::{apply, parse, replace_network, BlockRef, NetworkRef};
+//!
+//! let text = "ORGANIZATION_BLOCK MAIN:OB1\r\nBEGIN\r\nNETWORK 1 // lamp\r\n\
+//!             LD     I0.0\r\n=      Q0.0\r\nEND_ORGANIZATION_BLOCK\r\n";
+//! let program = parse(text, false);
+//! let at = NetworkRef { block: BlockRef::Name("MAIN"), network: 0 };
+//! let edit = replace_network(text, &program, at, &["LDN    I0.0", "=      Q0.0"]).unwrap();
+//! assert_eq!(apply(text, &[edit]), text.replace("LD  ", "LDN "));
+//! ```
 
 use std::fmt;
 

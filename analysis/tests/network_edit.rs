@@ -443,3 +443,83 @@ fn an_empty_network_gets_its_lines_after_its_comments() {
         LATCH.replace("// lamp\n", "// lamp\n// nothing yet\n")
     );
 }
+
+/// xorshift64*: deterministic, no dependency.
+struct Rng(u64);
+
+impl Rng {
+    fn below(&mut self, n: usize) -> usize {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        ((self.0.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 32) % n.max(1) as u64) as usize
+    }
+}
+
+#[test]
+fn a_sequence_of_edits_keeps_every_network_as_the_edits_say() {
+    let pool = [
+        "LD     I0.0",
+        "LDN    M1.1",
+        "O      I0.2",
+        "AN     M0.3",
+        "=      Q0.4",
+        "MOVW   16#0E01, MW10",
+    ];
+    let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
+    for (path, text, awl) in corpus() {
+        let mut text = text;
+        let program = parse(&text, awl);
+        let stl = |p: &Program, t: &str| -> Vec<Vec<Vec<String>>> {
+            p.units
+                .iter()
+                .map(|u| {
+                    u.networks
+                        .iter()
+                        .map(|n| lines_of(t, n).into_iter().map(str::to_string).collect())
+                        .collect()
+                })
+                .collect()
+        };
+        let mut model = stl(&program, &text);
+        for step in 0..12 {
+            let program = parse(&text, awl);
+            let blocks: Vec<usize> = (0..model.len()).filter(|b| !model[*b].is_empty()).collect();
+            if blocks.is_empty() {
+                break;
+            }
+            let b = blocks[rng.below(blocks.len())];
+            let n = rng.below(model[b].len());
+            let at = NetworkRef {
+                block: BlockRef::Index(b),
+                network: n,
+            };
+            let lines: Vec<&str> = (0..1 + rng.below(4))
+                .map(|_| pool[rng.below(pool.len())])
+                .collect();
+            let owned: Vec<String> = lines.iter().map(|s| s.to_string()).collect();
+            let edits = match rng.below(4) {
+                0 if model[b].len() > 1 => {
+                    model[b].remove(n);
+                    vec![delete_network(&text, &program, at).expect("delete")]
+                }
+                1 => {
+                    model[b].insert(n + 1, owned);
+                    let new = NewNetwork {
+                        title: Some("step"),
+                        comment: &[],
+                        lines: &lines,
+                    };
+                    insert_network_after(&text, &program, at, &new).expect("insert")
+                }
+                _ => {
+                    model[b][n] = owned;
+                    vec![replace_network(&text, &program, at, &lines).expect("replace")]
+                }
+            };
+            text = apply(&text, &edits);
+            let again = parse(&text, awl);
+            assert_eq!(stl(&again, &text), model, "{} step {step}", path.display());
+        }
+    }
+}
