@@ -66,6 +66,9 @@ pub enum EditError {
     },
     /// A line, title or comment line holds a line break (each must be one line).
     LineBreak(String),
+    /// The block's first network is instructions before any NETWORK line: a network
+    /// written before them would take them in.
+    NoNetworkLine(String),
 }
 
 impl fmt::Display for EditError {
@@ -84,6 +87,10 @@ impl fmt::Display for EditError {
                 "{block} has no network at index {network} (it has {networks})"
             ),
             EditError::LineBreak(l) => write!(f, "a line break inside one line: {l:?}"),
+            EditError::NoNetworkLine(b) => write!(
+                f,
+                "the first network of {b} has no NETWORK line: no network can go before it"
+            ),
         }
     }
 }
@@ -138,13 +145,7 @@ pub fn replace_network(
         // No instruction yet: the lines go after the NETWORK line and its comments,
         // indented as the block's first instruction.
         let start = after_comment_lines(text, line_end(text, net.span.end as usize));
-        let indent = unit
-            .networks
-            .iter()
-            .find_map(|n| n.instructions.first())
-            .map_or("", |i| {
-                indentation(&text[line_start(text, i.span.start as usize)..])
-            });
+        let indent = block_indentation(text, unit);
         let mut new = String::new();
         if start == text.len() && !text.ends_with('\n') && !lines.is_empty() {
             new.push_str(eol);
@@ -202,8 +203,9 @@ pub fn replace_network(
 }
 
 /// Insert a network after the network `after`: a NETWORK line (`NETWORK n // title`,
-/// the keyword spelt as `after`'s; `n` written when `after`'s line writes a number),
-/// its comment lines and instructions, indented as `after`'s first instruction,
+/// the keyword spelt as the block's first NETWORK line; `n` written when `after`'s line
+/// writes a number), its comment lines and instructions, indented as the block's first
+/// instruction,
 /// separated from `after` by the blank lines that separate `after` from what comes
 /// before it. Numbers must increase within a block (E0414): the numbered NETWORK lines
 /// that follow get new digits only as far as needed to stay increasing.
@@ -213,51 +215,126 @@ pub fn insert_network_after(
     after: NetworkRef<'_>,
     network: &NewNetwork<'_>,
 ) -> Result<Vec<Edit>, EditError> {
-    no_line_breaks(network.title.into_iter())?;
-    no_line_breaks(network.comment.iter().copied())?;
-    no_line_breaks(network.lines.iter().copied())?;
+    one_line_each(network)?;
     let (unit, net) = find(text, program, after)?;
     let eol = line_ending(text, net.span.start as usize);
     let number = effective_number(unit, after.network) + 1;
     let extent = network_extent(text, unit, after.network);
     let at = trim_blank_lines_back(text, extent.start as usize, extent.end as usize);
     let gap_start = trim_blank_lines_back(text, 0, line_start(text, net.span.start as usize));
-    let gap = &text[gap_start..line_start(text, net.span.start as usize)];
-    let indent = net.instructions.first().map_or("", |i| {
-        indentation(&text[line_start(text, i.span.start as usize)..])
-    });
-    let keyword = net
-        .header
-        .and_then(|h| text[h.range()].split_whitespace().next())
-        .filter(|k| k.eq_ignore_ascii_case("NETWORK"))
-        .unwrap_or("NETWORK");
     let mut new = String::new();
     if at > 0 && !text[..at].ends_with('\n') {
         new.push_str(eol);
     }
-    new.push_str(gap);
-    new.push_str(keyword);
-    if net.number.is_some() || net.header.is_none() {
-        new.push_str(&format!(" {number}"));
-    }
-    if let Some(title) = network.title.map(str::trim).filter(|t| !t.is_empty()) {
-        new.push_str(" // ");
-        new.push_str(title);
-    }
-    new.push_str(eol);
-    for c in network.comment {
-        new.push_str(indent);
-        new.push_str(format!("// {}", c.trim()).trim_end());
-        new.push_str(eol);
-    }
-    for l in network.lines {
-        new.push_str(indent);
-        new.push_str(l.trim());
-        new.push_str(eol);
-    }
+    new.push_str(&text[gap_start..line_start(text, net.span.start as usize)]);
+    let written = (net.number.is_some() || net.header.is_none()).then_some(number);
+    write_network(&mut new, text, unit, written, network, eol);
     let mut edits = vec![edit(at, at, new)];
     edits.extend(renumber_following(text, unit, after.network + 1, number));
     Ok(edits)
+}
+
+/// Insert a network as the first of a block (an empty block's first network): before
+/// its first network, separated from it by the blank lines between its first and second
+/// networks; in an empty block, before its END line. It takes the first network's
+/// number (1 in an empty block), written when the first network's NETWORK line writes
+/// one (always in an empty block); the numbered networks that follow move up as after
+/// [`insert_network_after`].
+pub fn insert_network_first(
+    text: &str,
+    program: &Program,
+    block: BlockRef<'_>,
+    network: &NewNetwork<'_>,
+) -> Result<Vec<Edit>, EditError> {
+    one_line_each(network)?;
+    let unit = find_block(text, program, block)?;
+    let Some(first) = unit.networks.first() else {
+        let at = match unit.end {
+            Some(end) => line_start(text, end.start as usize),
+            None => text.len(),
+        };
+        let eol = line_ending(text, unit.header.span.start as usize);
+        let mut new = String::new();
+        if at > 0 && !text[..at].ends_with('\n') {
+            new.push_str(eol);
+        }
+        write_network(&mut new, text, unit, Some(1), network, eol);
+        return Ok(vec![edit(at, at, new)]);
+    };
+    if first.header.is_none() {
+        let name = text[unit.header.name.range()].trim();
+        return Err(EditError::NoNetworkLine(name.to_string()));
+    }
+    let eol = line_ending(text, first.span.start as usize);
+    let at = line_start(text, first.span.start as usize);
+    let number = first.number_after(None);
+    let gap = unit.networks.get(1).map_or("", |second| {
+        let end = line_start(text, second.span.start as usize);
+        &text[trim_blank_lines_back(text, at, end)..end]
+    });
+    let mut new = String::new();
+    let written = first.number.is_some().then_some(number);
+    write_network(&mut new, text, unit, written, network, eol);
+    new.push_str(gap);
+    let mut edits = vec![edit(at, at, new)];
+    edits.extend(renumber_following(text, unit, 0, number));
+    Ok(edits)
+}
+
+/// A new network's lines: `NETWORK [n] [// title]` (the keyword spelt as the block's
+/// first NETWORK line), `// comment` lines and instructions, indented as the block's
+/// first instruction, each with `eol`.
+fn write_network(
+    out: &mut String,
+    text: &str,
+    unit: &Unit,
+    number: Option<u32>,
+    network: &NewNetwork<'_>,
+    eol: &str,
+) {
+    let keyword = unit
+        .networks
+        .iter()
+        .find_map(|n| n.header)
+        .and_then(|h| text[h.range()].split_whitespace().next())
+        .filter(|k| k.eq_ignore_ascii_case("NETWORK"))
+        .unwrap_or("NETWORK");
+    let indent = block_indentation(text, unit);
+    out.push_str(keyword);
+    if let Some(n) = number {
+        out.push_str(&format!(" {n}"));
+    }
+    if let Some(title) = network.title.map(str::trim).filter(|t| !t.is_empty()) {
+        out.push_str(" // ");
+        out.push_str(title);
+    }
+    out.push_str(eol);
+    for c in network.comment {
+        out.push_str(indent);
+        out.push_str(format!("// {}", c.trim()).trim_end());
+        out.push_str(eol);
+    }
+    for l in network.lines {
+        out.push_str(indent);
+        out.push_str(l.trim());
+        out.push_str(eol);
+    }
+}
+
+/// The indentation of the block's first instruction line ("" in a block without one).
+fn block_indentation<'t>(text: &'t str, unit: &Unit) -> &'t str {
+    unit.networks
+        .iter()
+        .find_map(|n| n.instructions.first())
+        .map_or("", |i| {
+            indentation(&text[line_start(text, i.span.start as usize)..])
+        })
+}
+
+fn one_line_each(network: &NewNetwork<'_>) -> Result<(), EditError> {
+    no_line_breaks(network.title.into_iter())?;
+    no_line_breaks(network.comment.iter().copied())?;
+    no_line_breaks(network.lines.iter().copied())
 }
 
 /// Delete a network: its NETWORK line through the line before the next network's (or
@@ -284,7 +361,24 @@ fn find<'p>(
     program: &'p Program,
     at: NetworkRef<'_>,
 ) -> Result<(&'p Unit, &'p Network), EditError> {
-    let unit = match at.block {
+    let unit = find_block(text, program, at.block)?;
+    let net = unit
+        .networks
+        .get(at.network)
+        .ok_or_else(|| EditError::NetworkNotFound {
+            block: text[unit.header.name.range()].trim().to_string(),
+            network: at.network,
+            networks: unit.networks.len(),
+        })?;
+    Ok((unit, net))
+}
+
+fn find_block<'p>(
+    text: &str,
+    program: &'p Program,
+    block: BlockRef<'_>,
+) -> Result<&'p Unit, EditError> {
+    Ok(match block {
         BlockRef::Index(i) => program
             .units
             .get(i)
@@ -300,16 +394,7 @@ fn find<'p>(
                 None => return Err(EditError::BlockNotFound(name.to_string())),
             }
         }
-    };
-    let net = unit
-        .networks
-        .get(at.network)
-        .ok_or_else(|| EditError::NetworkNotFound {
-            block: text[unit.header.name.range()].trim().to_string(),
-            network: at.network,
-            networks: unit.networks.len(),
-        })?;
-    Ok((unit, net))
+    })
 }
 
 /// Whether `wanted` (`MAIN`, `OB1` or `MAIN:OB1`) names the block.

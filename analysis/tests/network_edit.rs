@@ -10,8 +10,8 @@
 use std::path::{Path, PathBuf};
 
 use gutta_analysis::network_edit::{
-    apply, delete_network, insert_network_after, parse, replace_network, BlockRef, EditError,
-    NetworkRef, NewNetwork,
+    apply, delete_network, insert_network_after, insert_network_first, parse, replace_network,
+    BlockRef, EditError, NetworkRef, NewNetwork,
 };
 use gutta_compiler::compile;
 use gutta_compiler::source::SourceFile;
@@ -498,7 +498,22 @@ fn a_sequence_of_edits_keeps_every_network_as_the_edits_say() {
                 .map(|_| pool[rng.below(pool.len())])
                 .collect();
             let owned: Vec<String> = lines.iter().map(|s| s.to_string()).collect();
-            let edits = match rng.below(4) {
+            let edits = match rng.below(5) {
+                4 => {
+                    let new = NewNetwork {
+                        title: None,
+                        comment: &["first"],
+                        lines: &lines,
+                    };
+                    match insert_network_first(&text, &program, at.block, &new) {
+                        Ok(edits) => {
+                            model[b].insert(0, owned);
+                            edits
+                        }
+                        Err(EditError::NoNetworkLine(_)) => continue,
+                        Err(e) => panic!("{}: {e}", path.display()),
+                    }
+                }
                 0 if model[b].len() > 1 => {
                     model[b].remove(n);
                     vec![delete_network(&text, &program, at).expect("delete")]
@@ -522,4 +537,43 @@ fn a_sequence_of_edits_keeps_every_network_as_the_edits_say() {
             assert_eq!(stl(&again, &text), model, "{} step {step}", path.display());
         }
     }
+}
+
+#[test]
+fn a_network_inserted_first_takes_the_first_number() {
+    let program = parse(LATCH, false);
+    let new = NewNetwork {
+        title: Some("first"),
+        comment: &[],
+        lines: &["LD     I0.5", "=      Q0.5"],
+    };
+    let edits = insert_network_first(LATCH, &program, BlockRef::Index(0), &new).expect("insert");
+    assert_eq!(
+        apply(LATCH, &edits),
+        LATCH
+            .replace("NETWORK 2 // lamp", "NETWORK 3 // lamp")
+            .replace(
+                "NETWORK 1 // start",
+                "NETWORK 1 // first\nLD     I0.5\n=      Q0.5\n\nNETWORK 2 // start"
+            )
+    );
+    // An empty block gets NETWORK 1 before its END line.
+    let text = format!("{LATCH}SUBROUTINE_BLOCK S:SBR0\nBEGIN\nEND_SUBROUTINE_BLOCK\n");
+    let program = parse(&text, false);
+    let edits =
+        insert_network_first(&text, &program, BlockRef::Name("SBR0"), &new).expect("insert");
+    assert_eq!(
+        apply(&text, &edits),
+        text.replace(
+            "BEGIN\nEND_SUB",
+            "BEGIN\nNETWORK 1 // first\nLD     I0.5\n=      Q0.5\nEND_SUB"
+        )
+    );
+    // Instructions before any NETWORK line would be taken into a network put before them.
+    let text = LATCH.replace("NETWORK 1 // start/stop latch\n", "");
+    let program = parse(&text, false);
+    assert_eq!(
+        insert_network_first(&text, &program, BlockRef::Index(0), &new),
+        Err(EditError::NoNetworkLine("MAIN".to_string()))
+    );
 }
