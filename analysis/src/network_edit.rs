@@ -205,10 +205,9 @@ pub fn replace_network(
 /// Insert a network after the network `after`: a NETWORK line (`NETWORK n // title`,
 /// the keyword spelt as the block's first NETWORK line; `n` written when `after`'s line
 /// writes a number), its comment lines and instructions, indented as the block's first
-/// instruction,
-/// separated from `after` by the blank lines that separate `after` from what comes
-/// before it. Numbers must increase within a block (E0414): the numbered NETWORK lines
-/// that follow get new digits only as far as needed to stay increasing.
+/// instruction, separated from `after` by the blank lines that separate `after` from
+/// what comes before it. Numbers must increase within a block (E0414): the numbered
+/// NETWORK lines that follow get new digits only as far as needed to stay increasing.
 pub fn insert_network_after(
     text: &str,
     program: &Program,
