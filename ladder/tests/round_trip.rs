@@ -355,6 +355,13 @@ fn every_drawn_network_round_trips_through_stl() {
         println!("  not round-tripped: {f}");
     }
     assert!(total.drawn > 400, "the corpora draw networks");
+    // docs/ladder.md states the figures: keep them true.
+    let docs = std::fs::read_to_string(root().join("docs/ladder.md")).expect("docs/ladder.md");
+    let row = format!(
+        "| all | {} | {} | {} |",
+        total.drawn, total.round_tripped, total.stl
+    );
+    assert!(docs.contains(&row), "docs/ladder.md lacks the row `{row}`");
     let found: BTreeSet<&str> = failures.iter().map(String::as_str).collect();
     let listed: BTreeSet<&str> = NOT_CANONICAL
         .iter()
