@@ -38,6 +38,18 @@ pub fn network(set: &InstructionSet, net: &Network) -> Result<Vec<String>, Write
     }
 }
 
+/// A whole network as text: `NETWORK n // title`, its comment lines, then its
+/// instruction lines ([`network`]).
+pub fn network_text(set: &InstructionSet, net: &Network) -> Result<Vec<String>, WriteError> {
+    let mut lines = vec![match &net.title {
+        Some(title) => format!("NETWORK {} // {title}", net.number),
+        None => format!("NETWORK {}", net.number),
+    }];
+    lines.extend(net.comment.iter().map(|c| format!("// {c}")));
+    lines.extend(network(set, net)?);
+    Ok(lines)
+}
+
 /// A rung's canonical STL lines (`LD     I0.0`, `=      Q0.0`).
 pub fn rung(set: &InstructionSet, rung: &Rung) -> Result<Vec<String>, WriteError> {
     let mut w = Writer {

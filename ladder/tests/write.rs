@@ -171,3 +171,31 @@ fn shapes_stl_cannot_say_are_refused_with_a_reason() {
         "a split without branches"
     );
 }
+
+#[test]
+fn a_network_is_written_with_its_title_and_comment() {
+    let code = "NETWORK 3 // start and stop\n// a latch\n// with two lines\nLD I0.0\nO Q0.0\nAN I0.1\n= Q0.0";
+    let l = ladder(code);
+    let net = &l.blocks[0].networks[0];
+    let text = write::network_text(&instructions(), net).expect("writes");
+    assert_eq!(
+        text[..3],
+        [
+            "NETWORK 3 // start and stop",
+            "// a latch",
+            "// with two lines"
+        ]
+    );
+    let again = ladder(&text.join("\n"));
+    let net_again = &again.blocks[0].networks[0];
+    assert_eq!(
+        (&net_again.number, &net_again.title, &net_again.comment),
+        (&net.number, &net.title, &net.comment)
+    );
+    assert_eq!(common::render(net_again), common::render(net));
+    let untitled = ladder("NETWORK 1\nLD I0.0\n= Q0.0");
+    assert_eq!(
+        write::network_text(&instructions(), &untitled.blocks[0].networks[0]).expect("writes")[0],
+        "NETWORK 1"
+    );
+}
