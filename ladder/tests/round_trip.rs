@@ -3,12 +3,14 @@
 //! split program too) and the networks docs/ladder.md shows. For every network the
 //! builder draws as a rung, its text is replaced by the STL `gutta_ladder::write`
 //! writes, and the whole program compiled again: the image must be the same, byte for
-//! byte; the rewritten program built again must give the same rungs (source lines
-//! aside: the written text has its own), and writing them again the same lines. The
-//! census (`cargo test -p gutta-ladder --test round_trip -- --nocapture`) prints
-//! networks drawn, round-tripped and shown as STL. Networks whose STL says more than
-//! the rung (two texts draw the same rung) are listed exactly in `NOT_CANONICAL`: any
-//! other failure, and any listed network that now round-trips, fails the test.
+//! byte (programs with errors have none: their rungs only); the rewritten program
+//! built again must give the same rungs (source lines aside, as the written text has
+//! its own, and contact mnemonics compared in their load form), and writing them again
+//! the same lines. The census (`cargo test -p gutta-ladder --test round_trip --
+//! --nocapture`) prints networks drawn, round-tripped and shown as STL. Networks whose
+//! source is not the canonical text of their rung are listed exactly in
+//! `NOT_CANONICAL`: any other failure, and any listed network that now round-trips,
+//! fails the test.
 
 #![allow(
     clippy::disallowed_methods,
