@@ -199,3 +199,24 @@ fn a_network_is_written_with_its_title_and_comment() {
         "NETWORK 1"
     );
 }
+
+#[test]
+fn an_s7200_timer_leaves_the_power_so_outputs_after_it_need_no_push() {
+    // In a Micro/WIN export a timer ends its branch and leaves its input on the stack.
+    let text = format!(
+        "// dialect: microwin\n{}",
+        common::main_with("NETWORK 1\nLD I0.0\nTON T37, 100\nA T37\n= Q0.0")
+    );
+    let l = gutta_ladder::build(&checked(&text));
+    let net = &l.blocks[0].networks[0];
+    assert_eq!(
+        common::render(net),
+        "no(I0.0) -> { [T37 PT=100] ; no(T37) out(Q0.0) }"
+    );
+    let lines: Vec<String> = write::network(&instructions(), net)
+        .expect("writes")
+        .iter()
+        .map(|l| l.split_whitespace().collect::<Vec<_>>().join(" "))
+        .collect();
+    assert_eq!(lines, ["LD I0.0", "TON T37, 100", "A T37", "= Q0.0"]);
+}
