@@ -2,8 +2,8 @@
 //! `build.rs` (a checked program's networks into rungs, or the reason one is not a
 //! rung), `layout.rs` (where each element and wire goes), `svg.rs` (the SVG), `html.rs`
 //! (the self-contained page), `live.rs` (the live view's power flow from a snapshot of
-//! the operands). No I/O: `gutta-cc ladder` reads the program and writes the file;
-//! `gutta-cc monitor` reads the PLC.
+//! the operands), `write.rs` (a rung back into canonical STL). No I/O: `gutta-cc ladder`
+//! reads the program and writes the file; `gutta-cc monitor` reads the PLC.
 
 pub mod build;
 pub mod html;
@@ -11,5 +11,6 @@ pub mod layout;
 pub mod live;
 pub mod model;
 pub mod svg;
+pub mod write;
 
 pub use build::build;
