@@ -138,6 +138,11 @@ fn a_bad_model_is_refused_with_its_code_and_path() {
     assert_eq!(code, Some(2), "{err}");
     assert!(err.contains("L0001"), "{err}");
 
+    let plc = coil_first.replace("CPU-EC20", "CPU-NONE");
+    let (code, err, _) = read_back("plc", &plc, "-");
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("L0010 at plc"), "{err}");
+
     let unknown = coil_first.replace(r#""coil": "=""#, r#""coil": "=X""#);
     let (code, err, _) = read_back("mnemonic", &unknown, "-");
     assert_eq!(code, Some(2), "{err}");

@@ -214,6 +214,30 @@ fn each_fault_has_its_code_and_json_path() {
             "blocks[0].networks[1].rung.series[0].operands[0]",
         ),
         (
+            rung(
+                r#"{"series": [{"contact": "LD", "operands": ["I0.0"]}, {"box": "CTU", "operands": ["C1", "5"], "inputs": []}]}"#,
+            ),
+            C::BoxInputs,
+            "blocks[0].networks[1].rung.series[1].inputs",
+        ),
+        (
+            rung(
+                r#"{"series": [{"contact": "LD", "operands": ["I0.0"]}, {"box": "CTU", "operands": ["C1", "5"], "inputs": [{"coil": "=", "operands": ["Q0.0"]}]}]}"#,
+            ),
+            C::OutputNotLast,
+            "blocks[0].networks[1].rung.series[1].inputs[0]",
+        ),
+        (
+            r#"{"format": "gutta-ladder", "version": 0}"#.to_string(),
+            C::Shape,
+            "version",
+        ),
+        (
+            format!("{}{}", "[".repeat(10_000), "]".repeat(10_000)),
+            C::NotJson,
+            "",
+        ),
+        (
             rung(r#"{"series": [{"wire": 1}]}"#),
             C::Shape,
             "blocks[0].networks[1].rung.series[0]",

@@ -61,6 +61,8 @@ model_codes! {
         "The `plc` field names the PLC type whose instruction set the model uses (see `gutta-cc list-targets`), or `--plc`/`--target` chooses it.";
     L0011 WriterMissing "writing STL from a model is not built yet"
         "`gutta-cc ladder MODEL.json -o OUT.lad` reads and checks the model, but the writer that turns a model into STL is not part of this build yet (issue 26). Nothing was written.";
+    L0012 BoxInputs "a box with the wrong number of power inputs"
+        "A box's `inputs` are its power inputs after the first, as the instruction set names them (`PowerInputs` in ManagerFun.xml): none for `MOVW` or a timer, the reset `R` for `CTU`, `CD` and `R` for `CTUD`. The message names the inputs the box takes.";
 }
 
 impl fmt::Display for ModelErrorCode {

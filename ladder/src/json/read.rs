@@ -28,7 +28,8 @@ pub fn read_model(text: &[u8]) -> Read<Model> {
         None => return Err(missing("", "version")),
         Some(_) => None,
     }
-    .ok_or_else(|| wrong("version", "a whole number"))?;
+    .filter(|v| *v >= 1)
+    .ok_or_else(|| wrong("version", "a version number (1)"))?;
     if version > super::VERSION {
         return Err(ModelError::new(
             Code::LaterVersion,

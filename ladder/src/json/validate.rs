@@ -1,7 +1,8 @@
 //! The model against its PLC type's instruction set: every mnemonic known (L0005) and
 //! of its element's kind (L0006: a contact in its load form, a coil, a box), every
-//! operand count right (L0007), outputs only at the end of a series (L0008), every rung
-//! and output branch ending in an output (L0009). What an instruction is comes from the
+//! operand count right (L0007), a box's power inputs as many as the catalog names
+//! (L0012), outputs only at the end of a series (L0008), every rung and output branch
+//! ending in an output (L0009). What an instruction is comes from the
 //! catalog (`LadderClass`, `join`, `power_output`), never from its mnemonic.
 
 use gutta_catalog::{Instruction, InstructionSet, Join, LadderClass};
@@ -99,6 +100,25 @@ fn element(set: &InstructionSet, e: &Element, path: &str) -> Check<Power> {
                 ));
             }
             count(spec, operands, path)?;
+            let extra = spec.power_inputs.get(1..).unwrap_or_default();
+            if inputs.len() != extra.len() {
+                return Err(ModelError::new(
+                    Code::BoxInputs,
+                    &format!("{path}.inputs"),
+                    format!(
+                        "`{}` takes {} power input{} besides its first ({}), found {}",
+                        spec.mnemonic,
+                        extra.len(),
+                        if extra.len() == 1 { "" } else { "s" },
+                        if extra.is_empty() {
+                            "none".to_string()
+                        } else {
+                            extra.join(", ")
+                        },
+                        inputs.len()
+                    ),
+                ));
+            }
             for (i, input) in inputs.iter().enumerate() {
                 let at = format!("{path}.inputs[{i}]");
                 if element(set, input, &at)? != Power::Passes {
