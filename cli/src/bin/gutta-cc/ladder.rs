@@ -135,7 +135,12 @@ pub(crate) fn ladder(cli: &Cli, input: &Path, out: &Path) -> Result<ExitCode, Fa
         OutputKind::Json => gutta_ladder::json::model_of(&checked, &ladder).to_json(),
     };
     if is_stdout(out) {
-        print!("{text}");
+        use std::io::Write;
+        let mut stdout = std::io::stdout().lock();
+        stdout
+            .write_all(text.as_bytes())
+            .and_then(|()| stdout.flush())
+            .map_err(|e| Fatal::io(format!("cannot write the model to stdout: {e}")))?;
     } else {
         write_atomically(out, text.as_bytes())?;
     }
@@ -144,7 +149,11 @@ pub(crate) fn ladder(cli: &Cli, input: &Path, out: &Path) -> Result<ExitCode, Fa
         "{}: {} drawn as ladder, {stl} as STL, into {}",
         input.display(),
         gutta_cli::plural::count(drawn, "network"),
-        out.display()
+        if is_stdout(out) {
+            "stdout".to_string()
+        } else {
+            out.display().to_string()
+        }
     );
     Ok(ExitCode::SUCCESS)
 }
