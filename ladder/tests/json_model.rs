@@ -74,6 +74,12 @@ fn every_program_round_trips_through_json_and_validates() {
             if let Err(e) = validate(&model, &checked.target.instructions) {
                 failures.push(format!("{}: {e}", path.display()));
             }
+            for block in &model.blocks {
+                let kinds = ["ORGANIZATION_BLOCK", "SUBROUTINE_BLOCK", "INTERRUPT_BLOCK"];
+                if !kinds.contains(&block.kind.as_str()) {
+                    failures.push(format!("{}: block kind {}", path.display(), block.kind));
+                }
+            }
             rungs += model
                 .blocks
                 .iter()
