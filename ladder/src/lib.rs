@@ -2,11 +2,13 @@
 //! `build.rs` (a checked program's networks into rungs, or the reason one is not a
 //! rung), `layout.rs` (where each element and wire goes), `svg.rs` (the SVG), `html.rs`
 //! (the self-contained page), `live.rs` (the live view's power flow from a snapshot of
-//! the operands), `write.rs` (a rung back into canonical STL). No I/O: `gutta-cc ladder`
+//! the operands), `write.rs` (a rung back into canonical STL), `json/` (the model as
+//! JSON: written, read back and validated with coded errors). No I/O: `gutta-cc ladder`
 //! reads the program and writes the file; `gutta-cc monitor` reads the PLC.
 
 pub mod build;
 pub mod html;
+pub mod json;
 pub mod layout;
 pub mod live;
 pub mod model;

@@ -126,10 +126,11 @@ pub(crate) enum Command {
         after_help = "Examples:\n  gutta-cc ladder main.lad -o main.svg\n  gutta-cc ladder main.lad -o main.html          # open it in a browser\n  gutta-cc ladder image/ -o image.svg              # an image: addresses, no symbols\n  cd demo && gutta-cc ladder . -o demo.html       # a project (`gutta-cc new demo`)"
     )]
     Ladder {
-        /// A source file (.lad, .awl), a project (its folder or gutta.toml), or an image
-        /// directory (drawn through the disassembler).
+        /// A source file (.lad, .awl), a project (its folder or gutta.toml), an image
+        /// directory (drawn through the disassembler), or a ladder model (.json).
         input: PathBuf,
-        /// The file to write: .svg or .html.
+        /// The file to write: .svg, .html, .json (the ladder model), or - (the model on
+        /// stdout).
         #[arg(short, long, value_name = "FILE")]
         output: PathBuf,
     },

@@ -1,13 +1,14 @@
 //! `gutta-cc explain CODE`: every code the tools print, read from its registry: E and W
 //! (the compiler's `Code`), V (`gutta_format::VerifyCode`, with its longer meaning from
 //! docs/image-format.md's table row), T (`CatalogErrorCode`, the registry
-//! docs/diagnostics.md's table is generated from). It keeps no list of codes or texts of
-//! its own.
+//! docs/diagnostics.md's table is generated from), L (`gutta_ladder::json::ModelErrorCode`,
+//! a ladder model read from JSON). It keeps no list of codes or texts of its own.
 
 use gutta_catalog::CatalogErrorCode;
 use gutta_compiler::diagnostics::Code;
 use gutta_compiler::suggest::closest;
 use gutta_format::VerifyCode;
+use gutta_ladder::json::ModelErrorCode;
 
 /// docs/image-format.md: its Verification table has one row per V code.
 const IMAGE_FORMAT_DOC: &str = include_str!("../../../../docs/image-format.md");
@@ -43,6 +44,14 @@ pub(crate) fn explanation(code: &str) -> Result<String, String> {
             t.summary()
         ));
     }
+    if let Some(l) = ModelErrorCode::parse(wanted) {
+        return Ok(format!(
+            "{} (ladder model: exit status 2): {}\n\n{}",
+            l.as_str(),
+            l.summary(),
+            l.explanation()
+        ));
+    }
     Err(unknown(wanted))
 }
 
@@ -66,6 +75,7 @@ fn all_codes() -> impl Iterator<Item = &'static str> {
         .map(|c| c.as_str())
         .chain(VerifyCode::ALL.iter().map(|v| v.as_str()))
         .chain(CatalogErrorCode::ALL.iter().map(|t| t.as_str()))
+        .chain(ModelErrorCode::ALL.iter().map(|l| l.as_str()))
 }
 
 /// The message for a code no registry has, with the nearest one if there is one.
@@ -83,7 +93,8 @@ fn unknown(wanted: &str) -> String {
     let suggestion = all_codes()
         .find(|c| padded.as_deref() == Some(*c))
         .or_else(|| closest(wanted, all_codes()));
-    let known = "codes are E and W (compiler), V (image verification), T (target files)";
+    let known =
+        "codes are E and W (compiler), V (image verification), T (target files), L (ladder models)";
     match suggestion {
         Some(s) => format!("no code `{wanted}` ({known}); did you mean {s}?"),
         None => format!("no code `{wanted}` ({known})"),

@@ -1,7 +1,9 @@
 //! `gutta-cc ladder INPUT -o OUT` (docs/ladder.md): the program of a source file, a
 //! project (its folder or gutta.toml) or an image directory (through the disassembler:
 //! addresses instead of symbols) drawn as ladder diagrams into OUT, an `.svg` (every
-//! network stacked) or a self-contained `.html` page. The model and drawing are
+//! network stacked) or a self-contained `.html` page, or written as the ladder model's
+//! JSON (`.json`, `-` for stdout). A model (`INPUT.json`) is read and validated; writing
+//! STL from it waits for the writer (L0011). The model, its JSON and the drawing are
 //! gutta_ladder's; this file reads the input and writes the file atomically.
 
 use std::io::IsTerminal;
@@ -25,17 +27,36 @@ use crate::args::Cli;
 enum OutputKind {
     Svg,
     Html,
+    /// The ladder model's JSON, into a file or (`-`) onto stdout.
+    Json,
 }
 
 fn output_kind(out: &Path) -> Result<OutputKind, Fatal> {
+    if is_stdout(out) {
+        return Ok(OutputKind::Json);
+    }
     match out.extension().map(|e| e.to_ascii_lowercase()) {
         Some(e) if e == "svg" => Ok(OutputKind::Svg),
         Some(e) if e == "html" || e == "htm" => Ok(OutputKind::Html),
+        Some(e) if e == "json" => Ok(OutputKind::Json),
         _ => Err(Fatal::usage(format!(
-            "{}: the output ends in .svg (every network in one drawing) or .html (a page)",
+            "{}: the output ends in .svg (every network in one drawing), .html (a page) or .json (the ladder model), or is - (the model on stdout)",
             out.display()
         ))),
     }
+}
+
+/// `-o -`: stdout.
+fn is_stdout(out: &Path) -> bool {
+    out.as_os_str() == "-"
+}
+
+/// An input that is a ladder model (`.json`), not a program.
+fn is_model(input: &Path) -> bool {
+    input.is_file()
+        && input
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"))
 }
 
 /// The checked program of `input`: an image directory, a project, or source files.
@@ -87,6 +108,9 @@ pub(crate) fn checked_input(cli: &Cli, input: &Path) -> Result<CheckedFile, Fata
 }
 
 pub(crate) fn ladder(cli: &Cli, input: &Path, out: &Path) -> Result<ExitCode, Fatal> {
+    if is_model(input) {
+        return from_model(cli, input, out);
+    }
     let kind = output_kind(out)?;
     let checked = checked_input(cli, input)?;
     let color = gutta_cli::color::use_color(cli.color, std::io::stderr().is_terminal());
@@ -108,16 +132,69 @@ pub(crate) fn ladder(cli: &Cli, input: &Path, out: &Path) -> Result<ExitCode, Fa
                 live_script: None,
             },
         ),
+        OutputKind::Json => gutta_ladder::json::model_of(&checked, &ladder).to_json(),
     };
-    write_atomically(out, text.as_bytes())?;
+    if is_stdout(out) {
+        use std::io::Write;
+        let mut stdout = std::io::stdout().lock();
+        stdout
+            .write_all(text.as_bytes())
+            .and_then(|()| stdout.flush())
+            .map_err(|e| Fatal::io(format!("cannot write the model to stdout: {e}")))?;
+    } else {
+        write_atomically(out, text.as_bytes())?;
+    }
     let (drawn, stl) = census(&ladder);
     eprintln!(
         "{}: {} drawn as ladder, {stl} as STL, into {}",
         input.display(),
         gutta_cli::plural::count(drawn, "network"),
-        out.display()
+        if is_stdout(out) {
+            "stdout".to_string()
+        } else {
+            out.display().to_string()
+        }
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// `gutta-cc ladder MODEL.json -o OUT.lad`: the model read and validated against its
+/// PLC type (`--plc`/`--target` win over its `plc`); every fault is its L code with the
+/// JSON path, exit 2, nothing written. Writing the STL is the writer's, not built yet.
+fn from_model(cli: &Cli, input: &Path, out: &Path) -> Result<ExitCode, Fatal> {
+    use gutta_ladder::json::{read_model, validate, ModelError, ModelErrorCode};
+    let refused = |e: ModelError| {
+        Fatal::program(format!("{}: {e}", input.display()))
+            .with_hint(format!("gutta-cc explain {}", e.code))
+    };
+    let lad = out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("lad"));
+    if !is_stdout(out) && !lad {
+        return Err(Fatal::usage(format!(
+            "{}: a ladder model is written as STL into a .lad file, or - (stdout)",
+            out.display()
+        )));
+    }
+    let bytes = std::fs::read(input)
+        .map_err(|e| Fatal::io(format!("cannot read {}: {e}", input.display())))?;
+    let model = read_model(&bytes).map_err(refused)?;
+    let target = match cli.target.explicit()? {
+        Some(explicit) => explicit.target,
+        None => std::sync::Arc::new(gutta_catalog::stdlib::load(&model.plc).map_err(|e| {
+            refused(ModelError::new(
+                ModelErrorCode::UnknownPlc,
+                "plc",
+                e.to_string(),
+            ))
+        })?),
+    };
+    validate(&model, &target.instructions).map_err(refused)?;
+    Err(refused(ModelError::new(
+        ModelErrorCode::WriterMissing,
+        "",
+        "the model is valid, but writing STL from a model is not built yet; nothing was written",
+    )))
 }
 
 /// Networks drawn as rungs, and shown as STL.

@@ -1,0 +1,174 @@
+//! `gutta-cc ladder ... -o OUT.json` and `gutta-cc ladder MODEL.json` through the real
+//! binary (docs/ladder.md, "The model as JSON"): every example's model validates against
+//! docs/ladder-model.schema.json; the section's example is what the CLI prints for its
+//! program; a bad model is refused with its L code and JSON path, exit 2, nothing
+//! written; a good one stops at the missing writer (L0011); every L code explains.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::{cc, stderr, stdout};
+use gutta_ladder::json::ModelErrorCode;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn scratch(tag: &str) -> PathBuf {
+    let dir =
+        std::env::temp_dir().join(format!("gutta-cc-ladder-json-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("creates the scratch directory");
+    dir
+}
+
+fn examples() -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("examples"))
+        .expect("examples/")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "lad"))
+        .collect();
+    files.sort();
+    files
+}
+
+fn schema() -> jsonschema::Validator {
+    let text = std::fs::read_to_string(root().join("docs/ladder-model.schema.json"))
+        .expect("docs/ladder-model.schema.json");
+    let schema: serde_json::Value = serde_json::from_str(&text).expect("the schema is JSON");
+    jsonschema::validator_for(&schema).expect("the schema is a JSON Schema")
+}
+
+#[test]
+fn every_example_model_validates_against_the_schema() {
+    let validator = schema();
+    let dir = scratch("schema");
+    let mut failures = Vec::new();
+    for example in examples() {
+        let out = dir.join("model.json");
+        let run = cc(&[
+            "ladder",
+            example.to_str().expect("utf-8 path"),
+            "-o",
+            out.to_str().expect("utf-8 path"),
+        ]);
+        assert!(
+            run.status.success(),
+            "{}: {}",
+            example.display(),
+            stderr(&run)
+        );
+        let text = std::fs::read_to_string(&out).expect("the model was written");
+        let value: serde_json::Value = serde_json::from_str(&text).expect("the model is JSON");
+        for error in validator.iter_errors(&value) {
+            failures.push(format!(
+                "{}: {} at {}",
+                example.display(),
+                error,
+                error.instance_path
+            ));
+        }
+        // Stdout carries the same bytes.
+        let piped = cc(&["ladder", example.to_str().expect("utf-8 path"), "-o", "-"]);
+        assert_eq!(stdout(&piped), text, "{}", example.display());
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The body of the first fenced block of `lang` after `heading` in `doc`.
+fn fenced(doc: &str, heading: &str, lang: &str) -> String {
+    let section = &doc[doc.find(heading).expect("the heading")..];
+    let open = format!("```{lang}\n");
+    let start = section.find(&open).expect("the block") + open.len();
+    let end = section[start..].find("```").expect("the block's end") + start;
+    section[start..end].to_string()
+}
+
+#[test]
+fn the_docs_example_is_what_the_cli_prints() {
+    let doc = std::fs::read_to_string(root().join("docs/ladder.md")).expect("docs/ladder.md");
+    let heading = "## The model as JSON";
+    let source = fenced(&doc, heading, "stl");
+    let json = fenced(&doc, heading, "json");
+    let dir = scratch("docs");
+    let program = dir.join("motor.lad");
+    std::fs::write(&program, source).expect("writes the program");
+    let run = cc(&["ladder", program.to_str().expect("utf-8 path"), "-o", "-"]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    assert_eq!(stdout(&run), json);
+    let value: serde_json::Value = serde_json::from_str(&json).expect("JSON");
+    assert!(schema().is_valid(&value));
+}
+
+/// `gutta-cc ladder MODEL -o OUT` on `text`: (exit code, stderr), and whether OUT exists.
+fn read_back(tag: &str, text: &str, out: &str) -> (Option<i32>, String, bool) {
+    let dir = scratch(tag);
+    let model = dir.join("model.json");
+    std::fs::write(&model, text).expect("writes the model");
+    let out = if out == "-" {
+        "-".to_string()
+    } else {
+        dir.join(out).display().to_string()
+    };
+    let run = cc(&["ladder", model.to_str().expect("utf-8 path"), "-o", &out]);
+    assert!(
+        stdout(&run).is_empty(),
+        "nothing on stdout: {}",
+        stdout(&run)
+    );
+    (run.status.code(), stderr(&run), Path::new(&out).exists())
+}
+
+#[test]
+fn a_bad_model_is_refused_with_its_code_and_path() {
+    let coil_first = r#"{"format": "gutta-ladder", "version": 1, "plc": "CPU-EC20", "symbols": [],
+      "blocks": [{"kind": "ORGANIZATION_BLOCK", "name": "MAIN", "id": "OB1", "networks": [
+        {"title": "", "comment": "", "rung": {"series": [{"coil": "=", "operands": ["Q0.0"]}, {"contact": "LD", "operands": ["I0.0"]}]}}]}]}"#;
+    let (code, err, written) = read_back("coil", coil_first, "out.lad");
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("L0008 at blocks[0].networks[0].rung.series[0]"),
+        "{err}"
+    );
+    assert!(err.contains("gutta-cc explain L0008"), "{err}");
+    assert!(!written);
+
+    let (code, err, _) = read_back("json", "{\"format\": ", "-");
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("L0001"), "{err}");
+
+    let plc = coil_first.replace("CPU-EC20", "CPU-NONE");
+    let (code, err, _) = read_back("plc", &plc, "-");
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("L0010 at plc"), "{err}");
+
+    let unknown = coil_first.replace(r#""coil": "=""#, r#""coil": "=X""#);
+    let (code, err, _) = read_back("mnemonic", &unknown, "-");
+    assert_eq!(code, Some(2), "{err}");
+    assert!(
+        err.contains("L0005 at blocks[0].networks[0].rung.series[0]"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_good_model_stops_at_the_missing_writer() {
+    let example = root().join("examples/blink.lad");
+    let run = cc(&["ladder", example.to_str().expect("utf-8 path"), "-o", "-"]);
+    let (code, err, written) = read_back("writer", &stdout(&run), "blink.lad");
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("L0011"), "{err}");
+    assert!(!written);
+}
+
+#[test]
+fn every_model_code_explains() {
+    for code in ModelErrorCode::ALL {
+        let run = cc(&["explain", code.as_str()]);
+        assert!(run.status.success(), "{}", code.as_str());
+        let out = stdout(&run);
+        assert!(out.contains(code.summary()), "{out}");
+        assert!(out.contains(code.explanation()), "{out}");
+    }
+}

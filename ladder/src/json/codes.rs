@@ -1,0 +1,105 @@
+//! The registry of the ladder model's error codes (L codes, docs/ladder.md, "The model
+//! as JSON"): one row per code with its summary and explanation; `gutta-cc explain`
+//! reads it and a test keeps docs/ladder.md's table equal to it. Codes are never reused;
+//! call sites name variants, never strings.
+
+use std::fmt;
+
+macro_rules! model_codes {
+    ($($code:ident $variant:ident $summary:literal $explain:literal;)*) => {
+        /// What is wrong with a ladder model read from JSON.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+        pub enum ModelErrorCode { $($variant,)* }
+
+        impl ModelErrorCode {
+            /// Every code, in number order.
+            pub const ALL: &'static [ModelErrorCode] = &[$(ModelErrorCode::$variant,)*];
+
+            /// `L0001`, ...
+            pub fn as_str(self) -> &'static str {
+                match self { $(ModelErrorCode::$variant => stringify!($code),)* }
+            }
+
+            /// What the code means, in one line (docs/ladder.md's table).
+            pub fn summary(self) -> &'static str {
+                match self { $(ModelErrorCode::$variant => $summary,)* }
+            }
+
+            /// What the code means and how to fix it.
+            pub fn explanation(self) -> &'static str {
+                match self { $(ModelErrorCode::$variant => $explain,)* }
+            }
+
+            /// The code named `s` (any case).
+            pub fn parse(s: &str) -> Option<ModelErrorCode> {
+                ModelErrorCode::ALL.iter().copied().find(|c| c.as_str().eq_ignore_ascii_case(s))
+            }
+        }
+    };
+}
+
+model_codes! {
+    L0001 NotJson "the model is not valid JSON"
+        "The file is not JSON text (RFC 8259): the message gives the line and column where reading stopped. A ladder model is one JSON object, `{\"format\": \"gutta-ladder\", \"version\": 1, ...}`.";
+    L0002 Shape "a field is missing or has the wrong type"
+        "A part of the model does not have the shape docs/ladder-model.schema.json describes: a required field is missing (`format`, `version`, `plc`, `blocks`; a block's `kind`, `name`, `id`, `networks`), a field has the wrong JSON type, or an element is none of `series`, `parallel`, `contact`, `coil`, `box`. The path names the part.";
+    L0003 UnknownFormat "the `format` is not `gutta-ladder`"
+        "The object's `format` field says what it is; a ladder model says `\"format\": \"gutta-ladder\"`. Another value is another kind of file.";
+    L0004 LaterVersion "the model's `version` is later than this tool reads"
+        "The model was written for a later version of the format than this tool knows (it reads version 1). Update GUTTA, or write the model in version 1.";
+    L0005 UnknownMnemonic "a mnemonic the PLC type does not have"
+        "An element names an instruction that is not in the instruction set of the model's PLC type (ManagerFun.xml; see docs/instructions.md). Mnemonics are case-insensitive; compares are one word with their relation (`LDW>=`).";
+    L0006 WrongElement "the mnemonic is not that kind of element"
+        "A `contact` takes a contact in its load form (`LD`, `LDN`, `LDI`, `LDW>=`...) or `EU`, `ED`, `NOT`; a `coil` takes an output (`=`, `S`, `R`, `=I`...); a `box` takes a box instruction (`TON`, `MOVW`, `CALL`...). The message says what the mnemonic is: the help names the load form when an `A...` or `O...` form was written as a contact.";
+    L0007 OperandCount "a wrong number of operands"
+        "An element's `operands` are the instruction's operands in STL order, as many as the instruction has (`S` takes the bit and the count; `CALL` takes the subroutine and then its arguments). The message says how many the instruction takes.";
+    L0008 OutputNotLast "an output in series before another element"
+        "In a `series` only the last element may end the power path: a coil, a box without power output (`JMP`), or a `parallel` of outputs. A coil before a contact is not a rung; put the contact before the coil, or put the outputs in a `parallel`.";
+    L0009 NoOutput "a rung or output branch without an output"
+        "Every rung ends in an output (a coil or a box), and a `parallel` either joins paths of contacts (none of its branches ends) or splits into outputs (every branch ends in one). The path names the rung or the branch that has no output.";
+    L0010 UnknownPlc "the model's `plc` is not a known PLC type"
+        "The `plc` field names the PLC type whose instruction set the model uses (see `gutta-cc list-targets`), or `--plc`/`--target` chooses it.";
+    L0011 WriterMissing "writing STL from a model is not built yet"
+        "`gutta-cc ladder MODEL.json -o OUT.lad` reads and checks the model, but the writer that turns a model into STL is not part of this build yet (issue 26). Nothing was written.";
+    L0012 BoxInputs "a box with the wrong number of power inputs"
+        "A box's `inputs` are its power inputs after the first, as the instruction set names them (`PowerInputs` in ManagerFun.xml): none for `MOVW` or a timer, the reset `R` for `CTU`, `CD` and `R` for `CTUD`. The message names the inputs the box takes.";
+}
+
+impl fmt::Display for ModelErrorCode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// A model that cannot be read: its code, the JSON path of the part at fault
+/// (`blocks[0].networks[2].rung.series[1]`; empty for the whole document) and the
+/// message.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ModelError {
+    pub code: ModelErrorCode,
+    pub path: String,
+    pub message: String,
+}
+
+impl ModelError {
+    pub fn new(code: ModelErrorCode, path: &str, message: impl Into<String>) -> ModelError {
+        ModelError {
+            code,
+            path: path.to_string(),
+            message: message.into(),
+        }
+    }
+}
+
+impl fmt::Display for ModelError {
+    /// `L0005 at blocks[0].networks[2].rung.series[1]: ...`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.path.is_empty() {
+            write!(f, "{}: {}", self.code, self.message)
+        } else {
+            write!(f, "{} at {}: {}", self.code, self.path, self.message)
+        }
+    }
+}
+
+impl std::error::Error for ModelError {}

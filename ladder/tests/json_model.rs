@@ -1,0 +1,278 @@
+//! The ladder model as JSON (docs/ladder.md, "The model as JSON"): every program of the
+//! census corpora written as JSON reads back to the same model and validates against its
+//! PLC type; each fault of a bad model is its L code at its JSON path; the L codes'
+//! registry and docs/ladder.md's table agree.
+
+#![allow(
+    clippy::disallowed_methods,
+    reason = "the test reads the repository's programs and docs"
+)]
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use gutta_catalog::stdlib;
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{check_source, CheckedFile, ExplicitTarget};
+use gutta_ladder::json::{model_of, read_model, validate, Element, ModelErrorCode, NetworkBody};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn programs(dir: &str, exts: &[&str]) -> Vec<PathBuf> {
+    let mut out: Vec<PathBuf> = std::fs::read_dir(root().join(dir))
+        .unwrap_or_else(|e| panic!("{dir}: {e}"))
+        .map(|e| e.expect("dir entry").path())
+        .filter(|p| {
+            p.extension()
+                .is_some_and(|x| exts.iter().any(|e| x.eq_ignore_ascii_case(e)))
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+/// A program file as the tools read it, with a `// plc: NAME` first line honoured.
+fn checked_file(path: &Path) -> CheckedFile {
+    let bytes = std::fs::read(path).expect("read program");
+    let (file, _) = SourceFile::from_program_file_bytes(path.display().to_string(), bytes, false)
+        .unwrap_or_else(|_| panic!("{}: not UTF-8", path.display()));
+    let first = file.text.lines().next().unwrap_or("").trim().to_string();
+    let explicit = first.strip_prefix("// plc:").map(|name| ExplicitTarget {
+        target: stdlib::shared(name.trim()).expect("stdlib target"),
+        origin: format!("--plc {}", name.trim()),
+    });
+    check_source(file, explicit.as_ref())
+}
+
+#[test]
+fn every_program_round_trips_through_json_and_validates() {
+    let sets: [(&str, &[&str]); 4] = [
+        ("examples", &["lad"]),
+        ("tests/data/check/ok", &["lad"]),
+        ("tests/data/run", &["lad"]),
+        ("tests/data/microwin", &["lad", "awl"]),
+    ];
+    let mut failures = Vec::new();
+    let mut rungs = 0;
+    for (dir, exts) in sets {
+        for path in programs(dir, exts) {
+            let checked = checked_file(&path);
+            if checked.has_errors() {
+                continue;
+            }
+            let ladder = gutta_ladder::build(&checked);
+            let model = model_of(&checked, &ladder);
+            let text = model.to_json();
+            match read_model(text.as_bytes()) {
+                Ok(back) if back == model => {}
+                Ok(_) => failures.push(format!("{}: read back differs", path.display())),
+                Err(e) => failures.push(format!("{}: {e}", path.display())),
+            }
+            if let Err(e) = validate(&model, &checked.target.instructions) {
+                failures.push(format!("{}: {e}", path.display()));
+            }
+            for block in &model.blocks {
+                let kinds = ["ORGANIZATION_BLOCK", "SUBROUTINE_BLOCK", "INTERRUPT_BLOCK"];
+                if !kinds.contains(&block.kind.as_str()) {
+                    failures.push(format!("{}: block kind {}", path.display(), block.kind));
+                }
+            }
+            rungs += model
+                .blocks
+                .iter()
+                .flat_map(|b| &b.networks)
+                .filter(|n| matches!(n.body, NetworkBody::Rung { .. }))
+                .count();
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(rungs > 300, "only {rungs} rungs");
+}
+
+#[test]
+fn contacts_are_written_in_their_load_form() {
+    let checked = common::checked(&common::main_with(
+        "NETWORK 1\nLD I0.0\nAN I0.1\nOW>= MW2, 5\n= Q0.0",
+    ));
+    let model = model_of(&checked, &gutta_ladder::build(&checked));
+    let NetworkBody::Rung { rung } = &model.blocks[0].networks[0].body else {
+        panic!("not a rung");
+    };
+    let mut contacts = Vec::new();
+    collect_contacts(rung, &mut contacts);
+    assert_eq!(contacts, ["LD", "LDN", "LDW>="]);
+}
+
+fn collect_contacts(e: &Element, out: &mut Vec<String>) {
+    match e {
+        Element::Series { series: list } | Element::Parallel { parallel: list } => {
+            list.iter().for_each(|e| collect_contacts(e, out))
+        }
+        Element::Contact { contact, .. } => out.push(contact.clone()),
+        Element::Coil { .. } => {}
+        Element::Box { inputs, .. } => inputs.iter().for_each(|e| collect_contacts(e, out)),
+    }
+}
+
+/// A model of one network whose rung is `rung` (JSON text).
+fn model_with(rung: &str) -> String {
+    format!(
+        r#"{{"format": "gutta-ladder", "version": 1, "plc": "CPU-EC20", "symbols": [],
+  "blocks": [{{"kind": "ORGANIZATION_BLOCK", "name": "MAIN", "id": "OB1", "networks": [
+    {{"title": "", "comment": "", "rung": {{"series": [{{"contact": "LD", "operands": ["I0.0"]}}, {{"coil": "=", "operands": ["Q0.0"]}}]}}}},
+    {{"title": "", "comment": "", "rung": {rung}}}]}}]}}"#
+    )
+}
+
+/// The code and path `text` is refused with, read and validated on the default target.
+fn refusal(text: &str) -> (ModelErrorCode, String) {
+    let target = stdlib::default_target().expect("stdlib");
+    let err = read_model(text.as_bytes())
+        .and_then(|m| validate(&m, &target.instructions))
+        .expect_err("refused");
+    (err.code, err.path)
+}
+
+#[test]
+fn a_good_model_validates() {
+    let target = stdlib::default_target().expect("stdlib");
+    let text = model_with(
+        r#"{"series": [{"parallel": [{"contact": "LD", "operands": ["I0.1"]}, {"contact": "LDN", "operands": ["M0.0"]}]},
+            {"box": "TON", "operands": ["T37", "100"], "inputs": []},
+            {"parallel": [{"coil": "=", "operands": ["Q0.1"]}, {"series": [{"contact": "LD", "operands": ["I0.2"]}, {"coil": "S", "operands": ["Q0.2", "1"]}]}]}]}"#,
+    );
+    let model = read_model(text.as_bytes()).expect("reads");
+    validate(&model, &target.instructions).expect("valid");
+}
+
+#[test]
+fn each_fault_has_its_code_and_json_path() {
+    use ModelErrorCode as C;
+    let rung = |r: &str| model_with(r);
+    let cases: Vec<(String, ModelErrorCode, &str)> = vec![
+        ("{\"format\": ".to_string(), C::NotJson, ""),
+        ("[1, 2]".to_string(), C::Shape, ""),
+        (
+            r#"{"format": "gutta-svg", "version": 1}"#.to_string(),
+            C::UnknownFormat,
+            "format",
+        ),
+        (
+            r#"{"format": "gutta-ladder", "version": 2}"#.to_string(),
+            C::LaterVersion,
+            "version",
+        ),
+        (
+            r#"{"format": "gutta-ladder", "version": 1, "plc": "CPU-EC20"}"#.to_string(),
+            C::Shape,
+            "blocks",
+        ),
+        (
+            rung(
+                r#"{"series": [{"contact": "LDX", "operands": ["I0.0"]}, {"coil": "=", "operands": ["Q0.0"]}]}"#,
+            ),
+            C::UnknownMnemonic,
+            "blocks[0].networks[1].rung.series[0]",
+        ),
+        (
+            rung(
+                r#"{"series": [{"contact": "AN", "operands": ["I0.0"]}, {"coil": "=", "operands": ["Q0.0"]}]}"#,
+            ),
+            C::WrongElement,
+            "blocks[0].networks[1].rung.series[0]",
+        ),
+        (
+            rung(
+                r#"{"series": [{"contact": "LD", "operands": ["I0.0"]}, {"coil": "S", "operands": ["Q0.0"]}]}"#,
+            ),
+            C::OperandCount,
+            "blocks[0].networks[1].rung.series[1].operands",
+        ),
+        (
+            rung(
+                r#"{"series": [{"contact": "LD", "operands": ["I0.0"]}, {"coil": "=", "operands": ["Q0.0"]}, {"contact": "LD", "operands": ["I0.1"]}]}"#,
+            ),
+            C::OutputNotLast,
+            "blocks[0].networks[1].rung.series[1]",
+        ),
+        (
+            rung(
+                r#"{"series": [{"contact": "LD", "operands": ["I0.0"]}, {"contact": "LDN", "operands": ["I0.1"]}]}"#,
+            ),
+            C::NoOutput,
+            "blocks[0].networks[1].rung",
+        ),
+        (
+            rung(
+                r#"{"series": [{"contact": "LD", "operands": ["I0.0"]}, {"parallel": [{"coil": "=", "operands": ["Q0.0"]}, {"contact": "LD", "operands": ["I0.1"]}]}]}"#,
+            ),
+            C::NoOutput,
+            "blocks[0].networks[1].rung.series[1].parallel[1]",
+        ),
+        (
+            rung(
+                r#"{"series": [{"contact": "LD", "operands": [7]}, {"coil": "=", "operands": ["Q0.0"]}]}"#,
+            ),
+            C::Shape,
+            "blocks[0].networks[1].rung.series[0].operands[0]",
+        ),
+        (
+            rung(
+                r#"{"series": [{"contact": "LD", "operands": ["I0.0"]}, {"box": "CTU", "operands": ["C1", "5"], "inputs": []}]}"#,
+            ),
+            C::BoxInputs,
+            "blocks[0].networks[1].rung.series[1].inputs",
+        ),
+        (
+            rung(
+                r#"{"series": [{"contact": "LD", "operands": ["I0.0"]}, {"box": "CTU", "operands": ["C1", "5"], "inputs": [{"coil": "=", "operands": ["Q0.0"]}]}]}"#,
+            ),
+            C::OutputNotLast,
+            "blocks[0].networks[1].rung.series[1].inputs[0]",
+        ),
+        (
+            r#"{"format": "gutta-ladder", "version": 0}"#.to_string(),
+            C::Shape,
+            "version",
+        ),
+        (
+            format!("{}{}", "[".repeat(10_000), "]".repeat(10_000)),
+            C::NotJson,
+            "",
+        ),
+        (
+            rung(r#"{"series": [{"wire": 1}]}"#),
+            C::Shape,
+            "blocks[0].networks[1].rung.series[0]",
+        ),
+    ];
+    let mut wrong = Vec::new();
+    for (text, code, path) in cases {
+        let got = refusal(&text);
+        if got != (code, path.to_string()) {
+            wrong.push(format!(
+                "{text}\n  want {code} at {path:?}, got {} at {:?}",
+                got.0, got.1
+            ));
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+#[test]
+fn the_codes_are_numbered_explained_and_documented() {
+    let doc = std::fs::read_to_string(root().join("docs/ladder.md")).expect("docs/ladder.md");
+    for (i, code) in ModelErrorCode::ALL.iter().enumerate() {
+        assert_eq!(code.as_str(), format!("L{:04}", i + 1));
+        assert_eq!(
+            ModelErrorCode::parse(&code.as_str().to_lowercase()),
+            Some(*code)
+        );
+        assert!(!code.explanation().is_empty());
+        let row = format!("| {} | {} |", code.as_str(), code.summary());
+        assert!(doc.contains(&row), "docs/ladder.md lacks the row `{row}`");
+    }
+}
