@@ -13,9 +13,11 @@ mod common;
 use std::path::{Path, PathBuf};
 
 use gutta_catalog::stdlib;
-use gutta_compiler::source::SourceFile;
+use gutta_compiler::source::{is_microwin, SourceFile, MARKER};
 use gutta_compiler::{check_source, CheckedFile, ExplicitTarget};
-use gutta_ladder::json::{model_of, read_model, validate, Element, ModelErrorCode, NetworkBody};
+use gutta_ladder::json::{
+    model_of, program_of, read_model, validate, Element, Model, ModelErrorCode, NetworkBody,
+};
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
@@ -90,6 +92,99 @@ fn every_program_round_trips_through_json_and_validates() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     assert!(rungs > 300, "only {rungs} rungs");
+}
+
+/// Model -> program text -> compiled -> model again: the same model, for every program
+/// of the corpora whose model the test above reads back.
+#[test]
+fn every_model_written_as_a_program_builds_the_same_model() {
+    let sets: [(&str, &[&str]); 4] = [
+        ("examples", &["lad"]),
+        ("tests/data/check/ok", &["lad"]),
+        ("tests/data/run", &["lad"]),
+        ("tests/data/microwin", &["lad", "awl"]),
+    ];
+    let mut failures = Vec::new();
+    let mut programs_written = 0;
+    for (dir, exts) in sets {
+        for path in programs(dir, exts) {
+            let checked = checked_file(&path);
+            if checked.has_errors() {
+                continue;
+            }
+            let model = model_of(&checked, &gutta_ladder::build(&checked));
+            let text = match program_of(&model, &checked.target.instructions) {
+                Ok(text) => text,
+                Err(e) => {
+                    failures.push(format!("{}: {e}", path.display()));
+                    continue;
+                }
+            };
+            let explicit = ExplicitTarget {
+                target: checked.target.clone(),
+                origin: "the model's plc".to_string(),
+            };
+            // The model does not record the dialect: a Micro/WIN export's program is
+            // compiled as one again (its marker first), as its operands are written.
+            let original = std::fs::read_to_string(&path).unwrap_or_default();
+            let text = if is_microwin(&path.display().to_string(), &original) {
+                format!("{MARKER}\n{text}")
+            } else {
+                text
+            };
+            let name = format!("{} (written)", path.display());
+            let again = check_source(SourceFile::new(name, text.clone()), Some(&explicit));
+            if again.has_errors() {
+                let first = again.diagnostics().first().map(|d| d.message.clone());
+                failures.push(format!(
+                    "{}: the written program does not compile: {first:?}\n{text}",
+                    path.display()
+                ));
+                continue;
+            }
+            let back = without_lines(model_of(&again, &gutta_ladder::build(&again)));
+            let model = without_lines(model);
+            if back != model {
+                let diff = first_difference(&model.to_json(), &back.to_json());
+                failures.push(format!("{}: the model differs: {diff}", path.display()));
+            }
+            programs_written += 1;
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(programs_written > 50, "only {programs_written} programs");
+}
+
+/// The model with the source lines in its STL networks' reasons (`at line 12`) blanked:
+/// the written program has its own line numbers.
+fn without_lines(mut model: Model) -> Model {
+    for net in model.blocks.iter_mut().flat_map(|b| &mut b.networks) {
+        if let NetworkBody::Stl { reason, .. } = &mut net.body {
+            let mut out = String::new();
+            let mut rest = reason.as_str();
+            while let Some(at) = rest.find("at line ") {
+                out.push_str(&rest[..at + "at line ".len()]);
+                rest =
+                    rest[at + "at line ".len()..].trim_start_matches(|c: char| c.is_ascii_digit());
+                out.push('_');
+            }
+            out.push_str(rest);
+            *reason = out;
+        }
+    }
+    model
+}
+
+/// The first line where two texts differ, both sides.
+fn first_difference(a: &str, b: &str) -> String {
+    a.lines()
+        .zip(b.lines())
+        .enumerate()
+        .find(|(_, (x, y))| x != y)
+        .map_or_else(
+            || "in length".to_string(),
+            |(i, (x, y))| format!("line {}: `{x}` became `{y}`", i + 1),
+        )
 }
 
 #[test]

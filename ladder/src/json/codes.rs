@@ -59,10 +59,12 @@ model_codes! {
         "Every rung ends in an output (a coil or a box), and a `parallel` either joins paths of contacts (none of its branches ends) or splits into outputs (every branch ends in one). The path names the rung or the branch that has no output.";
     L0010 UnknownPlc "the model's `plc` is not a known PLC type"
         "The `plc` field names the PLC type whose instruction set the model uses (see `gutta-cc list-targets`), or `--plc`/`--target` chooses it.";
-    L0011 WriterMissing "writing STL from a model is not built yet"
-        "`gutta-cc ladder MODEL.json -o OUT.lad` reads and checks the model, but the writer that turns a model into STL is not part of this build yet (issue 26). Nothing was written.";
+    L0011 WriterMissing "retired: writing STL from a model was not built yet"
+        "No longer reported: `gutta-cc ladder MODEL.json -o OUT.lad` now writes the program's STL (issue 26). Earlier builds stopped a valid model with this code and wrote nothing. Codes are never reused, so the number stays retired.";
     L0012 BoxInputs "a box with the wrong number of power inputs"
         "A box's `inputs` are its power inputs after the first, as the instruction set names them (`PowerInputs` in ManagerFun.xml): none for `MOVW` or a timer, the reset `R` for `CTU`, `CD` and `R` for `CTUD`. The message names the inputs the box takes.";
+    L0013 Unwritable "a rung the STL writer cannot say"
+        "The model is valid, but its rung has a shape that STL cannot write as one network: a path from the left rail that starts with `NOT`, `EU` or `ED` (they only go in series after a contact), a box with no power path into it in the middle of a rung, a coil inside a power path, or an output branch that does not end in a coil, a box or outputs in parallel. The path names the rung or the part; start the path with a contact, or write the network as `stl` lines.";
 }
 
 impl fmt::Display for ModelErrorCode {

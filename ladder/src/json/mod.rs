@@ -3,12 +3,14 @@
 //! (`{"format": "gutta-ladder", "version": 1, "plc", "symbols", "blocks"}`),
 //! `from_program.rs` (a checked program's ladder into it), `read.rs` (JSON text back
 //! into it, every shape error with its JSON path), `validate.rs` (the catalog's checks:
-//! mnemonics, operand counts, outputs last) and `codes.rs` (the L codes). No I/O, and
-//! no STL writing: that is the writer's.
+//! mnemonics, operand counts, outputs last), `to_program.rs` (a validated model back
+//! into program text, its rungs' STL by `crate::write`) and `codes.rs` (the L codes).
+//! No I/O.
 
 mod codes;
 mod from_program;
 mod read;
+mod to_program;
 mod validate;
 
 use serde::Serialize;
@@ -16,6 +18,7 @@ use serde::Serialize;
 pub use codes::{ModelError, ModelErrorCode};
 pub use from_program::model_of;
 pub use read::read_model;
+pub use to_program::program_of;
 pub use validate::validate;
 
 /// The `format` of a ladder model.

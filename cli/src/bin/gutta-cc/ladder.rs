@@ -2,9 +2,10 @@
 //! project (its folder or gutta.toml) or an image directory (through the disassembler:
 //! addresses instead of symbols) drawn as ladder diagrams into OUT, an `.svg` (every
 //! network stacked) or a self-contained `.html` page, or written as the ladder model's
-//! JSON (`.json`, `-` for stdout). A model (`INPUT.json`) is read and validated; writing
-//! STL from it waits for the writer (L0011). The model, its JSON and the drawing are
-//! gutta_ladder's; this file reads the input and writes the file atomically.
+//! JSON (`.json`, `-` for stdout). A model (`INPUT.json`) is read, validated and written
+//! back as a program (`.lad`, `-` for stdout) with its rungs as STL. The model, its JSON,
+//! the program text and the drawing are gutta_ladder's; this file reads the input and
+//! writes the file atomically.
 
 use std::io::IsTerminal;
 use std::path::Path;
@@ -134,35 +135,23 @@ pub(crate) fn ladder(cli: &Cli, input: &Path, out: &Path) -> Result<ExitCode, Fa
         ),
         OutputKind::Json => gutta_ladder::json::model_of(&checked, &ladder).to_json(),
     };
-    if is_stdout(out) {
-        use std::io::Write;
-        let mut stdout = std::io::stdout().lock();
-        stdout
-            .write_all(text.as_bytes())
-            .and_then(|()| stdout.flush())
-            .map_err(|e| Fatal::io(format!("cannot write the model to stdout: {e}")))?;
-    } else {
-        write_atomically(out, text.as_bytes())?;
-    }
+    write_out(out, text.as_bytes(), "the model")?;
     let (drawn, stl) = census(&ladder);
     eprintln!(
         "{}: {} drawn as ladder, {stl} as STL, into {}",
         input.display(),
         gutta_cli::plural::count(drawn, "network"),
-        if is_stdout(out) {
-            "stdout".to_string()
-        } else {
-            out.display().to_string()
-        }
+        shown(out)
     );
     Ok(ExitCode::SUCCESS)
 }
 
 /// `gutta-cc ladder MODEL.json -o OUT.lad`: the model read and validated against its
 /// PLC type (`--plc`/`--target` win over its `plc`); every fault is its L code with the
-/// JSON path, exit 2, nothing written. Writing the STL is the writer's, not built yet.
+/// JSON path, exit 2, nothing written. A valid model is written as the program's text
+/// (`gutta_ladder::json::program_of`) into the .lad file atomically, or onto stdout.
 fn from_model(cli: &Cli, input: &Path, out: &Path) -> Result<ExitCode, Fatal> {
-    use gutta_ladder::json::{read_model, validate, ModelError, ModelErrorCode};
+    use gutta_ladder::json::{program_of, read_model, validate, ModelError, ModelErrorCode};
     let refused = |e: ModelError| {
         Fatal::program(format!("{}: {e}", input.display()))
             .with_hint(format!("gutta-cc explain {}", e.code))
@@ -190,11 +179,16 @@ fn from_model(cli: &Cli, input: &Path, out: &Path) -> Result<ExitCode, Fatal> {
         })?),
     };
     validate(&model, &target.instructions).map_err(refused)?;
-    Err(refused(ModelError::new(
-        ModelErrorCode::WriterMissing,
-        "",
-        "the model is valid, but writing STL from a model is not built yet; nothing was written",
-    )))
+    let text = program_of(&model, &target.instructions).map_err(refused)?;
+    write_out(out, text.as_bytes(), "the program")?;
+    let networks: usize = model.blocks.iter().map(|b| b.networks.len()).sum();
+    eprintln!(
+        "{}: {} written as STL into {}",
+        input.display(),
+        gutta_cli::plural::count(networks, "network"),
+        shown(out)
+    );
+    Ok(ExitCode::SUCCESS)
 }
 
 /// Networks drawn as rungs, and shown as STL.
@@ -205,6 +199,29 @@ pub(crate) fn census(ladder: &gutta_ladder::model::Ladder) -> (usize, usize) {
         .filter(|n| matches!(n.body, gutta_ladder::model::Body::Rung(_)))
         .count();
     (drawn, nets.count() - drawn)
+}
+
+/// `bytes` onto stdout (`-`) or into the file `out` atomically; `what` names them in
+/// the error.
+fn write_out(out: &Path, bytes: &[u8], what: &str) -> Result<(), Fatal> {
+    if !is_stdout(out) {
+        return write_atomically(out, bytes);
+    }
+    use std::io::Write;
+    let mut stdout = std::io::stdout().lock();
+    stdout
+        .write_all(bytes)
+        .and_then(|()| stdout.flush())
+        .map_err(|e| Fatal::io(format!("cannot write {what} to stdout: {e}")))
+}
+
+/// Where the output went, for the closing line on stderr.
+fn shown(out: &Path) -> String {
+    if is_stdout(out) {
+        "stdout".to_string()
+    } else {
+        out.display().to_string()
+    }
 }
 
 /// The file written atomically (`gutta_io::write_file_atomically`), a failure as I/O.
