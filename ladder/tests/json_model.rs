@@ -371,3 +371,52 @@ fn the_codes_are_numbered_explained_and_documented() {
         assert!(doc.contains(&row), "docs/ladder.md lacks the row `{row}`");
     }
 }
+
+/// A valid model's program: each rung as the writer's canonical STL, the blocks'
+/// keywords and their END_ keywords around them.
+#[test]
+fn a_valid_model_is_written_as_canonical_stl() {
+    let target = stdlib::default_target().expect("stdlib");
+    let text = model_with(
+        r#"{"series": [{"parallel": [{"contact": "LD", "operands": ["I0.1"]}, {"contact": "LDN", "operands": ["M0.0"]}]},
+            {"box": "TON", "operands": ["T37", "100"], "inputs": []},
+            {"parallel": [{"coil": "=", "operands": ["Q0.1"]}, {"series": [{"contact": "LD", "operands": ["I0.2"]}, {"coil": "S", "operands": ["Q0.2", "1"]}]}]}]}"#,
+    );
+    let model = read_model(text.as_bytes()).expect("reads");
+    let program = program_of(&model, &target.instructions).expect("written");
+    let lines: Vec<&str> = program.lines().collect();
+    let from = lines
+        .iter()
+        .position(|l| *l == "NETWORK 2")
+        .expect("network 2");
+    assert_eq!(
+        lines[from..],
+        [
+            "NETWORK 2",
+            "LD     I0.1",
+            "ON     M0.0",
+            "TON    T37, 100",
+            "=      Q0.1",
+            "A      I0.2",
+            "S      Q0.2, 1",
+            "END_ORGANIZATION_BLOCK",
+        ],
+        "{program}"
+    );
+    assert!(program.starts_with("PLC_TYPE CPU-EC20\n"), "{program}");
+    assert!(program.contains("ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\n"));
+}
+
+/// A valid rung STL cannot say: L0013 at the rung's JSON path.
+#[test]
+fn a_rung_the_writer_refuses_is_l0013_at_its_path() {
+    let target = stdlib::default_target().expect("stdlib");
+    let text = model_with(
+        r#"{"series": [{"contact": "NOT", "operands": []}, {"coil": "=", "operands": ["Q0.1"]}]}"#,
+    );
+    let model = read_model(text.as_bytes()).expect("reads");
+    validate(&model, &target.instructions).expect("valid");
+    let err = program_of(&model, &target.instructions).expect_err("refused");
+    assert_eq!(err.code, ModelErrorCode::Unwritable);
+    assert_eq!(err.path, "blocks[0].networks[1].rung");
+}
