@@ -420,3 +420,28 @@ fn a_rung_the_writer_refuses_is_l0013_at_its_path() {
     assert_eq!(err.code, ModelErrorCode::Unwritable);
     assert_eq!(err.path, "blocks[0].networks[1].rung");
 }
+
+/// What cannot become source lines is L0002 at its path when the program is written.
+#[test]
+fn a_block_kind_or_a_line_break_the_program_cannot_hold_is_l0002() {
+    let target = stdlib::default_target().expect("stdlib");
+    let written = |text: String| {
+        let model = read_model(text.as_bytes()).expect("reads");
+        let err = program_of(&model, &target.instructions).expect_err("refused");
+        (err.code, err.path)
+    };
+    let good = r#"{"series": [{"contact": "LD", "operands": ["I0.1"]}, {"coil": "=", "operands": ["Q0.1"]}]}"#;
+    let kind = model_with(good).replace("ORGANIZATION_BLOCK", "FUNCTION_BLOCK");
+    assert_eq!(
+        written(kind),
+        (ModelErrorCode::Shape, "blocks[0].kind".to_string())
+    );
+    let broken = model_with(&good.replace("I0.1", "I0.1\\nLD I0.2"));
+    assert_eq!(
+        written(broken),
+        (
+            ModelErrorCode::Shape,
+            "blocks[0].networks[1].rung.series[0].operands[0]".to_string()
+        )
+    );
+}

@@ -42,7 +42,7 @@ model_codes! {
     L0001 NotJson "the model is not valid JSON"
         "The file is not JSON text (RFC 8259): the message gives the line and column where reading stopped. A ladder model is one JSON object, `{\"format\": \"gutta-ladder\", \"version\": 1, ...}`.";
     L0002 Shape "a field is missing or has the wrong type"
-        "A part of the model does not have the shape docs/ladder-model.schema.json describes: a required field is missing (`format`, `version`, `plc`, `blocks`; a block's `kind`, `name`, `id`, `networks`), a field has the wrong JSON type, or an element is none of `series`, `parallel`, `contact`, `coil`, `box`. The path names the part.";
+        "A part of the model does not have the shape docs/ladder-model.schema.json describes: a required field is missing (`format`, `version`, `plc`, `blocks`; a block's `kind`, `name`, `id`, `networks`), a field has the wrong JSON type, an element is none of `series`, `parallel`, `contact`, `coil`, `box`, a block's `kind` is not `ORGANIZATION_BLOCK`, `SUBROUTINE_BLOCK` or `INTERRUPT_BLOCK`, or a field that becomes one line of the program (a name, a title, an operand, an `stl` line; not a network's `comment`) holds a line break. The path names the part.";
     L0003 UnknownFormat "the `format` is not `gutta-ladder`"
         "The object's `format` field says what it is; a ladder model says `\"format\": \"gutta-ladder\"`. Another value is another kind of file.";
     L0004 LaterVersion "the model's `version` is later than this tool reads"

@@ -17,9 +17,14 @@ use crate::write;
 
 type Made<T> = Result<T, ModelError>;
 
+/// The block keywords of docs/ladder-model.schema.json's `kind`.
+const KINDS: [&str; 3] = ["ORGANIZATION_BLOCK", "SUBROUTINE_BLOCK", "INTERRUPT_BLOCK"];
+
 /// The program text of `model` (validated against `set`), ending in a newline. A rung
-/// the writer cannot say as STL is L0013 at its JSON path.
+/// the writer cannot say as STL is L0013 at its JSON path; a block `kind` the schema
+/// does not name, or a line break in a field that is one line of source, is L0002.
 pub fn program_of(model: &Model, set: &InstructionSet) -> Made<String> {
+    one_line_fields(model)?;
     let mut out = vec![format!("PLC_TYPE {}", model.plc), String::new()];
     if !model.symbols.is_empty() {
         out.push("SYMBOLS".to_string());
@@ -50,6 +55,17 @@ pub fn program_of(model: &Model, set: &InstructionSet) -> Made<String> {
 }
 
 fn block_text(set: &InstructionSet, block: &BlockJson, b: usize) -> Made<Vec<String>> {
+    if !KINDS.contains(&block.kind.as_str()) {
+        return Err(ModelError::new(
+            Code::Shape,
+            &format!("blocks[{b}].kind"),
+            format!(
+                "`{}` is not a block kind: one of {}",
+                block.kind,
+                KINDS.join(", ")
+            ),
+        ));
+    }
     let mut out = vec![format!("{} {}:{}", block.kind, block.name, block.id)];
     if let Some(title) = &block.title {
         out.push(format!("TITLE={title}"));
@@ -313,6 +329,92 @@ fn box_of(set: &InstructionSet, e: &Element, path: &str) -> Made<BoxElement> {
         output: spec.power_output.clone(),
         line: 0,
     })
+}
+
+/// Every field written as (part of) one source line holds no line break: the network
+/// comment is the only text of several lines.
+fn one_line_fields(model: &Model) -> Made<()> {
+    let mut fields: Vec<(String, &str)> = vec![("plc".to_string(), model.plc.as_str())];
+    for (i, s) in model.symbols.iter().enumerate() {
+        let at = |f: &str| format!("symbols[{i}].{f}");
+        fields.push((at("name"), &s.name));
+        fields.push((at("address"), &s.address));
+        fields.extend(s.data_type.as_deref().map(|t| (at("type"), t)));
+        fields.extend(s.comment.as_deref().map(|c| (at("comment"), c)));
+    }
+    for (b, block) in model.blocks.iter().enumerate() {
+        let at = |f: &str| format!("blocks[{b}].{f}");
+        fields.push((at("name"), &block.name));
+        fields.push((at("id"), &block.id));
+        fields.extend(block.title.as_deref().map(|t| (at("title"), t)));
+        let sections: [(&str, &[VarJson]); 4] = [
+            ("VAR_INPUT", &block.var_input),
+            ("VAR_IN_OUT", &block.var_in_out),
+            ("VAR_OUTPUT", &block.var_output),
+            ("VAR", &block.var),
+        ];
+        for (section, vars) in sections {
+            for (i, v) in vars.iter().enumerate() {
+                let at = |f: &str| format!("blocks[{b}].{section}[{i}].{f}");
+                fields.push((at("name"), &v.name));
+                fields.push((at("type"), &v.data_type));
+                fields.extend(v.comment.as_deref().map(|c| (at("comment"), c)));
+            }
+        }
+        for (n, net) in block.networks.iter().enumerate() {
+            let at = format!("blocks[{b}].networks[{n}]");
+            fields.push((format!("{at}.title"), &net.title));
+            match &net.body {
+                NetworkBody::Stl { stl, .. } => fields.extend(
+                    stl.iter()
+                        .enumerate()
+                        .map(|(i, l)| (format!("{at}.stl[{i}]"), l.as_str())),
+                ),
+                NetworkBody::Rung { rung } => operands(rung, &format!("{at}.rung"), &mut fields),
+            }
+        }
+    }
+    match fields
+        .into_iter()
+        .find(|(_, text)| text.contains(['\n', '\r']))
+    {
+        Some((path, _)) => Err(ModelError::new(
+            Code::Shape,
+            &path,
+            "a line break in a field that is one line of the program",
+        )),
+        None => Ok(()),
+    }
+}
+
+/// The operands of every element of `e`, with their JSON paths.
+fn operands<'a>(e: &'a Element, path: &str, out: &mut Vec<(String, &'a str)>) {
+    let list = |v: &'a [Element], at: String, out: &mut Vec<(String, &'a str)>| {
+        for (i, x) in v.iter().enumerate() {
+            operands(x, &format!("{at}[{i}]"), out);
+        }
+    };
+    match e {
+        Element::Series { series } => list(series, format!("{path}.series"), out),
+        Element::Parallel { parallel } => list(parallel, format!("{path}.parallel"), out),
+        Element::Contact { operands: ops, .. } | Element::Coil { operands: ops, .. } => out.extend(
+            ops.iter()
+                .enumerate()
+                .map(|(i, o)| (format!("{path}.operands[{i}]"), o.as_str())),
+        ),
+        Element::Box {
+            operands: ops,
+            inputs,
+            ..
+        } => {
+            out.extend(
+                ops.iter()
+                    .enumerate()
+                    .map(|(i, o)| (format!("{path}.operands[{i}]"), o.as_str())),
+            );
+            list(inputs, format!("{path}.inputs"), out);
+        }
+    }
 }
 
 fn spec<'a>(set: &'a InstructionSet, mnemonic: &str, path: &str) -> Made<&'a Instruction> {
