@@ -130,7 +130,7 @@ pub(crate) enum Command {
         /// directory (drawn through the disassembler), or a ladder model (.json).
         input: PathBuf,
         /// The file to write: .svg, .html, .json (the ladder model), or - (the model on
-        /// stdout).
+        /// stdout); from a ladder model: .lad (its program), or - (the program on stdout).
         #[arg(short, long, value_name = "FILE")]
         output: PathBuf,
     },
