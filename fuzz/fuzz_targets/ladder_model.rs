@@ -1,13 +1,18 @@
 //! Fuzz target of the ladder model reader (docs/ladder.md, "The model as JSON"):
 //! arbitrary bytes through `gutta_ladder::json::read_model` and, when they read,
-//! `validate` against the default target's instruction set. It must never panic; every
-//! refusal is an L code whose path is empty or starts with a field of the format.
+//! `validate` against the default target's instruction set and, when it validates,
+//! `program_of` (the model written as a program) and the compiler's `check_source` on
+//! that program. It must never panic; every refusal is an L code whose path is empty or
+//! starts with a field of the format. (That a model which validates also compiles is
+//! not yet promised: the operands' areas and types are not validated.)
 #![no_main]
 
 use std::sync::{Arc, OnceLock};
 
 use gutta_catalog::{stdlib, Target};
-use gutta_ladder::json::{read_model, validate};
+use gutta_compiler::check_source;
+use gutta_compiler::source::SourceFile;
+use gutta_ladder::json::{program_of, read_model, validate};
 use libfuzzer_sys::fuzz_target;
 
 /// The default target, loaded once.
@@ -24,7 +29,13 @@ fuzz_target!(|data: &[u8]| {
                 // A model that reads writes back as JSON that reads to the same model.
                 let again = read_model(model.to_json().as_bytes()).expect("its own JSON reads");
                 assert_eq!(again, model);
-                return;
+                match program_of(&model, &default_target().instructions) {
+                    Ok(text) => {
+                        check_source(SourceFile::new("model.lad", text), None);
+                        return;
+                    }
+                    Err(e) => e,
+                }
             }
             Err(e) => e,
         },
