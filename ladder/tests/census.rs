@@ -10,42 +10,20 @@
     reason = "the census reads the repository's programs and prints its counts"
 )]
 
-use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+mod common;
 
-use gutta_catalog::stdlib;
+use std::collections::BTreeMap;
+use std::path::Path;
+
 use gutta_compiler::source::SourceFile;
-use gutta_compiler::{check_program, check_source, ExplicitTarget, ProgramSources};
+use gutta_compiler::{check_program, ProgramSources};
 use gutta_ladder::model::{Body, Ladder};
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
+use common::{checked_file, files, root};
 
-fn files(dir: &str, exts: &[&str]) -> Vec<PathBuf> {
-    let mut out: Vec<PathBuf> = std::fs::read_dir(root().join(dir))
-        .unwrap_or_else(|e| panic!("{dir}: {e}"))
-        .map(|e| e.expect("dir entry").path())
-        .filter(|p| {
-            p.extension()
-                .is_some_and(|x| exts.iter().any(|e| x.eq_ignore_ascii_case(e)))
-        })
-        .collect();
-    out.sort();
-    out
-}
-
-/// A program file as the tools read it, with a `// plc: NAME` first line honoured.
+/// A program file's ladder, as the tools read the file.
 fn ladder_of(path: &Path) -> Ladder {
-    let bytes = std::fs::read(path).expect("read program");
-    let (file, _) = SourceFile::from_program_file_bytes(path.display().to_string(), bytes, false)
-        .unwrap_or_else(|_| panic!("{}: not UTF-8", path.display()));
-    let first = file.text.lines().next().unwrap_or("").trim().to_string();
-    let explicit = first.strip_prefix("// plc:").map(|name| ExplicitTarget {
-        target: stdlib::shared(name.trim()).expect("stdlib target"),
-        origin: format!("--plc {}", name.trim()),
-    });
-    gutta_ladder::build(&check_source(file, explicit.as_ref()))
+    gutta_ladder::build(&checked_file(path))
 }
 
 /// The program exported one block per file, read as one.

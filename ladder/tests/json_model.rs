@@ -10,44 +10,14 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
-
 use gutta_catalog::stdlib;
 use gutta_compiler::source::{is_microwin, SourceFile, MARKER};
-use gutta_compiler::{check_source, CheckedFile, ExplicitTarget};
+use gutta_compiler::{check_source, ExplicitTarget};
 use gutta_ladder::json::{
     model_of, program_of, read_model, validate, Element, Model, ModelErrorCode, NetworkBody,
 };
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn programs(dir: &str, exts: &[&str]) -> Vec<PathBuf> {
-    let mut out: Vec<PathBuf> = std::fs::read_dir(root().join(dir))
-        .unwrap_or_else(|e| panic!("{dir}: {e}"))
-        .map(|e| e.expect("dir entry").path())
-        .filter(|p| {
-            p.extension()
-                .is_some_and(|x| exts.iter().any(|e| x.eq_ignore_ascii_case(e)))
-        })
-        .collect();
-    out.sort();
-    out
-}
-
-/// A program file as the tools read it, with a `// plc: NAME` first line honoured.
-fn checked_file(path: &Path) -> CheckedFile {
-    let bytes = std::fs::read(path).expect("read program");
-    let (file, _) = SourceFile::from_program_file_bytes(path.display().to_string(), bytes, false)
-        .unwrap_or_else(|_| panic!("{}: not UTF-8", path.display()));
-    let first = file.text.lines().next().unwrap_or("").trim().to_string();
-    let explicit = first.strip_prefix("// plc:").map(|name| ExplicitTarget {
-        target: stdlib::shared(name.trim()).expect("stdlib target"),
-        origin: format!("--plc {}", name.trim()),
-    });
-    check_source(file, explicit.as_ref())
-}
+use common::{checked_file, files, root};
 
 #[test]
 fn every_program_round_trips_through_json_and_validates() {
@@ -60,7 +30,7 @@ fn every_program_round_trips_through_json_and_validates() {
     let mut failures = Vec::new();
     let mut rungs = 0;
     for (dir, exts) in sets {
-        for path in programs(dir, exts) {
+        for path in files(dir, exts) {
             let checked = checked_file(&path);
             if checked.has_errors() {
                 continue;
@@ -107,7 +77,7 @@ fn every_model_written_as_a_program_builds_the_same_model() {
     let mut failures = Vec::new();
     let mut programs_written = 0;
     for (dir, exts) in sets {
-        for path in programs(dir, exts) {
+        for path in files(dir, exts) {
             let checked = checked_file(&path);
             if checked.has_errors() {
                 continue;

@@ -18,13 +18,17 @@
     reason = "the round trip reads the repository's programs and prints its census"
 )]
 
+mod common;
+
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use gutta_catalog::{stdlib, InstructionSet, Join};
 use gutta_compiler::source::{PartKind, SourceFile};
 use gutta_compiler::{compile_program, Compiled, ExplicitTarget, ProgramSources};
 use gutta_ladder::model::{Body, BoxElement, Branch, BranchEnd, Ladder, Node, Rung};
+
+use common::{files, root};
 
 /// Networks (`program block:network`) whose written STL is a different text for the
 /// same rung, so their image differs: the canonical form is not the one their source
@@ -42,23 +46,6 @@ const NOT_CANONICAL: &[&str] = &[
      the counter's CU path, so the written STL counts on I0.3 AND I0.0 (the drawing \
      itself says more than the STL: a builder matter, see docs/ladder.md)",
 ];
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn files(dir: &str, exts: &[&str]) -> Vec<PathBuf> {
-    let mut out: Vec<PathBuf> = std::fs::read_dir(root().join(dir))
-        .unwrap_or_else(|e| panic!("{dir}: {e}"))
-        .map(|e| e.expect("dir entry").path())
-        .filter(|p| {
-            p.extension()
-                .is_some_and(|x| exts.iter().any(|e| x.eq_ignore_ascii_case(e)))
-        })
-        .collect();
-    out.sort();
-    out
-}
 
 /// A program as the tools read it: its sources and tables, and a `// plc: NAME` first
 /// line honoured.

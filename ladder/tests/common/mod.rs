@@ -8,11 +8,50 @@
 //! (`out(Q0.0)`, `set(Full,1)`); a rung is `INPUT -> OUTPUTS` (`|` for a rung on the
 //! rail), several branches `{ b1 ; b2 }`; a refused network is `STL: reason`.
 
-#![allow(dead_code)]
+#![allow(
+    dead_code,
+    clippy::disallowed_methods,
+    reason = "shared by several test binaries, each using part; the corpus helpers read the repository's programs"
+)]
 
+use std::path::{Path, PathBuf};
+
+use gutta_catalog::stdlib;
 use gutta_compiler::source::SourceFile;
-use gutta_compiler::{check_source, CheckedFile};
+use gutta_compiler::{check_source, CheckedFile, ExplicitTarget};
 use gutta_ladder::model::{Body, BoxElement, Branch, BranchEnd, Contact, Ladder, Network, Node};
+
+/// The repository's root.
+pub fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// The files of a corpus folder (relative to the root) with one of `exts`, sorted.
+pub fn files(dir: &str, exts: &[&str]) -> Vec<PathBuf> {
+    let mut out: Vec<PathBuf> = std::fs::read_dir(root().join(dir))
+        .unwrap_or_else(|e| panic!("{dir}: {e}"))
+        .map(|e| e.expect("dir entry").path())
+        .filter(|p| {
+            p.extension()
+                .is_some_and(|x| exts.iter().any(|e| x.eq_ignore_ascii_case(e)))
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+/// A program file as the tools read it, with a `// plc: NAME` first line honoured.
+pub fn checked_file(path: &Path) -> CheckedFile {
+    let bytes = std::fs::read(path).expect("read program");
+    let (file, _) = SourceFile::from_program_file_bytes(path.display().to_string(), bytes, false)
+        .unwrap_or_else(|_| panic!("{}: not UTF-8", path.display()));
+    let first = file.text.lines().next().unwrap_or("").trim().to_string();
+    let explicit = first.strip_prefix("// plc:").map(|name| ExplicitTarget {
+        target: stdlib::shared(name.trim()).expect("stdlib target"),
+        origin: format!("--plc {}", name.trim()),
+    });
+    check_source(file, explicit.as_ref())
+}
 
 /// `text` checked on the default target.
 pub fn checked(text: &str) -> CheckedFile {
