@@ -7,33 +7,12 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use common::{cc, cc_in, have, stderr, text};
+use common::{cc, cc_in, examples, have, root, stderr, text};
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{check_program, ProgramSources};
 use gutta_ladder::model::{Body, BranchEnd, Ladder, Node};
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn scratch(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("gutta-cc-ladder-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("creates the scratch directory");
-    dir
-}
-
-fn examples() -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("examples"))
-        .expect("examples/")
-        .map(|e| e.expect("entry").path())
-        .filter(|p| p.extension().is_some_and(|x| x == "lad"))
-        .collect();
-    files.sort();
-    files
-}
 
 /// The model of a source file, through the library.
 fn model(path: &Path) -> Ladder {
@@ -118,7 +97,7 @@ fn markup_counts(markup: &str) -> Counts {
 
 #[test]
 fn every_example_is_drawn_as_svg_and_html_the_same_bytes_twice() {
-    let dir = scratch("examples");
+    let dir = common::scratch("ladder-examples");
     for path in examples() {
         let stem = path
             .file_stem()
@@ -159,7 +138,7 @@ fn the_page_opens_in_headless_chromium() {
     if !have("chromium") {
         return;
     }
-    let dir = scratch("chromium");
+    let dir = common::scratch("ladder-chromium");
     let page = dir.join("tank.html");
     let example = root().join("examples/tank.lad");
     let o = cc(&[
@@ -218,7 +197,7 @@ fn the_page_opens_in_headless_chromium() {
 
 #[test]
 fn an_image_directory_is_drawn_through_the_disassembler() {
-    let dir = scratch("image");
+    let dir = common::scratch("ladder-image");
     let image = dir.join("image");
     let example = root().join("examples/tank.lad");
     let o = cc(&[
@@ -247,7 +226,7 @@ fn an_image_directory_is_drawn_through_the_disassembler() {
 
 #[test]
 fn a_project_is_drawn_with_its_symbols() {
-    let dir = scratch("project");
+    let dir = common::scratch("ladder-project");
     let o = cc_in(&dir, &["new", "demo"]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o));
     let o = cc_in(&dir, &["ladder", "demo", "-o", "demo.html"]);
@@ -266,7 +245,7 @@ fn a_project_is_drawn_with_its_symbols() {
 
 #[test]
 fn the_output_must_be_svg_or_html() {
-    let dir = scratch("usage");
+    let dir = common::scratch("ladder-usage");
     let o = cc_in(
         &dir,
         &[

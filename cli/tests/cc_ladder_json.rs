@@ -8,32 +8,10 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use common::{cc, stderr, stdout};
+use common::{cc, examples, root, stderr, stdout};
 use gutta_ladder::json::ModelErrorCode;
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn scratch(tag: &str) -> PathBuf {
-    let dir =
-        std::env::temp_dir().join(format!("gutta-cc-ladder-json-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("creates the scratch directory");
-    dir
-}
-
-fn examples() -> Vec<PathBuf> {
-    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("examples"))
-        .expect("examples/")
-        .map(|e| e.expect("entry").path())
-        .filter(|p| p.extension().is_some_and(|x| x == "lad"))
-        .collect();
-    files.sort();
-    files
-}
 
 fn schema() -> jsonschema::Validator {
     let text = std::fs::read_to_string(root().join("docs/ladder-model.schema.json"))
@@ -45,7 +23,7 @@ fn schema() -> jsonschema::Validator {
 #[test]
 fn every_example_model_validates_against_the_schema() {
     let validator = schema();
-    let dir = scratch("schema");
+    let dir = common::scratch("ladder-json-schema");
     let mut failures = Vec::new();
     for example in examples() {
         let out = dir.join("model.json");
@@ -93,7 +71,7 @@ fn the_docs_example_is_what_the_cli_prints() {
     let heading = "## The model as JSON";
     let source = fenced(&doc, heading, "stl");
     let json = fenced(&doc, heading, "json");
-    let dir = scratch("docs");
+    let dir = common::scratch("ladder-json-docs");
     let program = dir.join("motor.lad");
     std::fs::write(&program, source).expect("writes the program");
     let run = cc(&["ladder", program.to_str().expect("utf-8 path"), "-o", "-"]);
@@ -105,7 +83,7 @@ fn the_docs_example_is_what_the_cli_prints() {
 
 /// `gutta-cc ladder MODEL -o OUT` on `text`: (exit code, stderr), and whether OUT exists.
 fn read_back(tag: &str, text: &str, out: &str) -> (Option<i32>, String, bool) {
-    let dir = scratch(tag);
+    let dir = common::scratch(&format!("ladder-json-{tag}"));
     let model = dir.join("model.json");
     std::fs::write(&model, text).expect("writes the model");
     let out = if out == "-" {
@@ -159,7 +137,7 @@ fn a_good_model_is_written_as_a_program_that_compiles() {
     let example = root().join("examples/blink.lad");
     let run = cc(&["ladder", example.to_str().expect("utf-8 path"), "-o", "-"]);
     let model_json = stdout(&run);
-    let dir = scratch("writer");
+    let dir = common::scratch("ladder-json-writer");
     let model = dir.join("model.json");
     std::fs::write(&model, &model_json).expect("writes the model");
     let lad = dir.join("blink.lad");
@@ -194,7 +172,7 @@ fn a_good_model_is_written_as_a_program_that_compiles() {
 #[test]
 fn a_model_written_from_scratch_runs_as_expected() {
     let data = root().join("tests/data/ladder_model");
-    let dir = scratch("machine");
+    let dir = common::scratch("ladder-json-machine");
     for name in ["machine.json", "machine.gtest"] {
         std::fs::copy(data.join(name), dir.join(name)).expect("copies the test data");
     }

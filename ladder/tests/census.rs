@@ -105,12 +105,7 @@ fn group(reason: &str) -> String {
 #[test]
 fn census_of_every_program() {
     let mut total = Census::default();
-    let sets: [(&str, &[&str]); 4] = [
-        ("examples", &["lad"]),
-        ("tests/data/check/ok", &["lad"]),
-        ("tests/data/run", &["lad"]),
-        ("tests/data/microwin", &["lad", "awl"]),
-    ];
+    let sets = common::CORPORA;
     let mut examples = (0, 0);
     for (dir, exts) in sets {
         let mut census = Census::default();

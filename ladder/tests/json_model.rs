@@ -21,12 +21,7 @@ use common::{checked_file, files, root};
 
 #[test]
 fn every_program_round_trips_through_json_and_validates() {
-    let sets: [(&str, &[&str]); 4] = [
-        ("examples", &["lad"]),
-        ("tests/data/check/ok", &["lad"]),
-        ("tests/data/run", &["lad"]),
-        ("tests/data/microwin", &["lad", "awl"]),
-    ];
+    let sets = common::CORPORA;
     let mut failures = Vec::new();
     let mut rungs = 0;
     for (dir, exts) in sets {
@@ -68,12 +63,7 @@ fn every_program_round_trips_through_json_and_validates() {
 /// of the corpora whose model the test above reads back.
 #[test]
 fn every_model_written_as_a_program_builds_the_same_model() {
-    let sets: [(&str, &[&str]); 4] = [
-        ("examples", &["lad"]),
-        ("tests/data/check/ok", &["lad"]),
-        ("tests/data/run", &["lad"]),
-        ("tests/data/microwin", &["lad", "awl"]),
-    ];
+    let sets = common::CORPORA;
     let mut failures = Vec::new();
     let mut programs_written = 0;
     for (dir, exts) in sets {

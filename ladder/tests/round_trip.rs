@@ -305,12 +305,7 @@ fn round_trip(program: &Program, census: &mut Census, failures: &mut Vec<String>
 
 #[test]
 fn every_drawn_network_round_trips_through_stl() {
-    let sets: [(&str, &[&str]); 4] = [
-        ("examples", &["lad"]),
-        ("tests/data/check/ok", &["lad"]),
-        ("tests/data/run", &["lad"]),
-        ("tests/data/microwin", &["lad", "awl"]),
-    ];
+    let sets = common::CORPORA;
     let mut failures = Vec::new();
     let mut total = Census::default();
     let mut groups: Vec<(String, Vec<Program>)> = sets

@@ -15,6 +15,31 @@ use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
 use gutta_format::Image;
 
+/// The repository's root.
+pub fn root() -> PathBuf {
+    docs::repo()
+}
+
+/// A fresh, empty scratch directory for one test of this process:
+/// `gutta-cc-TAG-PID` in the temporary directory.
+pub fn scratch(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("gutta-cc-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("creates the scratch directory");
+    dir
+}
+
+/// The example programs, `examples/*.lad`, sorted.
+pub fn examples() -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("examples"))
+        .expect("examples/")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "lad"))
+        .collect();
+    files.sort();
+    files
+}
+
 /// How to get every external tool these tests use.
 pub const INSTALL: &str = "run `bash .ci/run`, or: apt-get install mbpoll socat \
      tmux libmodbus-dev pkg-config zsh fish neovim chromium; python3 -m venv .ci/venv && .ci/venv/bin/pip install \

@@ -26,6 +26,14 @@ pub fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
+/// The program corpora every whole-corpus test walks: each folder and its extensions.
+pub const CORPORA: [(&str, &[&str]); 4] = [
+    ("examples", &["lad"]),
+    ("tests/data/check/ok", &["lad"]),
+    ("tests/data/run", &["lad"]),
+    ("tests/data/microwin", &["lad", "awl"]),
+];
+
 /// The files of a corpus folder (relative to the root) with one of `exts`, sorted.
 pub fn files(dir: &str, exts: &[&str]) -> Vec<PathBuf> {
     let mut out: Vec<PathBuf> = std::fs::read_dir(root().join(dir))
