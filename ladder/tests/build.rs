@@ -122,6 +122,50 @@ fn boxes_in_series_or_at_the_end_of_a_branch() {
     );
 }
 
+/// A box (or `NOT`, `EU`, `ED`) acts on the power it is given, and in ladder that is
+/// everything before it in series. A path holding one may come first in an `ALD` (the
+/// box keeps its power) or be ORed by `OLD` (a parallel path starts at the left rail, as
+/// it did alone), and is drawn; ANDed after another path it is refused (see
+/// `refusals_name_the_instruction_and_its_line`).
+#[test]
+fn a_path_with_a_box_is_drawn_where_the_box_keeps_its_power() {
+    let cases = [
+        (
+            "LD I0.0\nLD I0.1\nTON T37, 100\nOLD\n= Q0.0",
+            "(no(I0.0) | no(I0.1) [T37 PT=100]) -> out(Q0.0)",
+        ),
+        (
+            "LD I0.0\nLD I0.1\nLD I0.2\nCTU C0, 1\nOLD\n= Q0.0",
+            "(no(I0.0) | no(I0.1) [C0 PV=1 R:no(I0.2)]) -> out(Q0.0)",
+        ),
+        (
+            "LD I0.0\nLD I0.1\nEU\nOLD\n= Q0.0",
+            "(no(I0.0) | no(I0.1) pos-edge()) -> out(Q0.0)",
+        ),
+        (
+            "LD I0.0\nMOVW 1, MW0\nLD I0.1\nO I0.2\nALD\n= Q0.0",
+            "no(I0.0) [MOVW IN=1 OUT>MW0] (no(I0.1) | no(I0.2)) -> out(Q0.0)",
+        ),
+    ];
+    let set = gutta_catalog::stdlib::default_target()
+        .expect("stdlib")
+        .instructions;
+    for (code, drawn) in cases {
+        assert_eq!(one(code), drawn, "{code}");
+        // Written back, the rung is the same STL: the drawing means what it says.
+        let l = ladder(&format!("NETWORK 1\n{code}"));
+        let Body::Rung(rung) = &l.blocks[0].networks[0].body else {
+            panic!("{code}")
+        };
+        let written: Vec<String> = gutta_ladder::write::rung(&set, rung)
+            .expect("written")
+            .iter()
+            .map(|l| l.split_whitespace().collect::<Vec<_>>().join(" "))
+            .collect();
+        assert_eq!(written, code.lines().collect::<Vec<_>>(), "{code}");
+    }
+}
+
 #[test]
 fn call_boxes_have_the_parameters_as_pins() {
     let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.0\nCALL SBR0, MW0, MW2\n\
@@ -297,7 +341,7 @@ fn titles_comments_stl_lines_and_numbers() {
 #[test]
 fn refusals_name_the_instruction_and_its_line() {
     // Network lines start at line 3 (after ORGANIZATION_BLOCK and BEGIN).
-    let cases: [(&str, &str); 17] = [
+    let cases: [(&str, &str); 21] = [
         (
             "LD I0.0\n= Q0.0\nLD I0.1\n= Q0.1",
             "`LD I0.1` at line 6 starts a second power path",
@@ -341,6 +385,26 @@ fn refusals_name_the_instruction_and_its_line() {
         (
             "LD I0.0\nLPS\nLPP\nA I0.1",
             "`A I0.1` at line 7 leads to no output",
+        ),
+        (
+            "LD I0.3\nLD I0.0\nLD I0.1\nCTU C0, 1\nALD\n= Q0.0",
+            "`ALD` at line 8 puts the path of `CTU C0, 1` at line 7 in series after the path of \
+             `LD I0.3` at line 4: `CTU C0, 1` would take its power through that path too",
+        ),
+        (
+            "LD I0.0\n= Q0.0\nLD I0.1\nTON T37, 100\nALD\n= Q0.1",
+            "`ALD` at line 8 puts the path of `TON T37, 100` at line 7 in series after a path that \
+             already feeds an output: `TON T37, 100` would take its power through that path too",
+        ),
+        (
+            "LD I0.0\nLD I0.1\nMOVW 1, MW0\nO I0.2\nALD\n= Q0.0",
+            "`ALD` at line 8 puts the path of `MOVW 1, MW0` at line 6 in series after the path of \
+             `LD I0.0` at line 4: `MOVW 1, MW0` would take its power through that path too",
+        ),
+        (
+            "LD I0.0\nLD I0.1\nNOT\nALD\n= Q0.0",
+            "`ALD` at line 7 puts the path of `NOT` at line 6 in series after the path of \
+             `LD I0.0` at line 4: `NOT` would take its power through that path too",
         ),
     ];
     for (code, reason) in cases {

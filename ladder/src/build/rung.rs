@@ -5,7 +5,7 @@
 //! hang (a junction), followed by the series elements since. Knows nothing of the
 //! source: elements come in with their instruction's text and line.
 
-use crate::model::{BoxElement, Branch, BranchEnd, Node, Rung};
+use crate::model::{BoxElement, Branch, BranchEnd, ContactKind, Node, Rung};
 
 use super::element::{Element, Join, StackOp};
 
@@ -27,7 +27,13 @@ impl Origin {
 #[derive(Debug, Clone)]
 enum Level {
     /// A path from the left rail that feeds no output yet; `origin` started it.
-    Free { path: Node, origin: Origin },
+    /// `acting` is its first element that acts on the power it is given (see
+    /// `acts_on_power`): such a path cannot be drawn in series after another.
+    Free {
+        path: Node,
+        origin: Origin,
+        acting: Option<Origin>,
+    },
     /// The power at `junction` of the rung, then `tail` in series (started by
     /// `tail_origin`).
     Anchored {
@@ -72,6 +78,7 @@ impl RungBuilder {
                 self.stack.push(Level::Free {
                     path: Node::Contact(c),
                     origin,
+                    acting: None,
                 });
                 Ok(())
             }
@@ -146,7 +153,10 @@ impl RungBuilder {
 
     fn series(&mut self, node: Node, origin: Origin) -> Result<(), Refusal> {
         match self.top(&origin)? {
-            Level::Free { path, .. } => {
+            Level::Free { path, acting, .. } => {
+                if acting.is_none() && acts_on_power(&node) {
+                    *acting = Some(origin);
+                }
                 let left = std::mem::replace(path, Node::Series(Vec::new()));
                 *path = series(left, node);
             }
@@ -183,28 +193,67 @@ impl RungBuilder {
                 let (Some(top), Some(below)) = (self.stack.pop(), self.stack.pop()) else {
                     return Err(format!("{} lacks levels", origin.at()));
                 };
+                // A path in series after another takes its power through it: an
+                // element acting on its power would act on the path before too.
+                if let (
+                    StackOp::Ald,
+                    Level::Free {
+                        acting: Some(x), ..
+                    },
+                ) = (op, &top)
+                {
+                    let after = match &below {
+                        Level::Free { origin: o, .. } => format!("the path of {}", o.at()),
+                        Level::Anchored { .. } => "a path that already feeds an output".to_string(),
+                    };
+                    return Err(format!(
+                        "{} puts the path of {} in series after {after}: `{}` would take its power through that path too",
+                        origin.at(),
+                        x.at(),
+                        x.text
+                    ));
+                }
                 let joined = match (below, top, op) {
                     (
-                        Level::Free { path: a, origin: o },
+                        Level::Free {
+                            path: a,
+                            origin: o,
+                            acting,
+                        },
                         Level::Free { path: b, .. },
                         StackOp::Ald,
                     ) => Level::Free {
                         path: series(a, b),
                         origin: o,
+                        acting,
                     },
-                    (Level::Free { path: a, origin: o }, Level::Free { path: b, .. }, _) => {
+                    // A path in parallel starts at the left rail, as it did on its own.
+                    (
                         Level::Free {
-                            path: parallel(a, b),
+                            path: a,
                             origin: o,
-                        }
-                    }
+                            acting,
+                        },
+                        Level::Free {
+                            path: b,
+                            acting: acting_b,
+                            ..
+                        },
+                        _,
+                    ) => Level::Free {
+                        path: parallel(a, b),
+                        origin: o,
+                        acting: acting.or(acting_b),
+                    },
                     (
                         Level::Anchored {
                             junction,
                             mut tail,
                             tail_origin,
                         },
-                        Level::Free { path, origin: o },
+                        Level::Free {
+                            path, origin: o, ..
+                        },
                         StackOp::Ald,
                     ) => {
                         let tail_origin = tail_origin.or(Some(o));
@@ -301,7 +350,7 @@ impl RungBuilder {
     /// (there is one), an anchored tail a branch splitting at a new junction.
     fn junction_of(&mut self, level: Level) -> Result<usize, Refusal> {
         match level {
-            Level::Free { path, origin } => {
+            Level::Free { path, origin, .. } => {
                 if self.root.is_some() {
                     return Err(format!("{} starts a second power path", origin.at()));
                 }
@@ -353,11 +402,15 @@ impl RungBuilder {
                     tail_origin.map(|o| o.at()).unwrap_or_default()
                 )),
             },
-            Level::Free { path, origin } => {
+            Level::Free { path, origin, .. } => {
                 let (rest, last) = split_last(path);
                 match (rest, last) {
                     (Some(rest), Node::Box(b)) => {
-                        let j = self.junction_of(Level::Free { path: rest, origin })?;
+                        let j = self.junction_of(Level::Free {
+                            path: rest,
+                            origin,
+                            acting: None,
+                        })?;
                         self.junctions[j].push(DraftBranch {
                             path: Vec::new(),
                             end: DraftEnd::End(BranchEnd::Box(b)),
@@ -410,6 +463,22 @@ fn branches(
         return Err("the network has no output".to_string());
     }
     Ok(out)
+}
+
+/// Whether a path holds an element that acts on the power it is given, not only passes
+/// it or not: a box (its power input runs it: a timer times it, a counter counts it)
+/// and `NOT`, `EU`, `ED` (the contacts of the catalog's `Not`, `RisingEdge` and
+/// `FallingEdge`). Ladder gives such an element the power of everything before it in
+/// series, so a path holding one cannot be drawn after another path.
+fn acts_on_power(node: &Node) -> bool {
+    match node {
+        Node::Box(_) => true,
+        Node::Contact(c) => matches!(
+            c.kind,
+            ContactKind::Not | ContactKind::PositiveEdge | ContactKind::NegativeEdge
+        ),
+        Node::Series(v) | Node::Parallel(v) => v.iter().any(acts_on_power),
+    }
 }
 
 /// `a` then `b` in series, flattened.
@@ -512,7 +581,7 @@ fn number_branch(branch: &mut Branch, next: &mut u32) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::{Contact, ContactKind};
+    use crate::model::Contact;
 
     fn c(n: u32) -> Node {
         Node::Contact(Contact {
