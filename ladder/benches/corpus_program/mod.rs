@@ -4,24 +4,25 @@
 //! tests/data/microwin holds, with its title and comment lines.
 //!
 //! How it is made:
-//! - Each program is checked as the tools read it; programs with errors are left out.
+//! - Each program is checked (on the PLC type it names, else the default); programs
+//!   with errors are left out.
 //! - Its symbols are renamed `P<n>_<name>` (n: the program's place in the list) and
 //!   gathered in one SYMBOLS block; its subroutines become `P<n>_<name>:SBR<k>`, their
 //!   variable sections and networks kept; every operand naming a symbol, and every
 //!   CALL's block, is rewritten to the new name (through the parsed tree's operand
 //!   spans, not text search); a Micro/WIN system symbol (`Always_On`) becomes its
-//!   address. Interrupt blocks, data blocks and system blocks are left
-//!   out.
+//!   address. Interrupt, data and system blocks are left out.
 //! - The program's MAIN networks alone (with its symbols and subroutines) are checked
-//!   on the bench target (the front end's: compiler/benches/target/, large program
-//!   limits, as a 1,000-network program needs); networks with an error there (an `ATCH` of an interrupt
-//!   routine left out, a Micro/WIN system symbol) are dropped, and a program whose
-//!   symbols or subroutines have errors is left out.
-//! - MAIN then takes the kept MAIN networks of every program in turn, cycled (copy 2,
-//!   3... of the list) until the program has `networks` networks with the subroutines.
-//!   Operands are not renumbered: the compiler accepts the same bit, word, timer or
-//!   counter in many networks, as a real program that reads a signal often does; the
-//!   test checks that the result compiles with no error.
+//!   on the bench target (the front end's, compiler/benches/target/: program limits a
+//!   1,000-network program fits in); networks with an error there (an `ATCH` of an
+//!   interrupt routine left out) are dropped, and a program whose symbols or
+//!   subroutines have errors is left out.
+//! - MAIN then takes the kept MAIN networks of every program in turn, cycled (the
+//!   whole list again and again) until the program has `networks` networks with the
+//!   subroutines. Each copy's label numbers are moved up so that its `JMP`s and
+//!   `LBL`s pair up as in the original. Other operands are not renumbered: the compiler
+//!   accepts the same bit, word, timer or counter in many networks (with warnings of
+//!   a coil or timer driven twice); the test checks that it compiles with no error.
 //!
 //! Reads the repository's files: a bench helper, not library code.
 
@@ -139,8 +140,8 @@ fn files(dir: &Path, exts: &[&str]) -> Vec<PathBuf> {
     out
 }
 
-/// The program at `path` as part `n`, or None when it does not check clean or gives
-/// nothing that checks on the default target.
+/// The program at `path` as part `n`, or None when it does not check clean, or its
+/// symbols or subroutines do not on the bench target.
 fn part_of(path: &Path, n: usize, next_sbr: &mut usize, target: &ExplicitTarget) -> Option<Part> {
     let bytes = std::fs::read(path).ok()?;
     let (file, _) =
@@ -151,7 +152,7 @@ fn part_of(path: &Path, n: usize, next_sbr: &mut usize, target: &ExplicitTarget)
     }
     let sbr_before = *next_sbr;
     let mut part = Renamer::new(&checked, n, next_sbr).part();
-    // The part alone on the default target: drop the MAIN networks with errors.
+    // The part alone on the bench target: drop the MAIN networks with errors.
     let alone = check_source(SourceFile::new("part.lad", assemble(&part)), Some(target));
     if alone.has_errors() {
         let main = alone.ast.units.first()?;
@@ -171,11 +172,12 @@ fn part_of(path: &Path, n: usize, next_sbr: &mut usize, target: &ExplicitTarget)
             *next_sbr = sbr_before;
             return None;
         }
-        let mut index = 0;
-        part.main.retain(|_| {
-            index += 1;
-            !bad.contains(&(index - 1))
-        });
+        part.main = std::mem::take(&mut part.main)
+            .into_iter()
+            .enumerate()
+            .filter(|(i, _)| !bad.contains(i))
+            .map(|(_, net)| net)
+            .collect();
         let again = check_source(SourceFile::new("part.lad", assemble(&part)), Some(target));
         if again.has_errors() {
             *next_sbr = sbr_before;
@@ -236,8 +238,17 @@ impl<'a> Renamer<'a> {
             }
             let name = text(unit.header.name);
             let new = format!("P{n}_{name}");
-            if let Some((_, span)) = unit.header.number {
-                subroutines.insert(text(span).to_ascii_uppercase(), new.clone());
+            // Its numbered name (`SBR0`) as written, else as the checker numbered it.
+            let numbered = unit.header.number.map(|(_, span)| text(span)).or_else(|| {
+                let program = checked.output.program.as_ref()?;
+                let u = program
+                    .units
+                    .iter()
+                    .find(|u| u.name.eq_ignore_ascii_case(&name));
+                u.map(|u| u.numbered_name())
+            });
+            if let Some(numbered) = numbered {
+                subroutines.insert(numbered.to_ascii_uppercase(), new.clone());
             }
             subroutines.insert(name.to_ascii_uppercase(), new.clone());
             headers.insert(u, format!("SUBROUTINE_BLOCK {new}:SBR{next_sbr}\n"));
@@ -291,7 +302,7 @@ impl<'a> Renamer<'a> {
                 .filter(|net| !net.instructions.is_empty())
                 .map(|net| self.network(net, main_block.then_some(&mut labels)));
             match keyword(self.checked, unit).as_str() {
-                "ORGANIZATION_BLOCK" => main.extend(networks.collect::<Vec<_>>()),
+                "ORGANIZATION_BLOCK" => main.extend(networks),
                 "SUBROUTINE_BLOCK" => {
                     let mut block = self.headers[&u].clone();
                     // TITLE=, the variable sections and BEGIN, as written.
