@@ -1,0 +1,501 @@
+//! Edit operations on the ladder model (docs/ladder.md, "Editing the model"): a plain
+//! library API over `json::Model`, no I/O. `path.rs` (where: `ElementPath`,
+//! `NetworkPath`, printed and parsed as the L codes' JSON paths), `op.rs` (what: `Edit`
+//! and its JSON form), `rung.rs` (the element tree operations and `normalise`),
+//! `history.rs` (`Editor`: a model with undo and redo). `apply` checks every network it
+//! changes as `json::validate` and `json::program_of` would (the catalog decides what a
+//! mnemonic is, the writer what STL can say) and changes nothing when it refuses.
+
+mod history;
+mod op;
+mod path;
+mod rung;
+
+use gutta_catalog::{Flow, InstructionSet};
+
+pub use history::Editor;
+pub use op::{Edit, Place};
+pub use path::{ElementPath, NetworkPath, Step};
+pub use rung::normalise;
+
+use crate::json::{
+    network_fields_one_line, network_lines, validate_network, BlockJson, Element, Model,
+    ModelError, ModelErrorCode as Code, NetworkBody, NetworkJson,
+};
+
+type Edited<T> = Result<T, ModelError>;
+
+/// What an edit changed, for a caller that rewrites the `.lad` text
+/// (`gutta_analysis::network_edit`): positions are the model's after the edit.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Change {
+    /// The network has new content or a new title or comment: replace it.
+    Network(NetworkPath),
+    /// A network was inserted here (after `network - 1`, or first).
+    Inserted(NetworkPath),
+    /// The network that was here is deleted.
+    Deleted(NetworkPath),
+    /// A network moved from position `from` to `to` of `block`.
+    Moved {
+        block: usize,
+        from: usize,
+        to: usize,
+    },
+    /// The block's title changed.
+    Block(usize),
+}
+
+impl Change {
+    /// The change that takes this one back.
+    fn inverse(&self) -> Change {
+        match *self {
+            Change::Network(at) => Change::Network(at),
+            Change::Inserted(at) => Change::Deleted(at),
+            Change::Deleted(at) => Change::Inserted(at),
+            Change::Moved { block, from, to } => Change::Moved {
+                block,
+                from: to,
+                to: from,
+            },
+            Change::Block(b) => Change::Block(b),
+        }
+    }
+}
+
+/// What takes an applied edit back.
+#[derive(Debug, Clone)]
+enum Undo {
+    /// The network as it was.
+    Network(NetworkPath, NetworkJson),
+    /// A block's networks as they were (a network inserted, deleted or moved).
+    Networks(usize, Vec<NetworkJson>),
+    /// A block's title as it was.
+    BlockTitle(usize, Option<String>),
+}
+
+impl Undo {
+    fn restore(self, model: &mut Model) {
+        match self {
+            Undo::Network(at, net) => {
+                if let Some(slot) = model
+                    .blocks
+                    .get_mut(at.block)
+                    .and_then(|b| b.networks.get_mut(at.network))
+                {
+                    *slot = net;
+                }
+            }
+            Undo::Networks(b, networks) => {
+                if let Some(block) = model.blocks.get_mut(b) {
+                    block.networks = networks;
+                }
+            }
+            Undo::BlockTitle(b, title) => {
+                if let Some(block) = model.blocks.get_mut(b) {
+                    block.title = title;
+                }
+            }
+        }
+    }
+}
+
+/// `edit` applied to `model`, checked against `set`: what changed, or the refusal with
+/// the model unchanged.
+pub fn apply(model: &mut Model, set: &InstructionSet, edit: &Edit) -> Edited<Vec<Change>> {
+    perform(model, set, edit).map(|(changes, _)| changes)
+}
+
+fn perform(model: &mut Model, set: &InstructionSet, edit: &Edit) -> Edited<(Vec<Change>, Undo)> {
+    match edit {
+        Edit::InsertContact {
+            at,
+            count,
+            place,
+            contact,
+            operands,
+        } => {
+            let new = Element::Contact {
+                contact: contact.clone(),
+                operands: operands.clone(),
+            };
+            edit_rung(model, set, at, false, |r| {
+                insert(r, at, *count, *place, new)
+            })
+        }
+        Edit::InsertCoil {
+            at,
+            count,
+            place,
+            coil,
+            operands,
+        } => {
+            let new = Element::Coil {
+                coil: coil.clone(),
+                operands: operands.clone(),
+            };
+            edit_rung(model, set, at, false, |r| {
+                insert(r, at, *count, *place, new)
+            })
+        }
+        Edit::InsertBox {
+            at,
+            count,
+            place,
+            mnemonic,
+            operands,
+            inputs,
+        } => {
+            let new = Element::Box {
+                mnemonic: mnemonic.clone(),
+                operands: operands.clone(),
+                inputs: inputs.clone(),
+            };
+            edit_rung(model, set, at, false, |r| {
+                insert(r, at, *count, *place, new)
+            })
+        }
+        Edit::WrapParallel { at, count, branch } => edit_rung(model, set, at, false, |r| {
+            rung::wrap_parallel(r, at, *count, branch.clone())
+        }),
+        Edit::Delete { at, count } => {
+            edit_rung(model, set, at, true, |r| rung::delete(r, at, *count))
+        }
+        Edit::SetOperands { at, operands } => {
+            edit_rung(model, set, at, false, |r| match rung::at_mut(r, at)? {
+                Element::Contact { operands: ops, .. }
+                | Element::Coil { operands: ops, .. }
+                | Element::Box { operands: ops, .. } => {
+                    ops.clone_from(operands);
+                    Ok(())
+                }
+                _ => Err(not_an_instruction(at)),
+            })
+        }
+        Edit::SetMnemonic {
+            at,
+            mnemonic,
+            operands,
+            inputs,
+        } => edit_rung(model, set, at, false, |r| {
+            let e = rung::at_mut(r, at)?;
+            if inputs.is_some() && !matches!(e, Element::Box { .. }) {
+                return Err(ModelError::new(
+                    Code::WrongTarget,
+                    &at.to_string(),
+                    "only a box has power `inputs`",
+                ));
+            }
+            let (name, ops) = match e {
+                Element::Contact { contact, operands } => (contact, operands),
+                Element::Coil { coil, operands } => (coil, operands),
+                Element::Box {
+                    mnemonic,
+                    operands,
+                    inputs: box_inputs,
+                } => {
+                    if let Some(new) = inputs {
+                        box_inputs.clone_from(new);
+                    }
+                    (mnemonic, operands)
+                }
+                _ => return Err(not_an_instruction(at)),
+            };
+            name.clone_from(mnemonic);
+            if let Some(new) = operands {
+                ops.clone_from(new);
+            }
+            Ok(())
+        }),
+        Edit::InsertNetwork { at, network } => {
+            let block = block_mut(model, at.block)?;
+            if at.network > block.networks.len() {
+                return Err(out_of_range(
+                    &at.to_string(),
+                    format!(
+                        "a network is inserted at a position from 0 to {}",
+                        block.networks.len()
+                    ),
+                ));
+            }
+            let mut new = network.clone();
+            if let NetworkBody::Rung { rung } = &mut new.body {
+                *rung = normalise(std::mem::replace(rung, Element::Series { series: vec![] }));
+            }
+            check_network(set, &new, at.block, at.network)?;
+            let before = block.networks.clone();
+            block.networks.insert(at.network, new);
+            renumber(&mut block.networks);
+            Ok((
+                vec![Change::Inserted(*at)],
+                Undo::Networks(at.block, before),
+            ))
+        }
+        Edit::DeleteNetwork { at } => {
+            let block = block_mut(model, at.block)?;
+            existing(block, *at)?;
+            let before = block.networks.clone();
+            block.networks.remove(at.network);
+            renumber(&mut block.networks);
+            Ok((vec![Change::Deleted(*at)], Undo::Networks(at.block, before)))
+        }
+        Edit::MoveNetwork { at, to } => {
+            let block = block_mut(model, at.block)?;
+            existing(block, *at)?;
+            if *to >= block.networks.len() {
+                return Err(out_of_range(
+                    &at.to_string(),
+                    format!(
+                        "a network moves to a position from 0 to {}, not {to}",
+                        block.networks.len() - 1
+                    ),
+                ));
+            }
+            let before = block.networks.clone();
+            let moved = block.networks.remove(at.network);
+            block.networks.insert(*to, moved);
+            renumber(&mut block.networks);
+            let change = Change::Moved {
+                block: at.block,
+                from: at.network,
+                to: *to,
+            };
+            Ok((vec![change], Undo::Networks(at.block, before)))
+        }
+        Edit::DuplicateNetwork { at } => {
+            let block = block_mut(model, at.block)?;
+            existing(block, *at)?;
+            let before = block.networks.clone();
+            let copy = block.networks[at.network].clone();
+            block.networks.insert(at.network + 1, copy);
+            renumber(&mut block.networks);
+            let new = NetworkPath {
+                block: at.block,
+                network: at.network + 1,
+            };
+            Ok((
+                vec![Change::Inserted(new)],
+                Undo::Networks(at.block, before),
+            ))
+        }
+        Edit::SetNetworkTitle { at, title } => edit_network(model, set, *at, |n| {
+            n.title.clone_from(title);
+            Ok(())
+        }),
+        Edit::SetNetworkComment { at, comment } => edit_network(model, set, *at, |n| {
+            n.comment.clone_from(comment);
+            Ok(())
+        }),
+        Edit::SetBlockTitle { block: b, title } => {
+            let block = block_mut(model, *b)?;
+            if title.as_deref().is_some_and(|t| t.contains(['\n', '\r'])) {
+                return Err(ModelError::new(
+                    Code::Shape,
+                    &format!("blocks[{b}].title"),
+                    "a line break in a field that is one line of the program",
+                ));
+            }
+            let before = std::mem::replace(&mut block.title, title.clone());
+            Ok((vec![Change::Block(*b)], Undo::BlockTitle(*b, before)))
+        }
+    }
+}
+
+fn insert(
+    root: &mut Element,
+    at: &ElementPath,
+    count: usize,
+    place: Place,
+    new: Element,
+) -> Edited<()> {
+    match place {
+        Place::Before => rung::insert_beside(root, at, count, new, true),
+        Place::After => rung::insert_beside(root, at, count, new, false),
+        Place::Parallel => rung::wrap_parallel(root, at, count, new),
+    }
+}
+
+fn not_an_instruction(at: &ElementPath) -> ModelError {
+    ModelError::new(
+        Code::WrongTarget,
+        &at.to_string(),
+        format!("`{at}` is a series or a parallel: operands and mnemonics belong to contacts, coils and boxes"),
+    )
+}
+
+fn block_mut(model: &mut Model, b: usize) -> Edited<&mut BlockJson> {
+    let count = model.blocks.len();
+    model.blocks.get_mut(b).ok_or_else(|| {
+        out_of_range(
+            &format!("blocks[{b}]"),
+            format!(
+                "the model has {count} block{}",
+                if count == 1 { "" } else { "s" }
+            ),
+        )
+    })
+}
+
+fn existing(block: &BlockJson, at: NetworkPath) -> Edited<()> {
+    if at.network < block.networks.len() {
+        return Ok(());
+    }
+    Err(out_of_range(
+        &at.to_string(),
+        format!("the block has {} networks", block.networks.len()),
+    ))
+}
+
+fn out_of_range(path: &str, message: String) -> ModelError {
+    ModelError::new(Code::OutOfRange, path, message)
+}
+
+/// A block's networks numbered by position when any carries a number (a model read
+/// from a program does); a block written without numbers stays without.
+fn renumber(networks: &mut [NetworkJson]) {
+    if networks.iter().any(|n| n.number.is_some()) {
+        for (i, n) in networks.iter_mut().enumerate() {
+            n.number = u32::try_from(i + 1).ok();
+        }
+    }
+}
+
+/// Network `n` of block `b` checked as `validate` and `program_of` check it, and its
+/// rung's power taken from the rail.
+fn check_network(set: &InstructionSet, net: &NetworkJson, b: usize, n: usize) -> Edited<()> {
+    validate_network(set, net, b, n)?;
+    network_fields_one_line(net, b, n)?;
+    network_lines(set, net, b, n)?;
+    if let NetworkBody::Rung { rung } = &net.body {
+        let at = ElementPath::rung(b, n);
+        starts_powered(set, rung, &at)?;
+        if !matches!(rung, Element::Box { .. }) {
+            no_box_off_power(set, rung, &at)?;
+        }
+    }
+    Ok(())
+}
+
+/// L0013 when a box that runs without power flow (the catalog's `Flow::Always`: `ENI`,
+/// `LBL`) is part of a rung: it stands alone on the rail, a network of its own.
+fn no_box_off_power(set: &InstructionSet, e: &Element, at: &ElementPath) -> Edited<()> {
+    let each = |list: &[Element], step: fn(usize) -> Step| {
+        list.iter()
+            .enumerate()
+            .try_for_each(|(i, x)| no_box_off_power(set, x, &at.then(step(i))))
+    };
+    match e {
+        Element::Series { series } => each(series, Step::Series),
+        Element::Parallel { parallel } => each(parallel, Step::Parallel),
+        Element::Box {
+            mnemonic, inputs, ..
+        } => {
+            let takes_no_power = set
+                .lookup(mnemonic)
+                .is_some_and(|id| set.get(id).flow == Flow::Always);
+            if takes_no_power {
+                return Err(ModelError::new(
+                    Code::Unwritable,
+                    &at.to_string(),
+                    format!("`{mnemonic}` runs without power flow: it stands alone on the rail, in a network of its own"),
+                ));
+            }
+            each(inputs, Step::Input)
+        }
+        Element::Contact { .. } | Element::Coil { .. } => Ok(()),
+    }
+}
+
+/// L0013 when an element that needs power comes first on the rail (a coil, a box the
+/// catalog does not mark `Flow::Always`): its STL would say `=` with nothing loaded. A box that
+/// runs without power flow (`Flow::Always`: `LBL`, `ENI`) stands on the rail.
+fn starts_powered(set: &InstructionSet, e: &Element, at: &ElementPath) -> Edited<()> {
+    let needs_power = |mnemonic: &str| {
+        set.lookup(mnemonic)
+            .map(|id| set.get(id))
+            .is_some_and(|spec| spec.ladder.is_coil() || spec.flow != Flow::Always)
+    };
+    let unpowered = |mnemonic: &str| {
+        ModelError::new(
+            Code::Unwritable,
+            &at.to_string(),
+            format!("`{mnemonic}` needs power, but it comes first on the left rail: put a contact before it"),
+        )
+    };
+    match e {
+        Element::Series { series } => match series.first() {
+            Some(first) => starts_powered(set, first, &at.then(Step::Series(0))),
+            None => Ok(()),
+        },
+        Element::Parallel { parallel } => parallel
+            .iter()
+            .enumerate()
+            .try_for_each(|(i, p)| starts_powered(set, p, &at.then(Step::Parallel(i)))),
+        Element::Coil { coil: m, .. } | Element::Box { mnemonic: m, .. } if needs_power(m) => {
+            Err(unpowered(m))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// A change of the network at `at` made on a copy, kept only when it checks.
+fn edit_network(
+    model: &mut Model,
+    set: &InstructionSet,
+    at: NetworkPath,
+    change: impl FnOnce(&mut NetworkJson) -> Edited<()>,
+) -> Edited<(Vec<Change>, Undo)> {
+    let slot = model
+        .blocks
+        .get_mut(at.block)
+        .and_then(|b| b.networks.get_mut(at.network))
+        .ok_or_else(|| {
+            ModelError::new(
+                Code::NoSuchPath,
+                &at.to_string(),
+                format!("the model has no network at `{at}`"),
+            )
+        })?;
+    let mut new = slot.clone();
+    change(&mut new)?;
+    check_network(set, &new, at.block, at.network)?;
+    let before = std::mem::replace(slot, new);
+    Ok((vec![Change::Network(at)], Undo::Network(at, before)))
+}
+
+/// A change of the rung holding `at`, normalised and checked; `deleting` turns "no
+/// output" into L0016.
+fn edit_rung(
+    model: &mut Model,
+    set: &InstructionSet,
+    at: &ElementPath,
+    deleting: bool,
+    change: impl FnOnce(&mut Element) -> Edited<()>,
+) -> Edited<(Vec<Change>, Undo)> {
+    let net = at.network_path();
+    let result = edit_network(model, set, net, |network| {
+        let NetworkBody::Rung { rung } = &mut network.body else {
+            return Err(ModelError::new(
+                Code::NoSuchPath,
+                &at.to_string(),
+                format!("`{net}` is shown as STL: it has no rung"),
+            ));
+        };
+        change(rung)?;
+        *rung = normalise(std::mem::replace(
+            rung,
+            Element::Series { series: Vec::new() },
+        ));
+        Ok(())
+    });
+    result.map_err(|e| match e.code {
+        Code::NoOutput if deleting => ModelError::new(
+            Code::LastOutput,
+            &at.to_string(),
+            format!(
+                "deleting it leaves a rung or an output branch without an output ({})",
+                e.message
+            ),
+        ),
+        _ => e,
+    })
+}
