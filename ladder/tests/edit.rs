@@ -19,6 +19,9 @@ use gutta_catalog::{stdlib, Target};
 use gutta_ladder::edit::{apply, Change, Edit, Editor, ElementPath, NetworkPath, Place, Step};
 use gutta_ladder::json::{program_of, read_model, validate, Element, Model, ModelErrorCode};
 
+use gutta_analysis::network_edit::{self, BlockRef, NetworkRef, NewNetwork};
+use gutta_ladder::edit::instruction_lines;
+
 use common::edit::round_trip;
 use common::root;
 
@@ -70,7 +73,9 @@ fn edited(rungs: &[&str], edits: &[&str]) -> Element {
         let networks: Vec<(usize, usize)> = changes
             .iter()
             .filter_map(|c| match c {
-                Change::Network(at) | Change::Inserted(at) => Some((at.block, at.network)),
+                Change::Lines(at) | Change::Heading(at) | Change::Inserted(at) => {
+                    Some((at.block, at.network))
+                }
                 _ => None,
             })
             .collect();
@@ -544,7 +549,7 @@ fn undo_and_redo_restore_the_model_and_name_the_changed_networks() {
         r#"{"op": "set_block_title", "block": 0, "title": "edited"}"#,
     ];
     let expected = [
-        vec![Change::Network(NetworkPath {
+        vec![Change::Lines(NetworkPath {
             block: 0,
             network: 1,
         })],
@@ -557,7 +562,7 @@ fn undo_and_redo_restore_the_model_and_name_the_changed_networks() {
             from: 2,
             to: 0,
         }],
-        vec![Change::Network(NetworkPath {
+        vec![Change::Heading(NetworkPath {
             block: 0,
             network: 0,
         })],
@@ -707,7 +712,9 @@ fn run_edits(start: Model, edits: &[&str]) -> Model {
         let networks: Vec<(usize, usize)> = changes
             .iter()
             .filter_map(|c| match c {
-                Change::Network(at) | Change::Inserted(at) => Some((at.block, at.network)),
+                Change::Lines(at) | Change::Heading(at) | Change::Inserted(at) => {
+                    Some((at.block, at.network))
+                }
                 _ => None,
             })
             .collect();
@@ -755,4 +762,135 @@ fn the_edited_machine_is_the_golden_model() {
         .expect("tests/data/ladder_model/machine_edited.json (GUTTA_BLESS=1 writes it)");
     assert_eq!(text, want, "GUTTA_BLESS=1 rewrites machine_edited.json");
     assert_eq!(read_model(want.as_bytes()).expect("reads"), edited);
+}
+
+/// The `.lad` text of `model` with `changes` applied through `network_edit`, as a studio
+/// keeps its source file: only the changed networks' lines are rewritten.
+fn apply_to_text(text: &str, model: &Model, changes: &[Change]) -> String {
+    let target = target();
+    let set = &target.instructions;
+    let mut text = text.to_string();
+    let at_ref = |b: usize, n: usize| NetworkRef {
+        block: BlockRef::Index(b),
+        network: n,
+    };
+    // Insert network `n` of block `b` as the model has it now.
+    let insert = |text: &str, b: usize, n: usize| -> String {
+        let net = &model.blocks[b].networks[n];
+        let lines = instruction_lines(
+            model,
+            set,
+            NetworkPath {
+                block: b,
+                network: n,
+            },
+        )
+        .expect("writable");
+        let lines: Vec<&str> = lines.iter().map(String::as_str).collect();
+        let comment: Vec<&str> = net.comment.lines().collect();
+        let new = NewNetwork {
+            title: Some(net.title.as_str()).filter(|t| !t.is_empty()),
+            comment: &comment,
+            lines: &lines,
+        };
+        let program = network_edit::parse(text, false);
+        let edits = if n == 0 {
+            network_edit::insert_network_first(text, &program, BlockRef::Index(b), &new)
+        } else {
+            network_edit::insert_network_after(text, &program, at_ref(b, n - 1), &new)
+        }
+        .expect("inserts");
+        network_edit::apply(text, &edits)
+    };
+    let delete = |text: &str, b: usize, n: usize| -> String {
+        let program = network_edit::parse(text, false);
+        let edit = network_edit::delete_network(text, &program, at_ref(b, n)).expect("deletes");
+        network_edit::apply(text, &[edit])
+    };
+    for change in changes {
+        text = match *change {
+            Change::Lines(at) => {
+                let lines = instruction_lines(model, set, at).expect("writable");
+                let lines: Vec<&str> = lines.iter().map(String::as_str).collect();
+                let program = network_edit::parse(&text, false);
+                let edit = network_edit::replace_network(
+                    &text,
+                    &program,
+                    at_ref(at.block, at.network),
+                    &lines,
+                )
+                .expect("replaces");
+                network_edit::apply(&text, &[edit])
+            }
+            Change::Heading(at) => {
+                insert(&delete(&text, at.block, at.network), at.block, at.network)
+            }
+            Change::Inserted(at) => insert(&text, at.block, at.network),
+            Change::Deleted(at) => delete(&text, at.block, at.network),
+            Change::Moved { block, from, to } => insert(&delete(&text, block, from), block, to),
+            Change::Block(_) => panic!("not in this sequence"),
+        };
+    }
+    text
+}
+
+#[test]
+fn the_changes_rewrite_only_their_networks_in_the_lad_text() {
+    let target = target();
+    let machine = machine();
+    let original = program_of(&machine, &target.instructions)
+        .expect("writable")
+        .replacen("SYMBOLS\n", "SYMBOLS\n  // a comment no edit touches\n", 1);
+    let mut editor = Editor::new(machine, &target.instructions);
+    let mut text = original.clone();
+    for edit in MACHINE_EDITS {
+        let changes = editor
+            .apply(Edit::from_json(edit).expect("an edit"))
+            .unwrap_or_else(|e| panic!("{edit}: {e}"));
+        text = apply_to_text(&text, editor.model(), &changes);
+    }
+    assert!(
+        text.contains("SYMBOLS\n  // a comment no edit touches\n"),
+        "{text}"
+    );
+    // The SYMBOLS block and the network the edits left alone keep their bytes.
+    let unchanged = "NETWORK 5 // the batch is full\nLDW>=  C0, 3\n=      Batch\n";
+    assert!(original.contains("NETWORK 4 // the batch is full\nLDW>=  C0, 3\n=      Batch\n"));
+    assert!(text.contains(unchanged), "{text}");
+    assert_eq!(
+        text[..text.find("ORGANIZATION_BLOCK").expect("a block")],
+        original[..original.find("ORGANIZATION_BLOCK").expect("a block")]
+    );
+    // The rewritten text is the edited model's program, up to the network numbers.
+    let written = program_of(editor.model(), &target.instructions).expect("writable");
+    assert_eq!(
+        text.replace("  // a comment no edit touches\n", ""),
+        written
+    );
+    // Undo back to the start, applying each undo's changes: the original text again,
+    // but for the numbers a deleted network leaves (network_edit renumbers no network
+    // on a delete: numbers must increase, not be consecutive).
+    while editor.can_undo() {
+        let changes = editor.undo().expect("undo");
+        text = apply_to_text(&text, editor.model(), &changes);
+    }
+    assert_ne!(text, original);
+    assert_eq!(numbered_by_position(&text), original);
+}
+
+/// `text` with its `NETWORK n` lines numbered 1, 2, 3... (one block).
+fn numbered_by_position(text: &str) -> String {
+    let mut n = 0;
+    let mut out = String::new();
+    for line in text.split_inclusive('\n') {
+        match line.strip_prefix("NETWORK ") {
+            Some(rest) => {
+                n += 1;
+                let after = rest.trim_start_matches(|c: char| c.is_ascii_digit());
+                out.push_str(&format!("NETWORK {n}{after}"));
+            }
+            None => out.push_str(line),
+        }
+    }
+    out
 }

@@ -225,7 +225,9 @@ fn changed(changes: &[Change]) -> Vec<(usize, usize)> {
     changes
         .iter()
         .filter_map(|c| match c {
-            Change::Network(at) | Change::Inserted(at) => Some((at.block, at.network)),
+            Change::Lines(at) | Change::Heading(at) | Change::Inserted(at) => {
+                Some((at.block, at.network))
+            }
             _ => None,
         })
         .collect()

@@ -19,7 +19,7 @@ pub use path::{ElementPath, NetworkPath, Step};
 pub use rung::normalise;
 
 use crate::json::{
-    network_fields_one_line, network_lines, validate_network, BlockJson, Element, Model,
+    network_fields_one_line, network_instructions, validate_network, BlockJson, Element, Model,
     ModelError, ModelErrorCode as Code, NetworkBody, NetworkJson,
 };
 
@@ -29,8 +29,11 @@ type Edited<T> = Result<T, ModelError>;
 /// (`gutta_analysis::network_edit`): positions are the model's after the edit.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Change {
-    /// The network has new content or a new title or comment: replace it.
-    Network(NetworkPath),
+    /// The network's instruction lines changed (an element edit): write them with
+    /// [`instruction_lines`] and replace them (`network_edit::replace_network`).
+    Lines(NetworkPath),
+    /// The network's title or comment changed: its `NETWORK` line or comment lines.
+    Heading(NetworkPath),
     /// A network was inserted here (after `network - 1`, or first).
     Inserted(NetworkPath),
     /// The network that was here is deleted.
@@ -49,7 +52,8 @@ impl Change {
     /// The change that takes this one back.
     fn inverse(&self) -> Change {
         match *self {
-            Change::Network(at) => Change::Network(at),
+            Change::Lines(at) => Change::Lines(at),
+            Change::Heading(at) => Change::Heading(at),
             Change::Inserted(at) => Change::Deleted(at),
             Change::Deleted(at) => Change::Inserted(at),
             Change::Moved { block, from, to } => Change::Moved {
@@ -103,6 +107,29 @@ impl Undo {
 /// the model unchanged.
 pub fn apply(model: &mut Model, set: &InstructionSet, edit: &Edit) -> Edited<Vec<Change>> {
     perform(model, set, edit).map(|(changes, _)| changes)
+}
+
+/// The instruction lines of the network at `at` as `json::program_of` writes them
+/// (after its `NETWORK` line and comment lines): what a caller puts into the `.lad` text
+/// for a `Change::Lines` (`gutta_analysis::network_edit::replace_network`) or a new
+/// network's instructions for a `Change::Inserted`.
+pub fn instruction_lines(
+    model: &Model,
+    set: &InstructionSet,
+    at: NetworkPath,
+) -> Edited<Vec<String>> {
+    let net = model
+        .blocks
+        .get(at.block)
+        .and_then(|b| b.networks.get(at.network))
+        .ok_or_else(|| {
+            ModelError::new(
+                Code::NoSuchPath,
+                &at.to_string(),
+                format!("the model has no network at `{at}`"),
+            )
+        })?;
+    network_instructions(set, net, at.block, at.network)
 }
 
 fn perform(model: &mut Model, set: &InstructionSet, edit: &Edit) -> Edited<(Vec<Change>, Undo)> {
@@ -277,14 +304,18 @@ fn perform(model: &mut Model, set: &InstructionSet, edit: &Edit) -> Edited<(Vec<
                 Undo::Networks(at.block, before),
             ))
         }
-        Edit::SetNetworkTitle { at, title } => edit_network(model, set, *at, |n| {
-            n.title.clone_from(title);
-            Ok(())
-        }),
-        Edit::SetNetworkComment { at, comment } => edit_network(model, set, *at, |n| {
-            n.comment.clone_from(comment);
-            Ok(())
-        }),
+        Edit::SetNetworkTitle { at, title } => {
+            edit_network(model, set, *at, Change::Heading, |n| {
+                n.title.clone_from(title);
+                Ok(())
+            })
+        }
+        Edit::SetNetworkComment { at, comment } => {
+            edit_network(model, set, *at, Change::Heading, |n| {
+                n.comment.clone_from(comment);
+                Ok(())
+            })
+        }
         Edit::SetBlockTitle { block: b, title } => {
             let block = block_mut(model, *b)?;
             if title.as_deref().is_some_and(|t| t.contains(['\n', '\r'])) {
@@ -364,7 +395,7 @@ fn renumber(networks: &mut [NetworkJson]) {
 fn check_network(set: &InstructionSet, net: &NetworkJson, b: usize, n: usize) -> Edited<()> {
     validate_network(set, net, b, n)?;
     network_fields_one_line(net, b, n)?;
-    network_lines(set, net, b, n)?;
+    network_instructions(set, net, b, n)?;
     if let NetworkBody::Rung { rung } = &net.body {
         let at = ElementPath::rung(b, n);
         starts_powered(set, rung, &at)?;
@@ -442,6 +473,7 @@ fn edit_network(
     model: &mut Model,
     set: &InstructionSet,
     at: NetworkPath,
+    kind: fn(NetworkPath) -> Change,
     change: impl FnOnce(&mut NetworkJson) -> Edited<()>,
 ) -> Edited<(Vec<Change>, Undo)> {
     let slot = model
@@ -459,7 +491,7 @@ fn edit_network(
     change(&mut new)?;
     check_network(set, &new, at.block, at.network)?;
     let before = std::mem::replace(slot, new);
-    Ok((vec![Change::Network(at)], Undo::Network(at, before)))
+    Ok((vec![kind(at)], Undo::Network(at, before)))
 }
 
 /// A change of the rung holding `at`, normalised and checked; `deleting` turns "no
@@ -472,7 +504,7 @@ fn edit_rung(
     change: impl FnOnce(&mut Element) -> Edited<()>,
 ) -> Edited<(Vec<Change>, Undo)> {
     let net = at.network_path();
-    let result = edit_network(model, set, net, |network| {
+    let result = edit_network(model, set, net, Change::Lines, |network| {
         let NetworkBody::Rung { rung } = &mut network.body else {
             return Err(ModelError::new(
                 Code::NoSuchPath,

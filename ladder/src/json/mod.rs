@@ -24,7 +24,7 @@ pub use validate::validate;
 // One network or element at a time, for the edit operations (`crate::edit`): the same
 // reading, checks and writing as a whole model's.
 pub(crate) use read::{element as read_element, network as read_network};
-pub(crate) use to_program::{network_fields_one_line, network_lines};
+pub(crate) use to_program::{network_fields_one_line, network_instructions};
 pub(crate) use validate::network as validate_network;
 
 /// The `format` of a ladder model.

@@ -98,18 +98,36 @@ fn block_text(set: &InstructionSet, block: &BlockJson, b: usize) -> Made<Vec<Str
     Ok(out)
 }
 
-/// The lines of network `n` of block `b` (its `NETWORK` line first); L0013 when the
-/// writer cannot say its rung. The edit operations write the networks they change
-/// with it (and `network_fields_one_line` first).
-pub(crate) fn network_lines(
+/// The lines of network `n` of block `b`, its `NETWORK` line and comment lines first;
+/// L0013 when the writer cannot say its rung.
+fn network_lines(set: &InstructionSet, net: &NetworkJson, b: usize, n: usize) -> Made<Vec<String>> {
+    written(set, net, b, n, write::network_text)
+}
+
+/// The instruction lines of network `n` of block `b` (what follows its comment lines,
+/// as `network_lines` writes it; what `gutta_analysis::network_edit::replace_network`
+/// takes); L0013 when the writer cannot say its rung. The edit operations check the
+/// networks they change with it (and `network_fields_one_line` first).
+pub(crate) fn network_instructions(
     set: &InstructionSet,
     net: &NetworkJson,
     b: usize,
     n: usize,
 ) -> Made<Vec<String>> {
+    written(set, net, b, n, write::network)
+}
+
+/// A network as the Rust model's, written by `writer`.
+fn written(
+    set: &InstructionSet,
+    net: &NetworkJson,
+    b: usize,
+    n: usize,
+    writer: fn(&InstructionSet, &Network) -> Result<Vec<String>, write::WriteError>,
+) -> Made<Vec<String>> {
     let path = format!("blocks[{b}].networks[{n}]");
     let network = network_of(set, net, n, &path)?;
-    write::network_text(set, &network)
+    writer(set, &network)
         .map_err(|e| ModelError::new(Code::Unwritable, &format!("{path}.rung"), e.message))
 }
 
