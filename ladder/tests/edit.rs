@@ -419,6 +419,18 @@ fn illegal_edits_are_refused_with_their_code_and_path() {
         ),
         (
             &[LATCH],
+            format!(r#"{{"op": "wrap_parallel", "at": "{at0}.rung.series[1]", "count": {}, "branch": {{"contact": "LD", "operands": ["M0.0"]}}}}"#, usize::MAX),
+            L::NoSuchPath,
+            format!("{at0}.rung.series[1]"),
+        ),
+        (
+            &[LATCH],
+            format!(r#"{{"op": "insert_contact", "at": "{at0}.rung.series[0]", "count": 0, "place": "after", "contact": "LD", "operands": ["M0.0"]}}"#),
+            L::WrongTarget,
+            format!("{at0}.rung.series[0]"),
+        ),
+        (
+            &[LATCH],
             format!(r#"{{"op": "delete", "at": "{at0}.rung.parallel[0]"}}"#),
             L::NoSuchPath,
             format!("{at0}.rung.parallel[0]"),

@@ -117,7 +117,7 @@ fn edit_of(model: &Model, pick: &(u8, Index, Index, Index, Index)) -> Edit {
         network: at.network,
     };
     let positions = model.blocks[block].networks.len();
-    match op % 12 {
+    match op % 14 {
         0 | 1 => match other {
             Element::Contact { contact, operands } => Edit::InsertContact {
                 at,
@@ -207,6 +207,14 @@ fn edit_of(model: &Model, pick: &(u8, Index, Index, Index, Index)) -> Edit {
         },
         9 => Edit::DuplicateNetwork { at: net },
         10 => Edit::DeleteNetwork { at: net },
+        11 => Edit::SetNetworkTitle {
+            at: net,
+            title: ["", "renamed", "two\nlines"][c.index(3)].to_string(),
+        },
+        12 => Edit::SetNetworkComment {
+            at: net,
+            comment: ["", "one", "two\nlines"][c.index(3)].to_string(),
+        },
         _ => {
             let source = &model.blocks[block].networks[network];
             Edit::InsertNetwork {

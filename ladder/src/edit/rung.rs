@@ -81,7 +81,7 @@ fn selection(root: &Element, path: &ElementPath, count: usize) -> Edited<()> {
     let len = element(root, parent)
         .and_then(|p| list(p, Step::Series(0)))
         .map_or(0, Vec::len);
-    if i + count > len {
+    if i.saturating_add(count) > len {
         return Err(no_such(
             path,
             &format!("run of {count} elements (the series has {len})"),
