@@ -2,16 +2,22 @@
 //! library API over `json::Model`, no I/O. `path.rs` (where: `ElementPath`,
 //! `NetworkPath`, printed and parsed as the L codes' JSON paths), `op.rs` (what: `Edit`
 //! and its JSON form), `rung.rs` (the element tree operations and `normalise`),
-//! `history.rs` (`Editor`: a model with undo and redo). `apply` checks every network it
-//! changes as `json::validate` and `json::program_of` would (the catalog decides what a
-//! mnemonic is, the writer what STL can say) and changes nothing when it refuses.
+//! `networks.rs` (a block's networks as a list, its title), `check.rs` (what an edited
+//! network must pass: `json/`'s own per-network checks and writer, and the power rules
+//! of STL), `history.rs` (`Editor`: a model with undo and redo). Here: `apply`, which
+//! edits a copy of the one network it changes and keeps it only when it checks (the
+//! catalog decides what a mnemonic is, the writer what STL can say), and `Change`.
 
+mod check;
 mod history;
+mod networks;
 mod op;
 mod path;
 mod rung;
 
-use gutta_catalog::{Flow, InstructionSet};
+use gutta_catalog::InstructionSet;
+
+use check::check_network;
 
 pub use history::Editor;
 pub use op::{Edit, Place};
@@ -19,8 +25,8 @@ pub use path::{ElementPath, NetworkPath, Step};
 pub use rung::normalise;
 
 use crate::json::{
-    network_fields_one_line, network_instructions, validate_network, BlockJson, Element, Model,
-    ModelError, ModelErrorCode as Code, NetworkBody, NetworkJson,
+    network_instructions, Element, Model, ModelError, ModelErrorCode as Code, NetworkBody,
+    NetworkJson,
 };
 
 type Edited<T> = Result<T, ModelError>;
@@ -65,6 +71,9 @@ impl Change {
         }
     }
 }
+
+/// What an applied edit changed, and what takes it back.
+type Applied = (Vec<Change>, Undo);
 
 /// What takes an applied edit back.
 #[derive(Debug, Clone)]
@@ -132,7 +141,7 @@ pub fn instruction_lines(
     network_instructions(set, net, at.block, at.network)
 }
 
-fn perform(model: &mut Model, set: &InstructionSet, edit: &Edit) -> Edited<(Vec<Change>, Undo)> {
+fn perform(model: &mut Model, set: &InstructionSet, edit: &Edit) -> Edited<Applied> {
     match edit {
         Edit::InsertContact {
             at,
@@ -233,77 +242,10 @@ fn perform(model: &mut Model, set: &InstructionSet, edit: &Edit) -> Edited<(Vec<
             }
             Ok(())
         }),
-        Edit::InsertNetwork { at, network } => {
-            let block = block_mut(model, at.block)?;
-            if at.network > block.networks.len() {
-                return Err(out_of_range(
-                    &at.to_string(),
-                    format!(
-                        "a network is inserted at a position from 0 to {}",
-                        block.networks.len()
-                    ),
-                ));
-            }
-            let mut new = network.clone();
-            if let NetworkBody::Rung { rung } = &mut new.body {
-                *rung = normalise(std::mem::replace(rung, Element::Series { series: vec![] }));
-            }
-            check_network(set, &new, at.block, at.network)?;
-            let before = block.networks.clone();
-            block.networks.insert(at.network, new);
-            renumber(&mut block.networks);
-            Ok((
-                vec![Change::Inserted(*at)],
-                Undo::Networks(at.block, before),
-            ))
-        }
-        Edit::DeleteNetwork { at } => {
-            let block = block_mut(model, at.block)?;
-            existing(block, *at)?;
-            let before = block.networks.clone();
-            block.networks.remove(at.network);
-            renumber(&mut block.networks);
-            Ok((vec![Change::Deleted(*at)], Undo::Networks(at.block, before)))
-        }
-        Edit::MoveNetwork { at, to } => {
-            let block = block_mut(model, at.block)?;
-            existing(block, *at)?;
-            if *to >= block.networks.len() {
-                return Err(out_of_range(
-                    &at.to_string(),
-                    format!(
-                        "a network moves to a position from 0 to {}, not {to}",
-                        block.networks.len() - 1
-                    ),
-                ));
-            }
-            let before = block.networks.clone();
-            let moved = block.networks.remove(at.network);
-            block.networks.insert(*to, moved);
-            renumber(&mut block.networks);
-            let change = Change::Moved {
-                block: at.block,
-                from: at.network,
-                to: *to,
-            };
-            Ok((vec![change], Undo::Networks(at.block, before)))
-        }
-        Edit::DuplicateNetwork { at } => {
-            let block = block_mut(model, at.block)?;
-            existing(block, *at)?;
-            let before = block.networks.clone();
-            let copy = block.networks[at.network].clone();
-            block.networks.insert(at.network + 1, copy);
-            renumber(&mut block.networks);
-            let new = NetworkPath {
-                block: at.block,
-                network: at.network + 1,
-            };
-            Ok((
-                vec![Change::Inserted(new)],
-                Undo::Networks(at.block, before),
-            ))
-        }
+        Edit::InsertNetwork { at, network } => networks::insert(model, set, *at, network),
+        Edit::DeleteNetwork { at } => networks::delete(model, *at),
+        Edit::MoveNetwork { at, to } => networks::move_to(model, *at, *to),
+        Edit::DuplicateNetwork { at } => networks::duplicate(model, *at),
         Edit::SetNetworkTitle { at, title } => {
             edit_network(model, set, *at, Change::Heading, |n| {
                 n.title.clone_from(title);
@@ -316,18 +258,7 @@ fn perform(model: &mut Model, set: &InstructionSet, edit: &Edit) -> Edited<(Vec<
                 Ok(())
             })
         }
-        Edit::SetBlockTitle { block: b, title } => {
-            let block = block_mut(model, *b)?;
-            if title.as_deref().is_some_and(|t| t.contains(['\n', '\r'])) {
-                return Err(ModelError::new(
-                    Code::Shape,
-                    &format!("blocks[{b}].title"),
-                    "a line break in a field that is one line of the program",
-                ));
-            }
-            let before = std::mem::replace(&mut block.title, title.clone());
-            Ok((vec![Change::Block(*b)], Undo::BlockTitle(*b, before)))
-        }
+        Edit::SetBlockTitle { block, title } => networks::set_block_title(model, *block, title),
     }
 }
 
@@ -351,121 +282,6 @@ fn not_an_instruction(at: &ElementPath) -> ModelError {
         &at.to_string(),
         format!("`{at}` is a series or a parallel: operands and mnemonics belong to contacts, coils and boxes"),
     )
-}
-
-fn block_mut(model: &mut Model, b: usize) -> Edited<&mut BlockJson> {
-    let count = model.blocks.len();
-    model.blocks.get_mut(b).ok_or_else(|| {
-        out_of_range(
-            &format!("blocks[{b}]"),
-            format!(
-                "the model has {count} block{}",
-                if count == 1 { "" } else { "s" }
-            ),
-        )
-    })
-}
-
-fn existing(block: &BlockJson, at: NetworkPath) -> Edited<()> {
-    if at.network < block.networks.len() {
-        return Ok(());
-    }
-    Err(out_of_range(
-        &at.to_string(),
-        format!("the block has {} networks", block.networks.len()),
-    ))
-}
-
-fn out_of_range(path: &str, message: String) -> ModelError {
-    ModelError::new(Code::OutOfRange, path, message)
-}
-
-/// A block's networks numbered by position when any carries a number (a model read
-/// from a program does); a block written without numbers stays without.
-fn renumber(networks: &mut [NetworkJson]) {
-    if networks.iter().any(|n| n.number.is_some()) {
-        for (i, n) in networks.iter_mut().enumerate() {
-            n.number = u32::try_from(i + 1).ok();
-        }
-    }
-}
-
-/// Network `n` of block `b` checked as `validate` and `program_of` check it, and its
-/// rung's power taken from the rail.
-fn check_network(set: &InstructionSet, net: &NetworkJson, b: usize, n: usize) -> Edited<()> {
-    validate_network(set, net, b, n)?;
-    network_fields_one_line(net, b, n)?;
-    network_instructions(set, net, b, n)?;
-    if let NetworkBody::Rung { rung } = &net.body {
-        let at = ElementPath::rung(b, n);
-        starts_powered(set, rung, &at)?;
-        if !matches!(rung, Element::Box { .. }) {
-            no_box_off_power(set, rung, &at)?;
-        }
-    }
-    Ok(())
-}
-
-/// L0013 when a box that runs without power flow (the catalog's `Flow::Always`: `ENI`,
-/// `LBL`) is part of a rung: it stands alone on the rail, a network of its own.
-fn no_box_off_power(set: &InstructionSet, e: &Element, at: &ElementPath) -> Edited<()> {
-    let each = |list: &[Element], step: fn(usize) -> Step| {
-        list.iter()
-            .enumerate()
-            .try_for_each(|(i, x)| no_box_off_power(set, x, &at.then(step(i))))
-    };
-    match e {
-        Element::Series { series } => each(series, Step::Series),
-        Element::Parallel { parallel } => each(parallel, Step::Parallel),
-        Element::Box {
-            mnemonic, inputs, ..
-        } => {
-            let takes_no_power = set
-                .lookup(mnemonic)
-                .is_some_and(|id| set.get(id).flow == Flow::Always);
-            if takes_no_power {
-                return Err(ModelError::new(
-                    Code::Unwritable,
-                    &at.to_string(),
-                    format!("`{mnemonic}` runs without power flow: it stands alone on the rail, in a network of its own"),
-                ));
-            }
-            each(inputs, Step::Input)
-        }
-        Element::Contact { .. } | Element::Coil { .. } => Ok(()),
-    }
-}
-
-/// L0013 when an element that needs power comes first on the rail (a coil, a box the
-/// catalog does not mark `Flow::Always`): its STL would say `=` with nothing loaded. A box that
-/// runs without power flow (`Flow::Always`: `LBL`, `ENI`) stands on the rail.
-fn starts_powered(set: &InstructionSet, e: &Element, at: &ElementPath) -> Edited<()> {
-    let needs_power = |mnemonic: &str| {
-        set.lookup(mnemonic)
-            .map(|id| set.get(id))
-            .is_some_and(|spec| spec.ladder.is_coil() || spec.flow != Flow::Always)
-    };
-    let unpowered = |mnemonic: &str| {
-        ModelError::new(
-            Code::Unwritable,
-            &at.to_string(),
-            format!("`{mnemonic}` needs power, but it comes first on the left rail: put a contact before it"),
-        )
-    };
-    match e {
-        Element::Series { series } => match series.first() {
-            Some(first) => starts_powered(set, first, &at.then(Step::Series(0))),
-            None => Ok(()),
-        },
-        Element::Parallel { parallel } => parallel
-            .iter()
-            .enumerate()
-            .try_for_each(|(i, p)| starts_powered(set, p, &at.then(Step::Parallel(i)))),
-        Element::Coil { coil: m, .. } | Element::Box { mnemonic: m, .. } if needs_power(m) => {
-            Err(unpowered(m))
-        }
-        _ => Ok(()),
-    }
 }
 
 /// A change of the network at `at` made on a copy, kept only when it checks.
