@@ -131,13 +131,7 @@ pub fn instruction_lines(
         .blocks
         .get(at.block)
         .and_then(|b| b.networks.get(at.network))
-        .ok_or_else(|| {
-            ModelError::new(
-                Code::NoSuchPath,
-                &at.to_string(),
-                format!("the model has no network at `{at}`"),
-            )
-        })?;
+        .ok_or_else(|| no_network(at))?;
     network_instructions(set, net, at.block, at.network)
 }
 
@@ -276,6 +270,14 @@ fn insert(
     }
 }
 
+fn no_network(at: NetworkPath) -> ModelError {
+    ModelError::new(
+        Code::NoSuchPath,
+        &at.to_string(),
+        format!("the model has no network at `{at}`"),
+    )
+}
+
 fn not_an_instruction(at: &ElementPath) -> ModelError {
     ModelError::new(
         Code::WrongTarget,
@@ -291,18 +293,12 @@ fn edit_network(
     at: NetworkPath,
     kind: fn(NetworkPath) -> Change,
     change: impl FnOnce(&mut NetworkJson) -> Edited<()>,
-) -> Edited<(Vec<Change>, Undo)> {
+) -> Edited<Applied> {
     let slot = model
         .blocks
         .get_mut(at.block)
         .and_then(|b| b.networks.get_mut(at.network))
-        .ok_or_else(|| {
-            ModelError::new(
-                Code::NoSuchPath,
-                &at.to_string(),
-                format!("the model has no network at `{at}`"),
-            )
-        })?;
+        .ok_or_else(|| no_network(at))?;
     let mut new = slot.clone();
     change(&mut new)?;
     check_network(set, &new, at.block, at.network)?;
@@ -318,7 +314,7 @@ fn edit_rung(
     at: &ElementPath,
     deleting: bool,
     change: impl FnOnce(&mut Element) -> Edited<()>,
-) -> Edited<(Vec<Change>, Undo)> {
+) -> Edited<Applied> {
     let net = at.network_path();
     let result = edit_network(model, set, net, Change::Lines, |network| {
         let NetworkBody::Rung { rung } = &mut network.body else {
