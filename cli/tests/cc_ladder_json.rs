@@ -3,7 +3,8 @@
 //! docs/ladder-model.schema.json; the section's example is what the CLI prints for its
 //! program; a bad model is refused with its L code and JSON path, exit 2, nothing
 //! written; a good one is written as a program that compiles (to stdout with `-o -`),
-//! and a model written from scratch runs as its tests expect; a rung the writer cannot
+//! and a model written from scratch runs as its tests expect, and so does that model
+//! after a sequence of edit operations (machine_edited.json); a rung the writer cannot
 //! say is L0013; every L code explains.
 
 mod common;
@@ -187,6 +188,47 @@ fn a_model_written_from_scratch_runs_as_expected() {
     let test = cc(&[
         "test",
         dir.join("machine.gtest").to_str().expect("utf-8 path"),
+    ]);
+    assert!(
+        test.status.success(),
+        "{}{}\n{}",
+        stdout(&test),
+        stderr(&test),
+        std::fs::read_to_string(&lad).unwrap_or_default()
+    );
+    assert!(
+        stdout(&test).contains("4 passed, 0 failed"),
+        "{}",
+        stdout(&test)
+    );
+}
+
+/// tests/data/ladder_model/machine_edited.json, machine.json after a sequence of edit
+/// operations (ladder/tests/edit.rs: Stop NC -> NO, TON -> TOF, a contact in parallel,
+/// a MOVW operand, a network duplicated, changed and moved), becomes its program and
+/// passes machine_edited.gtest, whose tests are the edits' new behaviour.
+#[test]
+fn the_edited_model_runs_as_its_edits_say() {
+    let data = root().join("tests/data/ladder_model");
+    let dir = common::scratch("ladder-json-machine-edited");
+    for name in ["machine_edited.json", "machine_edited.gtest"] {
+        std::fs::copy(data.join(name), dir.join(name)).expect("copies the test data");
+    }
+    let lad = dir.join("machine_edited.lad");
+    let run = cc(&[
+        "ladder",
+        dir.join("machine_edited.json")
+            .to_str()
+            .expect("utf-8 path"),
+        "-o",
+        lad.to_str().expect("utf-8 path"),
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let test = cc(&[
+        "test",
+        dir.join("machine_edited.gtest")
+            .to_str()
+            .expect("utf-8 path"),
     ]);
     assert!(
         test.status.success(),

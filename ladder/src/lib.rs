@@ -7,6 +7,7 @@
 //! reads the program and writes the file; `gutta-cc monitor` reads the PLC.
 
 pub mod build;
+pub mod edit;
 pub mod html;
 pub mod json;
 pub mod layout;

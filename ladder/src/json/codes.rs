@@ -65,6 +65,18 @@ model_codes! {
         "A box's `inputs` are its power inputs after the first, as the instruction set names them (`PowerInputs` in ManagerFun.xml): none for `MOVW` or a timer, the reset `R` for `CTU`, `CD` and `R` for `CTUD`. The message names the inputs the box takes.";
     L0013 Unwritable "a rung the STL writer cannot say"
         "The model is valid, but its rung has a shape that STL cannot write as one network: a path from the left rail that starts with `NOT`, `EU` or `ED` (they only go in series after a contact), a box with no power path into it in the middle of a rung, a coil inside a power path, or an output branch that does not end in a coil, a box or outputs in parallel. The path names the rung or the part; start the path with a contact, or write the network as `stl` lines.";
+    L0014 NoSuchPath "an edit's path names nothing in the model"
+        "An edit operation (docs/ladder.md, \"Editing the model\") names its element by the JSON path the L codes use (`blocks[0].networks[2].rung.series[1]`, `...rung.series[2].inputs[0]`) and its network by `blocks[0].networks[2]`. The path is not one of those, or the model has no block, network, rung or element there (a network shown as `stl` has no rung; a selection runs past the end of its series). Take the path from the model as it is now: an earlier edit may have moved the element.";
+    L0015 WrongTarget "the edit does not apply to what its path names"
+        "The element exists, but the operation does not apply to it: operands and mnemonics belong to contacts, coils and boxes, not to a `series` or a `parallel`; a selection of more than one element is a run of one `series`; a box's power input is a pin of the box, changed with the box's `set_mnemonic` (`inputs`) or edited inside, never deleted on its own. The message says which.";
+    L0016 LastOutput "the edit would delete a rung's last output"
+        "Every rung ends in an output, and so does every output branch. Deleting the last coil or box of a rung (or the whole rung) would leave a rung that is not a rung: insert another output first, or delete the network (`delete_network`).";
+    L0017 OutOfRange "a network position past the block's networks"
+        "A network edit names a block or a position that is not there: a network is inserted at a position from 0 to the number of networks (that number appends it), moved to a position from 0 to the last, and deleted, duplicated or moved only where one is (a title or comment edit, or an element path, naming a network that is not there is L0014).";
+    L0018 NotAnEdit "the text is not an edit operation"
+        "An edit sent as JSON is one object with `op` naming the operation (`insert_contact`, `insert_coil`, `insert_box`, `wrap_parallel`, `delete`, `set_operands`, `set_mnemonic`, `insert_network`, `delete_network`, `move_network`, `duplicate_network`, `set_network_title`, `set_network_comment`, `set_block_title`) and that operation's fields (docs/ladder.md, \"Editing the model\"). The message names what serde could not read.";
+    L0019 NothingToUndo "nothing to undo, or nothing to redo"
+        "The editor's history is empty in that direction: no edit was applied since the model was opened (or all were undone), or no edit was undone since the last new edit (a new edit clears what could be redone). The model is unchanged.";
 }
 
 impl fmt::Display for ModelErrorCode {

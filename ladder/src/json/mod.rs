@@ -21,6 +21,12 @@ pub use read::read_model;
 pub use to_program::program_of;
 pub use validate::validate;
 
+// One network or element at a time, for the edit operations (`crate::edit`): the same
+// reading, checks and writing as a whole model's.
+pub(crate) use read::{element as read_element, network as read_network};
+pub(crate) use to_program::{network_fields_one_line, network_instructions};
+pub(crate) use validate::network as validate_network;
+
 /// The `format` of a ladder model.
 pub const FORMAT: &str = "gutta-ladder";
 /// The `version` this crate writes and the latest it reads.

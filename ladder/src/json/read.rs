@@ -113,7 +113,8 @@ fn var(v: &Value, path: &str) -> Read<VarJson> {
     })
 }
 
-fn network(v: &Value, path: &str) -> Read<NetworkJson> {
+/// One network at `path` (also how an edit's new network is read).
+pub(crate) fn network(v: &Value, path: &str) -> Read<NetworkJson> {
     let o = object(v, path)?;
     let number = match o.get("number") {
         None | Some(Value::Null) => None,
@@ -157,7 +158,8 @@ fn network(v: &Value, path: &str) -> Read<NetworkJson> {
 /// The element keys, one of which an element object has.
 const ELEMENT_KEYS: [&str; 5] = ["series", "parallel", "contact", "coil", "box"];
 
-fn element(v: &Value, path: &str) -> Read<Element> {
+/// One element at `path` (also how an edit's new elements are read).
+pub(crate) fn element(v: &Value, path: &str) -> Read<Element> {
     let o = object(v, path)?;
     let present: Vec<&str> = ELEMENT_KEYS
         .into_iter()

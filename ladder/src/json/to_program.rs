@@ -92,14 +92,43 @@ fn block_text(set: &InstructionSet, block: &BlockJson, b: usize) -> Made<Vec<Str
     }
     out.push("BEGIN".to_string());
     for (n, net) in block.networks.iter().enumerate() {
-        let path = format!("blocks[{b}].networks[{n}]");
-        let network = network_of(set, net, n, &path)?;
-        let lines = write::network_text(set, &network)
-            .map_err(|e| ModelError::new(Code::Unwritable, &format!("{path}.rung"), e.message))?;
-        out.extend(lines);
+        out.extend(network_lines(set, net, b, n)?);
     }
     out.push(format!("END_{}", block.kind));
     Ok(out)
+}
+
+/// The lines of network `n` of block `b`, its `NETWORK` line and comment lines first;
+/// L0013 when the writer cannot say its rung.
+fn network_lines(set: &InstructionSet, net: &NetworkJson, b: usize, n: usize) -> Made<Vec<String>> {
+    written(set, net, b, n, write::network_text)
+}
+
+/// The instruction lines of network `n` of block `b` (what follows its comment lines,
+/// as `network_lines` writes it; what `gutta_analysis::network_edit::replace_network`
+/// takes); L0013 when the writer cannot say its rung. The edit operations check the
+/// networks they change with it (and `network_fields_one_line` first).
+pub(crate) fn network_instructions(
+    set: &InstructionSet,
+    net: &NetworkJson,
+    b: usize,
+    n: usize,
+) -> Made<Vec<String>> {
+    written(set, net, b, n, write::network)
+}
+
+/// A network as the Rust model's, written by `writer`.
+fn written(
+    set: &InstructionSet,
+    net: &NetworkJson,
+    b: usize,
+    n: usize,
+    writer: fn(&InstructionSet, &Network) -> Result<Vec<String>, write::WriteError>,
+) -> Made<Vec<String>> {
+    let path = format!("blocks[{b}].networks[{n}]");
+    let network = network_of(set, net, n, &path)?;
+    writer(set, &network)
+        .map_err(|e| ModelError::new(Code::Unwritable, &format!("{path}.rung"), e.message))
 }
 
 /// The JSON network as the Rust model's network (its `line` and ids are not used by
@@ -362,18 +391,36 @@ fn one_line_fields(model: &Model) -> Made<()> {
             }
         }
         for (n, net) in block.networks.iter().enumerate() {
-            let at = format!("blocks[{b}].networks[{n}]");
-            fields.push((format!("{at}.title"), &net.title));
-            match &net.body {
-                NetworkBody::Stl { stl, .. } => fields.extend(
-                    stl.iter()
-                        .enumerate()
-                        .map(|(i, l)| (format!("{at}.stl[{i}]"), l.as_str())),
-                ),
-                NetworkBody::Rung { rung } => operands(rung, &format!("{at}.rung"), &mut fields),
-            }
+            network_fields(net, &format!("blocks[{b}].networks[{n}]"), &mut fields);
         }
     }
+    no_line_break(fields)
+}
+
+/// L0002 when a field of network `n` of block `b` that is one line of source holds a
+/// line break (`one_line_fields` for one network).
+pub(crate) fn network_fields_one_line(net: &NetworkJson, b: usize, n: usize) -> Made<()> {
+    let mut fields = Vec::new();
+    network_fields(net, &format!("blocks[{b}].networks[{n}]"), &mut fields);
+    no_line_break(fields)
+}
+
+/// A network's one-line fields with their JSON paths: its title, its STL lines or the
+/// operands of its rung.
+fn network_fields<'a>(net: &'a NetworkJson, at: &str, fields: &mut Vec<(String, &'a str)>) {
+    fields.push((format!("{at}.title"), &net.title));
+    match &net.body {
+        NetworkBody::Stl { stl, .. } => fields.extend(
+            stl.iter()
+                .enumerate()
+                .map(|(i, l)| (format!("{at}.stl[{i}]"), l.as_str())),
+        ),
+        NetworkBody::Rung { rung } => operands(rung, &format!("{at}.rung"), fields),
+    }
+}
+
+/// L0002 at the first field holding a line break.
+fn no_line_break(fields: Vec<(String, &str)>) -> Made<()> {
     match fields
         .into_iter()
         .find(|(_, text)| text.contains(['\n', '\r']))

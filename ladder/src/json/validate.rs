@@ -8,7 +8,7 @@
 use gutta_catalog::{Instruction, InstructionSet, Join, LadderClass};
 
 use super::codes::{ModelError, ModelErrorCode as Code};
-use super::{Element, Model, NetworkBody};
+use super::{Element, Model, NetworkBody, NetworkJson};
 
 type Check<T> = Result<T, ModelError>;
 
@@ -26,17 +26,24 @@ enum Power {
 /// The first error of `model` against `set`, in document order.
 pub fn validate(model: &Model, set: &InstructionSet) -> Check<()> {
     for (b, block) in model.blocks.iter().enumerate() {
-        for (n, network) in block.networks.iter().enumerate() {
-            if let NetworkBody::Rung { rung } = &network.body {
-                let path = format!("blocks[{b}].networks[{n}].rung");
-                if element(set, rung, &path)? == Power::Passes {
-                    return Err(ModelError::new(
-                        Code::NoOutput,
-                        &path,
-                        "the rung ends without an output (a coil or a box)",
-                    ));
-                }
-            }
+        for (n, net) in block.networks.iter().enumerate() {
+            network(set, net, b, n)?;
+        }
+    }
+    Ok(())
+}
+
+/// The first error of network `n` of block `b` (what `validate` checks of each network;
+/// the edit operations check the networks they change with it).
+pub(crate) fn network(set: &InstructionSet, net: &NetworkJson, b: usize, n: usize) -> Check<()> {
+    if let NetworkBody::Rung { rung } = &net.body {
+        let path = format!("blocks[{b}].networks[{n}].rung");
+        if element(set, rung, &path)? == Power::Passes {
+            return Err(ModelError::new(
+                Code::NoOutput,
+                &path,
+                "the rung ends without an output (a coil or a box)",
+            ));
         }
     }
     Ok(())

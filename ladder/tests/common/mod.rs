@@ -14,6 +14,8 @@
     reason = "shared by several test binaries, each using part; the corpus helpers read the repository's programs"
 )]
 
+pub mod edit;
+
 use std::path::{Path, PathBuf};
 
 use gutta_catalog::stdlib;
