@@ -128,8 +128,7 @@ fn apply_rewrite(
         let Change::Lines(at) = change else {
             panic!("an element edit changes lines, not {change:?}");
         };
-        let lines = instruction_lines(editor.model(), set, at)
-            .expect("the edited network writes");
+        let lines = instruction_lines(editor.model(), set, at).expect("the edited network writes");
         let lines: Vec<&str> = lines.iter().map(String::as_str).collect();
         let place = NetworkRef {
             block: BlockRef::Index(at.block),

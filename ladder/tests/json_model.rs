@@ -381,6 +381,85 @@ fn a_rung_the_writer_refuses_is_l0013_at_its_path() {
     assert_eq!(err.path, "blocks[0].networks[1].rung");
 }
 
+/// The power rules (L0013 from `validate`): a rung's STL must mean what it draws.
+#[test]
+fn a_rung_whose_stl_would_mean_something_else_is_l0013_at_the_element() {
+    let target = stdlib::default_target().expect("stdlib");
+    let set = &target.instructions;
+    let ld = |x: &str| format!(r#"{{"contact": "LD", "operands": ["{x}"]}}"#);
+    let ton = r#"{"box": "TON", "operands": ["T37", "100"], "inputs": []}"#;
+    let not = r#"{"contact": "NOT", "operands": []}"#;
+    let coil = r#"{"coil": "=", "operands": ["Q0.1"]}"#;
+    let refused = [
+        // A timer in a parallel path after I0.1: STL would time I0.2 alone.
+        (
+            format!(
+                r#"{{"series": [{}, {{"parallel": [{{"series": [{}, {ton}]}}, {}]}}, {coil}]}}"#,
+                ld("I0.1"),
+                ld("I0.2"),
+                ld("I0.3")
+            ),
+            "blocks[0].networks[1].rung.series[1].parallel[0].series[1]",
+        ),
+        // NOT in a parallel path after I0.1: STL would invert I0.2 alone.
+        (
+            format!(
+                r#"{{"series": [{}, {{"parallel": [{}, {{"series": [{}, {not}]}}]}}, {coil}]}}"#,
+                ld("I0.1"),
+                ld("I0.3"),
+                ld("I0.2")
+            ),
+            "blocks[0].networks[1].rung.series[1].parallel[1].series[1]",
+        ),
+        // The same inside an output branch (after LPS).
+        (
+            format!(
+                r#"{{"series": [{}, {{"parallel": [{{"series": [{{"parallel": [{}, {{"series": [{}, {not}]}}]}}, {coil}]}}, {{"coil": "=", "operands": ["Q0.2"]}}]}}]}}"#,
+                ld("I0.1"),
+                ld("I0.3"),
+                ld("I0.2")
+            ),
+            "blocks[0].networks[1].rung.series[1].parallel[0].series[0].parallel[1].series[1]",
+        ),
+        // A coil first on the rail, and a box that runs without power flow in a rung.
+        (
+            format!(r#"{{"series": [{coil}]}}"#),
+            "blocks[0].networks[1].rung.series[0]",
+        ),
+        (
+            format!(
+                r#"{{"series": [{}, {{"box": "ENI", "operands": [], "inputs": []}}]}}"#,
+                ld("I0.1")
+            ),
+            "blocks[0].networks[1].rung.series[1]",
+        ),
+    ];
+    for (rung, path) in refused {
+        let model = read_model(model_with(&rung).as_bytes()).expect("reads");
+        let err = validate(&model, set).expect_err(&rung);
+        assert_eq!(
+            (err.code, err.path.as_str()),
+            (ModelErrorCode::Unwritable, path),
+            "{rung}: {err}"
+        );
+    }
+    // At the start of the rung a parallel path starts at the rail: the timer times
+    // I0.2 alone, as drawn, and the written STL says so.
+    let rung = format!(
+        r#"{{"series": [{{"parallel": [{{"series": [{}, {ton}]}}, {}]}}, {}, {coil}]}}"#,
+        ld("I0.2"),
+        ld("I0.3"),
+        ld("I0.1")
+    );
+    let model = read_model(model_with(&rung).as_bytes()).expect("reads");
+    validate(&model, set).expect("valid");
+    let program = program_of(&model, set).expect("written");
+    assert!(
+        program.contains("LD     I0.2\nTON    T37, 100\nO      I0.3\nA      I0.1\n="),
+        "{program}"
+    );
+}
+
 /// What cannot become source lines is L0002 at its path when the program is written.
 #[test]
 fn a_block_kind_or_a_line_break_the_program_cannot_hold_is_l0002() {

@@ -9,6 +9,7 @@
 
 mod codes;
 mod from_program;
+mod power;
 mod read;
 mod to_program;
 mod validate;

@@ -2,7 +2,8 @@
 //! of its element's kind (L0006: a contact in its load form, a coil, a box), every
 //! operand count right (L0007), a box's power inputs as many as the catalog names
 //! (L0012), outputs only at the end of a series (L0008), every rung and output branch
-//! ending in an output (L0009). What an instruction is comes from the
+//! ending in an output (L0009), and the power rules of `power.rs` (L0013: what STL
+//! needs so that the rung's text means what it draws). What an instruction is comes from the
 //! catalog (`LadderClass`, `join`, `power_output`), never from its mnemonic.
 
 use gutta_catalog::{Instruction, InstructionSet, Join, LadderClass};
@@ -45,6 +46,7 @@ pub(crate) fn network(set: &InstructionSet, net: &NetworkJson, b: usize, n: usiz
                 "the rung ends without an output (a coil or a box)",
             ));
         }
+        super::power::rules(set, rung, &path)?;
     }
     Ok(())
 }
