@@ -18,7 +18,7 @@ use serde::Serialize;
 pub use codes::{ModelError, ModelErrorCode};
 pub use from_program::model_of;
 pub use read::read_model;
-pub use to_program::program_of;
+pub use to_program::{program_of, written_program, WrittenProgram};
 pub use validate::validate;
 
 /// The `format` of a ladder model.
