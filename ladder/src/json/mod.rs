@@ -7,6 +7,7 @@
 //! into program text, its rungs' STL by `crate::write`) and `codes.rs` (the L codes).
 //! No I/O.
 
+mod check;
 mod codes;
 mod from_program;
 mod read;
@@ -15,6 +16,7 @@ mod validate;
 
 use serde::Serialize;
 
+pub use check::{check, names_a_part, ModelCheck, ModelDiagnostic, ModelNote};
 pub use codes::{ModelError, ModelErrorCode};
 pub use from_program::model_of;
 pub use read::read_model;
