@@ -237,6 +237,15 @@ fn a_structural_fault_is_its_l_code_and_stops_the_check() {
 }
 
 #[test]
+fn a_diagnostic_without_a_line_is_at_the_whole_model() {
+    let sbr = r#"{"kind": "SUBROUTINE_BLOCK", "name": "FILL", "id": "SBR0", "networks": []}"#;
+    let m = model(&[], &[sbr.to_string()]);
+    let checked = check(&m, &ec20());
+    let d = only(&m, &checked, "E0408");
+    assert_eq!(d.path, "");
+}
+
+#[test]
 fn variables_networks_and_stl_lines_are_their_own_parts() {
     let sbr = r#"{"kind": "SUBROUTINE_BLOCK", "name": "FILL", "id": "SBR0",
         "VAR_INPUT": [{"name": "level", "type": "WORD"}],

@@ -8,7 +8,7 @@
 //! no I/O, no rendering.
 
 use gutta_compiler::diagnostics::{Diagnostic, Severity};
-use gutta_compiler::source::{LineIndex, SourceFile};
+use gutta_compiler::source::{LineIndex, SourceFile, Span};
 use gutta_compiler::{compile, ExplicitTarget};
 use serde::{Serialize, Serializer};
 
@@ -137,15 +137,17 @@ pub fn check(model: &Model, target: &ExplicitTarget) -> ModelCheck {
 
 /// A compiler diagnostic at the part of the model its line was written for.
 fn mapped(d: &Diagnostic, written: &WrittenProgram, index: &LineIndex) -> ModelDiagnostic {
-    let path = |offset: u32| {
-        let offset = offset as usize;
-        if offset >= written.text.len() {
+    // An empty span at the start is the compiler's "no place" (no MAIN); past the end
+    // of the text is no line either: both are the whole model.
+    let path = |span: Span| {
+        let offset = span.start as usize;
+        if offset >= written.text.len() || (span.is_empty() && offset == 0) {
             return String::new();
         }
         written.path_of_line(index.line_of(offset)).to_string()
     };
     ModelDiagnostic {
-        path: path(d.primary.span.start),
+        path: path(d.primary.span),
         code: d.code.as_str().to_string(),
         severity: d.severity,
         message: d.message.clone(),
@@ -155,7 +157,7 @@ fn mapped(d: &Diagnostic, written: &WrittenProgram, index: &LineIndex) -> ModelD
             .secondary
             .iter()
             .map(|l| ModelNote {
-                path: path(l.span.start),
+                path: path(l.span),
                 message: l.message.clone().unwrap_or_default(),
             })
             .collect(),
