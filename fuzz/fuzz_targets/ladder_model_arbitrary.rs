@@ -1,7 +1,8 @@
 //! Fuzz target of the checks on the ladder model (docs/ladder.md, "Checks on the
 //! model"): models built from the fuzzer's bytes with `arbitrary::Unstructured` (the
 //! default target's contacts, coils and boxes with mostly the right operand and input
-//! counts, operands from a pool of good and bad texts and symbols, rungs mostly in the
+//! counts, operands mostly of the kind, area and width the catalog's operand spec
+//! takes, else from a pool of good and bad texts and symbols, rungs mostly in the
 //! shapes ladder has and sometimes any shape, symbols, blocks of the three kinds with
 //! variables, networks given as `stl` lines) through `gutta_ladder::json::check`
 //! (validate -> written program -> compile). It must never panic; every diagnostic and
@@ -12,7 +13,7 @@
 
 use std::sync::{Arc, OnceLock};
 
-use gutta_catalog::{stdlib, Join, LadderClass, Target};
+use gutta_catalog::{stdlib, Join, LadderClass, OperandKind, OperandSpec, Target};
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
 use gutta_ladder::json::{
@@ -223,10 +224,11 @@ fn mnemonic(u: &mut Unstructured, pool: &[String]) -> Result<String> {
 }
 
 /// As many operands as the instruction takes (CALL: and some arguments), now and then
-/// one more or one fewer.
+/// one more or one fewer; each mostly of the kind its operand takes.
 fn operands(u: &mut Unstructured, mnemonic: &str) -> Result<Vec<String>> {
     let set = &pools().target.instructions;
-    let mut n = set.lookup(mnemonic).map(|id| set.get(id)).map_or(1, |i| {
+    let spec = set.lookup(mnemonic).map(|id| set.get(id));
+    let mut n = spec.map_or(1, |i| {
         i.operands.len() + if i.call_arguments { 2 } else { 0 }
     });
     if u.ratio(1, 32)? {
@@ -234,7 +236,44 @@ fn operands(u: &mut Unstructured, mnemonic: &str) -> Result<Vec<String>> {
     } else if u.ratio(1, 32)? {
         n += 1;
     }
-    (0..n).map(|_| text(u, OPERANDS)).collect()
+    (0..n)
+        .map(|i| operand(u, spec.and_then(|s| s.operands.get(i))))
+        .collect()
+}
+
+/// An operand: one of the kind `spec` takes (a label, a block, a literal in range, an
+/// address of an allowed area and width, a constant), or (a quarter of the time, or
+/// without a spec) any text of the pool.
+fn operand(u: &mut Unstructured, spec: Option<&OperandSpec>) -> Result<String> {
+    let typed = !u.ratio(1, 4)?;
+    let Some(spec) = spec.filter(|s| typed && !s.types.is_empty()) else {
+        return text(u, OPERANDS);
+    };
+    Ok(match spec.kind {
+        OperandKind::Label => u.int_in_range(0..=3u8)?.to_string(),
+        OperandKind::Block => text(u, BLOCK_NAMES)?,
+        OperandKind::Literal => {
+            let (min, max) = (spec.min.unwrap_or(0), spec.max.unwrap_or(0));
+            u.int_in_range(min.min(max)..=max.max(min))?.to_string()
+        }
+        OperandKind::Data => {
+            let ty = *u.choose(&spec.types)?;
+            if spec.constant && u.ratio(1, 3)? {
+                let (min, max) = ty.integer_range().unwrap_or((0, 1));
+                return Ok(u.int_in_range(min.max(-1000)..=max.min(1000))?.to_string());
+            }
+            let area = match &spec.areas {
+                Some(areas) => u.choose(areas)?.clone(),
+                None => u.choose(&["I", "Q", "M", "V", "SM"])?.to_string(),
+            };
+            let byte = u.int_in_range(0..=7u8)?;
+            match ty.width().letter() {
+                _ if area == "T" || area == "C" => format!("{area}{}", u.choose(&[0, 5, 37, 64])?),
+                None => format!("{area}{byte}.{}", u.int_in_range(0..=7u8)?),
+                Some(letter) => format!("{area}{letter}{}", byte * 4),
+            }
+        }
+    })
 }
 
 fn contact(u: &mut Unstructured) -> Result<Element> {
