@@ -12,6 +12,7 @@ mod codes;
 mod from_program;
 mod read;
 mod to_program;
+mod to_rung;
 mod validate;
 
 use serde::Serialize;
