@@ -25,66 +25,14 @@ use libfuzzer_sys::fuzz_target;
 
 /// Operand texts: good ones of every area and width, constants, locals, pointers,
 /// symbols the pool of symbol names defines, block names, and bad ones.
+#[rustfmt::skip]
 const OPERANDS: &[&str] = &[
-    "I0.0",
-    "I0.1",
-    "I1.7",
-    "Q0.0",
-    "Q0.1",
-    "Q1.0",
-    "M0.0",
-    "M1.7",
-    "SM0.0",
-    "SM0.1",
-    "V0.0",
-    "MB0",
-    "MB1",
-    "MW0",
-    "MW2",
-    "MD4",
-    "VB10",
-    "VW100",
-    "VD200",
-    "IB0",
-    "IW0",
-    "QB0",
-    "QW0",
-    "AIW0",
-    "AQW0",
-    "T37",
-    "T5",
-    "T0",
-    "C0",
-    "C5",
-    "0",
-    "1",
-    "3",
-    "10",
-    "100",
-    "-5",
-    "32767",
-    "70000",
-    "3.5",
-    "16#FF",
-    "#a",
-    "#b",
-    "#level",
-    "&VB0",
-    "*VD0",
-    "Start",
-    "Stop",
-    "Motor",
-    "Level",
-    "FILL",
-    "ADD3",
-    "INT_A",
-    "SBR0",
-    "Q99.9",
-    "MW99999",
-    "I0.8",
-    "bad operand",
-    "",
-    "Undefined",
+    "I0.0", "I0.1", "I1.7", "Q0.0", "Q0.1", "Q1.0", "M0.0", "M1.7", "SM0.0", "SM0.1",
+    "V0.0", "MB0", "MB1", "MW0", "MW2", "MD4", "VB10", "VW100", "VD200", "IB0", "IW0",
+    "QB0", "QW0", "AIW0", "AQW0", "T37", "T5", "T0", "C0", "C5", "0", "1", "3", "10", "100",
+    "-5", "32767", "70000", "3.5", "16#FF", "#a", "#b", "#level", "&VB0", "*VD0", "Start",
+    "Stop", "Motor", "Level", "FILL", "ADD3", "INT_A", "SBR0", "Q99.9", "MW99999", "I0.8",
+    "bad operand", "", "Undefined",
 ];
 
 /// Symbol names (good, clashing with keywords, malformed).
@@ -93,24 +41,22 @@ const SYMBOL_NAMES: &[&str] = &[
 ];
 
 /// Symbol addresses.
+#[rustfmt::skip]
 const ADDRESSES: &[&str] = &[
-    "I0.0", "I0.1", "Q0.0", "M0.0", "MW10", "VD100", "T37", "C5", "Q99.9", "AIW0", "SM0.0", "IB0",
-    "X1", "",
+    "I0.0", "I0.1", "Q0.0", "M0.0", "MW10", "VD100", "T37", "C5", "Q99.9", "AIW0", "SM0.0",
+    "IB0", "X1", "",
 ];
 
 /// Data types for symbols and variables (and a bad one).
+#[rustfmt::skip]
 const TYPES: &[&str] = &[
     "BOOL", "BYTE", "WORD", "INT", "DWORD", "DINT", "REAL", "WORDY",
 ];
 
 /// Free text: titles and comments, some with what a line cannot hold.
+#[rustfmt::skip]
 const TEXTS: &[&str] = &[
-    "",
-    "motor",
-    "start/stop latch",
-    "a // b",
-    "two\nlines",
-    "x\ry",
+    "", "motor", "start/stop latch", "a // b", "two\nlines", "x\ry",
     "END_ORGANIZATION_BLOCK",
 ];
 
