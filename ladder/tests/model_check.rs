@@ -474,3 +474,21 @@ fn every_corpus_diagnostic_maps_to_a_part_of_the_model() {
     assert!(contacts > 300, "only {contacts} contacts");
     println!("{programs} models checked: {diagnostics} diagnostics, {contacts} contacts renamed");
 }
+
+/// Another PLC type than the model's `plc` (`--plc`): W0204 at `plc`, still valid.
+#[test]
+fn another_target_than_the_models_plc_is_a_warning_at_plc() {
+    let m = main_model(
+        &[],
+        &[series(&[contact("LD", &["I0.0"]), coil("=", &["Q0.0"])])],
+    );
+    let other = ExplicitTarget {
+        target: stdlib::shared("CPU-EC20-M3").expect("stdlib"),
+        origin: "--plc CPU-EC20-M3".to_string(),
+    };
+    let checked = check(&m, &other);
+    assert!(!checked.has_errors(), "{:#?}", checked.diagnostics);
+    let d = only(&m, &checked, "W0204");
+    assert_eq!(d.path, "plc");
+    assert!(d.message.contains("--plc CPU-EC20-M3"), "{d}");
+}
