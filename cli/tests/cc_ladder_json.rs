@@ -266,3 +266,93 @@ fn every_model_code_explains() {
         assert!(out.contains(code.explanation()), "{out}");
     }
 }
+
+/// A model of MAIN whose networks are `rungs` (JSON elements).
+fn main_model(rungs: &[&str]) -> String {
+    let networks: Vec<String> = rungs
+        .iter()
+        .map(|r| format!(r#"{{"title": "", "comment": "", "rung": {r}}}"#))
+        .collect();
+    format!(
+        r#"{{"format": "gutta-ladder", "version": 1, "plc": "CPU-EC20", "symbols": [],
+      "blocks": [{{"kind": "ORGANIZATION_BLOCK", "name": "MAIN", "id": "OB1", "networks": [{}]}}]}}"#,
+        networks.join(", ")
+    )
+}
+
+/// An undefined symbol on a contact and an input written by a coil: both compiler
+/// errors are printed at their elements, exit 2, nothing written.
+#[test]
+fn compiler_errors_of_a_model_are_refused_at_their_elements() {
+    let model = main_model(&[
+        r#"{"series": [{"contact": "LD", "operands": ["I0.0"]}, {"contact": "LDN", "operands": ["Stopp"]}, {"coil": "=", "operands": ["Q0.0"]}]}"#,
+        r#"{"series": [{"contact": "LD", "operands": ["I0.1"]}, {"coil": "=", "operands": ["I0.2"]}]}"#,
+    ]);
+    for out in ["out.lad", "-"] {
+        let (code, err, written) = read_back("compiler-errors", &model, out);
+        assert_eq!(code, Some(2), "{err}");
+        assert!(
+            err.contains("model.json: E0202 at blocks[0].networks[0].rung.series[1]: "),
+            "{err}"
+        );
+        assert!(
+            err.contains("model.json: E0308 at blocks[0].networks[1].rung.series[1]: "),
+            "{err}"
+        );
+        assert_eq!(err.matches("gutta-cc: error:").count(), 2, "{err}");
+        assert!(err.contains("  hint: "), "{err}");
+        assert!(out == "-" || !written, "{out} was written");
+    }
+}
+
+/// A warning (an output written twice) is printed at its coil; the program is written.
+#[test]
+fn warnings_of_a_model_are_printed_and_the_program_written() {
+    let model = main_model(&[
+        r#"{"series": [{"contact": "LD", "operands": ["I0.0"]}, {"coil": "=", "operands": ["Q0.0"]}]}"#,
+        r#"{"series": [{"contact": "LD", "operands": ["I0.1"]}, {"coil": "=", "operands": ["Q0.0"]}]}"#,
+    ]);
+    let (code, err, written) = read_back("warning", &model, "out.lad");
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        err.contains("gutta-cc: warning: ")
+            && err.contains("model.json: W0201 at blocks[0].networks[1].rung.series[1]: "),
+        "{err}"
+    );
+    assert!(written);
+}
+
+/// `--message-format json`: each diagnostic one object on stdout with its file, path,
+/// code and severity, then the fatal error object; nothing written.
+#[test]
+fn model_diagnostics_as_json_lines() {
+    let model = main_model(&[
+        r#"{"series": [{"contact": "LD", "operands": ["I0.0"]}, {"contact": "LDN", "operands": ["Stopp"]}, {"coil": "=", "operands": ["Q0.0"]}]}"#,
+    ]);
+    let dir = common::scratch("ladder-json-message-format");
+    let path = dir.join("model.json");
+    std::fs::write(&path, &model).expect("writes the model");
+    let out = dir.join("out.lad");
+    let run = cc(&[
+        "--message-format",
+        "json",
+        "ladder",
+        path.to_str().expect("utf-8 path"),
+        "-o",
+        out.to_str().expect("utf-8 path"),
+    ]);
+    assert_eq!(run.status.code(), Some(2), "{}", stderr(&run));
+    let objects: Vec<serde_json::Value> = stdout(&run)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("one JSON object per line"))
+        .collect();
+    assert_eq!(objects.len(), 2, "{}", stdout(&run));
+    assert_eq!(objects[0]["code"], "E0202");
+    assert_eq!(objects[0]["severity"], "error");
+    assert_eq!(objects[0]["path"], "blocks[0].networks[0].rung.series[1]");
+    assert_eq!(objects[0]["file"], path.display().to_string());
+    assert_eq!(objects[1]["type"], "error");
+    assert_eq!(objects[1]["kind"], "program");
+    assert!(stderr(&run).is_empty(), "{}", stderr(&run));
+    assert!(!out.exists());
+}

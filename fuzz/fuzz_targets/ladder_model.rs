@@ -3,8 +3,9 @@
 //! `validate` against the default target's instruction set and, when it validates,
 //! `program_of` (the model written as a program) and the compiler's `check_source` on
 //! that program. It must never panic; every refusal is an L code whose path is empty or
-//! starts with a field of the format. (That a model which validates also compiles is
-//! not yet promised: the operands' areas and types are not validated.)
+//! starts with a field of the format. (`validate` alone does not check operands'
+//! areas and types: that a model which validates compiles is `json::check`'s promise,
+//! held by the `ladder_model_arbitrary` target.)
 #![no_main]
 
 use std::sync::{Arc, OnceLock};

@@ -3,7 +3,10 @@
 //! stored lines. The inverse of `build/`: building the written lines gives the same
 //! rung. Which STL form a contact takes (`LD`, `A`, `O`...) and which instructions
 //! combine paths and split outputs (`ALD`, `OLD`, `LPS`, `LRD`, `LPP`) come from the
-//! catalog, never from a mnemonic spelled here. Writes text only: no I/O, no compiling.
+//! catalog, never from a mnemonic spelled here. Every line can come with its origin
+//! (`network_lines`, `rung_lines`): the `Place` in the rung (or the part of the network)
+//! it was written for, the source map `json::check` maps diagnostics back with; the
+//! text is the same either way. Writes text only: no I/O, no compiling.
 
 use std::fmt;
 
@@ -30,6 +33,44 @@ fn refuse<T>(message: String) -> Result<T, WriteError> {
     Err(WriteError { message })
 }
 
+/// One step from a part of a rung to a part inside it: a written line's [`Place`] is
+/// the steps from the [`Rung`] to the part it was written for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Step {
+    /// The rung's `input`.
+    Input,
+    /// The rung's `outputs`.
+    Outputs,
+    /// The n-th branch of a list of branches (`outputs`, a `Split`).
+    Branch(usize),
+    /// The n-th node of a branch's `path`.
+    Path(usize),
+    /// A branch's `end`.
+    End,
+    /// The n-th node of a `Series` or a `Parallel`.
+    Child(usize),
+    /// The n-th of a box's `power_inputs`.
+    PowerInput(usize),
+}
+
+/// Where in a rung a line was written for: a contact's, a coil's or a box's line is at
+/// that element; `ALD` at the `Parallel` it puts in series, `OLD` at the `Parallel`
+/// whose branch it joins, `LPS`/`LRD`/`LPP` at the list of branches they split.
+pub type Place = Vec<Step>;
+
+/// What part of a network a written line says.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum NetworkPart {
+    /// `NETWORK n // title`.
+    Heading,
+    /// Its n-th comment line.
+    Comment(usize),
+    /// The n-th of its stored STL lines (a network shown as STL).
+    Stl(usize),
+    /// A line of its rung, at this place.
+    Rung(Place),
+}
+
 /// A network's instruction lines: its rung written, or its STL as stored.
 pub fn network(set: &InstructionSet, net: &Network) -> Result<Vec<String>, WriteError> {
     match &net.body {
@@ -41,28 +82,66 @@ pub fn network(set: &InstructionSet, net: &Network) -> Result<Vec<String>, Write
 /// A whole network as text: `NETWORK n // title`, its comment lines, then its
 /// instruction lines ([`network`]).
 pub fn network_text(set: &InstructionSet, net: &Network) -> Result<Vec<String>, WriteError> {
-    let mut lines = vec![match &net.title {
+    Ok(network_lines(set, net)?
+        .into_iter()
+        .map(|(line, _)| line)
+        .collect())
+}
+
+/// [`network_text`]'s lines, each with the part of the network it says.
+pub fn network_lines(
+    set: &InstructionSet,
+    net: &Network,
+) -> Result<Vec<(String, NetworkPart)>, WriteError> {
+    let heading = match &net.title {
         Some(title) => format!("NETWORK {} // {title}", net.number),
         None => format!("NETWORK {}", net.number),
-    }];
-    lines.extend(net.comment.iter().map(|c| format!("// {c}")));
-    lines.extend(network(set, net)?);
+    };
+    let mut lines = vec![(heading, NetworkPart::Heading)];
+    lines.extend(
+        net.comment
+            .iter()
+            .enumerate()
+            .map(|(i, c)| (format!("// {c}"), NetworkPart::Comment(i))),
+    );
+    match &net.body {
+        Body::Rung(r) => lines.extend(
+            rung_lines(set, r)?
+                .into_iter()
+                .map(|(line, place)| (line, NetworkPart::Rung(place))),
+        ),
+        Body::Stl { .. } => lines.extend(
+            net.stl
+                .iter()
+                .enumerate()
+                .map(|(i, l)| (l.clone(), NetworkPart::Stl(i))),
+        ),
+    }
     Ok(lines)
 }
 
 /// A rung's canonical STL lines (`LD     I0.0`, `=      Q0.0`).
 pub fn rung(set: &InstructionSet, rung: &Rung) -> Result<Vec<String>, WriteError> {
+    Ok(rung_lines(set, rung)?
+        .into_iter()
+        .map(|(line, _)| line)
+        .collect())
+}
+
+/// [`rung`]'s lines, each with the [`Place`] it was written for.
+pub fn rung_lines(set: &InstructionSet, rung: &Rung) -> Result<Vec<(String, Place)>, WriteError> {
     let mut w = Writer {
         set,
         lines: Vec::new(),
+        place: Vec::new(),
     };
     if let Some(input) = &rung.input {
-        w.load(input)?;
+        w.within(Step::Input, |w| w.load(input))?;
     }
     if rung.outputs.is_empty() {
         return refuse("the rung has no output".to_string());
     }
-    w.branches(&rung.outputs)?;
+    w.within(Step::Outputs, |w| w.branches(&rung.outputs))?;
     Ok(w.lines)
 }
 
@@ -76,10 +155,29 @@ fn line(mnemonic: &str, operands: &[&str]) -> String {
 
 struct Writer<'a> {
     set: &'a InstructionSet,
-    lines: Vec<String>,
+    lines: Vec<(String, Place)>,
+    /// The place of the part being written.
+    place: Place,
 }
 
 impl Writer<'_> {
+    /// `write` with `step` added to the place, for the part inside.
+    fn within<T>(
+        &mut self,
+        step: Step,
+        write: impl FnOnce(&mut Self) -> Result<T, WriteError>,
+    ) -> Result<T, WriteError> {
+        self.place.push(step);
+        let done = write(self);
+        self.place.pop();
+        done
+    }
+
+    /// A line written for the part at the current place.
+    fn push(&mut self, line: String) {
+        self.lines.push((line, self.place.clone()));
+    }
+
     fn spec(&self, mnemonic: &str) -> Result<&Instruction, WriteError> {
         match self.set.lookup(mnemonic) {
             Some(id) => Ok(self.set.get(id)),
@@ -92,7 +190,8 @@ impl Writer<'_> {
         let Some(id) = self.set.plain(class, None) else {
             return refuse(format!("the instruction set has no {class:?} instruction"));
         };
-        self.lines.push(self.set.get(id).mnemonic.clone());
+        let mnemonic = self.set.get(id).mnemonic.clone();
+        self.push(mnemonic);
         Ok(())
     }
 
@@ -115,7 +214,8 @@ impl Writer<'_> {
             },
         };
         let ops: Vec<&str> = c.operands.iter().map(|o| o.written.as_str()).collect();
-        self.lines.push(line(mnemonic, &ops));
+        let text = line(mnemonic, &ops);
+        self.push(text);
         Ok(true)
     }
 
@@ -132,12 +232,17 @@ impl Writer<'_> {
                 refuse("an empty series or parallel".to_string())
             }
             Node::Series(v) => {
-                self.load(&v[0])?;
-                v[1..].iter().try_for_each(|n| self.and(n))
+                self.within(Step::Child(0), |w| w.load(&v[0]))?;
+                (1..v.len()).try_for_each(|i| self.within(Step::Child(i), |w| w.and(&v[i])))
             }
             Node::Parallel(v) => {
-                self.load(&v[0])?;
-                v[1..].iter().try_for_each(|n| self.or(n))
+                self.within(Step::Child(0), |w| w.load(&v[0]))?;
+                for (i, n) in v.iter().enumerate().skip(1) {
+                    if self.within(Step::Child(i), |w| w.or(n))? {
+                        self.stack(LadderClass::OrBlock)?;
+                    }
+                }
+                Ok(())
             }
             Node::Box(b) => refuse(format!("the box {} has no power path into it", b.mnemonic)),
         }
@@ -152,7 +257,10 @@ impl Writer<'_> {
                 }
                 Ok(())
             }
-            Node::Series(v) => v.iter().try_for_each(|n| self.and(n)),
+            Node::Series(v) => v
+                .iter()
+                .enumerate()
+                .try_for_each(|(i, n)| self.within(Step::Child(i), |w| w.and(n))),
             Node::Parallel(_) => {
                 self.load(node)?;
                 self.stack(LadderClass::AndBlock)
@@ -161,23 +269,24 @@ impl Writer<'_> {
         }
     }
 
-    /// In parallel with the top of the stack: `O...`, or a path loaded and `OLD`.
-    fn or(&mut self, node: &Node) -> Result<(), WriteError> {
+    /// In parallel with the top of the stack: `O...`, or a path loaded; true when it
+    /// was loaded, for the caller to write `OLD` at the parallel's place.
+    fn or(&mut self, node: &Node) -> Result<bool, WriteError> {
         if let Node::Contact(c) = node {
             if self.contact(c, Join::Or)? {
-                return Ok(());
+                return Ok(false);
             }
         }
         self.load(node)?;
-        self.stack(LadderClass::OrBlock)
+        Ok(true)
     }
 
     /// A box: its extra power inputs loaded in STL order, then the box with its
     /// operands in STL order (a timer's or counter's number and a CALL's block first:
     /// the box's title).
     fn boxed(&mut self, b: &BoxElement) -> Result<(), WriteError> {
-        for (_, path) in &b.power_inputs {
-            self.load(path)?;
+        for (i, (_, path)) in b.power_inputs.iter().enumerate() {
+            self.within(Step::PowerInput(i), |w| w.load(path))?;
         }
         let spec = self.spec(&b.mnemonic)?;
         let mut ops: Vec<&str> = Vec::with_capacity(b.pins.len() + 1);
@@ -185,7 +294,8 @@ impl Writer<'_> {
             ops.push(&b.title);
         }
         ops.extend(b.pins.iter().map(|p| p.operand.written.as_str()));
-        self.lines.push(line(&spec.mnemonic, &ops));
+        let text = line(&spec.mnemonic, &ops);
+        self.push(text);
         Ok(())
     }
 
@@ -193,7 +303,8 @@ impl Writer<'_> {
         let spec = self.spec(&c.mnemonic)?;
         let mut ops = vec![c.operand.written.as_str()];
         ops.extend(c.count.iter().map(|n| n.written.as_str()));
-        self.lines.push(line(&spec.mnemonic, &ops));
+        let text = line(&spec.mnemonic, &ops);
+        self.push(text);
         Ok(())
     }
 
@@ -209,7 +320,7 @@ impl Writer<'_> {
             if changing.first() == Some(&i) {
                 self.stack(LadderClass::Push)?;
             }
-            self.branch(b)?;
+            self.within(Step::Branch(i), |w| w.branch(b))?;
             if changing.last() == Some(&i) {
                 self.stack(LadderClass::Pop)?;
             } else if changing.contains(&i) {
@@ -220,15 +331,15 @@ impl Writer<'_> {
     }
 
     fn branch(&mut self, b: &Branch) -> Result<(), WriteError> {
-        for n in &b.path {
-            self.and(n)?;
+        for (i, n) in b.path.iter().enumerate() {
+            self.within(Step::Path(i), |w| w.and(n))?;
         }
-        match &b.end {
-            BranchEnd::Coil(c) => self.coil(c),
-            BranchEnd::Box(x) => self.boxed(x),
+        self.within(Step::End, |w| match &b.end {
+            BranchEnd::Coil(c) => w.coil(c),
+            BranchEnd::Box(x) => w.boxed(x),
             BranchEnd::Split(v) if v.is_empty() => refuse("a split without branches".to_string()),
-            BranchEnd::Split(v) => self.branches(v),
-        }
+            BranchEnd::Split(v) => w.branches(v),
+        })
     }
 }
 

@@ -3,23 +3,29 @@
 //! (`{"format": "gutta-ladder", "version": 1, "plc", "symbols", "blocks"}`),
 //! `from_program.rs` (a checked program's ladder into it), `read.rs` (JSON text back
 //! into it, every shape error with its JSON path), `validate.rs` (the catalog's checks:
-//! mnemonics, operand counts, outputs last), `to_program.rs` (a validated model back
-//! into program text, its rungs' STL by `crate::write`) and `codes.rs` (the L codes).
-//! No I/O.
+//! mnemonics, operand counts, outputs last) with `power.rs` (the rules that make a
+//! rung's STL mean what it draws), `to_program.rs` (a validated model back into program
+//! text with the JSON path behind each line, its rungs turned into `model::Rung` by
+//! `to_rung.rs` and written by `crate::write`), `check.rs` (the compiler's diagnostics
+//! on that program at the parts of the model that caused them) and `codes.rs` (the L
+//! codes). No I/O.
 
+mod check;
 mod codes;
 mod from_program;
 mod power;
 mod read;
 mod to_program;
+mod to_rung;
 mod validate;
 
 use serde::Serialize;
 
+pub use check::{check, names_a_part, ModelCheck, ModelDiagnostic, ModelNote};
 pub use codes::{ModelError, ModelErrorCode};
 pub use from_program::model_of;
 pub use read::read_model;
-pub use to_program::program_of;
+pub use to_program::{program_of, written_program, WrittenProgram};
 pub use validate::validate;
 
 // One network or element at a time, for the edit operations (`crate::edit`): the same

@@ -2,8 +2,9 @@
 //! project (its folder or gutta.toml) or an image directory (through the disassembler:
 //! addresses instead of symbols) drawn as ladder diagrams into OUT, an `.svg` (every
 //! network stacked) or a self-contained `.html` page, or written as the ladder model's
-//! JSON (`.json`, `-` for stdout). A model (`INPUT.json`) is read, validated and written
-//! back as a program (`.lad`, `-` for stdout) with its rungs as STL. The model, its JSON,
+//! JSON (`.json`, `-` for stdout). A model (`INPUT.json`) is read, checked (its
+//! structure, then the compiler on its program, each diagnostic at a JSON path) and
+//! written back as a program (`.lad`, `-` for stdout) with its rungs as STL. The model, its JSON,
 //! the program text and the drawing are gutta_ladder's; this file reads the input and
 //! writes the file atomically.
 
@@ -12,7 +13,7 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use gutta_catalog::TargetOrigin;
-use gutta_cli::fatal::Fatal;
+use gutta_cli::fatal::{Fatal, MessageFormat};
 use gutta_cli::sources::read_program;
 use gutta_compiler::diagnostics::render::{render, RenderStyle};
 use gutta_compiler::source::SourceFile;
@@ -146,12 +147,16 @@ pub(crate) fn ladder(cli: &Cli, input: &Path, out: &Path) -> Result<ExitCode, Fa
     Ok(ExitCode::SUCCESS)
 }
 
-/// `gutta-cc ladder MODEL.json -o OUT.lad`: the model read and validated against its
-/// PLC type (`--plc`/`--target` win over its `plc`); every fault is its L code with the
-/// JSON path, exit 2, nothing written. A valid model is written as the program's text
-/// (`gutta_ladder::json::program_of`) into the .lad file atomically, or onto stdout.
+/// `gutta-cc ladder MODEL.json -o OUT.lad`: the model read and checked on its PLC type
+/// (`--plc`/`--target` win over its `plc`) by `gutta_ladder::json::check`: a structural
+/// fault is its L code with the JSON path, exit 2, nothing written; so is every error
+/// of the compiler on the written program, each at the JSON path of the part of the
+/// model that caused it, with its help as the hint. Warnings are printed and the
+/// program is written (into the .lad file atomically, or onto stdout). With
+/// `--message-format json` every diagnostic is one JSON object on stdout (its `file`,
+/// `path`, `code`, `severity`, `message`, `help`), before any fatal error.
 fn from_model(cli: &Cli, input: &Path, out: &Path) -> Result<ExitCode, Fatal> {
-    use gutta_ladder::json::{program_of, read_model, validate, ModelError, ModelErrorCode};
+    use gutta_ladder::json::{check, read_model, ModelDiagnostic, ModelError, ModelErrorCode};
     let refused = |e: ModelError| {
         Fatal::program(format!("{}: {e}", input.display()))
             .with_hint(format!("gutta-cc explain {}", e.code))
@@ -169,18 +174,67 @@ fn from_model(cli: &Cli, input: &Path, out: &Path) -> Result<ExitCode, Fatal> {
         .map_err(|e| Fatal::io(format!("cannot read {}: {e}", input.display())))?;
     let model = read_model(&bytes).map_err(refused)?;
     let target = match cli.target.explicit()? {
-        Some(explicit) => explicit.target,
-        None => std::sync::Arc::new(gutta_catalog::stdlib::load(&model.plc).map_err(|e| {
-            refused(ModelError::new(
-                ModelErrorCode::UnknownPlc,
-                "plc",
-                e.to_string(),
-            ))
-        })?),
+        Some(explicit) => explicit,
+        None => gutta_compiler::ExplicitTarget {
+            target: std::sync::Arc::new(gutta_catalog::stdlib::load(&model.plc).map_err(|e| {
+                refused(ModelError::new(
+                    ModelErrorCode::UnknownPlc,
+                    "plc",
+                    e.to_string(),
+                ))
+            })?),
+            origin: "the model's `plc`".to_string(),
+        },
     };
-    validate(&model, &target.instructions).map_err(refused)?;
-    let text = program_of(&model, &target.instructions).map_err(refused)?;
-    write_out(out, text.as_bytes(), "the program")?;
+    let checked = check(&model, &target);
+    let fault = |d: &ModelDiagnostic| {
+        Fatal::program(format!("{}: {d}", input.display())).with_hint(
+            d.help
+                .clone()
+                .unwrap_or_else(|| format!("gutta-cc explain {}", d.code)),
+        )
+    };
+    let Some(program) = &checked.program else {
+        // A structural fault stops the check: its L code, as the model's reader says it.
+        let first = checked.diagnostics.first();
+        return Err(first.map_or_else(
+            || Fatal::program(format!("{}: the model was not written", input.display())),
+            fault,
+        ));
+    };
+    let tool = env!("CARGO_BIN_NAME");
+    let json = cli.message_format == MessageFormat::Json;
+    for d in &checked.diagnostics {
+        if json {
+            let mut object = serde_json::to_value(d).unwrap_or_default();
+            object["file"] = input.display().to_string().into();
+            println!("{object}");
+        } else if !d.is_error() {
+            eprintln!("{tool}: warning: {}: {d}", input.display());
+            if let Some(help) = &d.help {
+                eprintln!("  help: {help}");
+            }
+        }
+    }
+    let errors: Vec<&ModelDiagnostic> = checked
+        .diagnostics
+        .iter()
+        .filter(|d| d.is_error())
+        .collect();
+    if let Some((last, before)) = errors.split_last() {
+        if json {
+            return Err(Fatal::program(format!(
+                "{}: {} in the model: nothing written",
+                input.display(),
+                gutta_cli::plural::count(errors.len(), "error")
+            )));
+        }
+        for d in before {
+            fault(d).report(tool, cli.message_format);
+        }
+        return Err(fault(last));
+    }
+    write_out(out, program.text.as_bytes(), "the program")?;
     let networks: usize = model.blocks.iter().map(|b| b.networks.len()).sum();
     eprintln!(
         "{}: {} written as STL into {}",
