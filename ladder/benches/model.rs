@@ -14,8 +14,10 @@
 //!   build, `json::model_of`); `build_to_model/1000`: the same from the checked program
 //!   (the ladder build and `model_of` only), so the split is visible;
 //! - `model_to_stl/1000`: `json::program_of`, the model written as program text;
-//!   `validate_write/1000`: `json::validate` then `program_of`, as `gutta-cc ladder
-//!   MODEL.json` does;
+//!   `validate_write/1000`: `json::validate` then `program_of`; `check/1000`:
+//!   `json::check`, what `gutta-cc ladder MODEL.json` does (validate, the program
+//!   written with its source map, the compiler's whole pipeline on it, the diagnostics
+//!   mapped to the model);
 //! - `model_json/1000`: the model's JSON text read (`json::read_model`) and written again
 //!   (`Model::to_json`); `read_model/1000` and `to_json/1000` each alone.
 //!
@@ -28,7 +30,7 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use gutta_compiler::check_source;
 use gutta_compiler::source::SourceFile;
-use gutta_ladder::json::{model_of, program_of, read_model, validate, NetworkBody};
+use gutta_ladder::json::{check, model_of, program_of, read_model, validate, NetworkBody};
 
 #[path = "corpus_program/mod.rs"]
 mod corpus_program;
@@ -89,6 +91,13 @@ fn bench_model(c: &mut Criterion) {
             let model = black_box(&model);
             validate(model, set).expect("valid");
             black_box(program_of(model, set))
+        })
+    });
+    c.bench_function("check/1000", |b| {
+        b.iter(|| {
+            let checked = check(black_box(&model), &target);
+            assert!(!checked.has_errors());
+            black_box(checked)
         })
     });
     c.bench_function("model_json/1000", |b| {
