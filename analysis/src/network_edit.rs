@@ -353,6 +353,109 @@ pub fn delete_network(
     ))
 }
 
+/// Replace a network's heading: the title after its NETWORK line's keyword and number
+/// (`NETWORK 3 // title`; `None` or blank: no title) and its comment lines, those
+/// between the NETWORK line and the first instruction (written `// line`, indented as
+/// the block's first instruction). The keyword, the number, the instructions and the
+/// blank lines before the first instruction keep their bytes; a part that does not
+/// change gives no edit. A network without a NETWORK line has no heading
+/// (`NoNetworkLine`).
+pub fn replace_heading(
+    text: &str,
+    program: &Program,
+    at: NetworkRef<'_>,
+    title: Option<&str>,
+    comment: &[&str],
+) -> Result<Vec<Edit>, EditError> {
+    no_line_breaks(title.into_iter())?;
+    no_line_breaks(comment.iter().copied())?;
+    let (unit, net) = find(text, program, at)?;
+    let Some(header) = net.header else {
+        let name = text[unit.header.name.range()].trim();
+        return Err(EditError::NoNetworkLine(name.to_string()));
+    };
+    let eol = line_ending(text, header.start as usize);
+    let mut edits = Vec::new();
+
+    // The title: what follows `//` on the NETWORK line.
+    let line = line_start(text, header.start as usize);
+    let end = content_end(text, line);
+    let content = &text[line..end];
+    let title = title.map(str::trim).filter(|t| !t.is_empty());
+    let old_title = content.find("//").map(|i| content[i + 2..].trim());
+    if old_title.filter(|t| !t.is_empty()) != title {
+        let keep = content
+            .find("//")
+            .map_or(content, |i| &content[..i])
+            .trim_end();
+        let from = line + keep.len();
+        let new = title.map_or(String::new(), |t| format!(" // {t}"));
+        edits.push(edit(from, end, new));
+    }
+
+    // The comment lines: from the line after the NETWORK line to the first instruction
+    // (without one, past the comment lines), blank lines at its end kept.
+    let from = line_end(text, header.start as usize);
+    let to = match net.instructions.first() {
+        Some(first) => line_start(text, first.span.start as usize),
+        None => after_comment_lines(text, from),
+    };
+    let to = trim_blank_lines_back(text, from, to.max(from));
+    let old: Vec<&str> = text[from..to]
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("//"))
+        .map(str::trim)
+        .collect();
+    let new: Vec<&str> = comment.iter().map(|c| c.trim()).collect();
+    if old != new {
+        let indent = block_indentation(text, unit);
+        let mut lines = String::new();
+        if from == text.len() && !text.ends_with('\n') && !new.is_empty() {
+            lines.push_str(eol);
+        }
+        for c in &new {
+            lines.push_str(indent);
+            lines.push_str(format!("// {c}").trim_end());
+            lines.push_str(eol);
+        }
+        edits.push(edit(from, to, lines));
+    }
+    Ok(edits)
+}
+
+/// Replace a block's `TITLE=` value (`None` or blank: the TITLE line goes); a block
+/// without one gets a `TITLE=` line right after its header line. A title that does not
+/// change gives no edit.
+pub fn set_block_title(
+    text: &str,
+    program: &Program,
+    block: BlockRef<'_>,
+    title: Option<&str>,
+) -> Result<Vec<Edit>, EditError> {
+    no_line_breaks(title.into_iter())?;
+    let unit = find_block(text, program, block)?;
+    let title = title.map(str::trim).filter(|t| !t.is_empty());
+    let eol = line_ending(text, unit.header.span.start as usize);
+    Ok(match (unit.title, title) {
+        (Some(old), Some(new)) if &text[old.range()] == new => Vec::new(),
+        (Some(old), Some(new)) => vec![edit(old.start as usize, old.end as usize, new.to_string())],
+        (Some(old), None) => {
+            let start = line_start(text, old.start as usize);
+            vec![edit(start, line_end(text, start), String::new())]
+        }
+        (None, Some(new)) => {
+            let at = line_end(text, unit.header.span.start as usize);
+            let mut line = String::new();
+            if at == text.len() && !text.ends_with('\n') {
+                line.push_str(eol);
+            }
+            line.push_str(&format!("TITLE={new}{eol}"));
+            vec![edit(at, at, line)]
+        }
+        (None, None) => Vec::new(),
+    })
+}
+
 // ---- finding -----------------------------------------------------------------------
 
 fn find<'p>(

@@ -2,16 +2,17 @@
 //! the corpora: a network replaced by its own lines gives the file back byte for byte,
 //! other lines change only that network's bytes, inserts and deletes leave every
 //! other network as it was; CRLF and tab-indented files, comments between
-//! instructions, renumbering after an insert, the refusals, and an edited program
-//! compiled against the same edit made by hand.
+//! instructions, renumbering after an insert, the refusals, a network's heading and a
+//! block's title rewritten alone, and an edited program compiled against the same edit
+//! made by hand.
 
 #![allow(clippy::disallowed_methods, reason = "tests read their data files")]
 
 use std::path::{Path, PathBuf};
 
 use gutta_analysis::network_edit::{
-    apply, delete_network, insert_network_after, insert_network_first, parse, replace_network,
-    BlockRef, EditError, NetworkRef, NewNetwork,
+    apply, delete_network, insert_network_after, insert_network_first, parse, replace_heading,
+    replace_network, set_block_title, BlockRef, EditError, NetworkRef, NewNetwork,
 };
 use gutta_compiler::compile;
 use gutta_compiler::source::SourceFile;
@@ -286,6 +287,95 @@ fn the_title_and_comments_stay_and_comments_between_instructions_move_by_positio
         apply(LATCH, &[edit]),
         LATCH.replace("LD     M0.0\n=      Q0.0\n", "")
     );
+}
+
+#[test]
+fn a_heading_is_rewritten_alone() {
+    let program = parse(LATCH, false);
+    let heading = |at: usize, title: Option<&str>, comment: &[&str]| {
+        let edits = replace_heading(LATCH, &program, main_net(at), title, comment).expect("edit");
+        apply(LATCH, &edits)
+    };
+    // The same heading: no edit at all.
+    let same = replace_heading(
+        LATCH,
+        &program,
+        main_net(0),
+        Some("start/stop latch"),
+        &["a comment before the first instruction"],
+    )
+    .expect("edit");
+    assert!(same.is_empty(), "{same:?}");
+    // A new title: only the text after `//` on the NETWORK line.
+    assert_eq!(
+        heading(
+            0,
+            Some("latch"),
+            &["a comment before the first instruction"]
+        ),
+        LATCH.replace("NETWORK 1 // start/stop latch", "NETWORK 1 // latch")
+    );
+    // No title: the `//` goes too; a title where there was none.
+    assert_eq!(
+        heading(1, None, &[]),
+        LATCH.replace("NETWORK 2 // lamp", "NETWORK 2")
+    );
+    let untitled = LATCH.replace("NETWORK 2 // lamp", "NETWORK 2");
+    let program2 = parse(&untitled, false);
+    let edits =
+        replace_heading(&untitled, &program2, main_net(1), Some("lamp"), &[]).expect("edit");
+    assert_eq!(apply(&untitled, &edits), LATCH);
+    // Comment lines replaced, added and removed; the instructions keep their bytes.
+    assert_eq!(
+        heading(0, Some("start/stop latch"), &["one", "two"]),
+        LATCH.replace(
+            "// a comment before the first instruction\n",
+            "// one\n// two\n"
+        )
+    );
+    assert_eq!(
+        heading(1, Some("lamp"), &["the lamp"]),
+        LATCH.replace("NETWORK 2 // lamp\n", "NETWORK 2 // lamp\n// the lamp\n")
+    );
+    assert_eq!(
+        heading(0, Some("start/stop latch"), &[]),
+        LATCH.replace("// a comment before the first instruction\n", "")
+    );
+    // CRLF and tabs: the file's line ending, the block's indentation.
+    let text = LATCH.replace("\nLD ", "\n\tLD ").replace('\n', "\r\n");
+    let program = parse(&text, false);
+    let edits =
+        replace_heading(&text, &program, main_net(1), Some("lamp"), &["lit"]).expect("edit");
+    assert_eq!(
+        apply(&text, &edits),
+        text.replace("NETWORK 2 // lamp\r\n", "NETWORK 2 // lamp\r\n\t// lit\r\n")
+    );
+    // A line break in a title or comment is refused.
+    assert!(matches!(
+        replace_heading(LATCH, &parse(LATCH, false), main_net(0), Some("a\nb"), &[]),
+        Err(EditError::LineBreak(_))
+    ));
+}
+
+#[test]
+fn a_block_title_is_rewritten_alone() {
+    let program = parse(LATCH, false);
+    let titled = LATCH.replace("MAIN:OB1\n", "MAIN:OB1\nTITLE=the machine\n");
+    let edits =
+        set_block_title(LATCH, &program, BlockRef::Index(0), Some("the machine")).expect("edit");
+    assert_eq!(apply(LATCH, &edits), titled);
+    let program = parse(&titled, false);
+    let edits =
+        set_block_title(&titled, &program, BlockRef::Index(0), Some("a machine")).expect("edit");
+    assert_eq!(
+        apply(&titled, &edits),
+        titled.replace("the machine", "a machine")
+    );
+    let edits = set_block_title(&titled, &program, BlockRef::Index(0), None).expect("edit");
+    assert_eq!(apply(&titled, &edits), LATCH);
+    let same =
+        set_block_title(&titled, &program, BlockRef::Index(0), Some("the machine")).expect("edit");
+    assert!(same.is_empty());
 }
 
 #[test]

@@ -17,7 +17,9 @@
 //!   (`network_edit::replace_network` with the held tree, then `network_edit::apply`):
 //!   the bar;
 //! - `edit/apply_rewrite_parse`: that, then the new text parsed again, the tree the
-//!   next edit needs.
+//!   next edit needs;
+//! - `edit/apply_to_text`: `Editor::apply`, then `edit::apply_to_text`, the library
+//!   call a studio makes (it parses the text for each change it writes).
 //!
 //! Each run edits a fresh copy of the editor, made and dropped outside the timing
 //! (`iter_batched_ref`). It asserts, untimed, that the rewritten text checks with no error and that only the
@@ -33,7 +35,9 @@ use gutta_analysis::network_edit::{self, BlockRef, NetworkRef};
 use gutta_catalog::InstructionSet;
 use gutta_compiler::check_source;
 use gutta_compiler::source::SourceFile;
-use gutta_ladder::edit::{instruction_lines, Change, Edit, Editor, ElementPath, Step};
+use gutta_ladder::edit::{
+    apply_to_text, instruction_lines, Change, Edit, Editor, ElementPath, Step,
+};
 use gutta_ladder::json::{model_of, Element, Model, NetworkBody};
 
 #[path = "corpus_program/mod.rs"]
@@ -99,6 +103,16 @@ fn bench_edit(c: &mut Criterion) {
         b.iter_batched_ref(
             fresh,
             |editor| black_box(apply_rewrite(editor, set, &edit, &text, &tree)),
+            BatchSize::LargeInput,
+        )
+    });
+    c.bench_function("edit/apply_to_text", |b| {
+        b.iter_batched_ref(
+            fresh,
+            |editor| {
+                let changes = editor.apply(edit.clone()).expect("the edit applies");
+                black_box(apply_to_text(&text, editor.model(), set, &changes).expect("in place"))
+            },
             BatchSize::LargeInput,
         )
     });

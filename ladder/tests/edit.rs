@@ -19,9 +19,6 @@ use gutta_catalog::{stdlib, Target};
 use gutta_ladder::edit::{apply, Change, Edit, Editor, ElementPath, NetworkPath, Place, Step};
 use gutta_ladder::json::{program_of, read_model, validate, Element, Model, ModelErrorCode};
 
-use gutta_analysis::network_edit::{self, BlockRef, NetworkRef, NewNetwork};
-use gutta_ladder::edit::instruction_lines;
-
 use common::edit::round_trip;
 use common::root;
 
@@ -776,74 +773,12 @@ fn the_edited_machine_is_the_golden_model() {
     assert_eq!(read_model(want.as_bytes()).expect("reads"), edited);
 }
 
-/// The `.lad` text of `model` with `changes` applied through `network_edit`, as a studio
-/// keeps its source file: only the changed networks' lines are rewritten.
+/// The `.lad` text of `model` with `changes` applied in place, as a studio does
+/// (`edit::apply_to_text`).
 fn apply_to_text(text: &str, model: &Model, changes: &[Change]) -> String {
     let target = target();
-    let set = &target.instructions;
-    let mut text = text.to_string();
-    let at_ref = |b: usize, n: usize| NetworkRef {
-        block: BlockRef::Index(b),
-        network: n,
-    };
-    // Insert network `n` of block `b` as the model has it now.
-    let insert = |text: &str, b: usize, n: usize| -> String {
-        let net = &model.blocks[b].networks[n];
-        let lines = instruction_lines(
-            model,
-            set,
-            NetworkPath {
-                block: b,
-                network: n,
-            },
-        )
-        .expect("writable");
-        let lines: Vec<&str> = lines.iter().map(String::as_str).collect();
-        let comment: Vec<&str> = net.comment.lines().collect();
-        let new = NewNetwork {
-            title: Some(net.title.as_str()).filter(|t| !t.is_empty()),
-            comment: &comment,
-            lines: &lines,
-        };
-        let program = network_edit::parse(text, false);
-        let edits = if n == 0 {
-            network_edit::insert_network_first(text, &program, BlockRef::Index(b), &new)
-        } else {
-            network_edit::insert_network_after(text, &program, at_ref(b, n - 1), &new)
-        }
-        .expect("inserts");
-        network_edit::apply(text, &edits)
-    };
-    let delete = |text: &str, b: usize, n: usize| -> String {
-        let program = network_edit::parse(text, false);
-        let edit = network_edit::delete_network(text, &program, at_ref(b, n)).expect("deletes");
-        network_edit::apply(text, &[edit])
-    };
-    for change in changes {
-        text = match *change {
-            Change::Lines(at) => {
-                let lines = instruction_lines(model, set, at).expect("writable");
-                let lines: Vec<&str> = lines.iter().map(String::as_str).collect();
-                let program = network_edit::parse(&text, false);
-                let edit = network_edit::replace_network(
-                    &text,
-                    &program,
-                    at_ref(at.block, at.network),
-                    &lines,
-                )
-                .expect("replaces");
-                network_edit::apply(&text, &[edit])
-            }
-            Change::Heading(at) => {
-                insert(&delete(&text, at.block, at.network), at.block, at.network)
-            }
-            Change::Inserted(at) => insert(&text, at.block, at.network),
-            Change::Deleted(at) => delete(&text, at.block, at.network),
-            Change::Moved { block, from, to } => insert(&delete(&text, block, from), block, to),
-            Change::Block(_) => panic!("not in this sequence"),
-        };
-    }
-    text
+    gutta_ladder::edit::apply_to_text(text, model, &target.instructions, changes)
+        .unwrap_or_else(|e| panic!("{changes:?}: {e}"))
 }
 
 #[test]

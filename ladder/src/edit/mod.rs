@@ -4,7 +4,8 @@
 //! and its JSON form), `rung.rs` (the element tree operations and `normalise`),
 //! `networks.rs` (a block's networks as a list, its title), `check.rs` (what an edited
 //! network must pass: `json/`'s own per-network checks and writer, and the power rules
-//! of STL), `history.rs` (`Editor`: a model with undo and redo). Here: `apply`, which
+//! of STL), `history.rs` (`Editor`: a model with undo and redo), `text.rs`
+//! (`apply_to_text`: the changes written into the `.lad` text in place). Here: `apply`, which
 //! edits a copy of the one network it changes and keeps it only when it checks (the
 //! catalog decides what a mnemonic is, the writer what STL can say), and `Change`.
 
@@ -14,6 +15,7 @@ mod networks;
 mod op;
 mod path;
 mod rung;
+mod text;
 
 use gutta_catalog::InstructionSet;
 
@@ -23,6 +25,7 @@ pub use history::Editor;
 pub use op::{Edit, Place};
 pub use path::{ElementPath, NetworkPath, Step};
 pub use rung::normalise;
+pub use text::apply_to_text;
 
 use crate::json::{
     network_instructions, Element, Model, ModelError, ModelErrorCode as Code, NetworkBody,

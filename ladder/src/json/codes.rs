@@ -77,6 +77,8 @@ model_codes! {
         "An edit sent as JSON is one object with `op` naming the operation (`insert_contact`, `insert_coil`, `insert_box`, `wrap_parallel`, `delete`, `set_operands`, `set_mnemonic`, `insert_network`, `delete_network`, `move_network`, `duplicate_network`, `set_network_title`, `set_network_comment`, `set_block_title`) and that operation's fields (docs/ladder.md, \"Editing the model\"). The message names what serde could not read.";
     L0019 NothingToUndo "nothing to undo, or nothing to redo"
         "The editor's history is empty in that direction: no edit was applied since the model was opened (or all were undone), or no edit was undone since the last new edit (a new edit clears what could be redone). The model is unchanged.";
+    L0020 TextOutOfStep "the program text does not hold what the change names"
+        "An edit's changes are applied to the program's `.lad` text in place (`edit::apply_to_text`, docs/ladder.md \"Editing the model\"), and the text has no block or network where the model has it: the text changed since the model was read from it, or it is another program. The message says what is missing. Nothing is written; read the model from the text again.";
 }
 
 impl fmt::Display for ModelErrorCode {
