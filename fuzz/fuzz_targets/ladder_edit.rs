@@ -4,9 +4,11 @@
 //! `edit::Editor` to one of the repository's models (the first byte chooses
 //! tests/data/ladder_model/machine.json or machine_edited.json). It must never panic;
 //! a refused edit leaves the model as it was; after every step the model validates, is
-//! written as a program, and every network a change names writes its lines; the program
-//! at the end goes through the compiler's check; undoing every step gives the model it
-//! started from.
+//! written as a program, and every network a change names writes its lines; the step's
+//! changes are written into the program's text in place (`edit::apply_to_text`), which
+//! stays the model's program but for network numbers (a deleted network leaves a gap);
+//! the program at the end goes through the compiler's check; undoing every step gives the
+//! model it started from.
 #![no_main]
 
 use std::sync::{Arc, OnceLock};
@@ -14,7 +16,7 @@ use std::sync::{Arc, OnceLock};
 use gutta_catalog::{stdlib, Target};
 use gutta_compiler::check_source;
 use gutta_compiler::source::SourceFile;
-use gutta_ladder::edit::{instruction_lines, Change, Edit, Editor};
+use gutta_ladder::edit::{apply_to_text, instruction_lines, Change, Edit, Editor};
 use gutta_ladder::json::{program_of, read_model, validate, Model};
 use libfuzzer_sys::fuzz_target;
 
@@ -47,6 +49,20 @@ fn holds(model: &Model, changes: &[Change]) {
     }
 }
 
+/// `text` with every `NETWORK n` line's number left out.
+fn unnumbered(text: &str) -> String {
+    text.lines()
+        .map(|l| match l.strip_prefix("NETWORK ") {
+            Some(rest) => {
+                let rest = rest.trim_start_matches(|c: char| c.is_ascii_digit());
+                format!("NETWORK{rest}")
+            }
+            None => l.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
 fuzz_target!(|data: &[u8]| {
     let Some((&which, rest)) = data.split_first() else {
         return;
@@ -54,8 +70,9 @@ fuzz_target!(|data: &[u8]| {
     let start = &models()[usize::from(which % 2)];
     let set = &default_target().instructions;
     let mut editor = Editor::new(start.clone(), set);
-    let text = String::from_utf8_lossy(rest);
-    for line in text.lines().take(64) {
+    let mut text = program_of(start, set).expect("the model is written");
+    let input = String::from_utf8_lossy(rest);
+    for line in input.lines().take(64) {
         let before = editor.model().clone();
         let result = match line.trim() {
             "undo" => editor.undo(),
@@ -66,7 +83,13 @@ fuzz_target!(|data: &[u8]| {
             },
         };
         match result {
-            Ok(changes) => holds(editor.model(), &changes),
+            Ok(changes) => {
+                holds(editor.model(), &changes);
+                text = apply_to_text(&text, editor.model(), set, &changes)
+                    .expect("the changes go into the text the model was written as");
+                let written = program_of(editor.model(), set).expect("written");
+                assert_eq!(unnumbered(&text), unnumbered(&written), "after {line}");
+            }
             Err(_) => assert_eq!(editor.model(), &before, "a refused step changes nothing"),
         }
     }

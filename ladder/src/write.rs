@@ -93,17 +93,21 @@ pub fn network_lines(
     set: &InstructionSet,
     net: &Network,
 ) -> Result<Vec<(String, NetworkPart)>, WriteError> {
-    let heading = match &net.title {
+    // Title and comment lines trimmed, as the program reads them back.
+    let heading = match net
+        .title
+        .as_deref()
+        .map(str::trim)
+        .filter(|t| !t.is_empty())
+    {
         Some(title) => format!("NETWORK {} // {title}", net.number),
         None => format!("NETWORK {}", net.number),
     };
     let mut lines = vec![(heading, NetworkPart::Heading)];
-    lines.extend(
-        net.comment
-            .iter()
-            .enumerate()
-            .map(|(i, c)| (format!("// {c}"), NetworkPart::Comment(i))),
-    );
+    lines.extend(net.comment.iter().enumerate().map(|(i, c)| {
+        let line = format!("// {}", c.trim());
+        (line.trim_end().to_string(), NetworkPart::Comment(i))
+    }));
     match &net.body {
         Body::Rung(r) => lines.extend(
             rung_lines(set, r)?

@@ -248,6 +248,13 @@ fn each_fault_has_its_code_and_json_path() {
         ),
         (
             rung(
+                r#"{"series": [{"contact": "LD", "operands": ["I0.0"]}, {"coil": "S", "operands": ["Q0.0", " "]}]}"#,
+            ),
+            C::OperandCount,
+            "blocks[0].networks[1].rung.series[1].operands[1]",
+        ),
+        (
+            rung(
                 r#"{"series": [{"contact": "LD", "operands": ["I0.0"]}, {"coil": "=", "operands": ["Q0.0"]}, {"contact": "LD", "operands": ["I0.1"]}]}"#,
             ),
             C::OutputNotLast,

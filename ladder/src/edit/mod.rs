@@ -245,13 +245,13 @@ fn perform(model: &mut Model, set: &InstructionSet, edit: &Edit) -> Edited<Appli
         Edit::DuplicateNetwork { at } => networks::duplicate(model, *at),
         Edit::SetNetworkTitle { at, title } => {
             edit_network(model, set, *at, Change::Heading, |n| {
-                n.title.clone_from(title);
+                n.title = networks::title_as_read(title);
                 Ok(())
             })
         }
         Edit::SetNetworkComment { at, comment } => {
             edit_network(model, set, *at, Change::Heading, |n| {
-                n.comment.clone_from(comment);
+                n.comment = networks::comment_as_read(comment);
                 Ok(())
             })
         }

@@ -31,8 +31,19 @@ pub(super) fn insert(
         ));
     }
     let mut new = network.clone();
-    if let NetworkBody::Rung { rung } = &mut new.body {
-        *rung = normalise(std::mem::replace(rung, Element::Series { series: vec![] }));
+    new.title = title_as_read(&new.title);
+    new.comment = comment_as_read(&new.comment);
+    match &mut new.body {
+        NetworkBody::Rung { rung } => {
+            *rung = normalise(std::mem::replace(rung, Element::Series { series: vec![] }));
+        }
+        NetworkBody::Stl { stl, .. } => {
+            *stl = stl
+                .iter()
+                .map(|l| l.trim().to_string())
+                .filter(|l| !l.is_empty())
+                .collect();
+        }
     }
     check_network(set, &new, at.block, at.network)?;
     let before = block.networks.clone();
@@ -107,7 +118,12 @@ pub(super) fn set_block_title(
             "a line break in a field that is one line of the program",
         ));
     }
-    let before = std::mem::replace(&mut block.title, title.clone());
+    let title = title
+        .as_deref()
+        .map(str::trim)
+        .filter(|t| !t.is_empty())
+        .map(str::to_string);
+    let before = std::mem::replace(&mut block.title, title);
     Ok((vec![Change::Block(b)], Undo::BlockTitle(b, before)))
 }
 
@@ -146,4 +162,21 @@ fn renumber(networks: &mut [NetworkJson]) {
             n.number = u32::try_from(i + 1).ok();
         }
     }
+}
+
+/// A network title as the program reads it back: without blanks around it (the
+/// writer and the text edits write `NETWORK n // title` trimmed).
+pub(super) fn title_as_read(title: &str) -> String {
+    title.trim().to_string()
+}
+
+/// Network comment lines as the program reads them back: each without blanks around it,
+/// no empty lines at the end (a `//` line at the end would read back as one line
+/// fewer once joined).
+pub(super) fn comment_as_read(comment: &str) -> String {
+    let mut lines: Vec<&str> = comment.lines().map(str::trim).collect();
+    while lines.last().is_some_and(|l| l.is_empty()) {
+        lines.pop();
+    }
+    lines.join("\n")
 }

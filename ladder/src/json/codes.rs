@@ -52,7 +52,7 @@ model_codes! {
     L0006 WrongElement "the mnemonic is not that kind of element"
         "A `contact` takes a contact in its load form (`LD`, `LDN`, `LDI`, `LDW>=`...) or `EU`, `ED`, `NOT`; a `coil` takes an output (`=`, `S`, `R`, `=I`...); a `box` takes a box instruction (`TON`, `MOVW`, `CALL`...). The message says what the mnemonic is: the help names the load form when an `A...` or `O...` form was written as a contact.";
     L0007 OperandCount "a wrong number of operands"
-        "An element's `operands` are the instruction's operands in STL order, as many as the instruction has (`S` takes the bit and the count; `CALL` takes the subroutine and then its arguments). The message says how many the instruction takes.";
+        "An element's `operands` are the instruction's operands in STL order, as many as the instruction has (`S` takes the bit and the count; `CALL` takes the subroutine and then its arguments), none of them empty. The message says how many the instruction takes, or which operand is empty.";
     L0008 OutputNotLast "an output in series before another element"
         "In a `series` only the last element may end the power path: a coil, a box without power output (`JMP`), or a `parallel` of outputs. A coil before a contact is not a rung; put the contact before the coil, or put the outputs in a `parallel`.";
     L0009 NoOutput "a rung or output branch without an output"

@@ -331,9 +331,10 @@ fn spec<'a>(set: &'a InstructionSet, mnemonic: &str, path: &str) -> Made<&'a Ins
     })
 }
 
+/// An operand as the program reads it back: without blanks around it.
 fn operand(written: &str) -> Operand {
     Operand {
-        written: written.to_string(),
+        written: written.trim().to_string(),
         address: None,
         symbol: None,
     }

@@ -226,7 +226,15 @@ fn count(spec: &Instruction, operands: &[String], path: &str) -> Check<()> {
         operands.len() == fixed
     };
     if ok {
-        return Ok(());
+        // A blank operand is a missing one: `S Q0.0,` has one operand.
+        return match operands.iter().position(|o| o.trim().is_empty()) {
+            Some(i) => Err(ModelError::new(
+                Code::OperandCount,
+                &format!("{path}.operands[{i}]"),
+                format!("operand {} of `{}` is empty", i + 1, spec.mnemonic),
+            )),
+            None => Ok(()),
+        };
     }
     let names: Vec<&str> = spec.operands.iter().map(|o| o.name.as_str()).collect();
     let want = if spec.call_arguments {
