@@ -841,3 +841,48 @@ fn numbered_by_position(text: &str) -> String {
     }
     out
 }
+
+/// The `ladder_edit` fuzz target's findings: what an edit stores is what the program
+/// reads back, so the text rewritten in place stays the model's program.
+#[test]
+fn blanks_and_line_breaks_in_edits_are_what_the_program_reads_back() {
+    let target = target();
+    let set = &target.instructions;
+    let start = machine();
+    let steps = [
+        // A title with a blank after it: stored and written trimmed.
+        r#"{"op": "set_network_title", "at": "blocks[0].networks[2]", "title": "count parts "}"#,
+        // A comment with a lone carriage return: two lines, as the text reads them.
+        r#"{"op": "set_network_comment", "at": "blocks[0].networks[2]", "comment": "one\rand two \n\n"}"#,
+    ];
+    let mut editor = Editor::new(start.clone(), set);
+    let mut text = program_of(&start, set).expect("written");
+    for step in steps {
+        let changes = editor
+            .apply(Edit::from_json(step).expect("an edit"))
+            .expect("applies");
+        text = gutta_ladder::edit::apply_to_text(&text, editor.model(), set, &changes)
+            .expect("in place");
+        assert_eq!(
+            text,
+            program_of(editor.model(), set).expect("written"),
+            "{step}"
+        );
+    }
+    let net = &editor.model().blocks[0].networks[2];
+    assert_eq!(net.title, "count parts");
+    assert_eq!(net.comment, "one\nand two");
+    assert!(
+        text.contains("NETWORK 3 // count parts\n// one\n// and two\nLD     Part\n"),
+        "{text}"
+    );
+    // An empty operand is a missing one, refused at its path; nothing changes.
+    let empty = r#"{"op": "insert_coil", "at": "blocks[0].networks[1].rung.series[2].parallel[1]", "place": "parallel", "coil": "S", "operands": ["Q0.5", " "]}"#;
+    let before = editor.model().clone();
+    let err = editor
+        .apply(Edit::from_json(empty).expect("an edit"))
+        .expect_err("refused");
+    assert_eq!(err.code, ModelErrorCode::OperandCount, "{err}");
+    assert!(err.path.ends_with(".operands[1]"), "{err}");
+    assert_eq!(editor.model(), &before);
+}

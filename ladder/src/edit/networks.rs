@@ -8,7 +8,8 @@ use gutta_catalog::InstructionSet;
 use super::check::check_network;
 use super::{normalise, Applied, Change, NetworkPath, Undo};
 use crate::json::{
-    BlockJson, Element, Model, ModelError, ModelErrorCode as Code, NetworkBody, NetworkJson,
+    comment_lines, BlockJson, Element, Model, ModelError, ModelErrorCode as Code, NetworkBody,
+    NetworkJson,
 };
 
 type Edited<T> = Result<T, ModelError>;
@@ -174,7 +175,7 @@ pub(super) fn title_as_read(title: &str) -> String {
 /// no empty lines at the end (a `//` line at the end would read back as one line
 /// fewer once joined).
 pub(super) fn comment_as_read(comment: &str) -> String {
-    let mut lines: Vec<&str> = comment.lines().map(str::trim).collect();
+    let mut lines: Vec<&str> = comment_lines(comment).map(str::trim).collect();
     while lines.last().is_some_and(|l| l.is_empty()) {
         lines.pop();
     }

@@ -12,7 +12,7 @@ use gutta_analysis::network_edit::{self, BlockRef, NetworkRef, NewNetwork};
 use gutta_catalog::InstructionSet;
 
 use super::{instruction_lines, Change, NetworkPath};
-use crate::json::{Model, ModelError, ModelErrorCode as Code};
+use crate::json::{comment_lines, Model, ModelError, ModelErrorCode as Code};
 
 /// `text` with `changes` (what `Editor::apply`, `undo` or `redo` returned, in order)
 /// applied: each network or heading they name written as `model` (the model after the
@@ -37,7 +37,7 @@ pub fn apply_to_text(
             }
             Change::Heading(at) => {
                 let net = network(model, at)?;
-                let comment: Vec<&str> = net.comment.lines().collect();
+                let comment: Vec<&str> = comment_lines(&net.comment).collect();
                 let tree = network_edit::parse(&text, false);
                 let edits = network_edit::replace_heading(
                     &text,
@@ -106,7 +106,7 @@ fn insert(
     let net = network(model, at)?;
     let lines = instruction_lines(model, set, at)?;
     let lines: Vec<&str> = lines.iter().map(String::as_str).collect();
-    let comment: Vec<&str> = net.comment.lines().collect();
+    let comment: Vec<&str> = comment_lines(&net.comment).collect();
     let new = NewNetwork {
         title: Some(net.title.as_str()).filter(|t| !t.is_empty()),
         comment: &comment,

@@ -145,6 +145,27 @@ pub enum Element {
     },
 }
 
+/// A network `comment`'s lines: split at every line break a file may hold (`\r\n`,
+/// `\n`, a lone `\r`), as the program's text reads them.
+pub fn comment_lines(comment: &str) -> impl Iterator<Item = &str> {
+    let mut rest = (!comment.is_empty()).then_some(comment);
+    std::iter::from_fn(move || {
+        let text = rest?;
+        match text.find(['\r', '\n']) {
+            Some(i) => {
+                let skip = if text[i..].starts_with("\r\n") { 2 } else { 1 };
+                let next = &text[i + skip..];
+                rest = (!next.is_empty()).then_some(next);
+                Some(&text[..i])
+            }
+            None => {
+                rest = None;
+                Some(text)
+            }
+        }
+    })
+}
+
 impl Model {
     /// The model as JSON text: pretty, two-space indented, with a final newline.
     pub fn to_json(&self) -> String {

@@ -66,7 +66,9 @@ impl<'a> Places<'a> {
         let comment = if net.comment.is_empty() {
             Vec::new()
         } else {
-            net.comment.lines().map(str::to_string).collect()
+            super::comment_lines(&net.comment)
+                .map(str::to_string)
+                .collect()
         };
         Ok(Network {
             number: net.number.unwrap_or(n as u32 + 1),
