@@ -119,6 +119,13 @@ pub(crate) enum Command {
         #[arg(long, value_name = "N")]
         jobs: Option<usize>,
     },
+    /// Open GUTTA Studio: the program's ladder in the browser, served by gutta-cc on
+    /// loopback to the page holding the printed address and its per-run token; it reads
+    /// and writes only the project's files (docs/studio.md). Ctrl-C stops it (exit 0).
+    #[command(
+        after_help = "Examples:\n  timeout --preserve-status -s INT 2 gutta-cc studio main.lad --no-open        # serve 2 s, then Ctrl-C\n  cd demo && timeout --preserve-status -s INT 2 gutta-cc studio --no-open     # the project (`gutta-cc new demo`)"
+    )]
+    Studio(StudioArgs),
     /// Draw a program's networks as ladder diagrams (LAD) into an .svg (every network) or a
     /// self-contained .html page (docs/ladder.md); a network that is not one rung is shown
     /// as STL with the reason.
@@ -406,6 +413,22 @@ pub(crate) struct LinkArgs {
     pub(crate) retries: u32,
 }
 
+/// What `gutta-cc studio` serves, and where.
+#[derive(Debug, Clone, clap::Args)]
+pub(crate) struct StudioArgs {
+    /// A project folder, or source files (.lad) of one folder [default: the project
+    /// around the current directory].
+    #[arg(value_name = "PROJECT_DIR | FILE.lad")]
+    pub(crate) paths: Vec<PathBuf>,
+    /// Where the HTTP server listens: loopback with a free port unless given (port 0:
+    /// any free port); the address with the token is the first line on stdout.
+    #[arg(long, value_name = "HOST:PORT", default_value = "127.0.0.1:0")]
+    pub(crate) http: String,
+    /// Do not open the page in the browser (the address is on stdout).
+    #[arg(long)]
+    pub(crate) no_open: bool,
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub(crate) enum Emit {
     Listing,
@@ -441,6 +464,7 @@ impl Command {
             | Command::Build { .. }
             | Command::Test { .. }
             | Command::Ladder { .. }
+            | Command::Studio { .. }
             | Command::Modbus { .. }
             | Command::Dis { .. }
             | Command::Explain { .. }

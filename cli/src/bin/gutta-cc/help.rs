@@ -32,6 +32,7 @@ pub(crate) const COMMAND_GROUPS: &[(&str, Group)] = &[
     ("new", Group::Build),
     ("build", Group::Build),
     ("test", Group::Build),
+    ("studio", Group::Build),
     ("download", Group::Online),
     ("upload", Group::Online),
     ("status", Group::Online),

@@ -21,6 +21,7 @@ mod inspect;
 mod login;
 mod monitor;
 mod project;
+mod studio;
 mod test;
 mod watch;
 
@@ -88,6 +89,7 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
             test::test(cli, &args)
         }
         Command::Ladder { input, output } => ladder::ladder(cli, input, output),
+        Command::Studio(args) => studio::studio(cli, args),
         Command::Modbus { variable } => inspect::modbus(&cli.target, variable),
         Command::Explain { code } => explain::run(code),
         Command::Dis { image, format } => inspect::dis(&cli.target, image, *format),
