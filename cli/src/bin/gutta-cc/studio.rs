@@ -52,7 +52,14 @@ pub(crate) fn studio(cli: &Cli, options: &StudioArgs) -> Result<ExitCode, Fatal>
             open_browser(&url);
         }
         let guard = Guard::new(token.clone(), at);
-        let app = api::router(Arc::new(Studio { files, token }), guard);
+        let app = api::router(
+            Arc::new(Studio {
+                files,
+                token,
+                writing: std::sync::Mutex::new(()),
+            }),
+            guard,
+        );
         axum::serve(listener, app)
             .with_graceful_shutdown(async {
                 let _ = tokio::signal::ctrl_c().await;

@@ -43,6 +43,9 @@ const MAX_BODY: usize = 64 * 1024 * 1024;
 pub(crate) struct Studio {
     pub files: ProgramFiles,
     pub token: Token,
+    /// Held while a file is written: two PUTs of one file would share gutta-io's
+    /// temporary sibling (named by the process).
+    pub writing: std::sync::Mutex<()>,
 }
 
 /// The routes, each behind `guard`.
@@ -209,16 +212,18 @@ async fn read_file(State(studio): State<Arc<Studio>>, uri: Uri) -> Response {
 }
 
 async fn write_file(State(studio): State<Arc<Studio>>, uri: Uri, body: Bytes) -> Response {
-    let write = || -> Result<serde_json::Value, Refusal> {
+    let write = move || -> Result<serde_json::Value, Refusal> {
         let relative = requested_path(&uri)?;
         let path = studio.files.resolve(&relative, Access::WriteLad)?;
+        let _one_at_a_time = studio.writing.lock().unwrap_or_else(|e| e.into_inner());
         gutta_io::write_file_atomically(&path, &body)
             .map_err(|e| Refusal::Io(format!("cannot write {relative}: {e}")))?;
         Ok(json!({"written": studio.files.relative(&path), "bytes": body.len()}))
     };
-    match write() {
-        Ok(answer) => json_response(&answer),
-        Err(refusal) => refusal.into_response(),
+    match tokio::task::spawn_blocking(write).await {
+        Ok(Ok(answer)) => json_response(&answer),
+        Ok(Err(refusal)) => refusal.into_response(),
+        Err(e) => Refusal::Io(e.to_string()).into_response(),
     }
 }
 

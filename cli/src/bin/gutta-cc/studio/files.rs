@@ -116,9 +116,12 @@ impl ProgramFiles {
         })
     }
 
-    /// `path` as the studio names it: relative to the folder, `/`-separated.
+    /// `path` as the studio names it: relative to the folder, `/`-separated (a symbol
+    /// table outside the folder keeps its whole path; the studio does not serve it).
     pub(crate) fn relative(&self, path: &Path) -> String {
-        let inside = path.strip_prefix(&self.root).unwrap_or(path);
+        let Ok(inside) = path.strip_prefix(&self.root) else {
+            return path.display().to_string();
+        };
         inside
             .components()
             .map(|c| c.as_os_str().to_string_lossy())
@@ -279,6 +282,8 @@ mod tests {
             "path-invalid"
         );
         assert_eq!(f.relative(&f.root.join("src/main.lad")), "src/main.lad");
+        let table = base.join("symbols.csv");
+        assert_eq!(f.relative(&table), table.display().to_string());
     }
 
     #[cfg(unix)]
