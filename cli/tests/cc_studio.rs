@@ -402,6 +402,35 @@ fn files_beside_the_given_sources_are_the_project() {
     assert_eq!(project["files"][0]["path"], "main.lad");
     let up = with_token(&studio, "/api/file?path=../gutta.toml");
     assert_eq!(request(&studio, "GET", &up, &[], "").status, 403);
+    // A project folder given relative to the current directory, and files with a
+    // symbol table given from elsewhere.
+    let scratch = demo.parent().expect("scratch");
+    for args in [
+        &["demo", "--no-open"][..],
+        &[
+            "demo/src/main.lad",
+            "--symbols",
+            "demo/symbols.csv",
+            "--no-open",
+        ][..],
+    ] {
+        let studio = start(scratch, args, None);
+        let answer = request(
+            &studio,
+            "GET",
+            &with_token(&studio, "/api/project"),
+            &[],
+            "",
+        );
+        assert_eq!(answer.status, 200, "{args:?}: {}", answer.body);
+        let project: serde_json::Value = serde_json::from_str(&answer.body).expect("JSON");
+        assert_eq!(project["diagnostics"]["errors"], 0, "{args:?}");
+        let names = project["symbols"].to_string();
+        assert!(
+            names.contains("\"Lamp\"") && names.contains("\"Running\""),
+            "{names}"
+        );
+    }
 }
 
 #[cfg(unix)]

@@ -28,7 +28,7 @@ pub(crate) struct ProgramFiles {
     pub root: PathBuf,
     /// The sources of the one program, canonical, in order.
     pub sources: Vec<PathBuf>,
-    /// Symbol tables.
+    /// Symbol tables, canonical.
     pub tables: Vec<PathBuf>,
     scale_timer_presets: bool,
     target: Option<ExplicitTarget>,
@@ -74,7 +74,11 @@ impl ProgramFiles {
             name: project.name.clone(),
             root,
             sources,
-            tables: project.symbols.clone(),
+            tables: project
+                .symbols
+                .iter()
+                .map(|p| canonical(p))
+                .collect::<Result<Vec<_>, _>>()?,
             scale_timer_presets: project.scale_timer_presets || cli.scale_timer_presets,
             target: target.explicit()?,
         })
@@ -104,8 +108,8 @@ impl ProgramFiles {
             .symbols
             .iter()
             .filter(|p| !p.extension().is_some_and(|x| x.eq_ignore_ascii_case("lad")))
-            .cloned()
-            .collect();
+            .map(|p| canonical(p))
+            .collect::<Result<Vec<_>, _>>()?;
         Ok(ProgramFiles {
             name: files[0].display().to_string(),
             root,
