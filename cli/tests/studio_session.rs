@@ -137,6 +137,17 @@ fn a_network_drawn_by_edits_is_saved_and_compiles() {
             r#"{{"op": "insert_coil", "at": "{net}.rung.series[2]", "place": "parallel", "coil": "=", "operands": ["M1.1"]}}"#
         ),
     ];
+    // A network comes with an output: a lone contact is refused (L0009), nothing changes.
+    let lone = format!(
+        r#"{{"op": "insert_network", "at": "{net}", "network": {{"title": "", "comment": "", "rung": {{"contact": "LD", "operands": ["I1.0"]}}}}}}"#
+    );
+    let refused = session.apply(FILE, &lone).expect_err("no output");
+    assert!(
+        matches!(&refused, StudioError::Edit(e) if e.code.as_str() == "L0009"),
+        "{refused}"
+    );
+    assert_eq!(session.text(FILE).expect("open"), original);
+    assert!(!session.is_dirty(FILE).expect("open"));
     let mut last = None;
     for step in &steps {
         let update = session
@@ -219,10 +230,20 @@ fn undo_and_redo_restore_the_exact_text() {
         r#"{"op": "delete_network", "at": "blocks[0].networks[1]"}"#,
     ];
     for edit in edits {
-        session
+        let update = session
             .apply(FILE, edit)
             .unwrap_or_else(|e| panic!("{edit}: {e}"));
         texts.push(session.text(FILE).expect("open").to_string());
+        // A moved or deleted network renumbers the rest of its block: all redrawn.
+        let drawn: Vec<usize> = update.networks.iter().map(|d| d.network).collect();
+        let count = update.blocks[0].networks;
+        if edit.contains("move_network") {
+            assert_eq!(drawn, (0..count).collect::<Vec<_>>(), "{edit}");
+        } else if edit.contains("delete_network") {
+            assert_eq!(drawn, (1..count).collect::<Vec<_>>(), "{edit}");
+        } else {
+            assert_eq!(drawn.len(), 1, "{edit}");
+        }
     }
     assert_ne!(texts[0], texts[1]);
     for i in (0..edits.len()).rev() {
@@ -414,5 +435,39 @@ fn given_lad_files_open_in_their_folder_only() {
         matches!(refused, StudioError::NotAProgram { .. }),
         "{refused:?}"
     );
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn a_project_made_by_gutta_cc_new_opens_clean_with_its_symbol_table() {
+    let dir = scratch("template");
+    let root = dir.join("blinky");
+    std::fs::create_dir_all(root.join("src")).expect("src");
+    std::fs::create_dir_all(root.join("tests")).expect("tests");
+    let templates = Path::new(env!("CARGO_MANIFEST_DIR")).join("templates");
+    let manifest = std::fs::read_to_string(templates.join("gutta.toml"))
+        .expect("template")
+        .replace("{name}", "blinky")
+        .replace("{plc}", "CPU-EC20");
+    std::fs::write(root.join("gutta.toml"), manifest).expect("gutta.toml");
+    for (from, to) in [
+        ("main.lad", "src/main.lad"),
+        ("symbols.csv", "symbols.csv"),
+        ("main.gtest", "tests/main.gtest"),
+    ] {
+        std::fs::copy(templates.join(from), root.join(to)).expect("copies");
+    }
+    let mut session = Session::open(std::slice::from_ref(&root)).expect("opens");
+    assert_eq!(session.diagnostics("src/main.lad").expect("open"), &[]);
+    let symbols = session.project().symbols;
+    assert!(symbols.iter().any(|s| s.name == "Lamp"), "{symbols:?}");
+    // An edit naming a symbol of the table checks clean.
+    let update = session
+        .apply(
+            "src/main.lad",
+            r#"{"op": "set_operands", "at": "blocks[0].networks[1].rung.series[0]", "operands": ["Start"]}"#,
+        )
+        .expect("applies");
+    assert_eq!(errors(&update), Vec::<String>::new());
     let _ = std::fs::remove_dir_all(dir);
 }

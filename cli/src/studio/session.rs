@@ -275,8 +275,11 @@ impl Session {
         let text = match rewrite(f, &changes) {
             Ok(text) => text,
             Err(e) => {
-                // The text did not take the change: the model goes back with it.
+                // The text did not take the change: the model goes back with it, and
+                // nothing can be redone (the editor keeps the refused edit as undone;
+                // `redo` goes by the texts, which have none for it).
                 let _ = f.editor.undo();
+                f.redo_texts.clear();
                 return Err(e);
             }
         };
@@ -291,11 +294,16 @@ impl Session {
         let target = self.target.clone();
         let index = self.index(file)?;
         let f = &mut self.files[index];
-        let changes = f.editor.undo()?;
-        let before = f
-            .undo_texts
-            .pop()
-            .expect("every edit the editor can undo pushed its text");
+        let Some(before) = f.undo_texts.pop() else {
+            return Err(nothing("nothing to undo"));
+        };
+        let changes = match f.editor.undo() {
+            Ok(changes) => changes,
+            Err(e) => {
+                f.undo_texts.push(before);
+                return Err(e.into());
+            }
+        };
         let after = std::mem::replace(&mut f.text, before);
         f.redo_texts.push(after);
         Ok(self.refresh(index, target.as_ref(), &changes))
@@ -306,11 +314,18 @@ impl Session {
         let target = self.target.clone();
         let index = self.index(file)?;
         let f = &mut self.files[index];
-        let changes = f.editor.redo()?;
-        let after = f
-            .redo_texts
-            .pop()
-            .expect("every edit the editor can redo pushed its text");
+        // The texts decide what can be redone: an edit whose text was refused is in the
+        // editor's redo list without one, and is never applied again.
+        let Some(after) = f.redo_texts.pop() else {
+            return Err(nothing("nothing to redo"));
+        };
+        let changes = match f.editor.redo() {
+            Ok(changes) => changes,
+            Err(e) => {
+                f.redo_texts.push(after);
+                return Err(e.into());
+            }
+        };
         let before = std::mem::replace(&mut f.text, after);
         f.undo_texts.push(before);
         Ok(self.refresh(index, target.as_ref(), &changes))
@@ -403,8 +418,8 @@ impl Session {
             blocks: shapes(&f.ladder),
             diagnostics: f.diagnostics.clone(),
             dirty: f.is_dirty(),
-            can_undo: f.editor.can_undo(),
-            can_redo: f.editor.can_redo(),
+            can_undo: !f.undo_texts.is_empty(),
+            can_redo: !f.redo_texts.is_empty(),
         }
     }
 }
@@ -413,6 +428,15 @@ impl OpenFile {
     fn is_dirty(&self) -> bool {
         self.text != self.saved
     }
+}
+
+/// L0019: the history has no step to take.
+fn nothing(message: &str) -> StudioError {
+    StudioError::Edit(json::ModelError::new(
+        json::ModelErrorCode::NothingToUndo,
+        "",
+        message,
+    ))
 }
 
 /// The buffer with `changes` written in (the editor's model is already changed).
