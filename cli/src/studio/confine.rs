@@ -42,18 +42,25 @@ impl Root {
         }
     }
 
-    /// A name the page sends (`src/main.lad`): relative, with no `..`, root or drive,
-    /// then confined like any path.
-    pub fn resolve(&self, name: &str) -> Result<PathBuf, StudioError> {
+    /// A name the page sends (`src/main.lad`, `./src/main.lad`) in the form
+    /// [`Root::name_of`] gives, when it is relative with no `..`, root or drive; else
+    /// `StudioError::Escape`. Judged on the text alone: the disk is not asked.
+    pub fn plain_name(&self, name: &str) -> Result<String, StudioError> {
         let path = Path::new(name);
-        let plain = !name.is_empty()
-            && path
-                .components()
-                .all(|c| matches!(c, Component::Normal(_) | Component::CurDir));
-        if !plain {
+        let plain = path
+            .components()
+            .all(|c| matches!(c, Component::Normal(_) | Component::CurDir));
+        let parts: Vec<_> = path
+            .components()
+            .filter_map(|c| match c {
+                Component::Normal(part) => Some(part.to_string_lossy()),
+                _ => None,
+            })
+            .collect();
+        if !plain || parts.is_empty() {
             return Err(self.escape(path));
         }
-        self.confine(&self.dir.join(path))
+        Ok(parts.join("/"))
     }
 
     /// A canonical path inside the folder as the page names it: relative, `/` between

@@ -386,11 +386,12 @@ impl Session {
         Ok(text.get(start..end).unwrap_or_default().to_string())
     }
 
+    /// The open file the page names `file` (a name, not a path: the disk is not asked).
     fn index(&self, file: &str) -> Studio<usize> {
-        let path = self.root.resolve(file)?;
+        let name = self.root.plain_name(file)?;
         self.files
             .iter()
-            .position(|f| f.path == path)
+            .position(|f| f.name == name)
             .ok_or_else(|| StudioError::NotOpen {
                 file: file.to_string(),
             })
