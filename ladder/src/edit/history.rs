@@ -3,6 +3,8 @@
 //! replaced, redo applies the undone edit again, and a new edit clears redo. Every
 //! answer says which networks changed, so the caller rewrites only those.
 
+use std::borrow::Cow;
+
 use gutta_catalog::InstructionSet;
 
 use super::{perform, Change, Edit, Undo};
@@ -16,10 +18,12 @@ struct Done {
     undo: Undo,
 }
 
-/// A model being edited, with undo and redo.
+/// A model being edited, with undo and redo. It borrows the instruction set
+/// ([`Editor::new`]) or owns a copy ([`Editor::owning`]: a session that keeps editors
+/// beside the target they came from).
 #[derive(Debug, Clone)]
 pub struct Editor<'s> {
-    set: &'s InstructionSet,
+    set: Cow<'s, InstructionSet>,
     model: Model,
     done: Vec<Done>,
     undone: Vec<Edit>,
@@ -29,7 +33,17 @@ impl<'s> Editor<'s> {
     /// An editor of `model` (which should validate against `set`), with no history.
     pub fn new(model: Model, set: &'s InstructionSet) -> Editor<'s> {
         Editor {
-            set,
+            set: Cow::Borrowed(set),
+            model,
+            done: Vec::new(),
+            undone: Vec::new(),
+        }
+    }
+
+    /// An editor of `model` that owns its instruction set, with no history.
+    pub fn owning(model: Model, set: InstructionSet) -> Editor<'static> {
+        Editor {
+            set: Cow::Owned(set),
             model,
             done: Vec::new(),
             undone: Vec::new(),
@@ -49,7 +63,7 @@ impl<'s> Editor<'s> {
     /// `edit` applied: what changed; refused, the model and the history are unchanged.
     /// An applied edit clears what could be redone.
     pub fn apply(&mut self, edit: Edit) -> Result<Vec<Change>, ModelError> {
-        let (changes, undo) = perform(&mut self.model, self.set, &edit)?;
+        let (changes, undo) = perform(&mut self.model, &self.set, &edit)?;
         self.done.push(Done {
             edit,
             changes: changes.clone(),
@@ -76,7 +90,7 @@ impl<'s> Editor<'s> {
             .undone
             .pop()
             .ok_or_else(|| ModelError::new(Code::NothingToUndo, "", "nothing to redo"))?;
-        match perform(&mut self.model, self.set, &edit) {
+        match perform(&mut self.model, &self.set, &edit) {
             Ok((changes, undo)) => {
                 self.done.push(Done {
                     edit,

@@ -1,0 +1,20 @@
+//! The studio's session core (docs/studio.md, "The session (Rust)"; issue 27): the
+//! logic the studio's page relies on, tested without a browser. `session.rs` (`Session`:
+//! the open files, their buffers, checked programs, ladder models and editors; edits,
+//! undo/redo, save, a block's STL), `update.rs` (what an edit sends back to the page:
+//! redrawn networks and diagnostics), `summary.rs` (the project as the page lists it),
+//! `confine.rs` (the one folder the studio reads and writes in), `error.rs` (its typed
+//! refusals). No HTTP, no page and no terminal here: the only I/O is reading the
+//! project's files when a session opens and the atomic save.
+
+mod confine;
+mod error;
+mod session;
+mod summary;
+mod update;
+
+pub use confine::Root;
+pub use error::StudioError;
+pub use session::Session;
+pub use summary::{BlockSummary, FileSummary, ProjectSummary};
+pub use update::{BlockShape, NetworkDrawing, Update};

@@ -1,0 +1,509 @@
+//! `Session`: the files a studio has open (a project's program files, or `.lad` files
+//! given by name), each with its buffer (the text, saved or not), its checked program,
+//! its ladder (`gutta_ladder::build`) and an `Editor` over its JSON model with undo and
+//! redo. An edit goes to the editor, its changes into the buffer in place
+//! (`edit::apply_to_text`), then the buffer is checked again and the touched networks
+//! redrawn. Reads the files at `open`, writes one at `save` (atomically, only inside the
+//! studio's folder); nothing else touches the disk.
+
+use std::path::{Path, PathBuf};
+
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{check_program, CheckedFile, CompileOptions, ExplicitTarget, ProgramSources};
+use gutta_io::Project;
+use gutta_ladder::edit::{apply_to_text, Change, Edit, Editor};
+use gutta_ladder::json::{self, Model, ModelDiagnostic};
+use gutta_ladder::model::Ladder;
+
+use super::summary::{symbols, FileSummary, ProjectSummary};
+use super::update::{drawings, shapes};
+use super::{Root, StudioError, Update};
+
+type Studio<T> = Result<T, StudioError>;
+
+/// The UTF-8 byte order mark: kept off the buffer, written back at save.
+const BOM: &str = "\u{feff}";
+
+/// An open studio session.
+#[derive(Debug)]
+pub struct Session {
+    root: Root,
+    name: String,
+    /// The project's choice of target (`[program] plc`/`target`); `None`: each file's
+    /// `PLC_TYPE`, else the stdlib default.
+    target: Option<ExplicitTarget>,
+    /// The project's symbol tables, read at open.
+    tables: Vec<SourceFile>,
+    options: CompileOptions,
+    files: Vec<OpenFile>,
+    tests: Vec<String>,
+}
+
+/// One open `.lad` file.
+#[derive(Debug)]
+struct OpenFile {
+    /// As the page names it: relative to the root, `/` between folders.
+    name: String,
+    /// Canonical, inside the root.
+    path: PathBuf,
+    bom: bool,
+    /// The buffer.
+    text: String,
+    /// The text on disk (as last read or saved).
+    saved: String,
+    checked: CheckedFile,
+    ladder: Ladder,
+    editor: Editor<'static>,
+    diagnostics: Vec<ModelDiagnostic>,
+    /// The buffer before each applied edit (for undo) and before each undo (for redo):
+    /// undo and redo restore the exact text, whatever the file's formatting was.
+    undo_texts: Vec<String>,
+    redo_texts: Vec<String>,
+}
+
+impl Session {
+    /// A session on `paths`: one project folder or its gutta.toml (the program's
+    /// sources and tables), or `.lad` files in one folder (with what is below it).
+    /// Every file must lie inside that folder once symlinks are resolved.
+    pub fn open(paths: &[PathBuf]) -> Studio<Session> {
+        let project_manifest = match paths {
+            [one] if one.is_dir() => Some(one.join(gutta_io::MANIFEST)),
+            [one] if one.file_name().is_some_and(|n| n == gutta_io::MANIFEST) => Some(one.clone()),
+            _ => None,
+        };
+        let mut session = match project_manifest {
+            Some(manifest) => Session::of_project(&manifest)?,
+            None => Session::of_files(paths)?,
+        };
+        session.tests = gtest_files(&session.root);
+        Ok(session)
+    }
+
+    fn of_project(manifest: &Path) -> Studio<Session> {
+        let project = Project::load(manifest).map_err(StudioError::Project)?;
+        let root = Root::new(&project.root)?;
+        let target = gutta_cli_target(&project)?;
+        let mut tables = Vec::new();
+        for table in &project.symbols {
+            let path = root.confine(table)?;
+            let name = root.name_of(&path);
+            let bytes = read(&path)?;
+            let (file, _) =
+                SourceFile::from_program_file_bytes(&name, bytes, true).map_err(|e| {
+                    StudioError::NotUtf8 {
+                        path: name.clone(),
+                        offset: e.offset,
+                    }
+                })?;
+            tables.push(file);
+        }
+        let mut session = Session {
+            root,
+            name: project.name.clone(),
+            target,
+            tables,
+            options: CompileOptions {
+                scale_timer_presets: project.scale_timer_presets,
+            },
+            files: Vec::new(),
+            tests: Vec::new(),
+        };
+        for source in &project.sources {
+            session.add(source)?;
+        }
+        Ok(session)
+    }
+
+    fn of_files(paths: &[PathBuf]) -> Studio<Session> {
+        let Some(first) = paths.first() else {
+            return Err(StudioError::NotAProgram {
+                path: String::new(),
+            });
+        };
+        for path in paths {
+            let lad = path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("lad"));
+            if !lad || !path.is_file() {
+                return Err(StudioError::NotAProgram {
+                    path: path.display().to_string(),
+                });
+            }
+        }
+        let folder = first
+            .canonicalize()
+            .map_err(|e| StudioError::Io {
+                path: first.display().to_string(),
+                message: e.to_string(),
+            })?
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_default();
+        let root = Root::new(&folder)?;
+        let name = folder
+            .file_name()
+            .map_or_else(|| "program".into(), |n| n.to_string_lossy().into_owned());
+        let mut session = Session {
+            root,
+            name,
+            target: None,
+            tables: Vec::new(),
+            options: CompileOptions::default(),
+            files: Vec::new(),
+            tests: Vec::new(),
+        };
+        for path in paths {
+            session.add(path)?;
+        }
+        Ok(session)
+    }
+
+    /// A source file read, confined, checked and modelled.
+    fn add(&mut self, path: &Path) -> Studio<()> {
+        let path = self.root.confine(path)?;
+        let name = self.root.name_of(&path);
+        if self.files.iter().any(|f| f.path == path) {
+            return Ok(());
+        }
+        let bytes = read(&path)?;
+        let text = String::from_utf8(bytes).map_err(|e| StudioError::NotUtf8 {
+            path: name.clone(),
+            offset: e.utf8_error().valid_up_to(),
+        })?;
+        let (bom, text) = match text.strip_prefix(BOM) {
+            Some(rest) => (true, rest.to_string()),
+            None => (false, text),
+        };
+        let checked = self.check(&name, &text);
+        let ladder = gutta_ladder::build(&checked);
+        let model = json::model_of(&checked, &ladder);
+        let editor = Editor::owning(model, checked.target.instructions.clone());
+        let mut file = OpenFile {
+            name,
+            path,
+            bom,
+            saved: text.clone(),
+            text,
+            checked,
+            ladder,
+            editor,
+            diagnostics: Vec::new(),
+            undo_texts: Vec::new(),
+            redo_texts: Vec::new(),
+        };
+        file.diagnostics = model_diagnostics(&file, self.target.as_ref());
+        self.files.push(file);
+        Ok(())
+    }
+
+    /// The buffer `text` of the file `name` checked as a program with the project's
+    /// tables, on the project's target.
+    fn check(&self, name: &str, text: &str) -> CheckedFile {
+        check_program(
+            ProgramSources {
+                sources: vec![SourceFile::new(name, text)],
+                symbol_tables: self.tables.clone(),
+                options: self.options,
+            },
+            self.target.as_ref(),
+        )
+    }
+
+    /// The studio's folder.
+    pub fn root(&self) -> &Path {
+        self.root.dir()
+    }
+
+    /// The open files' names, in order (`src/main.lad`).
+    pub fn files(&self) -> Vec<&str> {
+        self.files.iter().map(|f| f.name.as_str()).collect()
+    }
+
+    /// The project for the page: files, blocks, symbols, tests.
+    pub fn project(&self) -> ProjectSummary {
+        ProjectSummary {
+            name: self.name.clone(),
+            plc: self
+                .files
+                .first()
+                .map(|f| f.editor.model().plc.clone())
+                .unwrap_or_default(),
+            files: self
+                .files
+                .iter()
+                .map(|f| FileSummary::of(&f.name, f.is_dirty(), f.editor.model()))
+                .collect(),
+            symbols: symbols(self.files.iter().map(|f| f.editor.model())),
+            tests: self.tests.clone(),
+        }
+    }
+
+    /// The buffer of `file`, saved or not.
+    pub fn text(&self, file: &str) -> Studio<&str> {
+        Ok(&self.file(file)?.text)
+    }
+
+    /// The ladder model of `file` as it is now.
+    pub fn model(&self, file: &str) -> Studio<&Model> {
+        Ok(self.file(file)?.editor.model())
+    }
+
+    /// The checked program of `file`'s buffer.
+    pub fn checked(&self, file: &str) -> Studio<&CheckedFile> {
+        Ok(&self.file(file)?.checked)
+    }
+
+    /// Every diagnostic of `file` at the JSON path of its cause.
+    pub fn diagnostics(&self, file: &str) -> Studio<&[ModelDiagnostic]> {
+        Ok(&self.file(file)?.diagnostics)
+    }
+
+    /// Whether `file`'s buffer differs from the file on disk.
+    pub fn is_dirty(&self, file: &str) -> Studio<bool> {
+        Ok(self.file(file)?.is_dirty())
+    }
+
+    /// `edit_json` (an edit operation's JSON, docs/ladder.md "Editing the model")
+    /// applied to `file`: written into its buffer in place, checked, the touched
+    /// networks redrawn. A refused edit is its L code, and nothing changed.
+    pub fn apply(&mut self, file: &str, edit_json: &str) -> Studio<Update> {
+        let edit = Edit::from_json(edit_json)?;
+        let target = self.target.clone();
+        let index = self.index(file)?;
+        let f = &mut self.files[index];
+        let changes = f.editor.apply(edit)?;
+        let text = match rewrite(f, &changes) {
+            Ok(text) => text,
+            Err(e) => {
+                // The text did not take the change: the model goes back with it, and
+                // nothing can be redone (the editor keeps the refused edit as undone;
+                // `redo` goes by the texts, which have none for it).
+                let _ = f.editor.undo();
+                f.redo_texts.clear();
+                return Err(e);
+            }
+        };
+        let before = std::mem::replace(&mut f.text, text);
+        f.undo_texts.push(before);
+        f.redo_texts.clear();
+        Ok(self.refresh(index, target.as_ref(), &changes))
+    }
+
+    /// The last edit of `file` taken back: the buffer as it was before it, exactly.
+    pub fn undo(&mut self, file: &str) -> Studio<Update> {
+        let target = self.target.clone();
+        let index = self.index(file)?;
+        let f = &mut self.files[index];
+        let Some(before) = f.undo_texts.pop() else {
+            return Err(nothing("nothing to undo"));
+        };
+        let changes = match f.editor.undo() {
+            Ok(changes) => changes,
+            Err(e) => {
+                f.undo_texts.push(before);
+                return Err(e.into());
+            }
+        };
+        let after = std::mem::replace(&mut f.text, before);
+        f.redo_texts.push(after);
+        Ok(self.refresh(index, target.as_ref(), &changes))
+    }
+
+    /// The last undone edit of `file` applied again: the buffer as it was after it.
+    pub fn redo(&mut self, file: &str) -> Studio<Update> {
+        let target = self.target.clone();
+        let index = self.index(file)?;
+        let f = &mut self.files[index];
+        // The texts decide what can be redone: an edit whose text was refused is in the
+        // editor's redo list without one, and is never applied again.
+        let Some(after) = f.redo_texts.pop() else {
+            return Err(nothing("nothing to redo"));
+        };
+        let changes = match f.editor.redo() {
+            Ok(changes) => changes,
+            Err(e) => {
+                f.redo_texts.push(after);
+                return Err(e.into());
+            }
+        };
+        let before = std::mem::replace(&mut f.text, after);
+        f.undo_texts.push(before);
+        Ok(self.refresh(index, target.as_ref(), &changes))
+    }
+
+    /// The buffer of `file` written to its file atomically (the networks edits changed
+    /// differ, every other byte is as it was read); then it is not dirty. The file
+    /// must still be inside the studio's folder (a symlink put in its place since it
+    /// was opened is refused, and nothing is written).
+    pub fn save(&mut self, file: &str) -> Studio<()> {
+        let index = self.index(file)?;
+        let f = &self.files[index];
+        let path = self.root.confine(&f.path)?;
+        if path != f.path {
+            return Err(StudioError::Escape {
+                path: f.path.display().to_string(),
+                root: self.root.dir().display().to_string(),
+            });
+        }
+        let mut bytes = String::with_capacity(f.text.len() + BOM.len());
+        if f.bom {
+            bytes.push_str(BOM);
+        }
+        bytes.push_str(&f.text);
+        gutta_io::write_file_atomically(&path, bytes.as_bytes()).map_err(|e| StudioError::Io {
+            path: f.name.clone(),
+            message: format!("cannot write: {e}"),
+        })?;
+        let f = &mut self.files[index];
+        f.saved = f.text.clone();
+        Ok(())
+    }
+
+    /// The STL text of block `block` (its place in the file) as the buffer holds it,
+    /// from its header line to its END line: what `view-stl` shows.
+    pub fn stl(&self, file: &str, block: usize) -> Studio<String> {
+        let f = self.file(file)?;
+        // The buffer is the first part of the checked text (the tables follow it), so
+        // the tree's spans are the buffer's.
+        let unit = f
+            .checked
+            .ast
+            .units
+            .get(block)
+            .ok_or_else(|| StudioError::NoBlock {
+                file: f.name.clone(),
+                block,
+            })?;
+        let start = unit.header.span.start as usize;
+        let end = unit
+            .end
+            .map(|s| s.end as usize)
+            .or_else(|| unit.networks.last().map(|n| n.span.end as usize))
+            .unwrap_or(unit.header.span.end as usize);
+        let text = &f.text;
+        let end = end.min(text.len());
+        let end = text[end..].find('\n').map_or(text.len(), |i| end + i + 1);
+        Ok(text.get(start..end).unwrap_or_default().to_string())
+    }
+
+    /// The open file the page names `file` (a name, not a path: the disk is not asked).
+    fn index(&self, file: &str) -> Studio<usize> {
+        let name = self.root.plain_name(file)?;
+        self.files
+            .iter()
+            .position(|f| f.name == name)
+            .ok_or_else(|| StudioError::NotOpen {
+                file: file.to_string(),
+            })
+    }
+
+    fn file(&self, file: &str) -> Studio<&OpenFile> {
+        Ok(&self.files[self.index(file)?])
+    }
+
+    /// The file at `index` checked again after `changes`, and the page's update.
+    fn refresh(
+        &mut self,
+        index: usize,
+        target: Option<&ExplicitTarget>,
+        changes: &[Change],
+    ) -> Update {
+        let checked = self.check(&self.files[index].name, &self.files[index].text);
+        let f = &mut self.files[index];
+        f.ladder = gutta_ladder::build(&checked);
+        f.checked = checked;
+        f.diagnostics = model_diagnostics(f, target);
+        Update {
+            file: f.name.clone(),
+            networks: drawings(&f.ladder, changes),
+            blocks: shapes(&f.ladder),
+            diagnostics: f.diagnostics.clone(),
+            dirty: f.is_dirty(),
+            can_undo: !f.undo_texts.is_empty(),
+            can_redo: !f.redo_texts.is_empty(),
+        }
+    }
+}
+
+impl OpenFile {
+    fn is_dirty(&self) -> bool {
+        self.text != self.saved
+    }
+}
+
+/// L0019: the history has no step to take.
+fn nothing(message: &str) -> StudioError {
+    StudioError::Edit(json::ModelError::new(
+        json::ModelErrorCode::NothingToUndo,
+        "",
+        message,
+    ))
+}
+
+/// The buffer with `changes` written in (the editor's model is already changed).
+fn rewrite(f: &OpenFile, changes: &[Change]) -> Studio<String> {
+    Ok(apply_to_text(
+        &f.text,
+        f.editor.model(),
+        &f.checked.target.instructions,
+        changes,
+    )?)
+}
+
+/// Every diagnostic of the file's model at its JSON path (`json::check`: the model's
+/// program through the compiler's whole pipeline), on the project's target, else the
+/// one the file was checked on.
+fn model_diagnostics(f: &OpenFile, target: Option<&ExplicitTarget>) -> Vec<ModelDiagnostic> {
+    let own = ExplicitTarget {
+        target: f.checked.target.clone(),
+        origin: "the program".to_string(),
+    };
+    json::check(f.editor.model(), target.unwrap_or(&own)).diagnostics
+}
+
+/// The project's `[program] plc`/`target`, loaded by the one target rule.
+fn gutta_cli_target(project: &Project) -> Studio<Option<ExplicitTarget>> {
+    crate::target::TargetArgs {
+        project: project.plc.spec(),
+        ..crate::target::TargetArgs::default()
+    }
+    .explicit()
+    .map_err(|e| StudioError::Project(e.message))
+}
+
+fn read(path: &Path) -> Studio<Vec<u8>> {
+    std::fs::read(path).map_err(|e| StudioError::Io {
+        path: path.display().to_string(),
+        message: format!("cannot read: {e}"),
+    })
+}
+
+/// The `.gtest` files under the root, by name, sorted; hidden folders, `target` and
+/// symlinks are not followed.
+fn gtest_files(root: &Root) -> Vec<String> {
+    let mut found = Vec::new();
+    let mut folders = vec![root.dir().to_path_buf()];
+    while let Some(folder) = folders.pop() {
+        let Ok(entries) = std::fs::read_dir(&folder) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let Ok(kind) = entry.file_type() else {
+                continue;
+            };
+            let path = entry.path();
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if kind.is_dir() && !name.starts_with('.') && name != "target" {
+                folders.push(path);
+            } else if kind.is_file()
+                && path
+                    .extension()
+                    .is_some_and(|e| e.eq_ignore_ascii_case("gtest"))
+            {
+                found.push(root.name_of(&path));
+            }
+        }
+    }
+    found.sort();
+    found
+}
