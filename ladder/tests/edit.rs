@@ -886,3 +886,37 @@ fn blanks_and_line_breaks_in_edits_are_what_the_program_reads_back() {
     assert!(err.path.ends_with(".operands[1]"), "{err}");
     assert_eq!(editor.model(), &before);
 }
+
+/// Found by `edit_props.rs` on tests/data/run/stack_ops.lad network 1: deleting the
+/// contact before outputs in parallel would leave them straight on the rail, separate
+/// rungs one network's STL cannot say (it wrote `LPS` with nothing loaded). Refused,
+/// nothing changed.
+#[test]
+fn deleting_the_contact_before_parallel_outputs_is_refused() {
+    let target = target();
+    let branch = |c: &str, q: &str| {
+        format!(
+            r#"{{"series": [{{"contact": "LD", "operands": ["{c}"]}}, {{"coil": "=", "operands": ["{q}"]}}]}}"#
+        )
+    };
+    let text = format!(
+        r#"{{"format": "gutta-ladder", "version": 1, "plc": "CPU-EC20", "symbols": [],
+  "blocks": [{{"kind": "ORGANIZATION_BLOCK", "name": "MAIN", "id": "OB1", "networks": [
+    {{"title": "", "comment": "", "rung": {{"series": [{{"contact": "LD", "operands": ["I0.0"]}},
+      {{"parallel": [{}, {}, {}]}}]}}}}]}}]}}"#,
+        branch("I0.1", "Q0.0"),
+        branch("I0.2", "Q0.1"),
+        branch("I0.3", "Q0.2")
+    );
+    let model = read_model(text.as_bytes()).expect("reads");
+    validate(&model, &target.instructions).expect("valid");
+    let mut editor = Editor::new(model.clone(), &target.instructions);
+    let err = editor
+        .apply(
+            Edit::from_json(r#"{"op": "delete", "at": "blocks[0].networks[0].rung.series[0]"}"#)
+                .expect("an edit"),
+        )
+        .expect_err("refused");
+    assert_eq!(err.code, ModelErrorCode::Unwritable, "{err}");
+    assert_eq!(editor.model(), &model);
+}

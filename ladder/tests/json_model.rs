@@ -428,6 +428,26 @@ fn a_rung_whose_stl_would_mean_something_else_is_l0013_at_the_element() {
             ),
             "blocks[0].networks[1].rung.series[1].parallel[0].series[0].parallel[1].series[1]",
         ),
+        // Paths ending in boxes in parallel, followed by a coil: a path, not outputs
+        // (the ladder_edit property test's finding on power_flow.lad network 7).
+        (
+            format!(
+                r#"{{"series": [{}, {{"parallel": [{{"series": [{}, {ton}]}}, {{"series": [{}, {{"box": "TONR", "operands": ["T6", "50"], "inputs": []}}]}}]}}, {coil}]}}"#,
+                ld("I0.0"),
+                ld("I2.1"),
+                ld("I2.2")
+            ),
+            "blocks[0].networks[1].rung.series[1].parallel[0].series[1]",
+        ),
+        // Outputs in parallel straight from the rail: separate rungs.
+        (
+            format!(
+                r#"{{"parallel": [{{"series": [{}, {coil}]}}, {{"series": [{}, {{"coil": "=", "operands": ["Q0.2"]}}]}}]}}"#,
+                ld("I0.1"),
+                ld("I0.2")
+            ),
+            "blocks[0].networks[1].rung",
+        ),
         // A coil first on the rail, and a box that runs without power flow in a rung.
         (
             format!(r#"{{"series": [{coil}]}}"#),

@@ -1,13 +1,19 @@
 //! The power rules a rung needs so that its STL means what it draws (L0013), beyond the
-//! shapes `validate.rs` checks: nothing that needs power first on the left rail (its
-//! STL would say `=` with nothing loaded); no box that runs without power flow (`ENI`,
-//! `LBL`) inside a rung; and no element that acts on the power it is given (a box,
-//! `NOT`, `EU`, `ED`) inside a parallel of paths that comes after other elements in
-//! series. STL loads such a parallel as a path of its own from the rail and ANDs it on
-//! (`ALD`), so the box would take its power without what stands before the parallel,
-//! while the drawing feeds it through them (the builder's rule, docs/ladder.md "Which
-//! networks are ladder"). What an instruction is comes from the catalog (`Flow`,
-//! `LadderClass`, `power_output`), never from its mnemonic.
+//! shapes `validate.rs` checks:
+//! - nothing that needs power first on the left rail (its STL would say `=` with
+//!   nothing loaded);
+//! - no outputs in parallel straight from the rail (separate rungs, which one network's
+//!   STL cannot say as one);
+//! - no box that runs without power flow (`ENI`, `LBL`) inside a rung;
+//! - no element that acts on the power it is given (a box, `NOT`, `EU`, `ED`) inside a
+//!   parallel of paths that comes after other elements in series. STL loads such a
+//!   parallel as a path of its own from the rail and ANDs it on (`ALD`), so the box
+//!   would take its power without what stands before the parallel, while the drawing
+//!   feeds it through them (the builder's rule, docs/ladder.md "Which networks are
+//!   ladder").
+//!
+//! What an instruction is comes from the catalog (`Flow`, `LadderClass`,
+//! `power_output`), never from its mnemonic.
 
 use gutta_catalog::{Flow, InstructionSet, LadderClass};
 
@@ -18,11 +24,18 @@ type Check<T> = Result<T, ModelError>;
 
 /// The rung at `path` (already valid in shape) against the power rules.
 pub(super) fn rules(set: &InstructionSet, rung: &Element, path: &str) -> Check<()> {
+    if matches!(rung, Element::Parallel { .. }) && ends(set, rung) {
+        return Err(ModelError::new(
+            Code::Unwritable,
+            path,
+            "outputs in parallel straight from the left rail are separate rungs: start the rung with a contact before the parallel, or put each output in a network of its own",
+        ));
+    }
     starts_powered(set, rung, path)?;
     if !matches!(rung, Element::Box { .. }) {
         no_box_off_power(set, rung, path)?;
     }
-    fed(set, rung, path, false)
+    fed(set, rung, path, false, true)
 }
 
 /// L0013 when an element that needs power comes first on the rail (a coil, a box the
@@ -93,15 +106,24 @@ fn no_box_off_power(set: &InstructionSet, e: &Element, path: &str) -> Check<()> 
 /// L0013 when a parallel of paths whose power comes from elements before it (`is_fed`)
 /// holds an element that acts on its power. A series passes its power on to its first
 /// element and feeds the others; outputs in parallel are fed (STL copies the power with
-/// `LPS`); a box's extra power inputs start at the rail.
-fn fed(set: &InstructionSet, e: &Element, path: &str, is_fed: bool) -> Check<()> {
+/// `LPS`); a box's extra power inputs start at the rail. `at_end`: nothing follows `e`
+/// in series, so a parallel of box-ended paths there is outputs; followed by more, it
+/// is a path the power goes on through.
+fn fed(set: &InstructionSet, e: &Element, path: &str, is_fed: bool, at_end: bool) -> Check<()> {
     match e {
-        Element::Series { series } => series
-            .iter()
-            .enumerate()
-            .try_for_each(|(i, x)| fed(set, x, &format!("{path}.series[{i}]"), is_fed || i > 0)),
+        Element::Series { series } => series.iter().enumerate().try_for_each(|(i, x)| {
+            let last = i + 1 == series.len();
+            fed(
+                set,
+                x,
+                &format!("{path}.series[{i}]"),
+                is_fed || i > 0,
+                at_end && last,
+            )
+        }),
         Element::Parallel { parallel } => {
-            let outputs = ends(set, e);
+            let outputs = parallel.iter().any(|x| ends_for_good(set, x))
+                || (at_end && parallel.iter().all(|x| ends(set, x)));
             for (i, x) in parallel.iter().enumerate() {
                 let at = format!("{path}.parallel[{i}]");
                 if is_fed && !outputs {
@@ -115,14 +137,14 @@ fn fed(set: &InstructionSet, e: &Element, path: &str, is_fed: bool) -> Check<()>
                         ));
                     }
                 }
-                fed(set, x, &at, is_fed || outputs)?;
+                fed(set, x, &at, is_fed || outputs, outputs)?;
             }
             Ok(())
         }
         Element::Box { inputs, .. } => inputs
             .iter()
             .enumerate()
-            .try_for_each(|(i, x)| fed(set, x, &format!("{path}.inputs[{i}]"), false)),
+            .try_for_each(|(i, x)| fed(set, x, &format!("{path}.inputs[{i}]"), false, false)),
         Element::Contact { .. } | Element::Coil { .. } => Ok(()),
     }
 }

@@ -63,13 +63,18 @@ pub fn round_trip(
     };
     let again = check_source(SourceFile::new("edited.lad", text.clone()), Some(&explicit));
     if again.has_errors() {
-        let (code, message) = again
+        let errors: Vec<_> = again
             .diagnostics()
+            .iter()
+            .filter(|d| d.is_error())
+            .collect();
+        let (code, message) = errors
             .first()
             .map(|d| (d.code.as_str().to_string(), d.message.clone()))
             .unwrap_or_default();
         return Err(RoundTrip::NotCompiled {
             code,
+            codes: errors.iter().map(|d| d.code.as_str().to_string()).collect(),
             message,
             text,
         });
@@ -97,9 +102,11 @@ pub fn round_trip(
 /// Why a round trip failed.
 #[derive(Debug)]
 pub enum RoundTrip {
-    /// The written program has errors: the first one's code and message.
+    /// The written program has errors: the first one's code and message, and every
+    /// error's code.
     NotCompiled {
         code: String,
+        codes: Vec<String>,
         message: String,
         text: String,
     },
@@ -114,6 +121,7 @@ impl std::fmt::Display for RoundTrip {
                 code,
                 message,
                 text,
+                ..
             } => write!(
                 f,
                 "the written program does not compile: {code} {message}\n{text}"
