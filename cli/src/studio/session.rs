@@ -27,38 +27,38 @@ const BOM: &str = "\u{feff}";
 /// An open studio session.
 #[derive(Debug)]
 pub struct Session {
-    root: Root,
-    name: String,
+    pub(super) root: Root,
+    pub(super) name: String,
     /// The project's choice of target (`[program] plc`/`target`); `None`: each file's
     /// `PLC_TYPE`, else the stdlib default.
-    target: Option<ExplicitTarget>,
+    pub(super) target: Option<ExplicitTarget>,
     /// The project's symbol tables, read at open.
-    tables: Vec<SourceFile>,
-    options: CompileOptions,
-    files: Vec<OpenFile>,
-    tests: Vec<String>,
+    pub(super) tables: Vec<SourceFile>,
+    pub(super) options: CompileOptions,
+    pub(super) files: Vec<OpenFile>,
+    pub(super) tests: Vec<String>,
 }
 
 /// One open `.lad` file.
 #[derive(Debug)]
-struct OpenFile {
+pub(super) struct OpenFile {
     /// As the page names it: relative to the root, `/` between folders.
-    name: String,
+    pub(super) name: String,
     /// Canonical, inside the root.
-    path: PathBuf,
-    bom: bool,
+    pub(super) path: PathBuf,
+    pub(super) bom: bool,
     /// The buffer.
-    text: String,
+    pub(super) text: String,
     /// The text on disk (as last read or saved).
-    saved: String,
-    checked: CheckedFile,
-    ladder: Ladder,
-    editor: Editor<'static>,
-    diagnostics: Vec<ModelDiagnostic>,
+    pub(super) saved: String,
+    pub(super) checked: CheckedFile,
+    pub(super) ladder: Ladder,
+    pub(super) editor: Editor<'static>,
+    pub(super) diagnostics: Vec<ModelDiagnostic>,
     /// The buffer before each applied edit (for undo) and before each undo (for redo):
     /// undo and redo restore the exact text, whatever the file's formatting was.
-    undo_texts: Vec<String>,
-    redo_texts: Vec<String>,
+    pub(super) undo_texts: Vec<String>,
+    pub(super) redo_texts: Vec<String>,
 }
 
 impl Session {

@@ -7,6 +7,7 @@
 
 mod api;
 mod files;
+mod live;
 mod refusal;
 mod security;
 

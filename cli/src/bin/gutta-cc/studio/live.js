@@ -1,0 +1,1 @@
+// The studio's live script (docs/studio.md, "Simulate"): filled by the simulate work.

@@ -1,0 +1,1 @@
+// The studio's online script (docs/studio.md, "Online"): filled by the online work.
