@@ -11,10 +11,12 @@ mod confine;
 mod error;
 mod session;
 mod summary;
+mod tests;
 mod update;
 
 pub use confine::Root;
 pub use error::StudioError;
 pub use session::Session;
 pub use summary::{BlockSummary, FileSummary, ProjectSummary};
+pub use tests::{ProgramRefused, TestFileRun, TestRun};
 pub use update::{BlockShape, NetworkDrawing, Update};

@@ -233,26 +233,13 @@ pub(crate) fn download(online: &Online, dir: &Path, args: &LinkArgs) -> Result<E
     };
     let start = std::time::Instant::now();
     let mut progress = |n: usize| bar.inc(n as u64);
-    let result = gutta_link::download(
-        session.client(),
-        &image,
-        &password,
-        target.plc.exch_pack_size as usize,
-        &mut progress,
-    );
+    let result = send_image(session.client(), &image, &target, &password, &mut progress);
     if result.is_ok() {
         bar.finish_and_clear();
     } else {
         bar.abandon();
     }
-    let report = result.map_err(|e| match e {
-        // Refused before anything changed: the other client's download goes on.
-        LinkError::Busy { .. } => link_error(e),
-        LinkError::LockedOut => crate::login::failure(e),
-        e => Fatal::link(format!(
-            "download failed: {e}. The PLC was not reset: it does not run a partial image"
-        )),
-    })?;
+    let report = result?;
     // The bar's own count (a hidden bar counts too), so the two cannot disagree.
     let seconds = start.elapsed().as_secs_f64();
     let summary = json!({
@@ -317,6 +304,33 @@ pub(crate) fn download(online: &Online, dir: &Path, args: &LinkArgs) -> Result<E
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The download itself (`gutta-cc download` and the studio's): the PLC type checked,
+/// PLC_CLEAR, every page written and read back, STATUS_RESET (gutta_link::download),
+/// `progress` told of every byte; its failures as the user reads them.
+pub(crate) fn send_image(
+    client: &mut Client,
+    image: &gutta_format::Image,
+    target: &Target,
+    password: &[u8; 16],
+    progress: &mut dyn FnMut(usize),
+) -> Result<gutta_link::DownloadReport, Fatal> {
+    gutta_link::download(
+        client,
+        image,
+        password,
+        target.plc.exch_pack_size as usize,
+        progress,
+    )
+    .map_err(|e| match e {
+        // Refused before anything changed: the other client's download goes on.
+        LinkError::Busy { .. } => link_error(e),
+        LinkError::LockedOut => crate::login::failure(e),
+        e => Fatal::link(format!(
+            "download failed: {e}. The PLC was not reset: it does not run a partial image"
+        )),
+    })
 }
 
 pub(crate) fn upload(online: &Online, dir: &Path, args: &LinkArgs) -> Result<ExitCode, Fatal> {

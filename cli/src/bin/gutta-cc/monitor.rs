@@ -6,7 +6,7 @@
 //! `gutta_ladder::live`'s, the PLC side `monitor/session.rs`'s; this file only wires
 //! them to HTTP and the command line.
 
-mod session;
+pub(crate) mod session;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -291,9 +291,24 @@ fn load(cli: &Cli, given: Option<&Path>) -> Result<Program, Fatal> {
         )));
     };
     let checked = &compiled.checked;
-    let ladder = gutta_ladder::build(checked);
-    let symbols = checked.symbols();
-    let target = checked.target.clone();
+    Ok(program_of(
+        name,
+        gutta_ladder::build(checked),
+        checked.target.clone(),
+        checked.symbols(),
+        image,
+    ))
+}
+
+/// What the monitor (or the studio online) shows of a compiled program: its ladder, its
+/// symbols, its image and every drawn operand with how one read gets them all.
+pub(crate) fn program_of(
+    name: String,
+    ladder: gutta_ladder::model::Ladder,
+    target: std::sync::Arc<gutta_catalog::Target>,
+    symbols: gutta_format::SymbolTable,
+    image: gutta_format::Image,
+) -> Program {
     let vars: Vec<Var> = gutta_ladder::live::operands(&ladder, &target, &symbols)
         .into_iter()
         .filter_map(|canonical| {
@@ -312,7 +327,7 @@ fn load(cli: &Cli, given: Option<&Path>) -> Result<Program, Fatal> {
         })
         .collect();
     let addresses: Vec<_> = vars.iter().map(|v: &Var| v.address).collect();
-    Ok(Program {
+    Program {
         plan: gutta_link::plan::ReadPlan::new(&addresses),
         name,
         ladder,
@@ -320,7 +335,7 @@ fn load(cli: &Cli, given: Option<&Path>) -> Result<Program, Fatal> {
         symbols,
         image,
         vars,
-    })
+    }
 }
 
 fn project_program(

@@ -8,6 +8,7 @@
 mod api;
 mod files;
 mod live;
+mod online;
 mod refusal;
 mod security;
 

@@ -88,6 +88,8 @@ pub(crate) struct Session {
     held: Held,
     run: Option<bool>,
     forced: Vec<String>,
+    /// Read the RUN state and the forces at the next update, whatever the count.
+    slow_now: bool,
     pub counters: Arc<Counters>,
 }
 
@@ -95,6 +97,18 @@ impl Session {
     /// Log in now (the prompt, if any, comes before the server starts) and check the
     /// program.
     pub fn start(program: &Program, link: &LinkArgs) -> Result<Session, crate::Fatal> {
+        Session::connect(program, link, |client, at| {
+            crate::login::log_in(client, at, link)
+        })
+    }
+
+    /// Connect, log in with `log_in` (the monitor's prompt, or the studio's none) and
+    /// check the program.
+    pub(crate) fn connect(
+        program: &Program,
+        link: &LinkArgs,
+        log_in: impl FnOnce(Client, &str) -> Result<gutta_link::Session, crate::Fatal>,
+    ) -> Result<Session, crate::Fatal> {
         let counters = Arc::new(Counters::default());
         let config = client::link_config(link)?;
         let client = Client::new(
@@ -104,7 +118,8 @@ impl Session {
             }),
             config.station,
         );
-        let mut plc = crate::login::log_in(client, config.address(), link)?;
+        let address = config.address().to_string();
+        let mut plc = log_in(client, &address)?;
         plc.set_target(&program.target);
         let mut session = Session {
             password: plc.password(),
@@ -113,6 +128,7 @@ impl Session {
             held: Held::Nothing,
             run: None,
             forced: Vec::new(),
+            slow_now: false,
             counters,
         };
         session.held = session
@@ -120,6 +136,56 @@ impl Session {
             .map_err(client::link_error)?;
         session.plc = Some(plc);
         Ok(session)
+    }
+
+    /// The logged-in PLC session (connected again if a failure dropped it), for what
+    /// the studio sends besides the updates: RUN/STOP, writes, forces, a download.
+    pub(crate) fn plc(&mut self, program: &Program) -> Result<&mut gutta_link::Session, LinkError> {
+        if self.plc.is_none() {
+            self.reconnect(program)?;
+        }
+        Ok(self.plc.as_mut().expect("connected above"))
+    }
+
+    /// Check again what the PLC holds against `program` (it may have been downloaded,
+    /// or `program` changed); a failure drops the connection.
+    pub(crate) fn recheck(&mut self, program: &Program) -> Result<(), LinkError> {
+        let checked = match self.plc.take() {
+            None => return self.reconnect(program),
+            Some(mut plc) => {
+                plc.set_target(&program.target);
+                let held = self.check(&mut plc, program);
+                self.plc = Some(plc);
+                held
+            }
+        };
+        match checked {
+            Ok(held) => {
+                self.held = held;
+                self.slow_now = true;
+                Ok(())
+            }
+            Err(e) => {
+                self.plc = None;
+                Err(e)
+            }
+        }
+    }
+
+    /// The next update reads the RUN state and the forces again (after a RUN, STOP or
+    /// force).
+    pub(crate) fn refresh(&mut self) {
+        self.slow_now = true;
+    }
+
+    /// The password the login used (a download logs in with it).
+    pub(crate) fn password(&self) -> [u8; 16] {
+        self.password
+    }
+
+    /// Forget the connection: the next request connects again.
+    pub(crate) fn disconnect(&mut self) {
+        self.plc = None;
     }
 
     /// How the user named the PLC.
@@ -160,6 +226,7 @@ impl Session {
         plc.set_target(&program.target);
         self.held = self.check(&mut plc, program)?;
         self.plc = Some(plc);
+        self.slow_now = true;
         Ok(())
     }
 
@@ -201,7 +268,8 @@ impl Session {
         }
         let plc = self.plc.as_mut().expect("connected above");
         let n = self.counters.updates.load(Ordering::Relaxed);
-        if n.is_multiple_of(SLOW_EVERY) {
+        if n.is_multiple_of(SLOW_EVERY) || self.slow_now {
+            self.slow_now = false;
             self.run = Some(plc.client().status()? & 1 != 0);
             self.forced = forced(plc, program)?;
         }
