@@ -7,6 +7,7 @@
 //! refusals). No HTTP, no page and no terminal here: the only I/O is reading the
 //! project's files when a session opens and the atomic save.
 
+mod complete;
 mod confine;
 mod error;
 mod session;
@@ -14,6 +15,7 @@ mod summary;
 mod tests;
 mod update;
 
+pub use complete::{Completion, CompletionRequest, Wanted};
 pub use confine::Root;
 pub use error::StudioError;
 pub use session::Session;
