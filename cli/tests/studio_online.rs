@@ -8,9 +8,14 @@
 
 mod common;
 
-use std::path::PathBuf;
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
 
 use gutta_cli::studio::Session;
+use serde_json::Value;
 
 /// A `gutta-cc new demo` project in a scratch folder.
 fn demo(tag: &str) -> PathBuf {
@@ -94,4 +99,282 @@ fn a_program_with_errors_runs_no_test_and_says_its_first_error() {
     assert!(refused.code.starts_with('E'), "{refused:?}");
     assert_eq!(refused.file.as_deref(), Some("src/main.lad"));
     assert!(refused.message.contains("NoSuchLamp"), "{refused:?}");
+}
+
+/// A running `gutta-cc studio --no-open`, killed when dropped.
+struct Studio {
+    child: Child,
+    address: String,
+    token: String,
+}
+
+impl Drop for Studio {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn start_studio(dir: &Path) -> Studio {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-cc"))
+        .args(["studio", "--no-open"])
+        .arg(dir)
+        .current_dir(dir)
+        .env_remove("GUTTA_PASSWORD")
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("gutta-cc studio starts");
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().expect("stdout"))
+        .read_line(&mut line)
+        .expect("the first line");
+    let rest = line
+        .trim_end()
+        .strip_prefix("gutta-cc studio: http://")
+        .unwrap_or_else(|| panic!("first line: {line:?}"));
+    let (address, token) = rest.split_once("/?token=").expect("the token");
+    Studio {
+        address: address.to_string(),
+        token: token.to_string(),
+        child,
+    }
+}
+
+/// `METHOD PATH` with the token, `body` as JSON: the status and the JSON answer.
+fn call(studio: &Studio, method: &str, path: &str, body: &str) -> (u16, Value) {
+    let mut stream = TcpStream::connect(&studio.address).expect("connects");
+    stream
+        .set_read_timeout(Some(Duration::from_secs(60)))
+        .expect("timeout");
+    let text = format!(
+        "{method} {path} HTTP/1.1\r\nHost: {}\r\nConnection: close\r\nX-Gutta-Token: {}\r\n\
+         Content-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}",
+        studio.address,
+        studio.token,
+        body.len()
+    );
+    stream.write_all(text.as_bytes()).expect("sends");
+    let mut answer = Vec::new();
+    stream.read_to_end(&mut answer).expect("reads the answer");
+    let answer = String::from_utf8_lossy(&answer).into_owned();
+    let (head, body) = answer.split_once("\r\n\r\n").expect("a head and a body");
+    let status = head
+        .split(' ')
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("status line: {head}"));
+    let json = serde_json::from_str(body).unwrap_or_else(|e| panic!("{e}: {body}"));
+    (status, json)
+}
+
+/// The online state until `ok` holds (at most 15 s).
+fn state_when(studio: &Studio, what: &str, ok: impl Fn(&Value) -> bool) -> Value {
+    let deadline = Instant::now() + Duration::from_secs(15);
+    loop {
+        let (status, state) = call(studio, "GET", "/api/online", "");
+        assert_eq!(status, 200, "{state}");
+        if ok(&state) {
+            return state;
+        }
+        assert!(Instant::now() < deadline, "never {what}: {state}");
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+/// The energized element ids of MAIN's network `n` in `state`.
+fn on_in(state: &Value, n: u64) -> Vec<String> {
+    state["networks"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter(|x| x["block"] == "MAIN" && x["network"] == n)
+        .flat_map(|x| x["on"].as_array().cloned().unwrap_or_default())
+        .map(|id| id.to_string())
+        .collect()
+}
+
+/// The demo project pointed at `address` (gutta.toml's `[connection] tcp`).
+fn demo_at(tag: &str, address: &str) -> PathBuf {
+    let dir = demo(tag);
+    let manifest = dir.join("gutta.toml");
+    let text = std::fs::read_to_string(&manifest).expect("reads gutta.toml");
+    assert!(text.contains("127.0.0.1:5020"), "{text}");
+    std::fs::write(&manifest, text.replace("127.0.0.1:5020", address)).expect("writes");
+    dir
+}
+
+fn plc_of(dir: &Path) -> String {
+    let text = std::fs::read_to_string(dir.join("gutta.toml")).expect("reads gutta.toml");
+    text.lines()
+        .find_map(|l| l.strip_prefix("plc = \""))
+        .and_then(|l| l.split('"').next())
+        .expect("plc = ...")
+        .to_string()
+}
+
+#[test]
+fn online_download_shows_power_flow_stop_another_program_and_recovers() {
+    let plc = plc_of(&demo("plc"));
+    let sim = common::sim(&plc, None);
+    let dir = demo_at("online", &sim.1);
+    let studio = start_studio(&dir);
+
+    let (status, state) = call(&studio, "GET", "/api/online", "");
+    assert_eq!((status, &state["mode"]), (200, &"EDIT".into()), "{state}");
+    // Online: a fresh simulator holds no program, and the state says so.
+    let (status, state) = call(&studio, "POST", "/api/online", "{}");
+    assert_eq!(status, 200, "{state}");
+    assert_eq!(state["mode"], "ONLINE");
+    assert_eq!(state["address"], sim.1.as_str());
+    let state = state_when(&studio, "program none", |s| s["program"] == "none");
+    assert_eq!(state["networks"], serde_json::json!([]));
+    assert!(
+        state["message"]
+            .as_str()
+            .unwrap_or("")
+            .contains("no program"),
+        "{state}"
+    );
+
+    // Download: the session's program, then power flow from the PLC.
+    let (status, answer) = call(&studio, "POST", "/api/online/download", "{}");
+    assert_eq!(status, 200, "{answer}");
+    let download = &answer["download"];
+    assert_eq!(download["plc"], plc.as_str());
+    assert!(download["pages"].as_u64() > Some(0), "{answer}");
+    assert_eq!(
+        download["transferred"],
+        2 * download["bytes"].as_u64().unwrap()
+    );
+    let (_, progress) = call(&studio, "GET", "/api/online/progress", "");
+    assert_eq!(progress["active"], false, "{progress}");
+    assert_eq!(progress["done"], progress["total"], "{progress}");
+    let state = state_when(&studio, "program same, RUN", |s| {
+        s["program"] == "same" && s["run"] == true && s["live"] == true
+    });
+    assert!(
+        state["updated"].as_u64() > Some(1_600_000_000_000),
+        "{state}"
+    );
+    // Start pressed (forced, as `gutta-cc force` does): Running latches, network 1's
+    // coil and network 2's first contact are energized.
+    let o = common::cc_in(&dir, &["force", "I0.0=1"]);
+    assert!(o.status.success(), "{}", common::text(&o));
+    // (The forces are read every tenth update: an outside force shows within a second.)
+    state_when(&studio, "Running latched, I0.0 forced", |s| {
+        s["values"]["M0.0"] == "1"
+            && !on_in(s, 1).is_empty()
+            && !on_in(s, 2).is_empty()
+            && s["forced"] == serde_json::json!(["I0.0"])
+    });
+
+    // STOP: run false, no power flow shown.
+    let o = common::cc_in(&dir, &["stop"]);
+    assert!(o.status.success(), "{}", common::text(&o));
+    let state = state_when(&studio, "STOP", |s| s["run"] == false);
+    assert_eq!(state["networks"], serde_json::json!([]), "{state}");
+    let o = common::cc_in(&dir, &["run"]);
+    assert!(o.status.success(), "{}", common::text(&o));
+    state_when(&studio, "RUN again", |s| {
+        s["run"] == true && !on_in(s, 1).is_empty()
+    });
+
+    // Another program downloaded behind the studio's back: `other`, no power flow.
+    let main = dir.join("src/main.lad");
+    let text = std::fs::read_to_string(&main).expect("reads");
+    std::fs::write(&main, text.replace("A      SM0.5", "A      SM0.4")).expect("writes");
+    let o = common::cc_in(&dir, &["download"]);
+    assert!(o.status.success(), "{}", common::text(&o));
+    let state = state_when(&studio, "program other", |s| s["program"] == "other");
+    assert_eq!(state["networks"], serde_json::json!([]), "{state}");
+    assert!(
+        state["message"]
+            .as_str()
+            .unwrap_or("")
+            .contains("another program"),
+        "{state}"
+    );
+    // The studio's download puts its program back: `same`, power flow again (the PLC ran,
+    // so it runs).
+    let (status, answer) = call(&studio, "POST", "/api/online/download", "{}");
+    assert_eq!(status, 200, "{answer}");
+    assert_eq!(answer["download"]["run"], true, "{answer}");
+    state_when(&studio, "program same after the download", |s| {
+        s["program"] == "same" && s["run"] == true && s["live"] == true
+    });
+    // PLC_CLEAR released the force: Start pressed again latches again.
+    let o = common::cc_in(&dir, &["force", "I0.0=1"]);
+    assert!(o.status.success(), "{}", common::text(&o));
+    state_when(&studio, "power flow after the download", |s| {
+        !on_in(s, 1).is_empty()
+    });
+
+    // The disk's program again (another client), then the buffers' again: the state
+    // follows by itself, without the page asking for a download.
+    let o = common::cc_in(&dir, &["download"]);
+    assert!(o.status.success(), "{}", common::text(&o));
+    state_when(&studio, "other again", |s| s["program"] == "other");
+    std::fs::write(&main, &text).expect("writes the old text back");
+    let o = common::cc_in(&dir, &["download"]);
+    assert!(o.status.success(), "{}", common::text(&o));
+    state_when(&studio, "same by itself", |s| s["program"] == "same");
+}
+
+#[test]
+fn a_plc_that_does_not_answer_is_a_coded_error_and_the_mode_stays_edit() {
+    let dir = demo_at("nobody", "127.0.0.1:1");
+    let studio = start_studio(&dir);
+    let (status, answer) = call(&studio, "POST", "/api/online", "{}");
+    assert_eq!(status, 502, "{answer}");
+    assert_eq!(answer["code"], "plc-unreachable", "{answer}");
+    assert!(
+        answer["message"]
+            .as_str()
+            .unwrap_or("")
+            .contains("127.0.0.1:1"),
+        "{answer}"
+    );
+    let (_, state) = call(&studio, "GET", "/api/online", "");
+    assert_eq!(state["mode"], "EDIT", "{state}");
+    // A download needs the PLC too: the same refusal, nothing sent anywhere.
+    let (status, answer) = call(&studio, "POST", "/api/online/download", "{}");
+    assert_eq!(
+        (status, &answer["code"]),
+        (502, &"plc-unreachable".into()),
+        "{answer}"
+    );
+}
+
+#[test]
+fn tests_from_the_server_pass_on_the_demo() {
+    let dir = demo("tests-http");
+    let studio = start_studio(&dir);
+    let (status, run) = call(&studio, "POST", "/api/tests", "{}");
+    assert_eq!(status, 200, "{run}");
+    assert_eq!(
+        (&run["passed"], &run["failed"]),
+        (&2.into(), &0.into()),
+        "{run}"
+    );
+    // The test file changed on disk is read again at each run: a failing EXPECT.
+    let gtest = dir.join("tests/main.gtest");
+    let text = std::fs::read_to_string(&gtest).expect("reads");
+    std::fs::write(
+        &gtest,
+        text.replace("EXPECT  Blinks = 3", "EXPECT  Blinks = 4"),
+    )
+    .expect("writes");
+    let (status, run) = call(&studio, "POST", "/api/tests", "{}");
+    assert_eq!(status, 200, "{run}");
+    assert_eq!(
+        (&run["passed"], &run["failed"]),
+        (&1.into(), &1.into()),
+        "{run}"
+    );
+    let failure = &run["files"][0]["tests"][1]["failure"];
+    assert_eq!(failure["kind"], "expect", "{run}");
+    assert_eq!(failure["mismatches"][0]["expected"], "4", "{run}");
+    assert_eq!(failure["mismatches"][0]["actual"], "3", "{run}");
 }

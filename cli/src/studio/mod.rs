@@ -20,5 +20,5 @@ pub use confine::Root;
 pub use error::StudioError;
 pub use session::Session;
 pub use summary::{BlockSummary, FileSummary, ProjectSummary};
-pub use tests::{ProgramRefused, TestFileRun, TestRun};
+pub use tests::{ProgramRefused, TestFileRun, TestRun, TestsNow};
 pub use update::{BlockShape, NetworkDrawing, Update};

@@ -74,7 +74,33 @@ impl Session {
     /// current program, each test on a fresh VM in virtual time. A program that does not
     /// compile runs no test: its first error is the refusal.
     pub fn run_tests(&self) -> Result<TestRun, ProgramRefused> {
-        let program = ProgramUnderTest::build(self.sources_now(), self.target.as_ref())
+        self.tests_now().run()
+    }
+
+    /// What `run_tests` needs, copied: a server runs them without holding the session.
+    pub fn tests_now(&self) -> TestsNow {
+        TestsNow {
+            sources: self.sources_now(),
+            target: self.target.clone(),
+            root: self.root.clone(),
+            tests: self.tests.clone(),
+        }
+    }
+}
+
+/// The session's program and test files at one moment (`Session::tests_now`).
+#[derive(Debug, Clone)]
+pub struct TestsNow {
+    sources: ProgramSources,
+    target: Option<gutta_compiler::ExplicitTarget>,
+    root: super::Root,
+    tests: Vec<String>,
+}
+
+impl TestsNow {
+    /// Every test file run on the program: `Session::run_tests`.
+    pub fn run(&self) -> Result<TestRun, ProgramRefused> {
+        let program = ProgramUnderTest::build(self.sources.clone(), self.target.as_ref())
             .map_err(|e| refusal(&e))?;
         let mut run = TestRun {
             passed: 0,

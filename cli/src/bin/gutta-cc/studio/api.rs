@@ -103,6 +103,7 @@ pub(crate) fn router(studio: Arc<Studio>, guard: Guard) -> axum::Router {
         .route("/api/save", post(save))
         .route("/api/stl", get(stl))
         .route("/api/complete", get(complete))
+        .merge(super::online::routes())
         .with_state(studio)
         .layer(DefaultBodyLimit::max(MAX_BODY))
         .layer(axum::middleware::from_fn(

@@ -13,20 +13,23 @@
 //! runs another program, or none, is said so in the state (`program`), and the state
 //! recovers by itself once the programs match again.
 
-// Until the routes use every part (the next commit).
-#![allow(dead_code)]
-
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
+use axum::extract::State;
+use axum::http::{header, StatusCode};
+use axum::response::{IntoResponse, Response};
+use axum::routing::{get, post};
 use gutta_cli::fatal::Fatal;
+use gutta_cli::studio::Session;
 use gutta_cli::vars;
 use gutta_compiler::{compile_program, ExplicitTarget, ProgramSources};
 use gutta_link::{Client, Credentials, LinkError, LoginError, PasswordPrompt, PASSWORD_ENV};
 use serde_json::{json, Value};
 
+use super::api::Studio;
 use super::live::{LiveError, LiveSource, WatchRequest, WatchValue};
 use crate::args::LinkArgs;
 use crate::monitor::session::{Program, Session as Monitor};
@@ -494,10 +497,6 @@ impl Worker {
         }
     }
 
-    fn monitor(&mut self) -> &mut Monitor {
-        self.monitor.as_mut().expect("connected before the loop")
-    }
-
     /// The session's program compiled again if its buffers changed, and what the PLC
     /// holds compared with it.
     fn recheck(&mut self) {
@@ -757,4 +756,157 @@ impl Worker {
             "run": runs,
         }))
     }
+}
+
+// ---- the routes ----------------------------------------------------------------------
+
+/// The online routes and `/api/tests` (merged into `api::router`, behind its guard):
+/// `POST /api/online` connects, `GET /api/online` is the connection's state
+/// (`{"mode":"EDIT"}` without one), `POST /api/online/download` compiles the session's
+/// program and downloads it, `GET /api/online/progress` follows it, `POST /api/tests`
+/// runs the project's tests on the session's program.
+pub(crate) fn routes() -> axum::Router<Arc<Studio>> {
+    axum::Router::new()
+        .route("/api/online", get(state).post(connect))
+        .route("/api/online/download", post(download))
+        .route("/api/online/progress", get(progress))
+        .route("/api/tests", post(tests))
+}
+
+/// A JSON answer.
+fn answer(status: StatusCode, value: &Value) -> Response {
+    (
+        status,
+        [
+            (header::CONTENT_TYPE, "application/json"),
+            (header::CACHE_CONTROL, "no-store"),
+        ],
+        value.to_string(),
+    )
+        .into_response()
+}
+
+/// A refusal `{"code", "message"}`: a program with errors or a busy PLC 409, a PLC that
+/// does not answer or fails 502, a project without a connection 409.
+fn refused(e: &LiveError) -> Response {
+    let status = match e.code {
+        "plc-unreachable" | "plc-error" | "plc-timeout" | "plc-refused" | "download-failed" => {
+            StatusCode::BAD_GATEWAY
+        }
+        "io" => StatusCode::INTERNAL_SERVER_ERROR,
+        _ => StatusCode::CONFLICT,
+    };
+    answer(status, &json!({"code": e.code, "message": e.message}))
+}
+
+/// `f` off the server's threads: PLC I/O and compiling take their time.
+async fn blocking(f: impl FnOnce() -> Response + Send + 'static) -> Response {
+    tokio::task::spawn_blocking(f).await.unwrap_or_else(|e| {
+        refused(&LiveError {
+            code: "io",
+            message: e.to_string(),
+        })
+    })
+}
+
+/// The session's program now (the session's mutex held only to copy the buffers).
+fn current_of(session: &Mutex<Session>) -> Current {
+    let session = session.lock().unwrap_or_else(|e| e.into_inner());
+    Current {
+        name: session.project().name,
+        sources: session.sources_now(),
+        target: session.explicit_target().cloned(),
+    }
+}
+
+/// Connect to gutta.toml's `[connection]` and make the PLC the live source (the
+/// simulator, or an older connection, ends first); the mode stays EDIT when it fails.
+fn go_online(studio: &Studio) -> Result<Handle, LiveError> {
+    let root = {
+        let session = studio.session.lock().unwrap_or_else(|e| e.into_inner());
+        session.root().to_path_buf()
+    };
+    let link = link_of(&root)?;
+    let old = studio.live.lock().unwrap_or_else(|e| e.into_inner()).take();
+    drop(old);
+    // The worker holds the session weakly: it never keeps a closed studio's alive.
+    let session = Arc::downgrade(&studio.session);
+    let current: CurrentFn = Box::new(move || session.upgrade().map(|s| current_of(&s)));
+    let online = Online::connect(link, current)?;
+    let handle = online.handle().clone();
+    *studio.live.lock().unwrap_or_else(|e| e.into_inner()) = Some(Box::new(online));
+    Ok(handle)
+}
+
+/// `POST /api/online`: connected, the first state.
+async fn connect(State(studio): State<Arc<Studio>>) -> Response {
+    blocking(move || match go_online(&studio) {
+        Ok(handle) => {
+            // The worker published its first update before it answered.
+            answer(StatusCode::OK, &handle.state())
+        }
+        Err(e) => refused(&e),
+    })
+    .await
+}
+
+/// `GET /api/online`: the connection's latest state.
+async fn state() -> Response {
+    blocking(|| match Handle::current() {
+        Some(handle) => answer(StatusCode::OK, &handle.state()),
+        None => answer(StatusCode::OK, &json!({"mode": "EDIT"})),
+    })
+    .await
+}
+
+/// `GET /api/online/progress`: the download's progress.
+async fn progress() -> Response {
+    blocking(|| match Handle::current() {
+        Some(handle) => answer(StatusCode::OK, &handle.progress()),
+        None => answer(StatusCode::OK, &json!({"active": false})),
+    })
+    .await
+}
+
+/// `POST /api/online/download`: the session's program compiled (refused with its first
+/// error's code, nothing sent), online first if need be, then downloaded: `{"download":
+/// summary, "state": the state after it}`.
+async fn download(State(studio): State<Arc<Studio>>) -> Response {
+    blocking(move || {
+        let result = (|| {
+            let program = compile(&current_of(&studio.session))?;
+            let handle = match Handle::current() {
+                Some(handle) => handle,
+                None => go_online(&studio)?,
+            };
+            let summary = handle.download(program)?;
+            Ok::<_, LiveError>(json!({"download": summary, "state": handle.state()}))
+        })();
+        match result {
+            Ok(value) => answer(StatusCode::OK, &value),
+            Err(e) => refused(&e),
+        }
+    })
+    .await
+}
+
+/// `POST /api/tests`: the project's tests on the session's program (`Session::
+/// run_tests`), run without holding the session; a program with errors is a 409 with
+/// its first error's code.
+async fn tests(State(studio): State<Arc<Studio>>) -> Response {
+    blocking(move || {
+        let now = studio
+            .session
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .tests_now();
+        match now.run() {
+            Ok(run) => answer(StatusCode::OK, &json!(run)),
+            Err(e) => answer(
+                StatusCode::CONFLICT,
+                &json!({"code": e.code, "message": e.to_string(), "file": e.file, "line": e.line}),
+            ),
+        }
+    })
+    .await
 }
