@@ -11,6 +11,20 @@
   if (!studio) return;
   let downloading = false;
 
+  const style = document.createElement('style');
+  style.textContent =
+    '.panel-body .test{margin:6px 0;padding:4px 6px;border-left:4px solid #16a34a}' +
+    '.panel-body .test.failed{border-left-color:#dc2626;background:#fef2f2}' +
+    '.test-status{font-weight:bold;color:#16a34a}.test.failed .test-status{color:#dc2626}' +
+    '.test-line{color:#6b7280;font-family:monospace}.test-file-name{font-weight:bold;margin-top:6px}' +
+    '.test-detail{font-size:11px;overflow-x:auto;background:#fff;padding:4px;margin:4px 0}' +
+    '.tests-summary{font-weight:bold}.tests-summary.failed{color:#dc2626}' +
+    '.tests-summary.passed{color:#16a34a}' +
+    '.online-state{font-family:monospace;margin-bottom:6px}' +
+    '.online-offer button,.download-confirm button{margin:4px 4px 0 0}' +
+    'progress.download-progress{width:100%}';
+  document.head.appendChild(style);
+
   // A request's JSON answer; a refusal throws an Error with its code.
   async function call(path, body) {
     const answer = await studio.api(path, body === undefined ? {} : { json: body });
@@ -192,6 +206,15 @@
     panel.textContent = '';
     panel.appendChild(element('div', 'tests-summary running', 'running the tests...'));
     return call('/api/tests', {}).then(function (run) {
+      if (run.refused) {
+        panel.textContent = '';
+        const r = run.refused;
+        const shown = element('div', 'tests-summary message error',
+          r.code + ': ' + r.message + ': no test ran');
+        shown.dataset.code = r.code;
+        panel.appendChild(shown);
+        return;
+      }
       showTests(panel, run);
     }, function (error) {
       panel.textContent = '';

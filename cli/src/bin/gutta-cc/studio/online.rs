@@ -371,6 +371,7 @@ impl Online {
                     program,
                     print,
                     broken: None,
+                    status: None,
                     current,
                     shared: worker_shared,
                     address: worker_address,
@@ -455,6 +456,8 @@ struct Worker {
     /// The session's program has errors now (its message): the PLC is compared with the
     /// last one that compiled.
     broken: Option<String>,
+    /// The RUN state of the last program check (shown while the programs differ).
+    status: Option<bool>,
     current: CurrentFn,
     shared: Arc<Shared>,
     address: String,
@@ -474,8 +477,15 @@ impl Worker {
                 return;
             }
         }
-        let _ = ready.send(Ok(()));
+        let program = &self.program;
+        let monitor = self.monitor.as_mut().expect("connected above");
+        self.status = monitor
+            .plc(program)
+            .and_then(|plc| plc.client().status())
+            .ok()
+            .map(|s| s & 1 != 0);
         self.publish();
+        let _ = ready.send(Ok(()));
         let mut checked = Instant::now();
         loop {
             match inbox.recv_timeout(INTERVAL) {
@@ -515,7 +525,13 @@ impl Worker {
         let program = &self.program;
         let monitor = self.monitor.as_mut().expect("connected");
         // A failure dropped the connection: the next update says so and connects again.
-        let _ = monitor.recheck(program);
+        if monitor.recheck(program).is_ok() {
+            self.status = monitor
+                .plc(program)
+                .and_then(|plc| plc.client().status())
+                .ok()
+                .map(|s| s & 1 != 0);
+        }
     }
 
     /// One update, in the live state's shape, for the page.
@@ -523,6 +539,11 @@ impl Worker {
         let program = &self.program;
         let monitor = self.monitor.as_mut().expect("connected");
         let mut state = monitor.update(program);
+        if state["run"].is_null() {
+            // Another program, or none: the monitor reads no values, the RUN state is
+            // the last check's.
+            state["run"] = json!(self.status);
+        }
         state["mode"] = json!("ONLINE");
         state["address"] = json!(self.address);
         state["scans"] = Value::Null;
@@ -891,8 +912,8 @@ async fn download(State(studio): State<Arc<Studio>>) -> Response {
 }
 
 /// `POST /api/tests`: the project's tests on the session's program (`Session::
-/// run_tests`), run without holding the session; a program with errors is a 409 with
-/// its first error's code.
+/// run_tests`), run without holding the session; a program with errors runs none:
+/// `{"refused": {code, message, file, line}}`, its first error.
 async fn tests(State(studio): State<Arc<Studio>>) -> Response {
     blocking(move || {
         let now = studio
@@ -902,9 +923,11 @@ async fn tests(State(studio): State<Arc<Studio>>) -> Response {
             .tests_now();
         match now.run() {
             Ok(run) => answer(StatusCode::OK, &json!(run)),
+            // Not a bad request: the answer of a run whose program does not compile.
             Err(e) => answer(
-                StatusCode::CONFLICT,
-                &json!({"code": e.code, "message": e.to_string(), "file": e.file, "line": e.line}),
+                StatusCode::OK,
+                &json!({"refused": {"code": e.code, "message": e.to_string(),
+                                    "file": e.file, "line": e.line}}),
             ),
         }
     })
