@@ -378,3 +378,29 @@ fn tests_from_the_server_pass_on_the_demo() {
     assert_eq!(failure["mismatches"][0]["expected"], "4", "{run}");
     assert_eq!(failure["mismatches"][0]["actual"], "3", "{run}");
 }
+
+#[test]
+fn a_program_with_errors_is_refused_before_anything_is_sent() {
+    // Nobody listens at the address: a 409 with the compiler's code (not
+    // plc-unreachable) shows the program was refused before any connection.
+    let dir = demo_at("refused", "127.0.0.1:1");
+    let studio = start_studio(&dir);
+    let edit = r#"{"file": "src/main.lad", "edit": {"op": "set_operands", "at": "blocks[0].networks[1].rung.series[2]", "operands": ["NoSuchLamp"]}}"#;
+    let (status, answer) = call(&studio, "POST", "/api/edit", edit);
+    assert_eq!(status, 200, "{answer}");
+    let (status, answer) = call(&studio, "POST", "/api/online/download", "{}");
+    assert_eq!(status, 409, "{answer}");
+    let code = answer["code"].as_str().unwrap_or_default();
+    assert!(code.starts_with('E'), "{answer}");
+    let message = answer["message"].as_str().unwrap_or_default();
+    assert!(
+        message.starts_with("src/main.lad:") && message.contains("NoSuchLamp"),
+        "{answer}"
+    );
+    let (_, state) = call(&studio, "GET", "/api/online", "");
+    assert_eq!(state["mode"], "EDIT", "{state}");
+    // The tests say the same, and run none.
+    let (status, run) = call(&studio, "POST", "/api/tests", "{}");
+    assert_eq!(status, 200, "{run}");
+    assert_eq!(run["refused"]["code"], code, "{run}");
+}
