@@ -320,6 +320,16 @@ fn online_download_shows_power_flow_stop_another_program_and_recovers() {
     let o = common::cc_in(&dir, &["download"]);
     assert!(o.status.success(), "{}", common::text(&o));
     state_when(&studio, "same by itself", |s| s["program"] == "same");
+
+    // The page's program is the session's: an edit not downloaded is `other` (the PLC
+    // runs the old one), its undo `same` again.
+    let edit = format!(r#"{{"file": "src/main.lad", "edit": {LAMP_ELSEWHERE}}}"#);
+    let (status, answer) = call(&studio, "POST", "/api/edit", &edit);
+    assert_eq!(status, 200, "{answer}");
+    state_when(&studio, "other after an edit", |s| s["program"] == "other");
+    let (status, answer) = call(&studio, "POST", "/api/undo", r#"{"file": "src/main.lad"}"#);
+    assert_eq!(status, 200, "{answer}");
+    state_when(&studio, "same after the undo", |s| s["program"] == "same");
 }
 
 #[test]
