@@ -9,12 +9,16 @@
 
 mod confine;
 mod error;
+mod run;
 mod session;
+pub mod sim;
 mod summary;
 mod update;
 
 pub use confine::Root;
 pub use error::StudioError;
+pub use run::{ProgramError, RunProgram};
 pub use session::Session;
+pub use sim::Simulator;
 pub use summary::{BlockSummary, FileSummary, ProjectSummary};
 pub use update::{BlockShape, NetworkDrawing, Update};
