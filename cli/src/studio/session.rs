@@ -423,6 +423,54 @@ impl Session {
             can_redo: !f.redo_texts.is_empty(),
         }
     }
+
+    /// The program's files read again with the symbol tables at `tables` (read now;
+    /// the command line named them, so they may lie outside the folder: they are only
+    /// read), `target` and timer-preset scaling: what `gutta-cc studio FILE.lad...
+    /// --symbols TABLE` opens. Buffers and histories start over.
+    pub fn configure(
+        &mut self,
+        tables: &[PathBuf],
+        target: Option<ExplicitTarget>,
+        scale_timer_presets: bool,
+    ) -> Studio<()> {
+        let mut read_tables = Vec::new();
+        for table in tables {
+            let name = table.display().to_string();
+            let (file, _) = SourceFile::from_program_file_bytes(&name, read(table)?, true)
+                .map_err(|e| StudioError::NotUtf8 {
+                    path: name.clone(),
+                    offset: e.offset,
+                })?;
+            read_tables.push(file);
+        }
+        self.tables = read_tables;
+        self.target = target;
+        self.options.scale_timer_presets = scale_timer_presets;
+        let paths: Vec<PathBuf> = self.files.drain(..).map(|f| f.path).collect();
+        for path in &paths {
+            self.add(path)?;
+        }
+        Ok(())
+    }
+
+    /// The open file at `path` (canonical) read again from disk after something other
+    /// than `save` wrote it: its buffer, model and history start over. False when no
+    /// open file is there; on an error the file stays as it was.
+    pub fn reload(&mut self, path: &Path) -> Studio<bool> {
+        let Some(index) = self.files.iter().position(|f| f.path == path) else {
+            return Ok(false);
+        };
+        let old = self.files.remove(index);
+        if let Err(e) = self.add(&old.path) {
+            self.files.insert(index, old);
+            return Err(e);
+        }
+        if let Some(new) = self.files.pop() {
+            self.files.insert(index, new);
+        }
+        Ok(true)
+    }
 }
 
 impl OpenFile {
