@@ -74,7 +74,6 @@ pub(crate) struct Studio {
     /// The open files with their buffers: the page's one truth.
     pub session: Arc<Mutex<Session>>,
     /// The simulator or the connected PLC, when one runs.
-    #[allow(dead_code)]
     pub live: Mutex<Option<Box<dyn LiveSource>>>,
     pub token: Token,
     /// Held while a file is written by PUT: two PUTs of one file would share gutta-io's
@@ -103,6 +102,7 @@ pub(crate) fn router(studio: Arc<Studio>, guard: Guard) -> axum::Router {
         .route("/api/save", post(save))
         .route("/api/stl", get(stl))
         .route("/api/complete", get(complete))
+        .merge(super::live::routes())
         .merge(super::online::routes())
         .with_state(studio)
         .layer(DefaultBodyLimit::max(MAX_BODY))

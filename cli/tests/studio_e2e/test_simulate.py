@@ -1,0 +1,157 @@
+"""Simulate in the studio (docs/studio.md, "Simulate"): the demo project (with a TON
+network added before the studio starts) runs on the VM inside gutta-cc; the status bar
+shows SIMULATE, RUN and a rising scan count; a click on Start (I0.0) latches Running
+(its coil gets class `on`); the TON's current value counts in real time; the page gets
+20 updates a second or more; the watch table reads, writes and forces; STOP empties the
+power flow; edit goes back to EDIT."""
+
+import time
+
+import pytest
+
+from conftest import cc, shoot, wait_until
+
+TON = """Network 4 // T4 counts while Running (100 ms steps)
+LD     Running
+TON    T4, 600
+END_ORGANIZATION_BLOCK
+"""
+
+
+@pytest.fixture
+def project(tmp_path):
+    """The demo project, its MAIN with a fourth network: a TON that counts while
+    Running."""
+    cc("new", "demo", cwd=tmp_path)
+    root = tmp_path / "demo"
+    main = root / "src" / "main.lad"
+    text = main.read_text()
+    assert text.count("END_ORGANIZATION_BLOCK") == 1
+    main.write_text(text.replace("END_ORGANIZATION_BLOCK\n", TON))
+    cc("build", cwd=root)
+    return root
+
+
+def status(page, part):
+    return page.locator(f".status .{part}").inner_text().strip()
+
+
+def scans(page):
+    where = status(page, "where")
+    return int(where.split()[1]) if where.startswith("scan ") else -1
+
+
+def timer_value(page):
+    """The TON box's current value as the page shows it beside its title (`T4 = 12`)."""
+    shown = page.evaluate(
+        """() => {
+          const box = document.querySelector('.box[data-mnemonic="TON"]');
+          const value = box && box.querySelector('text.title tspan.value');
+          return value ? value.textContent : '';
+        }""")
+    return int(shown.replace("=", "").strip()) if shown.strip() else -1
+
+
+def energized(page):
+    return page.locator(".network .on").count()
+
+
+def test_simulate_toggle_start_see_running_on_and_the_timer_count(page):
+    page.click('[data-command="simulate"]')
+    wait_until(lambda: status(page, "mode") == "SIMULATE", what="SIMULATE in the status bar")
+    wait_until(lambda: status(page, "run") == "RUN", what="RUN in the status bar")
+    first = wait_until(lambda: scans(page) > 0 and scans(page), what="a scan count")
+    wait_until(lambda: scans(page) > first + 20, what="the scan count rising")
+    assert page.locator("body").get_attribute("data-mode") == "SIMULATE"
+    running = page.locator('.coil[data-operand="M0.0"]').first
+    assert "on" not in (running.get_attribute("class") or "").split()
+
+    # A click on Start presses it: Running latches and its coil is energized.
+    page.locator('.contact[data-operand="I0.0"]').first.click()
+    wait_until(lambda: "on" in (running.get_attribute("class") or "").split(),
+               what="the Running coil energized")
+    start = page.locator('.contact[data-operand="I0.0"]').first
+    assert "forced" in (start.get_attribute("class") or "").split()
+    # A second click lets it go: Running holds.
+    start.click()
+    wait_until(lambda: "forced" not in (start.get_attribute("class") or "").split(),
+               what="Start released")
+    time.sleep(0.2)
+    assert "on" in (running.get_attribute("class") or "").split()
+
+    # The timer counts in real time (100 ms steps).
+    wait_until(lambda: timer_value(page) >= 0, what="the TON's value beside it")
+    t0, v0 = time.monotonic(), timer_value(page)
+    time.sleep(1.5)
+    t1, v1 = time.monotonic(), timer_value(page)
+    counted_ms, wall_ms = (v1 - v0) * 100, (t1 - t0) * 1000
+    assert abs(counted_ms - wall_ms) < 400, f"T4 counted {counted_ms} ms in {wall_ms:.0f} ms"
+    shoot(page, "studio-simulate")
+
+    # Updates per second in Chromium (the bar: 20).
+    u0, s0 = int(page.locator("body").get_attribute("data-live-updates")), time.monotonic()
+    time.sleep(2.0)
+    u1, s1 = int(page.locator("body").get_attribute("data-live-updates")), time.monotonic()
+    rate = (u1 - u0) / (s1 - s0)
+    print(f"studio simulate: {rate:.1f} updates/s in Chromium")
+    assert rate >= 20, f"{rate:.1f} updates/s"
+
+    # STOP: no power flow shown, the scan count stands.
+    page.click('[data-command="stop"]')
+    wait_until(lambda: status(page, "run") == "STOP", what="STOP in the status bar")
+    wait_until(lambda: energized(page) == 0, what="no element energized")
+    stopped = scans(page)
+    time.sleep(0.3)
+    assert scans(page) == stopped
+    assert energized(page) == 0
+    shoot(page, "studio-stop")
+
+    # simulate in STOP: RUN again, the same program.
+    page.click('[data-command="simulate"]')
+    wait_until(lambda: status(page, "run") == "RUN", what="RUN again")
+    wait_until(lambda: scans(page) > stopped, what="scanning again")
+    wait_until(lambda: "on" in (running.get_attribute("class") or "").split(),
+               what="Running still latched")
+
+    # edit: back to EDIT, nothing painted.
+    page.click('[data-command="edit"]')
+    wait_until(lambda: status(page, "mode") == "EDIT", what="EDIT")
+    wait_until(lambda: energized(page) == 0, what="no power flow in EDIT")
+
+
+def test_the_watch_table_reads_writes_and_forces(page):
+    page.click('[data-command="simulate"]')
+    wait_until(lambda: status(page, "run") == "RUN", what="RUN")
+    panel = page.locator(".watch")
+    panel.locator(".watch-operand").fill("Blinks")
+    panel.locator(".watch-format").select_option("hex")
+    panel.locator(".watch-add button").click()
+    row = panel.locator('div.watch-row[data-operand="Blinks"]')
+    wait_until(lambda: row.locator(".watch-address").inner_text() == "MW10", what="Blinks read")
+    assert row.locator(".watch-value").inner_text() == "16#0000"
+    row.locator(".watch-new").fill("16#0A0B")
+    row.locator('[data-watch="write"]').click()
+    wait_until(lambda: row.locator(".watch-value").inner_text() == "16#0A0B", what="Blinks written")
+
+    panel.locator(".watch-operand").fill("Lamp")
+    panel.locator(".watch-format").select_option("")
+    panel.locator(".watch-add button").click()
+    lamp = panel.locator('div.watch-row[data-operand="Lamp"]')
+    lamp.locator(".watch-new").fill("1")
+    lamp.locator('[data-watch="force"]').click()
+    wait_until(lambda: "forced" in (lamp.get_attribute("class") or "").split(), what="Lamp forced")
+    assert lamp.locator(".watch-value").inner_text() == "1"
+    coil = page.locator('.coil[data-operand="Q0.0"]').first
+    wait_until(lambda: "forced" in (coil.get_attribute("class") or "").split(),
+               what="the Lamp coil marked forced")
+    shoot(page, "studio-watch")
+    lamp.locator('[data-watch="release"]').click()
+    wait_until(lambda: "forced" not in (lamp.get_attribute("class") or "").split(),
+               what="Lamp released")
+
+    # A name that is not a variable: the row says why (the read answers per row).
+    panel.locator(".watch-operand").fill("Nowhere")
+    panel.locator(".watch-add button").click()
+    bad = panel.locator('div.watch-row[data-operand="Nowhere"]')
+    wait_until(lambda: "[no-operand]" in bad.locator(".watch-value").inner_text(),
+               what="the row's coded error")
