@@ -270,7 +270,27 @@ fn online_download_shows_power_flow_stop_another_program_and_recovers() {
             && s["forced"] == serde_json::json!(["I0.0"])
     });
 
-    // STOP: run false, no power flow shown.
+    // The page's live routes reach the PLC: /api/live is its state, STOP through the
+    // studio (run false, no power flow shown; the PLC says STOP), then RUN.
+    let (status, live) = call(&studio, "GET", "/api/live", "");
+    assert_eq!((status, &live["mode"]), (200, &"ONLINE".into()), "{live}");
+    assert_eq!(live["address"], sim.1.as_str());
+    let (status, state) = call(&studio, "POST", "/api/live/stop", "{}");
+    assert_eq!(status, 200, "{state}");
+    assert_eq!(state["run"], false, "{state}");
+    assert_eq!(state["networks"], serde_json::json!([]), "{state}");
+    let o = common::cc_in(&dir, &["status"]);
+    assert!(
+        common::stdout(&o).contains(": STOP"),
+        "{}",
+        common::text(&o)
+    );
+    let (status, state) = call(&studio, "POST", "/api/live/run", "{}");
+    assert_eq!((status, &state["run"]), (200, &true.into()), "{state}");
+    state_when(&studio, "RUN again", |s| {
+        s["run"] == true && !on_in(s, 1).is_empty()
+    });
+    // STOP from another client shows too.
     let o = common::cc_in(&dir, &["stop"]);
     assert!(o.status.success(), "{}", common::text(&o));
     let state = state_when(&studio, "STOP", |s| s["run"] == false);
@@ -280,6 +300,24 @@ fn online_download_shows_power_flow_stop_another_program_and_recovers() {
     state_when(&studio, "RUN again", |s| {
         s["run"] == true && !on_in(s, 1).is_empty()
     });
+    // A write and a watch read through the studio: Blinks (MW10) set, read back.
+    let (status, state) = call(
+        &studio,
+        "POST",
+        "/api/live/write",
+        r#"{"operand": "Blinks", "value": "1234"}"#,
+    );
+    assert_eq!(status, 200, "{state}");
+    let (status, rows) = call(
+        &studio,
+        "POST",
+        "/api/live/read",
+        r#"{"rows": [{"operand": "Blinks", "format": null}, {"operand": "Nothing", "format": null}]}"#,
+    );
+    assert_eq!(status, 200, "{rows}");
+    assert_eq!(rows["rows"][0]["address"], "MW10", "{rows}");
+    assert_eq!(rows["rows"][0]["value"], "1234", "{rows}");
+    assert_eq!(rows["rows"][1]["error"]["code"], "no-operand", "{rows}");
 
     // Another program downloaded behind the studio's back: `other`, no power flow.
     let main = dir.join("src/main.lad");

@@ -491,7 +491,6 @@ impl Worker {
             match inbox.recv_timeout(INTERVAL) {
                 Ok(job) => {
                     self.job(job);
-                    self.publish();
                     continue;
                 }
                 Err(RecvTimeoutError::Disconnected) => return,
@@ -572,22 +571,32 @@ impl Worker {
         self.shared.latest().state = Some(state);
     }
 
+    /// One job done, and the state published before the answer: a request's answer
+    /// and the state it then asks for agree (STOP answered: the state says STOP).
     fn job(&mut self, job: Job) {
         match job {
             Job::Run(run, answer) => {
-                let _ = answer.send(self.run_stop(run));
+                let done = self.run_stop(run);
+                self.publish();
+                let _ = answer.send(done);
             }
             Job::Write(operand, value, answer) => {
-                let _ = answer.send(self.write(&operand, Some(&value), false));
+                let done = self.write(&operand, Some(&value), false);
+                self.publish();
+                let _ = answer.send(done);
             }
             Job::Force(operand, value, answer) => {
-                let _ = answer.send(self.write(&operand, value.as_deref(), true));
+                let done = self.write(&operand, value.as_deref(), true);
+                self.publish();
+                let _ = answer.send(done);
             }
             Job::Read(rows, answer) => {
                 let _ = answer.send(self.read(&rows));
             }
             Job::Download(program, answer) => {
-                let _ = answer.send(self.download(*program));
+                let done = self.download(*program);
+                self.publish();
+                let _ = answer.send(done);
             }
         }
     }
