@@ -72,6 +72,8 @@ def test_online_download_power_flow_and_stop(plc, project, page):
     wait_until(lambda: status(page, "run") == "STOP", what="STOP")
     wait_until(lambda: page.locator(".network .on").count() == 0, what="no power flow")
     assert status(page, "mode") == "ONLINE"
+    wait_until(lambda: panel.locator(".online-state").get_attribute("data-run") == "STOP",
+               what="the online panel's STOP")
     shoot(page, "studio-online-stop")
     # The PLC is in STOP indeed.
     assert ": STOP" in cc("status", cwd=project).stdout

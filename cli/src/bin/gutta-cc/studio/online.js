@@ -2,7 +2,7 @@
 // `online` (connect to gutta.toml's [connection]: POST /api/online), `download` (asked
 // first in the online panel, then POST /api/online/download with its progress from GET
 // /api/online/progress) and `test` (POST /api/tests, the results in the tests panel).
-// While ONLINE it asks GET /api/online every second for what the PLC holds: another
+// While ONLINE it asks GET /api/online twice a second for what the PLC holds: another
 // program, or none, is said in the online panel with a Download button. Painting the
 // power flow and the status bar's RUN/STOP is live.js's, from /api/live.
 (function () {
@@ -107,7 +107,7 @@
 
   function poll() {
     if (studio.mode() !== 'ONLINE' || downloading) {
-      setTimeout(poll, 1000);
+      setTimeout(poll, 500);
       return;
     }
     call('/api/online', undefined)
@@ -120,9 +120,9 @@
         showState(state);
       })
       .catch(function () {})
-      .then(function () { setTimeout(poll, 1000); });
+      .then(function () { setTimeout(poll, 500); });
   }
-  setTimeout(poll, 1000);
+  setTimeout(poll, 500);
 
   studio.command('online', function () {
     onlinePanel().querySelector('.online-state').textContent = 'connecting...';
