@@ -386,6 +386,7 @@
       }
 
       function fetchItems() {
+        if (request.kind === 'text') return;
         const mine = ++asked;
         const params = {
           file: state.file,
