@@ -23,7 +23,6 @@
     // The selection: {path} an element, {b, n} a network, or null.
     selection: null,
     clipboard: null,
-    busy: false,
   };
   const handlers = {};
   let asks = 0;
@@ -768,23 +767,23 @@
     handlers[name] = handler;
   }
 
+  // Commands run one after another, in the order asked (a paste pressed while a copy
+  // still fetches waits for it). `run` answers when its command is done.
+  let queue = Promise.resolve();
+
   function run(name) {
     const handler = handlers[name];
     if (!handler) {
       notify(name + ': not available in this studio', 'error');
       return Promise.resolve();
     }
-    if (state.busy) return Promise.resolve();
-    state.busy = true;
-    let result;
-    try {
-      result = Promise.resolve(handler());
-    } catch (error) {
-      result = Promise.reject(error);
-    }
-    return result
-      .catch(function (error) { notify(error, 'error'); })
-      .finally(function () { state.busy = false; });
+    // A handler that never settles (a live loop) holds the queue 10 s at most.
+    const next = queue.then(function () {
+      return Promise.race([handler(), new Promise(function (r) { setTimeout(r, 10000); })]);
+    })
+      .catch(function (error) { notify(error, 'error'); });
+    queue = next;
+    return next;
   }
 
   function editing(fn) {
@@ -907,13 +906,17 @@
     panel: panel,
     notify: notify,
     reload: reload,
-    // Beyond the common API: the selection and the operand editor.
+    // Beyond the common API: the selection, the operand editor, one edit operation
+    // sent and its answer put in place (the update, or null when refused).
     selection: function () { return state.selection; },
     ask: ask,
+    edit: send,
   };
 
   showDiagnostics();
   showErrors();
   showDirty();
   setStatus({});
+  // When the page became interactive (ms since navigation start): the page bench.
+  window.guttaStudioReady = performance.now();
 })();
