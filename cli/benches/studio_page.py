@@ -24,15 +24,21 @@ EDIT_LOOP = """async (count) => {
     // The network's view stays; its drawing is replaced by each answer.
     const view = target.closest('.network-view');
     const times = [];
+    const page = [];
+    performance.setResourceTimingBufferSize(10000);
     for (let i = 0; i < count; i++) {
+        performance.clearResourceTimings();
         const start = performance.now();
         const update = await g.edit({op: 'set_mnemonic', at: path,
                                      mnemonic: i % 2 === 0 ? 'LDN' : 'LD'});
         if (!update) throw new Error('the edit was refused');
         const drawn = view.querySelector('[data-path="' + path + '"]');
         if (!drawn || drawn.dataset.kind !== (i % 2 === 0 ? 'nc' : 'no')) throw new Error('not redrawn');
+        const applied = performance.now();
         await new Promise(r => requestAnimationFrame(() => r()));
         times.push(performance.now() - start);
+        const fetched = performance.getEntriesByType('resource').filter(e => e.name.includes('/api/edit'));
+        if (fetched.length) page.push(applied - fetched[fetched.length - 1].responseEnd);
     }
     // The server's part alone: the same edits as requests, the answer read as JSON.
     const server = [];
@@ -46,7 +52,7 @@ EDIT_LOOP = """async (count) => {
         server.push(performance.now() - start);
         bytes = text.length;
     }
-    return {times, server, bytes};
+    return {times, server, bytes, page};
 }"""
 
 
@@ -71,6 +77,7 @@ def main():
         edits = page.evaluate(EDIT_LOOP, EDITS)
         browser.close()
     print(json.dumps({"load_ms": loads, "edit_ms": edits["times"], "server_ms": edits["server"],
+                      "page_ms": edits["page"],
                       "answer_bytes": edits["bytes"], "networks": networks, "bytes": size}))
 
 

@@ -114,6 +114,7 @@ fn main() {
         v
     };
     let (load, edit, server) = (list("load_ms"), list("edit_ms"), list("server_ms"));
+    let page = list("page_ms");
     println!(
         "studio_page: {} networks drawn, {} bytes of page",
         figures["networks"], figures["bytes"]
@@ -136,4 +137,11 @@ fn main() {
         quantile(&server, 0.95),
         figures["answer_bytes"]
     );
+    if !page.is_empty() {
+        println!(
+            "studio_page/edit-page (the page's part: answer received to drawing and diagnostics in place): median {:.1} ms, p95 {:.1} ms",
+            quantile(&page, 0.5),
+            quantile(&page, 0.95)
+        );
+    }
 }
