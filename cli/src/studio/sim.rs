@@ -9,9 +9,11 @@
 //! scan (docs/GUTTA says nothing of outputs in STOP; gutta-sim keeps them too); the
 //! page shows no power flow in STOP. RUN after a fault resets the VM first (power-on).
 //!
-//! `state()` is the `/api/live` object (docs/studio.md, "Live state"): one short lock
-//! of the VM to copy the drawn operands' values, then power flow per drawn network
-//! through `gutta_ladder::live::rung_power` outside the lock. No HTTP here.
+//! `state()` is the `/api/live` object (docs/studio.md, "Live state"). The scan thread
+//! copies the drawn operands' values into a snapshot after every scan (and every write,
+//! force, RUN or STOP does too), so `state()` never waits for a scan: it takes the
+//! snapshot and computes power flow per drawn network through
+//! `gutta_ladder::live::rung_power`. No HTTP here.
 
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -19,7 +21,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use gutta_catalog::{Target, ValueFormat, Width};
+use gutta_catalog::{Address, Target, ValueFormat, Width};
 use gutta_format::SymbolTable;
 use gutta_ladder::live::{operands, rung_power, Snapshot};
 use gutta_ladder::model::{Body, Ladder};
@@ -77,10 +79,45 @@ struct Drawn {
     vars: Vec<Var>,
 }
 
-/// What the scan thread and the callers share.
+/// What the scan thread and the callers share. Locks are taken in this order: `vm`,
+/// then `snapshot`.
 struct Shared {
     vm: Mutex<Vm>,
     quit: AtomicBool,
+    /// The drawn operands: canonical address and address.
+    drawn: Vec<(String, Address)>,
+    snapshot: Mutex<Snap>,
+}
+
+/// The VM as of its last scan (or change): what `state()` shows.
+#[derive(Debug, Clone, Default)]
+struct Snap {
+    raws: BTreeMap<String, u32>,
+    running: bool,
+    scans: u64,
+    fault: Option<String>,
+}
+
+impl Shared {
+    /// The snapshot taken again from `vm` (whose lock the caller holds).
+    fn refresh(&self, vm: &Vm) {
+        let mut raws = BTreeMap::new();
+        for (canonical, address) in &self.drawn {
+            if let Ok(raw) = vm.read(*address) {
+                raws.insert(canonical.clone(), raw);
+            }
+        }
+        let snap = Snap {
+            raws,
+            running: vm.is_running(),
+            scans: vm.scans(),
+            fault: vm.fault().map(ToString::to_string),
+        };
+        *self
+            .snapshot
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner) = snap;
+    }
 }
 
 /// The program running on the VM, on its own thread, until dropped.
@@ -124,14 +161,25 @@ impl Simulator {
         };
         let vm = Vm::new(verified, Arc::clone(&target), config)
             .map_err(|e| refuse("load", format!("the image does not load: {e}")))?;
-        let vars = operands(&ladder, &target, &symbols)
+        let vars: Vec<Var> = operands(&ladder, &target, &symbols)
             .into_iter()
             .filter_map(|canonical| resolve(&canonical, &symbols, &target).ok())
             .collect();
         let shared = Arc::new(Shared {
-            vm: Mutex::new(vm),
             quit: AtomicBool::new(false),
+            drawn: vars
+                .iter()
+                .map(|v| (v.canonical.clone(), v.address))
+                .collect(),
+            snapshot: Mutex::new(Snap::default()),
+            vm: Mutex::new(vm),
         });
+        shared.refresh(
+            &shared
+                .vm
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner),
+        );
         let thread = {
             let shared = Arc::clone(&shared);
             std::thread::Builder::new()
@@ -188,11 +236,14 @@ impl Simulator {
             vm.reset();
         }
         vm.set_running(true);
+        self.shared.refresh(&vm);
     }
 
     /// STOP: nothing scans; memory keeps the last scan's values.
     pub fn stop(&self) {
-        self.vm().set_running(false);
+        let mut vm = self.vm();
+        vm.set_running(false);
+        self.shared.refresh(&vm);
     }
 
     /// `operand` (a symbol or an address) resolved on the program's target.
@@ -226,9 +277,11 @@ impl Simulator {
         let raw = var
             .parse(value.trim())
             .map_err(|e| refuse("bad-value", e))?;
-        self.vm()
-            .write_through_forces(var.address, raw)
-            .map_err(|e| refuse("no-operand", format!("{}: {}", var.label(), e.0)))
+        let mut vm = self.vm();
+        vm.write_through_forces(var.address, raw)
+            .map_err(|e| refuse("no-operand", format!("{}: {}", var.label(), e.0)))?;
+        self.shared.refresh(&vm);
+        Ok(())
     }
 
     /// `operand` (an I or Q variable) forced to `value`: it reads (inputs) and is
@@ -238,9 +291,11 @@ impl Simulator {
         let raw = var
             .parse(value.trim())
             .map_err(|e| refuse("bad-value", e))?;
-        self.vm()
-            .force(var.address, raw)
+        let mut vm = self.vm();
+        vm.force(var.address, raw)
             .map_err(|e| refuse("not-forceable", format!("{}: {e}", var.label())))?;
+        self.shared.refresh(&vm);
+        drop(vm);
         self.forced_vars().insert(var.canonical.clone(), var);
         Ok(())
     }
@@ -249,7 +304,10 @@ impl Simulator {
     /// written to it, else 0), an output what the program writes.
     pub fn release(&self, operand: &str) -> Result<(), SimError> {
         let var = self.var(operand)?;
-        self.vm().unforce(var.address);
+        let mut vm = self.vm();
+        vm.unforce(var.address);
+        self.shared.refresh(&vm);
+        drop(vm);
         self.forced_vars().remove(&var.canonical);
         Ok(())
     }
@@ -326,20 +384,17 @@ impl Simulator {
     /// STOP, the scan count, every drawn operand's value, the forced ones, and in RUN
     /// the energized elements of every drawn network (none in STOP).
     pub fn state(&self) -> Value {
-        let mut raws = BTreeMap::new();
-        let (running, scans, fault) = {
-            let vm = self.vm();
-            for var in &self.drawn.vars {
-                if let Ok(raw) = vm.read(var.address) {
-                    raws.insert(var.canonical.clone(), raw);
-                }
-            }
-            (
-                vm.is_running(),
-                vm.scans(),
-                vm.fault().map(ToString::to_string),
-            )
-        };
+        let Snap {
+            raws,
+            running,
+            scans,
+            fault,
+        } = self
+            .shared
+            .snapshot
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .clone();
         let forced = self.forced();
         let mut networks = Vec::new();
         if running {
@@ -420,6 +475,7 @@ fn scan_forever(shared: &Shared, scan_ms: u32) {
             if vm.is_running() {
                 // A fault stops the VM (ERROR); `state()` reports it.
                 let _ = vm.run_scan();
+                shared.refresh(&vm);
             }
         }
         next += period;
