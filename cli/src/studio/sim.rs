@@ -1,8 +1,9 @@
 //! The studio's simulator (docs/studio.md, "Simulate"): the session's program
 //! (`Session::run_program`) on the reference VM, in real time, on a thread of its own.
 //! It scans every `SCAN_MS` milliseconds of wall time and each scan advances the VM's
-//! clock by as much, as `gutta-sim` runs its PLC (`VmConfig::scan_ms`, a late scan
-//! delays the next rather than bunching up), so timers count in real time.
+//! clock by as much, as `gutta-sim` runs its PLC (`VmConfig::scan_ms`), so timers count
+//! in real time. Unlike gutta-sim, scans that a busy machine delayed are caught up
+//! (up to one second), so the VM's clock stays the wall clock.
 //!
 //! RUN and STOP are the VM's (`Vm::set_running`, what STATUS_WRITE does in gutta-sim):
 //! in STOP nothing scans and memory, outputs included, keeps the values of the last
@@ -456,8 +457,9 @@ impl Drop for Simulator {
 }
 
 /// The scan cycle: one scan every `scan_ms` ms of wall time (when in RUN), the lock held
-/// only for the scan. A scan that ends late delays the next one (gutta-sim's
-/// `MissedTickBehavior::Delay`): the VM's clock never jumps.
+/// only for the scan. A thread that was kept from running catches up (scans back to
+/// back until the VM's clock is the wall clock again), so timers keep counting in real
+/// time on a busy machine; more than `MAX_LAG` behind, the missed time is dropped.
 fn scan_forever(shared: &Shared, scan_ms: u32) {
     let period = Duration::from_millis(u64::from(scan_ms));
     let mut next = Instant::now() + period;
@@ -480,8 +482,11 @@ fn scan_forever(shared: &Shared, scan_ms: u32) {
         }
         next += period;
         let now = Instant::now();
-        if now > next + period {
+        if now > next + MAX_LAG {
             next = now + period;
         }
     }
 }
+
+/// How far the scan cycle may fall behind the wall clock and still catch up.
+const MAX_LAG: Duration = Duration::from_secs(1);
