@@ -7,7 +7,7 @@
 //!
 //! RUN and STOP are the VM's (`Vm::set_running`, what STATUS_WRITE does in gutta-sim):
 //! in STOP nothing scans and memory, outputs included, keeps the values of the last
-//! scan (docs/GUTTA says nothing of outputs in STOP; gutta-sim keeps them too); the
+//! scan (the GUTTA manuals say nothing of outputs in STOP; gutta-sim keeps them too); the
 //! page shows no power flow in STOP. RUN after a fault resets the VM first (power-on).
 //!
 //! `state()` is the `/api/live` object (docs/studio.md, "Live state"). The scan thread
