@@ -201,7 +201,8 @@
       .then(function (state) {
         const painting = performance.now();
         document.body.dataset.liveFetchMs = String(Date.now() - started);
-        paint(state);
+        // An answer that arrives after `edit` is not painted.
+        if (isLive()) paint(state);
         document.body.dataset.livePaintMs = String(Math.round(performance.now() - painting));
       })
       .then(readWatch)
