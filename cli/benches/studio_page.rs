@@ -113,7 +113,8 @@ fn main() {
         v.sort_by(f64::total_cmp);
         v
     };
-    let (load, edit) = (list("load_ms"), list("edit_ms"));
+    let (load, edit, server) = (list("load_ms"), list("edit_ms"), list("server_ms"));
+    let page = list("page_ms");
     println!(
         "studio_page: {} networks drawn, {} bytes of page",
         figures["networks"], figures["bytes"]
@@ -130,4 +131,17 @@ fn main() {
         quantile(&edit, 0.95),
         edit.len()
     );
+    println!(
+        "studio_page/edit-request (the server's part: request to JSON read): median {:.1} ms, p95 {:.1} ms; {} bytes an answer",
+        quantile(&server, 0.5),
+        quantile(&server, 0.95),
+        figures["answer_bytes"]
+    );
+    if !page.is_empty() {
+        println!(
+            "studio_page/edit-page (the page's part: answer received to drawing and diagnostics in place): median {:.1} ms, p95 {:.1} ms",
+            quantile(&page, 0.5),
+            quantile(&page, 0.95)
+        );
+    }
 }

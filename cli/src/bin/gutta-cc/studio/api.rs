@@ -102,6 +102,8 @@ pub(crate) fn router(studio: Arc<Studio>, guard: Guard) -> axum::Router {
         .route("/api/save", post(save))
         .route("/api/stl", get(stl))
         .route("/api/complete", get(complete))
+        // The other parts' routes (`fn routes() -> axum::Router<Arc<Studio>>` in their own
+        // files) are merged here, one `.merge(xxx::routes())` line each.
         .merge(super::live::routes())
         .with_state(studio)
         .layer(DefaultBodyLimit::max(MAX_BODY))

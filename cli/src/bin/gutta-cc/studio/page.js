@@ -133,8 +133,15 @@
 
   // ---- the drawing ----------------------------------------------------------------
 
+  // Each block's list of network views, by the block's place (blocks never come or go
+  // with an edit): found once, not searched for at each update.
+  const sections = [];
+  editor.querySelectorAll('section.block').forEach(function (section) {
+    sections[+section.dataset.b] = section.querySelector('.networks');
+  });
+
   function sectionOf(b) {
-    return editor.querySelector('section.block[data-b="' + b + '"] .networks');
+    return sections[b] || null;
   }
 
   function viewOf(b, n) {
