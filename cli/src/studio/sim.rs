@@ -1,17 +1,20 @@
 //! The studio's simulator (docs/studio.md, "Simulate"): the session's program
 //! (`Session::run_program`) on the reference VM, in real time, on a thread of its own.
 //! It scans every `SCAN_MS` milliseconds of wall time and each scan advances the VM's
-//! clock by as much, as `gutta-sim` runs its PLC (`VmConfig::scan_ms`, a late scan
-//! delays the next rather than bunching up), so timers count in real time.
+//! clock by as much, as `gutta-sim` runs its PLC (`VmConfig::scan_ms`), so timers count
+//! in real time. Unlike gutta-sim, scans that a busy machine delayed are caught up
+//! (up to one second), so the VM's clock stays the wall clock.
 //!
 //! RUN and STOP are the VM's (`Vm::set_running`, what STATUS_WRITE does in gutta-sim):
 //! in STOP nothing scans and memory, outputs included, keeps the values of the last
-//! scan (docs/GUTTA says nothing of outputs in STOP; gutta-sim keeps them too); the
+//! scan (the GUTTA manuals say nothing of outputs in STOP; gutta-sim keeps them too); the
 //! page shows no power flow in STOP. RUN after a fault resets the VM first (power-on).
 //!
-//! `state()` is the `/api/live` object (docs/studio.md, "Live state"): one short lock
-//! of the VM to copy the drawn operands' values, then power flow per drawn network
-//! through `gutta_ladder::live::rung_power` outside the lock. No HTTP here.
+//! `state()` is the `/api/live` object (docs/studio.md, "Live state"). The scan thread
+//! copies the drawn operands' values into a snapshot after every scan (and every write,
+//! force, RUN or STOP does too), so `state()` never waits for a scan: it takes the
+//! snapshot and computes power flow per drawn network through
+//! `gutta_ladder::live::rung_power`. No HTTP here.
 
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -19,7 +22,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use gutta_catalog::{Target, ValueFormat, Width};
+use gutta_catalog::{Address, Target, ValueFormat, Width};
 use gutta_format::SymbolTable;
 use gutta_ladder::live::{operands, rung_power, Snapshot};
 use gutta_ladder::model::{Body, Ladder};
@@ -77,10 +80,45 @@ struct Drawn {
     vars: Vec<Var>,
 }
 
-/// What the scan thread and the callers share.
+/// What the scan thread and the callers share. Locks are taken in this order: `vm`,
+/// then `snapshot`.
 struct Shared {
     vm: Mutex<Vm>,
     quit: AtomicBool,
+    /// The drawn operands: canonical address and address.
+    drawn: Vec<(String, Address)>,
+    snapshot: Mutex<Snap>,
+}
+
+/// The VM as of its last scan (or change): what `state()` shows.
+#[derive(Debug, Clone, Default)]
+struct Snap {
+    raws: BTreeMap<String, u32>,
+    running: bool,
+    scans: u64,
+    fault: Option<String>,
+}
+
+impl Shared {
+    /// The snapshot taken again from `vm` (whose lock the caller holds).
+    fn refresh(&self, vm: &Vm) {
+        let mut raws = BTreeMap::new();
+        for (canonical, address) in &self.drawn {
+            if let Ok(raw) = vm.read(*address) {
+                raws.insert(canonical.clone(), raw);
+            }
+        }
+        let snap = Snap {
+            raws,
+            running: vm.is_running(),
+            scans: vm.scans(),
+            fault: vm.fault().map(ToString::to_string),
+        };
+        *self
+            .snapshot
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner) = snap;
+    }
 }
 
 /// The program running on the VM, on its own thread, until dropped.
@@ -124,14 +162,25 @@ impl Simulator {
         };
         let vm = Vm::new(verified, Arc::clone(&target), config)
             .map_err(|e| refuse("load", format!("the image does not load: {e}")))?;
-        let vars = operands(&ladder, &target, &symbols)
+        let vars: Vec<Var> = operands(&ladder, &target, &symbols)
             .into_iter()
             .filter_map(|canonical| resolve(&canonical, &symbols, &target).ok())
             .collect();
         let shared = Arc::new(Shared {
-            vm: Mutex::new(vm),
             quit: AtomicBool::new(false),
+            drawn: vars
+                .iter()
+                .map(|v| (v.canonical.clone(), v.address))
+                .collect(),
+            snapshot: Mutex::new(Snap::default()),
+            vm: Mutex::new(vm),
         });
+        shared.refresh(
+            &shared
+                .vm
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner),
+        );
         let thread = {
             let shared = Arc::clone(&shared);
             std::thread::Builder::new()
@@ -188,11 +237,14 @@ impl Simulator {
             vm.reset();
         }
         vm.set_running(true);
+        self.shared.refresh(&vm);
     }
 
     /// STOP: nothing scans; memory keeps the last scan's values.
     pub fn stop(&self) {
-        self.vm().set_running(false);
+        let mut vm = self.vm();
+        vm.set_running(false);
+        self.shared.refresh(&vm);
     }
 
     /// `operand` (a symbol or an address) resolved on the program's target.
@@ -226,9 +278,11 @@ impl Simulator {
         let raw = var
             .parse(value.trim())
             .map_err(|e| refuse("bad-value", e))?;
-        self.vm()
-            .write_through_forces(var.address, raw)
-            .map_err(|e| refuse("no-operand", format!("{}: {}", var.label(), e.0)))
+        let mut vm = self.vm();
+        vm.write_through_forces(var.address, raw)
+            .map_err(|e| refuse("no-operand", format!("{}: {}", var.label(), e.0)))?;
+        self.shared.refresh(&vm);
+        Ok(())
     }
 
     /// `operand` (an I or Q variable) forced to `value`: it reads (inputs) and is
@@ -238,9 +292,11 @@ impl Simulator {
         let raw = var
             .parse(value.trim())
             .map_err(|e| refuse("bad-value", e))?;
-        self.vm()
-            .force(var.address, raw)
+        let mut vm = self.vm();
+        vm.force(var.address, raw)
             .map_err(|e| refuse("not-forceable", format!("{}: {e}", var.label())))?;
+        self.shared.refresh(&vm);
+        drop(vm);
         self.forced_vars().insert(var.canonical.clone(), var);
         Ok(())
     }
@@ -249,7 +305,10 @@ impl Simulator {
     /// written to it, else 0), an output what the program writes.
     pub fn release(&self, operand: &str) -> Result<(), SimError> {
         let var = self.var(operand)?;
-        self.vm().unforce(var.address);
+        let mut vm = self.vm();
+        vm.unforce(var.address);
+        self.shared.refresh(&vm);
+        drop(vm);
         self.forced_vars().remove(&var.canonical);
         Ok(())
     }
@@ -326,20 +385,17 @@ impl Simulator {
     /// STOP, the scan count, every drawn operand's value, the forced ones, and in RUN
     /// the energized elements of every drawn network (none in STOP).
     pub fn state(&self) -> Value {
-        let mut raws = BTreeMap::new();
-        let (running, scans, fault) = {
-            let vm = self.vm();
-            for var in &self.drawn.vars {
-                if let Ok(raw) = vm.read(var.address) {
-                    raws.insert(var.canonical.clone(), raw);
-                }
-            }
-            (
-                vm.is_running(),
-                vm.scans(),
-                vm.fault().map(ToString::to_string),
-            )
-        };
+        let Snap {
+            raws,
+            running,
+            scans,
+            fault,
+        } = self
+            .shared
+            .snapshot
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .clone();
         let forced = self.forced();
         let mut networks = Vec::new();
         if running {
@@ -401,8 +457,9 @@ impl Drop for Simulator {
 }
 
 /// The scan cycle: one scan every `scan_ms` ms of wall time (when in RUN), the lock held
-/// only for the scan. A scan that ends late delays the next one (gutta-sim's
-/// `MissedTickBehavior::Delay`): the VM's clock never jumps.
+/// only for the scan. A thread that was kept from running catches up (scans back to
+/// back until the VM's clock is the wall clock again), so timers keep counting in real
+/// time on a busy machine; more than `MAX_LAG` behind, the missed time is dropped.
 fn scan_forever(shared: &Shared, scan_ms: u32) {
     let period = Duration::from_millis(u64::from(scan_ms));
     let mut next = Instant::now() + period;
@@ -420,12 +477,16 @@ fn scan_forever(shared: &Shared, scan_ms: u32) {
             if vm.is_running() {
                 // A fault stops the VM (ERROR); `state()` reports it.
                 let _ = vm.run_scan();
+                shared.refresh(&vm);
             }
         }
         next += period;
         let now = Instant::now();
-        if now > next + period {
+        if now > next + MAX_LAG {
             next = now + period;
         }
     }
 }
+
+/// How far the scan cycle may fall behind the wall clock and still catch up.
+const MAX_LAG: Duration = Duration::from_secs(1);

@@ -11,8 +11,8 @@
   const studio = window.guttaStudio;
   if (!studio) return;
   const SVG = 'http://www.w3.org/2000/svg';
-  // 25 updates a second at most (the bar is 20).
-  const POLL_MS = 40;
+  // 40 updates a second at most (the bar is 20).
+  const POLL_MS = 25;
   const FORMATS = ['', 'bool', 'int', 'uint', 'hex', 'real'];
   let last = null; // the last /api/live state painted
   let updates = 0; // states painted since the page opened (the browser test reads it)
@@ -72,6 +72,14 @@
 
   // ---- painting ----------------------------------------------------------------
   function clear() {
+    studio.networks().forEach(function (g) {
+      const p = parts.get(g);
+      if (p) {
+        p.on = null;
+        p.forced = null;
+        p.values.forEach(function (v) { v.shown = null; });
+      }
+    });
     document.querySelectorAll('.network .on').forEach(function (e) { e.classList.remove('on'); });
     document.querySelectorAll('.network .forced').forEach(function (e) { e.classList.remove('forced'); });
     document.querySelectorAll('.network tspan.value').forEach(function (e) { e.remove(); });
@@ -91,6 +99,39 @@
     if (span.textContent !== shown) span.textContent = shown;
   }
 
+  // What painting needs of one drawn network, found once per <g> (a redrawn network
+  // is a new element, so its parts are found again): its elements by id, its wires
+  // with what powers them, the texts that show values, what can be marked forced,
+  // and what was painted last (so an unchanged network costs a comparison).
+  const parts = new WeakMap();
+  function partsOf(g) {
+    let p = parts.get(g);
+    if (p) return p;
+    p = { elements: [], wires: [], values: [], marks: [], on: null, forced: null };
+    g.querySelectorAll('.contact, .coil, .box').forEach(function (e) {
+      p.elements.push({ e: e, id: e.getAttribute('data-id') });
+    });
+    g.querySelectorAll('.wire').forEach(function (w) {
+      p.wires.push({ e: w, after: (w.getAttribute('data-after') || '').split(' ') });
+    });
+    g.querySelectorAll('.operand[data-operand]').forEach(function (o) {
+      const a = o.getAttribute('data-operand');
+      const t = o.querySelector('text.address') || o.querySelector('text');
+      if (a && t) p.values.push({ address: a, text: t, shown: null });
+    });
+    // A timer's or counter's title is its number (`T37`): its current value.
+    g.querySelectorAll('.box text.title').forEach(function (title) {
+      const number = title.firstChild ? title.firstChild.nodeValue : '';
+      if (number) p.values.push({ address: number, text: title, shown: null });
+    });
+    g.querySelectorAll('.contact, .coil, .operand').forEach(function (e) {
+      const a = e.getAttribute('data-operand');
+      if (a) p.marks.push({ e: e, address: a });
+    });
+    parts.set(g, p);
+    return p;
+  }
+
   function paint(state) {
     if (!state || !state.mode) return;
     if (state.mode === 'EDIT') {
@@ -104,41 +145,45 @@
     updates += 1;
     document.body.dataset.liveUpdates = String(updates);
     const values = state.values || {};
-    const forced = new Set(state.forced || []);
+    const forcedList = state.forced || [];
+    const forced = new Set(forcedList);
+    const forcedKey = forcedList.join(' ');
     const byNetwork = new Map();
     (state.networks || []).forEach(function (n) {
-      byNetwork.set(n.block + '/' + n.network, new Set(n.on.map(String)));
+      byNetwork.set(n.block + '/' + n.network, n.on);
     });
     studio.networks().forEach(function (g, key) {
-      const on = byNetwork.get(key);
-      g.querySelectorAll('.contact, .coil, .box').forEach(function (e) {
-        e.classList.toggle('on', !!on && on.has(e.getAttribute('data-id')));
-      });
-      g.querySelectorAll('.wire').forEach(function (w) {
-        const after = (w.getAttribute('data-after') || '').split(' ');
-        w.classList.toggle('on', !!on && after.some(function (a) {
-          return a === 'rail' || on.has(a);
-        }));
-      });
-      g.querySelectorAll('.operand[data-operand]').forEach(function (o) {
-        const a = o.getAttribute('data-operand');
-        if (a && values[a] !== undefined) {
-          showValue(o.querySelector('text.address') || o.querySelector('text'), values[a]);
+      const p = partsOf(g);
+      const listed = byNetwork.has(key);
+      const list = byNetwork.get(key) || [];
+      // Not listed (STOP, stale values): nothing on, not even the rail's wires.
+      const onKey = listed ? list.join(' ') : '-';
+      if (p.on !== onKey) {
+        p.on = onKey;
+        const on = new Set(list.map(String));
+        p.elements.forEach(function (x) { x.e.classList.toggle('on', on.has(x.id)); });
+        p.wires.forEach(function (w) {
+          w.e.classList.toggle('on', listed && w.after.some(function (a) {
+            return a === 'rail' || on.has(a);
+          }));
+        });
+      }
+      p.values.forEach(function (v) {
+        const value = values[v.address];
+        if (value !== undefined && value !== v.shown) {
+          v.shown = value;
+          showValue(v.text, value);
         }
       });
-      // A timer's or counter's title is its number (`T37`): its current value.
-      g.querySelectorAll('.box text.title').forEach(function (title) {
-        const number = title.firstChild ? title.firstChild.nodeValue : '';
-        if (number && values[number] !== undefined) showValue(title, values[number]);
-      });
-      g.querySelectorAll('.contact, .coil, .operand').forEach(function (e) {
-        e.classList.toggle('forced', forced.has(e.getAttribute('data-operand')));
-      });
+      if (p.forced !== forcedKey) {
+        p.forced = forcedKey;
+        p.marks.forEach(function (m) { m.e.classList.toggle('forced', forced.has(m.address)); });
+      }
     });
     studio.status({
       run: state.run === true ? 'RUN' : state.run === false ? 'STOP' : '',
       where: state.mode === 'SIMULATE' ? 'scan ' + state.scans : state.address || '',
-      updated: new Date(state.updated || Date.now()).toLocaleTimeString(),
+      updated: state.updated || Date.now(),
     });
   }
   studio.onRedraw(function () {
@@ -153,7 +198,13 @@
     }
     const started = Date.now();
     answer(studio.api('/api/live'))
-      .then(paint)
+      .then(function (state) {
+        const painting = performance.now();
+        document.body.dataset.liveFetchMs = String(Date.now() - started);
+        // An answer that arrives after `edit` is not painted.
+        if (isLive()) paint(state);
+        document.body.dataset.livePaintMs = String(Math.round(performance.now() - painting));
+      })
       .then(readWatch)
       .catch(function (error) {
         studio.status({ run: '', where: '', updated: 'no answer: ' + error.message });
