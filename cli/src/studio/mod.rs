@@ -10,11 +10,15 @@
 mod confine;
 mod error;
 mod session;
+mod stl_edit;
 mod summary;
+mod symbols_edit;
 mod update;
 
 pub use confine::Root;
 pub use error::StudioError;
 pub use session::Session;
-pub use summary::{BlockSummary, FileSummary, ProjectSummary};
+pub use stl_edit::{StlCompletion, StlCompletions, StlDiagnostic, StlHover, StlText};
+pub use summary::{BlockSummary, FileSummary, ProjectSummary, TableSummary};
+pub use symbols_edit::{SymbolChange, SymbolRow};
 pub use update::{BlockShape, NetworkDrawing, Update};
