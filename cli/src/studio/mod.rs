@@ -7,6 +7,7 @@
 //! refusals). No HTTP, no page and no terminal here: the only I/O is reading the
 //! project's files when a session opens and the atomic save.
 
+mod complete;
 mod confine;
 mod error;
 mod session;
@@ -15,6 +16,7 @@ mod summary;
 mod symbols_edit;
 mod update;
 
+pub use complete::{Completion, CompletionRequest, Wanted};
 pub use confine::Root;
 pub use error::StudioError;
 pub use session::Session;

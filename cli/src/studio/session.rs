@@ -342,7 +342,7 @@ impl Session {
         if f.editor_undo == 0 {
             let after = std::mem::replace(&mut f.text, before);
             f.redo_texts.push(after);
-            return Ok(self.reload(index));
+            return Ok(self.rebuild(index));
         }
         let changes = match f.editor.undo() {
             Ok(changes) => changes,
@@ -371,7 +371,7 @@ impl Session {
         if f.editor_redo == 0 {
             let before = std::mem::replace(&mut f.text, after);
             f.undo_texts.push(before);
-            return Ok(self.reload(index));
+            return Ok(self.rebuild(index));
         }
         let changes = match f.editor.redo() {
             Ok(changes) => changes,
@@ -394,7 +394,7 @@ impl Session {
         let before = std::mem::replace(&mut f.text, text);
         f.undo_texts.push(before);
         f.redo_texts.clear();
-        self.reload(index)
+        self.rebuild(index)
     }
 
     /// The buffer of `file` written to its file atomically (the networks edits changed
@@ -502,7 +502,7 @@ impl Session {
     /// The file at `index` checked again from its buffer and its model rebuilt from
     /// it (the editor's history starts again): the networks that differ from the
     /// model before are redrawn.
-    pub(super) fn reload(&mut self, index: usize) -> Update {
+    pub(super) fn rebuild(&mut self, index: usize) -> Update {
         let checked = self.check(&self.files[index].name, &self.files[index].text);
         let ladder = gutta_ladder::build(&checked);
         let model = json::model_of(&checked, &ladder);
@@ -535,6 +535,57 @@ impl Session {
             can_undo: !f.undo_texts.is_empty(),
             can_redo: !f.redo_texts.is_empty(),
         }
+    }
+
+    /// The program's files read again with the symbol tables at `tables` (read now;
+    /// the command line named them, so they may lie outside the folder: they are only
+    /// read), `target` and timer-preset scaling: what `gutta-cc studio FILE.lad...
+    /// --symbols TABLE` opens. Buffers and histories start over.
+    pub fn configure(
+        &mut self,
+        tables: &[PathBuf],
+        target: Option<ExplicitTarget>,
+        scale_timer_presets: bool,
+    ) -> Studio<()> {
+        let mut read_tables = Vec::new();
+        for table in tables {
+            let name = table.display().to_string();
+            let (file, _) = SourceFile::from_program_file_bytes(&name, read(table)?, true)
+                .map_err(|e| StudioError::NotUtf8 {
+                    path: name.clone(),
+                    offset: e.offset,
+                })?;
+            read_tables.push(file);
+        }
+        self.table_saved = read_tables.iter().map(|t| t.text.clone()).collect();
+        self.table_bom = vec![false; read_tables.len()];
+        self.table_paths = tables.to_vec();
+        self.tables = read_tables;
+        self.target = target;
+        self.options.scale_timer_presets = scale_timer_presets;
+        let paths: Vec<PathBuf> = self.files.drain(..).map(|f| f.path).collect();
+        for path in &paths {
+            self.add(path)?;
+        }
+        Ok(())
+    }
+
+    /// The open file at `path` (canonical) read again from disk after something other
+    /// than `save` wrote it: its buffer, model and history start over. False when no
+    /// open file is there; on an error the file stays as it was.
+    pub fn reload(&mut self, path: &Path) -> Studio<bool> {
+        let Some(index) = self.files.iter().position(|f| f.path == path) else {
+            return Ok(false);
+        };
+        let old = self.files.remove(index);
+        if let Err(e) = self.add(&old.path) {
+            self.files.insert(index, old);
+            return Err(e);
+        }
+        if let Some(new) = self.files.pop() {
+            self.files.insert(index, new);
+        }
+        Ok(true)
     }
 
     /// Every open file's diagnostics with the files checked as one program (a project

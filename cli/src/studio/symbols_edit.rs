@@ -161,11 +161,6 @@ impl Session {
         Ok(self.apply_edits(edits))
     }
 
-    /// The project's symbol tables, as the session names files.
-    pub fn tables(&self) -> Vec<&str> {
-        self.tables.iter().map(|t| t.name.as_str()).collect()
-    }
-
     /// A table's text as the session holds it.
     pub fn table_text(&self, table: &str) -> Studio<&str> {
         Ok(&self.tables[self.table_index(table)?].text)
@@ -408,7 +403,7 @@ impl Session {
                     let text = std::mem::take(&mut files[at].1);
                     updates.push(self.replace_text(i, text));
                 }
-                None if table_changed => updates.push(self.reload(i)),
+                None if table_changed => updates.push(self.rebuild(i)),
                 None => {}
             }
         }

@@ -2,14 +2,18 @@
 //! (docs/studio.md, "The server"): the studio's HTTP server (axum). It binds loopback
 //! on a free port unless told otherwise, prints `gutta-cc studio: http://HOST:PORT/?token=
 //! TOKEN` as its first line on stdout, opens the browser (unless `--no-open`), and serves
-//! until Ctrl-C (exit 0). Who may ask is `studio/security.rs`'s, which files
-//! `studio/files.rs`'s, the endpoints `studio/api.rs`'s; this file wires them.
+//! until Ctrl-C (exit 0). The program is opened once as a `gutta_cli::studio::Session`
+//! (the page's one truth). Who may ask is `studio/security.rs`'s, which files
+//! `studio/files.rs`'s, the endpoints `studio/api.rs`'s, the drawn networks
+//! `studio/drawing.rs`'s; this file wires them.
 
 mod api;
+mod drawing;
 mod files;
 mod live;
 mod refusal;
 mod security;
+mod source;
 
 use std::process::{ExitCode, Stdio};
 use std::sync::Arc;
@@ -25,8 +29,9 @@ use security::{Guard, Token};
 /// source or an address that fails, exit 2 before the first line.
 pub(crate) fn studio(cli: &Cli, options: &StudioArgs) -> Result<ExitCode, Fatal> {
     let files = ProgramFiles::from_command_line(cli, &options.paths)?;
-    // A file that cannot be read fails now, not at the first request.
-    files.check()?;
+    // The session reads and checks every file now: one that cannot be read fails
+    // before the first line, not at the first request.
+    let session = files.open_session()?;
     let token = Token::generate()
         .map_err(|e| Fatal::io(format!("cannot read the system's random source: {e}")))?;
     let runtime = tokio::runtime::Builder::new_multi_thread()
@@ -55,7 +60,8 @@ pub(crate) fn studio(cli: &Cli, options: &StudioArgs) -> Result<ExitCode, Fatal>
         let guard = Guard::new(token.clone(), at);
         let app = api::router(
             Arc::new(Studio {
-                files,
+                session: Arc::new(std::sync::Mutex::new(session)),
+                live: std::sync::Mutex::new(None),
                 token,
                 writing: std::sync::Mutex::new(()),
             }),

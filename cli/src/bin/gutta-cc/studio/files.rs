@@ -1,13 +1,14 @@
-//! The files the studio serves (docs/studio.md, "The server"): the program (a project's
-//! sources and symbol tables, or the files given), the one folder the studio may read
-//! and write (the project's, or the given files'), and every path a request names held
-//! inside it: no `..`, no absolute path, no symlink out; only `.lad` files are written.
-//! It compiles what is on disk; it knows nothing of HTTP but the refusals.
+//! The files the studio serves (docs/studio.md, "The server"): the program the command
+//! line names (a project's sources and symbol tables, or the files given), opened as
+//! the session, and every path a request names held inside the session's one folder
+//! (`gutta_cli::studio::Root`): no `..`, no absolute path, no symlink out; only `.lad`
+//! files are written. It knows nothing of HTTP but the refusals.
 
-use std::path::{Component, Path, PathBuf};
+use std::path::{Path, PathBuf};
 
 use gutta_cli::fatal::Fatal;
-use gutta_compiler::{check_program, CheckedFile, ExplicitTarget};
+use gutta_cli::studio::{Root, Session, StudioError};
+use gutta_compiler::ExplicitTarget;
 
 use super::refusal::Refusal;
 use crate::args::Cli;
@@ -32,6 +33,8 @@ pub(crate) struct ProgramFiles {
     pub tables: Vec<PathBuf>,
     scale_timer_presets: bool,
     target: Option<ExplicitTarget>,
+    /// A project (its gutta.toml decides), not files given by name.
+    project: bool,
 }
 
 impl ProgramFiles {
@@ -81,6 +84,7 @@ impl ProgramFiles {
                 .collect::<Result<Vec<_>, _>>()?,
             scale_timer_presets: project.scale_timer_presets || cli.scale_timer_presets,
             target: target.explicit()?,
+            project: true,
         })
     }
 
@@ -117,94 +121,70 @@ impl ProgramFiles {
             tables,
             scale_timer_presets: cli.scale_timer_presets,
             target: cli.target.explicit()?,
+            project: false,
         })
     }
 
-    /// `path` as the studio names it: relative to the folder, `/`-separated (a symbol
-    /// table outside the folder keeps its whole path; the studio does not serve it).
-    pub(crate) fn relative(&self, path: &Path) -> String {
-        let Ok(inside) = path.strip_prefix(&self.root) else {
-            return path.display().to_string();
-        };
-        inside
-            .components()
-            .map(|c| c.as_os_str().to_string_lossy())
-            .collect::<Vec<_>>()
-            .join("/")
+    /// The session on these files: the project's, or the files given with the
+    /// command line's symbol tables, target and scaling.
+    pub(crate) fn open_session(&self) -> Result<Session, Fatal> {
+        let fail = |e: StudioError| Fatal::usage(e.to_string());
+        if self.project {
+            return Session::open(std::slice::from_ref(&self.root)).map_err(fail);
+        }
+        let mut session = Session::open(&self.sources).map_err(fail)?;
+        if !self.tables.is_empty() || self.target.is_some() || self.scale_timer_presets {
+            session
+                .configure(&self.tables, self.target.clone(), self.scale_timer_presets)
+                .map_err(fail)?;
+        }
+        Ok(session)
     }
+}
 
-    /// The program as it is on disk now, checked.
-    pub(crate) fn check(&self) -> Result<CheckedFile, Fatal> {
-        let named = |paths: &[PathBuf]| -> Vec<PathBuf> {
-            paths
-                .iter()
-                .map(|p| p.strip_prefix(&self.root).unwrap_or(p).to_path_buf())
-                .collect()
-        };
-        let mut program = gutta_cli::sources::read_program_in(
-            &self.root,
-            &named(&self.sources),
-            &named(&self.tables),
-        )?;
-        program.options.scale_timer_presets = self.scale_timer_presets;
-        Ok(check_program(program, self.target.as_ref()))
+/// The file a request names by `relative`, held inside the session's folder (`root`,
+/// the session's one folder rule): refused when it leaves it by `..`, an absolute path
+/// or a symlink, and (to write) when it is not a `.lad` file or its folder does not
+/// exist. A symlink inside is followed: the answer is the file it names.
+pub(crate) fn resolve(root: &Root, relative: &str, access: Access) -> Result<PathBuf, Refusal> {
+    if relative.trim().is_empty() || relative.contains('\0') {
+        return Err(Refusal::PathInvalid(relative.to_string()));
     }
-
-    /// The file a request names by `relative`, held inside the folder: refused when it
-    /// leaves it by `..`, an absolute path or a symlink, and (to write) when it is not a
-    /// `.lad` file or its folder does not exist. A symlink inside is followed: the
-    /// answer is the file it names.
-    pub(crate) fn resolve(&self, relative: &str, access: Access) -> Result<PathBuf, Refusal> {
-        let path = Path::new(relative);
-        if relative.trim().is_empty() || relative.contains('\0') {
-            return Err(Refusal::PathInvalid(relative.to_string()));
-        }
-        let escapes = path.is_absolute()
-            || relative.starts_with(['/', '\\'])
-            || path.components().any(|c| {
-                matches!(
-                    c,
-                    Component::ParentDir | Component::RootDir | Component::Prefix(_)
-                )
-            });
-        if escapes {
-            return Err(Refusal::PathEscape(relative.to_string()));
-        }
-        if access == Access::WriteLad && !is_lad(path) {
-            return Err(Refusal::NotLad(relative.to_string()));
-        }
-        let joined = self.root.join(path);
-        let resolved = match joined.canonicalize() {
-            Ok(real) => real,
-            // A symlink whose target is missing, or a file not there yet.
-            Err(_) if joined.symlink_metadata().is_ok() => {
-                return Err(Refusal::PathEscape(relative.to_string()))
-            }
-            Err(_) if access == Access::Read => {
-                return Err(Refusal::NotFound(relative.to_string()))
-            }
-            Err(_) => {
-                let folder = joined
-                    .parent()
-                    .and_then(|p| p.canonicalize().ok())
-                    .ok_or_else(|| Refusal::NotFound(relative.to_string()))?;
-                let name = joined
-                    .file_name()
-                    .ok_or_else(|| Refusal::PathInvalid(relative.to_string()))?;
-                folder.join(name)
-            }
-        };
-        if !resolved.starts_with(&self.root) {
-            return Err(Refusal::PathEscape(relative.to_string()));
-        }
-        if resolved.is_dir() {
-            return Err(Refusal::PathInvalid(relative.to_string()));
-        }
-        if access == Access::WriteLad && !is_lad(&resolved) {
-            return Err(Refusal::NotLad(relative.to_string()));
-        }
-        Ok(resolved)
+    let escape = || Refusal::PathEscape(relative.to_string());
+    let plain = root.plain_name(relative).map_err(|_| escape())?;
+    if access == Access::WriteLad && !is_lad(Path::new(&plain)) {
+        return Err(Refusal::NotLad(relative.to_string()));
     }
+    let joined = root.dir().join(&plain);
+    let resolved = if joined.exists() {
+        root.confine(&joined).map_err(|_| escape())?
+    } else if joined.symlink_metadata().is_ok() {
+        // A symlink whose target is missing.
+        return Err(escape());
+    } else if access == Access::Read {
+        return Err(Refusal::NotFound(relative.to_string()));
+    } else {
+        let folder = joined
+            .parent()
+            .filter(|p| p.is_dir())
+            .ok_or_else(|| Refusal::NotFound(relative.to_string()))?;
+        let name = joined
+            .file_name()
+            .ok_or_else(|| Refusal::PathInvalid(relative.to_string()))?;
+        let inside = if folder == root.dir() {
+            root.dir().to_path_buf()
+        } else {
+            root.confine(folder).map_err(|_| escape())?
+        };
+        inside.join(name)
+    };
+    if resolved.is_dir() {
+        return Err(Refusal::PathInvalid(relative.to_string()));
+    }
+    if access == Access::WriteLad && !is_lad(&resolved) {
+        return Err(Refusal::NotLad(relative.to_string()));
+    }
+    Ok(resolved)
 }
 
 fn is_lad(path: &Path) -> bool {
@@ -221,35 +201,30 @@ fn canonical(path: &Path) -> Result<PathBuf, Fatal> {
 mod tests {
     use super::*;
 
-    fn files(tag: &str) -> (ProgramFiles, PathBuf) {
+    fn root(tag: &str) -> (Root, PathBuf) {
         let base =
             std::env::temp_dir().join(format!("gutta-studio-files-{tag}-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&base);
-        let root = base.join("project");
-        std::fs::create_dir_all(root.join("src")).unwrap();
-        std::fs::write(root.join("src/main.lad"), "").unwrap();
+        let dir = base.join("project");
+        std::fs::create_dir_all(dir.join("src")).unwrap();
+        std::fs::write(dir.join("src/main.lad"), "").unwrap();
         std::fs::write(base.join("outside.lad"), "").unwrap();
-        let root = root.canonicalize().unwrap();
-        let files = ProgramFiles {
-            name: "project".into(),
-            sources: vec![root.join("src/main.lad")],
-            root,
-            tables: Vec::new(),
-            scale_timer_presets: false,
-            target: None,
-        };
-        (files, base)
+        (Root::new(&dir).unwrap(), base)
     }
 
     #[test]
     fn paths_stay_inside_the_folder() {
-        let (f, base) = files("inside");
-        let main = f.root.join("src/main.lad");
-        assert_eq!(f.resolve("src/main.lad", Access::Read), Ok(main.clone()));
-        assert_eq!(f.resolve("./src/main.lad", Access::WriteLad), Ok(main));
+        let (r, base) = root("inside");
+        let main = r.dir().join("src/main.lad");
+        assert_eq!(resolve(&r, "src/main.lad", Access::Read), Ok(main.clone()));
+        assert_eq!(resolve(&r, "./src/main.lad", Access::WriteLad), Ok(main));
         assert_eq!(
-            f.resolve("src/new.lad", Access::WriteLad),
-            Ok(f.root.join("src/new.lad"))
+            resolve(&r, "src/new.lad", Access::WriteLad),
+            Ok(r.dir().join("src/new.lad"))
+        );
+        assert_eq!(
+            resolve(&r, "top.lad", Access::WriteLad),
+            Ok(r.dir().join("top.lad"))
         );
         let outside = base.join("outside.lad").display().to_string();
         for escape in [
@@ -258,53 +233,33 @@ mod tests {
             outside.as_str(),
             "/etc/passwd",
         ] {
-            let refused = f.resolve(escape, Access::WriteLad).unwrap_err();
+            let refused = resolve(&r, escape, Access::WriteLad).unwrap_err();
             assert_eq!(refused.code(), "path-escape", "{escape}");
         }
-        assert_eq!(
-            f.resolve("gutta.toml", Access::WriteLad)
-                .unwrap_err()
-                .code(),
-            "path-not-lad"
-        );
-        assert_eq!(
-            f.resolve("missing.txt", Access::Read).unwrap_err().code(),
-            "not-found"
-        );
-        assert_eq!(
-            f.resolve("none/x.lad", Access::WriteLad)
-                .unwrap_err()
-                .code(),
-            "not-found"
-        );
-        assert_eq!(
-            f.resolve("", Access::Read).unwrap_err().code(),
-            "path-invalid"
-        );
-        assert_eq!(
-            f.resolve("src", Access::Read).unwrap_err().code(),
-            "path-invalid"
-        );
-        assert_eq!(f.relative(&f.root.join("src/main.lad")), "src/main.lad");
-        let table = base.join("symbols.csv");
-        assert_eq!(f.relative(&table), table.display().to_string());
+        let code = |p: &str, a| resolve(&r, p, a).unwrap_err().code().to_string();
+        assert_eq!(code("gutta.toml", Access::WriteLad), "path-not-lad");
+        assert_eq!(code("missing.txt", Access::Read), "not-found");
+        assert_eq!(code("none/x.lad", Access::WriteLad), "not-found");
+        assert_eq!(code("", Access::Read), "path-invalid");
+        assert_eq!(code("src", Access::Read), "path-invalid");
     }
 
     #[cfg(unix)]
     #[test]
     fn a_symlink_out_of_the_folder_is_refused() {
-        let (f, base) = files("symlink");
-        std::os::unix::fs::symlink(base.join("outside.lad"), f.root.join("link.lad")).unwrap();
-        std::os::unix::fs::symlink(&base, f.root.join("up")).unwrap();
-        std::os::unix::fs::symlink(base.join("gone.lad"), f.root.join("dangling.lad")).unwrap();
+        let (r, base) = root("symlink");
+        let dir = r.dir();
+        std::os::unix::fs::symlink(base.join("outside.lad"), dir.join("link.lad")).unwrap();
+        std::os::unix::fs::symlink(&base, dir.join("up")).unwrap();
+        std::os::unix::fs::symlink(base.join("gone.lad"), dir.join("dangling.lad")).unwrap();
         for escape in ["link.lad", "up/outside.lad", "up/new.lad", "dangling.lad"] {
-            let refused = f.resolve(escape, Access::WriteLad).unwrap_err();
+            let refused = resolve(&r, escape, Access::WriteLad).unwrap_err();
             assert_eq!(refused.code(), "path-escape", "{escape}");
         }
-        std::os::unix::fs::symlink(f.root.join("src/main.lad"), f.root.join("alias.lad")).unwrap();
+        std::os::unix::fs::symlink(dir.join("src/main.lad"), dir.join("alias.lad")).unwrap();
         assert_eq!(
-            f.resolve("alias.lad", Access::WriteLad),
-            Ok(f.root.join("src/main.lad"))
+            resolve(&r, "alias.lad", Access::WriteLad),
+            Ok(dir.join("src/main.lad"))
         );
     }
 }
