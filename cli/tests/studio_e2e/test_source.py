@@ -7,7 +7,8 @@ symbol table changes the drawings' operands and the file's text, and one added s
 
 from conftest import cc, shoot, wait_until
 
-STL = "textarea.stl-editor"
+STL = "pre.stl-view.stl-editor"
+NETWORK_STL = "textarea.stl-editor[data-n]"
 
 
 def text_of(page):
@@ -18,6 +19,10 @@ def text_of(page):
 def buffer_of(page):
     return page.evaluate(
         "async () => (await (await window.guttaStudio.api('/api/stl/block?block=0')).json()).text")
+
+
+def stl_text(area):
+    return area.evaluate("a => a.innerText")
 
 
 def symbols(page):
@@ -31,9 +36,9 @@ def test_a_network_edited_as_stl_shows_its_diagnostics_and_is_drawn_back_in_lad(
     page.click('button[data-command="view-stl"]')
     area = page.locator(STL).first
     area.wait_for(state="visible")
-    wait_until(lambda: "Network 2" in area.input_value(), what="the block's STL in the editor")
+    wait_until(lambda: "Network 2" in stl_text(area), what="the block's STL in the editor")
     assert page.locator("g.network").first.is_hidden()
-    original = area.input_value()
+    original = stl_text(area)
     assert "=      Lamp" in original
 
     # A bad operand: applied with Ctrl-Enter, listed under the text with its line.
@@ -42,7 +47,7 @@ def test_a_network_edited_as_stl_shows_its_diagnostics_and_is_drawn_back_in_lad(
     diagnostic = page.locator(".stl-diagnostic.error").first
     diagnostic.wait_for()
     line = int(diagnostic.get_attribute("data-line"))
-    assert "Q99.7" in area.input_value().split("\n")[line - 1]
+    assert "Q99.7" in stl_text(area).split("\n")[line - 1]
     assert diagnostic.get_attribute("data-code").startswith("E")
     assert "Q99.7" in buffer_of(page)
     shoot(page, "stl-diagnostics")
@@ -54,16 +59,6 @@ def test_a_network_edited_as_stl_shows_its_diagnostics_and_is_drawn_back_in_lad(
                what="the error to go")
     assert "=      Q0.7" in buffer_of(page)
 
-    # Completion on Ctrl-Space: the symbols of the program.
-    area.focus()
-    at = area.input_value().index("LD     Running") + len("LD     Ru")
-    area.evaluate("(a, at) => a.setSelectionRange(at, at)", at)
-    area.press("Control+Space")
-    page.locator(".stl-completion li").first.wait_for()
-    labels = page.locator(".stl-completion li").all_inner_texts()
-    assert any(label.startswith("Running") for label in labels), labels
-    area.press("Escape")
-    shoot(page, "stl-edit")
 
     # Back to LAD: the rung drawn with the new operand.
     page.click('button[data-command="view-stl"]')
@@ -73,18 +68,28 @@ def test_a_network_edited_as_stl_shows_its_diagnostics_and_is_drawn_back_in_lad(
     # A network that is not one rung: shown with its reason, edited as STL in place.
     page.click('button[data-command="view-stl"]')
     area.wait_for(state="visible")
-    wait_until(lambda: "Q0.7" in area.input_value(), what="the STL again")
-    area.fill(area.input_value().replace("INCW   Blinks\n", "INCW   Blinks\nLD     I0.5\n=      Q0.5\n"))
+    wait_until(lambda: "Q0.7" in stl_text(area), what="the STL again")
+    area.fill(stl_text(area).replace("INCW   Blinks\n", "INCW   Blinks\nLD     I0.5\n=      Q0.5\n"))
     area.press("Control+Enter")
     wait_until(lambda: "Q0.5" in buffer_of(page), what="the STL applied")
     page.click('button[data-command="view-stl"]')
     odd = page.locator(".network-view:has(g.network[data-reason])").first
     odd.wait_for()
     odd.dblclick()
-    network = page.locator(f"{STL}[data-n]")
+    network = page.locator(NETWORK_STL)
     network.wait_for()
     wait_until(lambda: "Q0.5" in network.input_value(), what="the network's STL")
     assert network.input_value().startswith("Network 3")
+    # Completion on Ctrl-Space: the symbols of the program.
+    at = network.input_value().index("INCW   Blinks") + len("INCW   Bl")
+    network.evaluate("(a, at) => a.setSelectionRange(at, at)", at)
+    network.press("Control+Space")
+    page.locator(".stl-completion li").first.wait_for()
+    labels = page.locator(".stl-completion li").all_inner_texts()
+    assert any(label.startswith("Blinks") for label in labels), labels
+    shoot(page, "stl-edit")
+    network.press("Escape")
+    assert page.locator(".stl-completion").count() == 0
     network.fill(network.input_value().replace("LD     I0.5\n=      Q0.5\n", ""))
     network.press("Control+Enter")
     wait_until(lambda: page.locator("g.network[data-reason]").count() == 0,
@@ -102,6 +107,7 @@ def test_a_network_edited_as_stl_shows_its_diagnostics_and_is_drawn_back_in_lad(
 
 
 def test_a_symbol_renamed_in_the_table_changes_the_drawings(page, project):
+    page.click(".sidebar table.symbols")
     rows = page.locator(".symbols-panel tr.symbol")
     rows.first.wait_for()
     start = page.locator('.symbols-panel tr.symbol[data-name="Start"]')
@@ -116,14 +122,14 @@ def test_a_symbol_renamed_in_the_table_changes_the_drawings(page, project):
     assert "LD     StartButton" in buffer_of(page)
     page.locator(".symbols-panel .tables .dirty").wait_for()
     page.locator('.symbols-panel tr.symbol[data-name="StartButton"]').wait_for()
+    page.locator(".symbols-panel:not([data-loading])").wait_for()
 
     # An address changed where it is declared (the file's SYMBOLS block).
     running = page.locator('.symbols-panel tr.symbol[data-name="Running"] input.symbol-address')
     running.fill("M0.3")
     running.press("Enter")
     wait_until(lambda: "Running : M0.3" in text_of(page), what="the address changed")
-    wait_until(lambda: page.locator('.symbols-panel tr.symbol[data-name="Running"] input.symbol-address')
-               .input_value() == "M0.3", what="the table shown again")
+    page.locator(".symbols-panel:not([data-loading])").wait_for()
 
     # Added through the form.
     form = page.locator(".symbols-panel form.symbol-add")

@@ -1,5 +1,5 @@
 // The studio's source script (docs/studio.md, "STL and symbols"): the STL view made
-// editable (a `textarea.stl-editor` per block under `view-stl`; Ctrl-Enter or leaving it
+// editable (the page's `pre.stl-view` of each block, in place; Ctrl-Enter or leaving it
 // applies it with PUT /api/stl; its diagnostics listed under it with their line;
 // Ctrl-Space completes from the editor analysis), a network shown as STL (not one rung)
 // edited in place on a double click, and the symbol table panel (add, change an
@@ -14,7 +14,8 @@
   style.textContent =
     '.stl-edit{display:none;margin:4px 0 12px}' +
     'body[data-view=STL] .stl-edit{display:block}' +
-    'body[data-view=STL] pre.stl-view.has-editor{display:none}' +
+    'pre.stl-view.stl-editor{outline:none;border:1px solid #bbb}' +
+    'pre.stl-view.stl-editor.dirty{border-color:#b45309}' +
     'textarea.stl-editor{box-sizing:border-box;width:100%;font:13px monospace;tab-size:8;padding:6px;border:1px solid #bbb}' +
     'textarea.stl-editor.dirty{border-color:#b45309}' +
     '.stl-diagnostics{list-style:none;margin:2px 0;padding:0;font:12px monospace}' +
@@ -75,36 +76,94 @@
 
   // ---- an editable piece of STL (a block, or one network) -----------------------------
 
-  // `where`: {block, network?}; `host`: the element it goes into; `after`: applied.
-  function stlEditor(host, where, after) {
+  // The text of a `textarea`, or of the page's `pre.stl-view` made editable in place
+  // (contenteditable plaintext): its value and caret as one string and an index.
+  function surface(el) {
+    if (el.tagName === 'TEXTAREA') {
+      return {
+        get: function () { return el.value; },
+        set: function (t) { el.value = t; },
+        caret: function () { return el.selectionStart; },
+        setCaret: function (i) { el.setSelectionRange(i, i); },
+      };
+    }
+    return {
+      // Typing may leave <br> or <div> lines in it: innerText reads them as line breaks.
+      get: function () { return el.innerText.replace(/\r\n?/g, '\n'); },
+      set: function (t) { el.textContent = t; },
+      caret: function () {
+        const sel = window.getSelection();
+        if (!sel.rangeCount || !el.contains(sel.anchorNode)) return this.get().length;
+        const range = document.createRange();
+        range.setStart(el, 0);
+        range.setEnd(sel.anchorNode, sel.anchorOffset);
+        let count = 0;
+        const walk = function (node) {
+          if (node.nodeType === 3) count += node.data.length;
+          else if (node.nodeName === 'BR') count += 1;
+          else node.childNodes.forEach(walk);
+        };
+        walk(range.cloneContents());
+        return count;
+      },
+      setCaret: function (i) {
+        const walker = document.createTreeWalker(el, NodeFilter.SHOW_TEXT);
+        let node = walker.nextNode();
+        let left = i;
+        while (node && left > node.data.length) {
+          left -= node.data.length;
+          node = walker.nextNode();
+        }
+        const range = document.createRange();
+        if (node) range.setStart(node, left);
+        else range.selectNodeContents(el);
+        range.collapse(!node);
+        const sel = window.getSelection();
+        sel.removeAllRanges();
+        sel.addRange(range);
+      },
+    };
+  }
+
+  // `where`: {block, network?}; `host`: the element it goes into; `after`: applied;
+  // `existing`: the page's `pre.stl-view` to make editable (else a textarea is made).
+  function stlEditor(host, where, after, existing) {
     const box = document.createElement('div');
     box.className = where.network === undefined ? 'stl-edit' : 'network-stl-edit';
-    const area = document.createElement('textarea');
-    area.className = 'stl-editor';
+    const area = existing || document.createElement('textarea');
+    area.classList.add('stl-editor');
     area.spellcheck = false;
+    if (existing) area.setAttribute('contenteditable', 'plaintext-only');
     area.dataset.b = where.block;
     if (where.network !== undefined) area.dataset.n = where.network;
+    const text = surface(area);
     const hover = document.createElement('div');
     hover.className = 'stl-hover';
     const list = document.createElement('ul');
     list.className = 'stl-diagnostics';
-    box.append(area, hover, list);
-    host.appendChild(box);
+    if (existing) box.append(hover, list);
+    else box.append(area, hover, list);
+    if (existing) existing.after(box);
+    else host.appendChild(box);
     let offset = 0;
     let completion = null;
 
     function fit() {
-      area.rows = Math.min(40, Math.max(4, area.value.split('\n').length + 1));
+      if (!existing) area.rows = Math.min(40, Math.max(4, area.value.split('\n').length + 1));
     }
 
-    async function load() {
+    // `force`: after applying; else a text being edited is left as it is.
+    async function load(force) {
       const path = where.network === undefined
         ? '/api/stl/block?' + query({ file: studio.file(), block: where.block })
         : '/api/stl/network?' + query({ file: studio.file(), block: where.block, network: where.network });
       const answer = await call(path);
-      area.value = answer.text;
       offset = answer.offset;
-      area.classList.remove('dirty');
+      if (force || !area.classList.contains('dirty')) {
+        // The same text is not set again: the caret stays where it is.
+        if (text.get() !== answer.text) text.set(answer.text);
+        area.classList.remove('dirty');
+      }
       fit();
       await diagnose();
     }
@@ -127,7 +186,7 @@
     async function apply() {
       if (!area.classList.contains('dirty')) return;
       closeCompletion();
-      const json = { file: studio.file(), block: where.block, text: area.value };
+      const json = { file: studio.file(), block: where.block, text: text.get() };
       if (where.network !== undefined) json.network = where.network;
       try {
         await call('/api/stl', { method: 'PUT', body: JSON.stringify(json), headers: { 'Content-Type': 'application/json' } });
@@ -138,7 +197,7 @@
       area.classList.remove('dirty');
       await studio.reload();
       if (after) await after();
-      else await load();
+      else await load(true);
     }
 
     function closeCompletion() {
@@ -147,12 +206,12 @@
     }
 
     async function complete() {
-      const at = area.selectionStart;
-      const answer = await call('/api/stl/complete?' + query({ file: studio.file(), offset: offset + bytesBefore(area.value, at) }));
+      const at = text.caret();
+      const answer = await call('/api/stl/complete?' + query({ file: studio.file(), offset: offset + bytesBefore(text.get(), at) }));
       closeCompletion();
       if (!answer.items.length) return;
-      const from = indexOfByte(area.value, answer.start - offset);
-      const to = indexOfByte(area.value, answer.end - offset);
+      const from = indexOfByte(text.get(), answer.start - offset);
+      const to = indexOfByte(text.get(), answer.end - offset);
       completion = document.createElement('ul');
       completion.className = 'stl-completion';
       answer.items.slice(0, 50).forEach(function (item, i) {
@@ -177,19 +236,19 @@
       completion.dataset.to = to;
       box.style.position = 'relative';
       completion.style.left = '8px';
-      completion.style.top = Math.min(area.offsetHeight, 18 * (area.value.slice(0, at).split('\n').length)) + 'px';
+      completion.style.top = Math.min(area.offsetHeight, 18 * (text.get().slice(0, at).split('\n').length)) + 'px';
       box.appendChild(completion);
     }
 
     function choose(li) {
       const from = +completion.dataset.from;
       const to = +completion.dataset.to;
-      area.value = area.value.slice(0, from) + li.dataset.insert + area.value.slice(to);
-      const caret = from + li.dataset.insert.length;
-      area.setSelectionRange(caret, caret);
+      const value = text.get();
+      text.set(value.slice(0, from) + li.dataset.insert + value.slice(to));
       area.classList.add('dirty');
       closeCompletion();
       area.focus();
+      text.setCaret(from + li.dataset.insert.length);
     }
 
     function moveChoice(step) {
@@ -241,7 +300,7 @@
     // Hover: what the analysis says about the word under the caret.
     area.addEventListener('click', async function () {
       try {
-        const answer = await call('/api/stl/hover?' + query({ file: studio.file(), offset: offset + bytesBefore(area.value, area.selectionStart) }));
+        const answer = await call('/api/stl/hover?' + query({ file: studio.file(), offset: offset + bytesBefore(text.get(), text.caret()) }));
         hover.textContent = answer ? answer.markdown.replace(/```\w*\n?/g, '') : '';
       } catch (e) {
         hover.textContent = '';
@@ -261,13 +320,11 @@
       if (!pre) continue;
       let box = section.querySelector(':scope > .stl-edit');
       if (!box) {
-        const made = stlEditor(section, { block: +section.dataset.b });
-        pre.classList.add('has-editor');
+        const made = stlEditor(section, { block: +section.dataset.b }, null, pre);
         box = made.box;
         box.loader = made.load;
       }
-      const area = box.querySelector('textarea');
-      if (!area.classList.contains('dirty') && document.activeElement !== area) await box.loader();
+      if (!pre.classList.contains('dirty') && document.activeElement !== pre) await box.loader();
     }
   }
 
@@ -281,7 +338,7 @@
     if (!view || !view.querySelector('g.network[data-reason]')) return;
     if (view.querySelector('.network-stl-edit')) return;
     const made = stlEditor(view, { block: +view.dataset.b, network: +view.dataset.n }, async function () {});
-    made.load().then(function () { made.area.focus(); });
+    made.load(true).then(function () { made.area.focus(); });
   });
 
   // ---- symbols ---------------------------------------------------------------------
@@ -300,6 +357,8 @@
   }
 
   async function changeSymbols(json) {
+    // Marked while the change and the table's new rows are on their way.
+    studio.panel('symbols', 'Symbols').dataset.loading = '1';
     try {
       await call('/api/symbols', { json: json });
     } catch (error) {
@@ -392,7 +451,19 @@
       table.append(row, where);
     });
     body.appendChild(table);
+    delete body.dataset.loading;
   }
 
-  showSymbols().catch(function (error) { studio.notify(error, 'error'); });
+  // The panel opens from the project view: a click on the side bar's symbols (or the
+  // `symbols` command).
+  studio.command('symbols', showSymbols);
+  const listed = document.querySelector('.sidebar table.symbols');
+  if (listed) {
+    listed.style.cursor = 'pointer';
+    listed.title = 'edit the symbols';
+    const heading = listed.previousElementSibling;
+    [listed, heading].forEach(function (el) {
+      if (el) el.addEventListener('click', function () { studio.run('symbols'); });
+    });
+  }
 })();
