@@ -509,3 +509,86 @@ fn no_open_never_starts_a_browser_and_without_it_the_opener_gets_the_address() {
     }
     assert_eq!(opened.trim_end(), url);
 }
+
+#[test]
+fn edits_over_http_change_the_buffer_until_saved() {
+    let (demo, _) = project("edit");
+    let main = demo.join("src/main.lad");
+    let on_disk = std::fs::read_to_string(&main).expect("reads");
+    let studio = start(&demo, &["--no-open"], None);
+    let token = format!("X-Gutta-Token: {}", studio.token);
+    let post = |path: &str, body: &str| {
+        let answer = request(
+            &studio,
+            "POST",
+            path,
+            &[&token, "Content-Type: application/json"],
+            body,
+        );
+        let json: serde_json::Value = serde_json::from_str(&answer.body).expect("JSON");
+        (answer.status, json)
+    };
+    let get = |path: &str| {
+        let answer = request(&studio, "GET", path, &[&token], "");
+        (answer.status, answer.body)
+    };
+    let edit = r#"{"file": "src/main.lad", "edit": {"op": "set_operands",
+        "at": "blocks[0].networks[1].rung.series[2]", "operands": ["Q9.9"]}}"#;
+    let (status, update) = post("/api/edit", edit);
+    assert_eq!(status, 200, "{update}");
+    assert_eq!(update["dirty"], true);
+    assert_eq!(update["can_undo"], true);
+    assert_eq!(update["networks"].as_array().expect("networks").len(), 1);
+    let html = update["networks"][0]["html"].as_str().expect("html");
+    assert!(html.starts_with("<svg") && html.contains("data-network=\"2\""));
+    assert!(html.contains("data-path=\"blocks[0].networks[1].rung.series[2]\""));
+    let bad = &update["diagnostics"][0];
+    assert_eq!(bad["path"], "blocks[0].networks[1].rung.series[2]");
+    assert!(bad["code"].as_str().expect("code").starts_with('E'));
+    assert_eq!(update["errors"], 1);
+    // The buffer has it, the disk not; the page and the drawing are the buffer's.
+    let (_, buffer) = get("/api/file?file=src/main.lad");
+    assert!(buffer.contains("Q9.9"));
+    assert_eq!(std::fs::read_to_string(&main).expect("reads"), on_disk);
+    let (_, page) = get("/");
+    assert!(page.contains(">Q9.9<"));
+    let (_, drawing) = get("/api/drawing?file=src/main.lad");
+    assert!(drawing.contains("Q9.9"));
+    // Undo gives the exact text back, redo the edited one.
+    let (status, _) = post("/api/undo", r#"{"file": "src/main.lad"}"#);
+    assert_eq!(status, 200);
+    assert_eq!(get("/api/file?file=src/main.lad").1, on_disk);
+    let (status, update) = post("/api/redo", r#"{"file": "src/main.lad"}"#);
+    assert_eq!((status, &update["dirty"]), (200, &serde_json::json!(true)));
+    assert_eq!(get("/api/file?file=src/main.lad").1, buffer);
+    // A refused edit is its L code and path, and nothing changes.
+    let refused = r#"{"file": "src/main.lad", "edit": {"op": "delete",
+        "at": "blocks[0].networks[9].rung"}}"#;
+    let (status, answer) = post("/api/edit", refused);
+    assert_eq!((status, answer["code"].as_str()), (422, Some("L0014")));
+    assert_eq!(get("/api/file?file=src/main.lad").1, buffer);
+    let (status, answer) = post("/api/edit", "not json");
+    assert_eq!(
+        (status, answer["code"].as_str()),
+        (400, Some("bad-request"))
+    );
+    // Save writes the buffer.
+    let (status, answer) = post("/api/save", r#"{"file": "src/main.lad"}"#);
+    assert_eq!((status, &answer["dirty"]), (200, &serde_json::json!(false)));
+    assert_eq!(std::fs::read_to_string(&main).expect("reads"), buffer);
+    // A block's STL, and completion from the editor analysis.
+    let (status, stl) = get("/api/stl?file=src/main.lad&block=0");
+    assert_eq!(status, 200);
+    assert!(stl.contains("ORGANIZATION_BLOCK MAIN:OB1") && stl.contains("Q9.9"));
+    let (_, items) = get("/api/complete?file=src/main.lad&kind=mnemonic&element=box&prefix=TO");
+    for mnemonic in ["\"TON\"", "\"TOF\"", "\"operands\":[\"T\",\"PT\"]"] {
+        assert!(items.contains(mnemonic), "{mnemonic}: {items}");
+    }
+    let (_, items) = get("/api/complete?file=src/main.lad&kind=operand&element=contact&prefix=St");
+    assert!(
+        items.contains("\"Start\"") && items.contains("\"Stop\""),
+        "{items}"
+    );
+    let (status, _) = get("/api/complete?file=src/main.lad&kind=nonsense");
+    assert_eq!(status, 400);
+}

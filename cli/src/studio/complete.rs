@@ -3,7 +3,8 @@
 //! mnemonics the ladder draws as boxes with their pin names. The editor analysis
 //! (`gutta_analysis::completion`) decides what fits: the buffer is checked with one
 //! more line, the instruction being written, in its first block, and completed at the
-//! end of that line. Also the file's ladder, which the page draws. No I/O.
+//! end of that line. Also the file's ladder, which the page draws, its history's state
+//! and the symbol tables' names. No I/O.
 
 use gutta_analysis::completion::{completions, CompletionKind};
 use gutta_catalog::LadderClass;
@@ -62,6 +63,18 @@ impl Session {
             .iter()
             .find(|f| f.name == name)
             .map(|f| &f.ladder)
+            .ok_or_else(|| StudioError::NotOpen {
+                file: file.to_string(),
+            })
+    }
+
+    /// Whether `file` has an edit to undo and one to redo.
+    pub fn history(&self, file: &str) -> Result<(bool, bool), StudioError> {
+        let name = self.root.plain_name(file)?;
+        self.files
+            .iter()
+            .find(|f| f.name == name)
+            .map(|f| (!f.undo_texts.is_empty(), !f.redo_texts.is_empty()))
             .ok_or_else(|| StudioError::NotOpen {
                 file: file.to_string(),
             })

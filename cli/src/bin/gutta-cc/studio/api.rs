@@ -103,6 +103,8 @@ pub(crate) fn router(studio: Arc<Studio>, guard: Guard) -> axum::Router {
         .route("/api/save", post(save))
         .route("/api/stl", get(stl))
         .route("/api/complete", get(complete))
+        // The other parts' routes (`fn routes() -> axum::Router<Arc<Studio>>` in their own
+        // files) are merged here, one `.merge(xxx::routes())` line each.
         .merge(super::source::routes())
         .with_state(studio)
         .layer(DefaultBodyLimit::max(MAX_BODY))
@@ -183,6 +185,7 @@ fn page_html(session: &Session, file: &str, token: &str) -> Result<String, Refus
     let ladder = session.ladder(file)?;
     let diagnostics = session.diagnostics(file)?;
     let dirty = session.is_dirty(file)?;
+    let (can_undo, can_redo) = session.history(file)?;
     let summary = session.project();
     let name = escape(&summary.name);
     let networks: usize = ladder.blocks.iter().map(|b| b.networks.len()).sum();
@@ -267,8 +270,8 @@ fn page_html(session: &Session, file: &str, token: &str) -> Result<String, Refus
         "file": file,
         "diagnostics": diagnostics,
         "dirty": dirty,
-        "can_undo": false,
-        "can_redo": false,
+        "can_undo": can_undo,
+        "can_redo": can_redo,
     });
     let mut script = format!(
         "const GUTTA_TOKEN = {};\nconst GUTTA_STATE = {};\n",

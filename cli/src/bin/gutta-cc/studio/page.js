@@ -23,7 +23,6 @@
     // The selection: {path} an element, {b, n} a network, or null.
     selection: null,
     clipboard: null,
-    busy: false,
   };
   const handlers = {};
   let asks = 0;
@@ -134,8 +133,15 @@
 
   // ---- the drawing ----------------------------------------------------------------
 
+  // Each block's list of network views, by the block's place (blocks never come or go
+  // with an edit): found once, not searched for at each update.
+  const sections = [];
+  editor.querySelectorAll('section.block').forEach(function (section) {
+    sections[+section.dataset.b] = section.querySelector('.networks');
+  });
+
   function sectionOf(b) {
-    return editor.querySelector('section.block[data-b="' + b + '"] .networks');
+    return sections[b] || null;
   }
 
   function viewOf(b, n) {
@@ -181,7 +187,7 @@
     state.dirty = update.dirty;
     state.canUndo = update.can_undo;
     state.canRedo = update.can_redo;
-    showDiagnostics();
+    showDiagnostics(new Set(update.networks.map(function (d) { return d.block + '/' + d.network; })));
     showErrors();
     showDirty();
     reselect();
@@ -192,40 +198,78 @@
   // ---- diagnostics on the rungs ---------------------------------------------------
 
   const NETWORK_PATH = /^blocks\[(\d+)\]\.networks\[(\d+)\]/;
+  // What each network shows now ('b/n', '' the whole file): its diagnostics as JSON.
+  let shownGroups = new Map();
 
-  function showDiagnostics() {
-    editor.querySelectorAll('.diagnostic').forEach(function (d) { d.remove(); });
-    editor.querySelectorAll('.error').forEach(function (e) { e.classList.remove('error'); });
-    state.diagnostics.forEach(function (d) {
-      const box = document.createElement('div');
-      box.className = 'diagnostic ' + d.severity;
-      box.dataset.code = d.code;
-      box.dataset.path = d.path;
-      const code = document.createElement('span');
-      code.className = 'code';
-      code.textContent = d.code;
-      const message = document.createElement('span');
-      message.className = 'text';
-      message.textContent = d.message + (d.label ? ' (' + d.label + ')' : '');
-      box.append(code, message);
-      if (d.help) {
-        const help = document.createElement('div');
-        help.className = 'help';
-        help.textContent = 'help: ' + d.help;
-        box.appendChild(help);
-      }
-      const at = NETWORK_PATH.exec(d.path);
-      const view = at && viewOf(+at[1], +at[2]);
-      if (!view) {
-        fileDiagnostics.appendChild(box);
-        return;
-      }
-      view.appendChild(box);
+  function diagnosticBox(d) {
+    const box = document.createElement('div');
+    box.className = 'diagnostic ' + d.severity;
+    box.dataset.code = d.code;
+    box.dataset.path = d.path;
+    const code = document.createElement('span');
+    code.className = 'code';
+    code.textContent = d.code;
+    const message = document.createElement('span');
+    message.className = 'text';
+    message.textContent = d.message + (d.label ? ' (' + d.label + ')' : '');
+    box.append(code, message);
+    if (d.help) {
+      const help = document.createElement('div');
+      help.className = 'help';
+      help.textContent = 'help: ' + d.help;
+      box.appendChild(help);
+    }
+    return box;
+  }
+
+  // One network's (or the file's) diagnostics drawn again: boxes under the rung, class
+  // `error` on the elements at (or inside) their paths.
+  function paintGroup(key, list) {
+    const at = key ? key.split('/') : null;
+    const view = at ? viewOf(+at[0], +at[1]) : null;
+    const container = view || fileDiagnostics;
+    if (view) {
+      view.querySelectorAll(':scope > .diagnostic').forEach(function (d) { d.remove(); });
+      view.querySelectorAll('.error').forEach(function (e) { e.classList.remove('error'); });
+    } else if (!key) {
+      fileDiagnostics.innerHTML = '';
+    }
+    list.forEach(function (d) {
+      container.appendChild(diagnosticBox(d));
+      if (!view) return;
       view.querySelectorAll('[data-path]').forEach(function (el) {
         const p = el.dataset.path;
         if (p === d.path || p.startsWith(d.path + '.')) el.classList.add('error');
       });
     });
+  }
+
+  // The diagnostics on the rungs; with `redrawn` (the 'b/n' keys just drawn again),
+  // only those networks and the ones whose diagnostics changed are touched.
+  function showDiagnostics(redrawnKeys) {
+    const groups = new Map();
+    state.diagnostics.forEach(function (d) {
+      const at = NETWORK_PATH.exec(d.path);
+      const key = at ? at[1] + '/' + at[2] : '';
+      if (!groups.has(key)) groups.set(key, []);
+      groups.get(key).push(d);
+    });
+    if (!redrawnKeys) {
+      editor.querySelectorAll('.diagnostic').forEach(function (d) { d.remove(); });
+      editor.querySelectorAll('.error').forEach(function (e) { e.classList.remove('error'); });
+      shownGroups = new Map();
+    }
+    const next = new Map();
+    const keys = new Set(Array.from(groups.keys()).concat(Array.from(shownGroups.keys())));
+    if (redrawnKeys) redrawnKeys.forEach(function (k) { keys.add(k); });
+    keys.forEach(function (key) {
+      const list = groups.get(key) || [];
+      const signature = list.length ? JSON.stringify(list) : undefined;
+      if (signature) next.set(key, signature);
+      const again = !redrawnKeys || redrawnKeys.has(key) || shownGroups.get(key) !== signature;
+      if (again) paintGroup(key, list);
+    });
+    shownGroups = next;
   }
 
   // ---- selection and keyboard navigation -----------------------------------------
@@ -768,23 +812,23 @@
     handlers[name] = handler;
   }
 
+  // Commands run one after another, in the order asked (a paste pressed while a copy
+  // still fetches waits for it). `run` answers when its command is done.
+  let queue = Promise.resolve();
+
   function run(name) {
     const handler = handlers[name];
     if (!handler) {
       notify(name + ': not available in this studio', 'error');
       return Promise.resolve();
     }
-    if (state.busy) return Promise.resolve();
-    state.busy = true;
-    let result;
-    try {
-      result = Promise.resolve(handler());
-    } catch (error) {
-      result = Promise.reject(error);
-    }
-    return result
-      .catch(function (error) { notify(error, 'error'); })
-      .finally(function () { state.busy = false; });
+    // A handler that never settles (a live loop) holds the queue 10 s at most.
+    const next = queue.then(function () {
+      return Promise.race([handler(), new Promise(function (r) { setTimeout(r, 10000); })]);
+    })
+      .catch(function (error) { notify(error, 'error'); });
+    queue = next;
+    return next;
   }
 
   function editing(fn) {
@@ -907,13 +951,17 @@
     panel: panel,
     notify: notify,
     reload: reload,
-    // Beyond the common API: the selection and the operand editor.
+    // Beyond the common API: the selection, the operand editor, one edit operation
+    // sent and its answer put in place (the update, or null when refused).
     selection: function () { return state.selection; },
     ask: ask,
+    edit: send,
   };
 
   showDiagnostics();
   showErrors();
   showDirty();
   setStatus({});
+  // When the page became interactive (ms since navigation start): the page bench.
+  window.guttaStudioReady = performance.now();
 })();
