@@ -471,3 +471,417 @@ fn a_project_made_by_gutta_cc_new_opens_clean_with_its_symbol_table() {
     assert_eq!(errors(&update), Vec::<String>::new());
     let _ = std::fs::remove_dir_all(dir);
 }
+
+// ---- STL editing, programs of several files, symbols -------------------------------
+
+/// A project made as `gutta-cc new` makes it: src/main.lad with a SYMBOLS block,
+/// symbols.csv, tests/main.gtest.
+fn template_project(tag: &str) -> (PathBuf, PathBuf) {
+    let dir = scratch(tag);
+    let root = dir.join("blinky");
+    std::fs::create_dir_all(root.join("src")).expect("src");
+    std::fs::create_dir_all(root.join("tests")).expect("tests");
+    let templates = Path::new(env!("CARGO_MANIFEST_DIR")).join("templates");
+    let manifest = std::fs::read_to_string(templates.join("gutta.toml"))
+        .expect("template")
+        .replace("{name}", "blinky")
+        .replace("{plc}", "CPU-EC20");
+    std::fs::write(root.join("gutta.toml"), manifest).expect("gutta.toml");
+    for (from, to) in [
+        ("main.lad", "src/main.lad"),
+        ("symbols.csv", "symbols.csv"),
+        ("main.gtest", "tests/main.gtest"),
+    ] {
+        std::fs::copy(templates.join(from), root.join(to)).expect("copies");
+    }
+    (dir, root)
+}
+
+/// The model a session opened fresh on `text` (as FILE of the machine project) has.
+fn fresh_model(tag: &str, text: &str) -> gutta_ladder::json::Model {
+    let (dir, root) = project(tag);
+    std::fs::write(root.join(FILE), text).expect("writes");
+    let session = Session::open(std::slice::from_ref(&root)).expect("opens");
+    let model = session.model(FILE).expect("open").clone();
+    let _ = std::fs::remove_dir_all(dir);
+    model
+}
+
+#[test]
+fn ladder_and_stl_edits_mixed_undo_and_redo_to_the_exact_text_and_its_model() {
+    let (dir, root) = project("mixed");
+    let mut session = Session::open(std::slice::from_ref(&root)).expect("opens");
+    let mut texts = vec![session.text(FILE).expect("open").to_string()];
+    let ladder = |session: &mut Session, edit: &str| {
+        session
+            .apply(FILE, edit)
+            .unwrap_or_else(|e| panic!("{edit}: {e}"));
+    };
+    ladder(
+        &mut session,
+        r#"{"op": "set_operands", "at": "blocks[0].networks[0].rung.series[0].parallel[0]", "operands": ["I0.4"]}"#,
+    );
+    texts.push(session.text(FILE).expect("open").to_string());
+    // One network's lines as STL, one more output added by hand.
+    let net = session.network_stl(FILE, 0, 1).expect("network 1");
+    assert!(
+        net.text.to_ascii_uppercase().starts_with("NETWORK"),
+        "{}",
+        net.text
+    );
+    assert_eq!(&texts[1][net.offset..net.offset + net.text.len()], net.text);
+    let edited = format!("{}=      M5.0   // added as STL\n", net.text);
+    let update = session
+        .set_network_stl(FILE, 0, 1, &edited)
+        .expect("STL applies");
+    assert_eq!(errors(&update), Vec::<String>::new());
+    let drawn: Vec<usize> = update.networks.iter().map(|d| d.network).collect();
+    assert_eq!(
+        drawn,
+        (0..networks(&session)).collect::<Vec<_>>(),
+        "every network of the block is drawn again"
+    );
+    assert!(update.networks[1].svg.contains("data-operand=\"M5.0\""));
+    assert!(update.can_undo && !update.can_redo && update.dirty);
+    texts.push(session.text(FILE).expect("open").to_string());
+    // The buffer changed only there.
+    assert_eq!(texts[2].replacen(&edited, &net.text, 1), texts[1]);
+    // A ladder edit on the model rebuilt from the STL.
+    let m50 = serde_json::to_string(&session.model(FILE).expect("open").blocks[0].networks[1])
+        .expect("JSON");
+    assert!(m50.contains("M5.0"), "{m50}");
+    ladder(
+        &mut session,
+        r#"{"op": "set_network_title", "at": "blocks[0].networks[1]", "title": "edited twice"}"#,
+    );
+    texts.push(session.text(FILE).expect("open").to_string());
+    // The whole block as STL, one operand changed.
+    let block = session.stl_text(FILE, 0).expect("MAIN");
+    assert_eq!(block.text, session.stl(FILE, 0).expect("MAIN"));
+    let replaced = block.text.replacen("M5.0", "M5.1", 1);
+    session.set_stl(FILE, 0, &replaced).expect("applies");
+    texts.push(session.text(FILE).expect("open").to_string());
+    assert!(texts[4].contains("M5.1") && !texts[4].contains("M5.0"));
+    ladder(
+        &mut session,
+        r#"{"op": "set_network_title", "at": "blocks[0].networks[0]", "title": "last"}"#,
+    );
+    texts.push(session.text(FILE).expect("open").to_string());
+
+    for i in (0..texts.len() - 1).rev() {
+        session.undo(FILE).expect("undoes");
+        assert_eq!(session.text(FILE).expect("open"), texts[i], "undo to {i}");
+        assert_eq!(
+            session.model(FILE).expect("open"),
+            &fresh_model(&format!("mixed-u{i}"), &texts[i]),
+            "undo to {i}: the model is the text's"
+        );
+    }
+    assert!(!session.is_dirty(FILE).expect("open"));
+    for (i, text) in texts.iter().enumerate().skip(1) {
+        session.redo(FILE).expect("redoes");
+        assert_eq!(session.text(FILE).expect("open"), text, "redo to {i}");
+        assert_eq!(
+            session.model(FILE).expect("open"),
+            &fresh_model(&format!("mixed-r{i}"), text),
+            "redo to {i}: the model is the text's"
+        );
+    }
+    assert!(session.redo(FILE).is_err());
+    // Back two, then a new ladder edit: nothing left to redo, and undo goes back by it.
+    session.undo(FILE).expect("undoes");
+    session.undo(FILE).expect("undoes");
+    ladder(
+        &mut session,
+        r#"{"op": "set_network_title", "at": "blocks[0].networks[2]", "title": "branch"}"#,
+    );
+    assert!(session.redo(FILE).is_err());
+    session.undo(FILE).expect("undoes");
+    assert_eq!(session.text(FILE).expect("open"), texts[3]);
+    session.undo(FILE).expect("undoes");
+    assert_eq!(session.text(FILE).expect("open"), texts[2]);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn a_network_edited_as_stl_shows_its_diagnostics_and_stays_editable_when_not_a_rung() {
+    let (dir, root) = project("stl");
+    let mut session = Session::open(std::slice::from_ref(&root)).expect("opens");
+    let original = session.text(FILE).expect("open").to_string();
+    let net = session.network_stl(FILE, 0, 0).expect("network 0");
+    // Two rungs in one network: not one rung, shown as STL.
+    let two = format!("{}LD     I0.6\n=      Q0.6\n", net.text);
+    let update = session.set_network_stl(FILE, 0, 0, &two).expect("applies");
+    assert_eq!(errors(&update), Vec::<String>::new());
+    let model = serde_json::to_value(&session.model(FILE).expect("open").blocks[0].networks[0])
+        .expect("JSON");
+    assert!(model.get("stl").is_some(), "shown as STL: {model}");
+    // Still editable as STL: a bad operand is a diagnostic at its line.
+    let net = session.network_stl(FILE, 0, 0).expect("network 0");
+    assert_eq!(net.text, two);
+    let bad = two.replace("Q0.6", "Q99.6");
+    let update = session.set_network_stl(FILE, 0, 0, &bad).expect("applies");
+    assert!(!errors(&update).is_empty(), "{:?}", update.diagnostics);
+    let block = session.stl_text(FILE, 0).expect("MAIN");
+    let found = session.stl_diagnostics(FILE, 0).expect("MAIN");
+    let d = found
+        .iter()
+        .find(|d| d.severity == "error")
+        .unwrap_or_else(|| panic!("an error: {found:?}"));
+    let line = block.text.lines().nth(d.line - 1).expect("its line");
+    assert!(line.contains("Q99.6"), "{d:?} on {line}");
+    assert_eq!(&block.text[d.start..d.end], "Q99.6", "{d:?}");
+    assert!(d.code.starts_with('E'), "{d:?}");
+    // And back to the network as it was: the text is the original, the model a rung.
+    session
+        .set_network_stl(
+            FILE,
+            0,
+            0,
+            &net.text[..net.text.len() - "LD     I0.6\n=      Q0.6\n".len()],
+        )
+        .expect("applies");
+    assert_eq!(session.text(FILE).expect("open"), original);
+    assert!(session.stl_diagnostics(FILE, 0).expect("MAIN").is_empty());
+    let model = serde_json::to_value(&session.model(FILE).expect("open").blocks[0].networks[0])
+        .expect("JSON");
+    assert!(model.get("rung").is_some(), "a rung again: {model}");
+    // A network that is not there is refused, nothing changed.
+    let refused = session
+        .set_network_stl(FILE, 0, 99, "NETWORK\n")
+        .expect_err("none");
+    assert!(
+        matches!(&refused, StudioError::Edit(e) if e.code.as_str() == "L0014"),
+        "{refused}"
+    );
+    assert_eq!(session.text(FILE).expect("open"), original);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn hover_and_completion_on_the_stl_come_from_the_editor_analysis() {
+    let (dir, root) = template_project("hover");
+    let session = Session::open(std::slice::from_ref(&root)).expect("opens");
+    let file = "src/main.lad";
+    let text = session.text(file).expect("open").to_string();
+    let at = text.find("LD     Start").expect("the latch") + "LD     ".len();
+    let hover = session
+        .stl_hover(file, at + 1)
+        .expect("hovers")
+        .expect("something");
+    assert_eq!(&text[hover.start..hover.end], "Start");
+    assert!(hover.markdown.contains("I0.0"), "{}", hover.markdown);
+    let complete = session.stl_complete(file, at + 2).expect("completes");
+    assert_eq!(&text[complete.start..complete.end], "St");
+    assert!(
+        complete
+            .items
+            .iter()
+            .any(|i| i.label == "Start" && i.kind == "symbol"),
+        "{:?}",
+        complete.items
+    );
+    assert!(session.stl_hover(file, text.len() + 5).is_err());
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn a_program_of_two_files_is_checked_as_one() {
+    let dir = scratch("two-files");
+    let root = dir.join("project");
+    std::fs::create_dir_all(root.join("src")).expect("src");
+    std::fs::write(
+        root.join("gutta.toml"),
+        "[program]\nname = \"two\"\nplc = \"CPU-EC20\"\nsources = [\"src/main.lad\", \"src/sub.lad\"]\n",
+    )
+    .expect("gutta.toml");
+    std::fs::write(
+        root.join("src/main.lad"),
+        "PLC_TYPE CPU-EC20\n\nORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNetwork 1\nLD     I0.0\nCALL   Blink\nNetwork 2\nLD     M0.0\n=      Q0.0\nEND_ORGANIZATION_BLOCK\n",
+    )
+    .expect("main.lad");
+    std::fs::write(
+        root.join("src/sub.lad"),
+        "SUBROUTINE_BLOCK Blink:SBR0\nBEGIN\nNetwork 1\nLD     SM0.5\n=      M0.0\nEND_SUBROUTINE_BLOCK\n",
+    )
+    .expect("sub.lad");
+    let mut session = Session::open(std::slice::from_ref(&root)).expect("opens");
+    assert_eq!(session.files(), vec!["src/main.lad", "src/sub.lad"]);
+    assert_eq!(session.diagnostics("src/main.lad").expect("open"), &[]);
+    assert_eq!(session.diagnostics("src/sub.lad").expect("open"), &[]);
+    assert!(session
+        .stl_diagnostics("src/main.lad", 0)
+        .expect("MAIN")
+        .is_empty());
+    // The subroutine renamed in its own file: the CALL in the other file is an error
+    // there, at its element; the subroutine's file stays clean.
+    let sub = session.stl_text("src/sub.lad", 0).expect("Blink");
+    session
+        .set_stl("src/sub.lad", 0, &sub.text.replace("Blink", "Blank"))
+        .expect("applies");
+    let main = session.diagnostics("src/main.lad").expect("open");
+    let call = main
+        .iter()
+        .find(|d| d.is_error())
+        .unwrap_or_else(|| panic!("an error in main.lad: {main:?}"));
+    assert!(call.path.starts_with("blocks[0].networks[0]"), "{call}");
+    assert!(call.message.contains("Blink"), "{call}");
+    assert!(session
+        .diagnostics("src/sub.lad")
+        .expect("open")
+        .iter()
+        .all(|d| !d.is_error()));
+    let stl = session.stl_diagnostics("src/main.lad", 0).expect("MAIN");
+    assert!(stl.iter().any(|d| d.line == 5), "{stl:?}");
+    // Undone: clean again.
+    session.undo("src/sub.lad").expect("undoes");
+    assert_eq!(session.diagnostics("src/main.lad").expect("open"), &[]);
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn symbols_are_listed_added_changed_and_renamed_everywhere() {
+    let (dir, root) = template_project("symbols");
+    let file = "src/main.lad";
+    let mut session = Session::open(std::slice::from_ref(&root)).expect("opens");
+    let rows = session.symbol_table();
+    let row = |rows: &[gutta_cli::studio::SymbolRow], name: &str| {
+        rows.iter()
+            .find(|r| r.name == name)
+            .unwrap_or_else(|| panic!("{name} in {rows:?}"))
+            .clone()
+    };
+    let start = row(&rows, "Start");
+    assert_eq!(
+        (
+            start.address.as_str(),
+            start.declared.as_str(),
+            start.file.as_str()
+        ),
+        ("I0.0", "table", "symbols.csv")
+    );
+    assert_eq!(
+        start.comment.as_deref(),
+        Some("Start button (normally open)")
+    );
+    let running = row(&rows, "Running");
+    assert_eq!(
+        (
+            running.address.as_str(),
+            running.declared.as_str(),
+            running.file.as_str()
+        ),
+        ("M0.0", "symbols", file)
+    );
+    let change = |session: &mut Session, json: &str| {
+        let change: gutta_cli::studio::SymbolChange = serde_json::from_str(json).expect("reads");
+        session.change_symbols(&change)
+    };
+    // Added to the table: in memory and dirty until saved.
+    let csv = std::fs::read_to_string(root.join("symbols.csv")).expect("reads");
+    let updates = change(
+        &mut session,
+        r#"{"op": "add", "name": "Horn", "address": "q0.1", "comment": "sounds, loudly"}"#,
+    )
+    .expect("adds");
+    assert_eq!(updates.len(), 1);
+    assert!(session.project().tables[0].dirty);
+    assert!(!session.is_dirty(file).expect("open"));
+    assert_eq!(
+        std::fs::read_to_string(root.join("symbols.csv")).expect("reads"),
+        csv
+    );
+    let horn = row(&session.symbol_table(), "Horn");
+    assert_eq!(
+        (horn.address.as_str(), horn.comment.as_deref()),
+        ("Q0.1", Some("sounds, loudly"))
+    );
+    // Refused: a taken name, a bad address, an unknown symbol; nothing changes.
+    for bad in [
+        r#"{"op": "add", "name": "start", "address": "I0.5"}"#,
+        r#"{"op": "add", "name": "Siren", "address": "Q99"}"#,
+        r#"{"op": "set", "name": "Nobody", "address": "I0.5"}"#,
+        r#"{"op": "rename", "name": "Start", "to": "I0.7"}"#,
+    ] {
+        let before = session
+            .table_text("symbols.csv")
+            .expect("table")
+            .to_string();
+        let refused = change(&mut session, bad).expect_err(bad);
+        assert!(matches!(refused, StudioError::Edit(_)), "{bad}: {refused}");
+        assert_eq!(session.table_text("symbols.csv").expect("table"), before);
+    }
+    // An address and a comment changed where they are declared.
+    change(
+        &mut session,
+        r#"{"op": "set", "name": "Running", "address": "M0.3", "comment": "latched"}"#,
+    )
+    .expect("sets");
+    let text = session.text(file).expect("open").to_string();
+    assert!(text.contains("Running : M0.3        // latched"), "{text}");
+    assert!(session.is_dirty(file).expect("open"));
+    change(
+        &mut session,
+        r#"{"op": "set", "name": "Stop", "comment": "Stop \"red\" button"}"#,
+    )
+    .expect("sets");
+    let table = session.table_text("symbols.csv").expect("table");
+    assert!(
+        table.contains("Stop,I0.1,\"Stop \"\"red\"\" button\""),
+        "{table}"
+    );
+    // Renamed everywhere: the table's row, every use in the program, drawn again.
+    let updates = change(
+        &mut session,
+        r#"{"op": "rename", "name": "Start", "to": "StartButton"}"#,
+    )
+    .expect("renames");
+    let svg: String = updates
+        .iter()
+        .flat_map(|u| u.networks.iter().map(|n| n.svg.clone()))
+        .collect();
+    assert!(svg.contains("StartButton"), "{svg}");
+    let text = session.text(file).expect("open").to_string();
+    assert!(
+        text.contains("LD     StartButton") && !text.contains("LD     Start\n"),
+        "{text}"
+    );
+    assert!(session
+        .table_text("symbols.csv")
+        .expect("table")
+        .starts_with("Symbol,Address,Comment\nStartButton,I0.0,"));
+    assert_eq!(session.diagnostics(file).expect("open"), &[]);
+    // Saving the program writes the tables too; the project builds.
+    session.save(file).expect("saves");
+    assert!(!session.project().tables[0].dirty);
+    let saved = std::fs::read_to_string(root.join("symbols.csv")).expect("reads");
+    assert!(saved.contains("Horn,Q0.1,\"sounds, loudly\""), "{saved}");
+    let program = gutta_cli::sources::read_program_in(
+        &root,
+        &[PathBuf::from(file)],
+        &[PathBuf::from("symbols.csv")],
+    )
+    .expect("reads");
+    let compiled = compile_program(program, None);
+    assert!(
+        compiled.image.is_some(),
+        "{:?}",
+        compiled.checked.diagnostics()
+    );
+    // Undoing the rename in the program's file takes back its text only.
+    session.undo(file).expect("undoes");
+    assert!(session.text(file).expect("open").contains("LD     Start\n"));
+    // A project without tables: symbols go into the file's SYMBOLS block.
+    let (dir2, root2) = project("symbols-block");
+    let mut session = Session::open(std::slice::from_ref(&root2)).expect("opens");
+    change(
+        &mut session,
+        r#"{"op": "add", "name": "Horn", "address": "Q1.1"}"#,
+    )
+    .expect("adds");
+    let text = session.text(FILE).expect("open");
+    assert!(text.contains("  Horn : Q1.1\nEND_SYMBOLS"), "{text}");
+    assert_eq!(row(&session.symbol_table(), "Horn").declared, "symbols");
+    let _ = std::fs::remove_dir_all(dir);
+    let _ = std::fs::remove_dir_all(dir2);
+}

@@ -1,6 +1,7 @@
 //! The VS Code extension (editors/vscode/): its manifest, language configuration and
 //! TextMate grammar hang together (always); with node, its activation (test/activate.js,
-//! with stand-ins for VS Code's modules) starts gutta-lsp with the settings passed on;
+//! with stand-ins for VS Code's modules) starts gutta-lsp with the settings passed on,
+//! and the Open Studio launcher (test/studio.js) runs the real gutta-cc studio and stops it;
 //! with npm, the extension packages into a .vsix holding the grammar, and the grammar,
 //! run by vscode-textmate over oniguruma as VS Code runs it, colours examples/blink.lad
 //! and every mnemonic of the stdlib's instruction set. Without node or npm those tests fail saying how to install them,
@@ -114,6 +115,113 @@ fn manifest_language_configuration_and_grammar_hang_together() {
     }
 }
 
+/// The workspace's `gutta-cc` (another package's binary, so no CARGO_BIN_EXE; the
+/// workspace's `cargo test` builds it).
+fn cc_binary() -> PathBuf {
+    let target = std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| external::repo_root().join("target"));
+    let path = target.join("debug/gutta-cc");
+    assert!(
+        path.exists(),
+        "{} is missing: build it first with `cargo build -p gutta-cli --bin gutta-cc`",
+        path.display()
+    );
+    path
+}
+
+#[test]
+fn open_studio_is_contributed_and_its_launcher_runs_the_real_studio() {
+    let dir = extension_dir();
+    let manifest = read_json(&dir.join("package.json"));
+    let commands = manifest["contributes"]["commands"]
+        .as_array()
+        .expect("commands");
+    let open = commands
+        .iter()
+        .find(|c| c["command"] == "gutta.openStudio")
+        .expect("gutta.openStudio is contributed");
+    assert_eq!(
+        (&open["title"], &open["category"]),
+        (&"Open Studio".into(), &"GUTTA".into())
+    );
+    assert_eq!(
+        manifest["contributes"]["configuration"]["properties"]["gutta.cc.path"]["default"],
+        "gutta-cc"
+    );
+    if !external::have("node") {
+        return;
+    }
+    // A project as `gutta-cc new` makes it.
+    let work = external::scratch("studio");
+    let project = work.join("blinky");
+    std::fs::create_dir_all(project.join("src")).expect("src");
+    let templates = external::repo_root().join("cli/templates");
+    let manifest = std::fs::read_to_string(templates.join("gutta.toml"))
+        .expect("template")
+        .replace("{name}", "blinky")
+        .replace("{plc}", "CPU-EC20");
+    std::fs::write(project.join("gutta.toml"), manifest).expect("gutta.toml");
+    std::fs::copy(templates.join("main.lad"), project.join("src/main.lad")).expect("copies");
+    std::fs::copy(templates.join("symbols.csv"), project.join("symbols.csv")).expect("copies");
+    let out = external::run(
+        Command::new("node")
+            .arg("test/studio.js")
+            .arg(cc_binary())
+            .arg(&project)
+            .current_dir(&dir),
+        "node test/studio.js",
+    );
+    let seen: Value = serde_json::from_str(&out).expect("studio.js JSON");
+    assert_eq!(
+        seen["parsed"],
+        serde_json::json!({"url": "http://127.0.0.1:4711/?token=abc_DEF-1", "origin": "http://127.0.0.1:4711", "host": "127.0.0.1:4711", "token": "abc_DEF-1"})
+    );
+    assert_eq!(seen["notParsed"], serde_json::json!([null, null]));
+    let origin = seen["origin"].as_str().expect("origin");
+    assert!(origin.starts_with("http://127.0.0.1:"), "{origin}");
+    assert!(seen["url"]
+        .as_str()
+        .expect("url")
+        .starts_with(&format!("{origin}/?token=")));
+    assert_eq!(
+        seen["page"],
+        serde_json::json!({"status": 200, "hasStatusBar": true})
+    );
+    assert_eq!(
+        seen["ownOrigin"], 200,
+        "the frame's requests carry the studio's origin"
+    );
+    assert_eq!(seen["foreignOrigin"], 403);
+    let html = seen["html"].as_str().expect("html");
+    assert!(html.contains(&format!("frame-src {origin};")), "{html}");
+    assert!(
+        html.contains(&format!(
+            "<iframe src=\"{}\"",
+            seen["url"].as_str().expect("url")
+        )),
+        "{html}"
+    );
+    // Ctrl-C: the studio ends with 0, and nothing answers at its address any more.
+    assert_eq!(seen["exit"], serde_json::json!({"code": 0, "signal": null}));
+    assert!(
+        seen["afterStop"]["error"].is_string(),
+        "{}",
+        seen["afterStop"]
+    );
+    let pid = seen["pid"].as_u64().expect("pid");
+    assert!(
+        !Path::new(&format!("/proc/{pid}")).exists(),
+        "gutta-cc {pid} still runs"
+    );
+    let missing = seen["missing"]
+        .as_str()
+        .expect("a missing gutta-cc is refused");
+    assert!(missing.contains("gutta.cc.path"), "{missing}");
+    assert!(seen["notAProject"].is_string(), "{}", seen["notAProject"]);
+    let _ = std::fs::remove_dir_all(&work);
+}
+
 /// What `node test/activate.js SETTINGS` saw the extension do.
 fn activate(settings: Value) -> Value {
     let out = external::run(
@@ -134,7 +242,11 @@ fn activation_starts_gutta_lsp_with_the_settings() {
     let defaults = activate(serde_json::json!({}));
     assert_eq!(
         defaults["commands"],
-        serde_json::json!(["gutta.restartServer", "gutta.liveValues.toggle"])
+        serde_json::json!([
+            "gutta.openStudio",
+            "gutta.restartServer",
+            "gutta.liveValues.toggle"
+        ])
     );
     let client = &defaults["clients"][0];
     assert_eq!(client["serverOptions"]["command"], "gutta-lsp");
@@ -272,6 +384,7 @@ fn package_builds_and_the_grammar_colours_every_construct() {
         "extension/syntaxes/gutta-lad.tmLanguage.json",
         "extension/language-configuration.json",
         "extension/src/extension.js",
+        "extension/src/studio.js",
         "extension/node_modules/vscode-languageclient/package.json",
     ] {
         assert!(

@@ -8,14 +8,14 @@
 
 use std::path::{Path, PathBuf};
 
-use gutta_compiler::source::SourceFile;
+use gutta_compiler::source::{LineIndex, SourceFile, Span};
 use gutta_compiler::{check_program, CheckedFile, CompileOptions, ExplicitTarget, ProgramSources};
 use gutta_io::Project;
-use gutta_ladder::edit::{apply_to_text, Change, Edit, Editor};
+use gutta_ladder::edit::{apply_to_text, Change, Edit, Editor, NetworkPath};
 use gutta_ladder::json::{self, Model, ModelDiagnostic};
 use gutta_ladder::model::Ladder;
 
-use super::summary::{symbols, FileSummary, ProjectSummary};
+use super::summary::{symbols, FileSummary, ProjectSummary, TableSummary};
 use super::update::{drawings, shapes};
 use super::{Root, StudioError, Update};
 
@@ -32,8 +32,13 @@ pub struct Session {
     /// The project's choice of target (`[program] plc`/`target`); `None`: each file's
     /// `PLC_TYPE`, else the stdlib default.
     pub(super) target: Option<ExplicitTarget>,
-    /// The project's symbol tables, read at open.
+    /// The project's symbol tables: their buffers, named as the page names files.
     pub(super) tables: Vec<SourceFile>,
+    /// Each table's canonical path inside the root and its text on disk.
+    pub(super) table_paths: Vec<PathBuf>,
+    pub(super) table_saved: Vec<String>,
+    /// Whether each table began with a UTF-8 byte order mark (written back at save).
+    pub(super) table_bom: Vec<bool>,
     pub(super) options: CompileOptions,
     pub(super) files: Vec<OpenFile>,
     pub(super) tests: Vec<String>,
@@ -59,6 +64,13 @@ pub(super) struct OpenFile {
     /// undo and redo restore the exact text, whatever the file's formatting was.
     pub(super) undo_texts: Vec<String>,
     pub(super) redo_texts: Vec<String>,
+    /// How many steps on top of `undo_texts` (and of `redo_texts`) the editor's own
+    /// history can take back (and apply again): ladder edits since the model was last
+    /// rebuilt from the text. Any other step (an STL edit, a symbol rename, an undo or
+    /// redo past them) rebuilds the model from the text it restores, and the editor's
+    /// history starts again.
+    pub(super) editor_undo: usize,
+    pub(super) editor_redo: usize,
 }
 
 impl Session {
@@ -84,10 +96,13 @@ impl Session {
         let root = Root::new(&project.root)?;
         let target = gutta_cli_target(&project)?;
         let mut tables = Vec::new();
+        let mut table_paths = Vec::new();
+        let mut table_bom = Vec::new();
         for table in &project.symbols {
             let path = root.confine(table)?;
             let name = root.name_of(&path);
             let bytes = read(&path)?;
+            table_bom.push(bytes.starts_with(BOM.as_bytes()));
             let (file, _) =
                 SourceFile::from_program_file_bytes(&name, bytes, true).map_err(|e| {
                     StudioError::NotUtf8 {
@@ -96,12 +111,17 @@ impl Session {
                     }
                 })?;
             tables.push(file);
+            table_paths.push(path);
         }
+        let table_saved = tables.iter().map(|t| t.text.clone()).collect();
         let mut session = Session {
             root,
             name: project.name.clone(),
             target,
             tables,
+            table_paths,
+            table_saved,
+            table_bom,
             options: CompileOptions {
                 scale_timer_presets: project.scale_timer_presets,
             },
@@ -148,6 +168,9 @@ impl Session {
             name,
             target: None,
             tables: Vec::new(),
+            table_paths: Vec::new(),
+            table_saved: Vec::new(),
+            table_bom: Vec::new(),
             options: CompileOptions::default(),
             files: Vec::new(),
             tests: Vec::new(),
@@ -190,9 +213,14 @@ impl Session {
             diagnostics: Vec::new(),
             undo_texts: Vec::new(),
             redo_texts: Vec::new(),
+            editor_undo: 0,
+            editor_redo: 0,
         };
         file.diagnostics = model_diagnostics(&file, self.target.as_ref());
         self.files.push(file);
+        if self.files.len() > 1 {
+            self.diagnose_program();
+        }
         Ok(())
     }
 
@@ -234,6 +262,15 @@ impl Session {
                 .map(|f| FileSummary::of(&f.name, f.is_dirty(), f.editor.model()))
                 .collect(),
             symbols: symbols(self.files.iter().map(|f| f.editor.model())),
+            tables: self
+                .tables
+                .iter()
+                .zip(&self.table_saved)
+                .map(|(t, saved)| TableSummary {
+                    name: t.name.clone(),
+                    dirty: t.text != *saved,
+                })
+                .collect(),
             tests: self.tests.clone(),
         }
     }
@@ -280,16 +317,21 @@ impl Session {
                 // `redo` goes by the texts, which have none for it).
                 let _ = f.editor.undo();
                 f.redo_texts.clear();
+                f.editor_redo = 0;
                 return Err(e);
             }
         };
         let before = std::mem::replace(&mut f.text, text);
         f.undo_texts.push(before);
         f.redo_texts.clear();
+        f.editor_undo += 1;
+        f.editor_redo = 0;
         Ok(self.refresh(index, target.as_ref(), &changes))
     }
 
-    /// The last edit of `file` taken back: the buffer as it was before it, exactly.
+    /// The last change of `file` taken back (a ladder edit, an STL edit, a rename):
+    /// the buffer as it was before it, exactly, and the model with it (the editor's
+    /// own step for a ladder edit it made, else the model rebuilt from the text).
     pub fn undo(&mut self, file: &str) -> Studio<Update> {
         let target = self.target.clone();
         let index = self.index(file)?;
@@ -297,6 +339,11 @@ impl Session {
         let Some(before) = f.undo_texts.pop() else {
             return Err(nothing("nothing to undo"));
         };
+        if f.editor_undo == 0 {
+            let after = std::mem::replace(&mut f.text, before);
+            f.redo_texts.push(after);
+            return Ok(self.rebuild(index));
+        }
         let changes = match f.editor.undo() {
             Ok(changes) => changes,
             Err(e) => {
@@ -304,12 +351,14 @@ impl Session {
                 return Err(e.into());
             }
         };
+        f.editor_undo -= 1;
+        f.editor_redo += 1;
         let after = std::mem::replace(&mut f.text, before);
         f.redo_texts.push(after);
         Ok(self.refresh(index, target.as_ref(), &changes))
     }
 
-    /// The last undone edit of `file` applied again: the buffer as it was after it.
+    /// The last undone change of `file` made again: the buffer as it was after it.
     pub fn redo(&mut self, file: &str) -> Studio<Update> {
         let target = self.target.clone();
         let index = self.index(file)?;
@@ -319,6 +368,11 @@ impl Session {
         let Some(after) = f.redo_texts.pop() else {
             return Err(nothing("nothing to redo"));
         };
+        if f.editor_redo == 0 {
+            let before = std::mem::replace(&mut f.text, after);
+            f.undo_texts.push(before);
+            return Ok(self.rebuild(index));
+        }
         let changes = match f.editor.redo() {
             Ok(changes) => changes,
             Err(e) => {
@@ -326,17 +380,41 @@ impl Session {
                 return Err(e.into());
             }
         };
+        f.editor_redo -= 1;
+        f.editor_undo += 1;
         let before = std::mem::replace(&mut f.text, after);
         f.undo_texts.push(before);
         Ok(self.refresh(index, target.as_ref(), &changes))
+    }
+
+    /// `text` as the new buffer of the file at `index` (an STL edit, a rename): one
+    /// step of its history; the model rebuilt from it.
+    pub(super) fn replace_text(&mut self, index: usize, text: String) -> Update {
+        let f = &mut self.files[index];
+        let before = std::mem::replace(&mut f.text, text);
+        f.undo_texts.push(before);
+        f.redo_texts.clear();
+        self.rebuild(index)
     }
 
     /// The buffer of `file` written to its file atomically (the networks edits changed
     /// differ, every other byte is as it was read); then it is not dirty. The file
     /// must still be inside the studio's folder (a symlink put in its place since it
     /// was opened is refused, and nothing is written).
+    /// A symbol table's name saves that table (`save_table`); a source file's save
+    /// also writes every table a symbol change left dirty, so nothing the page shows
+    /// as saved is still only in memory.
     pub fn save(&mut self, file: &str) -> Studio<()> {
+        if self.table_index(file).is_ok() {
+            return self.save_table(file);
+        }
         let index = self.index(file)?;
+        for j in 0..self.tables.len() {
+            if self.tables[j].text != self.table_saved[j] {
+                let name = self.tables[j].name.clone();
+                self.save_table(&name)?;
+            }
+        }
         let f = &self.files[index];
         let path = self.root.confine(&f.path)?;
         if path != f.path {
@@ -387,7 +465,7 @@ impl Session {
     }
 
     /// The open file the page names `file` (a name, not a path: the disk is not asked).
-    fn index(&self, file: &str) -> Studio<usize> {
+    pub(super) fn index(&self, file: &str) -> Studio<usize> {
         let name = self.root.plain_name(file)?;
         self.files
             .iter()
@@ -412,7 +490,42 @@ impl Session {
         let f = &mut self.files[index];
         f.ladder = gutta_ladder::build(&checked);
         f.checked = checked;
-        f.diagnostics = model_diagnostics(f, target);
+        if self.files.len() == 1 {
+            let f = &mut self.files[index];
+            f.diagnostics = model_diagnostics(f, target);
+        } else {
+            self.diagnose_program();
+        }
+        self.update(index, changes)
+    }
+
+    /// The file at `index` checked again from its buffer and its model rebuilt from
+    /// it (the editor's history starts again): the networks that differ from the
+    /// model before are redrawn.
+    pub(super) fn rebuild(&mut self, index: usize) -> Update {
+        let checked = self.check(&self.files[index].name, &self.files[index].text);
+        let ladder = gutta_ladder::build(&checked);
+        let model = json::model_of(&checked, &ladder);
+        let f = &mut self.files[index];
+        let changes = differences(f.editor.model(), &model);
+        f.editor = Editor::owning(model, checked.target.instructions.clone());
+        f.editor_undo = 0;
+        f.editor_redo = 0;
+        f.ladder = ladder;
+        f.checked = checked;
+        if self.files.len() == 1 {
+            let target = self.target.clone();
+            let f = &mut self.files[index];
+            f.diagnostics = model_diagnostics(f, target.as_ref());
+        } else {
+            self.diagnose_program();
+        }
+        self.update(index, &changes)
+    }
+
+    /// The page's update of the file at `index` after `changes`.
+    pub(super) fn update(&self, index: usize, changes: &[Change]) -> Update {
+        let f = &self.files[index];
         Update {
             file: f.name.clone(),
             networks: drawings(&f.ladder, changes),
@@ -444,6 +557,9 @@ impl Session {
                 })?;
             read_tables.push(file);
         }
+        self.table_saved = read_tables.iter().map(|t| t.text.clone()).collect();
+        self.table_bom = vec![false; read_tables.len()];
+        self.table_paths = tables.to_vec();
         self.tables = read_tables;
         self.target = target;
         self.options.scale_timer_presets = scale_timer_presets;
@@ -470,6 +586,164 @@ impl Session {
             self.files.insert(index, new);
         }
         Ok(true)
+    }
+
+    /// Every open file's diagnostics with the files checked as one program (a project
+    /// whose `[program] sources` are several files, as `gutta-cc build` checks them):
+    /// each file's model written as its program text, the texts joined in the
+    /// project's order, the symbols of all of them declared once in the first, each
+    /// diagnostic at the JSON path of its cause in its own file. A file whose model
+    /// does not write is its structural L code, and its buffer stands in for it.
+    pub(super) fn diagnose_program(&mut self) {
+        let own = self.files.first().map(|f| ExplicitTarget {
+            target: f.checked.target.clone(),
+            origin: "the program".to_string(),
+        });
+        let Some(target) = self.target.clone().or(own) else {
+            return;
+        };
+        let set = &target.target.instructions;
+        let mut symbols: Vec<json::SymbolJson> = Vec::new();
+        for f in &self.files {
+            for s in &f.editor.model().symbols {
+                if !symbols.iter().any(|o| o.name.eq_ignore_ascii_case(&s.name)) {
+                    symbols.push(s.clone());
+                }
+            }
+        }
+        let mut written = Vec::with_capacity(self.files.len());
+        let mut sources = Vec::with_capacity(self.files.len());
+        for (i, f) in self.files.iter().enumerate() {
+            let mut model = f.editor.model().clone();
+            model.symbols = if i == 0 { symbols.clone() } else { Vec::new() };
+            let program =
+                json::validate(&model, set).and_then(|()| json::written_program(&model, set));
+            match program {
+                Ok(w) => {
+                    sources.push(SourceFile::new(f.name.clone(), w.text.clone()));
+                    written.push(Ok(w));
+                }
+                Err(e) => {
+                    sources.push(SourceFile::new(f.name.clone(), f.text.clone()));
+                    written.push(Err(e));
+                }
+            }
+        }
+        let compiled = gutta_compiler::compile_program(
+            ProgramSources {
+                sources,
+                symbol_tables: Vec::new(),
+                options: self.options,
+            },
+            Some(&target),
+        );
+        let checked = &compiled.checked;
+        let parts = checked.file.parts();
+        let mut found: Vec<Vec<ModelDiagnostic>> = vec![Vec::new(); self.files.len()];
+        for (i, w) in written.iter().enumerate() {
+            if let Err(e) = w {
+                found[i].push(structural(e));
+            }
+        }
+        let indexes: Vec<Option<LineIndex>> = written
+            .iter()
+            .map(|w| w.as_ref().ok().map(|w| LineIndex::new(&w.text)))
+            .collect();
+        let place = |span: Span| -> (usize, String) {
+            let offset = span.start as usize;
+            let part = checked.file.part_index(offset);
+            let path = match (parts.get(part), written.get(part), indexes.get(part)) {
+                (Some(p), Some(Ok(w)), Some(Some(index)))
+                    if offset < p.end && !(span.is_empty() && offset == p.start) =>
+                {
+                    w.path_of_line(index.line_of(offset - p.start)).to_string()
+                }
+                _ => String::new(),
+            };
+            (part, path)
+        };
+        for d in checked.diagnostics() {
+            let (part, path) = place(d.primary.span);
+            let Some(into) = found.get_mut(part) else {
+                continue;
+            };
+            if written.get(part).is_some_and(Result::is_err) {
+                continue;
+            }
+            into.push(ModelDiagnostic {
+                path,
+                code: d.code.as_str().to_string(),
+                severity: d.severity,
+                message: d.message.clone(),
+                label: d.primary.message.clone(),
+                help: d.help.clone(),
+                notes: d
+                    .secondary
+                    .iter()
+                    .map(|l| json::ModelNote {
+                        path: place(l.span).1,
+                        message: l.message.clone().unwrap_or_default(),
+                    })
+                    .collect(),
+            });
+        }
+        for (f, diagnostics) in self.files.iter_mut().zip(found) {
+            f.diagnostics = diagnostics;
+        }
+    }
+}
+
+/// The changes that take `old` to `new` for the page: each network whose model
+/// differs, and from the first place where a block's networks were inserted or
+/// deleted to its end; every network of every block when the blocks changed.
+fn differences(old: &Model, new: &Model) -> Vec<Change> {
+    let mut changes = Vec::new();
+    let same_blocks = old.blocks.len() == new.blocks.len();
+    for (b, block) in new.blocks.iter().enumerate() {
+        let before = old.blocks.get(b).filter(|_| same_blocks);
+        let Some(before) = before else {
+            changes.push(Change::Inserted(NetworkPath {
+                block: b,
+                network: 0,
+            }));
+            continue;
+        };
+        if before.title != block.title {
+            changes.push(Change::Block(b));
+        }
+        let common = before.networks.len().min(block.networks.len());
+        for n in 0..common {
+            if before.networks[n] != block.networks[n] {
+                changes.push(Change::Lines(NetworkPath {
+                    block: b,
+                    network: n,
+                }));
+            }
+        }
+        if before.networks.len() != block.networks.len() {
+            // Where the lists start to differ for good: the rest is redrawn.
+            let first = (0..common)
+                .find(|&n| before.networks[n] != block.networks[n])
+                .unwrap_or(common);
+            changes.push(Change::Inserted(NetworkPath {
+                block: b,
+                network: first,
+            }));
+        }
+    }
+    changes
+}
+
+/// A structural L code as a diagnostic of the whole file's model.
+fn structural(e: &json::ModelError) -> ModelDiagnostic {
+    ModelDiagnostic {
+        path: e.path.clone(),
+        code: e.code.as_str().to_string(),
+        severity: gutta_compiler::diagnostics::Severity::Error,
+        message: e.message.clone(),
+        label: None,
+        help: None,
+        notes: Vec::new(),
     }
 }
 

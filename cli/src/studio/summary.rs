@@ -16,6 +16,9 @@ pub struct ProjectSummary {
     /// The symbols of every file's program (SYMBOLS blocks and the project's tables),
     /// by name, each once.
     pub symbols: Vec<SymbolJson>,
+    /// The project's symbol tables, each marked dirty while a symbol change made in
+    /// the studio is not saved.
+    pub tables: Vec<TableSummary>,
     /// The `.gtest` files in the folder, as the session names files (`tests/main.gtest`).
     pub tests: Vec<String>,
 }
@@ -26,6 +29,13 @@ pub struct FileSummary {
     pub name: String,
     pub dirty: bool,
     pub blocks: Vec<BlockSummary>,
+}
+
+/// A symbol table file.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TableSummary {
+    pub name: String,
+    pub dirty: bool,
 }
 
 /// A block without its networks.

@@ -14,6 +14,7 @@ mod live;
 mod online;
 mod refusal;
 mod security;
+mod source;
 
 use std::process::{ExitCode, Stdio};
 use std::sync::Arc;

@@ -106,6 +106,7 @@ pub(crate) fn router(studio: Arc<Studio>, guard: Guard) -> axum::Router {
         // files) are merged here, one `.merge(xxx::routes())` line each.
         .merge(super::live::routes())
         .merge(super::online::routes())
+        .merge(super::source::routes())
         .with_state(studio)
         .layer(DefaultBodyLimit::max(MAX_BODY))
         .layer(axum::middleware::from_fn(
