@@ -11,7 +11,9 @@
 //! PATH or `$GUTTA_CHROMIUM`): 5 page loads, then 50 edits through the page's own
 //! `guttaStudio.edit` (the first contact of the drawn network nearest the middle of
 //! MAIN toggled NO/NC), each timed until the answer is in place and the next frame
-//! drawn. `cargo bench -p gutta-cli --bench studio_page`.
+//! drawn. Last, the program simulated: the live updates the page paints per second
+//! (power flow, values and the status bar from `/api/live`; bar 20 a second), counted by
+//! the page over 3 s. `cargo bench -p gutta-cli --bench studio_page`.
 
 #![allow(
     clippy::disallowed_macros,
@@ -136,6 +138,10 @@ fn main() {
         quantile(&server, 0.5),
         quantile(&server, 0.95),
         figures["answer_bytes"]
+    );
+    println!(
+        "studio_page/live (simulated power flow painted in the page): {:.1} updates/s (bar 20)",
+        figures["live_per_s"].as_f64().unwrap_or(0.0)
     );
     if !page.is_empty() {
         println!(

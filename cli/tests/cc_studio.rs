@@ -243,6 +243,13 @@ fn the_page_draws_the_project_in_edit_mode() {
         "{}",
         page.headers
     );
+    // Framed only by itself and VS Code's webview: a foreign page cannot frame it.
+    assert!(
+        page.headers
+            .contains("frame-ancestors 'self' vscode-webview:"),
+        "{}",
+        page.headers
+    );
     assert!(page.body.contains("class=\"network\""));
     let networks = page.body.matches("<g class=\"network").count();
     assert_eq!(networks, 3, "the template's three networks:\n{}", page.body);

@@ -69,3 +69,51 @@ fn the_studio_browser_suite_passes() {
     );
     assert!(stdout.contains(" passed"), "pytest ran no test:\n{stdout}");
 }
+
+/// The screenshots docs/studio.md shows are the suite's: every `images/studio/NAME.png`
+/// the docs name is in docs/images/studio and is taken by a `shoot(page, "NAME")` of
+/// the suite, and every PNG there is shown by the docs (none left over).
+#[test]
+fn the_docs_screenshots_are_the_suites() {
+    let root = common::root();
+    let mut docs = String::new();
+    for page in ["docs/studio.md", "docs/editors.md"] {
+        docs.push_str(&std::fs::read_to_string(root.join(page)).expect("reads the docs"));
+    }
+    let mut suite = String::new();
+    for entry in std::fs::read_dir(root.join("cli/tests/studio_e2e")).expect("the suite") {
+        let path = entry.expect("entry").path();
+        if path.extension().is_some_and(|e| e == "py") {
+            suite.push_str(&std::fs::read_to_string(&path).expect("reads a test file"));
+        }
+    }
+    let shown: std::collections::BTreeSet<&str> = docs
+        .split("images/studio/")
+        .skip(1)
+        .filter_map(|rest| rest.split_once(".png").map(|(name, _)| name))
+        .collect();
+    assert!(!shown.is_empty(), "docs/studio.md shows no screenshot");
+    for name in &shown {
+        assert!(
+            root.join(format!("docs/images/studio/{name}.png"))
+                .is_file(),
+            "docs show images/studio/{name}.png, which is not in docs/images/studio"
+        );
+        assert!(
+            suite.contains(&format!("shoot(page, \"{name}\")")),
+            "no test of cli/tests/studio_e2e takes the screenshot {name:?}"
+        );
+    }
+    for entry in std::fs::read_dir(root.join("docs/images/studio")).expect("the images") {
+        let path = entry.expect("entry").path();
+        let name = path
+            .file_stem()
+            .expect("a name")
+            .to_string_lossy()
+            .into_owned();
+        assert!(
+            shown.contains(name.as_str()),
+            "docs/images/studio/{name}.png is shown by no page of the docs"
+        );
+    }
+}

