@@ -15,7 +15,7 @@ use std::sync::{Arc, Mutex, MutexGuard};
 
 use axum::body::Bytes;
 use axum::extract::{DefaultBodyLimit, Request, State};
-use axum::http::{header, Uri};
+use axum::http::{header, StatusCode, Uri};
 use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
@@ -448,7 +448,7 @@ async fn model(State(studio): State<Arc<Studio>>, uri: Uri) -> Response {
 }
 
 /// An update as the page takes it: the redrawn networks as `<svg>` with paths.
-fn update_json(session: &Session, update: &Update) -> Result<Value, Refusal> {
+pub(super) fn update_json(session: &Session, update: &Update) -> Result<Value, Refusal> {
     let ladder = session.ladder(&update.file)?;
     let networks: Vec<Value> = update
         .networks
@@ -487,7 +487,7 @@ fn errors(diagnostics: &[ModelDiagnostic]) -> usize {
 }
 
 /// A POST body's JSON object.
-fn body_json(body: &Bytes) -> Result<Value, Refusal> {
+pub(super) fn body_json(body: &Bytes) -> Result<Value, Refusal> {
     let value: Value = serde_json::from_slice(body)
         .map_err(|e| Refusal::BadRequest(format!("the body is not JSON: {e}")))?;
     if value.is_object() {
@@ -617,7 +617,13 @@ async fn complete(State(studio): State<Arc<Studio>>, uri: Uri) -> Response {
 }
 
 fn json_response(value: &Value) -> Response {
+    json_answer(StatusCode::OK, value)
+}
+
+/// A JSON answer with `status`, never cached (every studio route answers this way).
+pub(super) fn json_answer(status: StatusCode, value: &Value) -> Response {
     (
+        status,
         [
             (header::CONTENT_TYPE, "application/json"),
             (header::CACHE_CONTROL, "no-store"),

@@ -11,15 +11,15 @@ use std::sync::Arc;
 
 use axum::body::Bytes;
 use axum::extract::State;
-use axum::http::{header, StatusCode};
-use axum::response::{IntoResponse, Response};
+use axum::http::StatusCode;
+use axum::response::Response;
 use axum::routing::{get, post};
 use gutta_cli::studio::sim::SimError;
 use gutta_cli::studio::Simulator;
 use serde::Serialize;
 use serde_json::{json, Value};
 
-use super::api::Studio;
+use super::api::{json_answer, Studio};
 
 /// A refusal or failure of a live source: a stable code (`not-running`, `no-operand`,
 /// `plc-error`, ...) and a message that says what to do.
@@ -190,22 +190,9 @@ pub(crate) fn routes() -> axum::Router<Arc<Studio>> {
         .route("/api/edit-mode", post(edit_mode))
 }
 
-/// A JSON answer.
-fn answer(status: StatusCode, value: &Value) -> Response {
-    (
-        status,
-        [
-            (header::CONTENT_TYPE, "application/json"),
-            (header::CACHE_CONTROL, "no-store"),
-        ],
-        value.to_string(),
-    )
-        .into_response()
-}
-
 /// A refusal: `{"code", "message"}` with `status`.
 fn refused(status: StatusCode, error: &LiveError) -> Response {
-    answer(
+    json_answer(
         status,
         &json!({"code": error.code, "message": error.message}),
     )
@@ -237,7 +224,7 @@ fn with_source(
     let mut live = studio.live.lock().unwrap_or_else(|e| e.into_inner());
     match live.as_deref_mut() {
         Some(source) => match f(source) {
-            Ok(value) => answer(StatusCode::OK, &value),
+            Ok(value) => json_answer(StatusCode::OK, &value),
             Err(e) => refused(status_of(&e), &e),
         },
         None => refusal(
@@ -278,7 +265,7 @@ async fn simulate(State(studio): State<Arc<Studio>>) -> Response {
         let program = match program {
             Ok(p) => p,
             Err(e) => {
-                return answer(
+                return json_answer(
                     StatusCode::CONFLICT,
                     &json!({
                         "code": e.code,
@@ -299,7 +286,7 @@ async fn simulate(State(studio): State<Arc<Studio>>) -> Response {
                 let mut source = SimSource(sim);
                 let state = source.state();
                 *studio.live.lock().unwrap_or_else(|e| e.into_inner()) = Some(Box::new(source));
-                answer(StatusCode::OK, &state)
+                json_answer(StatusCode::OK, &state)
             }
             Err(e) => refused(StatusCode::CONFLICT, &e.into()),
         }
@@ -312,8 +299,8 @@ async fn live(State(studio): State<Arc<Studio>>) -> Response {
     blocking(move || {
         let mut live = studio.live.lock().unwrap_or_else(|e| e.into_inner());
         match live.as_deref_mut() {
-            Some(source) => answer(StatusCode::OK, &source.state()),
-            None => answer(StatusCode::OK, &json!({"mode": "EDIT"})),
+            Some(source) => json_answer(StatusCode::OK, &source.state()),
+            None => json_answer(StatusCode::OK, &json!({"mode": "EDIT"})),
         }
     })
     .await
@@ -427,7 +414,7 @@ async fn edit_mode(State(studio): State<Arc<Studio>>) -> Response {
                 let _ = source.stop();
             }
         }
-        answer(StatusCode::OK, &json!({"mode": "EDIT"}))
+        json_answer(StatusCode::OK, &json!({"mode": "EDIT"}))
     })
     .await
 }

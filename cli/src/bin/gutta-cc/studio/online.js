@@ -25,21 +25,10 @@
     'progress.download-progress{width:100%}';
   document.head.appendChild(style);
 
-  // A request's JSON answer; a refusal throws an Error with its code.
-  async function call(path, body) {
-    const answer = await studio.api(path, body === undefined ? {} : { json: body });
-    let value = null;
-    try {
-      value = await answer.json();
-    } catch (e) {
-      value = null;
-    }
-    if (!answer.ok) {
-      const error = new Error((value && value.message) || 'HTTP ' + answer.status);
-      error.code = value && value.code;
-      throw error;
-    }
-    return value;
+  // A request's JSON answer (a body is sent as JSON); a refusal throws an Error with
+  // its code.
+  function call(path, body) {
+    return studio.call(path, body === undefined ? {} : { json: body });
   }
 
   function fail(error) {

@@ -19,8 +19,8 @@ use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use axum::extract::State;
-use axum::http::{header, StatusCode};
-use axum::response::{IntoResponse, Response};
+use axum::http::StatusCode;
+use axum::response::Response;
 use axum::routing::{get, post};
 use gutta_cli::fatal::Fatal;
 use gutta_cli::studio::Session;
@@ -29,7 +29,7 @@ use gutta_compiler::{compile_program, ExplicitTarget, ProgramSources};
 use gutta_link::{Client, Credentials, LinkError, LoginError, PasswordPrompt, PASSWORD_ENV};
 use serde_json::{json, Value};
 
-use super::api::Studio;
+use super::api::{json_answer, Studio};
 use super::live::{LiveError, LiveSource, WatchRequest, WatchValue};
 use crate::args::LinkArgs;
 use crate::monitor::session::{Program, Session as Monitor};
@@ -803,19 +803,6 @@ pub(crate) fn routes() -> axum::Router<Arc<Studio>> {
         .route("/api/tests", post(tests))
 }
 
-/// A JSON answer.
-fn answer(status: StatusCode, value: &Value) -> Response {
-    (
-        status,
-        [
-            (header::CONTENT_TYPE, "application/json"),
-            (header::CACHE_CONTROL, "no-store"),
-        ],
-        value.to_string(),
-    )
-        .into_response()
-}
-
 /// A refusal `{"code", "message"}`: a program with errors or a busy PLC 409, a PLC that
 /// does not answer or fails 502, a project without a connection 409.
 fn refused(e: &LiveError) -> Response {
@@ -826,7 +813,7 @@ fn refused(e: &LiveError) -> Response {
         "io" => StatusCode::INTERNAL_SERVER_ERROR,
         _ => StatusCode::CONFLICT,
     };
-    answer(status, &json!({"code": e.code, "message": e.message}))
+    json_answer(status, &json!({"code": e.code, "message": e.message}))
 }
 
 /// `f` off the server's threads: PLC I/O and compiling take their time.
@@ -873,7 +860,7 @@ async fn connect(State(studio): State<Arc<Studio>>) -> Response {
     blocking(move || match go_online(&studio) {
         Ok(handle) => {
             // The worker published its first update before it answered.
-            answer(StatusCode::OK, &handle.state())
+            json_answer(StatusCode::OK, &handle.state())
         }
         Err(e) => refused(&e),
     })
@@ -883,8 +870,8 @@ async fn connect(State(studio): State<Arc<Studio>>) -> Response {
 /// `GET /api/online`: the connection's latest state.
 async fn state() -> Response {
     blocking(|| match Handle::current() {
-        Some(handle) => answer(StatusCode::OK, &handle.state()),
-        None => answer(StatusCode::OK, &json!({"mode": "EDIT"})),
+        Some(handle) => json_answer(StatusCode::OK, &handle.state()),
+        None => json_answer(StatusCode::OK, &json!({"mode": "EDIT"})),
     })
     .await
 }
@@ -892,8 +879,8 @@ async fn state() -> Response {
 /// `GET /api/online/progress`: the download's progress.
 async fn progress() -> Response {
     blocking(|| match Handle::current() {
-        Some(handle) => answer(StatusCode::OK, &handle.progress()),
-        None => answer(StatusCode::OK, &json!({"active": false})),
+        Some(handle) => json_answer(StatusCode::OK, &handle.progress()),
+        None => json_answer(StatusCode::OK, &json!({"active": false})),
     })
     .await
 }
@@ -913,7 +900,7 @@ async fn download(State(studio): State<Arc<Studio>>) -> Response {
             Ok::<_, LiveError>(json!({"download": summary, "state": handle.state()}))
         })();
         match result {
-            Ok(value) => answer(StatusCode::OK, &value),
+            Ok(value) => json_answer(StatusCode::OK, &value),
             Err(e) => refused(&e),
         }
     })
@@ -931,9 +918,9 @@ async fn tests(State(studio): State<Arc<Studio>>) -> Response {
             .unwrap_or_else(|e| e.into_inner())
             .tests_now();
         match now.run() {
-            Ok(run) => answer(StatusCode::OK, &json!(run)),
+            Ok(run) => json_answer(StatusCode::OK, &json!(run)),
             // Not a bad request: the answer of a run whose program does not compile.
-            Err(e) => answer(
+            Err(e) => json_answer(
                 StatusCode::OK,
                 &json!({"refused": {"code": e.code, "message": e.to_string(),
                                     "file": e.file, "line": e.line}}),

@@ -956,6 +956,10 @@
     selection: function () { return state.selection; },
     ask: ask,
     edit: send,
+    // A request's JSON answer (a refusal throws an Error with `code` and `path`), and
+    // an object as a query string: what the other scripts ask the server with.
+    call: call,
+    query: query,
   };
 
   showDiagnostics();

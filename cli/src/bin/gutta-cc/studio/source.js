@@ -36,27 +36,8 @@
     '.symbols-panel .tables .dirty::after{content:" *";color:#b45309}';
   document.head.appendChild(style);
 
-  async function call(path, init) {
-    const answer = await studio.api(path, init);
-    let value = null;
-    try {
-      value = await answer.json();
-    } catch (e) {
-      value = null;
-    }
-    if (!answer.ok) {
-      const error = new Error((value && value.message) || 'HTTP ' + answer.status);
-      error.code = value && value.code;
-      throw error;
-    }
-    return value;
-  }
-
-  function query(params) {
-    return Object.keys(params)
-      .map(function (k) { return encodeURIComponent(k) + '=' + encodeURIComponent(params[k]); })
-      .join('&');
-  }
+  const call = studio.call;
+  const query = studio.query;
 
   // Byte offsets (the server's, UTF-8) and textarea positions (UTF-16).
   const encoder = new TextEncoder();

@@ -15,12 +15,10 @@ use axum::extract::State;
 use axum::http::{header, Uri};
 use axum::response::{IntoResponse, Response};
 use axum::routing::{get, put};
-use gutta_cli::studio::{Session, SymbolChange, Update};
-use gutta_ladder::layout::block_heading;
+use gutta_cli::studio::{Session, SymbolChange};
 use serde_json::{json, Value};
 
-use super::api::Studio;
-use super::drawing::network_html;
+use super::api::{body_json, update_json, Studio};
 use super::refusal::Refusal;
 use super::security::query_value;
 
@@ -81,53 +79,6 @@ fn number(uri: &Uri, name: &str, default: Option<usize>) -> Result<usize, Refusa
             .parse()
             .map_err(|_| Refusal::BadRequest(format!("{name}={v} is not a number (0, 1, ...)"))),
         None => default.ok_or_else(|| Refusal::BadRequest(format!("the request needs ?{name}="))),
-    }
-}
-
-/// An Update as the page's edit answers have it (`api.rs`'s shape): each network's
-/// `<svg>` with `data-path`, the blocks' shapes, the diagnostics.
-fn update_json(session: &Session, update: &Update) -> Result<Value, Refusal> {
-    let ladder = session.ladder(&update.file)?;
-    let networks: Vec<Value> = update
-        .networks
-        .iter()
-        .filter_map(|d| {
-            let block = ladder.blocks.get(d.block)?;
-            let net = block.networks.get(d.network)?;
-            Some(
-                json!({"block": d.block, "network": d.network, "number": net.number,
-                        "html": network_html(d.block, d.network, block, net)}),
-            )
-        })
-        .collect();
-    let blocks: Vec<Value> = ladder
-        .blocks
-        .iter()
-        .map(|b| {
-            json!({"name": b.name, "heading": block_heading(b), "title": b.title,
-                   "networks": b.networks.len()})
-        })
-        .collect();
-    let errors = update.diagnostics.iter().filter(|d| d.is_error()).count();
-    Ok(json!({
-        "file": update.file,
-        "networks": networks,
-        "blocks": blocks,
-        "diagnostics": update.diagnostics,
-        "errors": errors,
-        "dirty": update.dirty,
-        "can_undo": update.can_undo,
-        "can_redo": update.can_redo,
-    }))
-}
-
-fn body_json(body: &Bytes) -> Result<Value, Refusal> {
-    let value: Value = serde_json::from_slice(body)
-        .map_err(|e| Refusal::BadRequest(format!("the body is not JSON: {e}")))?;
-    if value.is_object() {
-        Ok(value)
-    } else {
-        Err(Refusal::BadRequest("the body is not a JSON object".into()))
     }
 }
 
