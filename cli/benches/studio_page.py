@@ -58,6 +58,15 @@ EDIT_LOOP = """async (count) => {
 }"""
 
 
+def until(page, predicate, timeout=60.0):
+    """Evaluate `predicate` in the page every 20 ms until it is true."""
+    deadline = time.monotonic() + timeout
+    while not page.evaluate(predicate):
+        if time.monotonic() > deadline:
+            sys.exit(f"timed out waiting for {predicate}")
+        time.sleep(0.02)
+
+
 def main():
     executable = os.environ.get("GUTTA_CHROMIUM") or shutil.which("chromium")
     if not executable:
@@ -72,16 +81,16 @@ def main():
                 page.close()
             page = context.new_page()
             page.goto(URL)
-            page.wait_for_function("window.guttaStudioReady !== undefined")
+            until(page, "() => window.guttaStudioReady !== undefined")
             loads.append(page.evaluate("window.guttaStudioReady"))
         networks = page.locator("g.network").count()
         size = page.evaluate("document.documentElement.outerHTML.length")
         edits = page.evaluate(EDIT_LOOP, EDITS)
         page.click('[data-command="simulate"]')
-        page.wait_for_function(
-            "document.querySelector('.status .run').textContent === 'RUN'", timeout=60000)
-        # Power flow on many rungs: the inputs' latches as the program draws them.
-        page.wait_for_function("document.querySelectorAll('.on').length > 0", timeout=60000)
+        # Polled from here: the page's CSP forbids the eval wait_for_function polls with.
+        until(page, "() => document.querySelector('.status .run').textContent === 'RUN'")
+        # Power flow shown on the rungs.
+        until(page, "() => document.querySelectorAll('.on').length > 0")
         count = "Number(document.body.dataset.liveUpdates)"
         u0, t0 = page.evaluate(count), time.monotonic()
         time.sleep(3.0)

@@ -568,6 +568,17 @@ fn edits_over_http_change_the_buffer_until_saved() {
     let (status, update) = post("/api/redo", r#"{"file": "src/main.lad"}"#);
     assert_eq!((status, &update["dirty"]), (200, &serde_json::json!(true)));
     assert_eq!(get("/api/file?file=src/main.lad").1, buffer);
+    // An edit that leaves the diagnostics as they were answers without them (the page
+    // keeps its list); the error count still comes.
+    let retitle = r#"{"file": "src/main.lad", "edit": {"op": "set_network_title",
+        "at": "blocks[0].networks[0]", "title": "latch"}}"#;
+    let (status, update) = post("/api/edit", retitle);
+    assert_eq!(status, 200, "{update}");
+    assert!(update.get("diagnostics").is_none(), "{update}");
+    assert_eq!(update["errors"], 1);
+    let (status, update) = post("/api/undo", r#"{"file": "src/main.lad"}"#);
+    assert_eq!(status, 200);
+    assert!(update.get("diagnostics").is_none(), "{update}");
     // A refused edit is its L code and path, and nothing changes.
     let refused = r#"{"file": "src/main.lad", "edit": {"op": "delete",
         "at": "blocks[0].networks[9].rung"}}"#;

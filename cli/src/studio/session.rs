@@ -486,14 +486,28 @@ impl Session {
         target: Option<&ExplicitTarget>,
         changes: &[Change],
     ) -> Update {
-        let checked = self.check(&self.files[index].name, &self.files[index].text);
-        let f = &mut self.files[index];
-        f.ladder = gutta_ladder::build(&checked);
-        f.checked = checked;
         if self.files.len() == 1 {
+            // The buffer's check (for the drawing) and the model's (for the diagnostics
+            // at paths) do not depend on each other: on two threads, an edit waits for
+            // the longer of the two, not their sum.
+            let f = &self.files[index];
+            let (checked, diagnostics) = std::thread::scope(|scope| {
+                let diagnostics = scope.spawn(|| model_diagnostics(f, target));
+                let checked = self.check(&f.name, &f.text);
+                let diagnostics = diagnostics
+                    .join()
+                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+                (checked, diagnostics)
+            });
             let f = &mut self.files[index];
-            f.diagnostics = model_diagnostics(f, target);
+            f.ladder = gutta_ladder::build(&checked);
+            f.checked = checked;
+            f.diagnostics = diagnostics;
         } else {
+            let checked = self.check(&self.files[index].name, &self.files[index].text);
+            let f = &mut self.files[index];
+            f.ladder = gutta_ladder::build(&checked);
+            f.checked = checked;
             self.diagnose_program();
         }
         self.update(index, changes)

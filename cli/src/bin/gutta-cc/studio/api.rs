@@ -482,6 +482,23 @@ pub(super) fn update_json(session: &Session, update: &Update) -> Result<Value, R
     }))
 }
 
+/// An edit's, undo's or redo's answer: the update, without its diagnostics when they
+/// are the ones the page already has (`before`): a big program's warnings are sent once,
+/// not at every step (the page keeps its list when the answer has none).
+fn step_json(
+    session: &Session,
+    update: &Update,
+    before: &[ModelDiagnostic],
+) -> Result<Value, Refusal> {
+    let mut value = update_json(session, update)?;
+    if update.diagnostics == before {
+        if let Some(object) = value.as_object_mut() {
+            object.remove("diagnostics");
+        }
+    }
+    Ok(value)
+}
+
 fn errors(diagnostics: &[ModelDiagnostic]) -> usize {
     diagnostics.iter().filter(|d| d.is_error()).count()
 }
@@ -517,8 +534,9 @@ async fn edit(State(studio): State<Arc<Studio>>, body: Bytes) -> Response {
             let edit = value.get("edit").ok_or_else(|| {
                 Refusal::BadRequest("the body needs \"edit\": an edit operation".into())
             })?;
+            let before = session.diagnostics(&file)?.to_vec();
             let update = session.apply(&file, &edit.to_string())?;
-            update_json(session, &update)
+            step_json(session, &update, &before)
         })
         .await,
     )
@@ -528,8 +546,9 @@ async fn undo(State(studio): State<Arc<Studio>>, body: Bytes) -> Response {
     answer(
         with_session(&studio, move |session| {
             let file = body_file(&body_json(&body)?, session)?;
+            let before = session.diagnostics(&file)?.to_vec();
             let update = session.undo(&file)?;
-            update_json(session, &update)
+            step_json(session, &update, &before)
         })
         .await,
     )
@@ -539,8 +558,9 @@ async fn redo(State(studio): State<Arc<Studio>>, body: Bytes) -> Response {
     answer(
         with_session(&studio, move |session| {
             let file = body_file(&body_json(&body)?, session)?;
+            let before = session.diagnostics(&file)?.to_vec();
             let update = session.redo(&file)?;
-            update_json(session, &update)
+            step_json(session, &update, &before)
         })
         .await,
     )

@@ -183,7 +183,8 @@
       const section = sectionOf(b);
       while (section && section.children.length > shape.networks) section.lastChild.remove();
     });
-    state.diagnostics = update.diagnostics;
+    // An edit's answer leaves the diagnostics out when they did not change.
+    if (update.diagnostics !== undefined) state.diagnostics = update.diagnostics;
     state.dirty = update.dirty;
     state.canUndo = update.can_undo;
     state.canRedo = update.can_redo;
