@@ -487,20 +487,21 @@ impl Session {
         changes: &[Change],
     ) -> Update {
         if self.files.len() == 1 {
-            // The buffer's check (for the drawing) and the model's (for the diagnostics
+            // The buffer's check and drawing, and the model's check (for the diagnostics
             // at paths) do not depend on each other: on two threads, an edit waits for
-            // the longer of the two, not their sum.
+            // the longer of the two, not their sum (docs/studio.md, "Benchmarks (page)").
             let f = &self.files[index];
-            let (checked, diagnostics) = std::thread::scope(|scope| {
+            let (checked, ladder, diagnostics) = std::thread::scope(|scope| {
                 let diagnostics = scope.spawn(|| model_diagnostics(f, target));
                 let checked = self.check(&f.name, &f.text);
+                let ladder = gutta_ladder::build(&checked);
                 let diagnostics = diagnostics
                     .join()
                     .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-                (checked, diagnostics)
+                (checked, ladder, diagnostics)
             });
             let f = &mut self.files[index];
-            f.ladder = gutta_ladder::build(&checked);
+            f.ladder = ladder;
             f.checked = checked;
             f.diagnostics = diagnostics;
         } else {
