@@ -17,11 +17,11 @@ const TOKEN_BYTES: usize = 16;
 pub(crate) struct Token(String);
 
 impl Token {
-    /// A token from the operating system's random source.
+    /// A token from the operating system's random source (`getrandom`: the
+    /// `getrandom` call or /dev/urandom on Linux, `ProcessPrng` on Windows, ...).
     pub(crate) fn generate() -> std::io::Result<Token> {
-        use std::io::Read as _;
         let mut bytes = [0u8; TOKEN_BYTES];
-        std::fs::File::open("/dev/urandom")?.read_exact(&mut bytes)?;
+        getrandom::fill(&mut bytes).map_err(|e| std::io::Error::other(e.to_string()))?;
         Ok(Token(bytes.iter().map(|b| format!("{b:02x}")).collect()))
     }
 
