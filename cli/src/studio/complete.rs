@@ -53,6 +53,10 @@ pub struct Completion {
     /// A mnemonic's operand names in STL order (what the box asks for next).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub operands: Vec<String>,
+    /// A box's power inputs after the first (a `CTU`'s `R`; a `CTUD`'s `CD`, `R`): each
+    /// a path of its own the box asks a contact for.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub inputs: Vec<String>,
 }
 
 impl Session {
@@ -179,6 +183,7 @@ impl Session {
                 _ => continue,
             };
             let mut operands = Vec::new();
+            let mut inputs = Vec::new();
             if request.wanted == Wanted::Mnemonic {
                 let Some(id) = set.lookup(&item.label) else {
                     continue;
@@ -188,6 +193,7 @@ impl Session {
                     continue;
                 }
                 operands = ins.operands.iter().map(|o| o.name.clone()).collect();
+                inputs = ins.power_inputs.iter().skip(1).cloned().collect();
             } else if kind == "mnemonic" {
                 continue;
             }
@@ -196,6 +202,7 @@ impl Session {
                 kind,
                 detail: item.detail,
                 operands,
+                inputs,
             });
             if out.len() == MAX_ITEMS {
                 break;

@@ -238,3 +238,39 @@ def test_networks_move_retitle_copy_paste_and_delete(page, project):
     wait_until(lambda: "the latch, moved" in (project / "src" / "main.lad").read_text(),
                what="the save")
     cc("build", cwd=project)
+
+
+def test_a_counter_box_asks_for_its_reset_path(page, project):
+    """A box with power inputs beyond the first (a CTU's R) asks a contact for each after
+    its operands, by the keyboard alone; saved, the file builds."""
+    main = project / "src" / "main.lad"
+    editor = Editor(page)
+    for _ in range(3):
+        page.keyboard.press("ArrowDown")
+    page.keyboard.press("Insert")
+    editor.type("I0.2")
+    editor.type("Q0.1")
+    wait_until(lambda: rung(page, 4).count() == 1, what="network 4")
+    settle(page)
+    for _ in range(6):
+        if rung(page, 4).locator(".coil.selected").count():
+            break
+        page.keyboard.press("ArrowRight")
+    assert rung(page, 4).locator(".coil.selected").count() == 1
+    page.keyboard.press("F9")
+    editor.type("CTU")
+    editor.type("C1")
+    editor.type("5")
+    editor.next()
+    label = page.locator(".operand-popup label").inner_text()
+    assert label == "CTU R (contact)", label
+    page.keyboard.type("I0.5")
+    page.keyboard.press("Enter")
+    wait_until(lambda: rung(page, 4).locator('.box[data-mnemonic="CTU"]').count() == 1,
+               what="the CTU box")
+    settle(page)
+    drawn = element_paths(page, 4)
+    assert "contact no I0.5" in drawn and "box CTU C1" in drawn, drawn
+    page.keyboard.press("Control+s")
+    wait_until(lambda: "CTU    C1, 5" in main.read_text(), what="the save")
+    cc("build", cwd=project)

@@ -567,7 +567,8 @@
     if (await send(edit)) selectNew(b, n, before, kind);
   }
 
-  // A box: its mnemonic, then each operand in STL order.
+  // A box: its mnemonic, then each operand in STL order, then a contact for each
+  // power input after the first (a CTU's R: the counter's reset path).
   async function insertBox() {
     const el = needElement();
     if (!el) return;
@@ -576,23 +577,31 @@
     const request = { label: 'box (mnemonic)', kind: 'mnemonic', element: 'box', anchor: el };
     const mnemonic = await ask(request);
     if (mnemonic === null) return;
-    let names = request.chosen && request.chosen.operands;
-    if (!names) {
+    let item = request.chosen && request.chosen.label.toUpperCase() === mnemonic.toUpperCase()
+      ? request.chosen : null;
+    if (!item) {
       const found = await call('/api/complete?' + query({ file: state.file, kind: 'mnemonic', element: 'box', prefix: mnemonic }));
-      const item = found.items.find(function (i) { return i.label.toUpperCase() === mnemonic.toUpperCase(); });
+      item = found.items.find(function (i) { return i.label.toUpperCase() === mnemonic.toUpperCase(); });
       if (!item) return notify(mnemonic + ' is not a box of this PLC', 'error');
-      names = item.operands || [];
     }
+    const names = item.operands || [];
     const operands = [];
     for (let i = 0; i < names.length; i++) {
       const v = await ask({ label: mnemonic.toUpperCase() + ' ' + names[i], element: 'box', mnemonic: mnemonic, pin: i, anchor: el });
       if (v === null) return;
       operands.push(v);
     }
+    const inputs = [];
+    const pins = item.inputs || [];
+    for (let i = 0; i < pins.length; i++) {
+      const v = await ask({ label: mnemonic.toUpperCase() + ' ' + pins[i] + ' (contact)', element: 'contact', mnemonic: 'LD', pin: 0, anchor: el });
+      if (v === null) return;
+      inputs.push({ contact: 'LD', operands: [v] });
+    }
     const before = signatures(b, n);
     const edit = {
       op: 'insert_box', at: el.dataset.path, place: isOutput(el) ? 'parallel' : 'after',
-      box: mnemonic.toUpperCase(), operands: operands, inputs: [],
+      box: mnemonic.toUpperCase(), operands: operands, inputs: inputs,
     };
     if (await send(edit)) selectNew(b, n, before, 'box');
   }
