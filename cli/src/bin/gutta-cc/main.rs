@@ -21,6 +21,7 @@ mod inspect;
 mod login;
 mod monitor;
 mod project;
+mod serve;
 mod studio;
 mod test;
 mod watch;

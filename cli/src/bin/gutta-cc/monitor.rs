@@ -160,22 +160,11 @@ fn serve(
     name: &str,
     plc: &str,
 ) -> Result<(), Fatal> {
-    let runtime = tokio::runtime::Builder::new_multi_thread()
-        .worker_threads(2)
-        .enable_all()
-        .build()
-        .map_err(|e| Fatal::io(format!("cannot start the HTTP server: {e}")))?;
-    runtime.block_on(async move {
-        let listener = tokio::net::TcpListener::bind(http)
-            .await
-            .map_err(|e| Fatal::io(format!("--http {http}: {e}")))?;
-        let at = listener
-            .local_addr()
-            .map_err(|e| Fatal::io(format!("--http {http}: {e}")))?;
+    crate::serve::until_ctrl_c(http, |at| {
         eprintln!("gutta-cc monitor: http://{at}/ shows {name} live from {plc} (Ctrl-C ends)");
         let page = Arc::new(page);
         let state = shared.clone();
-        let app = axum::Router::new()
+        axum::Router::new()
             .route(
                 "/",
                 get(move || {
@@ -212,13 +201,7 @@ fn serve(
                         }))
                     }
                 }),
-            );
-        axum::serve(listener, app)
-            .with_graceful_shutdown(async {
-                let _ = tokio::signal::ctrl_c().await;
-            })
-            .await
-            .map_err(|e| Fatal::io(format!("HTTP server: {e}")))
+            )
     })
 }
 

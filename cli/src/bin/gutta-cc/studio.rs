@@ -35,19 +35,7 @@ pub(crate) fn studio(cli: &Cli, options: &StudioArgs) -> Result<ExitCode, Fatal>
     let session = files.open_session()?;
     let token = Token::generate()
         .map_err(|e| Fatal::io(format!("cannot read the system's random source: {e}")))?;
-    let runtime = tokio::runtime::Builder::new_multi_thread()
-        .worker_threads(2)
-        .enable_all()
-        .build()
-        .map_err(|e| Fatal::io(format!("cannot start the HTTP server: {e}")))?;
-    let http = options.http.as_str();
-    runtime.block_on(async move {
-        let listener = tokio::net::TcpListener::bind(http)
-            .await
-            .map_err(|e| Fatal::io(format!("--http {http}: {e}")))?;
-        let at = listener
-            .local_addr()
-            .map_err(|e| Fatal::io(format!("--http {http}: {e}")))?;
+    crate::serve::until_ctrl_c(&options.http, |at| {
         let url = format!("http://{at}/?token={}", token.as_str());
         println!("gutta-cc studio: {url}");
         eprintln!(
@@ -59,7 +47,7 @@ pub(crate) fn studio(cli: &Cli, options: &StudioArgs) -> Result<ExitCode, Fatal>
             open_browser(&url);
         }
         let guard = Guard::new(token.clone(), at);
-        let app = api::router(
+        api::router(
             Arc::new(Studio {
                 session: Arc::new(std::sync::Mutex::new(session)),
                 live: std::sync::Mutex::new(None),
@@ -67,13 +55,7 @@ pub(crate) fn studio(cli: &Cli, options: &StudioArgs) -> Result<ExitCode, Fatal>
                 writing: std::sync::Mutex::new(()),
             }),
             guard,
-        );
-        axum::serve(listener, app)
-            .with_graceful_shutdown(async {
-                let _ = tokio::signal::ctrl_c().await;
-            })
-            .await
-            .map_err(|e| Fatal::io(format!("HTTP server: {e}")))
+        )
     })?;
     Ok(ExitCode::SUCCESS)
 }

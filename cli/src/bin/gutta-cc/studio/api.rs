@@ -123,7 +123,7 @@ pub(crate) fn router(studio: Arc<Studio>, guard: Guard) -> axum::Router {
 }
 
 /// `work` on the session off the server's threads.
-async fn with_session<T: Send + 'static>(
+pub(super) async fn with_session<T: Send + 'static>(
     studio: &Arc<Studio>,
     work: impl FnOnce(&mut Session) -> Result<T, Refusal> + Send + 'static,
 ) -> Result<T, Refusal> {
@@ -133,7 +133,8 @@ async fn with_session<T: Send + 'static>(
         .map_err(|e| Refusal::Io(e.to_string()))?
 }
 
-fn answer(result: Result<Value, Refusal>) -> Response {
+/// A result as the routes answer it: the JSON, or the refusal with its code.
+pub(super) fn answer(result: Result<Value, Refusal>) -> Response {
     match result {
         Ok(value) => json_response(&value),
         Err(refusal) => refusal.into_response(),
@@ -141,7 +142,7 @@ fn answer(result: Result<Value, Refusal>) -> Response {
 }
 
 /// The file a request names (`?file=`), else the session's first.
-fn file_of(uri: &Uri, session: &Session) -> Result<String, Refusal> {
+pub(super) fn file_of(uri: &Uri, session: &Session) -> Result<String, Refusal> {
     match query_value(uri, "file") {
         Some(file) => Ok(file),
         None => session

@@ -12,13 +12,13 @@ use std::sync::Arc;
 
 use axum::body::Bytes;
 use axum::extract::State;
-use axum::http::{header, Uri};
-use axum::response::{IntoResponse, Response};
+use axum::http::Uri;
+use axum::response::Response;
 use axum::routing::{get, put};
 use gutta_cli::studio::{Session, SymbolChange};
 use serde_json::{json, Value};
 
-use super::api::{body_json, update_json, Studio};
+use super::api::{self, answer, body_json, file_of, update_json, Studio};
 use super::refusal::Refusal;
 use super::security::query_value;
 
@@ -34,42 +34,13 @@ pub(crate) fn routes() -> axum::Router<Arc<Studio>> {
         .route("/api/symbols", get(symbols).post(change_symbols))
 }
 
-/// `work` on the session off the server's threads (the lock is held only for it).
+/// `work` on the session off the server's threads (the lock is held only for it),
+/// answered as JSON or as the refusal.
 async fn with_session(
     studio: &Arc<Studio>,
     work: impl FnOnce(&mut Session) -> Result<Value, Refusal> + Send + 'static,
 ) -> Response {
-    let studio = studio.clone();
-    let result = tokio::task::spawn_blocking(move || {
-        let mut session = studio.session.lock().unwrap_or_else(|e| e.into_inner());
-        work(&mut session)
-    })
-    .await
-    .map_err(|e| Refusal::Io(e.to_string()))
-    .and_then(|r| r);
-    match result {
-        Ok(value) => (
-            [
-                (header::CONTENT_TYPE, "application/json"),
-                (header::CACHE_CONTROL, "no-store"),
-            ],
-            value.to_string(),
-        )
-            .into_response(),
-        Err(refusal) => refusal.into_response(),
-    }
-}
-
-/// `?file=`, else the session's first file.
-fn file_of(uri: &Uri, session: &Session) -> Result<String, Refusal> {
-    match query_value(uri, "file") {
-        Some(file) => Ok(file),
-        None => session
-            .files()
-            .first()
-            .map(|f| f.to_string())
-            .ok_or_else(|| Refusal::BadRequest("the studio has no file open".into())),
-    }
+    answer(api::with_session(studio, work).await)
 }
 
 /// A number in the query (`block`, `network`, `offset`); `default` when absent.
