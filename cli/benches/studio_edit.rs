@@ -22,7 +22,6 @@
 )]
 
 use std::hint::black_box;
-use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -30,37 +29,10 @@ use gutta_cli::studio::Session;
 use gutta_compiler::diagnostics::Severity;
 use gutta_ladder::json::{Element, Model, NetworkBody};
 
-#[path = "../../ladder/benches/corpus_program/mod.rs"]
-mod corpus_program;
+#[path = "studio_project/mod.rs"]
+mod studio_project;
 
-#[path = "../../compiler/benches/scale_program/mod.rs"]
-#[allow(dead_code, reason = "only its bench target is used here")]
-mod scale_program;
-
-const NETWORKS: usize = 1_000;
-const FILE: &str = "src/main.lad";
-
-/// The project: gutta.toml naming the bench target, src/main.lad.
-fn project() -> PathBuf {
-    let root = std::env::temp_dir().join(format!("gutta-studio-bench-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&root);
-    std::fs::create_dir_all(root.join("src")).expect("project folder");
-    let target = PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../compiler/benches/target"
-    ));
-    let text = corpus_program::generate(NETWORKS, &scale_program::bench_target());
-    std::fs::write(root.join(FILE), text).expect("main.lad");
-    std::fs::write(
-        root.join("gutta.toml"),
-        format!(
-            "[program]\ntarget = {:?}\nsources = [\"{FILE}\"]\n",
-            target.display().to_string()
-        ),
-    )
-    .expect("gutta.toml");
-    root
-}
+use studio_project::{project, FILE, NETWORKS};
 
 /// `set_mnemonic` `LDN` on the first contact (an `LD`) of the drawn network nearest
 /// the middle of MAIN, as JSON.
@@ -84,7 +56,7 @@ fn middle_contact(model: &Model) -> String {
 }
 
 fn bench_studio_edit(c: &mut Criterion) {
-    let root = project();
+    let root = project("bench");
     let mut session = Session::open(std::slice::from_ref(&root)).expect("the project opens");
     // MAIN's networks and the subroutines' together.
     let networks: usize = session

@@ -22,40 +22,12 @@
 )]
 
 use std::io::{BufRead, BufReader};
-use std::path::PathBuf;
 use std::process::{Command, Stdio};
 
-#[path = "../../ladder/benches/corpus_program/mod.rs"]
-mod corpus_program;
+#[path = "studio_project/mod.rs"]
+mod studio_project;
 
-#[path = "../../compiler/benches/scale_program/mod.rs"]
-#[allow(dead_code, reason = "only its bench target is used here")]
-mod scale_program;
-
-const NETWORKS: usize = 1_000;
-const FILE: &str = "src/main.lad";
-
-/// The project: gutta.toml naming the bench target, src/main.lad.
-fn project() -> PathBuf {
-    let root = std::env::temp_dir().join(format!("gutta-studio-page-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&root);
-    std::fs::create_dir_all(root.join("src")).expect("project folder");
-    let target = PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../compiler/benches/target"
-    ));
-    let text = corpus_program::generate(NETWORKS, &scale_program::bench_target());
-    std::fs::write(root.join(FILE), text).expect("main.lad");
-    std::fs::write(
-        root.join("gutta.toml"),
-        format!(
-            "[program]\ntarget = {:?}\nsources = [\"{FILE}\"]\n",
-            target.display().to_string()
-        ),
-    )
-    .expect("gutta.toml");
-    root
-}
+use studio_project::project;
 
 fn quantile(sorted: &[f64], q: f64) -> f64 {
     let i = ((sorted.len() as f64 - 1.0) * q).round() as usize;
@@ -70,7 +42,7 @@ fn main() {
     let python = std::env::var("GUTTA_PYTHON").unwrap_or_else(|_| {
         panic!("GUTTA_PYTHON must name a Python with playwright (the .ci venv's)")
     });
-    let root = project();
+    let root = project("page");
     let mut studio = Command::new(env!("CARGO_BIN_EXE_gutta-cc"))
         .args(["studio", "--no-open"])
         .arg(&root)
