@@ -8,14 +8,13 @@
 
 mod common;
 
-use std::io::{BufRead, BufReader, Read, Write};
-use std::net::TcpStream;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use gutta_cli::studio::Session;
 use serde_json::Value;
+
+use common::studio::Studio;
 
 /// A `gutta-cc new demo` project in a scratch folder.
 fn demo(tag: &str) -> PathBuf {
@@ -101,72 +100,8 @@ fn a_program_with_errors_runs_no_test_and_says_its_first_error() {
     assert!(refused.message.contains("NoSuchLamp"), "{refused:?}");
 }
 
-/// A running `gutta-cc studio --no-open`, killed when dropped.
-struct Studio {
-    child: Child,
-    address: String,
-    token: String,
-}
-
-impl Drop for Studio {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-fn start_studio(dir: &Path) -> Studio {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-cc"))
-        .args(["studio", "--no-open"])
-        .arg(dir)
-        .current_dir(dir)
-        .env_remove("GUTTA_PASSWORD")
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("gutta-cc studio starts");
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().expect("stdout"))
-        .read_line(&mut line)
-        .expect("the first line");
-    let rest = line
-        .trim_end()
-        .strip_prefix("gutta-cc studio: http://")
-        .unwrap_or_else(|| panic!("first line: {line:?}"));
-    let (address, token) = rest.split_once("/?token=").expect("the token");
-    Studio {
-        address: address.to_string(),
-        token: token.to_string(),
-        child,
-    }
-}
-
-/// `METHOD PATH` with the token, `body` as JSON: the status and the JSON answer.
 fn call(studio: &Studio, method: &str, path: &str, body: &str) -> (u16, Value) {
-    let mut stream = TcpStream::connect(&studio.address).expect("connects");
-    stream
-        .set_read_timeout(Some(Duration::from_secs(60)))
-        .expect("timeout");
-    let text = format!(
-        "{method} {path} HTTP/1.1\r\nHost: {}\r\nConnection: close\r\nX-Gutta-Token: {}\r\n\
-         Content-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}",
-        studio.address,
-        studio.token,
-        body.len()
-    );
-    stream.write_all(text.as_bytes()).expect("sends");
-    let mut answer = Vec::new();
-    stream.read_to_end(&mut answer).expect("reads the answer");
-    let answer = String::from_utf8_lossy(&answer).into_owned();
-    let (head, body) = answer.split_once("\r\n\r\n").expect("a head and a body");
-    let status = head
-        .split(' ')
-        .nth(1)
-        .and_then(|s| s.parse().ok())
-        .unwrap_or_else(|| panic!("status line: {head}"));
-    let json = serde_json::from_str(body).unwrap_or_else(|e| panic!("{e}: {body}"));
-    (status, json)
+    studio.call(method, path, body)
 }
 
 /// The online state until `ok` holds (at most 15 s).
@@ -219,7 +154,7 @@ fn online_download_shows_power_flow_stop_another_program_and_recovers() {
     let plc = plc_of(&demo("plc"));
     let sim = common::sim(&plc, None);
     let dir = demo_at("online", &sim.1);
-    let studio = start_studio(&dir);
+    let studio = Studio::start(&dir);
 
     let (status, state) = call(&studio, "GET", "/api/online", "");
     assert_eq!((status, &state["mode"]), (200, &"EDIT".into()), "{state}");
@@ -373,7 +308,7 @@ fn online_download_shows_power_flow_stop_another_program_and_recovers() {
 #[test]
 fn a_plc_that_does_not_answer_is_a_coded_error_and_the_mode_stays_edit() {
     let dir = demo_at("nobody", "127.0.0.1:1");
-    let studio = start_studio(&dir);
+    let studio = Studio::start(&dir);
     let (status, answer) = call(&studio, "POST", "/api/online", "{}");
     assert_eq!(status, 502, "{answer}");
     assert_eq!(answer["code"], "plc-unreachable", "{answer}");
@@ -398,7 +333,7 @@ fn a_plc_that_does_not_answer_is_a_coded_error_and_the_mode_stays_edit() {
 #[test]
 fn tests_from_the_server_pass_on_the_demo() {
     let dir = demo("tests-http");
-    let studio = start_studio(&dir);
+    let studio = Studio::start(&dir);
     let (status, run) = call(&studio, "POST", "/api/tests", "{}");
     assert_eq!(status, 200, "{run}");
     assert_eq!(
@@ -432,7 +367,7 @@ fn a_program_with_errors_is_refused_before_anything_is_sent() {
     // Nobody listens at the address: a 409 with the compiler's code (not
     // plc-unreachable) shows the program was refused before any connection.
     let dir = demo_at("refused", "127.0.0.1:1");
-    let studio = start_studio(&dir);
+    let studio = Studio::start(&dir);
     let edit = r#"{"file": "src/main.lad", "edit": {"op": "set_operands", "at": "blocks[0].networks[1].rung.series[2]", "operands": ["NoSuchLamp"]}}"#;
     let (status, answer) = call(&studio, "POST", "/api/edit", edit);
     assert_eq!(status, 200, "{answer}");

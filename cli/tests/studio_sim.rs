@@ -7,14 +7,15 @@
 //! `gutta-cc studio` over HTTP (EDIT, simulate, toggle, read, write, stop, edit-mode,
 //! the refusals).
 
-use std::io::{BufRead, BufReader, Read, Write};
-use std::net::TcpStream;
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use gutta_cli::studio::{Session, Simulator};
 use serde_json::Value;
+
+use common::studio::Studio;
 
 const TEMPLATES: &[(&str, &str)] = &[
     ("gutta.toml", include_str!("../templates/gutta.toml")),
@@ -293,78 +294,10 @@ fn the_unsaved_buffer_runs_and_errors_are_refused_with_their_code() {
     let _ = std::fs::remove_dir_all(&root2);
 }
 
-/// The real `gutta-cc studio --no-open` on `root`, killed when dropped.
-struct Server {
-    child: Child,
-    address: String,
-    token: String,
-}
-
-impl Drop for Server {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-impl Server {
-    fn start(root: &Path) -> Server {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-cc"))
-            .args(["studio", "--no-open"])
-            .arg(root)
-            .stdin(Stdio::null())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("gutta-cc studio starts");
-        let mut line = String::new();
-        BufReader::new(child.stdout.take().expect("stdout"))
-            .read_line(&mut line)
-            .expect("its first line");
-        let rest = line
-            .trim_end()
-            .strip_prefix("gutta-cc studio: http://")
-            .unwrap_or_else(|| panic!("first line {line:?}"))
-            .to_string();
-        let (address, token) = rest.split_once("/?token=").expect("address and token");
-        Server {
-            address: address.to_string(),
-            token: token.to_string(),
-            child,
-        }
-    }
-
-    /// `method path` with the token and a JSON `body`: the status and the JSON answer.
-    fn call(&self, method: &str, path: &str, body: &str) -> (u16, Value) {
-        let mut stream = TcpStream::connect(&self.address).expect("connects");
-        stream
-            .set_read_timeout(Some(Duration::from_secs(30)))
-            .expect("timeout");
-        let text = format!(
-            "{method} {path} HTTP/1.1\r\nHost: {}\r\nConnection: close\r\nX-Gutta-Token: {}\r\n\
-             Content-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}",
-            self.address,
-            self.token,
-            body.len()
-        );
-        stream.write_all(text.as_bytes()).expect("sends");
-        let mut answer = String::new();
-        stream.read_to_string(&mut answer).expect("reads");
-        let (head, body) = answer.split_once("\r\n\r\n").expect("head and body");
-        let status = head
-            .split(' ')
-            .nth(1)
-            .and_then(|s| s.parse().ok())
-            .expect("a status");
-        let json = serde_json::from_str(body).unwrap_or_else(|e| panic!("{e}: {body}"));
-        (status, json)
-    }
-}
-
 #[test]
 fn the_live_routes_of_the_studio_drive_the_simulator() {
     let root = demo("http", None);
-    let studio = Server::start(&root);
+    let studio = Studio::start(&root);
     assert_eq!(
         studio.call("GET", "/api/live", ""),
         (200, serde_json::json!({"mode": "EDIT"}))
@@ -430,7 +363,7 @@ fn the_live_routes_of_the_studio_drive_the_simulator() {
     // A program with an error does not run: 409 with the compiler's code and place.
     let broken = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNetwork 1\nLD     Nowhere\n=      Q0.0\nEND_ORGANIZATION_BLOCK\n";
     let root2 = demo("http-broken", Some(broken));
-    let studio = Server::start(&root2);
+    let studio = Studio::start(&root2);
     let (status, refused) = studio.call("POST", "/api/simulate", "");
     assert_eq!(status, 409, "{refused}");
     assert!(

@@ -7,6 +7,7 @@
 
 pub mod docs;
 mod external;
+pub mod studio;
 
 use std::path::PathBuf;
 
