@@ -159,6 +159,9 @@
     function follow() {
       if (!following) return;
       call('/api/online/progress', undefined).then(function (p) {
+        // A progress answer that arrives after the download's own answer is stale:
+        // it must not write over the result.
+        if (!following) return;
         if (p && p.total) {
           bar.max = p.total;
           bar.value = p.done;
