@@ -24,6 +24,7 @@ pub mod s7200_timers;
 pub mod stdlib;
 mod suggest;
 mod text;
+mod timer_duration;
 mod types;
 mod value;
 mod xml_util;
@@ -44,6 +45,7 @@ pub use modbus::{ModbusCell, ModbusLocation, ModbusPiece, ModbusSpan};
 pub use plc_type::{ExchSupport, PlcType};
 pub use suggest::edit_distance;
 pub use text::decode_xml_text;
+pub use timer_duration::timer_duration;
 pub use types::{DataType, Width};
 pub use value::ValueFormat;
 

@@ -7,7 +7,7 @@ use std::fmt::Write;
 
 use crate::layout::block_heading;
 use crate::model::Ladder;
-use crate::svg::{draw_network, escape, STYLE};
+use crate::svg::{draw_network_with, escape, DrawOptions, STYLE};
 
 /// What the page carries besides the drawing.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -16,6 +16,8 @@ pub struct HtmlOptions {
     pub title: String,
     /// JavaScript put inline at the end of the body (the live view), if any.
     pub live_script: Option<String>,
+    /// How the networks are drawn.
+    pub draw: DrawOptions,
 }
 
 /// Styles of the page around the drawing: energized (`on`) and forced elements.
@@ -66,7 +68,7 @@ pub fn ladder_html(ladder: &Ladder, options: &HtmlOptions) -> String {
         );
         for net in &block.networks {
             drawn.clear();
-            let (w, h) = draw_network(&mut drawn, block, net, 0);
+            let (w, h) = draw_network_with(&mut drawn, block, net, 0, &options.draw);
             let _ = writeln!(
                 out,
                 "<div class=\"network-view\" id=\"block-{i}-network-{}\">\

@@ -56,16 +56,55 @@ pub fn escape_into(out: &mut String, text: &str) {
     out.push_str(rest);
 }
 
-/// One network as a `<g class="network">` (or `class="network stl"`) at the origin.
+/// How boxes and compare contacts are labelled (docs/ladder.md, "Names").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Names {
+    /// Micro/WIN's LAD names: `ADD_I`, `MOV_W`, `>=I`.
+    #[default]
+    Lad,
+    /// The STL mnemonics the source writes: `+I`, `MOVW`, `>=W`.
+    Stl,
+}
+
+/// What a drawing shows besides the rungs; the same for `gutta-cc ladder`, the monitor
+/// and the studio. `Default` is what `gutta-cc ladder` draws without flags.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct DrawOptions {
+    /// Box and compare labels (`--names`).
+    pub names: Names,
+    /// A table of the network's symbols under each rung, Micro/WIN's "symbol
+    /// information" (`--symbol-info`).
+    pub symbol_info: bool,
+}
+
+/// One network as a `<g class="network">` (or `class="network stl"`) at the origin,
+/// drawn with the default options.
 pub fn network_svg(block: &Block, net: &Network) -> String {
+    network_svg_with(block, net, &DrawOptions::default())
+}
+
+/// One network as a `<g class="network">` (or `class="network stl"`) at the origin.
+pub fn network_svg_with(block: &Block, net: &Network, options: &DrawOptions) -> String {
     let mut out = String::new();
-    draw_network(&mut out, block, net, 0);
+    draw_network_with(&mut out, block, net, 0, options);
     out
+}
+
+/// Append one network's group, translated down by `y`, to `out`, drawn with the default
+/// options; returns the drawing's (width, height).
+pub fn draw_network(out: &mut String, block: &Block, net: &Network, y: i32) -> (i32, i32) {
+    draw_network_with(out, block, net, y, &DrawOptions::default())
 }
 
 /// Append one network's group, translated down by `y`, to `out`; returns the drawing's
 /// (width, height).
-pub fn draw_network(out: &mut String, block: &Block, net: &Network, y: i32) -> (i32, i32) {
+pub fn draw_network_with(
+    out: &mut String,
+    block: &Block,
+    net: &Network,
+    y: i32,
+    _options: &DrawOptions,
+) -> (i32, i32) {
     let _ = write!(out, "<g class=\"network");
     if let Body::Stl { .. } = net.body {
         out.push_str(" stl");
@@ -109,9 +148,14 @@ pub fn draw_network(out: &mut String, block: &Block, net: &Network, y: i32) -> (
     size
 }
 
+/// A whole ladder as a standalone SVG document, drawn with the default options.
+pub fn ladder_svg(ladder: &Ladder) -> String {
+    ladder_svg_with(ladder, &DrawOptions::default())
+}
+
 /// A whole ladder as a standalone SVG document: blocks in order, each with its heading,
 /// its networks stacked under it.
-pub fn ladder_svg(ladder: &Ladder) -> String {
+pub fn ladder_svg_with(ladder: &Ladder, options: &DrawOptions) -> String {
     let networks: usize = ladder.blocks.iter().map(|b| b.networks.len()).sum();
     let mut body = String::with_capacity(networks * 8192);
     let mut y = 0;
@@ -128,7 +172,7 @@ pub fn ladder_svg(ladder: &Ladder) -> String {
         );
         width = width.max(text_width(&block_heading(block)) * 3 / 2 + 2 * RAIL_X);
         for net in &block.networks {
-            let (w, h) = draw_network(&mut body, block, net, y);
+            let (w, h) = draw_network_with(&mut body, block, net, y, options);
             body.push('\n');
             y += h + NETWORK_GAP;
             width = width.max(w);

@@ -500,6 +500,7 @@ fn snapshot_of_the_page() {
     let options = HtmlOptions {
         title: "tank & pump".to_string(),
         live_script: Some("const a = 1; // </script> must not end the element".to_string()),
+        ..HtmlOptions::default()
     };
     let html = ladder_html(&ladder(), &options);
     insta::assert_snapshot!("page", html);
@@ -512,6 +513,7 @@ fn the_page_is_well_formed_self_contained_and_holds_every_network() {
     let options = HtmlOptions {
         title: "t".to_string(),
         live_script: Some("window.live = true;".to_string()),
+        ..HtmlOptions::default()
     };
     let html = ladder_html(&ladder(), &options);
     let (elements, _) = parse_xml(&html);

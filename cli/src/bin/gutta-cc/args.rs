@@ -140,6 +140,8 @@ pub(crate) enum Command {
         /// stdout); from a ladder model: .lad (its program), or - (the program on stdout).
         #[arg(short, long, value_name = "FILE")]
         output: PathBuf,
+        #[command(flatten)]
+        draw: DrawArgs,
     },
     /// Print the Modbus address of a variable (the vendor editor's Modbus query).
     #[command(
@@ -481,5 +483,37 @@ pub(crate) fn online(cli: &Cli) -> client::Online<'_> {
         targets: &cli.target,
         symbol_files: &cli.symbols,
         json: cli.message_format == MessageFormat::Json,
+    }
+}
+
+/// How `gutta-cc ladder` draws (docs/ladder.md, "Names" and "Symbol information").
+#[derive(clap::Args, Debug, Clone, Default)]
+pub(crate) struct DrawArgs {
+    /// Box and compare labels: lad (Micro/WIN's LAD names: ADD_I, MOV_W, >=I) or stl
+    /// (the STL mnemonics: +I, MOVW, >=W).
+    #[arg(long, value_enum, default_value_t = NamesArg::Lad, value_name = "NAMES")]
+    pub names: NamesArg,
+    /// Under each rung, a table of the symbols its network uses (address, type,
+    /// comment), as Micro/WIN's symbol information.
+    #[arg(long)]
+    pub symbol_info: bool,
+}
+
+#[derive(clap::ValueEnum, Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub(crate) enum NamesArg {
+    #[default]
+    Lad,
+    Stl,
+}
+
+impl DrawArgs {
+    pub(crate) fn options(&self) -> gutta_ladder::svg::DrawOptions {
+        gutta_ladder::svg::DrawOptions {
+            names: match self.names {
+                NamesArg::Lad => gutta_ladder::svg::Names::Lad,
+                NamesArg::Stl => gutta_ladder::svg::Names::Stl,
+            },
+            symbol_info: self.symbol_info,
+        }
     }
 }

@@ -20,9 +20,9 @@ use gutta_compiler::source::SourceFile;
 use gutta_compiler::{check_program, CheckedFile, ProgramSources};
 use gutta_io::Project;
 use gutta_ladder::html::{ladder_html, HtmlOptions};
-use gutta_ladder::svg::ladder_svg;
+use gutta_ladder::svg::ladder_svg_with;
 
-use crate::args::Cli;
+use crate::args::{Cli, DrawArgs};
 
 /// What the output file is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -109,7 +109,12 @@ pub(crate) fn checked_input(cli: &Cli, input: &Path) -> Result<CheckedFile, Fata
     Ok(check_program(program, explicit.as_ref()))
 }
 
-pub(crate) fn ladder(cli: &Cli, input: &Path, out: &Path) -> Result<ExitCode, Fatal> {
+pub(crate) fn ladder(
+    cli: &Cli,
+    input: &Path,
+    out: &Path,
+    draw: &DrawArgs,
+) -> Result<ExitCode, Fatal> {
     if is_model(input) {
         return from_model(cli, input, out);
     }
@@ -126,12 +131,13 @@ pub(crate) fn ladder(cli: &Cli, input: &Path, out: &Path) -> Result<ExitCode, Fa
     }
     let ladder = gutta_ladder::build(&checked);
     let text = match kind {
-        OutputKind::Svg => ladder_svg(&ladder),
+        OutputKind::Svg => ladder_svg_with(&ladder, &draw.options()),
         OutputKind::Html => ladder_html(
             &ladder,
             &HtmlOptions {
                 title: format!("{} ({})", input.display(), ladder.plc),
                 live_script: None,
+                draw: draw.options(),
             },
         ),
         OutputKind::Json => gutta_ladder::json::model_of(&checked, &ladder).to_json(),

@@ -89,7 +89,11 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
             };
             test::test(cli, &args)
         }
-        Command::Ladder { input, output } => ladder::ladder(cli, input, output),
+        Command::Ladder {
+            input,
+            output,
+            draw,
+        } => ladder::ladder(cli, input, output, draw),
         Command::Studio(args) => studio::studio(cli, args),
         Command::Modbus { variable } => inspect::modbus(&cli.target, variable),
         Command::Explain { code } => explain::run(code),

@@ -115,6 +115,7 @@ pub(crate) fn monitor(cli: &Cli, options: &Options, link: &LinkArgs) -> Result<E
         &HtmlOptions {
             title: format!("{}: live", program.name),
             live_script: Some(SCRIPT.to_string()),
+            ..HtmlOptions::default()
         },
     );
     let shared = Arc::new(Shared {
