@@ -26,6 +26,8 @@ vim.api.nvim_create_autocmd('FileType', {
     else
       clients[root] = clients[root] or vim.lsp.start_client(config)
       vim.lsp.buf_attach_client(args.buf, clients[root])
+      -- `gq` through the server's range formatting, as 0.8 and newer set it on attach
+      vim.bo[args.buf].formatexpr = 'v:lua.vim.lsp.formatexpr()'
     end
   end,
 })
