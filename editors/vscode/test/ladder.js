@@ -1,0 +1,45 @@
+// Runs the "Show as ladder" functions (src/ladder.js) against a real gutta-cc:
+// `node test/ladder.js GUTTA_CC PROJECT_SOURCE LONE_FILE BAD_FILE OUT_DIR`. For the source
+// of a project and for a file outside any project it reports what gutta-cc is asked to
+// draw, and writes the webview's HTML to OUT_DIR (project.html, lone.html) with its
+// policy; for a file with an error, gutta-cc's message and the error page; for a missing
+// executable, the refusal. Prints what it saw as JSON; lsp/tests/vscode_package.rs holds
+// the assertions.
+'use strict';
+
+const fs = require('fs');
+const path = require('path');
+const { ladderInput, drawLadder, ladderPolicy, ladderWebviewHtml, ladderErrorHtml } = require(
+  path.join(__dirname, '..', 'src', 'ladder.js'),
+);
+
+const [command, projectSource, lone, bad, outDir] = process.argv.slice(2);
+const report = {};
+
+async function failure(options) {
+  try {
+    await drawLadder(options);
+    return null;
+  } catch (e) {
+    return e.message;
+  }
+}
+
+(async () => {
+  for (const [name, file] of [
+    ['project', projectSource],
+    ['lone', lone],
+  ]) {
+    const page = await drawLadder({ command, file });
+    const html = ladderWebviewHtml(page);
+    fs.writeFileSync(path.join(outDir, `${name}.html`), html);
+    report[name] = { input: ladderInput(file), policy: ladderPolicy(page), pageInHtml: html.includes(page.slice(page.indexOf('<body'))) };
+  }
+  report.bad = await failure({ command, file: bad });
+  report.badHtml = ladderErrorHtml(bad, report.bad || '');
+  report.missing = await failure({ command: path.join(outDir, 'no-such-gutta-cc'), file: lone });
+  process.stdout.write(JSON.stringify(report) + '\n');
+})().catch((e) => {
+  process.stderr.write(`ladder: ${e && e.stack ? e.stack : e}\n`);
+  process.exit(1);
+});
