@@ -145,16 +145,25 @@ function ccPath() {
 /** Ladder panels by file path: one panel per file, redrawn when it is saved. */
 const ladderPanels = new Map();
 
+/** Draws requested per panel: only the latest request's drawing is shown (saves in a
+ * row may finish out of order). */
+const ladderDraws = new WeakMap();
+
 /** Draw `file` into `panel` (the reason instead, when gutta-cc cannot draw it). */
 async function redrawLadder(panel, file) {
+  const draw = (ladderDraws.get(panel) || 0) + 1;
+  ladderDraws.set(panel, draw);
   let html;
+  let enableScripts = false;
   try {
     const page = await drawLadder({ command: ccPath(), file });
-    panel.webview.options = { enableScripts: /<script[\s>]/i.test(page), localResourceRoots: [] };
+    enableScripts = /<script[\s>]/i.test(page);
     html = ladderWebviewHtml(page);
   } catch (e) {
     html = ladderErrorHtml(file, e && e.message ? e.message : String(e));
   }
+  if (ladderDraws.get(panel) !== draw || ladderPanels.get(file) !== panel) return undefined; // superseded or closed
+  panel.webview.options = { enableScripts, localResourceRoots: [] };
   panel.webview.html = html;
   return html;
 }
