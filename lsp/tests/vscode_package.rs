@@ -619,12 +619,20 @@ fn show_as_ladder_draws_a_lad_file_in_a_webview_and_redraws_it_on_save() {
         &tampered,
         html.replace(
             "</body>",
-            "<style>h1{color:red}</style><script>document.title='x'</script></body>",
+            "<style>h1{color:red}</style><script>document.title='x'</script>\
+             <p style=\"color:red\">x</p></body>",
         ),
     )
     .expect("writes");
     let refused = csp_violations(&tampered, &profile);
-    assert_eq!(refused.len(), 2, "{refused:?}");
+    assert_eq!(refused.len(), 3, "{refused:?}");
+    // A style attribute the page carries is allowed by its hash ('unsafe-hashes').
+    let styled = seen["styledPolicy"].as_str().expect("policy");
+    assert!(styled.contains("'unsafe-hashes' 'sha256-"), "{styled}");
+    assert_eq!(
+        csp_violations(&out.join("styled.html"), &profile),
+        Vec::<String>::new()
+    );
     let bad = seen["bad"]
         .as_str()
         .expect("a program with errors is refused");

@@ -99,12 +99,33 @@ function inlineHashes(html, tag) {
 }
 
 /**
- * The Content-Security-Policy for a ladder page: nothing by default; its inline styles and
- * scripts by hash (none allowed when it has none).
+ * The CSP sources of the page's `style="..."` attributes: `'unsafe-hashes'` and the
+ * SHA-256 of each value (entities decoded, as the browser hashes it); none without any.
+ * @param {string} html
+ * @returns {string[]}
+ */
+function styleAttributeHashes(html) {
+  const entities = { amp: '&', lt: '<', gt: '>', quot: '"', apos: "'" };
+  const decode = (v) =>
+    v.replace(/&(#x[0-9a-f]+|#\d+|[a-z]+);/gi, (whole, name) => {
+      if (name[0] !== '#') return entities[name.toLowerCase()] || whole;
+      return String.fromCodePoint(name[1] === 'x' || name[1] === 'X' ? parseInt(name.slice(2), 16) : parseInt(name.slice(1), 10));
+    });
+  const hashes = new Set();
+  for (const m of html.matchAll(/<[a-z][^>]*?\sstyle\s*=\s*(?:"([^"]*)"|'([^']*)')/gi)) {
+    const value = decode(m[1] !== undefined ? m[1] : m[2]);
+    hashes.add(`'sha256-${crypto.createHash('sha256').update(value, 'utf8').digest('base64')}'`);
+  }
+  return hashes.size ? ["'unsafe-hashes'", ...hashes] : [];
+}
+
+/**
+ * The Content-Security-Policy for a ladder page: nothing by default; its inline styles
+ * (elements and `style` attributes) and scripts by hash (none allowed when it has none).
  * @param {string} page
  */
 function ladderPolicy(page) {
-  const styles = inlineHashes(page, 'style');
+  const styles = [...inlineHashes(page, 'style'), ...styleAttributeHashes(page)];
   const scripts = inlineHashes(page, 'script');
   return [
     "default-src 'none'",
@@ -144,4 +165,4 @@ function ladderErrorHtml(file, message) {
 `;
 }
 
-module.exports = { ladderInput, drawLadder, inlineHashes, ladderPolicy, ladderWebviewHtml, ladderErrorHtml };
+module.exports = { ladderInput, drawLadder, inlineHashes, styleAttributeHashes, ladderPolicy, ladderWebviewHtml, ladderErrorHtml };
