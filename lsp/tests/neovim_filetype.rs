@@ -87,6 +87,9 @@ END_SYMBOLS
 
 ORGANIZATION_BLOCK MAIN:OB1
 TITLE=Compare and move
+VAR
+  a, count : INT;
+END_VAR
 BEGIN
 Network 1 // level high
 LDW>=  Level, +350
@@ -99,8 +102,8 @@ STOP
 END_ORGANIZATION_BLOCK
 ";
 
-const PROBES: [(usize, usize, &str, &str); 21] = [
-    (11, 1, "LDW>=", "guttaMnemonic"),
+const PROBES: [(usize, usize, &str, &str); 22] = [
+    (14, 1, "LDW>=", "guttaMnemonic"),
     (1, 1, "PLC_TYPE", "guttaDirective"),
     (1, 10, "CPU-EC20", "guttaPlcType"),
     (2, 1, "SYMBOLS", "guttaBlock"),
@@ -111,16 +114,17 @@ const PROBES: [(usize, usize, &str, &str); 21] = [
     (7, 1, "ORGANIZATION_BLOCK", "guttaBlock"),
     (7, 20, "MAIN:OB1", "guttaBlockName"),
     (8, 1, "TITLE=", "guttaTitle"),
-    (10, 1, "Network", "guttaNetwork"),
-    (10, 11, "// level high", "guttaComment"),
-    (11, 8, "Level", "guttaSymbol"),
-    (11, 15, "+350", "guttaNumber"),
-    (13, 8, "16#0E01", "guttaNumber"),
-    (13, 17, "*", "guttaOperator"),
-    (14, 1, "+I", "guttaMnemonic"),
-    (14, 8, "#count", "guttaLocal"),
-    (15, 8, "T37", "guttaAddress"),
-    (17, 1, "STOP", "guttaMnemonic"),
+    (13, 1, "Network", "guttaNetwork"),
+    (13, 11, "// level high", "guttaComment"),
+    (14, 8, "Level", "guttaSymbol"),
+    (14, 15, "+350", "guttaNumber"),
+    (16, 8, "16#0E01", "guttaNumber"),
+    (16, 17, "*", "guttaOperator"),
+    (17, 1, "+I", "guttaMnemonic"),
+    (17, 8, "#count", "guttaLocal"),
+    (18, 8, "T37", "guttaAddress"),
+    (20, 1, "STOP", "guttaMnemonic"),
+    (10, 3, "a", "guttaSymbolDecl"),
 ];
 
 /// A valid program laid out badly, and the layout gutta-lsp's formatter gives it

@@ -28,9 +28,17 @@ local function lines(bufnr)
   return table.concat(vim.api.nvim_buf_get_lines(bufnr, 0, -1, false), '\n') .. '\n'
 end
 
+-- The clients serving bufnr (`get_clients` from Neovim 0.10 on, `buf_get_clients` before).
+local function clients_of(bufnr)
+  if vim.lsp.get_clients then
+    return vim.lsp.get_clients({ bufnr = bufnr })
+  end
+  return vim.lsp.buf_get_clients(bufnr)
+end
+
 -- Calls `ready(bufnr)` once a client serving bufnr has finished `initialize`.
 local function when_served(bufnr, started, ready)
-  for _, client in pairs(vim.lsp.buf_get_clients(bufnr)) do
+  for _, client in pairs(clients_of(bufnr)) do
     if client.server_capabilities and client.initialized ~= false then
       return ready(bufnr)
     end
