@@ -600,6 +600,7 @@ fn show_as_ladder_draws_a_lad_file_in_a_webview_and_redraws_it_on_save() {
             "{name}: {html}"
         );
         assert_eq!(seen[name]["pageInHtml"], true);
+        assert_eq!(seen[name]["white"], true, "black on white in any theme");
         let policy = seen[name]["policy"].as_str().expect("policy");
         assert!(
             policy.starts_with("default-src 'none'; style-src 'sha256-")
@@ -609,6 +610,11 @@ fn show_as_ladder_draws_a_lad_file_in_a_webview_and_redraws_it_on_save() {
         );
         assert!(html.contains(&format!("content=\"{policy}\"")), "{html}");
     }
+    // Two styles in the webview (the page's, the white background), one in the page.
+    let both = seen["project"]["policy"].as_str().expect("policy");
+    let page_only = seen["policyOfPage"].as_str().expect("policy");
+    assert_eq!(both.matches("'sha256-").count(), 2, "{both}");
+    assert_eq!(page_only.matches("'sha256-").count(), 1, "{page_only}");
     // Chromium applies the page's styles under that policy and refuses anything else.
     let page = out.join("project.html");
     let profile = work.join("chromium");

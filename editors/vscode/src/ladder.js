@@ -134,16 +134,25 @@ function ladderPolicy(page) {
   ].join('; ');
 }
 
+/** The drawing is black on white whatever VS Code's theme (the webview would otherwise
+ * give the page the theme's background, dark in a dark theme). */
+const WEBVIEW_STYLE = '<style>html,body{background:#fff;color-scheme:light}</style>';
+
 /**
- * The webview's HTML: gutta-cc's page with the policy put first in its <head>.
+ * The webview's HTML: gutta-cc's page with the white background first in its <head>, and
+ * before it the policy allowing the result's inline styles and scripts.
  * @param {string} page
  */
 function ladderWebviewHtml(page) {
-  const meta = `<meta http-equiv="Content-Security-Policy" content="${ladderPolicy(page)}">`;
   const head = /<head(\s[^>]*)?>/i.exec(page);
-  if (!head) return `<!DOCTYPE html>\n<html><head>${meta}</head><body>${page}</body></html>\n`;
-  const at = head.index + head[0].length;
-  return `${page.slice(0, at)}\n${meta}${page.slice(at)}`;
+  const at = head ? head.index + head[0].length : -1;
+  const body = head
+    ? `${page.slice(0, at)}\n${WEBVIEW_STYLE}${page.slice(at)}`
+    : `<!DOCTYPE html>\n<html><head>${WEBVIEW_STYLE}</head><body>${page}</body></html>\n`;
+  const meta = `<meta http-equiv="Content-Security-Policy" content="${ladderPolicy(body)}">`;
+  const start = /<head(\s[^>]*)?>/i.exec(body);
+  const after = start.index + start[0].length;
+  return `${body.slice(0, after)}\n${meta}${body.slice(after)}`;
 }
 
 /**
@@ -165,4 +174,4 @@ function ladderErrorHtml(file, message) {
 `;
 }
 
-module.exports = { ladderInput, drawLadder, inlineHashes, styleAttributeHashes, ladderPolicy, ladderWebviewHtml, ladderErrorHtml };
+module.exports = { WEBVIEW_STYLE, ladderInput, drawLadder, inlineHashes, styleAttributeHashes, ladderPolicy, ladderWebviewHtml, ladderErrorHtml };

@@ -10,7 +10,7 @@
 
 const fs = require('fs');
 const path = require('path');
-const { ladderInput, drawLadder, ladderPolicy, ladderWebviewHtml, ladderErrorHtml } = require(
+const { WEBVIEW_STYLE, ladderInput, drawLadder, ladderPolicy, ladderWebviewHtml, ladderErrorHtml } = require(
   path.join(__dirname, '..', 'src', 'ladder.js'),
 );
 
@@ -34,13 +34,19 @@ async function failure(options) {
     const page = await drawLadder({ command, file });
     const html = ladderWebviewHtml(page);
     fs.writeFileSync(path.join(outDir, `${name}.html`), html);
-    report[name] = { input: ladderInput(file), policy: ladderPolicy(page), pageInHtml: html.includes(page.slice(page.indexOf('<body'))) };
+    report[name] = {
+      input: ladderInput(file),
+      policy: /http-equiv="Content-Security-Policy" content="([^"]*)"/.exec(html)[1],
+      pageInHtml: html.includes(page.slice(page.indexOf('<body'))),
+      white: html.includes(WEBVIEW_STYLE),
+    };
   }
   // A page with a style attribute (none of gutta-cc's has one yet): allowed by its hash.
   const page = await drawLadder({ command, file: lone });
   const styled = page.replace('<body>', '<body>\n<p id="styled" style="color: rgb(0, 0, 255); content: &quot;x&quot;">styled</p>');
   fs.writeFileSync(path.join(outDir, 'styled.html'), ladderWebviewHtml(styled));
   report.styledPolicy = ladderPolicy(styled);
+  report.policyOfPage = ladderPolicy(page);
   report.bad = await failure({ command, file: bad });
   report.badHtml = ladderErrorHtml(bad, report.bad || '');
   report.missing = await failure({ command: path.join(outDir, 'no-such-gutta-cc'), file: lone });
