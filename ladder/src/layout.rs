@@ -36,6 +36,8 @@ pub const LINE_H: i32 = 16;
 const CHAR_W: i32 = 7;
 /// Length of a box's pin stub outside the box.
 const STUB: i32 = 14;
+/// Room between a pin's texts and the edge of the box's cell.
+const PIN_GAP: i32 = 12;
 /// Horizontal spacing of the vertical wires into a box's extra power inputs.
 const POWER_LANE: i32 = 8;
 
@@ -255,7 +257,7 @@ pub fn box_label(b: &BoxElement, names: Names) -> &str {
 /// (no pin), a jump's or label's label number (`N`).
 pub fn above_operand(b: &BoxElement) -> Option<(Option<&str>, &Operand)> {
     if let Some(c) = &b.counted {
-        return Some((None, c));
+        return Some((None, &**c));
     }
     match b.shape {
         BoxShape::Box => None,
@@ -369,8 +371,13 @@ fn box_geometry(b: &BoxElement, names: Names) -> BoxGeometry {
         .map(|(_, node)| node_size(node, names).0 + lanes)
         .max()
         .unwrap_or(0);
-    let left_area = (side(&pins.left) + STUB + 4).max(lanes).max(paths).max(20);
-    let right_area = (side(&pins.right) + STUB + 4).max(20);
+    // A pin's texts keep `PIN_GAP` from the cell's edge: a box after a box leaves wire
+    // for both boxes' texts, never one against the other.
+    let left_area = (side(&pins.left) + STUB + PIN_GAP)
+        .max(lanes)
+        .max(paths)
+        .max(20);
+    let right_area = (side(&pins.right) + STUB + PIN_GAP).max(20);
     let mut box_w = (names_w(&pins.left) + names_w(&pins.right) + 24).max(70);
     if b.counted.is_some() {
         // The kind shares the first row with its pins; the number is centred above.

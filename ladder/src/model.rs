@@ -201,7 +201,7 @@ pub struct BoxElement {
     /// A timer's or counter's number as an operand (`T37`, or the symbol naming it),
     /// drawn above the box as contacts draw their operands; `title` keeps its written
     /// form for the STL. `None` for other boxes.
-    pub counted: Option<Operand>,
+    pub counted: Option<Box<Operand>>,
     /// A timer's resolution in milliseconds (`Target::timer_resolution`), drawn in the
     /// box and used for the preset's duration; `None` when unknown or not a timer.
     pub resolution_ms: Option<u32>,

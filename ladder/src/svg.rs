@@ -447,10 +447,10 @@ fn boxed(out: &mut String, b: &BoxElement, p: &PlacedElement<'_>, names: Names) 
         b.line
     );
     if let Some(counted) = &b.counted {
-        let _ = write!(out, " data-counted=\"{}\"", address_attr(Some(counted)));
+        let _ = write!(out, " data-counted=\"{}\"", address_attr(Some(&**counted)));
     }
     out.push('>');
-    let mut operands: Vec<&Operand> = b.counted.iter().collect();
+    let mut operands: Vec<&Operand> = b.counted.iter().map(|c| &**c).collect();
     operands.extend(b.pins.iter().map(|pin| &pin.operand));
     tooltip(out, &b.mnemonic, &operands, b.line);
     let frame = p.frame.unwrap_or(p.cell);

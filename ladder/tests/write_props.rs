@@ -79,7 +79,7 @@ fn boxed(mnemonic: &str, ops: &[&str], power_inputs: Vec<(String, Node)>) -> Box
         enable: spec.power_inputs.first().cloned().unwrap_or_default(),
         output: spec.power_output.clone(),
         line: 0,
-        counted: numbered.then(|| operand(title)),
+        counted: numbered.then(|| Box::new(operand(title))),
         resolution_ms: None,
         shape: gutta_ladder::build::box_shape(spec),
     }

@@ -419,7 +419,7 @@ fn title_from_first_pin(b: &mut BoxElement) {
     if !b.pins.is_empty() {
         let pin = b.pins.remove(0);
         b.title = pin.operand.written.clone();
-        b.counted = Some(pin.operand);
+        b.counted = Some(Box::new(pin.operand));
     }
 }
 

@@ -285,7 +285,7 @@ impl<'a> Places<'a> {
             enable: spec.power_inputs.first().cloned().unwrap_or_default(),
             output: spec.power_output.clone(),
             line: 0,
-            counted: spec.kind.map(|_| operand(&title)),
+            counted: spec.kind.map(|_| Box::new(operand(&title))),
             resolution_ms: None,
             shape: crate::build::box_shape(spec),
             title,
