@@ -8,8 +8,11 @@
 //! to bottom, padded with wire to the widest, joined by vertical connectors; the
 //! outputs split after the input path and every coil or end box aligned in one column;
 //! coils wired to the right rail. A box's extra power inputs (a counter's R) get rows of
-//! their own under the rung, from the left rail to their pin. Networks are never
-//! wrapped: a wide network is as wide as it needs (the page scrolls).
+//! their own under the rung, from the left rail to their pin. A box's pin operands sit
+//! on their pins' lines outside the box, with room between chained boxes; a timer's or
+//! counter's number stands above its box; a jump is a coil. Labels follow `Names`, so
+//! widths do too. Networks are never wrapped: a wide network is as wide as it needs
+//! (the page scrolls).
 
 use crate::model::{
     Block, BoxElement, BoxShape, Branch, BranchEnd, Coil, Contact, Network, Node, Operand, Rung,
