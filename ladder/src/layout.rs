@@ -360,10 +360,11 @@ fn box_geometry(b: &BoxElement, names: Names) -> BoxGeometry {
     let names_w = |list: &[(&str, Option<&Operand>)]| {
         list.iter().map(|(n, _)| text_width(n)).max().unwrap_or(0)
     };
+    // Room for a row's pin names around a text centred in the box (8 px each side).
     let row_w = |i: usize| {
         let l = pins.left.get(i).map_or(0, |(n, _)| text_width(n));
         let r = pins.right.get(i).map_or(0, |(n, _)| text_width(n));
-        l + r
+        2 * l.max(r)
     };
     // The extra power inputs' lanes, and room for their paths: a path drawn from the
     // left rail then ends left of its lane wherever the box stands.
@@ -386,7 +387,8 @@ fn box_geometry(b: &BoxElement, names: Names) -> BoxGeometry {
         // The kind shares the first row with its pins; the number is centred above.
         box_w = box_w.max(row_w(0) + label + 24).max(above + 8);
         if let Some(res) = resolution_text(b) {
-            box_w = box_w.max(row_w(1) + text_width(&res) + 24);
+            let pt = pins.left.get(1).map_or(0, |(n, _)| text_width(n));
+            box_w = box_w.max(pt + text_width(&res) + 24);
         }
     } else {
         box_w = box_w.max(label + 16);

@@ -22,7 +22,8 @@ def drawing(browser, tmp_path):
 
     def open_drawing(*args):
         out = tmp_path / f"drawing{len(contexts)}.html"
-        cc("ladder", str(PROGRAM), *args, "-o", str(out))
+        # From the repository's root: the page's heading names the program relatively.
+        cc("ladder", str(PROGRAM.relative_to(ROOT)), *args, "-o", str(out), cwd=ROOT)
         context = browser.new_context(viewport={"width": 1100, "height": 900})
         contexts.append(context)
         pg = context.new_page()
