@@ -14,8 +14,8 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion};
 use gutta_ladder::html::{ladder_html, HtmlOptions};
 use gutta_ladder::model::{
-    Block, Body, BoxElement, Branch, BranchEnd, Coil, CoilKind, Contact, ContactKind, Ladder,
-    Network, Node, Operand, Pin, Rung,
+    Block, Body, BoxElement, BoxShape, Branch, BranchEnd, Coil, CoilKind, Contact, ContactKind,
+    Ladder, Network, Node, Operand, Pin, Rung,
 };
 use gutta_ladder::svg::ladder_svg;
 
@@ -161,6 +161,9 @@ impl Generator {
             enable: enable.to_string(),
             output: Some(if enable == "EN" { "ENO" } else { "Q" }.to_string()),
             line: id,
+            counted: None,
+            resolution_ms: None,
+            shape: BoxShape::Box,
         }
     }
 
@@ -226,6 +229,7 @@ fn pin(name: &str, output: bool, operand: Operand) -> Pin {
         name: name.to_string(),
         output,
         operand,
+        input: None,
     }
 }
 

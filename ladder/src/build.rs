@@ -12,6 +12,7 @@ use gutta_compiler::syntax::ast::{self, OperandKind};
 use gutta_compiler::CheckedFile;
 
 use crate::model::{Block, Body, Ladder, Network};
+pub use element::box_shape;
 use element::{Element, Resolver};
 use rung::{Origin, RungBuilder};
 

@@ -8,10 +8,16 @@
 //! to bottom, padded with wire to the widest, joined by vertical connectors; the
 //! outputs split after the input path and every coil or end box aligned in one column;
 //! coils wired to the right rail. A box's extra power inputs (a counter's R) get rows of
-//! their own under the rung, from the left rail to their pin. Networks are never
-//! wrapped: a wide network is as wide as it needs (the page scrolls).
+//! their own under the rung, from the left rail to their pin. A box's pin operands sit
+//! on their pins' lines outside the box, with room between chained boxes; a timer's or
+//! counter's number stands above its box; a jump is a coil. Labels follow `Names`, so
+//! widths do too. Networks are never wrapped: a wide network is as wide as it needs
+//! (the page scrolls).
 
-use crate::model::{Block, BoxElement, Branch, BranchEnd, Coil, Contact, Network, Node, Rung};
+use crate::model::{
+    Block, BoxElement, BoxShape, Branch, BranchEnd, Coil, Contact, Network, Node, Operand, Rung,
+};
+use crate::svg::Names;
 
 /// Height of one row of elements (texts above and below the wire included).
 pub const ROW_H: i32 = 84;
@@ -33,6 +39,8 @@ pub const LINE_H: i32 = 16;
 const CHAR_W: i32 = 7;
 /// Length of a box's pin stub outside the box.
 const STUB: i32 = 14;
+/// Room between a pin's texts and the edge of the box's cell.
+const PIN_GAP: i32 = 12;
 /// Horizontal spacing of the vertical wires into a box's extra power inputs.
 const POWER_LANE: i32 = 8;
 
@@ -153,32 +161,33 @@ fn operand_width(op: &crate::model::Operand) -> i32 {
 }
 
 /// Width of a contact's symbol (between its plates), by what it holds inside.
-pub fn contact_symbol_w(c: &Contact) -> i32 {
-    let inside = contact_label(c);
+pub fn contact_symbol_w(c: &Contact, names: Names) -> i32 {
+    let inside = contact_label(c, names);
     (text_width(&inside) + 10).max(16)
 }
 
-/// The text inside a contact: `/`, `P`, `N`, `NOT`, the relation, `I` when immediate.
-pub fn contact_label(c: &Contact) -> String {
+/// The text inside a contact: `/`, `P`, `N`, `NOT`, the relation (`>=I` in LAD names,
+/// `>=W` in STL names), `I` when immediate.
+pub fn contact_label(c: &Contact, names: Names) -> String {
     use crate::model::ContactKind::*;
     let base = match c.kind {
-        NormallyOpen => "",
-        NormallyClosed => "/",
-        PositiveEdge => "P",
-        NegativeEdge => "N",
-        Not => "NOT",
-        Compare => c.relation.as_deref().unwrap_or("?"),
+        NormallyOpen => String::new(),
+        NormallyClosed => "/".to_string(),
+        PositiveEdge => "P".to_string(),
+        NegativeEdge => "N".to_string(),
+        Not => "NOT".to_string(),
+        Compare => crate::names::compare_label(c.relation.as_deref().unwrap_or("?"), names),
     };
     if c.immediate {
         format!("{base}I")
     } else {
-        base.to_string()
+        base
     }
 }
 
-fn contact_w(c: &Contact) -> i32 {
+fn contact_w(c: &Contact, names: Names) -> i32 {
     let texts = c.operands.iter().map(operand_width).max().unwrap_or(0);
-    CELL_W.max(texts + 16).max(contact_symbol_w(c) + 40)
+    CELL_W.max(texts + 16).max(contact_symbol_w(c, names) + 40)
 }
 
 fn coil_w(c: &Coil) -> i32 {
@@ -186,19 +195,33 @@ fn coil_w(c: &Coil) -> i32 {
     CELL_W.max(operand_width(&c.operand) + 16).max(count + 16)
 }
 
-/// The pins of a box, as drawn: left (name, operand, power input index) and right.
+/// The pins of a box, as drawn: left (name, operand) and right.
 #[derive(Debug)]
 pub struct BoxPins<'a> {
-    pub left: Vec<(&'a str, Option<&'a crate::model::Operand>)>,
-    pub right: Vec<(&'a str, Option<&'a crate::model::Operand>)>,
+    pub left: Vec<(&'a str, Option<&'a Operand>)>,
+    pub right: Vec<(&'a str, Option<&'a Operand>)>,
     /// Index in `left` of the first extra power input (they come last).
     pub first_power: usize,
 }
 
-/// A box's pins: the enable pin, input operands, then extra power inputs on the left;
-/// the power output, then output operands on the right.
+/// A box's pins: the enable pin, the input sides of in/out operands (ADD_I's `IN1`),
+/// the input operands, then extra power inputs on the left; the power output, then
+/// output operands on the right. A jump or a label has none: its operand is drawn
+/// above it (`above_operand`).
 pub fn box_pins(b: &BoxElement) -> BoxPins<'_> {
+    if b.shape != BoxShape::Box {
+        return BoxPins {
+            left: Vec::new(),
+            right: Vec::new(),
+            first_power: 0,
+        };
+    }
     let mut left = vec![(b.enable.as_str(), None)];
+    left.extend(
+        b.pins
+            .iter()
+            .filter_map(|p| Some((p.input.as_deref()?, Some(&p.operand)))),
+    );
     left.extend(
         b.pins
             .iter()
@@ -224,6 +247,78 @@ pub fn box_pins(b: &BoxElement) -> BoxPins<'_> {
     }
 }
 
+/// The label inside a box: a timer's or counter's kind (`TON`, `CTUD`), a CALL's
+/// subroutine, else the instruction's LAD name (`ADD_I`) or STL mnemonic (`+I`).
+pub fn box_label(b: &BoxElement, names: Names) -> &str {
+    if b.counted.is_none() && b.title != b.mnemonic {
+        return &b.title;
+    }
+    crate::names::box_label(&b.mnemonic, names)
+}
+
+/// The operand drawn above a box, with its pin's name: a timer's or counter's number
+/// (no pin), a jump's or label's label number (`N`).
+pub fn above_operand(b: &BoxElement) -> Option<(Option<&str>, &Operand)> {
+    if let Some(c) = &b.counted {
+        return Some((None, &**c));
+    }
+    match b.shape {
+        BoxShape::Box => None,
+        BoxShape::Jump | BoxShape::Label => {
+            b.pins.first().map(|p| (Some(p.name.as_str()), &p.operand))
+        }
+    }
+}
+
+/// A timer preset's duration as drawn under it (`= 10.0 s`): a constant preset (`PT`)
+/// of a timer whose resolution is known.
+pub fn preset_duration(b: &BoxElement, pin: &str, op: &Operand) -> Option<String> {
+    let resolution = b.resolution_ms?;
+    if pin != "PT" || op.address.is_some() {
+        return None;
+    }
+    let preset: i64 = op.written.parse().ok()?;
+    Some(format!(
+        "= {}",
+        gutta_catalog::timer_duration(resolution, preset)?
+    ))
+}
+
+/// A timer's resolution as drawn in its box (`100 ms`).
+pub fn resolution_text(b: &BoxElement) -> Option<String> {
+    b.resolution_ms.map(|ms| format!("{ms} ms"))
+}
+
+/// Offset of a box's top above its wire: room for its label above the first row, or
+/// none for a box whose label shares the first row (a timer or counter: its number is
+/// above the box) and for a label box.
+pub fn box_top(b: &BoxElement) -> i32 {
+    if b.counted.is_some() || b.shape != BoxShape::Box {
+        12
+    } else {
+        26
+    }
+}
+
+/// The lines of a pin's texts beside the box: (top line, bottom line). Two lines sit
+/// just above and just under the pin's line, one line on it.
+pub fn pin_text_ys(y: i32, two_lines: bool) -> (i32, i32) {
+    if two_lines {
+        (y - 3, y + 11)
+    } else {
+        (y + 4, y + 4)
+    }
+}
+
+/// Width of a pin's texts beside the box (its operand, a preset's duration).
+fn pin_text_w(b: &BoxElement, name: &str, op: Option<&Operand>) -> i32 {
+    op.map(|op| {
+        let duration = preset_duration(b, name, op).map_or(0, |d| text_width(&d));
+        operand_width(op).max(duration)
+    })
+    .unwrap_or(0)
+}
+
 struct BoxGeometry {
     left_area: i32,
     box_w: i32,
@@ -231,16 +326,45 @@ struct BoxGeometry {
     rows: i32,
 }
 
-fn box_geometry(b: &BoxElement) -> BoxGeometry {
+fn box_geometry(b: &BoxElement, names: Names) -> BoxGeometry {
+    let label = text_width(box_label(b, names));
+    let above = above_operand(b).map_or(0, |(_, op)| operand_width(op));
+    match b.shape {
+        BoxShape::Jump => {
+            let w = CELL_W.max(above + 16).max(label + 40);
+            return BoxGeometry {
+                left_area: 0,
+                box_w: w,
+                right_area: 0,
+                rows: 1,
+            };
+        }
+        BoxShape::Label => {
+            let box_w = (label + 16).max(above + 8).max(40);
+            return BoxGeometry {
+                left_area: 20,
+                box_w,
+                right_area: 20,
+                rows: 1,
+            };
+        }
+        BoxShape::Box => {}
+    }
     let pins = box_pins(b);
-    let side = |list: &[(&str, Option<&crate::model::Operand>)]| {
+    let side = |list: &[(&str, Option<&Operand>)]| {
         list.iter()
-            .map(|(_, op)| op.map(operand_width).unwrap_or(0))
+            .map(|(name, op)| pin_text_w(b, name, *op))
             .max()
             .unwrap_or(0)
     };
-    let names = |list: &[(&str, Option<&crate::model::Operand>)]| {
+    let names_w = |list: &[(&str, Option<&Operand>)]| {
         list.iter().map(|(n, _)| text_width(n)).max().unwrap_or(0)
+    };
+    // Room for a row's pin names around a text centred in the box (8 px each side).
+    let row_w = |i: usize| {
+        let l = pins.left.get(i).map_or(0, |(n, _)| text_width(n));
+        let r = pins.right.get(i).map_or(0, |(n, _)| text_width(n));
+        2 * l.max(r)
     };
     // The extra power inputs' lanes, and room for their paths: a path drawn from the
     // left rail then ends left of its lane wherever the box stands.
@@ -248,41 +372,54 @@ fn box_geometry(b: &BoxElement) -> BoxGeometry {
     let paths = b
         .power_inputs
         .iter()
-        .map(|(_, node)| node_size(node).0 + lanes)
+        .map(|(_, node)| node_size(node, names).0 + lanes)
         .max()
         .unwrap_or(0);
-    let left_area = (side(&pins.left) + STUB + 4).max(lanes).max(paths).max(20);
-    let right_area = (side(&pins.right) + STUB + 4).max(20);
-    let box_w = (text_width(&b.title) + 16)
-        .max(names(&pins.left) + names(&pins.right) + 24)
-        .max(70);
+    // A pin's texts keep `PIN_GAP` from the cell's edge: a box after a box leaves wire
+    // for both boxes' texts, never one against the other.
+    let left_area = (side(&pins.left) + STUB + PIN_GAP)
+        .max(lanes)
+        .max(paths)
+        .max(20);
+    let right_area = (side(&pins.right) + STUB + PIN_GAP).max(20);
+    let mut box_w = (names_w(&pins.left) + names_w(&pins.right) + 24).max(70);
+    if b.counted.is_some() {
+        // The kind shares the first row with its pins; the number is centred above.
+        box_w = box_w.max(row_w(0) + label + 24).max(above + 8);
+        if let Some(res) = resolution_text(b) {
+            let pt = pins.left.get(1).map_or(0, |(n, _)| text_width(n));
+            box_w = box_w.max(pt + text_width(&res) + 24);
+        }
+    } else {
+        box_w = box_w.max(label + 16);
+    }
     BoxGeometry {
         left_area,
         box_w,
         right_area,
-        rows: pins.left.len().max(pins.right.len()) as i32,
+        rows: pins.left.len().max(pins.right.len()).max(1) as i32,
     }
 }
 
-fn box_size(b: &BoxElement) -> (i32, i32) {
-    let g = box_geometry(b);
+fn box_size(b: &BoxElement, names: Names) -> (i32, i32) {
+    let g = box_geometry(b, names);
     let h = ROW_H.max(WIRE_Y + (g.rows - 1) * PIN_H + 28);
     (g.left_area + g.box_w + g.right_area, h)
 }
 
 /// Width and height of a piece of power path.
-fn node_size(node: &Node) -> (i32, i32) {
+fn node_size(node: &Node, names: Names) -> (i32, i32) {
     match node {
-        Node::Contact(c) => (contact_w(c), ROW_H),
-        Node::Box(b) => box_size(b),
+        Node::Contact(c) => (contact_w(c, names), ROW_H),
+        Node::Box(b) => box_size(b, names),
         Node::Series(items) => items
             .iter()
-            .map(node_size)
+            .map(|n| node_size(n, names))
             .fold((0, 0), |(w, h), (iw, ih)| (w + iw, h.max(ih))),
         Node::Parallel(items) => {
             let (w, h) = items
                 .iter()
-                .map(node_size)
+                .map(|n| node_size(n, names))
                 .fold((0, 0), |(w, h), (iw, ih)| (w.max(iw), h + ih));
             (w + 2 * PAR_GAP, h)
         }
@@ -290,29 +427,41 @@ fn node_size(node: &Node) -> (i32, i32) {
 }
 
 /// Width from a branch's start to the column of its end element.
-fn branch_reach(b: &Branch) -> i32 {
-    let path: i32 = b.path.iter().map(|n| node_size(n).0).sum();
+fn branch_reach(b: &Branch, names: Names) -> i32 {
+    let path: i32 = b.path.iter().map(|n| node_size(n, names).0).sum();
     match &b.end {
-        BranchEnd::Split(subs) => path + PAR_GAP + subs.iter().map(branch_reach).max().unwrap_or(0),
+        BranchEnd::Split(subs) => {
+            path + PAR_GAP
+                + subs
+                    .iter()
+                    .map(|s| branch_reach(s, names))
+                    .max()
+                    .unwrap_or(0)
+        }
         _ => path,
     }
 }
 
 /// Width of the widest end element of a branch.
-fn end_width(b: &Branch) -> i32 {
+fn end_width(b: &Branch, names: Names) -> i32 {
     match &b.end {
         BranchEnd::Coil(c) => coil_w(c),
-        BranchEnd::Box(bx) => box_size(bx).0,
-        BranchEnd::Split(subs) => subs.iter().map(end_width).max().unwrap_or(0),
+        BranchEnd::Box(bx) => box_size(bx, names).0,
+        BranchEnd::Split(subs) => subs.iter().map(|s| end_width(s, names)).max().unwrap_or(0),
     }
 }
 
-fn branch_height(b: &Branch) -> i32 {
-    let path = b.path.iter().map(|n| node_size(n).1).max().unwrap_or(0);
+fn branch_height(b: &Branch, names: Names) -> i32 {
+    let path = b
+        .path
+        .iter()
+        .map(|n| node_size(n, names).1)
+        .max()
+        .unwrap_or(0);
     let end = match &b.end {
         BranchEnd::Coil(_) => ROW_H,
-        BranchEnd::Box(bx) => box_size(bx).1,
-        BranchEnd::Split(subs) => subs.iter().map(branch_height).sum(),
+        BranchEnd::Box(bx) => box_size(bx, names).1,
+        BranchEnd::Split(subs) => subs.iter().map(|s| branch_height(s, names)).sum(),
     };
     path.max(end)
 }
@@ -320,12 +469,14 @@ fn branch_height(b: &Branch) -> i32 {
 struct Placer<'a> {
     elements: Vec<PlacedElement<'a>>,
     wires: Vec<Wire>,
-    /// Boxes with extra power inputs, for the rows under the rung.
+    /// Boxes with extra power inputs, with their frame and wire y, for the rows under
+    /// the rung.
     powered_boxes: Vec<(&'a BoxElement, Rect, i32)>,
     coil_x: i32,
     end_w: i32,
     /// The wire y of every coil, for the right rail.
     coils: Vec<i32>,
+    names: Names,
 }
 
 impl<'a> Placer<'a> {
@@ -345,10 +496,10 @@ impl<'a> Placer<'a> {
     fn node(&mut self, node: &'a Node, x: i32, y: i32, input: &[Power]) -> Vec<Power> {
         match node {
             Node::Contact(c) => {
-                let w = contact_w(c);
+                let w = contact_w(c, self.names);
                 let wy = y + WIRE_Y;
                 let cx = x + w / 2;
-                let half = contact_symbol_w(c) / 2;
+                let half = contact_symbol_w(c, self.names) / 2;
                 self.wire(x, wy, cx - half, wy, input);
                 self.wire(cx + half, wy, x + w, wy, &[Power::Element(c.id)]);
                 self.elements.push(PlacedElement {
@@ -369,18 +520,18 @@ impl<'a> Placer<'a> {
                 let mut cx = x;
                 for item in items {
                     cur = self.node(item, cx, y, &cur);
-                    cx += node_size(item).0;
+                    cx += node_size(item, self.names).0;
                 }
                 cur
             }
             Node::Parallel(items) => {
-                let (w, _) = node_size(node);
+                let (w, _) = node_size(node, self.names);
                 let right = x + w;
                 let mut cy = y;
                 let mut first_last = (y + WIRE_Y, y + WIRE_Y);
                 let mut all = Vec::new();
                 for (i, item) in items.iter().enumerate() {
-                    let (iw, ih) = node_size(item);
+                    let (iw, ih) = node_size(item, self.names);
                     let wy = cy + WIRE_Y;
                     if i == 0 {
                         first_last.0 = wy;
@@ -403,24 +554,36 @@ impl<'a> Placer<'a> {
 
     /// Place a box in its cell; `lead_out` draws the wire from ENO to the cell's end.
     fn boxed(&mut self, b: &'a BoxElement, x: i32, y: i32, input: &[Power], lead_out: bool) {
-        let g = box_geometry(b);
-        let (w, h) = box_size(b);
+        let g = box_geometry(b, self.names);
+        let (w, h) = box_size(b, self.names);
         let wy = y + WIRE_Y;
         let bx = x + g.left_area;
-        let frame = Rect {
-            x: bx,
-            y: wy - 26,
-            w: g.box_w,
-            h: 26 + (g.rows - 1) * PIN_H + 12,
+        let top = box_top(b);
+        let frame = if b.shape == BoxShape::Jump {
+            // A coil holding its label: the frame is the coil's symbol.
+            let half = text_width(box_label(b, self.names)) / 2 + 10;
+            Rect {
+                x: x + w / 2 - half,
+                y: wy - 12,
+                w: 2 * half,
+                h: 24,
+            }
+        } else {
+            Rect {
+                x: bx,
+                y: wy - top,
+                w: g.box_w,
+                h: top + (g.rows - 1) * PIN_H + 12,
+            }
         };
         if !input.is_empty() {
-            self.wire(x, wy, bx, wy, input);
+            self.wire(x, wy, frame.x, wy, input);
         }
         if b.output.is_some() && lead_out {
             self.wire(bx + g.box_w, wy, x + w, wy, &[Power::Element(b.id)]);
         }
         if !b.power_inputs.is_empty() {
-            self.powered_boxes.push((b, frame, x));
+            self.powered_boxes.push((b, frame, wy));
         }
         self.elements.push(PlacedElement {
             element: ElementRef::Box(b),
@@ -436,7 +599,7 @@ impl<'a> Placer<'a> {
         let mut cx = x;
         for item in &b.path {
             cur = self.node(item, cx, y, &cur);
-            cx += node_size(item).0;
+            cx += node_size(item, self.names).0;
         }
         self.end(&b.end, cx, y, &cur);
     }
@@ -488,7 +651,7 @@ impl<'a> Placer<'a> {
                 self.wire(x, last, x + PAR_GAP, last, input);
             }
             self.branch(sub, x + PAR_GAP, cy, input);
-            cy += branch_height(sub);
+            cy += branch_height(sub, self.names);
         }
         if !input.is_empty() {
             self.wire(x, y + WIRE_Y, x, last, input);
@@ -496,20 +659,40 @@ impl<'a> Placer<'a> {
     }
 }
 
-/// Lay out a rung with its header above; `network_svg` draws it.
+/// Lay out a rung with its header above, with the default names.
 pub fn layout_network<'a>(net: &'a Network) -> Option<NetworkLayout<'a>> {
+    layout_network_with(net, Names::default())
+}
+
+/// Lay out a rung with its header above, its boxes and compares labelled with `names`
+/// (their widths follow the labels); `network_svg_with` draws it.
+pub fn layout_network_with<'a>(net: &'a Network, names: Names) -> Option<NetworkLayout<'a>> {
     match &net.body {
-        crate::model::Body::Rung(rung) => Some(layout_rung(rung, header_height(net))),
+        crate::model::Body::Rung(rung) => Some(layout_rung(rung, header_height(net), names)),
         crate::model::Body::Stl { .. } => None,
     }
 }
 
-fn layout_rung(rung: &Rung, top: i32) -> NetworkLayout<'_> {
-    let (in_w, in_h) = rung.input.as_ref().map(node_size).unwrap_or((0, 0));
+fn layout_rung(rung: &Rung, top: i32, names: Names) -> NetworkLayout<'_> {
+    let (in_w, in_h) = rung
+        .input
+        .as_ref()
+        .map(|n| node_size(n, names))
+        .unwrap_or((0, 0));
     let start = RAIL_X;
-    let reach = rung.outputs.iter().map(branch_reach).max().unwrap_or(0);
+    let reach = rung
+        .outputs
+        .iter()
+        .map(|b| branch_reach(b, names))
+        .max()
+        .unwrap_or(0);
     let coil_x = start + in_w + PAR_GAP + reach;
-    let end_w = rung.outputs.iter().map(end_width).max().unwrap_or(0);
+    let end_w = rung
+        .outputs
+        .iter()
+        .map(|b| end_width(b, names))
+        .max()
+        .unwrap_or(0);
     let mut placer = Placer {
         elements: Vec::new(),
         wires: Vec::new(),
@@ -517,26 +700,27 @@ fn layout_rung(rung: &Rung, top: i32) -> NetworkLayout<'_> {
         coil_x,
         end_w,
         coils: Vec::new(),
+        names,
     };
     let input = match &rung.input {
         Some(node) => placer.node(node, start, top, &[Power::Rail]),
         None => Vec::new(),
     };
-    let out_h: i32 = rung.outputs.iter().map(branch_height).sum();
+    let out_h: i32 = rung.outputs.iter().map(|b| branch_height(b, names)).sum();
     placer.split(&rung.outputs, start + in_w, top, &input);
     let mut bottom = top + in_h.max(out_h);
 
     // Extra power inputs: one row each under everything, from the left rail to the pin.
     let powered = std::mem::take(&mut placer.powered_boxes);
-    for (b, frame, _) in powered {
+    for (b, frame, box_wy) in powered {
         let pins = box_pins(b);
         let n = b.power_inputs.len() as i32;
         for (i, (_, node)) in b.power_inputs.iter().enumerate() {
-            let (w, h) = node_size(node);
+            let (w, h) = node_size(node, names);
             let wy = bottom + WIRE_Y;
             let out = placer.node(node, start, bottom, &[Power::Rail]);
             let lane_x = frame.x - POWER_LANE * (n - i as i32);
-            let pin_y = frame.y + 26 + (pins.first_power as i32 + i as i32) * PIN_H;
+            let pin_y = box_wy + (pins.first_power as i32 + i as i32) * PIN_H;
             placer.wire(start + w, wy, lane_x, wy, &out);
             placer.wire(lane_x, wy, lane_x, pin_y, &out);
             placer.wire(lane_x, pin_y, frame.x, pin_y, &out);

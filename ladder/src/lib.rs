@@ -2,8 +2,9 @@
 //! `build.rs` (a checked program's networks into rungs, or the reason one is not a
 //! rung), `layout.rs` (where each element and wire goes), `svg.rs` (the SVG), `html.rs`
 //! (the self-contained page), `live.rs` (the live view's power flow from a snapshot of
-//! the operands), `write.rs` (a rung back into canonical STL), `json/` (the model as
-//! JSON: written, read back and validated with coded errors). No I/O: `gutta-cc ladder`
+//! the operands), `names.rs` (LAD or STL labels, and the pins of a box's operands),
+//! `write.rs` (a rung back into canonical STL), `json/` (the model as JSON: written,
+//! read back and validated with coded errors). No I/O: `gutta-cc ladder`
 //! reads the program and writes the file; `gutta-cc monitor` reads the PLC.
 
 pub mod build;
@@ -13,6 +14,7 @@ pub mod json;
 pub mod layout;
 pub mod live;
 pub mod model;
+pub mod names;
 pub mod svg;
 pub mod write;
 

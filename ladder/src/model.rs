@@ -198,6 +198,27 @@ pub struct BoxElement {
     /// (`JMP`, `RET`, `LBL`).
     pub output: Option<String>,
     pub line: u32,
+    /// A timer's or counter's number as an operand (`T37`, or the symbol naming it),
+    /// drawn above the box as contacts draw their operands; `title` keeps its written
+    /// form for the STL. `None` for other boxes.
+    pub counted: Option<Box<Operand>>,
+    /// A timer's resolution in milliseconds (`Target::timer_resolution`), drawn in the
+    /// box and used for the preset's duration; `None` when unknown or not a timer.
+    pub resolution_ms: Option<u32>,
+    /// How the box is drawn: a box, a jump coil (`JMP`), a label box (`LBL`).
+    pub shape: BoxShape,
+}
+
+/// How a box is drawn (docs/ladder.md, "Elements"), as Micro/WIN draws it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum BoxShape {
+    /// A box with EN and a pin per operand.
+    #[default]
+    Box,
+    /// A jump: a coil holding the box's label, its label number above (`JMP`).
+    Jump,
+    /// A label: a box on the rung's start, its number above, without pins (`LBL`).
+    Label,
 }
 
 /// An operand on a pin.
@@ -208,6 +229,9 @@ pub struct Pin {
     /// Input pins are drawn on the left, outputs on the right.
     pub output: bool,
     pub operand: Operand,
+    /// An output that the instruction also reads (`+I`'s OUT) is drawn on both sides:
+    /// the name of its input pin (`IN1`).
+    pub input: Option<String>,
 }
 
 /// An operand as drawn: the symbol above the address.

@@ -6,11 +6,14 @@
 use std::fmt::Write;
 
 use crate::layout::{
-    block_heading, box_pins, contact_label, contact_symbol_w, header_height, layout_network,
-    operand_lines, text_width, ElementRef, NetworkLayout, PlacedElement, Power, Wire, LINE_H,
-    MARGIN, RAIL_X,
+    above_operand, block_heading, box_label, box_pins, box_top, contact_label, contact_symbol_w,
+    header_height, layout_network_with, operand_lines, pin_text_ys, preset_duration,
+    resolution_text, text_width, ElementRef, NetworkLayout, PlacedElement, Power, Wire, LINE_H,
+    MARGIN, PIN_H, RAIL_X,
 };
-use crate::model::{Block, Body, BoxElement, Coil, CoilKind, Contact, Ladder, Network, Operand};
+use crate::model::{
+    Block, Body, BoxElement, BoxShape, Coil, CoilKind, Contact, Ladder, Network, Operand,
+};
 
 /// Height of a block's heading in a standalone SVG.
 const BLOCK_HEADING_H: i32 = 30;
@@ -25,11 +28,12 @@ text{font-family:monospace;font-size:11px;fill:#222}\
 .block-title{font-size:16px;font-weight:bold}\
 .reason{fill:#a33}\
 .stl{font-size:12px}\
-.wire,.rail,.pin,.symbol-line{stroke:#222;stroke-width:1.5;fill:none}\
+.wire,.rail,.pin-line,.symbol-line{stroke:#222;stroke-width:1.5;fill:none}\
 .rail{stroke-width:3}\
 .box rect{fill:#fff;stroke:#222;stroke-width:1.5}\
 .box .title{font-weight:bold}\
 .inside{font-size:10px}\
+.resolution,.duration{fill:#555}\
 ";
 
 /// XML-escape text for element content and attribute values.
@@ -103,7 +107,7 @@ pub fn draw_network_with(
     block: &Block,
     net: &Network,
     y: i32,
-    _options: &DrawOptions,
+    options: &DrawOptions,
 ) -> (i32, i32) {
     let _ = write!(out, "<g class=\"network");
     if let Body::Stl { .. } = net.body {
@@ -125,9 +129,9 @@ pub fn draw_network_with(
     // The title is 13 px bold against the 11 px the text widths count: 13/11 wider,
     // rounded up, so a long title is never clipped by the network's width.
     let title_w = (text_width(&title_line(net)) * 13 + 10) / 11 + 2 * RAIL_X;
-    let size = match (&net.body, layout_network(net)) {
+    let size = match (&net.body, layout_network_with(net, options.names)) {
         (_, Some(layout)) => {
-            rung(out, &layout);
+            rung(out, &layout, options);
             (layout.width.max(title_w), layout.height)
         }
         (Body::Stl { reason }, None) => {
@@ -229,7 +233,7 @@ fn text(out: &mut String, class: &str, x: i32, y: i32, anchor: &str, content: &s
     out.push_str("</text>");
 }
 
-fn rung(out: &mut String, layout: &NetworkLayout<'_>) {
+fn rung(out: &mut String, layout: &NetworkLayout<'_>, options: &DrawOptions) {
     let (top, bottom) = layout.rail;
     let _ = write!(
         out,
@@ -248,9 +252,9 @@ fn rung(out: &mut String, layout: &NetworkLayout<'_>) {
     }
     for element in &layout.elements {
         match element.element {
-            ElementRef::Contact(c) => contact(out, c, element),
+            ElementRef::Contact(c) => contact(out, c, element, options.names),
             ElementRef::Coil(c) => coil(out, c, element),
-            ElementRef::Box(b) => boxed(out, b, element),
+            ElementRef::Box(b) => boxed(out, b, element, options.names),
         }
         out.push('\n');
     }
@@ -287,10 +291,23 @@ fn address_attr(op: Option<&Operand>) -> String {
 /// An operand's texts: the symbol (or the written form) at `top_y`, the address at
 /// `bottom_y`, both in a `<g class="operand">` carrying the address.
 fn operand(out: &mut String, op: &Operand, x: i32, top_y: i32, bottom_y: i32, anchor: &str) {
+    operand_class(out, "operand", op, x, top_y, bottom_y, anchor);
+}
+
+/// [`operand`] in a group of `class` (`operand counted` above a timer's box).
+fn operand_class(
+    out: &mut String,
+    class: &str,
+    op: &Operand,
+    x: i32,
+    top_y: i32,
+    bottom_y: i32,
+    anchor: &str,
+) {
     let (top, bottom) = operand_lines(op);
     let _ = write!(
         out,
-        "<g class=\"operand\" data-operand=\"{}\">",
+        "<g class=\"{class}\" data-operand=\"{}\">",
         address_attr(Some(op))
     );
     if let Some(t) = top {
@@ -317,7 +334,7 @@ fn tooltip(out: &mut String, mnemonic: &str, operands: &[&Operand], line: u32) {
     );
 }
 
-fn contact(out: &mut String, c: &Contact, p: &PlacedElement<'_>) {
+fn contact(out: &mut String, c: &Contact, p: &PlacedElement<'_>, names: Names) {
     let _ = write!(
         out,
         "<g class=\"contact\" data-kind=\"{}\" data-operand=\"{}\" data-id=\"{}\" data-line=\"{}\">",
@@ -333,7 +350,7 @@ fn contact(out: &mut String, c: &Contact, p: &PlacedElement<'_>) {
         c.line,
     );
     let (cx, wy) = (p.x, p.wire_y);
-    let half = contact_symbol_w(c) / 2;
+    let half = contact_symbol_w(c, names) / 2;
     for x in [cx - half, cx + half] {
         let _ = write!(
             out,
@@ -342,7 +359,7 @@ fn contact(out: &mut String, c: &Contact, p: &PlacedElement<'_>) {
             wy + 12
         );
     }
-    let label = contact_label(c);
+    let label = contact_label(c, names);
     if !label.is_empty() {
         text(out, "inside", cx, wy + 4, "middle", &label);
     }
@@ -410,7 +427,7 @@ fn coil(out: &mut String, c: &Coil, p: &PlacedElement<'_>) {
     out.push_str("</g>");
 }
 
-fn boxed(out: &mut String, b: &BoxElement, p: &PlacedElement<'_>) {
+fn boxed(out: &mut String, b: &BoxElement, p: &PlacedElement<'_>, names: Names) {
     let addresses: Vec<&str> = b
         .pins
         .iter()
@@ -418,75 +435,162 @@ fn boxed(out: &mut String, b: &BoxElement, p: &PlacedElement<'_>) {
         .collect();
     let _ = write!(
         out,
-        "<g class=\"box\" data-mnemonic=\"{}\" data-operand=\"{}\" data-id=\"{}\" data-line=\"{}\">",
+        "<g class=\"box{}\" data-mnemonic=\"{}\" data-operand=\"{}\" data-id=\"{}\" data-line=\"{}\"",
+        match b.shape {
+            BoxShape::Box => "",
+            BoxShape::Jump => " jump",
+            BoxShape::Label => " label",
+        },
         escape(&b.mnemonic),
         escape(&addresses.join(" ")),
         b.id,
         b.line
     );
-    tooltip(
-        out,
-        &b.mnemonic,
-        &b.pins.iter().map(|pin| &pin.operand).collect::<Vec<_>>(),
-        b.line,
-    );
+    if let Some(counted) = &b.counted {
+        let _ = write!(out, " data-counted=\"{}\"", address_attr(Some(&**counted)));
+    }
+    out.push('>');
+    let mut operands: Vec<&Operand> = b.counted.iter().map(|c| &**c).collect();
+    operands.extend(b.pins.iter().map(|pin| &pin.operand));
+    tooltip(out, &b.mnemonic, &operands, b.line);
     let frame = p.frame.unwrap_or(p.cell);
-    let _ = write!(
-        out,
-        "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\"/>",
-        frame.x, frame.y, frame.w, frame.h
-    );
-    text(
-        out,
-        "title",
-        frame.x + frame.w / 2,
-        frame.y + 13,
-        "middle",
-        &b.title,
-    );
+    let label = box_label(b, names);
+    let centre = frame.x + frame.w / 2;
+    let wy = p.wire_y;
+    if b.shape == BoxShape::Jump {
+        // A coil with the label inside, as Micro/WIN draws JMP.
+        let (l, r) = (frame.x, frame.x + frame.w);
+        let _ = write!(
+            out,
+            "<path class=\"symbol-line\" d=\"M{} {} Q{} {} {} {} M{} {} Q{} {} {} {}\"/>",
+            l + 7,
+            wy - 11,
+            l,
+            wy,
+            l + 7,
+            wy + 11,
+            r - 7,
+            wy - 11,
+            r,
+            wy,
+            r - 7,
+            wy + 11
+        );
+        text(out, "title", centre, wy + 4, "middle", label);
+    } else {
+        let _ = write!(
+            out,
+            "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\"/>",
+            frame.x, frame.y, frame.w, frame.h
+        );
+        // A timer's or counter's kind and a label's LBL share the first row.
+        let title_y = if box_top(b) == 26 {
+            frame.y + 13
+        } else {
+            wy + 4
+        };
+        text(out, "title", centre, title_y, "middle", label);
+    }
+    match above_operand(b) {
+        Some((None, counted)) => {
+            operand_class(
+                out,
+                "operand counted",
+                counted,
+                centre,
+                wy - 28,
+                wy - 16,
+                "middle",
+            );
+        }
+        Some((Some(pin), op)) => {
+            let _ = write!(
+                out,
+                "<g class=\"pin\" data-pin=\"{}\" data-operand=\"{}\">",
+                escape(pin),
+                address_attr(Some(op))
+            );
+            operand(out, op, centre, wy - 28, wy - 16, "middle");
+            out.push_str("</g>");
+        }
+        None => {}
+    }
     let pins = box_pins(b);
     let (left_x, right_x) = (frame.x, frame.x + frame.w);
     for (i, (name, op)) in pins.left.iter().enumerate() {
-        let y = p.wire_y + i as i32 * crate::layout::PIN_H;
-        text(out, "pin-name", left_x + 4, y + 4, "start", name);
-        if let Some(op) = op {
-            pin_operand(out, name, op, left_x - 14, left_x, y, "end");
+        let y = wy + i as i32 * PIN_H;
+        pin(
+            out,
+            b,
+            name,
+            *op,
+            (left_x, left_x + 4, left_x - 14),
+            y,
+            "start",
+            "end",
+        );
+        if i == 1 {
+            if let Some(res) = resolution_text(b) {
+                text(out, "resolution", right_x - 4, y + 4, "end", &res);
+            }
         }
     }
     for (i, (name, op)) in pins.right.iter().enumerate() {
-        let y = p.wire_y + i as i32 * crate::layout::PIN_H;
-        text(out, "pin-name", right_x - 4, y + 4, "end", name);
-        if let Some(op) = op {
-            pin_operand(out, name, op, right_x + 14, right_x, y, "start");
-        }
+        let y = wy + i as i32 * PIN_H;
+        pin(
+            out,
+            b,
+            name,
+            *op,
+            (right_x, right_x - 4, right_x + 14),
+            y,
+            "end",
+            "start",
+        );
     }
     out.push_str("</g>");
 }
 
-/// A pin's stub from the box edge and its operand's texts beside it.
-fn pin_operand(
+/// One pin of a box: a `<g class="pin" data-pin data-operand>` with its name inside the
+/// box and, for an operand, the stub from the box edge (`xs`: edge, name x, stub end)
+/// and the operand's texts beside it on the pin's line (a preset's duration under it).
+#[allow(clippy::too_many_arguments)]
+fn pin(
     out: &mut String,
+    b: &BoxElement,
     name: &str,
-    op: &Operand,
-    stub_end: i32,
-    edge: i32,
+    op: Option<&Operand>,
+    xs: (i32, i32, i32),
     y: i32,
+    name_anchor: &str,
     anchor: &str,
 ) {
+    let (edge, name_x, stub_end) = xs;
     let _ = write!(
         out,
-        "<line class=\"pin\" x1=\"{stub_end}\" y1=\"{y}\" x2=\"{edge}\" y2=\"{y}\"/>"
+        "<g class=\"pin\" data-pin=\"{}\" data-operand=\"{}\">",
+        escape(name),
+        address_attr(op)
     );
-    let _ = write!(
-        out,
-        "<g class=\"pin-operand\" data-pin=\"{}\">",
-        escape(name)
-    );
-    let tx = if anchor == "end" {
-        stub_end - 2
-    } else {
-        stub_end + 2
-    };
-    operand(out, op, tx, y - 3, y + 11, anchor);
+    text(out, "pin-name", name_x, y + 4, name_anchor, name);
+    if let Some(op) = op {
+        let _ = write!(
+            out,
+            "<line class=\"pin-line\" x1=\"{stub_end}\" y1=\"{y}\" x2=\"{edge}\" y2=\"{y}\"/>"
+        );
+        let tx = if anchor == "end" {
+            stub_end - 2
+        } else {
+            stub_end + 2
+        };
+        let duration = preset_duration(b, name, op);
+        let (top, bottom) = operand_lines(op);
+        let (top_y, bottom_y) =
+            pin_text_ys(y, duration.is_some() || (top.is_some() && bottom.is_some()));
+        operand(out, op, tx, top_y, bottom_y, anchor);
+        if let Some(d) = duration {
+            text(out, "duration", tx, bottom_y, anchor, &d);
+        }
+    }
     out.push_str("</g>");
 }

@@ -108,9 +108,11 @@ fn boxes_in_series_or_at_the_end_of_a_branch() {
         one("LD I0.0\nMOVW 5, MW10"),
         "no(I0.0) -> [MOVW IN=5 OUT>MW10]"
     );
+    // `+I MW10, MW12` is ADD_I with IN1 = MW12 (the in/out OUT, drawn on both sides) and
+    // IN2 = MW10.
     assert_eq!(
         one("LD I0.0\nMOVW 5, MW10\n+I MW10, MW12\n= Q0.0"),
-        "no(I0.0) [MOVW IN=5 OUT>MW10] [+I IN1=MW10 OUT>MW12] -> out(Q0.0)"
+        "no(I0.0) [MOVW IN=5 OUT>MW10] [+I IN2=MW10 OUT>MW12] -> out(Q0.0)"
     );
     assert_eq!(
         one("LD I0.0\n= Q0.0\nMOVW 5, MW10\nINCW MW12"),

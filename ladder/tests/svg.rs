@@ -7,8 +7,8 @@
 use gutta_ladder::html::{ladder_html, HtmlOptions};
 use gutta_ladder::layout::{layout_network, Rect};
 use gutta_ladder::model::{
-    Block, Body, BoxElement, Branch, BranchEnd, Coil, CoilKind, Contact, ContactKind, Ladder,
-    Network, Node, Operand, Pin, Rung,
+    Block, Body, BoxElement, BoxShape, Branch, BranchEnd, Coil, CoilKind, Contact, ContactKind,
+    Ladder, Network, Node, Operand, Pin, Rung,
 };
 use gutta_ladder::svg::{ladder_svg, network_svg};
 use quick_xml::events::Event;
@@ -99,6 +99,7 @@ fn pin(name: &str, output: bool, operand: Operand) -> Pin {
         name: name.to_string(),
         output,
         operand,
+        input: None,
     }
 }
 
@@ -121,6 +122,9 @@ fn boxed(
         enable: enable.to_string(),
         output: output.map(str::to_string),
         line: id + 1,
+        counted: None,
+        resolution_ms: None,
+        shape: BoxShape::Box,
     }
 }
 

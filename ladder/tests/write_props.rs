@@ -62,11 +62,12 @@ fn boxed(mnemonic: &str, ops: &[&str], power_inputs: Vec<(String, Node)>) -> Box
     let skip = usize::from(numbered);
     let pins = ops[skip..]
         .iter()
-        .zip(&spec.operands[skip..])
+        .zip(&gutta_ladder::names::pin_sides(spec)[skip..])
         .map(|(o, s)| Pin {
             name: s.name.clone(),
-            output: s.role.writes(),
+            output: s.output,
             operand: operand(o),
+            input: s.input.clone(),
         })
         .collect();
     BoxElement {
@@ -78,6 +79,9 @@ fn boxed(mnemonic: &str, ops: &[&str], power_inputs: Vec<(String, Node)>) -> Box
         enable: spec.power_inputs.first().cloned().unwrap_or_default(),
         output: spec.power_output.clone(),
         line: 0,
+        counted: numbered.then(|| Box::new(operand(title))),
+        resolution_ms: None,
+        shape: gutta_ladder::build::box_shape(spec),
     }
 }
 

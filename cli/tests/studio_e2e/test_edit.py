@@ -54,7 +54,7 @@ def element_paths(page, number):
         "n => Array.from(document.querySelectorAll("
         "`g.network[data-network=\"${n}\"] [data-path]`)).map(e => e.classList[0]"
         " + ' ' + (e.dataset.kind || e.dataset.mnemonic) + ' '"
-        " + (e.dataset.operand || e.querySelector('.title').textContent))",
+        " + (e.dataset.operand || e.dataset.counted || e.querySelector('.title').textContent))",
         number)
 
 

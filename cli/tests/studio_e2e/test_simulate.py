@@ -43,11 +43,12 @@ def scans(page):
 
 
 def timer_value(page):
-    """The TON box's current value as the page shows it beside its title (`T4 = 12`)."""
+    """The TON box's current value as the page shows it beside its number above the box
+    (`T4 = 12`)."""
     shown = page.evaluate(
         """() => {
           const box = document.querySelector('.box[data-mnemonic="TON"]');
-          const value = box && box.querySelector('text.title tspan.value');
+          const value = box && box.querySelector('.operand.counted tspan.value');
           return value ? value.textContent : '';
         }""")
     return int(shown.replace("=", "").strip()) if shown.strip() else -1

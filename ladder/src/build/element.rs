@@ -13,7 +13,7 @@ use gutta_compiler::syntax::ast::{self, OperandKind, Prefix, VarSection};
 use gutta_compiler::CheckedFile;
 use gutta_format::SymbolTable;
 
-use crate::model::{BoxElement, Coil, CoilKind, Contact, ContactKind, Operand, Pin};
+use crate::model::{BoxElement, BoxShape, Coil, CoilKind, Contact, ContactKind, Operand, Pin};
 
 /// How a contact joins the power path on top of the logic stack.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -222,6 +222,12 @@ impl<'a> Resolver<'a> {
                     .is_some_and(|m| !m.gutta_boxes);
                 let mut b = box_element(spec, ops, line, enable, output.filter(|_| !s7200));
                 title_from_first_pin(&mut b);
+                b.resolution_ms = b
+                    .counted
+                    .as_ref()
+                    .and_then(|c| c.address.as_deref())
+                    .and_then(counted_number)
+                    .and_then(|n| self.checked.target.timer_resolution(kind, n));
                 return if s7200 {
                     Element::EndBox(b, false)
                 } else {
@@ -274,6 +280,7 @@ impl<'a> Resolver<'a> {
                     name,
                     output,
                     operand,
+                    input: None,
                 }
             })
             .collect();
@@ -286,6 +293,9 @@ impl<'a> Resolver<'a> {
             enable: spec.power_inputs.first().cloned().unwrap_or_default(),
             output: spec.power_output.clone(),
             line,
+            counted: None,
+            resolution_ms: None,
+            shape: BoxShape::Box,
         }
     }
 }
@@ -354,19 +364,21 @@ fn box_element(
     enable: &str,
     output: Option<&str>,
 ) -> BoxElement {
+    let sides = crate::names::pin_sides(spec);
     let pins = operands
         .into_iter()
         .enumerate()
         .map(|(i, operand)| {
-            let (name, output) = spec
-                .operands
-                .get(i)
-                .map(|o| (o.name.clone(), o.role.writes()))
-                .unwrap_or_else(|| (format!("#{}", i + 1), false));
+            let side = sides.get(i).cloned().unwrap_or(crate::names::PinSide {
+                name: format!("#{}", i + 1),
+                output: false,
+                input: None,
+            });
             Pin {
-                name,
-                output,
+                name: side.name,
+                output: side.output,
                 operand,
+                input: side.input,
             }
         })
         .collect();
@@ -379,15 +391,44 @@ fn box_element(
         enable: enable.to_string(),
         output: output.map(str::to_string),
         line,
+        counted: None,
+        resolution_ms: None,
+        shape: box_shape(spec),
     }
 }
 
-/// A timer's or counter's number is its title (`T37`), not a pin.
+/// How the catalog's instruction is drawn: a label definition as a label box, a box
+/// that ends the power path at a label operand as a jump coil.
+pub fn box_shape(spec: &Instruction) -> BoxShape {
+    let to_label = spec
+        .operands
+        .iter()
+        .any(|o| o.kind == gutta_catalog::OperandKind::Label);
+    if spec.defines_label {
+        BoxShape::Label
+    } else if to_label && spec.power_output.is_none() && spec.flow == Flow::Box {
+        BoxShape::Jump
+    } else {
+        BoxShape::Box
+    }
+}
+
+/// A timer's or counter's number is its title (`T37`) and its counted operand, drawn
+/// above the box, not a pin.
 fn title_from_first_pin(b: &mut BoxElement) {
     if !b.pins.is_empty() {
         let pin = b.pins.remove(0);
-        b.title = pin.operand.written;
+        b.title = pin.operand.written.clone();
+        b.counted = Some(Box::new(pin.operand));
     }
+}
+
+/// The number of a canonical timer or counter address (`T37` -> 37).
+fn counted_number(address: &str) -> Option<u32> {
+    address
+        .trim_start_matches(|c: char| c.is_ascii_alphabetic())
+        .parse()
+        .ok()
 }
 
 #[cfg(test)]

@@ -7,7 +7,7 @@
 
 use std::collections::BTreeMap;
 
-use gutta_catalog::{Instruction, InstructionSet, LadderClass, Role};
+use gutta_catalog::{Instruction, InstructionSet, LadderClass};
 
 use super::codes::{ModelError, ModelErrorCode as Code};
 use super::{Element, NetworkBody, NetworkJson};
@@ -250,16 +250,17 @@ impl<'a> Places<'a> {
             Some((first, rest)) if titled => (first.clone(), rest),
             _ => (spec.mnemonic.clone(), operands.as_slice()),
         };
-        let specs = spec.operands.iter().skip(usize::from(titled));
+        let sides = crate::names::pin_sides(spec);
         let pins = pins
             .iter()
             .enumerate()
             .map(|(i, o)| {
-                let pin = specs.clone().nth(i);
+                let side = sides.get(i + usize::from(titled));
                 Pin {
-                    name: pin.map_or_else(|| format!("{}", i + 1), |p| p.name.clone()),
-                    output: pin.is_some_and(|p| p.role == Role::Out),
+                    name: side.map_or_else(|| format!("{}", i + 1), |p| p.name.clone()),
+                    output: side.is_some_and(|p| p.output),
                     operand: operand(o),
+                    input: side.and_then(|p| p.input.clone()),
                 }
             })
             .collect();
@@ -279,12 +280,15 @@ impl<'a> Places<'a> {
         Ok(BoxElement {
             id: 0,
             mnemonic: spec.mnemonic.clone(),
-            title,
             pins,
             power_inputs,
             enable: spec.power_inputs.first().cloned().unwrap_or_default(),
             output: spec.power_output.clone(),
             line: 0,
+            counted: spec.kind.map(|_| Box::new(operand(&title))),
+            resolution_ms: None,
+            shape: crate::build::box_shape(spec),
+            title,
         })
     }
 }

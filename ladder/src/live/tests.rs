@@ -70,12 +70,16 @@ fn boxed(id: u32, mnemonic: &str, title: &str, pins: Vec<Operand>) -> BoxElement
                 name: "P".into(),
                 output: false,
                 operand,
+                input: None,
             })
             .collect(),
         power_inputs: vec![],
         enable: "EN".into(),
         output: Some("ENO".into()),
         line: 1,
+        counted: None,
+        resolution_ms: None,
+        shape: BoxShape::Box,
     }
 }
 

@@ -119,11 +119,8 @@
       const t = o.querySelector('text.address') || o.querySelector('text');
       if (a && t) p.values.push({ address: a, text: t, shown: null });
     });
-    // A timer's or counter's title is its number (`T37`): its current value.
-    g.querySelectorAll('.box text.title').forEach(function (title) {
-      const number = title.firstChild ? title.firstChild.nodeValue : '';
-      if (number) p.values.push({ address: number, text: title, shown: null });
-    });
+    // A timer's or counter's number is the `.operand.counted` above its box (its kind
+    // is the box's title): its current value shows there, as every operand's does.
     g.querySelectorAll('.contact, .coil, .operand').forEach(function (e) {
       const a = e.getAttribute('data-operand');
       if (a) p.marks.push({ e: e, address: a });
