@@ -119,19 +119,35 @@ pub fn draw(out: &mut String, rows: &[SymbolRow<'_>], top: i32, width: i32) -> (
     let x_type = x_address + column(1, |r| r.address);
     let x_comment = x_type + column(2, |r| r.data_type);
     let comment_w = (width.max(MIN_TEXT_W + 2 * RAIL_X) - RAIL_X - x_comment).max(MIN_COMMENT_W);
+    let comments: Vec<Vec<String>> = rows
+        .iter()
+        .map(|r| {
+            if r.comment.is_empty() {
+                Vec::new()
+            } else {
+                wrap(r.comment, comment_w)
+            }
+        })
+        .collect();
+    let right = comments
+        .iter()
+        .flatten()
+        .map(|l| x_comment + text_width(l))
+        .chain([x_comment + text_width(HEAD[3])])
+        .max()
+        .unwrap_or(x_comment);
     let _ = write!(
         out,
         "<g class=\"symbol-info\"><line class=\"symbol-info-rule\" x1=\"{RAIL_X}\" y1=\"{top}\" \
          x2=\"{}\" y2=\"{top}\"/>",
-        width - RAIL_X
+        width.max(right + RAIL_X) - RAIL_X
     );
     let mut y = top + LINE_H;
     let xs = [x_symbol, x_address, x_type, x_comment];
     for (x, head) in xs.iter().zip(HEAD) {
         text(out, "si-head", *x, y, "start", head);
     }
-    let mut right = x_comment + text_width(HEAD[3]);
-    for row in rows {
+    for (row, lines) in rows.iter().zip(&comments) {
         y += LINE_H;
         out.push_str("<g class=\"symbol-info-row\" data-symbol=\"");
         escape_into(out, row.symbol);
@@ -139,17 +155,11 @@ pub fn draw(out: &mut String, rows: &[SymbolRow<'_>], top: i32, width: i32) -> (
         text(out, "si-symbol", x_symbol, y, "start", row.symbol);
         text(out, "si-address", x_address, y, "start", row.address);
         text(out, "si-type", x_type, y, "start", row.data_type);
-        let lines = if row.comment.is_empty() {
-            Vec::new()
-        } else {
-            wrap(row.comment, comment_w)
-        };
         for (i, line) in lines.iter().enumerate() {
             if i > 0 {
                 y += LINE_H;
             }
             text(out, "si-comment", x_comment, y, "start", line);
-            right = right.max(x_comment + text_width(line));
         }
         out.push_str("</g>");
     }
