@@ -345,3 +345,53 @@ fn snapshot_of_a_network_with_its_symbol_information() {
     let nets = networks();
     insta::assert_snapshot!("network_with_symbol_information", svg(&nets[0], true));
 }
+
+#[test]
+fn a_long_symbol_comment_wraps_in_the_table() {
+    let long = "the level switch at the top of the tank, wired normally closed so that a broken \
+                wire reads as a full tank and stops the pump, checked every shift by the operator";
+    let text = format!(
+        "SYMBOLS\n  High : I0.3 // {long}\nEND_SYMBOLS\nORGANIZATION_BLOCK MAIN:OB1\nBEGIN\n\
+         NETWORK 1\nLD High\n= Q0.0\nEND_ORGANIZATION_BLOCK\n"
+    );
+    let ladder = gutta_ladder::build(&checked(&text));
+    let net = &ladder.blocks[0].networks[0];
+    let drawn = svg(net, true);
+    let lines = texts(&drawn, "si-comment");
+    assert!(lines.len() >= 2, "{lines:?}");
+    assert_eq!(
+        lines.join(" "),
+        long.split_whitespace().collect::<Vec<_>>().join(" ")
+    );
+    let (width, height) = drawn_size(net, true);
+    let (_, bare) = drawn_size(net, false);
+    assert_eq!(height, bare + 16 * (1 + lines.len() as i32) + 12);
+    // The comment column starts after `Symbol`, `Address`, `Type` and their gaps.
+    let x = drawn
+        .split("<text class=\"si-comment\" x=\"")
+        .nth(1)
+        .and_then(|r| r.split('"').next())
+        .and_then(|x| x.parse::<i32>().ok())
+        .expect("a comment's x");
+    for line in &lines {
+        assert!(x + text_width(line) <= width - 12, "{line}");
+    }
+}
+
+#[test]
+fn a_network_shown_as_stl_wraps_its_header_too() {
+    let words = "a long comment of a network that is not one rung ".repeat(6);
+    let text = format!(
+        "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\n// {words}\nLD I0.0\n= Q0.0\n\
+         LD I0.1\n= Q0.1\nEND_ORGANIZATION_BLOCK\n"
+    );
+    let ladder = gutta_ladder::build(&checked(&text));
+    let net = &ladder.blocks[0].networks[0];
+    assert!(matches!(net.body, Body::Stl { .. }));
+    let head = network_header(net);
+    assert!(head.comment.len() >= 2, "{:?}", head.comment);
+    let (width, _) = drawn_size(net, false);
+    let drawn = texts(&svg(net, false), "comment");
+    assert_eq!(drawn, head.comment);
+    assert!(drawn.iter().all(|l| text_width(l) <= width - 24));
+}
