@@ -77,7 +77,7 @@ fn the_studio_browser_suite_passes() {
 fn the_docs_screenshots_are_the_suites() {
     let root = common::root();
     let mut docs = String::new();
-    for page in ["docs/studio.md", "docs/editors.md"] {
+    for page in ["docs/studio.md", "docs/editors.md", "docs/ladder.md"] {
         docs.push_str(&std::fs::read_to_string(root.join(page)).expect("reads the docs"));
     }
     let mut suite = String::new();

@@ -511,9 +511,11 @@
     return set;
   }
 
+  // The tooltip's first line (mnemonic and operands) without its source line; the
+  // symbol lines under it are left out.
   function tooltip(el) {
     const t = el.querySelector('title');
-    return t ? t.textContent.replace(/ \(line \d+\)$/, '') : '';
+    return t ? t.textContent.split('\n')[0].replace(/ \(line \d+\)$/, '') : '';
   }
 
   // Select the element of network (b, n) that was not there before (by its class).
@@ -713,14 +715,12 @@
     if (!view) return notify('select a network first', 'error');
     const b = state.selection.b;
     const n = state.selection.n;
-    const g = view.querySelector('g.network');
-    let current = '';
-    if (field === 'title' && g) {
-      const t = g.querySelector('.network-title');
-      current = t ? t.textContent.replace(/^Network \d+:? ?/, '') : '';
-    } else if (g) {
-      current = Array.from(g.querySelectorAll('.comment')).map(function (c) { return c.textContent; }).join(' / ');
-    }
+    // From the model: the drawing wraps long titles and comments (docs/ladder.md,
+    // "Comments"), so its lines are not the source's.
+    const model = await call('/api/model?' + query({ file: state.file }));
+    const net = model.blocks[b] && model.blocks[b].networks[n];
+    if (!net) return;
+    const current = field === 'title' ? (net.title || '') : (net.comment || '').split('\n').join(' / ');
     const value = await ask({ label: 'network ' + field + (field === 'comment' ? ' (" / " between lines)' : ''), kind: 'text', value: current, anchor: view });
     if (value === null) return;
     const edit = field === 'title'
