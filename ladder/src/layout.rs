@@ -219,25 +219,23 @@ pub fn header_height(net: &Network) -> i32 {
 
 /// `text` broken into lines no wider than `width` pixels (`text_width`): at blanks,
 /// between two wide (CJK) characters or beside one, and inside a word that is wider
-/// than the whole width. Blanks at a break are dropped; an empty text is one empty line.
+/// than the whole width. Blanks inside a line are kept as written, blanks at a break
+/// dropped; a text that fits is its one line, unchanged (an empty text too).
 pub fn wrap(text: &str, width: i32) -> Vec<String> {
+    if text_width(text) <= width {
+        return vec![text.to_string()];
+    }
     let width = width.max(2 * CHAR_W);
     let mut lines = Vec::new();
     let mut line = String::new();
     let mut line_w = 0;
-    for (blank_before, piece) in wrap_pieces(text) {
-        let gap = if blank_before && !line.is_empty() {
-            CHAR_W
-        } else {
-            0
-        };
-        let piece_w = text_width(piece);
-        if line_w + gap + piece_w <= width {
-            if gap > 0 {
-                line.push(' ');
-            }
+    for (blanks, piece) in wrap_pieces(text) {
+        let gap = if line.is_empty() { "" } else { blanks };
+        let (gap_w, piece_w) = (text_width(gap), text_width(piece));
+        if line_w + gap_w + piece_w <= width {
+            line.push_str(gap);
             line.push_str(piece);
-            line_w += gap + piece_w;
+            line_w += gap_w + piece_w;
             continue;
         }
         if !line.is_empty() {
@@ -261,31 +259,36 @@ pub fn wrap(text: &str, width: i32) -> Vec<String> {
     lines
 }
 
-/// The unbreakable pieces of `text`, each with whether blanks precede it: runs of
-/// narrow non-blank characters, and every wide character on its own (CJK text breaks
-/// between any two characters).
-fn wrap_pieces(text: &str) -> Vec<(bool, &str)> {
+/// The unbreakable pieces of `text`, each with the blanks before it: runs of narrow
+/// non-blank characters, and every wide character on its own (CJK text breaks between
+/// any two characters). Blanks at the end are left out.
+fn wrap_pieces(text: &str) -> Vec<(&str, &str)> {
     let mut pieces = Vec::new();
-    let mut blank = false;
-    let mut start: Option<usize> = None;
+    // The blank run not yet given to a piece, and the word being read with its blanks.
+    let mut blanks: Option<(usize, usize)> = None;
+    let mut word: Option<(usize, &str)> = None;
     for (i, c) in text.char_indices() {
-        if c.is_whitespace() || is_wide(c) {
-            if let Some(s) = start.take() {
-                pieces.push((blank, &text[s..i]));
-                blank = false;
+        let blank = c.is_whitespace();
+        let wide = !blank && is_wide(c);
+        if blank || wide {
+            if let Some((start, before)) = word.take() {
+                pieces.push((before, &text[start..i]));
             }
-            if c.is_whitespace() {
-                blank = true;
-            } else {
-                pieces.push((blank, &text[i..i + c.len_utf8()]));
-                blank = false;
-            }
-        } else if start.is_none() {
-            start = Some(i);
+        }
+        if blank {
+            let from = blanks.map_or(i, |(from, _)| from);
+            blanks = Some((from, i + c.len_utf8()));
+            continue;
+        }
+        let before = blanks.take().map_or("", |(from, to)| &text[from..to]);
+        if wide {
+            pieces.push((before, &text[i..i + c.len_utf8()]));
+        } else if word.is_none() {
+            word = Some((i, before));
         }
     }
-    if let Some(s) = start {
-        pieces.push((blank, &text[s..]));
+    if let Some((start, before)) = word {
+        pieces.push((before, &text[start..]));
     }
     pieces
 }

@@ -395,3 +395,21 @@ fn a_network_shown_as_stl_wraps_its_header_too() {
     assert_eq!(drawn, head.comment);
     assert!(drawn.iter().all(|l| text_width(l) <= width - 24));
 }
+
+#[test]
+fn blanks_inside_a_line_are_kept_and_dropped_at_a_break() {
+    assert_eq!(
+        wrap("a    b", 70),
+        ["a    b"],
+        "a line that fits is unchanged"
+    );
+    assert_eq!(wrap("  indented", 140), ["  indented"]);
+    assert_eq!(
+        wrap("one  two   three four", 10 * 7),
+        ["one  two", "three four"]
+    );
+    assert_eq!(
+        wrap("abcdefgh   ijklmnop", 10 * 7),
+        ["abcdefgh", "ijklmnop"]
+    );
+}
