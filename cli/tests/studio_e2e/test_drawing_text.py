@@ -8,7 +8,7 @@ SM0.0 shows as Always_On, and CJK text is drawn by a CJK font where the machine 
 
 import pytest
 
-from conftest import cc, shoot
+from conftest import cc, shoot, wait_until
 
 LONG_EN = ("This network latches the pump when the start button is pressed and the tank is "
            "not full; the stop button or the high level switch drops it again, and the alarm "
@@ -166,3 +166,22 @@ def test_cjk_text_is_drawn_by_a_cjk_font_where_the_machine_has_one(drawing):
         assert measured["han"] <= 14.0, measured
     page = drawing
     shoot(page, "drawing_text")
+
+
+def test_the_studio_turns_the_symbol_information_on_and_off(page):
+    """The studio's `symbol-info` command: every network redrawn with its symbol table,
+    kept for the networks drawn after (a reload of the page), and off again."""
+    assert page.locator(".symbol-info").count() == 0
+    page.locator('button[data-command="symbol-info"]').click()
+    wait_until(lambda: page.locator(".symbol-info").count() > 0, what="the symbol tables")
+    assert page.locator("body").get_attribute("data-symbol-info") == "on"
+    rows = page.locator(".symbol-info-row")
+    symbols = {rows.nth(i).get_attribute("data-symbol") for i in range(rows.count())}
+    assert "Start" in symbols, symbols
+    page.reload()
+    page.wait_for_selector(".status")
+    assert page.locator(".symbol-info").count() > 0
+    assert page.locator("body").get_attribute("data-symbol-info") == "on"
+    page.keyboard.press("Alt+i")
+    wait_until(lambda: page.locator(".symbol-info").count() == 0, what="the tables gone")
+    assert page.locator("body").get_attribute("data-symbol-info") == "off"
