@@ -6,6 +6,10 @@ tooltips hold the symbols' comments, the symbol table lists the network's symbol
 SM0.0 shows as Always_On, and CJK text is drawn by a CJK font where the machine has one
 (told by glyph widths, not by the CSS)."""
 
+import json
+import urllib.error
+import urllib.request
+
 import pytest
 
 from conftest import cc, shoot, wait_until
@@ -185,3 +189,27 @@ def test_the_studio_turns_the_symbol_information_on_and_off(page):
     page.keyboard.press("Alt+i")
     wait_until(lambda: page.locator(".symbol-info").count() == 0, what="the tables gone")
     assert page.locator("body").get_attribute("data-symbol-info") == "off"
+
+
+def test_a_view_request_without_symbol_info_is_refused(studio):
+    """`POST /api/view` needs `symbol_info` true or false: anything else is a coded 400,
+    and the drawing options stay as they were."""
+    def post(body):
+        req = urllib.request.Request(studio.base + "/api/view", data=json.dumps(body).encode(),
+                                     method="POST", headers={"X-Gutta-Token": studio.token})
+        try:
+            with urllib.request.urlopen(req, timeout=10) as answer:
+                return answer.status, json.loads(answer.read())
+        except urllib.error.HTTPError as refused:
+            return refused.code, json.loads(refused.read())
+
+    for bad in [{}, {"symbol_info": "yes"}, {"symbol_info": 1}]:
+        status, answer = post(bad)
+        assert status == 400, (bad, status, answer)
+        assert answer["code"] == "bad-request" and "symbol_info" in answer["message"], answer
+    status, answer = post({"symbol_info": False})
+    assert status == 200 and answer["symbol_info"] is False
+    assert all("symbol-info" not in n["html"] for b in answer["blocks"] for n in b["networks"])
+    status, answer = post({"symbol_info": True})
+    assert status == 200 and answer["symbol_info"] is True
+    assert any("symbol-info-row" in n["html"] for b in answer["blocks"] for n in b["networks"])
