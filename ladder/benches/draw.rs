@@ -52,6 +52,8 @@ impl Generator {
             written: symbol.clone().unwrap_or_else(|| address.clone()),
             address: Some(address),
             symbol,
+            comment: None,
+            data_type: None,
         }
     }
 
@@ -61,6 +63,8 @@ impl Generator {
             written: address.clone(),
             address: Some(address),
             symbol: None,
+            comment: None,
+            data_type: None,
         }
     }
 
@@ -221,6 +225,8 @@ fn constant(text: &str) -> Operand {
         written: text.to_string(),
         address: None,
         symbol: None,
+        comment: None,
+        data_type: None,
     }
 }
 

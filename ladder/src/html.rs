@@ -20,9 +20,12 @@ pub struct HtmlOptions {
     pub draw: DrawOptions,
 }
 
-/// Styles of the page around the drawing: energized (`on`) and forced elements.
+/// Styles of the page around the drawing: its fonts (a sans-serif stack that shows CJK
+/// headings where the system has such a font; the drawing has its own monospace stack,
+/// `svg::FONT_STACK`), energized (`on`) and forced elements.
 const PAGE_STYLE: &str = "\
-body{font-family:sans-serif;margin:16px;color:#222}\
+body{font-family:system-ui,\"Noto Sans CJK SC\",\"Source Han Sans SC\",\"Microsoft YaHei\",\
+\"PingFang SC\",\"WenQuanYi Zen Hei\",sans-serif;margin:16px;color:#222}\
 nav ul{list-style:none;padding:0}nav li{display:inline-block;margin-right:12px}\
 .block{margin-top:24px}\
 .network-view{overflow-x:auto;border-top:1px solid #ccc;padding:4px 96px 4px 0}\

@@ -119,6 +119,8 @@ pub struct NetworkLayout<'a> {
     pub height: i32,
     /// Height of the header (number, title, comment lines) above the rung.
     pub header_h: i32,
+    /// The header's lines, wrapped at the drawing's width.
+    pub header: Header,
     pub elements: Vec<PlacedElement<'a>>,
     pub wires: Vec<Wire>,
     /// The left rail's vertical extent.
@@ -140,9 +142,168 @@ fn is_wide(c: char) -> bool {
         | 0xFE30..=0xFE4F | 0xFF00..=0xFF60 | 0xFFE0..=0xFFE6 | 0x20000..=0x3FFFD)
 }
 
-/// The header height of a network: its number and title line, then its comment lines.
+/// The narrowest width header texts wrap at: 100 columns of monospace text, so a
+/// narrow rung keeps a comment of ordinary length on one line (docs/ladder.md,
+/// "Comments").
+pub const MIN_TEXT_W: i32 = 100 * CHAR_W;
+
+/// A network's header as drawn: its title line(s) (`Network n: title`) and comment
+/// lines, each wrapped at the drawing's width.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Header {
+    /// The title, wrapped (at least one line).
+    pub title: Vec<String>,
+    /// The comment lines, each wrapped.
+    pub comment: Vec<String>,
+}
+
+impl Header {
+    /// The header's height above the rung (or the STL lines).
+    pub fn height(&self) -> i32 {
+        8 + LINE_H * (self.title.len() + self.comment.len()) as i32
+    }
+
+    /// The widest line in pixels (the title counted at its 13 px against 11 px).
+    pub fn width(&self) -> i32 {
+        let title = self.title.iter().map(|l| title_width(l)).max();
+        let comment = self.comment.iter().map(|l| text_width(l)).max();
+        title.max(comment).unwrap_or(0)
+    }
+}
+
+/// The title is 13 px bold against the 11 px the text widths count: 13/11 wider,
+/// rounded up.
+fn title_width(text: &str) -> i32 {
+    (text_width(text) * 13 + 10) / 11
+}
+
+/// The header of `net` wrapped at the wider of `body_w` (the rung's or the STL lines'
+/// width, rails included) and `MIN_TEXT_W`.
+pub fn header_at(net: &Network, body_w: i32) -> Header {
+    let wrap_w = (body_w - 2 * RAIL_X).max(MIN_TEXT_W);
+    let title = match &net.title {
+        Some(title) => format!("Network {}: {}", net.number, title),
+        None => format!("Network {}", net.number),
+    };
+    Header {
+        title: wrap(&title, wrap_w * 11 / 13),
+        comment: net.comment.iter().flat_map(|l| wrap(l, wrap_w)).collect(),
+    }
+}
+
+/// Whether some header line of `net` may be wider than `MIN_TEXT_W`, so that its wrap
+/// depends on the body's width.
+fn header_may_wrap(net: &Network) -> bool {
+    let title_w = net
+        .title
+        .as_deref()
+        .map_or(0, |t| title_width(t) + title_width("Network 0000000000: "));
+    title_w > MIN_TEXT_W || net.comment.iter().any(|l| text_width(l) > MIN_TEXT_W)
+}
+
+/// The header of `net` as drawn: wrapped at the rung's width (laid out once more only
+/// when a header line is wider than `MIN_TEXT_W`), or for a network shown as STL at
+/// the width of its reason and STL lines.
+pub fn network_header(net: &Network) -> Header {
+    network_header_with(net, Names::default())
+}
+
+/// `network_header` for a rung laid out with `names` (its width follows the labels).
+pub fn network_header_with(net: &Network, names: Names) -> Header {
+    if !header_may_wrap(net) {
+        return header_at(net, 0);
+    }
+    let body_w = match &net.body {
+        crate::model::Body::Rung(rung) => layout_rung(rung, 0, names).width,
+        crate::model::Body::Stl { reason } => {
+            let reason_w = text_width(&format!("shown as STL: {reason}"));
+            let lines_w = net.stl.iter().map(|l| text_width(l) + 8).max();
+            reason_w.max(lines_w.unwrap_or(0)) + 2 * RAIL_X
+        }
+    };
+    header_at(net, body_w)
+}
+
+/// The header height of a network: its title line(s), then its comment lines, wrapped
+/// as `network_header` wraps them.
 pub fn header_height(net: &Network) -> i32 {
-    8 + LINE_H * (1 + net.comment.len() as i32)
+    network_header(net).height()
+}
+
+/// `text` broken into lines no wider than `width` pixels (`text_width`): at blanks,
+/// between two wide (CJK) characters or beside one, and inside a word that is wider
+/// than the whole width. Blanks inside a line are kept as written, blanks at a break
+/// dropped; a text that fits is its one line, unchanged (an empty text too).
+pub fn wrap(text: &str, width: i32) -> Vec<String> {
+    if text_width(text) <= width {
+        return vec![text.to_string()];
+    }
+    let width = width.max(2 * CHAR_W);
+    let mut lines = Vec::new();
+    let mut line = String::new();
+    let mut line_w = 0;
+    for (blanks, piece) in wrap_pieces(text) {
+        let gap = if line.is_empty() { "" } else { blanks };
+        let (gap_w, piece_w) = (text_width(gap), text_width(piece));
+        if line_w + gap_w + piece_w <= width {
+            line.push_str(gap);
+            line.push_str(piece);
+            line_w += gap_w + piece_w;
+            continue;
+        }
+        if !line.is_empty() {
+            lines.push(std::mem::take(&mut line));
+            line_w = 0;
+        }
+        // A piece wider than a whole line is broken by characters.
+        for c in piece.chars() {
+            let w = text_width(c.encode_utf8(&mut [0; 4]));
+            if line_w + w > width && !line.is_empty() {
+                lines.push(std::mem::take(&mut line));
+                line_w = 0;
+            }
+            line.push(c);
+            line_w += w;
+        }
+    }
+    if !line.is_empty() || lines.is_empty() {
+        lines.push(line);
+    }
+    lines
+}
+
+/// The unbreakable pieces of `text`, each with the blanks before it: runs of narrow
+/// non-blank characters, and every wide character on its own (CJK text breaks between
+/// any two characters). Blanks at the end are left out.
+fn wrap_pieces(text: &str) -> Vec<(&str, &str)> {
+    let mut pieces = Vec::new();
+    // The blank run not yet given to a piece, and the word being read with its blanks.
+    let mut blanks: Option<(usize, usize)> = None;
+    let mut word: Option<(usize, &str)> = None;
+    for (i, c) in text.char_indices() {
+        let blank = c.is_whitespace();
+        let wide = !blank && is_wide(c);
+        if blank || wide {
+            if let Some((start, before)) = word.take() {
+                pieces.push((before, &text[start..i]));
+            }
+        }
+        if blank {
+            let from = blanks.map_or(i, |(from, _)| from);
+            blanks = Some((from, i + c.len_utf8()));
+            continue;
+        }
+        let before = blanks.take().map_or("", |(from, to)| &text[from..to]);
+        if wide {
+            pieces.push((before, &text[i..i + c.len_utf8()]));
+        } else if word.is_none() {
+            word = Some((i, before));
+        }
+    }
+    if let Some((start, before)) = word {
+        pieces.push((before, &text[start..]));
+    }
+    pieces
 }
 
 /// The text lines of an operand as drawn: (symbol or written form above, address below).
@@ -668,7 +829,12 @@ pub fn layout_network<'a>(net: &'a Network) -> Option<NetworkLayout<'a>> {
 /// (their widths follow the labels); `network_svg_with` draws it.
 pub fn layout_network_with<'a>(net: &'a Network, names: Names) -> Option<NetworkLayout<'a>> {
     match &net.body {
-        crate::model::Body::Rung(rung) => Some(layout_rung(rung, header_height(net), names)),
+        crate::model::Body::Rung(rung) => {
+            let header = network_header_with(net, names);
+            let mut layout = layout_rung(rung, header.height(), names);
+            layout.header = header;
+            Some(layout)
+        }
         crate::model::Body::Stl { .. } => None,
     }
 }
@@ -751,6 +917,7 @@ fn layout_rung(rung: &Rung, top: i32, names: Names) -> NetworkLayout<'_> {
         width: content_right + MARGIN,
         height: bottom + MARGIN,
         header_h: top,
+        header: Header::default(),
         elements: placer.elements,
         wires: placer.wires,
         rail: (top, bottom),

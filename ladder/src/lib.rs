@@ -1,6 +1,7 @@
 //! Ladder diagrams of GUTTA programs (docs/ladder.md): `model.rs` (the rung model),
 //! `build.rs` (a checked program's networks into rungs, or the reason one is not a
-//! rung), `layout.rs` (where each element and wire goes), `svg.rs` (the SVG), `html.rs`
+//! rung), `layout.rs` (where each element and wire goes), `svg.rs` (the SVG), `symbol_info.rs`
+//! (the symbol table under a rung), `html.rs`
 //! (the self-contained page), `live.rs` (the live view's power flow from a snapshot of
 //! the operands), `names.rs` (LAD or STL labels, and the pins of a box's operands),
 //! `write.rs` (a rung back into canonical STL), `json/` (the model as JSON: written,
@@ -16,6 +17,7 @@ pub mod live;
 pub mod model;
 pub mod names;
 pub mod svg;
+pub mod symbol_info;
 pub mod write;
 
 pub use build::build;

@@ -235,7 +235,7 @@ pub struct Pin {
 }
 
 /// An operand as drawn: the symbol above the address.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct Operand {
     /// As written in the source (`Start`, `MW20`, `#count`, `16#FF`, `&VB100`).
     pub written: String,
@@ -243,6 +243,14 @@ pub struct Operand {
     /// resolved, a direct address normalised): `data-operand`. `None` for constants,
     /// locals, pointers and block names.
     pub address: Option<String>,
-    /// The symbol's name, when the operand is a symbol.
+    /// The symbol's name, when the operand is a symbol, or the name of the system bit
+    /// or byte its address is (`Always_On` for `SM0.0`; docs/ladder.md, "System names").
     pub symbol: Option<String>,
+    /// The symbol's comment (its table's comment column; a system bit's description),
+    /// shown in tooltips and the symbol information; `None` without a symbol or comment.
+    pub comment: Option<String>,
+    /// The symbol's type as the symbol information shows it: the declared type
+    /// (`INT`), else the address's width (`BOOL`, `BYTE`, `WORD`, `DWORD`); `None`
+    /// without a symbol.
+    pub data_type: Option<String>,
 }

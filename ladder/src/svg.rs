@@ -7,9 +7,9 @@ use std::fmt::Write;
 
 use crate::layout::{
     above_operand, block_heading, box_label, box_pins, box_top, contact_label, contact_symbol_w,
-    header_height, layout_network_with, operand_lines, pin_text_ys, preset_duration,
-    resolution_text, text_width, ElementRef, NetworkLayout, PlacedElement, Power, Wire, LINE_H,
-    MARGIN, PIN_H, RAIL_X,
+    header_height, layout_network_with, network_header_with, operand_lines, pin_text_ys,
+    preset_duration, resolution_text, text_width, ElementRef, Header, NetworkLayout, PlacedElement,
+    Power, Wire, LINE_H, MARGIN, PIN_H, RAIL_X,
 };
 use crate::model::{
     Block, Body, BoxElement, BoxShape, Coil, CoilKind, Contact, Ladder, Network, Operand,
@@ -20,9 +20,26 @@ const BLOCK_HEADING_H: i32 = 30;
 /// Space between two networks in a standalone SVG.
 const NETWORK_GAP: i32 = 8;
 
+/// The drawing's fonts as a literal, for `concat!` (`FONT_STACK`).
+macro_rules! font_stack {
+    () => {
+        "\"DejaVu Sans Mono\",\"Liberation Mono\",Consolas,Menlo,\"Noto Sans Mono CJK SC\",\
+         \"Sarasa Mono SC\",\"WenQuanYi Zen Hei Mono\",\"Microsoft YaHei\",\"Noto Sans CJK SC\",\
+         \"WenQuanYi Zen Hei\",monospace"
+    };
+}
+
+/// The drawing's fonts: Latin monospace fonts first (the layout's widths assume
+/// monospace metrics), then fonts that show CJK text where the system has them, which
+/// the browser takes per character for what the first ones lack, and `monospace` last
+/// (docs/ladder.md, "Fonts").
+pub const FONT_STACK: &str = font_stack!();
+
 /// The styles of the drawing, shared by the standalone SVG and the HTML page.
-pub const STYLE: &str = "\
-text{font-family:monospace;font-size:11px;fill:#222}\
+pub const STYLE: &str = concat!(
+    "text{font-family:",
+    font_stack!(),
+    ";font-size:11px;fill:#222}\
 .network-title{font-size:13px;font-weight:bold}\
 .comment{fill:#555;font-style:italic}\
 .block-title{font-size:16px;font-weight:bold}\
@@ -34,7 +51,11 @@ text{font-family:monospace;font-size:11px;fill:#222}\
 .box .title{font-weight:bold}\
 .inside{font-size:10px}\
 .resolution,.duration{fill:#555}\
-";
+.symbol-info .si-head{font-weight:bold;fill:#444}\
+.symbol-info .si-comment{fill:#555;font-style:italic}\
+.symbol-info-rule{stroke:#bbb;stroke-width:1}\
+"
+);
 
 /// XML-escape text for element content and attribute values.
 pub fn escape(text: &str) -> String {
@@ -125,14 +146,30 @@ pub fn draw_network_with(
         let _ = write!(out, " transform=\"translate(0,{y})\"");
     }
     out.push('>');
-    header(out, net);
-    // The title is 13 px bold against the 11 px the text widths count: 13/11 wider,
-    // rounded up, so a long title is never clipped by the network's width.
-    let title_w = (text_width(&title_line(net)) * 13 + 10) / 11 + 2 * RAIL_X;
-    let size = match (&net.body, layout_network_with(net, options.names)) {
+    let layout = layout_network_with(net, options.names);
+    let stl_header;
+    let head = match &layout {
+        Some(layout) => &layout.header,
+        None => {
+            stl_header = network_header_with(net, options.names);
+            &stl_header
+        }
+    };
+    header(out, head);
+    // The header is wrapped at the drawing's width; its widest line still counts, so no
+    // header text is ever clipped by the network's width.
+    let title_w = head.width() + 2 * RAIL_X;
+    let size = match (&net.body, layout) {
         (_, Some(layout)) => {
             rung(out, &layout, options);
-            (layout.width.max(title_w), layout.height)
+            let (mut width, mut height) = (layout.width.max(title_w), layout.height);
+            if options.symbol_info {
+                let rows = crate::symbol_info::rows(net);
+                let (w, h) = crate::symbol_info::draw(out, &rows, height, width);
+                width = width.max(w);
+                height += h;
+            }
+            (width, height)
         }
         (Body::Stl { reason }, None) => {
             let mut ty = header_height(net) + LINE_H - 4;
@@ -196,35 +233,20 @@ pub fn ladder_svg_with(ladder: &Ladder, options: &DrawOptions) -> String {
     out
 }
 
-fn title_line(net: &Network) -> String {
-    match &net.title {
-        Some(title) => format!("Network {}: {}", net.number, title),
-        None => format!("Network {}", net.number),
+/// The network's title and comment lines, as `layout::network_header` wrapped them.
+fn header(out: &mut String, head: &Header) {
+    let mut y = 0;
+    for line in &head.title {
+        y += LINE_H;
+        text(out, "network-title", RAIL_X, y, "start", line);
+    }
+    for line in &head.comment {
+        y += LINE_H;
+        text(out, "comment", RAIL_X, y, "start", line);
     }
 }
 
-fn header(out: &mut String, net: &Network) {
-    text(
-        out,
-        "network-title",
-        RAIL_X,
-        LINE_H,
-        "start",
-        &title_line(net),
-    );
-    for (i, line) in net.comment.iter().enumerate() {
-        text(
-            out,
-            "comment",
-            RAIL_X,
-            LINE_H * (i as i32 + 2),
-            "start",
-            line,
-        );
-    }
-}
-
-fn text(out: &mut String, class: &str, x: i32, y: i32, anchor: &str, content: &str) {
+pub(crate) fn text(out: &mut String, class: &str, x: i32, y: i32, anchor: &str, content: &str) {
     let _ = write!(
         out,
         "<text class=\"{class}\" x=\"{x}\" y=\"{y}\" text-anchor=\"{anchor}\">"
@@ -324,14 +346,42 @@ fn operand_class(
     out.push_str("</g>");
 }
 
+/// An element's `<title>`: the mnemonic, its operands as written and the source line,
+/// then one line per symbol it uses (once each): `Start (I0.0): start button`.
 fn tooltip(out: &mut String, mnemonic: &str, operands: &[&Operand], line: u32) {
     let written: Vec<&str> = operands.iter().map(|o| o.written.as_str()).collect();
     let _ = write!(
         out,
-        "<title>{} {} (line {line})</title>",
+        "<title>{} {} (line {line})",
         escape(mnemonic),
         escape(&written.join(", "))
     );
+    let mut seen: Vec<&str> = Vec::new();
+    for op in operands {
+        let Some(symbol) = op.symbol.as_deref() else {
+            continue;
+        };
+        if seen.iter().any(|s| s.eq_ignore_ascii_case(symbol)) {
+            continue;
+        }
+        seen.push(symbol);
+        out.push('\n');
+        out.push_str(&escape(&symbol_line(op, symbol)));
+    }
+    out.push_str("</title>");
+}
+
+/// `Start (I0.0): start button`, `Start (I0.0)` without a comment, `Start` without an
+/// address.
+fn symbol_line(op: &Operand, symbol: &str) -> String {
+    let mut line = symbol.to_string();
+    if let Some(address) = &op.address {
+        let _ = write!(line, " ({address})");
+    }
+    if let Some(comment) = &op.comment {
+        let _ = write!(line, ": {comment}");
+    }
+    line
 }
 
 fn contact(out: &mut String, c: &Contact, p: &PlacedElement<'_>, names: Names) {

@@ -260,7 +260,10 @@ fn a_timer_box_says_its_kind_number_resolution_and_duration() {
         .iter()
         .find(|e| e.name == "title" && e.parents.last() == Some(&bi))
         .expect("tooltip");
-    assert_eq!(tooltip.text, "TON RunTimer, 100 (line 20)");
+    assert_eq!(
+        tooltip.text,
+        "TON RunTimer, 100 (line 20)\nRunTimer (T4): a 100 ms timer"
+    );
     // Other resolutions: 10 ms and 1 ms timers.
     let t2 = parse(&svg(&ladder, 2, Names::Lad));
     assert!(t2

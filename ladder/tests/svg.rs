@@ -21,6 +21,8 @@ fn addr(a: &str) -> Operand {
         written: a.to_string(),
         address: Some(a.to_string()),
         symbol: None,
+        comment: None,
+        data_type: None,
     }
 }
 
@@ -29,6 +31,8 @@ fn sym(name: &str, a: &str) -> Operand {
         written: name.to_string(),
         address: Some(a.to_string()),
         symbol: Some(name.to_string()),
+        comment: None,
+        data_type: None,
     }
 }
 
@@ -37,6 +41,8 @@ fn constant(text: &str) -> Operand {
         written: text.to_string(),
         address: None,
         symbol: None,
+        comment: None,
+        data_type: None,
     }
 }
 

@@ -115,6 +115,8 @@ fn contact(mnemonic: &str, kind: ContactKind, operand: &str) -> Node {
             written: operand.to_string(),
             address: None,
             symbol: None,
+            comment: None,
+            data_type: None,
         }]
         .into_iter()
         .filter(|o| !o.written.is_empty())

@@ -26,6 +26,8 @@ fn operand(text: &str) -> Operand {
         written: text.to_string(),
         address: None,
         symbol: None,
+        comment: None,
+        data_type: None,
     }
 }
 

@@ -60,6 +60,44 @@ pub(super) enum Element {
     Unknown,
 }
 
+/// What names an operand: its canonical address, the symbol (or system name) drawn
+/// above it, with that name's comment and type.
+#[derive(Debug, Default)]
+struct Named {
+    address: Option<String>,
+    symbol: Option<String>,
+    comment: Option<String>,
+    data_type: Option<String>,
+}
+
+/// A system bit or byte named `shown` (none: drawn by its address alone).
+fn system_name(
+    bit: &gutta_catalog::SystemBit,
+    shown: Option<String>,
+    address: &gutta_catalog::Address,
+    memory: &gutta_catalog::MemoryMap,
+) -> Named {
+    let named = shown.is_some();
+    Named {
+        address: Some(memory.format_address(address)),
+        symbol: shown,
+        comment: named
+            .then(|| bit.description.trim().to_string())
+            .filter(|d| !d.is_empty()),
+        data_type: named.then(|| width_type(address.width).to_string()),
+    }
+}
+
+/// The type the symbol information shows for an address without a declared type.
+fn width_type(width: gutta_catalog::Width) -> &'static str {
+    match width {
+        gutta_catalog::Width::Bit => "BOOL",
+        gutta_catalog::Width::Byte => "BYTE",
+        gutta_catalog::Width::Word => "WORD",
+        gutta_catalog::Width::Dword => "DWORD",
+    }
+}
+
 /// What the builder reads of the program besides one instruction.
 pub(super) struct Resolver<'a> {
     checked: &'a CheckedFile,
@@ -67,6 +105,9 @@ pub(super) struct Resolver<'a> {
     /// Subroutine name (and numbered name), upper case -> its name and its parameters
     /// in call order (name, drawn as an output pin).
     subroutines: HashMap<String, (String, Vec<(String, bool)>)>,
+    /// The target's system bits and bytes by canonical address -> index in
+    /// `memory.system_bits`.
+    system: HashMap<String, usize>,
 }
 
 impl<'a> Resolver<'a> {
@@ -95,10 +136,21 @@ impl<'a> Resolver<'a> {
             }
             subroutines.insert(name.to_ascii_uppercase(), (name, pins));
         }
+        let memory = &checked.target.memory;
+        let system = memory
+            .system_bits
+            .iter()
+            .enumerate()
+            .filter_map(|(i, b)| {
+                let address = memory.parse_address(&b.address).ok()?;
+                Some((memory.format_address(&address), i))
+            })
+            .collect();
         Resolver {
             checked,
             symbols: checked.symbols(),
             subroutines,
+            system,
         }
     }
 
@@ -114,42 +166,71 @@ impl<'a> Resolver<'a> {
             .line
     }
 
-    /// An operand as drawn: as written, its canonical address and its symbol.
+    /// An operand as drawn: as written, its canonical address, its symbol (or the
+    /// system name of its address) with the symbol's comment and type.
     pub(super) fn operand(&self, op: &ast::Operand) -> Operand {
         let written = self.text(op.span).trim().to_string();
-        let (address, symbol) = match op.kind {
+        let named = match op.kind {
             OperandKind::Name {
                 prefix: Prefix::None,
                 local: false,
                 name,
             } => self.address_of(self.text(name)),
-            _ => (None, None),
+            _ => Named::default(),
         };
         Operand {
             written,
-            address,
-            symbol,
+            address: named.address,
+            symbol: named.symbol,
+            comment: named.comment,
+            data_type: named.data_type,
         }
     }
 
-    /// A name's canonical address: a symbol's, in a Micro/WIN export a system
-    /// symbol's (`Always_On`; user symbols win, as in the checker), or a direct address
-    /// normalised.
-    fn address_of(&self, name: &str) -> (Option<String>, Option<String>) {
-        if let Some(symbol) = self.symbols.get(name) {
-            return (Some(symbol.address.clone()), Some(symbol.name.clone()));
-        }
+    /// A name's canonical address and what names it: a symbol's, in a Micro/WIN export
+    /// a system symbol's (`Always_On`; user symbols win, as in the checker), or a direct
+    /// address normalised, named by a user symbol or the target's name when it is a
+    /// system bit or byte (`SM0.0` as `Always_On`, docs/ladder.md "System names").
+    fn address_of(&self, name: &str) -> Named {
         let memory = &self.checked.target.memory;
+        if let Some(symbol) = self.symbols.get(name) {
+            return self.user_symbol(symbol);
+        }
         if self.checked.microwin.is_some() {
             if let Some(bit) = memory.microwin_system_bit(name) {
-                let address = memory.parse_address(&bit.address).ok();
-                let symbol = bit.microwin.clone();
-                return (address.map(|a| memory.format_address(&a)), symbol);
+                if let Ok(address) = memory.parse_address(&bit.address) {
+                    return system_name(bit, bit.microwin.clone(), &address, memory);
+                }
             }
         }
-        match memory.parse_address(name) {
-            Ok(address) => (Some(memory.format_address(&address)), None),
-            Err(_) => (None, None),
+        let Ok(address) = memory.parse_address(name) else {
+            return Named::default();
+        };
+        let canonical = memory.format_address(&address);
+        if let Some(bit) = self.system.get(&canonical).map(|&i| &memory.system_bits[i]) {
+            if let Some(symbol) = self.symbols.for_address(&canonical) {
+                return self.user_symbol(symbol);
+            }
+            let shown = bit.microwin.clone().unwrap_or_else(|| bit.name.clone());
+            return system_name(bit, Some(shown), &address, memory);
+        }
+        Named {
+            address: Some(canonical),
+            ..Named::default()
+        }
+    }
+
+    fn user_symbol(&self, symbol: &gutta_format::Symbol) -> Named {
+        let memory = &self.checked.target.memory;
+        let width = memory.parse_address(&symbol.address).ok().map(|a| a.width);
+        Named {
+            address: Some(symbol.address.clone()),
+            symbol: Some(symbol.name.clone()),
+            comment: Some(symbol.comment.trim().to_string()).filter(|c| !c.is_empty()),
+            data_type: symbol
+                .data_type
+                .clone()
+                .or_else(|| width.map(|w| width_type(w).to_string())),
         }
     }
 

@@ -52,7 +52,7 @@ struct DraftBranch {
 
 #[derive(Debug)]
 enum DraftEnd {
-    End(BranchEnd),
+    End(Box<BranchEnd>),
     Split(usize),
 }
 
@@ -336,7 +336,7 @@ impl RungBuilder {
         let junction = self.junction_of(level)?;
         self.junctions[junction].push(DraftBranch {
             path: Vec::new(),
-            end: DraftEnd::End(end),
+            end: DraftEnd::End(Box::new(end)),
         });
         self.stack.push(Level::Anchored {
             junction,
@@ -393,7 +393,7 @@ impl RungBuilder {
                     })?;
                     self.junctions[j].push(DraftBranch {
                         path: Vec::new(),
-                        end: DraftEnd::End(BranchEnd::Box(b)),
+                        end: DraftEnd::End(Box::new(BranchEnd::Box(b))),
                     });
                     Ok(())
                 }
@@ -413,7 +413,7 @@ impl RungBuilder {
                         })?;
                         self.junctions[j].push(DraftBranch {
                             path: Vec::new(),
-                            end: DraftEnd::End(BranchEnd::Box(b)),
+                            end: DraftEnd::End(Box::new(BranchEnd::Box(b))),
                         });
                         Ok(())
                     }
@@ -443,7 +443,7 @@ fn branches(
     for draft in drafts {
         let mut path = draft.path;
         let end = match draft.end {
-            DraftEnd::End(end) => end,
+            DraftEnd::End(end) => *end,
             DraftEnd::Split(j) => {
                 let mut inner = branches(junctions, j)?;
                 match inner.len() {

@@ -343,5 +343,7 @@ fn operand(written: &str) -> Operand {
         written: written.trim().to_string(),
         address: None,
         symbol: None,
+        comment: None,
+        data_type: None,
     }
 }

@@ -14,6 +14,8 @@ fn op(address: &str) -> Operand {
         written: address.into(),
         address: Some(address.into()),
         symbol: None,
+        comment: None,
+        data_type: None,
     }
 }
 
@@ -22,6 +24,8 @@ fn constant(text: &str) -> Operand {
         written: text.into(),
         address: None,
         symbol: None,
+        comment: None,
+        data_type: None,
     }
 }
 

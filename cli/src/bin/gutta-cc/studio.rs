@@ -53,6 +53,7 @@ pub(crate) fn studio(cli: &Cli, options: &StudioArgs) -> Result<ExitCode, Fatal>
                 live: std::sync::Mutex::new(None),
                 token,
                 writing: std::sync::Mutex::new(()),
+                draw: std::sync::Mutex::new(gutta_ladder::svg::DrawOptions::default()),
             }),
             guard,
         )

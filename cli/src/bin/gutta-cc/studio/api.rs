@@ -22,7 +22,7 @@ use axum::routing::{get, post};
 use gutta_cli::studio::{CompletionRequest, Session, Update, Wanted};
 use gutta_ladder::json::ModelDiagnostic;
 use gutta_ladder::layout::block_heading;
-use gutta_ladder::svg::escape;
+use gutta_ladder::svg::{escape, DrawOptions};
 use serde_json::{json, Value};
 
 use super::drawing::network_html;
@@ -44,7 +44,7 @@ const SCRIPTS: [&str; 4] = [
 const PAGE_CSS: &str = include_str!("page.css");
 
 /// The commands of the toolbar: `data-command` name, label, key shown in the tooltip.
-pub(crate) const COMMANDS: [(&str, &str, &str); 19] = [
+pub(crate) const COMMANDS: [(&str, &str, &str); 20] = [
     ("edit", "Edit", "Esc"),
     ("contact-no", "─┤ ├─", "F4"),
     ("contact-nc", "─┤/├─", "Shift+F4"),
@@ -59,6 +59,7 @@ pub(crate) const COMMANDS: [(&str, &str, &str); 19] = [
     ("redo", "Redo", "Ctrl+Y"),
     ("save", "Save", "Ctrl+S"),
     ("view-stl", "LAD/STL", "Ctrl+L"),
+    ("symbol-info", "Symbol info", "Alt+I"),
     ("simulate", "Simulate", "F5"),
     ("stop", "Stop", "Shift+F5"),
     ("online", "Online", "Ctrl+F5"),
@@ -79,12 +80,20 @@ pub(crate) struct Studio {
     /// Held while a file is written by PUT: two PUTs of one file would share gutta-io's
     /// temporary sibling (named by the process).
     pub writing: Mutex<()>,
+    /// How the page's networks are drawn (the `symbol-info` command sets
+    /// `symbol_info`, `POST /api/view`).
+    pub draw: Mutex<DrawOptions>,
 }
 
 impl Studio {
     /// The session, even after a handler panicked holding it.
     pub(crate) fn session(&self) -> MutexGuard<'_, Session> {
         self.session.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// How the networks are drawn now.
+    pub(crate) fn draw_options(&self) -> DrawOptions {
+        *self.draw.lock().unwrap_or_else(|e| e.into_inner())
     }
 }
 
@@ -95,6 +104,7 @@ pub(crate) fn router(studio: Arc<Studio>, guard: Guard) -> axum::Router {
         .route("/api/project", get(project))
         .route("/api/file", get(read_file).put(write_file))
         .route("/api/drawing", get(drawing))
+        .route("/api/view", post(view))
         .route("/api/model", get(model))
         .route("/api/edit", post(edit))
         .route("/api/undo", post(undo))
@@ -155,9 +165,10 @@ pub(super) fn file_of(uri: &Uri, session: &Session) -> Result<String, Refusal> {
 
 async fn page(State(studio): State<Arc<Studio>>, uri: Uri) -> Response {
     let token = studio.token.as_str().to_string();
+    let draw = studio.draw_options();
     let made = with_session(&studio, move |session| {
         let file = file_of(&uri, session)?;
-        page_html(session, &file, &token)
+        page_html(session, &file, &token, &draw)
     })
     .await;
     match made {
@@ -185,7 +196,12 @@ async fn page(State(studio): State<Arc<Studio>>, uri: Uri) -> Response {
 
 /// The page: toolbar, side bar, the file's blocks and networks, the status bar, the
 /// scripts with the token and the file's state.
-fn page_html(session: &Session, file: &str, token: &str) -> Result<String, Refusal> {
+fn page_html(
+    session: &Session,
+    file: &str,
+    token: &str,
+    draw: &DrawOptions,
+) -> Result<String, Refusal> {
     let ladder = session.ladder(file)?;
     let diagnostics = session.diagnostics(file)?;
     let dirty = session.is_dirty(file)?;
@@ -198,8 +214,10 @@ fn page_html(session: &Session, file: &str, token: &str) -> Result<String, Refus
         out,
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\"/>\n\
          <title>{name}: GUTTA Studio</title>\n<link rel=\"icon\" href=\"data:,\">\n\
-         <style>{}{PAGE_CSS}</style>\n</head>\n<body data-mode=\"EDIT\" data-view=\"LAD\">\n",
-        gutta_ladder::svg::STYLE
+         <style>{}{PAGE_CSS}</style>\n</head>\n<body data-mode=\"EDIT\" data-view=\"LAD\" \
+         data-symbol-info=\"{}\">\n",
+        gutta_ladder::svg::STYLE,
+        if draw.symbol_info { "on" } else { "off" }
     );
     out.push_str("<header class=\"toolbar\" role=\"toolbar\">");
     for (command, label, key) in COMMANDS {
@@ -253,7 +271,7 @@ fn page_html(session: &Session, file: &str, token: &str) -> Result<String, Refus
             let _ = writeln!(
                 out,
                 "<div class=\"network-view\" data-b=\"{b}\" data-n=\"{n}\">{}</div>",
-                network_html(b, n, block, net)
+                network_html(b, n, block, net, draw)
             );
         }
         out.push_str("</div></section>\n");
@@ -398,7 +416,7 @@ async fn write_file(State(studio): State<Arc<Studio>>, uri: Uri, body: Bytes) ->
 }
 
 /// Every network of a file drawn, by block.
-fn drawing_json(session: &Session, file: &str) -> Result<Value, Refusal> {
+fn drawing_json(session: &Session, file: &str, draw: &DrawOptions) -> Result<Value, Refusal> {
     let ladder = session.ladder(file)?;
     let blocks: Vec<Value> = ladder
         .blocks
@@ -411,7 +429,7 @@ fn drawing_json(session: &Session, file: &str) -> Result<Value, Refusal> {
                 .enumerate()
                 .map(|(n, net)| {
                     json!({"block": b, "network": n, "number": net.number,
-                           "html": network_html(b, n, block, net)})
+                           "html": network_html(b, n, block, net, draw)})
                 })
                 .collect();
             json!({"name": block.name, "heading": block_heading(block),
@@ -428,10 +446,38 @@ fn drawing_json(session: &Session, file: &str) -> Result<Value, Refusal> {
 }
 
 async fn drawing(State(studio): State<Arc<Studio>>, uri: Uri) -> Response {
+    let draw = studio.draw_options();
     answer(
         with_session(&studio, move |session| {
             let file = file_of(&uri, session)?;
-            drawing_json(session, &file)
+            drawing_json(session, &file, &draw)
+        })
+        .await,
+    )
+}
+
+/// `POST /api/view` `{"symbol_info": true|false}`: how the networks are drawn from now
+/// on; answers the file's drawing (`GET /api/drawing`) drawn so.
+async fn view(State(studio): State<Arc<Studio>>, body: Bytes) -> Response {
+    let value = match body_json(&body) {
+        Ok(value) => value,
+        Err(refusal) => return refusal.into_response(),
+    };
+    let Some(symbol_info) = value.get("symbol_info").and_then(Value::as_bool) else {
+        return Refusal::BadRequest("the body needs \"symbol_info\": true or false".into())
+            .into_response();
+    };
+    let draw = {
+        let mut draw = studio.draw.lock().unwrap_or_else(|e| e.into_inner());
+        draw.symbol_info = symbol_info;
+        *draw
+    };
+    answer(
+        with_session(&studio, move |session| {
+            let file = body_file(&value, session)?;
+            let mut drawing = drawing_json(session, &file, &draw)?;
+            drawing["symbol_info"] = Value::Bool(draw.symbol_info);
+            Ok(drawing)
         })
         .await,
     )
@@ -449,7 +495,11 @@ async fn model(State(studio): State<Arc<Studio>>, uri: Uri) -> Response {
 }
 
 /// An update as the page takes it: the redrawn networks as `<svg>` with paths.
-pub(super) fn update_json(session: &Session, update: &Update) -> Result<Value, Refusal> {
+pub(super) fn update_json(
+    session: &Session,
+    update: &Update,
+    draw: &DrawOptions,
+) -> Result<Value, Refusal> {
     let ladder = session.ladder(&update.file)?;
     let networks: Vec<Value> = update
         .networks
@@ -459,7 +509,7 @@ pub(super) fn update_json(session: &Session, update: &Update) -> Result<Value, R
             let net = block.networks.get(d.network)?;
             Some(
                 json!({"block": d.block, "network": d.network, "number": net.number,
-                        "html": network_html(d.block, d.network, block, net)}),
+                        "html": network_html(d.block, d.network, block, net, draw)}),
             )
         })
         .collect();
@@ -490,8 +540,9 @@ fn step_json(
     session: &Session,
     update: &Update,
     before: &[ModelDiagnostic],
+    draw: &DrawOptions,
 ) -> Result<Value, Refusal> {
-    let mut value = update_json(session, update)?;
+    let mut value = update_json(session, update, draw)?;
     if update.diagnostics == before {
         if let Some(object) = value.as_object_mut() {
             object.remove("diagnostics");
@@ -528,6 +579,7 @@ fn body_file(value: &Value, session: &Session) -> Result<String, Refusal> {
 }
 
 async fn edit(State(studio): State<Arc<Studio>>, body: Bytes) -> Response {
+    let draw = studio.draw_options();
     answer(
         with_session(&studio, move |session| {
             let value = body_json(&body)?;
@@ -537,31 +589,33 @@ async fn edit(State(studio): State<Arc<Studio>>, body: Bytes) -> Response {
             })?;
             let before = session.diagnostics(&file)?.to_vec();
             let update = session.apply(&file, &edit.to_string())?;
-            step_json(session, &update, &before)
+            step_json(session, &update, &before, &draw)
         })
         .await,
     )
 }
 
 async fn undo(State(studio): State<Arc<Studio>>, body: Bytes) -> Response {
+    let draw = studio.draw_options();
     answer(
         with_session(&studio, move |session| {
             let file = body_file(&body_json(&body)?, session)?;
             let before = session.diagnostics(&file)?.to_vec();
             let update = session.undo(&file)?;
-            step_json(session, &update, &before)
+            step_json(session, &update, &before, &draw)
         })
         .await,
     )
 }
 
 async fn redo(State(studio): State<Arc<Studio>>, body: Bytes) -> Response {
+    let draw = studio.draw_options();
     answer(
         with_session(&studio, move |session| {
             let file = body_file(&body_json(&body)?, session)?;
             let before = session.diagnostics(&file)?.to_vec();
             let update = session.redo(&file)?;
-            step_json(session, &update, &before)
+            step_json(session, &update, &before, &draw)
         })
         .await,
     )

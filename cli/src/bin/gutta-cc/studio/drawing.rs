@@ -1,5 +1,5 @@
 //! The networks as the studio page draws them (docs/studio.md, "The page"): each one an
-//! inline `<svg>` of `gutta_ladder::svg::draw_network` (the classes and `data-*` of
+//! inline `<svg>` of `gutta_ladder::svg::draw_network_with` (the classes and `data-*` of
 //! `gutta-cc ladder`), every contact, coil and box also carrying `data-path`, the JSON
 //! path of the ladder model the edit operations and diagnostics use
 //! (`blocks[0].networks[2].rung.series[1]`). The paths follow the model's own shape
@@ -9,7 +9,7 @@
 use std::fmt::Write as _;
 
 use gutta_ladder::model::{Block, Body, Branch, BranchEnd, Network, Node};
-use gutta_ladder::svg::{draw_network, escape};
+use gutta_ladder::svg::{draw_network_with, escape, DrawOptions};
 
 /// The model's shape with element ids at the leaves.
 enum Shape {
@@ -102,10 +102,17 @@ pub(crate) fn element_paths(b: usize, n: usize, net: &Network) -> Vec<(u32, Stri
     out
 }
 
-/// Network `n` of block `b` as the page's `<svg>`, its elements with `data-path`.
-pub(crate) fn network_html(b: usize, n: usize, block: &Block, net: &Network) -> String {
+/// Network `n` of block `b` as the page's `<svg>` drawn with `draw`, its elements with
+/// `data-path`.
+pub(crate) fn network_html(
+    b: usize,
+    n: usize,
+    block: &Block,
+    net: &Network,
+    draw: &DrawOptions,
+) -> String {
     let mut drawn = String::new();
-    let (w, h) = draw_network(&mut drawn, block, net, 0);
+    let (w, h) = draw_network_with(&mut drawn, block, net, 0, draw);
     for (id, path) in element_paths(b, n, net) {
         let from = format!(" data-id=\"{id}\" ");
         let to = format!(" data-id=\"{id}\" data-path=\"{}\" ", escape(&path));
@@ -138,7 +145,7 @@ mod tests {
         );
         let ladder = gutta_ladder::build(&checked);
         let block = &ladder.blocks[0];
-        let html = network_html(0, 0, block, &block.networks[0]);
+        let html = network_html(0, 0, block, &block.networks[0], &DrawOptions::default());
         let paths: Vec<&str> = html
             .split("data-path=\"")
             .skip(1)

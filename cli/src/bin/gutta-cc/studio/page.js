@@ -511,9 +511,11 @@
     return set;
   }
 
+  // The tooltip's first line (mnemonic and operands) without its source line; the
+  // symbol lines under it are left out.
   function tooltip(el) {
     const t = el.querySelector('title');
-    return t ? t.textContent.replace(/ \(line \d+\)$/, '') : '';
+    return t ? t.textContent.split('\n')[0].replace(/ \(line \d+\)$/, '') : '';
   }
 
   // Select the element of network (b, n) that was not there before (by its class).
@@ -713,14 +715,12 @@
     if (!view) return notify('select a network first', 'error');
     const b = state.selection.b;
     const n = state.selection.n;
-    const g = view.querySelector('g.network');
-    let current = '';
-    if (field === 'title' && g) {
-      const t = g.querySelector('.network-title');
-      current = t ? t.textContent.replace(/^Network \d+:? ?/, '') : '';
-    } else if (g) {
-      current = Array.from(g.querySelectorAll('.comment')).map(function (c) { return c.textContent; }).join(' / ');
-    }
+    // From the model: the drawing wraps long titles and comments (docs/ladder.md,
+    // "Comments"), so its lines are not the source's.
+    const model = await call('/api/model?' + query({ file: state.file }));
+    const net = model.blocks[b] && model.blocks[b].networks[n];
+    if (!net) return;
+    const current = field === 'title' ? (net.title || '') : (net.comment || '').split('\n').join(' / ');
     const value = await ask({ label: 'network ' + field + (field === 'comment' ? ' (" / " between lines)' : ''), kind: 'text', value: current, anchor: view });
     if (value === null) return;
     const edit = field === 'title'
@@ -792,7 +792,20 @@
 
   // The whole drawing of the open file again.
   async function reload() {
-    const drawing = await call('/api/drawing?' + query({ file: state.file }));
+    showDrawing(await call('/api/drawing?' + query({ file: state.file })));
+  }
+
+  // `symbol-info`: the table of each network's symbols under its rung, on or off
+  // (docs/ladder.md, "Symbol information"); the server draws every network so from now on.
+  async function toggleSymbolInfo() {
+    const on = document.body.dataset.symbolInfo !== 'on';
+    const drawing = await call('/api/view', { json: { file: state.file, symbol_info: on } });
+    document.body.dataset.symbolInfo = drawing.symbol_info ? 'on' : 'off';
+    showDrawing(drawing);
+  }
+
+  // A drawing answer (`/api/drawing`, `/api/view`) shown: every network redrawn.
+  function showDrawing(drawing) {
     drawing.blocks.forEach(function (block, b) {
       const section = sectionOf(b);
       if (!section) return;
@@ -872,6 +885,7 @@
   command('redo', editing(function () { return history('redo'); }));
   command('save', save);
   command('view-stl', viewStl);
+  command('symbol-info', toggleSymbolInfo);
 
   // Key -> command: Micro/WIN's F4 contact, F6 coil, F9 box (docs/studio.md, "Keys").
   const KEYS = {
@@ -884,7 +898,7 @@
     'Ctrl+c': 'network-copy', 'Ctrl+v': 'network-paste',
     'Enter': 'operand',
     'Ctrl+z': 'undo', 'Ctrl+y': 'redo', 'Ctrl+Shift+z': 'redo', 'Ctrl+Shift+Z': 'redo',
-    'Ctrl+s': 'save', 'F3': 'view-stl',
+    'Ctrl+s': 'save', 'F3': 'view-stl', 'Alt+i': 'symbol-info',
     'F5': 'simulate', 'Shift+F5': 'stop', 'Ctrl+F5': 'online',
     'Ctrl+d': 'download', 'Alt+t': 'test', 'Escape': 'edit',
   };

@@ -59,6 +59,7 @@ fn to_value<T: serde::Serialize>(value: &T) -> Result<Value, Refusal> {
 
 /// `PUT /api/stl` `{"file", "block", "network"?, "text"}`.
 async fn set_stl(State(studio): State<Arc<Studio>>, body: Bytes) -> Response {
+    let draw = studio.draw_options();
     with_session(&studio, move |session| {
         let value = body_json(&body)?;
         let file = match value.get("file") {
@@ -92,7 +93,7 @@ async fn set_stl(State(studio): State<Arc<Studio>>, body: Bytes) -> Response {
             Some(network) => session.set_network_stl(&file, block, network, text)?,
             None => session.set_stl(&file, block, text)?,
         };
-        update_json(session, &update)
+        update_json(session, &update, &draw)
     })
     .await
 }
@@ -162,6 +163,7 @@ async fn symbols(State(studio): State<Arc<Studio>>) -> Response {
 /// `POST /api/symbols` `{"op": "add"|"set"|"rename", ...}`: the Updates of the files it
 /// changed.
 async fn change_symbols(State(studio): State<Arc<Studio>>, body: Bytes) -> Response {
+    let draw = studio.draw_options();
     with_session(&studio, move |session| {
         let change: SymbolChange = serde_json::from_slice(&body).map_err(|e| {
             Refusal::BadRequest(format!(
@@ -171,7 +173,7 @@ async fn change_symbols(State(studio): State<Arc<Studio>>, body: Bytes) -> Respo
         let updates = session.change_symbols(&change)?;
         let updates = updates
             .iter()
-            .map(|u| update_json(session, u))
+            .map(|u| update_json(session, u, &draw))
             .collect::<Result<Vec<_>, _>>()?;
         Ok(json!({"updates": updates}))
     })
