@@ -244,6 +244,8 @@ codes! {
         "A test without `EXPECT` or `UNTIL` passes whatever the program does (only a fault fails it). Add the expectation the test is about.";
     W0802 NoTests Warning "test file without tests"
         "A `.gtest` file has no `TEST` block; it runs nothing.";
+    W0803 ComparisonAlwaysTrue Warning "comparison that is always true"
+        "An `EXPECT` or `UNTIL` comparison holds whatever the variable's value, because of the variable's type: `Lamp >= 0` or `Lamp <= 1` on a bit, `>= 0` on an unsigned BYTE, WORD or DWORD, `<= 255` on a BYTE, `>= -32768` or `<= 32767` on an INT. It checks nothing; compare with the value the test is about (`Lamp = 1`, `MB4 > 0`).";
 }
 
 #[cfg(test)]
