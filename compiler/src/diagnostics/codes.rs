@@ -119,7 +119,7 @@ codes! {
     E0301 OperandCount Error "wrong number of operands"
         "The instruction takes a fixed number of operands (see docs/instructions.md); the message lists them.";
     E0302 WidthMismatch Error "operand width not allowed"
-        "The operand's width does not fit the instruction: `MOVW` moves words, so `MOVW MB0, MW2` is wrong (use `MOVB` for bytes, or `MW0`). Widths: B = 8 bits, W = 16, D = 32.";
+        "The operand's width does not fit the instruction: `MOVW` moves words, so `MOVW MB0, MW2` is wrong (use `MOVB` for bytes, or `MW0`). Widths: B = 8 bits, W = 16, D = 32. For a direct address whose area has the wanted width, the diagnostic carries a fix (editors' quick fix, `fixes` in JSON): the address of that width at the same byte (`MB0` -> `MW0`), where it exists; a symbol or a bit gets none, since what was meant is not known.";
     E0303 TypeMismatch Error "data type not allowed"
         "A typed operand (a local variable or argument declared with a type) has a type the instruction does not accept, e.g. an INT local in `+R`.";
     E0304 AreaNotAllowed Error "area not allowed"
