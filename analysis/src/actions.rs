@@ -1,8 +1,10 @@
 //! Code actions: the quick fixes of the diagnostics in a range. Each fix a diagnostic
-//! carries (did-you-mean replacements, a missing END_ line) is one action; an undefined
-//! symbol also gets "declare it", which inserts `Name : ` into the file's SYMBOLS block
-//! (or creates the block) with the address left for the user. An action is preferred
-//! when it is its diagnostic's only one. Plain data; nothing is applied here.
+//! carries (did-you-mean replacements, a missing END_ line, E0302's address of the
+//! right width) is one action; an undefined symbol also gets "declare it", which
+//! inserts `Name : ADDRESS` into the file's SYMBOLS block (or creates the block), the
+//! address a free one of the width and area the use needs (`free_address.rs`), or a
+//! placeholder where the use says nothing. An action is preferred when it is its
+//! diagnostic's only one. Plain data; nothing is applied here.
 
 use gutta_compiler::diagnostics::{Code, Diagnostic};
 use gutta_compiler::source::{PartKind, Span};
@@ -51,11 +53,14 @@ pub fn code_actions(checked: &CheckedFile, range: Span) -> Vec<CodeAction> {
     actions
 }
 
-/// `Name : // TODO: address` at the end of the last SYMBOLS block of the diagnostic's
-/// file (of any source file when it has none), or a new block at the file's top.
+/// `Name : M0.0` (a free address the use takes, else `// TODO: address`) at the end of
+/// the last SYMBOLS block of the diagnostic's file (of any source file when it has
+/// none), or a new block at the file's top.
 fn declare_symbol(checked: &CheckedFile, d: &Diagnostic, index: usize) -> Option<CodeAction> {
     let text = &checked.file.text;
     let name = text.get(d.primary.span.range())?;
+    let free = crate::free_address::for_use(checked, d.primary.span);
+    let address = free.as_deref().unwrap_or(ADDRESS_PLACEHOLDER);
     let file = &checked.file;
     let parts = file.parts();
     let own = file.part_index(d.primary.span.start as usize);
@@ -81,7 +86,7 @@ fn declare_symbol(checked: &CheckedFile, d: &Diagnostic, index: usize) -> Option
             };
             (
                 Span::new(after, after),
-                format!("{prefix}{indent}{name} : {ADDRESS_PLACEHOLDER}\n"),
+                format!("{prefix}{indent}{name} : {address}\n"),
             )
         }
         None => {
@@ -89,12 +94,16 @@ fn declare_symbol(checked: &CheckedFile, d: &Diagnostic, index: usize) -> Option
             let at = block_insertion_point(&text[part.start..part.end]) + part.start;
             (
                 Span::new(at, at),
-                format!("SYMBOLS\n  {name} : {ADDRESS_PLACEHOLDER}\nEND_SYMBOLS\n\n"),
+                format!("SYMBOLS\n  {name} : {address}\nEND_SYMBOLS\n\n"),
             )
         }
     };
+    let title = match &free {
+        Some(a) => format!("Declare symbol `{name}` as {a} in SYMBOLS"),
+        None => format!("Declare symbol `{name}` in SYMBOLS"),
+    };
     Some(CodeAction {
-        title: format!("Declare symbol `{name}` in SYMBOLS"),
+        title,
         diagnostic: index,
         edits: vec![edit],
         preferred: false,
@@ -165,20 +174,51 @@ mod tests {
         let text = format!(
             "SYMBOLS\n    Start : I0.0 // go\nEND_SYMBOLS\n{MAIN}LD Pump\nEND_ORGANIZATION_BLOCK\n"
         );
-        let out = fixed(&text, "Pump", "Declare");
-        assert!(
-            out.contains("// go\n    Pump : // TODO: address\nEND_SYMBOLS"),
-            "{out}"
-        );
+        let out = fixed(&text, "Pump", "Declare symbol `Pump` as M0.0");
+        assert!(out.contains("// go\n    Pump : M0.0\nEND_SYMBOLS"), "{out}");
         let text = format!("// header\nPLC_TYPE CPU-EC20\n{MAIN}LD Pump\nEND_ORGANIZATION_BLOCK\n");
         let out = fixed(&text, "Pump", "Declare");
         assert!(
-            out.starts_with("// header\nPLC_TYPE CPU-EC20\nSYMBOLS\n  Pump : // TODO: address\nEND_SYMBOLS\n\nORGANIZATION_BLOCK"),
+            out.starts_with("// header\nPLC_TYPE CPU-EC20\nSYMBOLS\n  Pump : M0.0\nEND_SYMBOLS\n\nORGANIZATION_BLOCK"),
             "{out}"
         );
         let c = gutta_compiler::check_source(SourceFile::new("t.lad", text.as_str()), None);
         let at = text.find("Pump").unwrap();
         assert!(code_actions(&c, Span::new(at, at))[0].preferred);
+    }
+
+    #[test]
+    fn a_declared_symbol_gets_a_free_address_of_its_width_or_a_placeholder() {
+        let text = format!(
+            "SYMBOLS\n  Start : M0.0\nEND_SYMBOLS\n{MAIN}LD Start\n= M0.1\nMOVW MW0, Speed\nCALL S, Arg\nEND_ORGANIZATION_BLOCK\n\
+             SUBROUTINE_BLOCK S:SBR0\nVAR_INPUT\n  a : INT;\nEND_VAR\nBEGIN\nNETWORK 1\nLD SM0.0\nEND_SUBROUTINE_BLOCK\n"
+        );
+        let out = fixed(&text, "Speed", "Declare symbol `Speed` as MW2");
+        assert!(
+            out.contains("  Start : M0.0\n  Speed : MW2\nEND_SYMBOLS"),
+            "{out}"
+        );
+        let out = fixed(&text, "Arg", "Declare symbol `Arg` in SYMBOLS");
+        assert!(out.contains("  Arg : // TODO: address\n"), "{out}");
+    }
+
+    #[test]
+    fn a_width_mismatch_becomes_the_address_of_the_width_at_the_same_byte() {
+        let text = format!(
+            "{MAIN}LD I0.0\nMOVW MB4, MW2\nINCD MW8\nMOVW M0.0, MW6\nEND_ORGANIZATION_BLOCK\n"
+        );
+        let out = fixed(
+            &text,
+            "MB4",
+            "Replace `MB4` with `MW4` (the word at the same byte)",
+        );
+        assert!(out.contains("MOVW MW4, MW2"), "{out}");
+        let out = fixed(&text, "MW8", "Replace `MW8` with `MD8`");
+        assert!(out.contains("INCD MD8"), "{out}");
+        // A bit: which word was meant is not known; no fix.
+        let c = gutta_compiler::check_source(SourceFile::new("t.lad", text.as_str()), None);
+        let at = text.find("M0.0").expect("M0.0");
+        assert!(code_actions(&c, Span::new(at, at)).is_empty());
     }
 
     #[test]

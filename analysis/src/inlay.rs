@@ -1,5 +1,6 @@
 //! Inlay hints: after a symbol's use, the address it stands for (`Start` -> `: I0.0`);
-//! after a SYMBOLS declaration's address and a word operand, its Modbus reference. Also
+//! after a SYMBOLS declaration's address and a word operand, its Modbus reference; after
+//! a timer's constant preset, the time it stands for (`TON T37, 100` -> `10.0 s`). Also
 //! the hook for live values ([`operand_addresses`]): the operands of a range with the
 //! address each reads. Plain data over byte spans of the program text; no LSP types.
 
@@ -18,6 +19,8 @@ pub struct InlayOptions {
     pub symbol_addresses: bool,
     /// The Modbus reference after SYMBOLS declarations and word operands.
     pub modbus: bool,
+    /// `10.0 s` after a timer's constant preset.
+    pub timer_durations: bool,
 }
 
 impl Default for InlayOptions {
@@ -25,6 +28,7 @@ impl Default for InlayOptions {
         InlayOptions {
             symbol_addresses: true,
             modbus: true,
+            timer_durations: true,
         }
     }
 }
@@ -36,6 +40,8 @@ pub enum InlayKind {
     SymbolAddress,
     /// A Modbus reference.
     Modbus,
+    /// A timer preset as a duration.
+    TimerDuration,
 }
 
 /// One hint: its text, shown at `offset` (after the thing it describes).
@@ -82,6 +88,18 @@ pub fn inlay_hints(checked: &CheckedFile, range: Span, options: InlayOptions) ->
                     offset: span.end as usize,
                     label: modbus_label(&m),
                     kind: InlayKind::Modbus,
+                });
+            }
+        }
+    }
+    if options.timer_durations {
+        for b in crate::timers::timer_boxes(checked) {
+            if let Some(d) = b.duration().filter(|_| inside(b.preset)) {
+                hints.push(Inlay {
+                    offset: b.preset.end as usize,
+                    // No `=`: live values are ` = value` hints (lsp handlers/live.rs).
+                    label: d,
+                    kind: InlayKind::TimerDuration,
                 });
             }
         }
@@ -198,13 +216,40 @@ mod tests {
         let off = InlayOptions {
             symbol_addresses: false,
             modbus: false,
+            timer_durations: false,
         };
         assert!(hints(off).is_empty());
         let modbus_only = InlayOptions {
             symbol_addresses: false,
             modbus: true,
+            timer_durations: false,
         };
         assert_eq!(hints(modbus_only).len(), 3);
+    }
+
+    #[test]
+    fn a_timer_preset_shows_its_duration() {
+        // CPU-EC20: T4 counts 100 ms, T2 10 ms; a preset in memory has no duration.
+        let text = "SYMBOLS\n  Delay : T4\nEND_SYMBOLS\nORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD I0.0\nTON Delay, 100\nTONR T2, 1234\nTOF T5, MW10\nCTU C0, 5\nEND_ORGANIZATION_BLOCK\n";
+        let checked = gutta_compiler::check_source(SourceFile::new("t.lad", text), None);
+        let only = InlayOptions {
+            symbol_addresses: false,
+            modbus: false,
+            timer_durations: true,
+        };
+        let found: Vec<String> = inlay_hints(&checked, Span::new(0, text.len()), only)
+            .into_iter()
+            .map(|h| {
+                format!(
+                    "{}|{}",
+                    &text[..h.offset].rsplit(' ').next().unwrap_or(""),
+                    h.label
+                )
+            })
+            .collect();
+        assert_eq!(found, ["100|10.0 s", "1234|12.34 s"]);
+        let none = inlay_hints(&checked, Span::new(0, text.find("TONR").unwrap_or(0)), only);
+        assert_eq!(none.len(), 1, "only the hints inside the range: {none:?}");
     }
 
     #[test]

@@ -8,6 +8,7 @@ pub mod actions;
 pub mod completion;
 pub mod folding;
 pub mod format;
+pub mod free_address;
 pub mod inlay;
 pub mod navigation;
 pub mod network_edit;
@@ -15,6 +16,7 @@ pub mod outline;
 mod place;
 pub mod rename;
 pub mod signature;
+pub mod timers;
 pub mod tokens;
 pub mod workspace_symbols;
 

@@ -12,6 +12,9 @@ use gutta_compiler::source::Span;
 use gutta_compiler::syntax::ast::{OperandKind, SymbolDecl, Unit, VarSection};
 use gutta_compiler::CheckedFile;
 
+use crate::inlay::symbol_addresses;
+use crate::timers;
+
 /// What the text at an offset is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Item {
@@ -120,14 +123,27 @@ pub fn references_at(checked: &CheckedFile, offset: usize) -> Vec<(Span, Access)
     all
 }
 
-/// Markdown that explains the item at `offset`, and the span it explains.
+/// Markdown that explains the item at `offset`, and the span it explains. A timer (its
+/// address, a symbol naming it, or a constant preset of its box) also gets what its
+/// boxes say: kind, resolution, preset as a duration (`timers.rs`).
 pub fn hover(checked: &CheckedFile, offset: usize) -> Option<(Span, String)> {
-    let (span, item) = item_at(checked, offset)?;
+    let Some((span, item)) = item_at(checked, offset) else {
+        let preset = timers::preset_at(checked, offset)?;
+        return Some((preset, timers::timer_note(checked, offset, None)?));
+    };
     let mut text = match item {
         Item::Mnemonic(id) => instruction_hover(checked, id),
         Item::Definition(def) => definition_hover(checked, def),
         Item::Address(a) => address_hover(checked, &a),
     };
+    let address = match item {
+        Item::Address(a) => Some(a),
+        Item::Definition(def) => symbol_addresses(checked).get(&def).copied(),
+        Item::Mnemonic(_) => None,
+    };
+    if let Some(note) = timers::timer_note(checked, offset, address) {
+        text = format!("{text}\n\n{note}");
+    }
     // An S7-200 timer or counter bit of a Micro/WIN export: what it compiles to.
     if let Some((_, note)) = checked
         .microwin

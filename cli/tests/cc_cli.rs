@@ -91,7 +91,7 @@ fn plc_option_selects_the_target() {
 
 #[test]
 fn json_diagnostics_have_the_documented_fields() {
-    let path = temp_file("json.lad", "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNetwork 1\nLD SM0.0\nMOVW   MB0, MW2\nMOWV 1, MW4\nEND_ORGANIZATION_BLOCK\n");
+    let path = temp_file("json.lad", "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNetwork 1\nLD SM0.0\nMOVW   MB0, MW2\nMOWV 1, MW4\nMOVW   M0.0, MW6\nEND_ORGANIZATION_BLOCK\n");
     let out = gutta_cc(&[
         "--check",
         "--message-format",
@@ -104,7 +104,7 @@ fn json_diagnostics_have_the_documented_fields() {
         .lines()
         .map(|l| serde_json::from_str(l).expect("one JSON object per line"))
         .collect();
-    assert_eq!(lines.len(), 2);
+    assert_eq!(lines.len(), 3);
     let d = &lines[0];
     assert_eq!(d["code"], "E0302");
     assert_eq!(d["severity"], "error");
@@ -121,7 +121,19 @@ fn json_diagnostics_have_the_documented_fields() {
     assert_eq!(lines[1]["code"], "E0201");
     assert_eq!(lines[1]["help"], "did you mean `MOVW`?");
     // The did-you-mean as an edit a tool can apply: MOWV (line 6, columns 1-5) -> MOVW.
-    assert!(d.get("fixes").is_none(), "no fix, no field: {d}");
+    // E0302 on a direct address: the address of the wanted width at the same byte.
+    assert_eq!(
+        d["fixes"][0]["title"],
+        "Replace `MB0` with `MW0` (the word at the same byte)"
+    );
+    assert_eq!(d["fixes"][0]["edits"][0]["replacement"], "MW0");
+    // E0302 on a bit: which word was meant is not known.
+    assert_eq!(lines[2]["code"], "E0302");
+    assert!(
+        lines[2].get("fixes").is_none(),
+        "no fix, no field: {}",
+        lines[2]
+    );
     let fix = &lines[1]["fixes"][0];
     assert_eq!(fix["title"], "Replace with `MOVW`", "{fix}");
     let edit = &fix["edits"][0];

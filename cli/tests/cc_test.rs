@@ -197,7 +197,7 @@ fn filter_junit_vcd_and_json() {
         \x20   print(s.get('name'), s.get('tests'), s.get('failures'))\n\
         \x20   for c in s.iter('testcase'):\n\
         \x20       f = c.find('failure')\n\
-        \x20       print(c.get('classname'), c.get('name'), 'failure' if f is not None else 'ok', (f.get('message') if f is not None else ''))\n";
+        \x20       print(c.get('classname'), c.get('name'), c.get('file') + ':' + c.get('line'), 'failure' if f is not None else 'ok', (f.get('message') if f is not None else ''))\n";
     let parsed = std::process::Command::new(&python)
         .args(["-c", script, junit.to_str().expect("path")])
         .output()
@@ -209,9 +209,10 @@ fn filter_junit_vcd_and_json() {
         String::from_utf8_lossy(&parsed.stderr)
     );
     assert!(lines.contains("t.gtest 2 1\n"), "{lines}");
-    assert!(lines.contains("t.gtest fills ok"), "{lines}");
+    // Each test case says where its TEST line is.
+    assert!(lines.contains("t.gtest fills t.gtest:4 ok"), "{lines}");
     assert!(
-        lines.contains("t.gtest level_is_wrong failure EXPECT failed after scan 3 (60 ms): Level (MW20) = 350 expected, is 300"),
+        lines.contains("t.gtest level_is_wrong t.gtest:10 failure EXPECT failed after scan 3 (60 ms): Level (MW20) = 350 expected, is 300"),
         "{lines}"
     );
 
@@ -266,6 +267,61 @@ fn filter_junit_vcd_and_json() {
         objects[1],
         serde_json::json!({"type": "summary", "passed": 0, "failed": 1, "files": 1, "file_errors": 0})
     );
+}
+
+#[test]
+fn failed_tests_are_listed_last_with_the_command_that_reruns_each_alone() {
+    let dir = scratch("rerun");
+    // `level` is part of the name of `level_is_wrong`: only --exact runs it alone.
+    let source = format!(
+        "{FAILING}\nTEST level\n  SET Sensor = 9600\n  SCAN\n  EXPECT Level = 1\nEND_TEST\n"
+    );
+    write(&dir, "my tests/t.gtest", &source);
+    std::fs::copy(dir.join("tank.lad"), dir.join("my tests/tank.lad")).expect("copies");
+    let o = cc_in(&dir, &["test", "my tests"]);
+    let out = stdout(&o);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let list = "\nfailed tests (each re-runs alone with the command beside it):\n\
+        \x20 my tests/t.gtest::level_is_wrong  gutta-cc test 'my tests/t.gtest' --filter level_is_wrong --exact\n\
+        \x20 my tests/t.gtest::level           gutta-cc test 'my tests/t.gtest' --filter level --exact\n\
+        \n1 passed, 2 failed";
+    assert!(out.contains(list), "{out}");
+    // The list comes after every failure's detail.
+    let (detail, list) = (
+        out.find("---- my tests/t.gtest::level\n"),
+        out.find("failed tests ("),
+    );
+    assert!(detail.is_some() && detail < list, "{out}");
+
+    // The command runs that one test and no other, as a shell reads it.
+    let command = out
+        .lines()
+        .find(|l| l.ends_with("--filter level --exact"))
+        .and_then(|l| l.split_once("  gutta-cc "))
+        .map(|(_, c)| c)
+        .expect("the re-run command");
+    let o = std::process::Command::new("sh")
+        .current_dir(&dir)
+        .arg("-c")
+        .arg(format!("\"$0\" {command}"))
+        .arg(env!("CARGO_BIN_EXE_gutta-cc"))
+        .output()
+        .expect("sh runs");
+    let out = stdout(&o);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(out.starts_with("FAIL  my tests/t.gtest::level ("), "{out}");
+    assert!(
+        out.contains("0 passed, 1 failed (1 test in 1 file; 2 filtered out)"),
+        "{out}"
+    );
+
+    // A run that passes lists nothing; --exact needs --filter.
+    let o = cc_in(&dir, &["test", "my tests", "--filter", "fills", "--exact"]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o));
+    assert!(!stdout(&o).contains("failed tests"), "{}", text(&o));
+    let o = cc_in(&dir, &["test", "my tests", "--exact"]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(stderr(&o).contains("--filter"), "{}", text(&o));
 }
 
 #[test]

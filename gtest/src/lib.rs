@@ -99,7 +99,45 @@ impl TestSource {
     }
 }
 
-/// Whether a test runs under `--filter`: the filter is part of its name (any case).
-pub fn selected(name: &str, filter: Option<&str>) -> bool {
-    filter.is_none_or(|f| name.to_lowercase().contains(&f.to_lowercase()))
+/// `--filter NAME` (and `--exact`): which tests run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Filter<'a> {
+    pub name: &'a str,
+    /// The whole name, not a part of it (`--exact`): one test of a file.
+    pub exact: bool,
+}
+
+/// Whether a test runs under `filter`: the filter is part of its name, or with `exact`
+/// the whole name (any case, as names are in the file).
+pub fn selected(name: &str, filter: Option<Filter>) -> bool {
+    filter.is_none_or(|f| {
+        let (name, wanted) = (name.to_lowercase(), f.name.to_lowercase());
+        if f.exact {
+            name == wanted
+        } else {
+            name.contains(&wanted)
+        }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_filter_selects_by_part_or_by_the_whole_name() {
+        let part = Filter {
+            name: "LAMP",
+            exact: false,
+        };
+        let whole = Filter {
+            name: "lamp",
+            exact: true,
+        };
+        assert!(selected("lamp_latches", None));
+        assert!(selected("lamp_latches", Some(part)));
+        assert!(!selected("pump", Some(part)));
+        assert!(selected("Lamp", Some(whole)));
+        assert!(!selected("lamp_latches", Some(whole)));
+    }
 }

@@ -208,6 +208,58 @@ pub fn source_line(file: &SourceFile, line: u32) -> &str {
         .trim_end()
 }
 
+/// The command that runs test `name` of file `display` alone: `gutta-cc test FILE
+/// --filter NAME --exact`, with `flags` (the run's `--plc`, `--target`...) after it. A
+/// path with characters a shell reads is single-quoted.
+pub fn rerun_command(display: &str, name: &str, flags: &[String]) -> String {
+    let mut words = vec![
+        "gutta-cc".to_string(),
+        "test".into(),
+        shell_word(display),
+        "--filter".into(),
+        shell_word(name),
+        "--exact".into(),
+    ];
+    words.extend(flags.iter().map(|f| shell_word(f)));
+    words.join(" ")
+}
+
+/// `word` as a POSIX shell reads it back: as is when plain, else in single quotes.
+fn shell_word(word: &str) -> String {
+    let plain = !word.is_empty()
+        && word
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "_-./:=@%+,".contains(c));
+    if plain {
+        word.to_string()
+    } else {
+        format!("'{}'", word.replace('\'', "'\\''"))
+    }
+}
+
+/// The closing list of failed tests, each with the command that re-runs it alone
+/// (empty when none failed):
+///
+/// ```text
+/// failed tests (each re-runs alone with the command beside it):
+///   t.gtest::level_is_wrong  gutta-cc test t.gtest --filter level_is_wrong --exact
+/// ```
+pub fn failed_list(failed: &[(&str, &str)], flags: &[String]) -> String {
+    if failed.is_empty() {
+        return String::new();
+    }
+    let names: Vec<String> = failed
+        .iter()
+        .map(|(file, test)| format!("{file}::{test}"))
+        .collect();
+    let width = names.iter().map(|n| n.chars().count()).max().unwrap_or(0);
+    let mut out = String::from("failed tests (each re-runs alone with the command beside it):\n");
+    for (name, (file, test)) in names.iter().zip(failed) {
+        let _ = writeln!(out, "  {name:width$}  {}", rerun_command(file, test, flags));
+    }
+    out
+}
+
 /// The summary line: `2 passed, 1 failed (3 tests in 1 file)`.
 pub fn summary(passed: usize, failed: usize, files: usize, filtered: usize) -> String {
     let tests = passed + failed;
@@ -285,8 +337,8 @@ pub struct FileResults<'a> {
     pub error: Option<String>,
 }
 
-/// JUnit XML: one `<testsuite>` per file, one `<testcase>` per test (classname the file),
-/// a `<failure>` with the message and the detail; a file with errors is one `<error>`
+/// JUnit XML: one `<testsuite>` per file, one `<testcase>` per test (classname the file,
+/// `file` and `line` where its `TEST` line is), a `<failure>` with the message and the detail; a file with errors is one `<error>`
 /// test case named after the file.
 pub fn junit(files: &[FileResults]) -> Result<String, String> {
     let mut report = Report::new("gutta-cc test");
@@ -298,6 +350,7 @@ pub fn junit(files: &[FileResults]) -> Result<String, String> {
             status.set_description(error.as_str());
             let mut case = TestCase::new("(file)", status);
             case.set_classname(f.display);
+            case.extra.insert("file".into(), f.display.into());
             suite.add_test_case(case);
         }
         for (result, duration) in f.results {
@@ -321,6 +374,10 @@ pub fn junit(files: &[FileResults]) -> Result<String, String> {
             let mut case = TestCase::new(result.name.as_str(), status);
             case.set_classname(f.display);
             case.set_time(*duration);
+            // Where the test is (GitLab and the Jenkins/GitHub reporters link to it).
+            case.extra.insert("file".into(), f.display.into());
+            case.extra
+                .insert("line".into(), result.line.to_string().into());
             suite.add_test_case(case);
         }
         report.add_test_suite(suite);
@@ -347,4 +404,36 @@ pub fn vcd(test: &PlannedTest, result: &TestResult) -> Option<String> {
 /// Column of a byte offset, for JSON diagnostics of test files (1-based).
 pub fn line_of(file: &SourceFile, offset: usize) -> u32 {
     LineIndex::new(&file.text).line_col(&file.text, offset).line
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_rerun_command_is_read_back_by_a_shell() {
+        assert_eq!(
+            rerun_command("tests/main.gtest", "lamp", &[]),
+            "gutta-cc test tests/main.gtest --filter lamp --exact"
+        );
+        assert_eq!(
+            rerun_command(
+                "my tests/it's.gtest",
+                "t",
+                &["--plc".into(), "CPU-EC20".into()]
+            ),
+            "gutta-cc test 'my tests/it'\\''s.gtest' --filter t --exact --plc CPU-EC20"
+        );
+    }
+
+    #[test]
+    fn the_failed_list_aligns_its_commands() {
+        assert_eq!(failed_list(&[], &[]), "");
+        assert_eq!(
+            failed_list(&[("a.gtest", "x"), ("b.gtest", "long_name")], &[]),
+            "failed tests (each re-runs alone with the command beside it):\n\
+             \x20 a.gtest::x          gutta-cc test a.gtest --filter x --exact\n\
+             \x20 b.gtest::long_name  gutta-cc test b.gtest --filter long_name --exact\n"
+        );
+    }
 }

@@ -116,13 +116,15 @@ pub struct Plan {
     pub scan_ms: u32,
     pub watchdog: Option<u64>,
     pub tests: Vec<PlannedTest>,
+    /// Warnings of the resolution (W0803: a comparison that is always true).
+    pub warnings: Vec<Diagnostic>,
 }
 
 /// The scan time without `SCAN_TIME`.
 pub const DEFAULT_SCAN_MS: u32 = 10;
 
-/// Resolve `parsed` (the text of `file`) against `program`; the diagnostics of every
-/// variable or value that does not fit (no plan then).
+/// Resolve `parsed` (the text of `file`) against `program`; the errors of every
+/// variable or value that does not fit (no plan then). Warnings go with the plan.
 pub fn plan(
     file: &SourceFile,
     parsed: &TestFile,
@@ -159,14 +161,17 @@ pub fn plan(
             statements,
         });
     }
-    if diagnostics.is_empty() {
+    let (errors, warnings): (Vec<Diagnostic>, Vec<Diagnostic>) =
+        diagnostics.into_iter().partition(Diagnostic::is_error);
+    if errors.is_empty() {
         Ok(Plan {
             scan_ms,
             watchdog: parsed.header.watchdog.map(|(w, _)| w),
             tests,
+            warnings,
         })
     } else {
-        Err(diagnostics)
+        Err(errors)
     }
 }
 
@@ -255,6 +260,21 @@ impl Resolver<'_> {
                     Expected::Bits(bits) => var.show(*bits),
                     Expected::Bytes(bytes) => show_bytes(bytes),
                 };
+                if let Some(why) = always_true(var, c.op, &expected) {
+                    self.diagnostics.push(
+                        Diagnostic::new(
+                            Code::ComparisonAlwaysTrue,
+                            c.span,
+                            format!(
+                                "`{} {} {shown}` is always true: {why}",
+                                var.name(),
+                                c.op.as_str()
+                            ),
+                        )
+                        .label("always true")
+                        .help("compare with the value the test is about; this comparison checks nothing"),
+                    );
+                }
                 Some(Check {
                     var: id,
                     op: c.op,
@@ -519,6 +539,42 @@ fn real_bits(v: f64) -> Result<Expected, String> {
     Ok(Expected::Bits(single.to_bits()))
 }
 
+/// Why `var op expected` holds whatever value `var` has, or `None` when it can fail:
+/// `>=` its type's least value or `<=` its greatest (a REAL can be NaN: never).
+pub fn always_true(var: &Variable, op: CompareOp, expected: &Expected) -> Option<String> {
+    let Expected::Bits(bits) = expected else {
+        return None;
+    };
+    let width = var.address.width;
+    let (least, greatest) = match var.format {
+        ValueFormat::Real => return None,
+        ValueFormat::Bool => (0, 1),
+        ValueFormat::Signed => signed_range(width),
+        ValueFormat::Unsigned | ValueFormat::Hex => (0, unsigned_max(width)),
+    };
+    let m = mask(width);
+    let value = match var.format {
+        ValueFormat::Signed => {
+            let shift = 32 - width.bits();
+            i64::from((((bits & m) << shift) as i32) >> shift)
+        }
+        _ => i64::from(bits & m),
+    };
+    let ty = type_name(var);
+    let label = var.label();
+    match op {
+        CompareOp::Ge if value <= least => Some(format!(
+            "{label} is {ty}, never less than {}",
+            var.show(least as u32)
+        )),
+        CompareOp::Le if value >= greatest => Some(format!(
+            "{label} is {ty}, never greater than {}",
+            var.show(greatest as u32)
+        )),
+        _ => None,
+    }
+}
+
 /// Bytes as a quoted text, others escaped.
 pub fn show_bytes(bytes: &[u8]) -> String {
     let text: String = bytes.iter().map(|&b| char::from(b)).collect();
@@ -601,6 +657,46 @@ mod tests {
         )
         .is_err());
         assert!(value_bits(&bit, CompareOp::Eq, &LiteralValue::Text(b"a".to_vec())).is_err());
+    }
+
+    #[test]
+    fn a_comparison_that_cannot_fail_says_why() {
+        let holds = |var: &Variable, op, v: i64| {
+            let literal = LiteralValue::Integer {
+                value: v,
+                based: false,
+            };
+            let expected = value_bits(var, op, &literal).expect("fits");
+            always_true(var, op, &expected)
+        };
+        let bit = var("Q0.0", ValueFormat::Bool);
+        let byte = var("MB4", ValueFormat::Unsigned);
+        let int = var("MW20", ValueFormat::Signed);
+        let word = var("MW20", ValueFormat::Unsigned);
+        let dword = var("MD8", ValueFormat::Unsigned);
+        assert_eq!(
+            holds(&bit, CompareOp::Ge, 0).as_deref(),
+            Some("Q0.0 is BOOL, never less than 0")
+        );
+        assert!(holds(&bit, CompareOp::Le, 1).is_some());
+        assert!(holds(&bit, CompareOp::Ge, 1).is_none());
+        assert!(holds(&bit, CompareOp::Eq, 0).is_none());
+        assert!(holds(&byte, CompareOp::Ge, 0).is_some());
+        assert_eq!(
+            holds(&byte, CompareOp::Le, 255).as_deref(),
+            Some("MB4 is BYTE, never greater than 255")
+        );
+        assert!(holds(&byte, CompareOp::Le, 254).is_none());
+        assert!(holds(&byte, CompareOp::Gt, 0).is_none());
+        assert!(holds(&int, CompareOp::Ge, 0).is_none());
+        assert!(holds(&int, CompareOp::Ge, -32768).is_some());
+        assert!(holds(&int, CompareOp::Le, 32767).is_some());
+        assert!(holds(&word, CompareOp::Ge, 0).is_some());
+        assert!(holds(&dword, CompareOp::Le, 4_294_967_295).is_some());
+        let real = var("MD8", ValueFormat::Real);
+        let expected =
+            value_bits(&real, CompareOp::Ge, &LiteralValue::Real(-3.4e38)).expect("fits");
+        assert!(always_true(&real, CompareOp::Ge, &expected).is_none());
     }
 
     #[test]

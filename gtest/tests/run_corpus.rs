@@ -108,6 +108,10 @@ fn check_file(
             return 0;
         }
     };
+    if !plan.warnings.is_empty() {
+        failures.extend(diagnostic_lines(name, &source.file, &plan.warnings));
+        return 0;
+    }
     for (engine, fast, native_after) in ENGINES {
         for test in &plan.tests {
             let options = RunOptions {

@@ -1,6 +1,7 @@
 //! Code actions over the protocol: did-you-mean replacements, declaring an undefined
-//! symbol, adding a missing END_ line; each with the diagnostic it fixes, preferred when
-//! it is the only fix.
+//! symbol at a free address of the width its use needs, adding a missing END_ line,
+//! E0302's address of the right width; each with the diagnostic it fixes, preferred
+//! when it is the only fix.
 
 mod common;
 
@@ -67,6 +68,29 @@ fn quick_fixes_for_typos_undefined_symbols_and_missing_ends() {
         actions(&mut s, &u, on("ORGANIZATION")).join("\n")
     );
     assert!(actions(&mut s, &u, on("BEGIN")).is_empty());
+}
+
+/// E0302 on a direct address: the address of the wanted width at the same byte, the
+/// diagnostic's only fix (preferred); none for a symbol or a bit.
+#[test]
+fn a_width_mismatch_gets_the_address_of_the_right_width() {
+    let text = "SYMBOLS\n  Small : MB6\nEND_SYMBOLS\nORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD     I0.0\nMOVW   MB4, MW20\nMOVW   Small, MW22\nMOVW   M0.0, MW24\nEND_ORGANIZATION_BLOCK\n";
+    let mut s = TestServer::start();
+    let u = uri("main.lad");
+    s.open(&u, text);
+    let on = |needle: &str| {
+        let p = find(text, needle, 0, 1);
+        Range::new(p, p)
+    };
+    let fixes = actions(&mut s, &u, on("MB4"));
+    assert_eq!(fixes.len(), 1, "{fixes:?}");
+    assert!(
+        fixes[0].starts_with("Replace `MB4` with `MW4` (the word at the same byte) (preferred: Some(true), fixes Some(String(\"E0302\")))"),
+        "{fixes:?}"
+    );
+    assert!(fixes[0].contains("\"newText\": \"MW4\""), "{fixes:?}");
+    assert!(actions(&mut s, &u, on("Small,")).is_empty());
+    assert!(actions(&mut s, &u, on("M0.0")).is_empty());
 }
 
 /// A misspelt END_ keyword: one quick fix, replacing the word (not adding a second END_

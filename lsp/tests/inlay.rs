@@ -1,6 +1,6 @@
-//! textDocument/inlayHint over the in-process server: symbol addresses and Modbus
-//! references, in a lone file and across a project's files and symbol table, and the
-//! `initializationOptions.inlayHints` switch.
+//! textDocument/inlayHint over the in-process server: symbol addresses, Modbus
+//! references and timer presets as durations, in a lone file and across a project's
+//! files and symbol table, and the `initializationOptions.inlayHints` switch.
 
 mod common;
 
@@ -73,6 +73,34 @@ fn initialization_options_turn_hints_off() {
         hints(&mut no_modbus, &u),
         ["8:12 \": I0.0\" Some(Type)", "9:12 \": MW20\" Some(Type)"]
     );
+}
+
+#[test]
+fn a_timer_preset_shows_its_duration_unless_turned_off() {
+    // CPU-EC20: T4 counts 100 ms, T2 10 ms; a preset in memory has no duration.
+    let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD     I0.0\nTON    T4, 100\nTONR   T2, 6150\nTOF    T5, MW10\nEND_ORGANIZATION_BLOCK\n";
+    let u = uri("main.lad");
+    let only_timers =
+        serde_json::json!({ "inlayHints": { "modbus": false, "symbolAddresses": false } });
+    let mut s = TestServer::start_with(InitializeParams {
+        initialization_options: Some(only_timers),
+        ..InitializeParams::default()
+    });
+    s.open(&u, text);
+    assert_eq!(
+        hints(&mut s, &u),
+        [
+            "5:14 \"10.0 s\" Some(Parameter)",
+            "6:15 \"1 min 1.50 s\" Some(Parameter)"
+        ]
+    );
+    let off = serde_json::json!({ "inlayHints": { "modbus": false, "timerDurations": false } });
+    let mut s = TestServer::start_with(InitializeParams {
+        initialization_options: Some(off),
+        ..InitializeParams::default()
+    });
+    s.open(&u, text);
+    assert_eq!(hints(&mut s, &u), Vec::<String>::new());
 }
 
 #[test]

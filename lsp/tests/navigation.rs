@@ -231,3 +231,22 @@ fn positions_stay_right_in_a_crlf_file_with_emoji_of_a_project() {
         "None"
     );
 }
+
+/// A timer, its symbol and its constant preset explain the timer: kind, resolution on
+/// the target (CPU-EC20: T4 counts 100 ms) and the preset as a duration.
+#[test]
+fn a_timer_hover_gives_its_resolution_and_the_preset_as_a_duration() {
+    let text = "SYMBOLS\n  Delay : T4 // 按钮 dwell\nEND_SYMBOLS\nORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNetwork 1\nLD     I0.0\nTON    Delay, 150\nLDW>=  T4, 20\n=      Q0.0\nEND_ORGANIZATION_BLOCK\n";
+    let mut s = TestServer::start();
+    let u = uri("main.lad");
+    s.open(&u, text);
+    assert_eq!(s.diagnostics_of(&u), &[]);
+    let line = "**TON** (on-delay timer) `Delay` (`T4`): counts 100 ms; preset 150 = 15.0 s";
+    let preset = hover_text(&mut s, &u, find(text, "150", 0, 1));
+    assert_eq!(preset, format!("[7:14-7:17]\n{line}"));
+    for (needle, n) in [("Delay", 0), ("Delay", 1), ("T4", 1)] {
+        let h = hover_text(&mut s, &u, find(text, needle, n, 1));
+        assert!(h.ends_with(&format!("\n\n{line}")), "{needle} #{n}: {h}");
+    }
+    assert_eq!(hover_text(&mut s, &u, find(text, "20", 0, 1)), "(none)");
+}

@@ -4,12 +4,12 @@
 //! says, in diagnostics, why a variable is refused. Names are resolved in `names.rs`.
 
 use gutta_catalog::rules::{self, DataRules, IndirectRefusal};
-use gutta_catalog::{Area, AreaKind, DataType, OperandSpec, Width};
+use gutta_catalog::{Address, Area, AreaKind, DataType, OperandSpec, Width};
 
 use super::names::Variable;
 use super::operands::types_text;
 use super::{CheckedOperand, Checker, Use};
-use crate::diagnostics::{Code, Diagnostic};
+use crate::diagnostics::{Code, Diagnostic, Fix};
 use crate::source::Span;
 use crate::syntax::ast::Prefix;
 
@@ -240,10 +240,53 @@ impl Checker<'_> {
             .help(self.width_help(site, want));
             if let Some(def) = var.declared {
                 d = d.with_secondary(self.out.definitions[def].span, self.declared_as(shown, var));
+            } else if let Some(fix) = self.same_byte_fix(site, var, area, want) {
+                d = d.fix(fix);
             }
             self.report(d);
         }
         false
+    }
+
+    /// E0302's fix, where there is exactly one: a direct byte, word or double word
+    /// address (not a symbol, a local or a bit) of an area that has the wanted width
+    /// becomes the address of that width at the same byte (`MB4` -> `MW4` for MOVW),
+    /// when that address exists on the target. A bit gets none: which byte or word
+    /// was meant is not known.
+    fn same_byte_fix(
+        &self,
+        site: &VariableSite<'_>,
+        var: &Variable,
+        area: &Area,
+        want: Width,
+    ) -> Option<Fix> {
+        if want == Width::Bit || var.address.width == Width::Bit || !area.allows(want) {
+            return None;
+        }
+        let memory = &self.target.memory;
+        // Only an address written as the target writes it (not a symbol, and not one
+        // a dialect renamed).
+        if memory.parse_address(self.slice(site.name)).ok() != Some(var.address) {
+            return None;
+        }
+        let wanted = Address {
+            width: want,
+            bit: 0,
+            ..var.address
+        };
+        let text = memory.format_address(&wanted);
+        // The address must exist (the area is long enough) and read back the same.
+        if memory.parse_address(&text).ok() != Some(wanted) {
+            return None;
+        }
+        Some(Fix {
+            title: format!(
+                "Replace `{}` with `{text}` (the {} at the same byte)",
+                site.shown,
+                width_words(want).trim_start_matches("a ")
+            ),
+            edits: vec![(site.name, text)],
+        })
     }
 
     /// E0302's help: what the operand must be, as the addresses of the areas the

@@ -119,7 +119,7 @@ codes! {
     E0301 OperandCount Error "wrong number of operands"
         "The instruction takes a fixed number of operands (see docs/instructions.md); the message lists them.";
     E0302 WidthMismatch Error "operand width not allowed"
-        "The operand's width does not fit the instruction: `MOVW` moves words, so `MOVW MB0, MW2` is wrong (use `MOVB` for bytes, or `MW0`). Widths: B = 8 bits, W = 16, D = 32.";
+        "The operand's width does not fit the instruction: `MOVW` moves words, so `MOVW MB0, MW2` is wrong (use `MOVB` for bytes, or `MW0`). Widths: B = 8 bits, W = 16, D = 32. For a direct address whose area has the wanted width, the diagnostic carries a fix (editors' quick fix, `fixes` in JSON): the address of that width at the same byte (`MB0` -> `MW0`), where it exists; a symbol or a bit gets none, since what was meant is not known.";
     E0303 TypeMismatch Error "data type not allowed"
         "A typed operand (a local variable or argument declared with a type) has a type the instruction does not accept, e.g. an INT local in `+R`.";
     E0304 AreaNotAllowed Error "area not allowed"
@@ -244,6 +244,8 @@ codes! {
         "A test without `EXPECT` or `UNTIL` passes whatever the program does (only a fault fails it). Add the expectation the test is about.";
     W0802 NoTests Warning "test file without tests"
         "A `.gtest` file has no `TEST` block; it runs nothing.";
+    W0803 ComparisonAlwaysTrue Warning "comparison that is always true"
+        "An `EXPECT` or `UNTIL` comparison holds whatever the variable's value, because of the variable's type: `Lamp >= 0` or `Lamp <= 1` on a bit, `>= 0` on an unsigned BYTE, WORD or DWORD, `<= 255` on a BYTE, `>= -32768` or `<= 32767` on an INT. It checks nothing; compare with the value the test is about (`Lamp = 1`, `MB4 > 0`).";
 }
 
 #[cfg(test)]

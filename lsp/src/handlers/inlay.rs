@@ -1,7 +1,8 @@
 //! textDocument/inlayHint: the analysis's inlay hints (gutta_analysis::inlay)
 //! for the requested range, converted to LSP positions. Which hints are shown comes from
 //! `initializationOptions.inlayHints` (docs/editors.md): `false` for none, or
-//! `{ "symbolAddresses": bool, "modbus": bool }` (both default true).
+//! `{ "symbolAddresses": bool, "modbus": bool, "timerDurations": bool }` (all default
+//! true).
 //! `visible_operands` is the hook for live values: operands of a range and their
 //! addresses.
 
@@ -50,11 +51,11 @@ fn address_hints(program: &Program, range: Span, options: InlayOptions) -> Vec<I
             label: InlayHintLabel::String(h.label),
             kind: Some(match h.kind {
                 InlayKind::SymbolAddress => InlayHintKind::TYPE,
-                InlayKind::Modbus => InlayHintKind::PARAMETER,
+                InlayKind::Modbus | InlayKind::TimerDuration => InlayHintKind::PARAMETER,
             }),
             text_edits: None,
             tooltip: None,
-            padding_left: Some(h.kind == InlayKind::Modbus),
+            padding_left: Some(h.kind != InlayKind::SymbolAddress),
             padding_right: None,
             data: None,
         })
@@ -80,6 +81,7 @@ pub fn options(init: Option<&Value>) -> InlayOptions {
         Some(Value::Bool(on)) => {
             options.symbol_addresses = *on;
             options.modbus = *on;
+            options.timer_durations = *on;
         }
         Some(Value::Object(o)) => {
             if let Some(on) = o.get("symbolAddresses").and_then(Value::as_bool) {
@@ -87,6 +89,9 @@ pub fn options(init: Option<&Value>) -> InlayOptions {
             }
             if let Some(on) = o.get("modbus").and_then(Value::as_bool) {
                 options.modbus = on;
+            }
+            if let Some(on) = o.get("timerDurations").and_then(Value::as_bool) {
+                options.timer_durations = on;
             }
         }
         _ => {}

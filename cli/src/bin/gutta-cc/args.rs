@@ -100,7 +100,7 @@ pub(crate) enum Command {
     /// Exit status: 0 all passed, 1 a test failed, 2 usage or file errors (no test of a
     /// file with errors runs).
     #[command(
-        after_help = "Examples:\n  cd demo && gutta-cc test                        # a project's tests/ (`gutta-cc new demo`)\n  gutta-cc test demo/tests/main.gtest --filter latch\n  gutta-cc test demo/tests --junit report.xml --vcd waves/\n  gutta-cc test demo/tests --message-format json"
+        after_help = "Examples:\n  cd demo && gutta-cc test                        # a project's tests/ (`gutta-cc new demo`)\n  gutta-cc test demo/tests/main.gtest --filter start_latches_and_stop_releases --exact\n  gutta-cc test demo/tests --junit report.xml --vcd waves/\n  gutta-cc test demo/tests --message-format json"
     )]
     Test {
         /// Test files (.gtest) or folders searched for them [default: the project's tests/].
@@ -108,6 +108,10 @@ pub(crate) enum Command {
         /// Run only the tests whose name contains this text (any case).
         #[arg(long, value_name = "NAME")]
         filter: Option<String>,
+        /// With --filter: only the test named exactly NAME (any case), as the list of
+        /// failed tests re-runs one.
+        #[arg(long, requires = "filter")]
+        exact: bool,
         /// Also write JUnit XML (one testsuite per file) into this file.
         #[arg(long, value_name = "FILE")]
         junit: Option<PathBuf>,

@@ -76,6 +76,7 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
         Command::Test {
             paths,
             filter,
+            exact,
             junit,
             vcd,
             jobs,
@@ -83,6 +84,7 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
             let args = test::TestArgs {
                 paths: paths.clone(),
                 filter: filter.clone(),
+                exact: *exact,
                 junit: junit.clone(),
                 vcd: vcd.clone(),
                 jobs: *jobs,

@@ -33,6 +33,8 @@ use crate::args::Cli;
 pub(crate) struct TestArgs {
     pub paths: Vec<PathBuf>,
     pub filter: Option<String>,
+    /// `--exact`: the filter is a whole test name.
+    pub exact: bool,
     pub junit: Option<PathBuf>,
     pub vcd: Option<PathBuf>,
     pub jobs: Option<usize>,
@@ -143,11 +145,13 @@ pub(crate) fn test(cli: &Cli, args: &TestArgs) -> Result<ExitCode, Fatal> {
 
     // Warnings of the test files, then their errors, in file order.
     for job in &jobs {
+        let plan_warnings = job.plan.as_ref().map_or(&[][..], |p| &p.warnings[..]);
         let warnings: Vec<Diagnostic> = job
             .source
             .diagnostics
             .iter()
             .filter(|d| !d.is_error())
+            .chain(plan_warnings)
             .cloned()
             .collect();
         if json {
@@ -176,6 +180,7 @@ pub(crate) fn test(cli: &Cli, args: &TestArgs) -> Result<ExitCode, Fatal> {
     let file_errors = jobs.iter().filter(|j| !j.errors.is_empty()).count();
     let stdout = std::io::stdout();
     let mut failures = String::new();
+    let mut failed_tests: Vec<(&str, &str)> = Vec::new();
     for (job, outcome) in jobs.iter().zip(&outcomes) {
         let Some(outcome) = outcome else { continue };
         filtered += outcome.filtered;
@@ -184,6 +189,7 @@ pub(crate) fn test(cli: &Cli, args: &TestArgs) -> Result<ExitCode, Fatal> {
                 passed += 1;
             } else {
                 failed += 1;
+                failed_tests.push((&job.display, &result.name));
                 if !failures.is_empty() {
                     failures.push('\n');
                 }
@@ -205,6 +211,11 @@ pub(crate) fn test(cli: &Cli, args: &TestArgs) -> Result<ExitCode, Fatal> {
         let mut out = stdout.lock();
         if !failures.is_empty() {
             let _ = write!(out, "\nfailures:\n\n{failures}");
+            let _ = write!(
+                out,
+                "\n{}",
+                report::failed_list(&failed_tests, &rerun_flags(cli))
+            );
         }
         let mut line = report::summary(passed, failed, jobs.len(), filtered);
         if file_errors > 0 {
@@ -237,6 +248,22 @@ pub(crate) fn test(cli: &Cli, args: &TestArgs) -> Result<ExitCode, Fatal> {
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// The flags of this run that a re-run of one test repeats: those that change what
+/// the program compiles to (the PLC type, the target, the timer scaling).
+fn rerun_flags(cli: &Cli) -> Vec<String> {
+    let mut flags = Vec::new();
+    if let Some(plc) = &cli.target.plc {
+        flags.extend(["--plc".to_string(), plc.clone()]);
+    }
+    if let Some(dir) = &cli.target.target {
+        flags.extend(["--target".to_string(), dir.display().to_string()]);
+    }
+    if cli.scale_timer_presets {
+        flags.push("--scale-timer-presets".into());
+    }
+    flags
 }
 
 /// A program that cannot be tested: the headline of E0808 and its own diagnostics.
@@ -537,7 +564,10 @@ fn run_files(
         .clamp(1, jobs.len().max(1));
     let next = std::sync::atomic::AtomicUsize::new(0);
     let (send, receive) = mpsc::channel::<(usize, Option<FileOutcome>)>();
-    let filter = args.filter.as_deref();
+    let filter = args.filter.as_deref().map(|name| gutta_gtest::Filter {
+        name,
+        exact: args.exact,
+    });
     let mut outcomes: Vec<Option<FileOutcome>> = (0..jobs.len()).map(|_| None).collect();
     std::thread::scope(|scope| {
         for _ in 0..threads {
@@ -568,7 +598,11 @@ fn run_files(
     outcomes
 }
 
-fn run_file(job: &TestFileJob, filter: Option<&str>, options: RunOptions) -> Option<FileOutcome> {
+fn run_file(
+    job: &TestFileJob,
+    filter: Option<gutta_gtest::Filter>,
+    options: RunOptions,
+) -> Option<FileOutcome> {
     let (Some(program), Some(plan)) = (&job.program, &job.plan) else {
         return None;
     };
