@@ -286,7 +286,7 @@ fn activation_starts_gutta_lsp_with_the_settings() {
     );
     assert_eq!(
         client["clientOptions"]["initializationOptions"],
-        serde_json::json!({"liveValues": false, "inlayHints": {"symbolAddresses": true, "modbus": true}})
+        serde_json::json!({"liveValues": false, "inlayHints": {"symbolAddresses": true, "modbus": true, "timerDurations": true}})
     );
     assert_eq!(
         client["clientOptions"]["synchronize"]["configurationSection"],
@@ -315,7 +315,7 @@ fn activation_starts_gutta_lsp_with_the_settings() {
     );
     assert_eq!(
         client["clientOptions"]["initializationOptions"],
-        serde_json::json!({"liveValues": true, "inlayHints": {"symbolAddresses": true, "modbus": false}})
+        serde_json::json!({"liveValues": true, "inlayHints": {"symbolAddresses": true, "modbus": false, "timerDurations": true}})
     );
     assert_eq!(set["liveValuesAfterToggle"], false);
 }

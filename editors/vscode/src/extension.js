@@ -45,6 +45,7 @@ function clientOptions() {
       inlayHints: {
         symbolAddresses: config.get('inlayHints.symbolAddresses') !== false,
         modbus: config.get('inlayHints.modbus') !== false,
+        timerDurations: config.get('inlayHints.timerDurations') !== false,
       },
     },
     synchronize: { configurationSection: 'gutta' },
