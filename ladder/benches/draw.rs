@@ -209,6 +209,7 @@ impl Generator {
                 input: Some(input),
                 outputs,
             }),
+            stl_code: vec![],
         }
     }
 }
