@@ -183,3 +183,51 @@ def test_monitor_live_view(images, plc, live):
                timeout=5.0, what="values again")
     assert time.monotonic() - back < 5.0
     assert page.locator("#status").inner_text() == ""
+
+
+# ---- the studio's live view: the same bits and STL status (SIMULATE) ----------------
+
+STL_NETWORK = """Network 4 // two rungs in one network: shown as STL
+LD     Stop
+=      Q0.2
+LDN    Running
+=      Q0.3
+END_ORGANIZATION_BLOCK
+"""
+
+
+@pytest.fixture
+def project(tmp_path):
+    """The demo project with a fourth network the studio shows as STL."""
+    cc("new", "demo", cwd=tmp_path)
+    root = tmp_path / "demo"
+    main = root / "src" / "main.lad"
+    text = main.read_text()
+    assert text.count("END_ORGANIZATION_BLOCK") == 1
+    main.write_text(text.replace("END_ORGANIZATION_BLOCK\n", STL_NETWORK))
+    return root
+
+
+def test_studio_simulate_shows_bits_and_stl_status(page):
+    page.click('[data-command="simulate"]')
+    wait_until(lambda: page.locator(".status .run").inner_text().strip() == "RUN",
+               what="RUN in the status bar")
+    stop = page.locator('.contact[data-operand="I0.1"]').first
+    wait_until(lambda: stop.get_attribute("data-value") == "0", what="Stop's bit")
+    lines = page.locator('g.network[data-network="4"] .stl-line')
+    wait_until(lambda: lines.count() == 4 and lines.nth(0).get_attribute("data-rlo") == "0",
+               what="the STL lines' RLO")
+    # LD Stop (0), = Q0.2, LDN Running (1: not running), = Q0.3.
+    assert [lines.nth(i).get_attribute("data-rlo") for i in range(4)] == ["0", "0", "1", "1"]
+    # Stop pressed (a click forces it): its contact shows 1 but passes no power (AN).
+    stop.click()
+    wait_until(lambda: stop.get_attribute("data-value") == "1", what="Stop's bit 1")
+    assert "on" not in (stop.get_attribute("class") or "").split()
+    wait_until(lambda: lines.nth(0).get_attribute("data-rlo") == "1", what="LD Stop's RLO 1")
+    # STOP: STOP in the status, nothing on, no RLO; the bits stay.
+    page.click('[data-command="stop"]')
+    wait_until(lambda: "STOP" in page.locator(".status").inner_text(), what="STOP")
+    wait_until(lambda: page.locator(".network .on").count() == 0
+               and page.locator(".stl-line[data-rlo]").count() == 0,
+               what="no power flow and no RLO in STOP")
+    assert stop.get_attribute("data-value") == "1"
