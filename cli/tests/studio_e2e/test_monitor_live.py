@@ -172,6 +172,9 @@ def test_monitor_live_view(images, plc, live):
                timeout=10.0, what="the mismatch message")
     assert page.locator(".on").count() == 0
     assert page.locator("g.network.stale").count() > 0
+    # The download leaves the PLC running the other program: the bar still says so.
+    wait_until(lambda: page.locator(".status .state").inner_text() == "RUN",
+               what="RUN while the program differs")
     shoot_monitor(page, "monitor-mismatch")
 
     # The right program again: values within 5 s, the monitor not restarted.

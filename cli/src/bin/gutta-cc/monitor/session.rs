@@ -235,6 +235,8 @@ impl Session {
         self.check_now = false;
         let pack = plc.pack_size();
         let client = plc.client();
+        // RUN or STOP, for the status bar also while the program differs.
+        self.run = Some(client.status()? & 1 != 0);
         if client
             .page_list(gutta_protocol::function::PageArea::Program)?
             .is_empty()
