@@ -1,14 +1,18 @@
 //! Issue 15's monitor figure: a generated 50-network program (contacts in series and in
 //! parallel, compares, MOVW, TON and CTU boxes) in `gutta-sim` over TCP, `gutta-cc
-//! monitor` on it, and a client fetching `/state` every 100 ms as the page does. Prints
-//! updates per second, PLC requests per second and STATUS_VAR_READs per second over the
-//! run (from the monitor's `/metrics`), at the default interval (50 ms) and as fast as
-//! the link allows (`--interval 1`); fails below the bar of 10 updates per second.
+//! monitor` on it, and a client holding `/events` open as the page does. Prints updates
+//! per second, PLC requests per second and STATUS_VAR_READs per second over the run
+//! (from the monitor's `/metrics`) and the events the client received per second, at the
+//! default interval (50 ms) and as fast as the link allows (`--interval 1`); fails below
+//! the bar of 10 updates (and events received) per second. An event carries the latest
+//! update: a client slower than the updates gets fewer events, never old ones.
 //! `cargo bench -p gutta-cli --bench monitor_rate`; without `--bench` (as under `cargo
 //! test --benches`) each run lasts 1 s.
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::process::{Child, Command, Stdio};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use gutta_catalog::stdlib;
@@ -98,13 +102,45 @@ fn metrics(host: &str) -> (u64, u64, u64) {
     (n("updates"), n("plc_requests"), n("var_reads"))
 }
 
+/// Reads `/events` until `stop`: the first event's JSON through `first`, then counts
+/// every event in `events`.
+fn listen(
+    host: &str,
+    first: std::sync::mpsc::Sender<serde_json::Value>,
+    events: Arc<AtomicU64>,
+    stop: Arc<AtomicBool>,
+) {
+    let mut s = std::net::TcpStream::connect(host).expect("connects");
+    s.set_read_timeout(Some(Duration::from_millis(200)))
+        .expect("timeout");
+    write!(s, "GET /events HTTP/1.1\r\nHost: {host}\r\n\r\n").expect("sends");
+    let mut reader = BufReader::new(s);
+    let mut line = String::new();
+    let mut sent = false;
+    while !stop.load(Ordering::SeqCst) {
+        line.clear();
+        match reader.read_line(&mut line) {
+            Ok(0) => break,
+            Ok(_) => {}
+            Err(_) => continue,
+        }
+        if let Some(data) = line.strip_prefix("data:") {
+            events.fetch_add(1, Ordering::SeqCst);
+            if !sent {
+                sent = true;
+                let _ = first.send(serde_json::from_str(data.trim()).expect("JSON"));
+            }
+        }
+    }
+}
+
 /// One run: the figures per second.
 fn run(
     source: &std::path::Path,
     sim: &str,
     interval: &str,
     seconds: f64,
-) -> (f64, f64, f64, usize, u64) {
+) -> (f64, f64, f64, f64, usize, u64) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_gutta-cc"))
         .args(["monitor", source.to_str().expect("path"), "--tcp", sim])
         .args(["--http", "127.0.0.1:0", "--interval", interval])
@@ -124,23 +160,34 @@ fn run(
         .expect("URL")
         .trim_end_matches('/')
         .to_string();
-    // The first fetch wakes the poller; count from then on.
-    let first: serde_json::Value = serde_json::from_str(&get(&host, "/state")).expect("JSON");
+    // The open stream wakes the poller; count from its first event on.
+    let (first_tx, first_rx) = std::sync::mpsc::channel();
+    let events = Arc::new(AtomicU64::new(0));
+    let stop = Arc::new(AtomicBool::new(false));
+    let listener = {
+        let (host, events, stop) = (host.clone(), events.clone(), stop.clone());
+        std::thread::spawn(move || listen(&host, first_tx, events, stop))
+    };
+    let first = first_rx
+        .recv_timeout(Duration::from_secs(10))
+        .expect("a first event");
     assert_eq!(first["live"], true, "{first}");
     let operands = first["values"].as_object().map_or(0, |v| v.len());
     let addresses = first["read_addresses"].as_u64().expect("a count");
     let (u0, r0, v0) = metrics(&host);
+    let e0 = events.load(Ordering::SeqCst);
     let start = Instant::now();
-    while start.elapsed().as_secs_f64() < seconds {
-        let _ = get(&host, "/state");
-        std::thread::sleep(Duration::from_millis(100));
-    }
+    std::thread::sleep(Duration::from_secs_f64(seconds));
     let (u1, r1, v1) = metrics(&host);
+    let e1 = events.load(Ordering::SeqCst);
     let t = start.elapsed().as_secs_f64();
+    stop.store(true, Ordering::SeqCst);
+    listener.join().expect("the listener ends");
     (
         (u1 - u0) as f64 / t,
         (r1 - r0) as f64 / t,
         (v1 - v0) as f64 / t,
+        (e1 - e0) as f64 / t,
         operands,
         addresses,
     )
@@ -179,15 +226,17 @@ fn main() {
     let _sim = Killed(child);
     let sim = first.rsplit(' ').next().expect("address").to_string();
     for interval in ["50", "1"] {
-        let (updates, requests, reads, operands, addresses) = run(&source, &sim, interval, seconds);
+        let (updates, requests, reads, events, operands, addresses) =
+            run(&source, &sim, interval, seconds);
         println!(
             "monitor_rate: {NETWORKS} networks, {operands} operands in {addresses} read addresses, --interval {interval}: \
-             {updates:.1} updates/s, {requests:.1} PLC requests/s, {reads:.1} STATUS_VAR_READ/s ({:.1} per update) over {seconds} s",
+             {updates:.1} updates/s, {requests:.1} PLC requests/s, {reads:.1} STATUS_VAR_READ/s ({:.1} per update), \
+             {events:.1} events/s received over {seconds} s",
             reads / updates
         );
         assert!(
-            updates >= 10.0,
-            "{updates:.1} updates/s is below the bar of 10"
+            updates >= 10.0 && events >= 10.0,
+            "{updates:.1} updates/s, {events:.1} events/s: below the bar of 10"
         );
     }
 }

@@ -1,9 +1,12 @@
 //! `gutta-cc monitor` end to end through the real binaries: a program in `gutta-sim`
-//! over TCP, the monitor serving it on a free port; headless Chromium loads the page and
-//! the contact of the input set is `on`, then not once the input is cleared; no
-//! STATUS_VAR_READ while no page is open; forced inputs reported; another program in the
+//! over TCP, the monitor serving it on a free port; no STATUS_VAR_READ while no page is
+//! open; forced inputs reported; another program in the
 //! PLC is said instead of values (the page and `--once`), and so is a PLC without a
-//! program. The browser test needs chromium.
+//! program; `/events` pushes an update at once and the PLC is left alone once the last
+//! stream closes; STOP keeps the values and drops the power flow; the view resumes by
+//! itself once the right program is downloaded; a network shown as STL gets its lines'
+//! logic results. The page in a browser is studio_e2e/test_monitor_live.py's (Playwright:
+//! `chromium --dump-dom` cannot wait for an event stream's first event).
 
 mod common;
 
@@ -17,7 +20,8 @@ use std::time::Duration;
 const PROGRAM: &str = "PLC_TYPE CPU-EC20\n\nSYMBOLS\n  Start : I0.0\n  Lamp : Q0.0\n\
      END_SYMBOLS\n\nORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1 // start\nLD     Start\n\
      AN     I0.1\n=      Lamp\nNETWORK 2 // a value\nLD     SM0.0\nMOVW   16#00FF, MW10\n\
-     END_ORGANIZATION_BLOCK\n";
+     NETWORK 3 // two rungs: shown as STL\nLD     I0.2\nA      I0.3\n=      Q0.2\n\
+     LDN    I0.2\n=      Q0.3\nEND_ORGANIZATION_BLOCK\n";
 
 /// Another program: the same shape, another output.
 const OTHER: &str = "PLC_TYPE CPU-EC20\n\nORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\n\
@@ -98,43 +102,6 @@ fn var_reads(monitor: &Monitor) -> u64 {
 fn cc_ok(args: &[&str]) {
     let o = cc(args);
     assert!(o.status.success(), "{args:?}: {}{}", stdout(&o), stderr(&o));
-}
-
-/// The `<g class="contact ...">` start tag of the contact of `operand` in the page
-/// Chromium rendered after its script ran.
-fn rendered_contact(url: &str, operand: &str) -> String {
-    let out = Command::new("chromium")
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--virtual-time-budget=3000",
-            "--dump-dom",
-            url,
-        ])
-        .output()
-        .expect("chromium runs");
-    let dom = String::from_utf8_lossy(&out.stdout).into_owned();
-    let needle = format!("data-operand=\"{operand}\"");
-    dom.split('<')
-        .find(|tag| tag.starts_with("g class=\"contact") && tag.contains(&needle))
-        .unwrap_or_else(|| panic!("no contact of {operand} in the page:\n{dom}"))
-        .to_string()
-}
-
-#[test]
-fn the_browser_sees_the_energized_contact_come_and_go() {
-    if !common::have("chromium") {
-        return;
-    }
-    let (source, sim) = setup("browser", PROGRAM);
-    let monitor = monitor(&source, &sim);
-    cc_ok(&["write", "I0.0=1", "--tcp", &sim.1]);
-    let contact = rendered_contact(&monitor.1, "I0.0");
-    assert!(contact.contains("class=\"contact on\""), "{contact}");
-    cc_ok(&["write", "I0.0=0", "--tcp", &sim.1]);
-    let contact = rendered_contact(&monitor.1, "I0.0");
-    assert!(contact.starts_with("g class=\"contact\""), "{contact}");
 }
 
 #[test]
@@ -270,9 +237,192 @@ fn a_plc_without_a_program_is_said_so() {
     assert_eq!(
         state["message"],
         format!(
-            "the PLC holds no program: download {} first with `gutta-cc download`, then reload",
+            "the PLC holds no program: download {} with `gutta-cc download`; the view resumes by itself (checked every 2 s)",
             source.display()
         ),
         "{state}"
     );
+}
+
+/// Opens `/events` and reads until the first event: the stream (still open), the
+/// response head and the first event's JSON.
+fn first_event(monitor: &Monitor) -> (std::net::TcpStream, String, serde_json::Value) {
+    let host = monitor.1.trim_start_matches("http://");
+    let mut stream = std::net::TcpStream::connect(host).expect("connects");
+    stream
+        .set_read_timeout(Some(Duration::from_secs(10)))
+        .expect("timeout");
+    write!(stream, "GET /events HTTP/1.1\r\nHost: {host}\r\n\r\n").expect("sends");
+    let mut seen = Vec::new();
+    let mut buf = [0u8; 4096];
+    loop {
+        let n = stream.read(&mut buf).expect("reads an event in time");
+        assert!(
+            n > 0,
+            "the stream closed: {}",
+            String::from_utf8_lossy(&seen)
+        );
+        seen.extend_from_slice(&buf[..n]);
+        let text = String::from_utf8_lossy(&seen).into_owned();
+        if let Some((head, rest)) = text.split_once("\r\n\r\n") {
+            // Chunked: the event is the line after `data:` up to its blank line.
+            if let Some(data) = rest.split("data:").nth(1) {
+                if let Some((json, _)) = data.split_once('\n') {
+                    if let Ok(value) = serde_json::from_str(json.trim()) {
+                        return (stream, head.to_string(), value);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// `/state` until `done` holds of it, for at most `within`: the state, or a panic saying
+/// what was awaited.
+fn state_until(
+    monitor: &Monitor,
+    within: Duration,
+    what: &str,
+    done: impl Fn(&serde_json::Value) -> bool,
+) -> serde_json::Value {
+    let start = std::time::Instant::now();
+    loop {
+        let state = json(monitor, "/state");
+        if done(&state) {
+            return state;
+        }
+        assert!(
+            start.elapsed() < within,
+            "not {what} within {within:?}: {state}"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+#[test]
+fn events_push_at_once_and_the_plc_rests_when_the_last_page_goes() {
+    let (source, sim) = setup("events", PROGRAM);
+    let monitor = monitor(&source, &sim);
+    std::thread::sleep(Duration::from_millis(300));
+    assert_eq!(var_reads(&monitor), 0, "read before any page");
+    let (stream, head, event) = first_event(&monitor);
+    assert!(
+        head.to_ascii_lowercase()
+            .contains("content-type: text/event-stream"),
+        "{head}"
+    );
+    assert_eq!(event["live"], true, "{event}");
+    assert_eq!(event["run"], true, "{event}");
+    assert_eq!(event["plc"], sim.1.as_str(), "{event}");
+    assert_eq!(event["connection"], "connected", "{event}");
+    // The stream keeps the poller going without any /state fetch.
+    std::thread::sleep(Duration::from_millis(1500));
+    let busy = var_reads(&monitor);
+    assert!(busy >= 5, "only {busy} reads in 1.5 s with a stream open");
+    drop(stream);
+    std::thread::sleep(Duration::from_millis(1000));
+    let idle = var_reads(&monitor);
+    std::thread::sleep(Duration::from_millis(1000));
+    assert_eq!(
+        var_reads(&monitor),
+        idle,
+        "the PLC was read with no page open"
+    );
+}
+
+#[test]
+fn stop_keeps_the_bits_and_drops_the_power_flow() {
+    let (source, sim) = setup("stop", PROGRAM);
+    let monitor = monitor(&source, &sim);
+    cc_ok(&["write", "I0.0=1", "--tcp", &sim.1]);
+    let state = state_until(&monitor, Duration::from_secs(3), "powered", |s| {
+        s["networks"][0]["on"] == serde_json::json!([0, 1, 2])
+    });
+    assert_eq!(state["bits"]["I0.0"], 1, "{state}");
+    cc_ok(&["stop", "--tcp", &sim.1]);
+    let stopped = std::time::Instant::now();
+    let state = state_until(&monitor, Duration::from_secs(2), "STOP", |s| {
+        s["run"] == false
+    });
+    assert!(
+        stopped.elapsed() < Duration::from_secs(1),
+        "STOP took {:?}",
+        stopped.elapsed()
+    );
+    assert_eq!(state["live"], true, "{state}");
+    assert_eq!(state["networks"][0]["on"], serde_json::json!([]), "{state}");
+    // The bits still read: I0.0 is 1 although no power flows.
+    assert_eq!(state["bits"]["I0.0"], 1, "{state}");
+    assert!(state["stl"][0]["lines"]
+        .as_array()
+        .expect("lines")
+        .iter()
+        .all(|l| l["rlo"].is_null()));
+}
+
+#[test]
+fn the_view_resumes_once_the_right_program_is_downloaded() {
+    let (source, sim) = setup("resume", OTHER);
+    let monitor = monitor(&source, &sim);
+    let state = state_until(&monitor, Duration::from_secs(3), "the mismatch", |s| {
+        s["program"] == "other"
+    });
+    assert!(
+        state["message"]
+            .as_str()
+            .is_some_and(|m| m.contains("another program") && m.contains("resumes by itself")),
+        "{state}"
+    );
+    // Keep a page open while the right program goes in.
+    let (_stream, _, _) = first_event(&monitor);
+    let right = common::image_dir("monitor-resume-right", &common::image("prog.lad", PROGRAM));
+    cc_ok(&["download", right.to_str().expect("path"), "--tcp", &sim.1]);
+    let downloaded = std::time::Instant::now();
+    let state = state_until(&monitor, Duration::from_secs(5), "live again", |s| {
+        s["live"] == true
+    });
+    assert_eq!(state["program"], "same", "{state}");
+    assert!(downloaded.elapsed() < Duration::from_secs(5));
+    assert_eq!(state["values"]["MW10"], "255", "{state}");
+}
+
+#[test]
+fn a_network_shown_as_stl_gets_each_lines_logic_result() {
+    let (source, sim) = setup("stl", PROGRAM);
+    let monitor = monitor(&source, &sim);
+    cc_ok(&["write", "I0.2=1", "--tcp", &sim.1]);
+    let state = state_until(&monitor, Duration::from_secs(3), "I0.2 read", |s| {
+        s["bits"]["I0.2"] == 1
+    });
+    let stl = &state["stl"][0];
+    assert_eq!(
+        (&stl["block"], &stl["network"]),
+        (&"MAIN".into(), &3.into()),
+        "{stl}"
+    );
+    let lines: Vec<(u64, serde_json::Value, serde_json::Value)> = stl["lines"]
+        .as_array()
+        .expect("lines")
+        .iter()
+        .map(|l| {
+            (
+                l["index"].as_u64().expect("index"),
+                l["rlo"].clone(),
+                l["value"].clone(),
+            )
+        })
+        .collect();
+    // LD I0.2 (1), A I0.3 (0), = Q0.2, LDN I0.2, = Q0.3.
+    let rlos: Vec<_> = lines.iter().map(|(_, r, _)| r.clone()).collect();
+    assert_eq!(
+        rlos,
+        serde_json::json!([1, 0, 0, 0, 0])
+            .as_array()
+            .unwrap()
+            .clone(),
+        "{stl}"
+    );
+    assert_eq!(lines[0].0, 0);
+    assert_eq!(lines[0].2, "I0.2 = 1", "{stl}");
+    assert_eq!(lines[1].2, "I0.3 = 0", "{stl}");
 }

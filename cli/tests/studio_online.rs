@@ -387,3 +387,42 @@ fn a_program_with_errors_is_refused_before_anything_is_sent() {
     assert_eq!(status, 200, "{run}");
     assert_eq!(run["refused"]["code"], code, "{run}");
 }
+
+/// A bit forced to 0 reads as unforced over UM4001; the studio marks it because this
+/// session forced it, says so, and forgets it when released.
+#[test]
+fn a_bit_this_session_forced_to_0_is_marked() {
+    let plc = plc_of(&demo("plc0"));
+    let sim = common::sim(&plc, None);
+    let dir = demo_at("forced0", &sim.1);
+    let studio = Studio::start(&dir);
+    let (status, state) = call(&studio, "POST", "/api/online", "{}");
+    assert_eq!(status, 200, "{state}");
+    let (status, answer) = call(&studio, "POST", "/api/online/download", "{}");
+    assert_eq!(status, 200, "{answer}");
+    state_when(&studio, "live", |s| {
+        s["live"] == true && s["program"] == "same"
+    });
+    let force = r#"{"operand": "I0.1", "value": "0"}"#;
+    let (status, answer) = call(&studio, "POST", "/api/live/force", force);
+    assert_eq!(status, 200, "{answer}");
+    let state = state_when(&studio, "I0.1 marked forced", |s| {
+        s["forced"]
+            .as_array()
+            .is_some_and(|f| f.iter().any(|a| a == "I0.1"))
+    });
+    assert!(
+        state["forced_note"]
+            .as_str()
+            .is_some_and(|n| n.contains("this studio session forced")),
+        "{state}"
+    );
+    let release = r#"{"operand": "I0.1", "value": null}"#;
+    let (status, answer) = call(&studio, "POST", "/api/live/force", release);
+    assert_eq!(status, 200, "{answer}");
+    state_when(&studio, "I0.1 released", |s| {
+        s["forced"]
+            .as_array()
+            .is_some_and(|f| !f.iter().any(|a| a == "I0.1"))
+    });
+}

@@ -216,6 +216,7 @@ impl Generator {
                 input: Some(input),
                 outputs,
             }),
+            stl_code: vec![],
         }
     }
 }

@@ -11,7 +11,7 @@ use gutta_compiler::source::Span;
 use gutta_compiler::syntax::ast::{self, OperandKind};
 use gutta_compiler::CheckedFile;
 
-use crate::model::{Block, Body, Ladder, Network};
+use crate::model::{Block, Body, Ladder, Network, StlInstruction};
 pub use element::box_shape;
 use element::{Element, Resolver};
 use rung::{Origin, RungBuilder};
@@ -90,6 +90,11 @@ fn network(
         Ok(rung) => Body::Rung(rung),
         Err(reason) => Body::Stl { reason },
     };
+    let lines = stl_lines(text, net);
+    let stl_code = match body {
+        Body::Stl { .. } => stl_code(checked, resolver, net, &lines),
+        Body::Rung(_) => Vec::new(),
+    };
     Network {
         number,
         title: net
@@ -97,10 +102,45 @@ fn network(
             .map(|t| checked.file.slice(t).trim().to_string())
             .filter(|t| !t.is_empty()),
         comment: comment_lines(text, net),
-        stl: stl_lines(text, net),
+        stl: lines.into_iter().map(|(_, l)| l).collect(),
         line: resolver.line(net.span.start),
         body,
+        stl_code,
     }
+}
+
+/// The instructions of a network shown as STL, each with the index of its line in
+/// `lines` (an instruction on a line of its own; two on one line share it).
+fn stl_code(
+    checked: &CheckedFile,
+    resolver: &Resolver<'_>,
+    net: &ast::Network,
+    lines: &[(usize, String)],
+) -> Vec<StlInstruction> {
+    let text = &checked.file.text;
+    net.instructions
+        .iter()
+        .filter_map(|ins| {
+            let start = line_start(text, ins.span.start as usize);
+            let index = lines.iter().position(|(at, _)| *at == start)?;
+            let written = checked.file.slice(ins.mnemonic).trim();
+            let instructions = &checked.target.instructions;
+            let mnemonic = instructions.lookup(written).map_or_else(
+                || written.to_string(),
+                |id| instructions.get(id).mnemonic.clone(),
+            );
+            let operands = net
+                .operands_of(ins)
+                .iter()
+                .map(|o| resolver.operand(o))
+                .collect();
+            Some(StlInstruction {
+                index,
+                mnemonic,
+                operands,
+            })
+        })
+        .collect()
 }
 
 /// The rung of a network, or why it is not one.
@@ -203,18 +243,25 @@ fn comment_lines(text: &str, net: &ast::Network) -> Vec<String> {
 }
 
 /// The network's STL lines as written (trimmed, blank lines left out): from the first
-/// instruction's line to the last's.
-fn stl_lines(text: &str, net: &ast::Network) -> Vec<String> {
+/// instruction's line to the last's, each with the offset where its line starts.
+fn stl_lines(text: &str, net: &ast::Network) -> Vec<(usize, String)> {
     let (Some(first), Some(last)) = (net.instructions.first(), net.instructions.last()) else {
         return Vec::new();
     };
     let from = line_start(text, first.span.start as usize);
     let to = line_end(text, last.span.end as usize);
-    text.get(from..to.max(from))
+    let mut at = from;
+    let mut lines = Vec::new();
+    for raw in text
+        .get(from..to.max(from))
         .unwrap_or("")
-        .lines()
-        .map(str::trim)
-        .filter(|l| !l.is_empty())
-        .map(str::to_string)
-        .collect()
+        .split_inclusive('\n')
+    {
+        let line = raw.trim();
+        if !line.is_empty() {
+            lines.push((at, line.to_string()));
+        }
+        at += raw.len();
+    }
+    lines
 }

@@ -48,8 +48,8 @@ pub fn rung_power(rung: &crate::model::Rung, snapshot: &Snapshot<'_>) -> RungPow
     power
 }
 
-struct Evaluator<'a, 's> {
-    snapshot: &'a Snapshot<'s>,
+pub(crate) struct Evaluator<'a, 's> {
+    pub(crate) snapshot: &'a Snapshot<'s>,
 }
 
 impl Evaluator<'_, '_> {
@@ -106,35 +106,45 @@ impl Evaluator<'_, '_> {
         }
     }
 
-    fn bit(&self, operand: Option<&Operand>) -> bool {
+    pub(crate) fn bit(&self, operand: Option<&Operand>) -> bool {
         operand.and_then(|o| self.raw(o)).unwrap_or(0) & 1 != 0
     }
 
     /// `>=W`, `=B`, `<>D`, `<R`: B unsigned, W and D signed, R a REAL, as the VM compares.
-    fn compare(&self, c: &Contact) -> bool {
+    pub(crate) fn compare(&self, c: &Contact) -> bool {
         let (Some(relation), [a, b, ..]) = (&c.relation, c.operands.as_slice()) else {
             return false;
         };
         let ty = relation.chars().last().unwrap_or('W');
         let op = &relation[..relation.len() - ty.len_utf8()];
         let op = CompareOp::from_symbol(op).unwrap_or(CompareOp::Ge);
+        self.compare_operands(op, ty, a, b).unwrap_or(false)
+    }
+
+    /// `a op b` compared as the type letter says (`B`, `W`, `D`, `R`); `None` when an
+    /// operand has no value.
+    pub(crate) fn compare_operands(
+        &self,
+        op: CompareOp,
+        ty: char,
+        a: &Operand,
+        b: &Operand,
+    ) -> Option<bool> {
         let holds = |o: std::cmp::Ordering| op.holds(o);
         let width = match ty {
             'B' => Width::Byte,
             'D' | 'R' => Width::Dword,
             _ => Width::Word,
         };
-        let (Some(x), Some(y)) = (self.number(a, width), self.number(b, width)) else {
-            return false;
-        };
-        match ty {
+        let (x, y) = (self.number(a, width)?, self.number(b, width)?);
+        Some(match ty {
             'B' => holds((x as u8).cmp(&(y as u8))),
             'R' => f32::from_bits(x)
                 .partial_cmp(&f32::from_bits(y))
                 .is_some_and(holds),
             'D' => holds((x as i32).cmp(&(y as i32))),
             _ => holds((x as i16).cmp(&(y as i16))),
-        }
+        })
     }
 
     /// A box's power output with `power` at EN (IN, CU). Its extra power inputs (R, LD,
@@ -166,26 +176,17 @@ impl Evaluator<'_, '_> {
             .first()
             .and_then(|p| self.number(&p.operand, Width::Word))
             .map(|raw| i64::from(raw as u16 as i16));
-        let (Some(value), Some(preset)) = (current, preset) else {
-            return kind == TimerCounterKind::OffDelay && power;
-        };
-        match kind {
-            TimerCounterKind::OnDelay => power && (preset <= 0 || value >= preset),
-            TimerCounterKind::RetentiveOnDelay => value >= preset,
-            TimerCounterKind::OffDelay => power || (0 < value && value < preset),
-            TimerCounterKind::CountDown => value == 0,
-            TimerCounterKind::CountUp | TimerCounterKind::CountUpDown => value >= preset,
-        }
+        done_output(kind, power, current, preset)
     }
 
     /// The raw value of an operand with an address.
-    fn raw(&self, o: &Operand) -> Option<u32> {
+    pub(crate) fn raw(&self, o: &Operand) -> Option<u32> {
         self.snapshot.values.get(o.address.as_ref()?).copied()
     }
 
     /// An operand's raw bits: its read value, else a constant as written (`100`, `-3`,
     /// `16#FF`, `2#101`, `1.5` as a REAL), cut to `width`.
-    fn number(&self, o: &Operand, width: Width) -> Option<u32> {
+    pub(crate) fn number(&self, o: &Operand, width: Width) -> Option<u32> {
         if o.address.is_some() {
             return self.raw(o);
         }
@@ -196,6 +197,28 @@ impl Evaluator<'_, '_> {
             Width::Word => raw & 0xFFFF,
             Width::Dword => raw,
         })
+    }
+}
+
+/// A timer's or counter's done output from its power in, its current value and its
+/// preset (both signed words): TON `IN && T >= PT` (or PT <= 0), TONR `T >= PT`, TOF
+/// `IN || 0 < T < PT`, CTU and CTUD `C >= PV`, CTD `C == 0`; without a value or a
+/// preset only TOF's `IN` is known.
+pub(crate) fn done_output(
+    kind: TimerCounterKind,
+    power: bool,
+    current: Option<i64>,
+    preset: Option<i64>,
+) -> bool {
+    let (Some(value), Some(preset)) = (current, preset) else {
+        return kind == TimerCounterKind::OffDelay && power;
+    };
+    match kind {
+        TimerCounterKind::OnDelay => power && (preset <= 0 || value >= preset),
+        TimerCounterKind::RetentiveOnDelay => value >= preset,
+        TimerCounterKind::OffDelay => power || (0 < value && value < preset),
+        TimerCounterKind::CountDown => value == 0,
+        TimerCounterKind::CountUp | TimerCounterKind::CountUpDown => value >= preset,
     }
 }
 
@@ -235,9 +258,9 @@ pub fn counted_address(b: &BoxElement, target: &Target, symbols: &SymbolTable) -
     Some(target.memory.format_address(&address))
 }
 
-/// Every readable operand of the drawn networks (rungs), deduplicated, in drawing order:
-/// contacts' and coils' bits, compare operands, box pins with an address, and the
-/// timers' and counters' numbers.
+/// Every readable operand of the drawn networks, deduplicated, in drawing order:
+/// contacts' and coils' bits, compare operands, box pins with an address, the timers'
+/// and counters' numbers, and every addressed operand of a network shown as STL.
 pub fn operands(ladder: &Ladder, target: &Target, symbols: &SymbolTable) -> Vec<String> {
     let mut seen = BTreeSet::new();
     let mut out = Vec::new();
@@ -247,6 +270,12 @@ pub fn operands(ladder: &Ladder, target: &Target, symbols: &SymbolTable) -> Vec<
         }
     };
     for network in ladder.blocks.iter().flat_map(|b| &b.networks) {
+        for ins in &network.stl_code {
+            ins.operands
+                .iter()
+                .filter_map(|o| o.address.as_deref())
+                .for_each(&mut add);
+        }
         if let crate::model::Body::Rung(rung) = &network.body {
             let mut visit = OperandVisitor {
                 target,
@@ -309,6 +338,9 @@ impl<F: FnMut(&str)> OperandVisitor<'_, F> {
         }
     }
 }
+
+mod stl;
+pub use stl::{stl_status, StlLineStatus};
 
 #[cfg(test)]
 mod tests;

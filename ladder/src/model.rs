@@ -37,6 +37,21 @@ pub struct Network {
     /// 1-based line of the NETWORK line (or the first instruction) in its file.
     pub line: u32,
     pub body: Body,
+    /// For a network shown as STL: its instructions, each with its line in `stl`, for
+    /// the live view's per-line status (`live::stl_status`); empty for a rung.
+    pub stl_code: Vec<StlInstruction>,
+}
+
+/// One instruction of a network shown as STL.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StlInstruction {
+    /// Its index in `Network::stl` (`data-index` of its `stl-line`).
+    pub index: usize,
+    /// The mnemonic as the catalog spells it (as written when the catalog does not
+    /// know it).
+    pub mnemonic: String,
+    /// Its operands, resolved as a rung's are.
+    pub operands: Vec<Operand>,
 }
 
 /// A network drawn as a rung, or shown as STL.

@@ -169,7 +169,10 @@ pub fn compare_label(relation: &str, names: Names) -> String {
         return relation.to_string();
     };
     let op = &relation[..relation.len() - 1];
-    let op = if op == "=" { "==" } else { op };
+    let op = match gutta_catalog::CompareOp::from_symbol(op) {
+        Some(gutta_catalog::CompareOp::Eq) => "==",
+        _ => op,
+    };
     let letter = if letter == 'W' { 'I' } else { letter };
     format!("{op}{letter}")
 }

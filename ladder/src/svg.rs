@@ -176,9 +176,17 @@ pub fn draw_network_with(
             let reason_line = format!("shown as STL: {reason}");
             text(out, "reason", RAIL_X, ty, "start", &reason_line);
             let mut width = text_width(&reason_line);
-            for line in &net.stl {
+            // Each line is `text.stl.stl-line[data-index]` (its index in `Network::stl`):
+            // the live view sets `data-rlo` on it and adds its value (`tspan.value`).
+            for (index, line) in net.stl.iter().enumerate() {
                 ty += LINE_H;
-                text(out, "stl", RAIL_X + 8, ty, "start", line);
+                let _ = write!(
+                    out,
+                    "<text class=\"stl stl-line\" data-index=\"{index}\" x=\"{}\" y=\"{ty}\" text-anchor=\"start\">",
+                    RAIL_X + 8
+                );
+                escape_into(out, line);
+                out.push_str("</text>");
                 width = width.max(text_width(line) + 8);
             }
             ((width + 2 * RAIL_X).max(title_w), ty + MARGIN)

@@ -423,3 +423,43 @@ fn a_network_with_errors_elsewhere_is_still_drawn() {
     // An unknown symbol is the checker's business: the network is still one rung.
     assert_eq!(one("LD Nowhere\n= Q0.0"), "no(Nowhere) -> out(Q0.0)");
 }
+
+/// A network shown as STL keeps its instructions, each with its line in `stl` (comment
+/// lines between them counted), its operands resolved as a rung's are; a rung has none.
+#[test]
+fn stl_networks_keep_their_instructions_with_their_lines() {
+    let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\n\
+        NETWORK 1\nLD I0.0\n= Q0.0\n// the second rung\nLDN M0.1\n\n= Q0.1\n\
+        NETWORK 2\nLD I0.1\n= Q0.2\nEND_ORGANIZATION_BLOCK\n";
+    let l = gutta_ladder::build(&checked(text));
+    let n = &l.blocks[0].networks[0];
+    assert!(matches!(n.body, Body::Stl { .. }), "{:?}", n.body);
+    assert_eq!(
+        n.stl,
+        [
+            "LD I0.0",
+            "= Q0.0",
+            "// the second rung",
+            "LDN M0.1",
+            "= Q0.1"
+        ]
+    );
+    let code: Vec<(usize, &str, Vec<Option<&str>>)> = n
+        .stl_code
+        .iter()
+        .map(|i| {
+            let ops = i.operands.iter().map(|o| o.address.as_deref()).collect();
+            (i.index, i.mnemonic.as_str(), ops)
+        })
+        .collect();
+    assert_eq!(
+        code,
+        [
+            (0, "LD", vec![Some("I0.0")]),
+            (1, "=", vec![Some("Q0.0")]),
+            (3, "LDN", vec![Some("M0.1")]),
+            (4, "=", vec![Some("Q0.1")]),
+        ]
+    );
+    assert!(l.blocks[0].networks[1].stl_code.is_empty());
+}

@@ -146,6 +146,7 @@ fn network(number: u32, title: Option<&str>, comment: &[&str], body: Body) -> Ne
         stl: vec!["LD I0.0".to_string(), "= Q0.0".to_string()],
         line: number * 10,
         body,
+        stl_code: vec![],
     }
 }
 
@@ -591,6 +592,18 @@ fn every_element_carries_its_class_and_data() {
         if let Body::Stl { reason } = &net.body {
             assert!(group.has_class("stl"));
             assert_eq!(group.attr("data-reason"), Some(reason.as_str()));
+            // Each STL line is `text.stl.stl-line[data-index]`, in order, for the live
+            // view's `data-rlo`.
+            let lines: Vec<&str> = elements
+                .iter()
+                .filter(|e| e.has_class("stl-line"))
+                .map(|e| {
+                    assert!(e.has_class("stl"), "{name}");
+                    e.attr("data-index").expect("data-index")
+                })
+                .collect();
+            let indexes: Vec<String> = (0..net.stl.len()).map(|i| i.to_string()).collect();
+            assert_eq!(lines, indexes, "{name}");
             continue;
         }
         let mut ids = std::collections::BTreeSet::new();

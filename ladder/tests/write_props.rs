@@ -214,6 +214,7 @@ fn network(rung: Rung) -> Network {
         stl: Vec::new(),
         line: 0,
         body: Body::Rung(rung),
+        stl_code: Vec::new(),
     }
 }
 

@@ -24,7 +24,7 @@ use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use gutta_catalog::{Address, Target, ValueFormat, Width};
 use gutta_format::SymbolTable;
-use gutta_ladder::live::{operands, rung_power, Snapshot};
+use gutta_ladder::live::{operands, rung_power, stl_status, Snapshot};
 use gutta_ladder::model::{Body, Ladder};
 use gutta_vm::{Vm, VmConfig};
 use serde_json::{json, Value};
@@ -398,15 +398,16 @@ impl Simulator {
             .clone();
         let forced = self.forced();
         let mut networks = Vec::new();
-        if running {
-            let snapshot = Snapshot {
-                target: &self.drawn.target,
-                symbols: &self.drawn.symbols,
-                values: &raws,
-            };
-            for block in &self.drawn.ladder.blocks {
-                for network in &block.networks {
-                    if let Body::Rung(rung) = &network.body {
+        let mut stl = Vec::new();
+        let snapshot = Snapshot {
+            target: &self.drawn.target,
+            symbols: &self.drawn.symbols,
+            values: &raws,
+        };
+        for block in &self.drawn.ladder.blocks {
+            for network in &block.networks {
+                match &network.body {
+                    Body::Rung(rung) if running => {
                         let power = rung_power(rung, &snapshot);
                         networks.push(json!({
                             "block": block.name,
@@ -414,9 +415,35 @@ impl Simulator {
                             "on": power.energized,
                         }));
                     }
+                    Body::Rung(_) => {}
+                    // A network shown as STL: each line's RLO (in RUN), as the monitor's.
+                    Body::Stl { .. } => {
+                        let lines: Vec<Value> = stl_status(&network.stl_code, &snapshot)
+                            .into_iter()
+                            .map(|line| {
+                                json!({
+                                    "index": line.index,
+                                    "rlo": line.rlo.filter(|_| running).map(u8::from),
+                                })
+                            })
+                            .collect();
+                        stl.push(json!({
+                            "block": block.name,
+                            "network": network.number,
+                            "lines": lines,
+                        }));
+                    }
                 }
             }
         }
+        // Every bit's value, for `data-value` on contacts and coils.
+        let bits: serde_json::Map<String, Value> = self
+            .drawn
+            .vars
+            .iter()
+            .filter(|v| v.address.width == gutta_catalog::Width::Bit)
+            .filter_map(|v| Some((v.canonical.clone(), json!(raws.get(&v.canonical)? & 1))))
+            .collect();
         let values: serde_json::Map<String, Value> = self
             .drawn
             .vars
@@ -441,7 +468,9 @@ impl Simulator {
             "message": message,
             "program": "same",
             "networks": networks,
+            "stl": stl,
             "values": values,
+            "bits": bits,
             "forced": forced,
         })
     }

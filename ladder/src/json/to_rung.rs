@@ -77,6 +77,7 @@ impl<'a> Places<'a> {
             stl,
             line: 0,
             body,
+            stl_code: Vec::new(),
         })
     }
 

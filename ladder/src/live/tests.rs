@@ -307,6 +307,7 @@ fn operands_are_every_address_once_in_drawing_order() {
         stl: vec![],
         line: 1,
         body,
+        stl_code: vec![],
     };
     let ladder = Ladder {
         plc: stdlib::DEFAULT.into(),

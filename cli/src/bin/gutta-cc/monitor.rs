@@ -1,20 +1,23 @@
 //! `gutta-cc monitor [SOURCE_OR_PROJECT]`: the ladder page of a program, kept live from
 //! the PLC running it (docs/ladder.md, "Live view"). An HTTP server (axum) serves `/`
-//! (the page with `monitor.js` inline), `/state` (the latest update as JSON) and
-//! `/metrics` (the request counters, without waking the poller); a poller thread updates
-//! only while a page has fetched `/state` within the last second. The power flow is
-//! `gutta_ladder::live`'s, the PLC side `monitor/session.rs`'s; this file only wires
-//! them to HTTP and the command line.
+//! (the page with `monitor.js` inline), `/events` (server-sent events: the latest
+//! update at once, then one per update), `/state` (the latest update as JSON, for
+//! `--once`-like tools) and `/metrics` (the request counters, without waking the
+//! poller); a poller thread updates only while an event stream is open or a tool has
+//! fetched `/state` within the last second. The power flow is `gutta_ladder::live`'s,
+//! the PLC side `monitor/session.rs`'s; this file only wires them to HTTP and the
+//! command line.
 
 pub(crate) mod session;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::atomic::Ordering;
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Condvar, Mutex};
 use std::time::{Duration, Instant};
 
 use axum::http::header;
+use axum::response::sse::{Event, KeepAlive, Sse};
 use axum::response::IntoResponse;
 use axum::routing::get;
 use gutta_catalog::ValueFormat;
@@ -29,10 +32,11 @@ use crate::args::{Cli, LinkArgs};
 use gutta_cli::vars::Var;
 use session::{Program, Session};
 
-/// The page's script: fetch `/state`, set the classes and the values.
+/// The page's script: listen to `/events`, set the status, the classes and the values.
 const SCRIPT: &str = include_str!("monitor.js");
 
-/// A page that has not fetched `/state` for this long is gone: updates stop.
+/// A tool that has not fetched `/state` for this long is gone: updates stop (an event
+/// stream counts while it is open).
 const DEMAND: Duration = Duration::from_secs(1);
 
 /// A `/state` older than this waits for a fresh update (the first fetch after an idle
@@ -51,6 +55,29 @@ pub(crate) struct Options {
 struct Shared {
     state: Mutex<Latest>,
     fresh: Condvar,
+    /// Every update's JSON text, for the event streams.
+    events: tokio::sync::watch::Sender<Option<Arc<str>>>,
+    /// Event streams open now (the poller runs while there is one).
+    streams: AtomicUsize,
+    /// Event streams ever opened: a new one makes the poller check the PLC again.
+    opened: AtomicU64,
+}
+
+/// Held by an open event stream: counts it, and uncounts it when the page goes.
+struct StreamGuard(Arc<Shared>);
+
+impl StreamGuard {
+    fn new(shared: Arc<Shared>) -> StreamGuard {
+        shared.streams.fetch_add(1, Ordering::SeqCst);
+        shared.opened.fetch_add(1, Ordering::SeqCst);
+        StreamGuard(shared)
+    }
+}
+
+impl Drop for StreamGuard {
+    fn drop(&mut self) {
+        self.0.streams.fetch_sub(1, Ordering::SeqCst);
+    }
 }
 
 struct Latest {
@@ -89,10 +116,12 @@ impl Shared {
     }
 
     fn wanted(&self) -> bool {
-        self.lock().wanted.is_some_and(|t| t.elapsed() < DEMAND)
+        self.streams.load(Ordering::SeqCst) > 0
+            || self.lock().wanted.is_some_and(|t| t.elapsed() < DEMAND)
     }
 
     fn publish(&self, json: serde_json::Value) {
+        self.events.send_replace(Some(Arc::from(json.to_string())));
         self.lock().json = Some((Instant::now(), json));
         self.fresh.notify_all();
     }
@@ -124,6 +153,9 @@ pub(crate) fn monitor(cli: &Cli, options: &Options, link: &LinkArgs) -> Result<E
             wanted: None,
         }),
         fresh: Condvar::new(),
+        events: tokio::sync::watch::Sender::new(None),
+        streams: AtomicUsize::new(0),
+        opened: AtomicU64::new(0),
     });
     let counters = session.counters.clone();
     let interval = Duration::from_millis(options.interval_ms.max(1));
@@ -137,9 +169,15 @@ pub(crate) fn monitor(cli: &Cli, options: &Options, link: &LinkArgs) -> Result<E
     std::thread::spawn(move || {
         let _ = done.send(serve(&http, page, server_shared, counters, &name, &plc));
     });
+    let mut opened = 0;
     loop {
         if let Ok(result) = ended.try_recv() {
             return result.map(|()| ExitCode::SUCCESS);
+        }
+        let now_opened = shared.opened.load(Ordering::SeqCst);
+        if now_opened != opened {
+            opened = now_opened;
+            session.page_opened();
         }
         if !shared.wanted() {
             std::thread::sleep(Duration::from_millis(10));
@@ -165,6 +203,7 @@ fn serve(
         eprintln!("gutta-cc monitor: http://{at}/ shows {name} live from {plc} (Ctrl-C ends)");
         let page = Arc::new(page);
         let state = shared.clone();
+        let events = shared.clone();
         axum::Router::new()
             .route(
                 "/",
@@ -190,6 +229,18 @@ fn serve(
                     }
                 }),
             )
+            // No icon: an empty answer rather than a 404 in the browser's console.
+            .route(
+                "/favicon.ico",
+                get(|| async { axum::http::StatusCode::NO_CONTENT }),
+            )
+            .route(
+                "/events",
+                get(move || {
+                    let events = events.clone();
+                    async move { event_stream(events) }
+                }),
+            )
             .route(
                 "/metrics",
                 get(move || {
@@ -204,6 +255,31 @@ fn serve(
                 }),
             )
     })
+}
+
+/// `/events`: the latest update at once (if there is one), then every update, until the
+/// page goes or the server ends (Ctrl-C: an open stream must not hold the shutdown).
+fn event_stream(shared: Arc<Shared>) -> impl IntoResponse {
+    let mut receiver = shared.events.subscribe();
+    receiver.mark_changed();
+    let guard = StreamGuard::new(shared);
+    let stream = futures_util::stream::unfold((receiver, guard), |(mut rx, guard)| async move {
+        loop {
+            tokio::select! {
+                changed = rx.changed() => changed.ok()?,
+                _ = tokio::signal::ctrl_c() => return None,
+            }
+            let latest = rx.borrow_and_update().clone();
+            if let Some(json) = latest {
+                let event = Event::default().data(json.as_ref());
+                return Some((Ok::<_, std::convert::Infallible>(event), (rx, guard)));
+            }
+        }
+    });
+    (
+        [(header::CACHE_CONTROL, "no-store")],
+        Sse::new(stream).keep_alive(KeepAlive::default()),
+    )
 }
 
 fn json_response(value: &serde_json::Value) -> impl IntoResponse {

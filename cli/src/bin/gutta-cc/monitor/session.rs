@@ -1,17 +1,20 @@
 //! The PLC side of `gutta-cc monitor`: the connection (logged in once, re-made after a
-//! failure), the program check (the uploaded pages against the compiled image), and one
+//! failure with back-off), the program check (the uploaded pages against the compiled
+//! image, again every `RECHECK` while the PLC holds another program or none), and one
 //! update: a single batched STATUS_VAR_READ of every drawn operand, with the RUN state
-//! and the force values now and then, turned into the `/state` JSON. It knows no HTTP;
+//! and the force values now and then, turned into the `/state` JSON (power flow only in
+//! RUN, bit values always, per-line status of networks shown as STL). It knows no HTTP;
 //! `monitor.rs` decides when an update is wanted.
 
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
-use std::time::Instant;
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use gutta_catalog::Target;
+use gutta_catalog::Width;
 use gutta_format::{Image, SymbolTable};
-use gutta_ladder::live::{rung_power, Snapshot};
+use gutta_ladder::live::{rung_power, stl_status, Snapshot};
 use gutta_ladder::model::{Body, Ladder};
 use gutta_link::plan::ReadPlan;
 use gutta_link::{Client, LinkConfig, LinkError, Transport};
@@ -24,6 +27,16 @@ use gutta_cli::vars::Var;
 /// Every update reads the RUN state and the force values again after this many updates
 /// (and on the first): at 20 updates a second, twice a second.
 const SLOW_EVERY: u64 = 10;
+
+/// While the PLC holds another program or none, what it holds is checked again this
+/// often (the page list, then a full upload when it lists pages: UM4001 gives no page
+/// CRC to compare), so the view resumes by itself once the right program is there.
+pub(crate) const RECHECK: Duration = Duration::from_secs(2);
+
+/// After a failed connection the next attempt waits this long, doubled after each
+/// further failure up to `BACKOFF_MAX`.
+const BACKOFF_FIRST: Duration = Duration::from_millis(250);
+const BACKOFF_MAX: Duration = Duration::from_secs(4);
 
 /// Counts every request sent to the PLC (the figure `/state` and the bench report).
 #[derive(Debug)]
@@ -90,6 +103,13 @@ pub(crate) struct Session {
     forced: Vec<String>,
     /// Read the RUN state and the forces at the next update, whatever the count.
     slow_now: bool,
+    /// When what the PLC holds was last checked.
+    checked_at: Instant,
+    /// Check what the PLC holds at the next update (a page was opened or reloaded).
+    check_now: bool,
+    /// Connection attempts failed in a row, and when the next one may be made.
+    failures: u32,
+    retry_at: Option<Instant>,
     pub counters: Arc<Counters>,
 }
 
@@ -129,6 +149,10 @@ impl Session {
             run: None,
             forced: Vec::new(),
             slow_now: false,
+            checked_at: Instant::now(),
+            check_now: false,
+            failures: 0,
+            retry_at: None,
             counters,
         };
         session.held = session
@@ -178,6 +202,14 @@ impl Session {
         self.slow_now = true;
     }
 
+    /// A page was opened or reloaded: read the RUN state now, check again what the PLC
+    /// holds if it was not the program, and try a lost connection at once.
+    pub(crate) fn page_opened(&mut self) {
+        self.slow_now = true;
+        self.check_now = self.held != Held::Same;
+        self.retry_at = None;
+    }
+
     /// The password the login used (a download logs in with it).
     pub(crate) fn password(&self) -> [u8; 16] {
         self.password
@@ -194,9 +226,17 @@ impl Session {
     }
 
     /// Whether the PLC holds exactly the compiled image, another program, or none.
-    fn check(&self, plc: &mut gutta_link::Session, program: &Program) -> Result<Held, LinkError> {
+    fn check(
+        &mut self,
+        plc: &mut gutta_link::Session,
+        program: &Program,
+    ) -> Result<Held, LinkError> {
+        self.checked_at = Instant::now();
+        self.check_now = false;
         let pack = plc.pack_size();
         let client = plc.client();
+        // RUN or STOP, for the status bar also while the program differs.
+        self.run = Some(client.status()? & 1 != 0);
         if client
             .page_list(gutta_protocol::function::PageArea::Program)?
             .is_empty()
@@ -234,25 +274,59 @@ impl Session {
     /// connects again) and is the state's error.
     pub fn update(&mut self, program: &Program) -> serde_json::Value {
         let started = Instant::now();
+        if let Some(at) = self.retry_at.filter(|at| *at > started) {
+            let wait = at - started;
+            let mut state = self.state(
+                program,
+                format!(
+                    "the PLC at {} does not answer: trying again in {:.1} s",
+                    self.address(),
+                    wait.as_secs_f64()
+                ),
+            );
+            state["connection"] = json!("reconnecting");
+            return state;
+        }
         match self.read(program) {
-            Ok(Some(values)) => self.live_state(program, &values, started),
+            Ok(Some(values)) => {
+                self.failures = 0;
+                self.retry_at = None;
+                self.live_state(program, &values, started)
+            }
             Ok(None) if self.held == Held::Nothing => self.state(
                 program,
                 format!(
-                    "the PLC holds no program: download {} first with `gutta-cc download`, then reload",
-                    program.name
+                    "the PLC holds no program: download {} with `gutta-cc download`; the view resumes by itself (checked every {} s)",
+                    program.name,
+                    RECHECK.as_secs()
                 ),
             ),
             Ok(None) => self.state(
                 program,
                 format!(
-                    "the PLC runs another program than {}: download it, then reload",
-                    program.name
+                    "the PLC runs another program than {}: download it; the view resumes by itself (checked every {} s)",
+                    program.name,
+                    RECHECK.as_secs()
                 ),
             ),
             Err(e) => {
                 self.plc = None;
-                self.state(program, format!("the PLC does not answer: {e}"))
+                self.run = None;
+                self.failures += 1;
+                let wait = BACKOFF_FIRST
+                    .saturating_mul(1 << self.failures.saturating_sub(1).min(5))
+                    .min(BACKOFF_MAX);
+                self.retry_at = Some(Instant::now() + wait);
+                let mut state = self.state(
+                    program,
+                    format!(
+                        "the PLC at {} does not answer: {e}; trying again in {:.1} s",
+                        self.address(),
+                        wait.as_secs_f64()
+                    ),
+                );
+                state["connection"] = json!("not answering");
+                state
             }
         }
     }
@@ -262,6 +336,10 @@ impl Session {
     fn read(&mut self, program: &Program) -> Result<Option<BTreeMap<String, u32>>, LinkError> {
         if self.plc.is_none() {
             self.reconnect(program)?;
+        } else if self.held != Held::Same
+            && (self.check_now || self.checked_at.elapsed() >= RECHECK)
+        {
+            self.recheck(program)?;
         }
         if self.held != Held::Same {
             return Ok(None);
@@ -303,28 +381,68 @@ impl Session {
             symbols: &program.symbols,
             values,
         };
-        let mut networks = Vec::new();
-        for block in &program.ladder.blocks {
-            for network in &block.networks {
-                if let Body::Rung(rung) = &network.body {
-                    let power = rung_power(rung, &snapshot);
-                    networks.push(json!({
-                        "block": block.name,
-                        "network": network.number,
-                        "on": power.energized,
-                    }));
-                }
-            }
-        }
         let shown: BTreeMap<&str, String> = program
             .vars
             .iter()
             .map(|v| (v.canonical.as_str(), v.show(values[&v.canonical])))
             .collect();
+        // In STOP the PLC does not scan: no power flows, whatever the bits say.
+        let running = self.run == Some(true);
+        let mut networks = Vec::new();
+        let mut stl = Vec::new();
+        for block in &program.ladder.blocks {
+            for network in &block.networks {
+                match &network.body {
+                    Body::Rung(rung) => {
+                        let on = if running {
+                            rung_power(rung, &snapshot).energized
+                        } else {
+                            Default::default()
+                        };
+                        networks.push(json!({
+                            "block": block.name,
+                            "network": network.number,
+                            "on": on,
+                        }));
+                    }
+                    Body::Stl { .. } => {
+                        let lines: Vec<serde_json::Value> = stl_status(&network.stl_code, &snapshot)
+                            .into_iter()
+                            .map(|line| {
+                                let value: Vec<String> = line
+                                    .operands
+                                    .iter()
+                                    .filter_map(|a| Some(format!("{a} = {}", shown.get(a.as_str())?)))
+                                    .collect();
+                                json!({
+                                    "index": line.index,
+                                    "rlo": if running { line.rlo.map(u8::from) } else { None },
+                                    "value": if value.is_empty() { None } else { Some(value.join(", ")) },
+                                })
+                            })
+                            .collect();
+                        stl.push(json!({
+                            "block": block.name,
+                            "network": network.number,
+                            "lines": lines,
+                        }));
+                    }
+                }
+            }
+        }
+        // Every bit's value, for `data-value` on contacts and coils.
+        let bits: BTreeMap<&str, u32> = program
+            .vars
+            .iter()
+            .filter(|v| v.address.width == Width::Bit)
+            .map(|v| (v.canonical.as_str(), values[&v.canonical] & 1))
+            .collect();
         let mut state = self.state(program, String::new());
         state["live"] = json!(true);
         state["networks"] = json!(networks);
+        state["stl"] = json!(stl);
         state["values"] = json!(shown);
+        state["bits"] = json!(bits);
         state["forced"] = json!(self.forced);
         state["read_ms"] = json!(started.elapsed().as_secs_f64() * 1000.0);
         state
@@ -332,10 +450,17 @@ impl Session {
 
     /// The state without values: `message` says why.
     fn state(&self, program: &Program, message: String) -> serde_json::Value {
+        let now = SystemTime::now()
+            .duration_since(UNIX_EPOCH)
+            .map_or(0, |d| d.as_millis() as u64);
         json!({
             "source": program.name,
             "live": false,
             "message": message,
+            "plc": self.address(),
+            "station": self.config.station,
+            "connection": if self.plc.is_some() { "connected" } else { "not answering" },
+            "time_ms": now,
             "program_matches": self.held == Held::Same,
             "program": match self.held {
                 Held::Same => "same",
@@ -344,8 +469,13 @@ impl Session {
             },
             "run": self.run,
             "networks": [],
+            "stl": [],
             "values": {},
+            "bits": {},
             "forced": [],
+            // UM4001 reads the force values, not the force mask: a bit forced to 0
+            // looks unforced (docs/ladder.md, "Live view").
+            "forced_note": "a bit forced to 0 is not marked: the PLC's protocol reports force values, not which bits are forced",
             "read_addresses": program.plan.windows().len(),
             "updates": self.counters.updates.load(Ordering::Relaxed),
             "var_reads": self.counters.var_reads.load(Ordering::Relaxed),

@@ -82,6 +82,8 @@
     });
     document.querySelectorAll('.network .on').forEach(function (e) { e.classList.remove('on'); });
     document.querySelectorAll('.network .forced').forEach(function (e) { e.classList.remove('forced'); });
+    document.querySelectorAll('.network [data-value]').forEach(function (e) { e.removeAttribute('data-value'); });
+    document.querySelectorAll('.network .stl-line[data-rlo]').forEach(function (e) { e.removeAttribute('data-rlo'); });
     document.querySelectorAll('.network tspan.value').forEach(function (e) { e.remove(); });
   }
 
@@ -107,7 +109,7 @@
   function partsOf(g) {
     let p = parts.get(g);
     if (p) return p;
-    p = { elements: [], wires: [], values: [], marks: [], on: null, forced: null };
+    p = { elements: [], wires: [], values: [], marks: [], bits: [], lines: [], on: null, forced: null };
     g.querySelectorAll('.contact, .coil, .box').forEach(function (e) {
       p.elements.push({ e: e, id: e.getAttribute('data-id') });
     });
@@ -124,6 +126,13 @@
     g.querySelectorAll('.contact, .coil, .operand').forEach(function (e) {
       const a = e.getAttribute('data-operand');
       if (a) p.marks.push({ e: e, address: a });
+    });
+    // Contacts and coils carry their operand's bit (`data-value`), powered or not.
+    g.querySelectorAll('.contact[data-operand], .coil[data-operand]').forEach(function (e) {
+      p.bits.push({ e: e, address: e.getAttribute('data-operand') });
+    });
+    g.querySelectorAll('.stl-line[data-index]').forEach(function (t) {
+      p.lines[Number(t.getAttribute('data-index'))] = t;
     });
     parts.set(g, p);
     return p;
@@ -149,6 +158,11 @@
     (state.networks || []).forEach(function (n) {
       byNetwork.set(n.block + '/' + n.network, n.on);
     });
+    const bits = state.bits || {};
+    const stlLines = new Map();
+    (state.stl || []).forEach(function (n) {
+      stlLines.set(n.block + '/' + n.network, n.lines);
+    });
     studio.networks().forEach(function (g, key) {
       const p = partsOf(g);
       const listed = byNetwork.has(key);
@@ -171,6 +185,22 @@
           v.shown = value;
           showValue(v.text, value);
         }
+      });
+      p.bits.forEach(function (b) {
+        const bit = bits[b.address];
+        if (bit === undefined) {
+          b.e.removeAttribute('data-value');
+        } else if (b.e.getAttribute('data-value') !== String(bit)) {
+          b.e.setAttribute('data-value', String(bit));
+        }
+      });
+      // STL lines: the logic result after each (in RUN; none in STOP).
+      const lines = stlLines.get(key) || [];
+      lines.forEach(function (line) {
+        const t = p.lines[line.index];
+        if (!t) return;
+        if (line.rlo === null || line.rlo === undefined) t.removeAttribute('data-rlo');
+        else t.setAttribute('data-rlo', String(line.rlo));
       });
       if (p.forced !== forcedKey) {
         p.forced = forcedKey;

@@ -375,6 +375,7 @@ impl Online {
                     current,
                     shared: worker_shared,
                     address: worker_address,
+                    session_forces: Default::default(),
                 };
                 worker.run(&link, &inbox, &ready);
             })
@@ -461,6 +462,9 @@ struct Worker {
     current: CurrentFn,
     shared: Arc<Shared>,
     address: String,
+    /// What this session forced and has not released (canonical addresses): UM4001 reads
+    /// force values, not the mask, so a bit forced to 0 is marked from this set only.
+    session_forces: std::collections::BTreeSet<String>,
 }
 
 impl Worker {
@@ -554,6 +558,22 @@ impl Worker {
                 state["message"] = json!("the PLC is in STOP");
             }
         }
+        if state["live"] == json!(true) {
+            // The forces this session made count too (a bit forced to 0 reads as unforced).
+            let mut forced: std::collections::BTreeSet<String> = state["forced"]
+                .as_array()
+                .map(|a| {
+                    a.iter()
+                        .filter_map(|v| v.as_str().map(String::from))
+                        .collect()
+                })
+                .unwrap_or_default();
+            forced.extend(self.session_forces.iter().cloned());
+            state["forced"] = json!(forced);
+            state["forced_note"] = json!(
+                "a bit forced to 0 is marked only when this studio session forced it: the PLC's protocol reports force values, not which bits are forced"
+            );
+        }
         if state["program"] != json!("same") {
             state["message"] = json!(match state["program"].as_str() {
                 Some("none") => "the PLC holds no program: download this one".to_string(),
@@ -645,17 +665,27 @@ impl Worker {
                     &program.target,
                 )
                 .map_err(bad)?;
+                let canonical = pair.0.canonical.clone();
                 let plc = monitor.plc(program).map_err(plc_error)?;
                 if force {
-                    plc.force(&[pair])
+                    let done = plc.force(&[pair]);
+                    if done.is_ok() {
+                        self.session_forces.insert(canonical);
+                    }
+                    done
                 } else {
                     plc.write(&[pair])
                 }
             }
             None => {
                 let var = vars::resolve(operand, &program.symbols, &program.target).map_err(bad)?;
+                let canonical = var.canonical.clone();
                 let plc = monitor.plc(program).map_err(plc_error)?;
-                plc.unforce(&[var]).map(drop)
+                let done = plc.unforce(&[var]).map(drop);
+                if done.is_ok() {
+                    self.session_forces.remove(&canonical);
+                }
+                done
             }
         };
         monitor.refresh();
