@@ -3,7 +3,7 @@
 long English and a long Chinese network comment, symbols with comments and SM0.0. The
 wrapped comment lines lie inside their network's width as the browser measures them,
 tooltips hold the symbols' comments, the symbol table lists the network's symbols,
-SM0.0 shows as Always_On, and CJK text is drawn by a CJK font where the machine has one
+SM0.0 shows as Always_On, and CJK text is drawn by a CJK font (CI installs one)
 (told by glyph widths, not by the CSS)."""
 
 import json
@@ -126,7 +126,7 @@ def test_sm0_0_shows_its_system_name(drawing):
     assert network(drawing, 2).locator('.symbol-info-row[data-symbol="Always_On"]').count() == 1
 
 
-def test_cjk_text_is_drawn_by_a_cjk_font_where_the_machine_has_one(drawing):
+def test_cjk_text_is_drawn_by_a_cjk_font(drawing):
     # Which fonts of the stack the browser has: a Latin probe measures the same in
     # `"FONT", monospace` and `"FONT", serif` only when FONT exists.
     measured = drawing.evaluate("""() => {
@@ -158,16 +158,14 @@ def test_cjk_text_is_drawn_by_a_cjk_font_where_the_machine_has_one(drawing):
     }""")
     # Latin text keeps monospace metrics: the layout counts 7 px a character at 11 px.
     assert 5.5 <= measured["latin"] <= 7.0, measured
-    if measured["cjkFonts"]:
-        # A CJK font is there: Han characters are drawn by it, a full em wide (what a
-        # CJK font's glyphs measure on their own), about twice a Latin character, and
-        # never more than the two columns the layout counts.
-        assert measured["han"] == pytest.approx(measured["hanInFirstCjk"], abs=0.05), measured
-        assert 10.0 <= measured["han"] <= 14.0, measured
-    else:
-        # No CJK font on this machine: the text is still laid out within two columns a
-        # character (whatever the browser's fallback draws).
-        assert measured["han"] <= 14.0, measured
+    # A CJK font must be there (CI installs fonts-wqy-zenhei): Han characters are drawn
+    # by it, a full em wide (what a CJK font's glyphs measure on their own), about twice
+    # a Latin character, and never more than the two columns the layout counts.
+    assert measured["cjkFonts"], (
+        "no font of the drawing's CJK stack on this machine: "
+        "install one (apt-get install fonts-wqy-zenhei)", measured)
+    assert measured["han"] == pytest.approx(measured["hanInFirstCjk"], abs=0.05), measured
+    assert 10.0 <= measured["han"] <= 14.0, measured
     page = drawing
     shoot(page, "drawing_text")
 
