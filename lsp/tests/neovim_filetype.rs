@@ -11,8 +11,7 @@ mod external;
 
 use std::collections::BTreeSet;
 use std::path::Path;
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Command;
 
 use serde_json::Value;
 
@@ -198,50 +197,28 @@ fn neovim_sets_up_colours_and_formats_a_lad_file() {
         server.parent().expect("bin folder").display(),
         std::env::var("PATH").unwrap_or_default()
     );
-    let mut nvim = Command::new("nvim")
-        .args(["--headless", "--clean", "-u"])
-        .arg(root.join("lsp/tests/neovim/filetype.lua"))
-        .arg(&file)
-        .current_dir(&work)
-        .env("PATH", path)
-        .env("XDG_CACHE_HOME", work.join("cache"))
-        .env("XDG_STATE_HOME", work.join("state"))
-        .env("XDG_DATA_HOME", work.join("data"))
-        .env("GUTTA_NVIM_RUNTIME", root.join("editors/neovim"))
-        .env(
-            "GUTTA_NVIM_CONFIG",
-            root.join("editors/neovim/gutta-lsp.lua"),
-        )
-        .env("GUTTA_NVIM_OUT", &out)
-        .env("GUTTA_NVIM_PROBES", serde_json::json!(probes).to_string())
-        .env("GUTTA_NVIM_FORMAT", work.join("format.lad"))
-        .env("GUTTA_NVIM_GQ", work.join("gq.lad"))
-        .env("GUTTA_NVIM_TIMEOUT_MS", "20000")
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("nvim starts");
-    let started = Instant::now();
-    let status = loop {
-        if let Some(status) = nvim.try_wait().expect("waits") {
-            break status;
-        }
-        if started.elapsed() > Duration::from_secs(60) {
-            let _ = nvim.kill();
-            let _ = nvim.wait();
-            panic!("nvim did not quit within 60 s");
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    };
-    let mut stderr = String::new();
-    if let Some(mut e) = nvim.stderr.take() {
-        let _ = std::io::Read::read_to_string(&mut e, &mut stderr);
-    }
-    assert!(status.success(), "nvim: {status}\n{stderr}");
-    let answer = std::fs::read_to_string(&out)
-        .unwrap_or_else(|e| panic!("nvim wrote no answer ({e}); stderr:\n{stderr}"));
-    let answer: Value = serde_json::from_str(&answer).expect("JSON");
+    let answer = external::nvim_answer(
+        Command::new("nvim")
+            .args(["--headless", "--clean", "-u"])
+            .arg(root.join("lsp/tests/neovim/filetype.lua"))
+            .arg(&file)
+            .current_dir(&work)
+            .env("PATH", path)
+            .env("XDG_CACHE_HOME", work.join("cache"))
+            .env("XDG_STATE_HOME", work.join("state"))
+            .env("XDG_DATA_HOME", work.join("data"))
+            .env("GUTTA_NVIM_RUNTIME", root.join("editors/neovim"))
+            .env(
+                "GUTTA_NVIM_CONFIG",
+                root.join("editors/neovim/gutta-lsp.lua"),
+            )
+            .env("GUTTA_NVIM_OUT", &out)
+            .env("GUTTA_NVIM_PROBES", serde_json::json!(probes).to_string())
+            .env("GUTTA_NVIM_FORMAT", work.join("format.lad"))
+            .env("GUTTA_NVIM_GQ", work.join("gq.lad"))
+            .env("GUTTA_NVIM_TIMEOUT_MS", "20000"),
+        &out,
+    );
 
     assert_eq!(answer["timeout"], Value::Null, "no server: {answer}");
     assert_eq!(answer["filetype"], "gutta", "{answer}");

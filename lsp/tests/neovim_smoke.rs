@@ -8,8 +8,7 @@
 mod external;
 
 use std::path::Path;
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Command;
 
 use serde_json::Value;
 
@@ -76,48 +75,26 @@ fn neovim_gets_the_diagnostic_and_a_hover() {
         server.parent().expect("bin folder").display(),
         std::env::var("PATH").unwrap_or_default()
     );
-    let mut nvim = Command::new("nvim")
-        .args(["--headless", "--clean", "-u"])
-        .arg(root.join("lsp/tests/neovim/smoke.lua"))
-        .arg(&file)
-        .current_dir(&work)
-        .env("PATH", path)
-        .env("XDG_CACHE_HOME", work.join("cache"))
-        .env("XDG_STATE_HOME", work.join("state"))
-        .env("XDG_DATA_HOME", work.join("data"))
-        .env(
-            "GUTTA_NVIM_CONFIG",
-            root.join("editors/neovim/gutta-lsp.lua"),
-        )
-        .env("GUTTA_NVIM_OUT", &out)
-        .env("GUTTA_HOVER_LINE", HOVER.0.to_string())
-        .env("GUTTA_HOVER_COLUMN", HOVER.1.to_string())
-        .env("GUTTA_NVIM_TIMEOUT_MS", "20000")
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("nvim starts");
-    let started = Instant::now();
-    let status = loop {
-        if let Some(status) = nvim.try_wait().expect("waits") {
-            break status;
-        }
-        if started.elapsed() > Duration::from_secs(60) {
-            let _ = nvim.kill();
-            let _ = nvim.wait();
-            panic!("nvim did not quit within 60 s");
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    };
-    let mut stderr = String::new();
-    if let Some(mut e) = nvim.stderr.take() {
-        let _ = std::io::Read::read_to_string(&mut e, &mut stderr);
-    }
-    assert!(status.success(), "nvim: {status}\n{stderr}");
-    let answer = std::fs::read_to_string(&out)
-        .unwrap_or_else(|e| panic!("nvim wrote no answer ({e}); stderr:\n{stderr}"));
-    let answer: Value = serde_json::from_str(&answer).expect("JSON");
+    let answer = external::nvim_answer(
+        Command::new("nvim")
+            .args(["--headless", "--clean", "-u"])
+            .arg(root.join("lsp/tests/neovim/smoke.lua"))
+            .arg(&file)
+            .current_dir(&work)
+            .env("PATH", path)
+            .env("XDG_CACHE_HOME", work.join("cache"))
+            .env("XDG_STATE_HOME", work.join("state"))
+            .env("XDG_DATA_HOME", work.join("data"))
+            .env(
+                "GUTTA_NVIM_CONFIG",
+                root.join("editors/neovim/gutta-lsp.lua"),
+            )
+            .env("GUTTA_NVIM_OUT", &out)
+            .env("GUTTA_HOVER_LINE", HOVER.0.to_string())
+            .env("GUTTA_HOVER_COLUMN", HOVER.1.to_string())
+            .env("GUTTA_NVIM_TIMEOUT_MS", "20000"),
+        &out,
+    );
 
     assert_eq!(answer["filetype"], "gutta", "{answer}");
     assert_eq!(answer["clients"], 1, "{answer}");

@@ -90,3 +90,37 @@ pub fn sim_binary() -> PathBuf {
     );
     path
 }
+
+/// Run headless Neovim as `nvim` sets it up (a script that writes its answer as JSON
+/// to `out` and quits), at most 60 s, and return that answer; fails with Neovim's stderr
+/// when it does not quit, quits with an error or writes no answer.
+pub fn nvim_answer(nvim: &mut Command, out: &Path) -> serde_json::Value {
+    use std::process::Stdio;
+    use std::time::{Duration, Instant};
+    let mut child = nvim
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("nvim starts");
+    let started = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().expect("waits") {
+            break status;
+        }
+        if started.elapsed() > Duration::from_secs(60) {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("nvim did not quit within 60 s");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let mut stderr = String::new();
+    if let Some(mut e) = child.stderr.take() {
+        let _ = std::io::Read::read_to_string(&mut e, &mut stderr);
+    }
+    assert!(status.success(), "nvim: {status}\n{stderr}");
+    let answer = std::fs::read_to_string(out)
+        .unwrap_or_else(|e| panic!("nvim wrote no answer ({e}); stderr:\n{stderr}"));
+    serde_json::from_str(&answer).expect("JSON")
+}
