@@ -43,20 +43,16 @@ fn balanced(svg: &str) {
 
 fuzz_target!(|data: &[u8]| {
     let (seed, _) = data.split_at(data.len().min(8));
-    let mut state = seed
-        .iter()
-        .fold(0x9E37_79B9_7F4A_7C15u64, |s, b| s.rotate_left(8) ^ u64::from(*b))
-        | 1;
+    let mut state = seed.iter().fold(0x9E37_79B9_7F4A_7C15u64, |s, b| {
+        s.rotate_left(8) ^ u64::from(*b)
+    }) | 1;
     let text = String::from_utf8_lossy(data).into_owned();
     let target = default_target();
     let checked = check_source(SourceFile::new("fuzz.lad", text), Some(target));
     let ladder = gutta_ladder::build(&checked);
     for names in [Names::Lad, Names::Stl] {
         for symbol_info in [false, true] {
-            let options = DrawOptions {
-                names,
-                symbol_info,
-            };
+            let options = DrawOptions { names, symbol_info };
             let svg = ladder_svg_with(&ladder, &options);
             balanced(&svg);
             assert_eq!(svg, ladder_svg_with(&ladder, &options), "same bytes twice");
