@@ -27,8 +27,22 @@ impl Checker<'_> {
             let Some(address) = self.direct_address(decl.address, None) else {
                 continue;
             };
-            if let Some((_, first)) = self.symbols.get(&key) {
+            if let Some((first_address, first)) = self.symbols.get(&key) {
                 let first_span = self.out.definitions[*first].span;
+                if *first_address == address && self.same_declared_type(name, decl) {
+                    // Two tables (or blocks) that agree: one symbol, said twice.
+                    self.report(
+                        Diagnostic::new(
+                            Code::SymbolRepeated,
+                            decl.name,
+                            format!("symbol `{name}` is declared again, with the same address"),
+                        )
+                        .label("the same address and type as before")
+                        .with_secondary(first_span, "first declared here")
+                        .help("the two declarations agree; the second can go"),
+                    );
+                    continue;
+                }
                 self.report(
                     Diagnostic::new(
                         Code::DuplicateSymbol,
@@ -51,6 +65,17 @@ impl Checker<'_> {
             let def = self.define(name.to_string(), DefKind::Symbol, decl.name, detail, None);
             self.symbols.insert(key, (address, def));
         }
+    }
+
+    /// Whether `decl` declares the same type (or none) as the first declaration of
+    /// `name` (names compared as symbols are: without case).
+    fn same_declared_type(&self, name: &str, decl: &SymbolDecl) -> bool {
+        let ty = |d: &SymbolDecl| d.data_type.map(|t| self.slice(t).to_ascii_uppercase());
+        self.ast
+            .symbols
+            .iter()
+            .find(|d| self.slice(d.name).eq_ignore_ascii_case(name))
+            .is_some_and(|first| ty(first) == ty(decl))
     }
 
     /// The declaration's type, when it names a known one; reported when it is unknown

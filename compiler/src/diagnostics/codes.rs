@@ -81,7 +81,7 @@ codes! {
     E0202 UndefinedSymbol Error "undefined symbol"
         "A name that is neither a direct address of the target, a symbol of the SYMBOLS section, nor a block name. Declare it in SYMBOLS (`Start : I0.0`) or fix the spelling; the help line suggests the closest symbol. A name is reported once, at its first use; the message counts the other uses and labels point at the first few of them.";
     E0203 DuplicateSymbol Error "duplicate symbol"
-        "A symbol is declared twice (names are case-insensitive): in one SYMBOLS block, in two blocks or files of the program, or in a symbol table as well. The label shows the first declaration, also when it is in another file.";
+        "A symbol is declared twice (names are case-insensitive) with a different address or type: in one SYMBOLS block, in two blocks or files of the program, or in a symbol table as well (two declarations that agree are W0208). The label shows the first declaration, also when it is in another file.";
     E0204 UndefinedLocal Error "undefined local variable"
         "`#name` refers to a local that the enclosing block does not declare in its VAR sections.";
     E0205 DuplicateLocal Error "duplicate local variable"
@@ -240,6 +240,8 @@ codes! {
         "In a STEP 7-Micro/WIN export (docs/microwin.md) Micro/WIN's system symbols (`Always_On`, `Clock_1s`, ...) name the target's SM bits that mean the same (the `MicroWin` attribute of its `SystemBit` rows, docs/targets.md). A user symbol of the same name wins, as in Micro/WIN; this warning says so, in case the program meant the system bit.";
     W0207 TimerResolution Warning "S7-200 timer resolution differs from the target's"
         "On an S7-200 a timer's number fixes its resolution (CPU 22x: TON/TOF T32 and T96 count 1 ms, T33-T36 and T97-T100 10 ms, the rest 100 ms; TONR T0 and T64 1 ms, T1-T4 and T65-T68 10 ms, the rest 100 ms). Where the target's resolution for that number (its `<Timers>` rows, docs/targets.md) differs, the same preset lasts a different time: the warning, once per timer, gives both resolutions and what the preset means on each. `gutta-cc --scale-timer-presets` (or `scale-timer-presets = true` in gutta.toml's [build]) scales constant presets to keep the S7-200 timing, rounded to the nearest unit; it warns only where rounding changes the time or a preset in memory cannot be scaled.";
+    W0208 SymbolRepeated Warning "symbol declared twice with the same address"
+        "Two declarations of one symbol (in two symbol tables, a table and a SYMBOLS block, or one block) agree: the same address and the same type (or none). Micro/WIN projects often carry the same table twice; the symbol means one thing, so this is a warning where a different address or type is E0203. Remove one of them.";
     W0801 TestChecksNothing Warning "test checks nothing"
         "A test without `EXPECT` or `UNTIL` passes whatever the program does (only a fault fails it). Add the expectation the test is about.";
     W0802 NoTests Warning "test file without tests"
