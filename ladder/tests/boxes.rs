@@ -11,8 +11,6 @@ mod common;
 use gutta_ladder::layout::{text_width, Rect, PIN_H};
 use gutta_ladder::model::{Block, Ladder, Network};
 use gutta_ladder::svg::{network_svg_with, DrawOptions, Names};
-use quick_xml::events::{BytesStart, Event};
-use quick_xml::Reader;
 
 use common::{checked_file, files, root};
 
@@ -51,86 +49,10 @@ fn svg(ladder: &Ladder, number: u32, names: Names) -> String {
 
 // ---- a small SVG reader: elements with their attributes, text and parent chain ------
 
-#[derive(Debug, Clone)]
-struct El {
-    name: String,
-    attrs: Vec<(String, String)>,
-    text: String,
-    /// Indexes of the enclosing elements, outermost first.
-    parents: Vec<usize>,
-}
-
-impl El {
-    fn attr(&self, key: &str) -> Option<&str> {
-        self.attrs
-            .iter()
-            .find(|(k, _)| k == key)
-            .map(|(_, v)| v.as_str())
-    }
-    fn has_class(&self, class: &str) -> bool {
-        self.attr("class")
-            .is_some_and(|c| c.split(' ').any(|p| p == class))
-    }
-    fn num(&self, key: &str) -> i32 {
-        self.attr(key)
-            .and_then(|v| v.parse().ok())
-            .unwrap_or_else(|| panic!("{} without a numeric {key}", self.name))
-    }
-}
+type El = common::xml::Element;
 
 fn parse(svg: &str) -> Vec<El> {
-    let wrapped = format!("<svg>{svg}</svg>");
-    let mut reader = Reader::from_str(&wrapped);
-    let mut els: Vec<El> = Vec::new();
-    let mut open: Vec<usize> = Vec::new();
-    let make = |e: &BytesStart<'_>, parents: &[usize]| El {
-        name: String::from_utf8(e.name().as_ref().to_vec()).expect("name"),
-        attrs: e
-            .attributes()
-            .map(|a| {
-                let a = a.expect("attribute");
-                (
-                    String::from_utf8(a.key.as_ref().to_vec()).expect("key"),
-                    a.unescape_value().expect("value").into_owned(),
-                )
-            })
-            .collect(),
-        text: String::new(),
-        parents: parents.to_vec(),
-    };
-    loop {
-        match reader.read_event().expect("well-formed SVG") {
-            Event::Eof => break,
-            Event::Start(e) => {
-                els.push(make(&e, &open));
-                open.push(els.len() - 1);
-            }
-            Event::Empty(e) => els.push(make(&e, &open)),
-            Event::End(_) => {
-                open.pop();
-            }
-            Event::Text(t) => {
-                let t = t.decode().expect("text").into_owned();
-                for &i in &open {
-                    els[i].text.push_str(&t);
-                }
-            }
-            Event::GeneralRef(r) => {
-                let c = match r.decode().expect("entity").as_ref() {
-                    "amp" => "&",
-                    "lt" => "<",
-                    "gt" => ">",
-                    "quot" => "\"",
-                    _ => "'",
-                };
-                for &i in &open {
-                    els[i].text.push_str(c);
-                }
-            }
-            _ => {}
-        }
-    }
-    els
+    common::xml::parse(&format!("<svg>{svg}</svg>")).0
 }
 
 /// A text's box by the layout's width estimate (11 px monospace; 8 px above the

@@ -4,6 +4,9 @@
 //! element, every wire powered by the rail or an element of its network, and no two
 //! element cells overlapping in a 30-wide or a 20-deep network.
 
+mod common;
+
+use common::xml::Element;
 use gutta_ladder::html::{ladder_html, HtmlOptions};
 use gutta_ladder::layout::{layout_network, Rect};
 use gutta_ladder::model::{
@@ -11,8 +14,6 @@ use gutta_ladder::model::{
     Ladder, Network, Node, Operand, Pin, Rung,
 };
 use gutta_ladder::svg::{ladder_svg, network_svg};
-use quick_xml::events::Event;
-use quick_xml::Reader;
 
 // ---- model builders ------------------------------------------------------------------
 
@@ -409,78 +410,9 @@ fn ladder() -> Ladder {
 
 // ---- helpers over the output ---------------------------------------------------------
 
-/// An element of the output: its name and attributes (unescaped).
-struct Element {
-    name: String,
-    attrs: Vec<(String, String)>,
-}
-
-impl Element {
-    fn attr(&self, key: &str) -> Option<&str> {
-        self.attrs
-            .iter()
-            .find(|(k, _)| k == key)
-            .map(|(_, v)| v.as_str())
-    }
-
-    fn has_class(&self, class: &str) -> bool {
-        self.attr("class")
-            .is_some_and(|c| c.split(' ').any(|part| part == class))
-    }
-}
-
-/// Parse `text` as XML; panics on any error (mismatched or unclosed tags, a bad
-/// attribute, an entity other than the five XML ones). Returns the elements in document
-/// order and the text content with entities resolved.
+/// Parse `text` as XML (strict: tests/common/xml.rs): its elements and text content.
 fn parse_xml(text: &str) -> (Vec<Element>, String) {
-    let mut reader = Reader::from_str(text);
-    let mut elements = Vec::new();
-    let mut content = String::new();
-    let mut open: Vec<String> = Vec::new();
-    let element = |e: &quick_xml::events::BytesStart<'_>| Element {
-        name: String::from_utf8(e.name().as_ref().to_vec()).expect("a UTF-8 name"),
-        attrs: e
-            .attributes()
-            .map(|a| {
-                let a = a.expect("well-formed attribute");
-                (
-                    String::from_utf8(a.key.as_ref().to_vec()).expect("a UTF-8 key"),
-                    a.unescape_value().expect("attribute escapes").into_owned(),
-                )
-            })
-            .collect(),
-    };
-    loop {
-        match reader.read_event() {
-            Ok(Event::Eof) => break,
-            Ok(Event::Start(e)) => {
-                let el = element(&e);
-                open.push(el.name.clone());
-                elements.push(el);
-            }
-            Ok(Event::Empty(e)) => elements.push(element(&e)),
-            Ok(Event::End(e)) => {
-                let name = String::from_utf8(e.name().as_ref().to_vec()).expect("a UTF-8 name");
-                assert_eq!(open.pop().as_deref(), Some(name.as_str()), "end tag");
-            }
-            Ok(Event::Text(t)) => content.push_str(&t.decode().expect("text decodes")),
-            Ok(Event::GeneralRef(r)) => {
-                let name = r.decode().expect("entity decodes");
-                content.push(match name.as_ref() {
-                    "amp" => '&',
-                    "lt" => '<',
-                    "gt" => '>',
-                    "quot" => '"',
-                    "apos" => '\'',
-                    other => panic!("entity &{other}; is not XML's"),
-                });
-            }
-            Ok(_) => {}
-            Err(e) => panic!("not well-formed at {}: {e}", reader.buffer_position()),
-        }
-    }
-    assert!(open.is_empty(), "unclosed elements {open:?}");
-    (elements, content)
+    common::xml::parse(text)
 }
 
 fn wrap(group: &str) -> String {

@@ -443,15 +443,7 @@ impl Session {
         let f = self.file(file)?;
         // The buffer is the first part of the checked text (the tables follow it), so
         // the tree's spans are the buffer's.
-        let unit = f
-            .checked
-            .ast
-            .units
-            .get(block)
-            .ok_or_else(|| StudioError::NoBlock {
-                file: f.name.clone(),
-                block,
-            })?;
+        let unit = f.unit(block)?;
         let start = unit.header.span.start as usize;
         let end = unit
             .end
@@ -765,6 +757,18 @@ fn structural(e: &json::ModelError) -> ModelDiagnostic {
 impl OpenFile {
     fn is_dirty(&self) -> bool {
         self.text != self.saved
+    }
+
+    /// Block `block` (its place in the file) of the checked buffer, else `NoBlock`.
+    pub(super) fn unit(&self, block: usize) -> Studio<&gutta_compiler::syntax::ast::Unit> {
+        self.checked
+            .ast
+            .units
+            .get(block)
+            .ok_or_else(|| StudioError::NoBlock {
+                file: self.name.clone(),
+                block,
+            })
     }
 }
 

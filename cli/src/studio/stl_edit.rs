@@ -275,15 +275,7 @@ impl Session {
     /// the end of its END line (with the line break), as [`Session::stl`] gives them.
     pub(super) fn block_range(&self, index: usize, block: usize) -> Studio<std::ops::Range<usize>> {
         let f = &self.files[index];
-        let unit = f
-            .checked
-            .ast
-            .units
-            .get(block)
-            .ok_or_else(|| StudioError::NoBlock {
-                file: f.name.clone(),
-                block,
-            })?;
+        let unit = f.unit(block)?;
         let text = &f.text;
         let start = line_start(text, unit.header.span.start as usize);
         let end = unit
@@ -312,15 +304,7 @@ impl Session {
                 format!("{} has no network {network} in block {block}", f.name),
             ))
         };
-        let unit = f
-            .checked
-            .ast
-            .units
-            .get(block)
-            .ok_or_else(|| StudioError::NoBlock {
-                file: f.name.clone(),
-                block,
-            })?;
+        let unit = f.unit(block)?;
         let net = unit.networks.get(network).ok_or_else(no_network)?;
         let text = &f.text;
         let start = line_start(text, net.span.start as usize);

@@ -15,6 +15,7 @@
 )]
 
 pub mod edit;
+pub mod xml;
 
 use std::path::{Path, PathBuf};
 
