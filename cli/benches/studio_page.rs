@@ -21,11 +21,15 @@
     reason = "a bench writes its project, runs the studio and prints what it measured"
 )]
 
-use std::io::{BufRead, BufReader};
-use std::process::{Command, Stdio};
+use std::process::Command;
 
 #[path = "studio_project/mod.rs"]
 mod studio_project;
+
+/// The tests' real-studio helper: started on a folder, killed when dropped.
+#[allow(dead_code, reason = "the bench only starts it; the tests also call its routes")]
+#[path = "../tests/common/studio.rs"]
+mod studio;
 
 use studio_project::project;
 
@@ -43,31 +47,15 @@ fn main() {
         panic!("GUTTA_PYTHON must name a Python with playwright (the .ci venv's)")
     });
     let root = project("page");
-    let mut studio = Command::new(env!("CARGO_BIN_EXE_gutta-cc"))
-        .args(["studio", "--no-open"])
-        .arg(&root)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("gutta-cc studio starts");
-    let mut line = String::new();
-    BufReader::new(studio.stdout.take().expect("stdout"))
-        .read_line(&mut line)
-        .expect("the first line");
-    let url = line
-        .trim()
-        .strip_prefix("gutta-cc studio: ")
-        .unwrap_or_else(|| panic!("first line {line:?}"))
-        .to_string();
+    let studio = studio::Studio::start(&root);
+    let url = format!("http://{}/?token={}", studio.address, studio.token);
     let script = concat!(env!("CARGO_MANIFEST_DIR"), "/benches/studio_page.py");
     let out = Command::new(&python)
         .arg(script)
         .arg(&url)
         .output()
         .expect("the page bench's script runs");
-    let _ = studio.kill();
-    let _ = studio.wait();
+    drop(studio);
     let _ = std::fs::remove_dir_all(&root);
     assert!(
         out.status.success(),
