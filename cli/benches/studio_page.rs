@@ -27,7 +27,10 @@ use std::process::Command;
 mod studio_project;
 
 /// The tests' real-studio helper: started on a folder, killed when dropped.
-#[allow(dead_code, reason = "the bench only starts it; the tests also call its routes")]
+#[allow(
+    dead_code,
+    reason = "the bench only starts it; the tests also call its routes"
+)]
 #[path = "../tests/common/studio.rs"]
 mod studio;
 

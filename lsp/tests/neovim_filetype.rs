@@ -10,7 +10,6 @@
 mod external;
 
 use std::collections::BTreeSet;
-use std::path::Path;
 use std::process::Command;
 
 use serde_json::Value;
@@ -183,7 +182,6 @@ fn neovim_sets_up_colours_and_formats_a_lad_file() {
         let at = &PROGRAM.lines().nth(line - 1).expect("line")[column - 1..];
         assert!(at.starts_with(text), "probe {line}:{column} is `{at}`");
     }
-    let root = external::repo_root();
     let work = external::scratch("neovim-filetype");
     let file = work.join("colours.lad");
     std::fs::write(&file, PROGRAM).expect("writes");
@@ -191,32 +189,11 @@ fn neovim_sets_up_colours_and_formats_a_lad_file() {
     std::fs::write(work.join("gq.lad"), BAD).expect("writes");
     let out = work.join("answer.json");
     let probes: Vec<[usize; 2]> = PROBES.iter().map(|p| [p.0, p.1]).collect();
-    let server = Path::new(env!("CARGO_BIN_EXE_gutta-lsp"));
-    let path = format!(
-        "{}:{}",
-        server.parent().expect("bin folder").display(),
-        std::env::var("PATH").unwrap_or_default()
-    );
     let answer = external::nvim_answer(
-        Command::new("nvim")
-            .args(["--headless", "--clean", "-u"])
-            .arg(root.join("lsp/tests/neovim/filetype.lua"))
-            .arg(&file)
-            .current_dir(&work)
-            .env("PATH", path)
-            .env("XDG_CACHE_HOME", work.join("cache"))
-            .env("XDG_STATE_HOME", work.join("state"))
-            .env("XDG_DATA_HOME", work.join("data"))
-            .env("GUTTA_NVIM_RUNTIME", root.join("editors/neovim"))
-            .env(
-                "GUTTA_NVIM_CONFIG",
-                root.join("editors/neovim/gutta-lsp.lua"),
-            )
-            .env("GUTTA_NVIM_OUT", &out)
+        external::nvim("filetype.lua", &file, &work, &out)
             .env("GUTTA_NVIM_PROBES", serde_json::json!(probes).to_string())
             .env("GUTTA_NVIM_FORMAT", work.join("format.lad"))
-            .env("GUTTA_NVIM_GQ", work.join("gq.lad"))
-            .env("GUTTA_NVIM_TIMEOUT_MS", "20000"),
+            .env("GUTTA_NVIM_GQ", work.join("gq.lad")),
         &out,
     );
 

@@ -7,7 +7,6 @@
 
 mod external;
 
-use std::path::Path;
 use std::process::Command;
 
 use serde_json::Value;
@@ -64,35 +63,14 @@ fn neovim_gets_the_diagnostic_and_a_hover() {
         nvim_version() >= (0, 7),
         "the config needs Neovim 0.7 or newer"
     );
-    let root = external::repo_root();
     let work = external::scratch("neovim");
     let file = work.join("mistake.lad");
     std::fs::write(&file, PROGRAM).expect("writes");
     let out = work.join("answer.json");
-    let server = Path::new(env!("CARGO_BIN_EXE_gutta-lsp"));
-    let path = format!(
-        "{}:{}",
-        server.parent().expect("bin folder").display(),
-        std::env::var("PATH").unwrap_or_default()
-    );
     let answer = external::nvim_answer(
-        Command::new("nvim")
-            .args(["--headless", "--clean", "-u"])
-            .arg(root.join("lsp/tests/neovim/smoke.lua"))
-            .arg(&file)
-            .current_dir(&work)
-            .env("PATH", path)
-            .env("XDG_CACHE_HOME", work.join("cache"))
-            .env("XDG_STATE_HOME", work.join("state"))
-            .env("XDG_DATA_HOME", work.join("data"))
-            .env(
-                "GUTTA_NVIM_CONFIG",
-                root.join("editors/neovim/gutta-lsp.lua"),
-            )
-            .env("GUTTA_NVIM_OUT", &out)
+        external::nvim("smoke.lua", &file, &work, &out)
             .env("GUTTA_HOVER_LINE", HOVER.0.to_string())
-            .env("GUTTA_HOVER_COLUMN", HOVER.1.to_string())
-            .env("GUTTA_NVIM_TIMEOUT_MS", "20000"),
+            .env("GUTTA_HOVER_COLUMN", HOVER.1.to_string()),
         &out,
     );
 

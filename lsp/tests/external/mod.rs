@@ -91,6 +91,39 @@ pub fn sim_binary() -> PathBuf {
     path
 }
 
+/// Headless Neovim as both Neovim tests run it: `nvim --headless --clean -u SCRIPT FILE`
+/// in `work` (its caches there too), the built `gutta-lsp` first on PATH, the
+/// repository's editors/neovim config and runtime named for the script
+/// (`GUTTA_NVIM_CONFIG`, `GUTTA_NVIM_RUNTIME`), the answer to write to `out`
+/// (`GUTTA_NVIM_OUT`) within 20 s (`GUTTA_NVIM_TIMEOUT_MS`). `script` is relative to
+/// lsp/tests/neovim.
+pub fn nvim(script: &str, file: &Path, work: &Path, out: &Path) -> Command {
+    let root = repo_root();
+    let server = Path::new(env!("CARGO_BIN_EXE_gutta-lsp"));
+    let path = format!(
+        "{}:{}",
+        server.parent().expect("bin folder").display(),
+        std::env::var("PATH").unwrap_or_default()
+    );
+    let mut nvim = Command::new("nvim");
+    nvim.args(["--headless", "--clean", "-u"])
+        .arg(root.join("lsp/tests/neovim").join(script))
+        .arg(file)
+        .current_dir(work)
+        .env("PATH", path)
+        .env("XDG_CACHE_HOME", work.join("cache"))
+        .env("XDG_STATE_HOME", work.join("state"))
+        .env("XDG_DATA_HOME", work.join("data"))
+        .env("GUTTA_NVIM_RUNTIME", root.join("editors/neovim"))
+        .env(
+            "GUTTA_NVIM_CONFIG",
+            root.join("editors/neovim/gutta-lsp.lua"),
+        )
+        .env("GUTTA_NVIM_OUT", out)
+        .env("GUTTA_NVIM_TIMEOUT_MS", "20000");
+    nvim
+}
+
 /// Run headless Neovim as `nvim` sets it up (a script that writes its answer as JSON
 /// to `out` and quits), at most 60 s, and return that answer; fails with Neovim's stderr
 /// when it does not quit, quits with an error or writes no answer.
