@@ -79,6 +79,14 @@ impl CheckedFile {
     pub fn microwin_summary(&self) -> Option<String> {
         self.microwin.as_ref()?.summary(&self.target)
     }
+
+    /// In a Micro/WIN export, the dialect's notes one by one (the parts of
+    /// [`CheckedFile::microwin_summary`]); empty otherwise.
+    pub fn microwin_notes(&self) -> Vec<microwin::Note> {
+        self.microwin
+            .as_ref()
+            .map_or_else(Vec::new, |e| e.notes(&self.target))
+    }
 }
 
 /// Parse and check one source file. The target is the explicit one if given, else the

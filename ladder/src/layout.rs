@@ -448,7 +448,8 @@ pub fn preset_duration(b: &BoxElement, pin: &str, op: &Operand) -> Option<String
 /// A timer's resolution as drawn in its box (`100 ms`).
 pub fn resolution_text(b: &BoxElement) -> Option<String> {
     // One unit of the timer, in the wording of every duration (`100 ms`, `1 s`).
-    b.resolution_ms.and_then(|ms| gutta_catalog::timer_duration(ms, 1))
+    b.resolution_ms
+        .and_then(|ms| gutta_catalog::timer_duration(ms, 1))
 }
 
 /// Offset of a box's top above its wire: room for its label above the first row, or

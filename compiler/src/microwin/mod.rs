@@ -55,18 +55,69 @@ pub struct Export {
     pub bits: Vec<(Span, String)>,
 }
 
+/// What a note of the dialect's stage is about: `--message-format json` writes each note
+/// as an object with this as its `kind` (`code-page`, `interrupts`, ...).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum NoteKind {
+    /// A file read in another code page than UTF-8 (written by the tools that read files).
+    CodePage,
+    /// Where the S7-200 interrupt blocks went.
+    Interrupts,
+    /// S7-200 event numbers that compile to another GUTTA number.
+    Events,
+    /// Where the S area (sequence control relays) lives in the target's memory.
+    SArea,
+    /// Where Micro/WIN's LAD temporaries L60-L63 went in each block.
+    LTemporaries,
+}
+
+impl NoteKind {
+    /// The `kind` of the note's JSON object.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            NoteKind::CodePage => "code-page",
+            NoteKind::Interrupts => "interrupts",
+            NoteKind::Events => "events",
+            NoteKind::SArea => "s-area",
+            NoteKind::LTemporaries => "l-temporaries",
+        }
+    }
+}
+
+/// One thing the compiler did to an export that the user should know, as the summary
+/// line's part (`S7-200 interrupts: INT_0 (INT0) -> INT1`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Note {
+    pub kind: NoteKind,
+    pub message: String,
+}
+
 impl Export {
-    /// Where its S7-200 interrupt blocks went and the S7-200 event numbers that compile
-    /// to another GUTTA number, as one line for the compile summary and the listing;
-    /// None when there is nothing to show.
-    pub fn summary(&self, target: &Target) -> Option<String> {
-        let parts: Vec<String> = [
-            interrupt_summary(&self.interrupt_placements),
-            event_summary(&self.events, target),
+    /// What the stage did that the user should know, in the summary's order: where the
+    /// S7-200 interrupt blocks went, the S7-200 event numbers that compile to another
+    /// GUTTA number, ...; empty when there is nothing to show.
+    pub fn notes(&self, target: &Target) -> Vec<Note> {
+        [
+            (
+                NoteKind::Interrupts,
+                interrupt_summary(&self.interrupt_placements),
+            ),
+            (NoteKind::Events, event_summary(&self.events, target)),
         ]
         .into_iter()
-        .flatten()
-        .collect();
+        .filter_map(|(kind, message)| {
+            Some(Note {
+                kind,
+                message: message?,
+            })
+        })
+        .collect()
+    }
+
+    /// [`Export::notes`] as one line for the compile summary and the listing; None when
+    /// there is nothing to show.
+    pub fn summary(&self, target: &Target) -> Option<String> {
+        let parts: Vec<String> = self.notes(target).into_iter().map(|n| n.message).collect();
         (!parts.is_empty()).then(|| parts.join("; "))
     }
 }
