@@ -151,7 +151,6 @@ pub const S7200_INSTRUCTIONS: &[S7200Instruction] = &[
         "unconditional end of the main program",
         Some("nothing: the scan ends after MAIN's last network (`END` ends it early under a condition)"),
     ),
-    ins("AENO", "and ENO of the previous box", None),
     ins(
         "GERR",
         "get the non-fatal error code",
@@ -333,10 +332,13 @@ pub enum S7200Name {
     SystemSymbol(&'static S7200SystemSymbol),
 }
 
-/// The S7-200 instruction `mnemonic` names (any case), if GUTTA lacks it.
+/// The S7-200 instruction `mnemonic` names (any case), if GUTTA lacks it: a row of
+/// [`S7200_INSTRUCTIONS`], or `AENO`, which only the Micro/WIN dialect accepts
+/// ([`crate::s7200_eno::AENO`]).
 pub fn s7200_instruction(mnemonic: &str) -> Option<&'static S7200Instruction> {
     S7200_INSTRUCTIONS
         .iter()
+        .chain(std::iter::once(&crate::s7200_eno::AENO))
         .find(|i| i.mnemonic.eq_ignore_ascii_case(mnemonic))
 }
 

@@ -167,6 +167,19 @@ fn rung_of(
         if broken {
             return Err(format!("{} did not parse", origin.at()));
         }
+        let aeno = checked.microwin.is_some()
+            && checked
+                .file
+                .slice(ins.mnemonic)
+                .eq_ignore_ascii_case("AENO");
+        if aeno {
+            // Micro/WIN's chain of boxes by their ENO (docs/microwin.md, "AENO"): the
+            // compiler gives it the flags' contacts; the drawing does not chain boxes yet.
+            return Err(format!(
+                "{} chains the boxes by their ENO, which the drawing does not show yet",
+                origin.at()
+            ));
+        }
         let Some(element) = resolver.element(net, ins) else {
             return Err(format!(
                 "{} is not an instruction of {}",

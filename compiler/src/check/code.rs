@@ -7,6 +7,7 @@ use std::collections::{BTreeMap, HashMap};
 
 use gutta_catalog::{rules, BlockKind, InstrId, Instruction, LoopRole};
 
+use super::aeno_lines::PreviousLine;
 use super::bit_lines::{BitLines, TimerBox};
 use super::calls::CallSite;
 use super::{CheckedInstruction, CheckedNetwork, CheckedUnit, Checker, DefKind, UnitInfo};
@@ -151,11 +152,13 @@ impl Checker<'_> {
         };
         let mut networks = Vec::new();
         let mut last_number: Option<(u32, Span)> = None;
+        let addresses_from = self.out.addresses.len();
         for net in &u.networks {
             cx.network = networks.len();
             let number = self.network_number(net, &mut last_number);
             networks.push(self.network(ui, &info, net, number, &mut loops, cx));
         }
+        self.place_l_temporaries(&info, addresses_from);
         for open in loops.open {
             self.report(
                 Diagnostic::new(Code::ForNext, open, "FOR without NEXT")
@@ -219,11 +222,20 @@ impl Checker<'_> {
             known: true,
         };
         let mut instructions = Vec::new();
+        let mut previous = None;
         for ins in &net.instructions {
+            if self.is_aeno_line(ins) {
+                let depth = stack.known.then_some(stack.depth);
+                let ops = net.operands_of(ins);
+                instructions.extend(self.aeno_line(ins, ops, previous, depth));
+                continue;
+            }
             let Some(id) = self.mnemonic(ins) else {
                 stack.known = false;
+                previous = Some(PreviousLine::Unknown(ins.mnemonic));
                 continue;
             };
+            previous = Some(PreviousLine::Known(id));
             self.out.mnemonics.push((ins.mnemonic, id));
             let spec = self.target.instructions.get(id);
             let ops = net.operands_of(ins);

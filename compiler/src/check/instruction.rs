@@ -220,7 +220,10 @@ impl Checker<'_> {
             return;
         };
         let plain_coil = instruction.ladder == LadderClass::Coil && !instruction.immediate;
-        if plain_coil && address.width == Width::Bit {
+        // Micro/WIN's temporaries (`l_temporaries.rs`) are meant to be assigned anew in
+        // every network that uses them.
+        let temporary = self.l_temporary_uses.contains(&span);
+        if plain_coil && address.width == Width::Bit && !temporary {
             let key = (address.slot, address.offset, address.bit);
             if let Some(first) = cx.coils.insert(key, span) {
                 self.report(

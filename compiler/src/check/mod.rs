@@ -4,12 +4,14 @@
 //! for the language server. It skips parser error nodes without reporting them again.
 
 mod address;
+mod aeno_lines;
 mod bit_lines;
 mod calls;
 mod code;
 mod constants;
 mod data;
 mod instruction;
+mod l_temporaries;
 mod memory;
 mod names;
 mod operands;
@@ -25,7 +27,9 @@ use gutta_catalog::{Address, BlockKind, InstrId, Target};
 use crate::diagnostics::Diagnostic;
 use crate::source::Span;
 use crate::syntax::ast::Program;
+pub use aeno_lines::AenoMeaning;
 pub use bit_lines::{BitLines, BitOp, BitUse, TimerBox};
+pub use l_temporaries::{LTemporaries, LTemporaryPlacement};
 pub use program::*;
 pub use system::PORT_KEYS;
 
@@ -76,6 +80,9 @@ pub struct CheckOutput {
     /// Lines that use a timer's or counter's bit and the timer boxes, where the
     /// conventions ask for them (`bit_lines.rs`), for the pass after checking.
     pub bit_lines: BitLines,
+    /// The blocks whose Micro/WIN temporaries L60-L63 were placed in the target's L
+    /// (`l_temporaries.rs`), in check order.
+    pub l_temporaries: Vec<LTemporaryPlacement>,
 }
 
 /// What a stage before the checker (a dialect's: `crate::microwin`) settled, as plain
@@ -96,6 +103,12 @@ pub struct Conventions {
     /// operand is a timer or counter (`LD T37`), and what each does; None: no line does
     /// (`bit_lines.rs`). When set, timer and counter boxes are recorded too.
     pub timer_bit_lines: Option<HashMap<InstrId, BitOp>>,
+    /// What `AENO` after each instruction of the target compiles to; None: `AENO` is
+    /// no line of the language (`aeno_lines.rs`).
+    pub aeno: Option<HashMap<InstrId, AenoMeaning>>,
+    /// Where a block's L addresses past the target's L go (Micro/WIN's LAD temporaries
+    /// L60-L63); None: they are out of range (`l_temporaries.rs`).
+    pub l_temporaries: Option<LTemporaries>,
 }
 
 /// A name the program may use without declaring it ([`Conventions::predefined_names`]).
@@ -136,6 +149,8 @@ pub(crate) struct Checker<'a> {
     /// Upper-case names that resolved to nothing: their one diagnostic and later uses.
     pub unknown_names: HashMap<String, names::UnknownName>,
     pub conventions: &'a Conventions,
+    /// The current block's operands placed as Micro/WIN temporaries (`l_temporaries.rs`).
+    pub l_temporary_uses: Vec<Span>,
 }
 
 impl<'a> Checker<'a> {
@@ -185,6 +200,7 @@ pub fn check(text: &str, ast: &Program, target: &Target, conventions: &Conventio
         data_names: HashMap::new(),
         unknown_names: HashMap::new(),
         conventions,
+        l_temporary_uses: Vec::new(),
     };
     c.symbols();
     c.units();

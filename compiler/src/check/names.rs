@@ -99,6 +99,14 @@ impl Checker<'_> {
                 declared: None,
             });
         }
+        if let Some(a) = self.l_temporary(name) {
+            self.out.addresses.push((name, a));
+            return Some(Variable {
+                address: a,
+                ty: None,
+                declared: None,
+            });
+        }
         if self.looks_like_address(text) {
             let a = self.direct_address(name, None)?;
             self.out.addresses.push((name, a));

@@ -12,6 +12,7 @@
 //! is an export. This module imports the syntax tree, diagnostics and the checker's
 //! plain-data types; nothing but `lib.rs` imports it.
 
+mod aeno;
 mod events;
 mod interrupts;
 mod names;
@@ -19,13 +20,14 @@ mod timer_bits;
 
 use gutta_catalog::Target;
 
-use crate::check::{CheckOutput, Conventions};
+use crate::check::{CheckOutput, Conventions, LTemporaries, LTemporaryPlacement};
 use crate::diagnostics::Diagnostic;
 use crate::source::{PartKind, SourceFile, Span};
 use crate::syntax::ast::Program;
 use crate::CompileOptions;
 
 pub use crate::source::{has_gutta_boxes, has_marker, is_microwin, GUTTA_BOXES, MARKER};
+pub use aeno::l_temporaries_summary;
 pub use events::{event_summary, EventTranslation};
 pub use interrupts::{interrupt_summary, InterruptPlacement};
 
@@ -53,6 +55,9 @@ pub struct Export {
     /// S7-200 timer and counter bit operands (`T37` of `LD T37`) and what they compile
     /// to, one Markdown line each (for hover); set by [`Desugared::after_check`].
     pub bits: Vec<(Span, String)>,
+    /// The blocks whose Micro/WIN LAD temporaries L60-L63 went into the target's L, and
+    /// where; set by [`Desugared::after_check`].
+    pub l_temporaries: Vec<LTemporaryPlacement>,
 }
 
 /// What a note of the dialect's stage is about: `--message-format json` writes each note
@@ -103,6 +108,10 @@ impl Export {
                 interrupt_summary(&self.interrupt_placements),
             ),
             (NoteKind::Events, event_summary(&self.events, target)),
+            (
+                NoteKind::LTemporaries,
+                l_temporaries_summary(&self.l_temporaries),
+            ),
         ]
         .into_iter()
         .filter_map(|(kind, message)| {
@@ -146,6 +155,8 @@ pub fn desugar(program: &mut Program, text: &str, target: &Target) -> Desugared 
         renumbered_literals,
         missing_main_help: Some(MISSING_MAIN_HELP),
         timer_bit_lines: Some(timer_bits::bit_lines(target)),
+        aeno: Some(aeno::meanings(target)),
+        l_temporaries: LTemporaries::last_bytes_of_l(target),
     };
     Desugared {
         diagnostics,
@@ -155,6 +166,7 @@ pub fn desugar(program: &mut Program, text: &str, target: &Target) -> Desugared 
             gutta_boxes: has_gutta_boxes(text),
             events,
             bits: Vec::new(),
+            l_temporaries: Vec::new(),
         }),
     }
 }
@@ -171,7 +183,11 @@ impl Desugared {
         target: &Target,
         options: CompileOptions,
     ) -> Vec<Diagnostic> {
-        let (Some(export), Some(program)) = (self.export.as_mut(), output.program.as_mut()) else {
+        let Some(export) = self.export.as_mut() else {
+            return Vec::new();
+        };
+        export.l_temporaries = output.l_temporaries.clone();
+        let Some(program) = output.program.as_mut() else {
             return Vec::new();
         };
         let report = timer_bits::rewrite(
