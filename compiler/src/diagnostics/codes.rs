@@ -127,7 +127,7 @@ codes! {
     E0305 UseNotAllowed Error "address-of or pointer not allowed"
         "`&` takes the address of a BYTE variable in an area that allows it (M, V, SM, L): `&MB24`, not `&MW24`. `*` reads through a pointer held in a DWORD of M, V or L: `*MD4`, not `*MW4`. Only some operands accept them: `&` only where an address is expected (`MOVD &MB24, MD4`).";
     E0306 AddressOutOfTarget Error "address outside the target"
-        "The address does not exist on the selected PLC type: the area is too small (`MB200` on CPU-EC20, which has MB0..MB127) or the area is missing (`VB100` exists only on EC30-EKSTM32-XC). The message names the area's size; `--plc` selects another type.";
+        "The address does not exist on the selected PLC type: the area is too small (`MB200` on CPU-EC20, which has MB0..MB127) or the area is missing (`VB100` exists only on EC30-EKSTM32-XC). The message names the area's size and its valid range (`M has 128 bytes, MB0..MB127`; for timers and counters the numbers, `T has 16 numbers, T0..T15`), the help the stdlib types where the address exists; `--plc` selects another type.";
     E0307 ConstantOutOfRange Error "constant out of range"
         "A constant does not fit the width or type of its operand: `MOVB 300, MB1` (a byte holds 0..255, or -128..127), `+I 40000, MW0` (INT holds -32768..32767), or a literal outside the operand's documented range.";
     E0308 WriteToReadOnly Error "write to a constant or read-only area"
