@@ -20,6 +20,7 @@ mod plc_type;
 pub mod plural;
 pub mod rules;
 pub mod s7200;
+pub mod s7200_io;
 pub mod s7200_timers;
 pub mod stdlib;
 mod suggest;
