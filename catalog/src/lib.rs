@@ -21,6 +21,7 @@ pub mod plural;
 pub mod rules;
 pub mod s7200;
 pub mod s7200_eno;
+pub mod s7200_io;
 pub mod s7200_timers;
 pub mod stdlib;
 mod suggest;

@@ -177,63 +177,339 @@ pub struct S7200SystemSymbol {
     pub s7200_address: &'static str,
     /// The GUTTA SM address that means the same, if there is one.
     pub gutta_address: Option<&'static str>,
+    /// What the S7-200 keeps there, a few words.
+    pub what: &'static str,
 }
 
 const fn sym(
     name: &'static str,
     s7200_address: &'static str,
     gutta_address: Option<&'static str>,
+    what: &'static str,
 ) -> S7200SystemSymbol {
     S7200SystemSymbol {
         name,
         s7200_address,
         gutta_address,
+        what,
     }
 }
 
-/// Micro/WIN's system symbols (SM names) with their GUTTA equivalents.
+/// An S7-200 SM name GUTTA has no register for.
+const fn sm(
+    name: &'static str,
+    s7200_address: &'static str,
+    what: &'static str,
+) -> S7200SystemSymbol {
+    sym(name, s7200_address, None, what)
+}
+
+/// Micro/WIN's system symbols (SM names, S7-200 CPU 22x and the S7-200 SMART's same
+/// addresses) with their GUTTA equivalents: the status bits, the freeport ports, the
+/// timed interrupts, the high-speed counters and the pulse outputs.
 pub const S7200_SYSTEM_SYMBOLS: &[S7200SystemSymbol] = &[
-    sym("Always_On", "SM0.0", Some("SM0.0")),
-    sym("First_Scan_On", "SM0.1", Some("SM0.1")),
-    sym("Retentive_Lost", "SM0.2", Some("SM0.2")),
-    sym("RUN_Power_Up", "SM0.3", Some("SM0.3")),
-    sym("Clock_60s", "SM0.4", Some("SM0.4")),
-    sym("Clock_1s", "SM0.5", Some("SM0.5")),
-    sym("Clock_Scan", "SM0.6", Some("SM0.6")),
-    sym("Mode_Switch", "SM0.7", None),
-    sym("Result_0", "SM1.0", Some("SM1.0")),
-    sym("Overflow_Illegal", "SM1.1", Some("SM1.1")),
-    sym("Neg_Result", "SM1.2", Some("SM1.2")),
-    sym("Divide_By_0", "SM1.3", Some("SM1.3")),
-    sym("Table_Overflow", "SM1.4", Some("SM1.4")),
-    sym("Not_BCD", "SM1.6", Some("SM1.6")),
-    sym("Not_Hex", "SM1.7", None),
-    sym("Receive_Char", "SMB2", None),
-    sym("Parity_Err", "SM3.0", None),
-    sym("P0_Config", "SMB30", None),
-    sym("P1_Config", "SMB130", None),
-    sym("Time_0_Intrvl", "SMB34", Some("SMB10")),
-    sym("Time_1_Intrvl", "SMB35", Some("SMB11")),
-    sym("HSC0_Ctrl", "SMB37", None),
-    sym("HSC0_CV", "SMD38", None),
-    sym("HSC0_PV", "SMD42", None),
-    sym("HSC1_Ctrl", "SMB47", None),
-    sym("HSC1_CV", "SMD48", None),
-    sym("HSC1_PV", "SMD52", None),
-    sym("HSC2_Ctrl", "SMB57", None),
-    sym("HSC2_CV", "SMD58", None),
-    sym("HSC2_PV", "SMD62", None),
-    sym("PLS0_Ctrl", "SMB67", None),
-    sym("PLS0_Cycle", "SMW68", None),
-    sym("PLS0_PW", "SMW70", None),
-    sym("PLS0_Pulse_Cnt", "SMD72", None),
-    sym("PLS1_Ctrl", "SMB77", None),
-    sym("PLS1_Cycle", "SMW78", None),
-    sym("PLS1_PW", "SMW80", None),
-    sym("PLS1_Pulse_Cnt", "SMD82", None),
-    sym("Scan_Time", "SMW22", Some("SMW4")),
-    sym("Scan_Time_Min", "SMW24", Some("SMW6")),
-    sym("Scan_Time_Max", "SMW26", Some("SMW8")),
+    // SMB0, SMB1: status bits.
+    sym("Always_On", "SM0.0", Some("SM0.0"), "always on"),
+    sym(
+        "First_Scan_On",
+        "SM0.1",
+        Some("SM0.1"),
+        "on in the first scan",
+    ),
+    sym(
+        "Retentive_Lost",
+        "SM0.2",
+        Some("SM0.2"),
+        "on for one scan when retentive data was lost",
+    ),
+    sym(
+        "RUN_Power_Up",
+        "SM0.3",
+        Some("SM0.3"),
+        "on for one scan when RUN is entered at power-up",
+    ),
+    sym("Clock_60s", "SM0.4", Some("SM0.4"), "60 s clock"),
+    sym("Clock_1s", "SM0.5", Some("SM0.5"), "1 s clock"),
+    sym(
+        "Clock_Scan",
+        "SM0.6",
+        Some("SM0.6"),
+        "on and off on alternate scans",
+    ),
+    sm("Mode_Switch", "SM0.7", "the mode switch is in TERM"),
+    sym("Result_0", "SM1.0", Some("SM1.0"), "the result was zero"),
+    sym(
+        "Overflow_Illegal",
+        "SM1.1",
+        Some("SM1.1"),
+        "overflow or illegal value",
+    ),
+    sym(
+        "Neg_Result",
+        "SM1.2",
+        Some("SM1.2"),
+        "the result was negative",
+    ),
+    sym("Divide_By_0", "SM1.3", Some("SM1.3"), "division by zero"),
+    sym(
+        "Table_Overflow",
+        "SM1.4",
+        Some("SM1.4"),
+        "the table is full (ATT)",
+    ),
+    sym(
+        "Table_Empty",
+        "SM1.5",
+        Some("SM1.5"),
+        "the table is empty (LIFO, FIFO)",
+    ),
+    sym(
+        "Not_BCD",
+        "SM1.6",
+        Some("SM1.6"),
+        "BCD conversion: an illegal digit",
+    ),
+    sm(
+        "Not_Hex",
+        "SM1.7",
+        "ASCII to hex conversion: an illegal character",
+    ),
+    // Freeport: the received character, errors, transmitters.
+    sm(
+        "Receive_Char",
+        "SMB2",
+        "the character freeport received last",
+    ),
+    sm(
+        "Parity_Err",
+        "SM3.0",
+        "freeport parity, framing or overrun error",
+    ),
+    sm(
+        "Comm_Int_Ovr",
+        "SM4.0",
+        "the communication interrupt queue overflowed",
+    ),
+    sm(
+        "Input_Int_Ovr",
+        "SM4.1",
+        "the input interrupt queue overflowed",
+    ),
+    sm(
+        "Timed_Int_Ovr",
+        "SM4.2",
+        "the timed interrupt queue overflowed",
+    ),
+    sm("Xmt0_Idle", "SM4.5", "port 0's transmitter is idle"),
+    sm("Xmt1_Idle", "SM4.6", "port 1's transmitter is idle"),
+    // Scan times.
+    sym(
+        "Scan_Time",
+        "SMW22",
+        Some("SMW4"),
+        "the last scan's time in ms",
+    ),
+    sym(
+        "Scan_Time_Min",
+        "SMW24",
+        Some("SMW6"),
+        "the shortest scan time in ms",
+    ),
+    sym(
+        "Scan_Time_Max",
+        "SMW26",
+        Some("SMW8"),
+        "the longest scan time in ms",
+    ),
+    // Port 0 and port 1: freeport control and receive message control.
+    sm(
+        "P0_Config",
+        "SMB30",
+        "port 0's freeport mode: protocol, bit rate, parity",
+    ),
+    sm(
+        "P1_Config",
+        "SMB130",
+        "port 1's freeport mode: protocol, bit rate, parity",
+    ),
+    sm("P0_Stat_Rcv", "SMB86", "port 0's receive message status"),
+    sm("P0_Ctrl_Rcv", "SMB87", "port 0's receive message control"),
+    sm(
+        "P0_Start_Char",
+        "SMB88",
+        "port 0's start-of-message character",
+    ),
+    sm("P0_End_Char", "SMB89", "port 0's end-of-message character"),
+    sm("P0_Idle_Time", "SMW90", "port 0's idle line time in ms"),
+    sm(
+        "P0_Timeout",
+        "SMW92",
+        "port 0's inter-character or message timeout in ms",
+    ),
+    sm(
+        "P0_Max_Char",
+        "SMB94",
+        "the most characters port 0 receives in a message",
+    ),
+    sm("P1_Stat_Rcv", "SMB186", "port 1's receive message status"),
+    sm("P1_Ctrl_Rcv", "SMB187", "port 1's receive message control"),
+    sm(
+        "P1_Start_Char",
+        "SMB188",
+        "port 1's start-of-message character",
+    ),
+    sm("P1_End_Char", "SMB189", "port 1's end-of-message character"),
+    sm("P1_Idle_Time", "SMW190", "port 1's idle line time in ms"),
+    sm(
+        "P1_Timeout",
+        "SMW192",
+        "port 1's inter-character or message timeout in ms",
+    ),
+    sm(
+        "P1_Max_Char",
+        "SMB194",
+        "the most characters port 1 receives in a message",
+    ),
+    // Timed interrupts.
+    sym(
+        "Time_0_Intrvl",
+        "SMB34",
+        Some("SMB10"),
+        "timed interrupt 0's period in ms",
+    ),
+    sym(
+        "Time_1_Intrvl",
+        "SMB35",
+        Some("SMB11"),
+        "timed interrupt 1's period in ms",
+    ),
+    // High-speed counters: status, control, current and preset value.
+    sm("HSC0_Status", "SMB36", "high-speed counter 0's status"),
+    sm("HSC0_Ctrl", "SMB37", "high-speed counter 0's control"),
+    sm(
+        "HSC0_CV",
+        "SMD38",
+        "high-speed counter 0's new current value",
+    ),
+    sm(
+        "HSC0_PV",
+        "SMD42",
+        "high-speed counter 0's new preset value",
+    ),
+    sm("HSC1_Status", "SMB46", "high-speed counter 1's status"),
+    sm("HSC1_Ctrl", "SMB47", "high-speed counter 1's control"),
+    sm(
+        "HSC1_CV",
+        "SMD48",
+        "high-speed counter 1's new current value",
+    ),
+    sm(
+        "HSC1_PV",
+        "SMD52",
+        "high-speed counter 1's new preset value",
+    ),
+    sm("HSC2_Status", "SMB56", "high-speed counter 2's status"),
+    sm("HSC2_Ctrl", "SMB57", "high-speed counter 2's control"),
+    sm(
+        "HSC2_CV",
+        "SMD58",
+        "high-speed counter 2's new current value",
+    ),
+    sm(
+        "HSC2_PV",
+        "SMD62",
+        "high-speed counter 2's new preset value",
+    ),
+    sm("HSC3_Status", "SMB136", "high-speed counter 3's status"),
+    sm("HSC3_Ctrl", "SMB137", "high-speed counter 3's control"),
+    sm(
+        "HSC3_CV",
+        "SMD138",
+        "high-speed counter 3's new current value",
+    ),
+    sm(
+        "HSC3_PV",
+        "SMD142",
+        "high-speed counter 3's new preset value",
+    ),
+    sm("HSC4_Status", "SMB146", "high-speed counter 4's status"),
+    sm("HSC4_Ctrl", "SMB147", "high-speed counter 4's control"),
+    sm(
+        "HSC4_CV",
+        "SMD148",
+        "high-speed counter 4's new current value",
+    ),
+    sm(
+        "HSC4_PV",
+        "SMD152",
+        "high-speed counter 4's new preset value",
+    ),
+    sm("HSC5_Status", "SMB156", "high-speed counter 5's status"),
+    sm("HSC5_Ctrl", "SMB157", "high-speed counter 5's control"),
+    sm(
+        "HSC5_CV",
+        "SMD158",
+        "high-speed counter 5's new current value",
+    ),
+    sm(
+        "HSC5_PV",
+        "SMD162",
+        "high-speed counter 5's new preset value",
+    ),
+    // Pulse outputs Q0.0 (PTO0/PWM0) and Q0.1 (PTO1/PWM1): Micro/WIN's PLS names,
+    // and the PTO and PWM names of MicroWIN SMART's table for the same bytes.
+    sm("PLS0_Status", "SMB66", "pulse output 0's (Q0.0) PTO status"),
+    sm(
+        "PLS0_Ctrl",
+        "SMB67",
+        "pulse output 0's (Q0.0) PTO/PWM control",
+    ),
+    sm("PLS0_Cycle", "SMW68", "pulse output 0's (Q0.0) cycle time"),
+    sm("PLS0_PW", "SMW70", "pulse output 0's (Q0.0) pulse width"),
+    sm(
+        "PLS0_Pulse_Cnt",
+        "SMD72",
+        "pulse output 0's (Q0.0) PTO pulse count",
+    ),
+    sm("PLS1_Status", "SMB76", "pulse output 1's (Q0.1) PTO status"),
+    sm(
+        "PLS1_Ctrl",
+        "SMB77",
+        "pulse output 1's (Q0.1) PTO/PWM control",
+    ),
+    sm("PLS1_Cycle", "SMW78", "pulse output 1's (Q0.1) cycle time"),
+    sm("PLS1_PW", "SMW80", "pulse output 1's (Q0.1) pulse width"),
+    sm(
+        "PLS1_Pulse_Cnt",
+        "SMD82",
+        "pulse output 1's (Q0.1) PTO pulse count",
+    ),
+    sm("PTO0_Status", "SMB66", "PTO0's (Q0.0) status"),
+    sm("PTO0_Ctrl", "SMB67", "PTO0's (Q0.0) control"),
+    sm("PTO0_Cycle", "SMW68", "PTO0's (Q0.0) cycle time"),
+    sm("PTO0_PC", "SMD72", "PTO0's (Q0.0) pulse count"),
+    sm("PTO1_Status", "SMB76", "PTO1's (Q0.1) status"),
+    sm("PTO1_Ctrl", "SMB77", "PTO1's (Q0.1) control"),
+    sm("PTO1_Cycle", "SMW78", "PTO1's (Q0.1) cycle time"),
+    sm("PTO1_PC", "SMD82", "PTO1's (Q0.1) pulse count"),
+    sm("PWM0_Ctrl", "SMB67", "PWM0's (Q0.0) control"),
+    sm("PWM0_Cycle", "SMW68", "PWM0's (Q0.0) cycle time"),
+    sm("PWM0_PW", "SMW70", "PWM0's (Q0.0) pulse width"),
+    sm("PWM1_Ctrl", "SMB77", "PWM1's (Q0.1) control"),
+    sm("PWM1_Cycle", "SMW78", "PWM1's (Q0.1) cycle time"),
+    sm("PWM1_PW", "SMW80", "PWM1's (Q0.1) pulse width"),
+    sm("PTO0_Step", "SMB166", "PTO0's (Q0.0) current profile step"),
+    sm(
+        "PTO0_Profile",
+        "SMW168",
+        "PTO0's (Q0.0) profile table address in V",
+    ),
+    sm("PTO1_Step", "SMB176", "PTO1's (Q0.1) current profile step"),
+    sm(
+        "PTO1_Profile",
+        "SMW178",
+        "PTO1's (Q0.1) profile table address in V",
+    ),
 ];
 
 /// What raises an S7-200 interrupt event, as far as a GUTTA target's events can mean
@@ -330,6 +606,8 @@ pub fn s7200_event(number: i64) -> Option<&'static S7200Event> {
 pub enum S7200Name {
     Area(S7200AreaKind),
     SystemSymbol(&'static S7200SystemSymbol),
+    /// MicroWIN SMART's default name of an onboard input or output (`CPU_Input0`).
+    SmartIo(crate::s7200_io::SmartIoName),
 }
 
 /// The S7-200 instruction `mnemonic` names (any case), if GUTTA lacks it: a row of
@@ -343,13 +621,17 @@ pub fn s7200_instruction(mnemonic: &str) -> Option<&'static S7200Instruction> {
 }
 
 /// What `name` (an operand as written) is on an S7-200, when it is an area GUTTA
-/// lacks (`S0.0`, `SB2`, `AC0`) or a Micro/WIN system symbol (`Always_On`).
+/// lacks (`S0.0`, `SB2`, `AC0`), a Micro/WIN system symbol (`Always_On`) or one of
+/// MicroWIN SMART's default I/O names (`CPU_Input0`).
 pub fn s7200_name(name: &str) -> Option<S7200Name> {
     if let Some(s) = S7200_SYSTEM_SYMBOLS
         .iter()
         .find(|s| s.name.eq_ignore_ascii_case(name))
     {
         return Some(S7200Name::SystemSymbol(s));
+    }
+    if let Some(io) = crate::s7200_io::smart_io_name(name) {
+        return Some(S7200Name::SmartIo(io));
     }
     let upper = name.to_ascii_uppercase();
     if let Some(n) = upper.strip_prefix("AC") {

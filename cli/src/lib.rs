@@ -1,7 +1,8 @@
 //! The conventions the three command-line tools (gutta-cc, gutta-vm, gutta-sim) share:
 //! fatal errors with a kind and their JSON form, the NO_COLOR rule, shell completions
 //! and man pages, the table of flags the tools spell alike (docs/cli.md), the `--plc`/`--target`
-//! flags and the target they choose (`target`), reading a program's files (`sources`), and counts
+//! flags and the target they choose (`target`), reading a program's files (`sources`) and
+//! printing the notes about them (`notes`: human or JSON), and counts
 //! with their nouns (`plural`, whose home is gutta-catalog so the libraries' messages
 //! share it: `1 page`, `2 pages`), and the variables gutta-cc and gutta-vm name on the
 //! command line (`vars`: gutta-link's typed `Var` with its JSON and the symbol context),
@@ -13,6 +14,7 @@ pub mod color;
 pub mod fatal;
 pub mod flags;
 pub use gutta_catalog::plural;
+pub mod notes;
 pub mod shell;
 pub mod sources;
 pub mod studio;

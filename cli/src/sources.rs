@@ -1,19 +1,26 @@
 //! Reading a program's files for the compiler: the sources and symbol tables as text,
 //! with the encoding rules of docs/cli.md (UTF-8; a table or a Micro/WIN export may be
-//! GBK or Windows-1252, said on stderr). What to compile and how to report it is the
-//! commands' business, not this module's.
+//! GBK or Windows-1252, said by a code-page note the caller prints: `notes.rs`). What
+//! to compile and how to report it is the commands' business, not this module's.
 
 use std::path::{Path, PathBuf};
 
+use gutta_compiler::microwin::NoteKind;
 use gutta_compiler::source::{SourceEncoding, SourceFile};
 use gutta_compiler::ProgramSources;
 
 use crate::fatal::Fatal;
+use crate::notes::Note;
 
 /// The program: every source file, and the `--symbols` files that are tables (a `.lad`
-/// there is a usage error: its blocks would be half a program).
-pub fn read_program(files: &[PathBuf], tables: &[PathBuf]) -> Result<ProgramSources, Fatal> {
-    read_program_in(Path::new(""), files, tables)
+/// there is a usage error: its blocks would be half a program). A file read in another
+/// code page than UTF-8 adds a note to `notes`.
+pub fn read_program(
+    files: &[PathBuf],
+    tables: &[PathBuf],
+    notes: &mut Vec<Note>,
+) -> Result<ProgramSources, Fatal> {
+    read_program_in(Path::new(""), files, tables, notes)
 }
 
 /// [`read_program`] with the paths relative to `base` (a project's folder), each file
@@ -22,6 +29,7 @@ pub fn read_program_in(
     base: &Path,
     files: &[PathBuf],
     tables: &[PathBuf],
+    notes: &mut Vec<Note>,
 ) -> Result<ProgramSources, Fatal> {
     if let Some(lad) = tables
         .iter()
@@ -34,23 +42,30 @@ pub fn read_program_in(
     }
     let mut program = ProgramSources::default();
     for path in files {
-        program.sources.push(read_named(base, path, false)?);
+        program.sources.push(read_named(base, path, false, notes)?);
     }
     for path in tables {
-        program.symbol_tables.push(read_named(base, path, true)?);
+        program
+            .symbol_tables
+            .push(read_named(base, path, true, notes)?);
     }
     Ok(program)
 }
 
 /// A file as text (BOM dropped), named as given: UTF-8; a symbol table or a Micro/WIN
 /// export (`.awl`, or the dialect's marker line) may also be GBK or Windows-1252
-/// (`SourceFile::from_code_page_bytes`; a note on stderr says which).
-pub fn read_source(path: &Path, table: bool) -> Result<SourceFile, Fatal> {
-    read_named(Path::new(""), path, table)
+/// (`SourceFile::from_code_page_bytes`; a note in `notes` says which).
+pub fn read_source(path: &Path, table: bool, notes: &mut Vec<Note>) -> Result<SourceFile, Fatal> {
+    read_named(Path::new(""), path, table, notes)
 }
 
 /// `base/path` read, named `path`.
-fn read_named(base: &Path, path: &Path, table: bool) -> Result<SourceFile, Fatal> {
+fn read_named(
+    base: &Path,
+    path: &Path,
+    table: bool,
+    notes: &mut Vec<Note>,
+) -> Result<SourceFile, Fatal> {
     let name = path.display().to_string();
     let bytes = std::fs::read(base.join(path))
         .map_err(|e| Fatal::io(format!("cannot read {name}: {e}")))?;
@@ -62,7 +77,11 @@ fn read_named(base: &Path, path: &Path, table: bool) -> Result<SourceFile, Fatal
             ))
         })?;
     if encoding != SourceEncoding::Utf8 {
-        eprintln!("note: {name} is not UTF-8; read as {}", encoding.as_str());
+        notes.push(Note {
+            kind: NoteKind::CodePage,
+            message: format!("{name} is not UTF-8; read as {}", encoding.as_str()),
+            file: name,
+        });
     }
     Ok(file)
 }

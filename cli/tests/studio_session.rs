@@ -61,8 +61,9 @@ fn errors(update: &Update) -> Vec<String> {
 
 /// The saved file compiled as `gutta-cc build` compiles a project's sources.
 fn compile_saved(root: &Path) -> Vec<String> {
-    let program = gutta_cli::sources::read_program_in(root, &[PathBuf::from(FILE)], &[])
-        .expect("the saved file reads");
+    let program =
+        gutta_cli::sources::read_program_in(root, &[PathBuf::from(FILE)], &[], &mut Vec::new())
+            .expect("the saved file reads");
     let target = ExplicitTarget {
         target: std::sync::Arc::new(gutta_catalog::stdlib::load("CPU-EC20").expect("loads")),
         origin: "[program] plc".to_string(),
@@ -860,6 +861,7 @@ fn symbols_are_listed_added_changed_and_renamed_everywhere() {
         &root,
         &[PathBuf::from(file)],
         &[PathBuf::from("symbols.csv")],
+        &mut Vec::new(),
     )
     .expect("reads");
     let compiled = compile_program(program, None);

@@ -124,7 +124,7 @@ pub fn check_source_with(
     let target = resolve_target(&parsed.program, explicit, &mut diagnostics);
     let mut desugared = Desugared::default();
     if microwin {
-        desugared = microwin::desugar(&mut parsed.program, &file.text, &target);
+        desugared = microwin::desugar(&mut parsed.program, &file, &target);
     }
     diagnostics.append(&mut desugared.diagnostics);
     let mut output = check::check(&file.text, &parsed.program, &target, &desugared.conventions);

@@ -150,10 +150,11 @@ fn docs_list_every_row_of_the_s7200_table() {
     }
     for s in S7200_SYSTEM_SYMBOLS {
         let row = format!(
-            "| `{}` | {} | {} |",
+            "| `{}` | {} | {} | {} |",
             s.name,
             s.s7200_address,
-            s.gutta_address.unwrap_or("none")
+            s.gutta_address.unwrap_or("none"),
+            s.what
         );
         assert!(docs.contains(&row), "docs/microwin.md lacks {row}");
     }

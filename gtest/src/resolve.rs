@@ -3,6 +3,7 @@
 //! checked to fit (E0805, E0806, E0809). The result, a [`Plan`], is what the runner
 //! executes: it holds no names to look up and no text to parse.
 
+use gutta_catalog::s7200_io::smart_io_name;
 use gutta_catalog::{stdlib, Address, ValueFormat, Width};
 use gutta_compiler::diagnostics::{Code, Diagnostic};
 use gutta_compiler::source::{LineIndex, SourceFile, Span};
@@ -347,15 +348,19 @@ impl Resolver<'_> {
             Err(e) => e,
         };
         if self.program.microwin {
-            if let Some(bit) = memory.microwin_system_bit(name) {
-                if let Ok(address) = memory.parse_address(&bit.address) {
-                    return Ok(Variable {
-                        symbol: Some(name.to_string()),
-                        canonical: memory.format_address(&address),
-                        format: ValueFormat::default_for(address.width),
-                        address,
-                    });
-                }
+            // Micro/WIN's system symbols, and MicroWIN SMART's default I/O names
+            // (`CPU_Input0`) for the bits the target has, as the dialect reads them.
+            let system = memory
+                .microwin_system_bit(name)
+                .and_then(|bit| memory.parse_address(&bit.address).ok());
+            let io = || smart_io_name(name).and_then(|io| io.address(memory).ok());
+            if let Some(address) = system.or_else(io) {
+                return Ok(Variable {
+                    symbol: Some(name.to_string()),
+                    canonical: memory.format_address(&address),
+                    format: ValueFormat::default_for(address.width),
+                    address,
+                });
             }
         }
         let target_name = target.name().to_string();

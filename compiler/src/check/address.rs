@@ -5,7 +5,7 @@
 
 use std::sync::OnceLock;
 
-use gutta_catalog::{stdlib, Address, AddressError, MemoryMap};
+use gutta_catalog::{stdlib, Address, AddressError, MemoryMap, Width};
 
 use super::Checker;
 use crate::diagnostics::{Code, Diagnostic};
@@ -37,6 +37,29 @@ impl Checker<'_> {
         }
     }
 
+    /// What area `area` holds, as E0306's message says it: `M has 128 bytes, MB0..MB127`
+    /// for an access of `width`, `T has 16 numbers, T0..T15` for an area of numbers.
+    fn area_extent(&self, area: &str, width: Width) -> String {
+        let memory = &self.target.memory;
+        let Some(a) = memory.area(area) else {
+            return format!("it has no area {area}");
+        };
+        let at = |offset: u32, bit: u8| {
+            memory.format_address(&Address {
+                slot: a.slot,
+                width,
+                offset,
+                bit,
+            })
+        };
+        let (first, last) = (at(0, 0), at(a.size.saturating_sub(width.bytes()), 7));
+        if a.fixed_width().is_some() {
+            format!("{area} has {} numbers, {first}..{last}", a.unit_count())
+        } else {
+            format!("{area} has {} bytes, {first}..{last}", a.size)
+        }
+    }
+
     fn address_error(&mut self, span: Span, text: &str, e: AddressError, context: Option<&str>) {
         let plc = self.target.name().to_string();
         let d = match &e {
@@ -57,15 +80,16 @@ impl Checker<'_> {
                     d.help(format!("area {prefix} exists on {}; select it with --plc or PLC_TYPE", elsewhere.join(", ")))
                 }
             }
-            AddressError::OutOfRange { area, size, last, .. } => {
+            AddressError::OutOfRange { area, last, width, .. } => {
                 let elsewhere: Vec<&str> = stdlib_memory_maps()
                     .iter()
                     .filter(|(n, _)| !n.eq_ignore_ascii_case(&plc))
                     .filter(|(_, m)| m.as_ref().is_some_and(|m| m.parse_address(text).is_ok()))
                     .map(|(n, _)| *n)
                     .collect();
-                let d = Diagnostic::new(Code::AddressOutOfTarget, span, format!("`{text}` is outside area {area} of {plc}"))
-                    .label(format!("{area} has {size} bytes; the last {} is {last}", if last.contains('.') { "bit" } else { "such address" }));
+                let extent = self.area_extent(area, *width);
+                let d = Diagnostic::new(Code::AddressOutOfTarget, span, format!("`{text}` is outside area {area} of {plc}: {extent}"))
+                    .label(format!("past {last}, the end of {area}"));
                 if elsewhere.is_empty() {
                     d
                 } else {

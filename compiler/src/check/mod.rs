@@ -98,7 +98,10 @@ pub struct Conventions {
     /// span; None where it refused the operand (and reported it).
     pub renumbered_literals: HashMap<Span, Option<i64>>,
     /// E0408's help (the program has no MAIN), when it must say more than the default.
-    pub missing_main_help: Option<&'static str>,
+    pub missing_main_help: Option<String>,
+    /// E0206's help (no block of that name) for block operands, by the operand's span,
+    /// when it must say more than the default (a block of another file of an export).
+    pub block_elsewhere_help: HashMap<Span, String>,
     /// The instructions whose lines use a timer's or counter's bit when their first
     /// operand is a timer or counter (`LD T37`), and what each does; None: no line does
     /// (`bit_lines.rs`). When set, timer and counter boxes are recorded too.
@@ -151,6 +154,10 @@ pub(crate) struct Checker<'a> {
     pub conventions: &'a Conventions,
     /// The current block's operands placed as Micro/WIN temporaries (`l_temporaries.rs`).
     pub l_temporary_uses: Vec<Span>,
+    /// Upper-case predefined name -> its address ([`Conventions::predefined_names`],
+    /// the first of a name), looked up for every name operand: a map, as an export's
+    /// predefined names count in the hundreds (SMART's I/O names).
+    pub predefined: HashMap<String, Option<Address>>,
 }
 
 impl<'a> Checker<'a> {
@@ -201,7 +208,11 @@ pub fn check(text: &str, ast: &Program, target: &Target, conventions: &Conventio
         unknown_names: HashMap::new(),
         conventions,
         l_temporary_uses: Vec::new(),
+        predefined: HashMap::new(),
     };
+    for p in conventions.predefined_names.iter().rev() {
+        c.predefined.insert(p.name.to_ascii_uppercase(), p.address);
+    }
     c.symbols();
     c.units();
     let data_blocks = c.data_blocks();

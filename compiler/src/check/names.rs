@@ -123,11 +123,7 @@ impl Checker<'_> {
     /// A predefined name (`Conventions`: in a Micro/WIN export, Micro/WIN's system
     /// symbols such as `Always_On`) as its address; user symbols win.
     fn predefined_name(&self, text: &str) -> Option<Address> {
-        self.conventions
-            .predefined_names
-            .iter()
-            .find(|p| p.name.eq_ignore_ascii_case(text))?
-            .address
+        *self.predefined.get(&text.to_ascii_uppercase())?
     }
 
     /// A name that is no variable: a unit's, or nothing defined.
@@ -256,20 +252,21 @@ fn s7200_name_diagnostic(
         .label("no accumulators on this target")
         .help("use a word of M or V, or a local variable (`#tmp`) of the block"),
         S7200Name::SystemSymbol(s) => {
-            let d = Diagnostic::new(
-                Code::S7200Area,
-                name,
-                format!(
-                    "`{text}` is Micro/WIN's system symbol for the S7-200's {}; {target} has no such name",
-                    s.s7200_address
-                ),
-            );
             // The target's own data says which bit the name stands for (its
             // ManagerVar.xml `MicroWin` attribute), as the Micro/WIN dialect reads it.
             let here = on
                 .memory
                 .microwin_system_bit(s.name)
                 .map(|b| b.address.clone());
+            let lacks = if here.is_some() { "name" } else { "register" };
+            let d = Diagnostic::new(
+                Code::S7200Area,
+                name,
+                format!(
+                    "`{text}` is Micro/WIN's system symbol for the S7-200's {} ({}); {target} has no such {lacks}",
+                    s.s7200_address, s.what
+                ),
+            );
             match here {
                 Some(a) => d.label(format!("{a} on this target")).help(format!(
                     "declare it in SYMBOLS (`{} : {a}`), or read the file as a Micro/WIN export \
@@ -282,5 +279,55 @@ fn s7200_name_diagnostic(
                     .help(format!("{target} has no counterpart of the S7-200's {}", s.s7200_address)),
             }
         }
+        S7200Name::SmartIo(io) => smart_io_diagnostic(name, text, io, on),
+    }
+}
+
+/// E0221 for MicroWIN SMART's default I/O name (`CPU_Input0`) where it does not resolve:
+/// outside the dialect, or past the target's I or Q area (docs/microwin.md, "MicroWIN
+/// SMART's I/O symbols").
+fn smart_io_diagnostic(
+    name: Span,
+    text: &str,
+    io: gutta_catalog::s7200_io::SmartIoName,
+    on: &gutta_catalog::Target,
+) -> Diagnostic {
+    let target = on.name();
+    let what = io.pattern.what;
+    let point = io.point;
+    match io.address(&on.memory) {
+        Ok(a) => {
+            let here = on.memory.format_address(&a);
+            Diagnostic::new(
+                Code::S7200Area,
+                name,
+                format!("`{text}` is MicroWIN SMART's default symbol for {what} {point} ({here}); {target} has no such name"),
+            )
+            .label(format!("{here} on this target"))
+            .help(format!(
+                "declare it in SYMBOLS (`{text} : {here}`), or read the file as a Micro/WIN export \
+                 (first line `// dialect: microwin`, or name it .awl), where SMART's I/O names are known"
+            ))
+        }
+        Err(Some((area, size))) => {
+            let at = io.address_text(&area);
+            Diagnostic::new(
+                Code::S7200Area,
+                name,
+                format!(
+                    "`{text}` is MicroWIN SMART's default symbol for {what} {point}, {at}; {target}'s area {area} has {size} bytes, {area}0.0..{area}{}.7 ({what}s 0..{})",
+                    size.saturating_sub(1),
+                    (size * 8).saturating_sub(1)
+                ),
+            )
+            .label(format!("past {area}{}.7", size.saturating_sub(1)))
+            .help(format!("use an {what} {target} has, or select a PLC type with more with --plc or PLC_TYPE"))
+        }
+        Err(None) => Diagnostic::new(
+            Code::S7200Area,
+            name,
+            format!("`{text}` is MicroWIN SMART's default symbol for {what} {point}; {target} has no {what}s"),
+        )
+        .label(format!("no {what}s on this target")),
     }
 }

@@ -202,17 +202,22 @@ impl Checker<'_> {
             return None;
         }
         let Some(&u) = self.unit_names.get(&key) else {
-            let cands: Vec<String> = self.units.iter().map(|u| u.name.clone()).collect();
-            let hint = crate::suggest::closest(text, cands.iter().map(String::as_str))
-                .map(|s| Suggestion::new(name, s));
-            self.report(
-                Diagnostic::new(
-                    Code::UndefinedBlock,
-                    name,
-                    format!("no block named `{text}`"),
-                )
-                .maybe_suggest(hint),
+            let d = Diagnostic::new(
+                Code::UndefinedBlock,
+                name,
+                format!("no block named `{text}`"),
             );
+            // A block of another file of an export (Conventions), else the closest name.
+            let d = match self.conventions.block_elsewhere_help.get(&name) {
+                Some(help) => d.help(help.clone()),
+                None => {
+                    let cands: Vec<String> = self.units.iter().map(|u| u.name.clone()).collect();
+                    let hint = crate::suggest::closest(text, cands.iter().map(String::as_str))
+                        .map(|s| Suggestion::new(name, s));
+                    d.maybe_suggest(hint)
+                }
+            };
+            self.report(d);
             return None;
         };
         let want = rules::unit_operand_kind(spec);

@@ -42,7 +42,7 @@ impl Checker<'_> {
             .iter()
             .any(|u| u.kind == BlockKind::Interrupt && u.number == 0)
         {
-            let help = self.conventions.missing_main_help.unwrap_or(
+            let help = self.conventions.missing_main_help.as_deref().unwrap_or(
                 "add `ORGANIZATION_BLOCK MAIN:OB1` ... `BEGIN` ... `END_ORGANIZATION_BLOCK`",
             );
             self.report(

@@ -87,7 +87,7 @@ codes! {
     E0205 DuplicateLocal Error "duplicate local variable"
         "A local variable name appears twice in a block's VAR sections (names are case-insensitive).";
     E0206 UndefinedBlock Error "undefined block"
-        "`CALL`, `ATCH` or a data reference names a block that does not exist. Blocks are named by their symbolic name (`ADD3`) or numbered name (`SBR0`).";
+        "`CALL`, `ATCH` or a data reference names a block that does not exist. Blocks are named by their symbolic name (`ADD3`) or numbered name (`SBR0`). In a Micro/WIN export a name that looks like a block of another file (`SBR_1`, `INT_0`, `子程序_2`, `SBR3`, a `NAME:SBRn` operand) is most likely in a file of the same export that was not passed: MicroWIN SMART exports one block per file, and the help shows the command that compiles them together (docs/microwin.md, \"One block per file\").";
     E0207 DuplicateBlock Error "duplicate block"
         "Two blocks share a symbolic name or a numbered name (`SBR0`, `INT1`, `DAT0`), or MAIN is defined twice. GUTTA's MAIN is interrupt routine INT0 (`ORGANIZATION_BLOCK MAIN:OB1` and `INTERRUPT_BLOCK MAIN:INT0` are the same block), so an S7-200 program's own interrupt routine INT0 collides with MAIN: renumber it (INT1 and up). The label points at the numbered name that collides.";
     E0208 UndefinedLabel Error "undefined label"
@@ -131,7 +131,7 @@ codes! {
     E0305 UseNotAllowed Error "address-of or pointer not allowed"
         "`&` takes the address of a BYTE variable in an area that allows it (M, V, SM, L): `&MB24`, not `&MW24`. `*` reads through a pointer held in a DWORD of M, V or L: `*MD4`, not `*MW4`. Only some operands accept them: `&` only where an address is expected (`MOVD &MB24, MD4`).";
     E0306 AddressOutOfTarget Error "address outside the target"
-        "The address does not exist on the selected PLC type: the area is too small (`MB200` on CPU-EC20, which has MB0..MB127) or the area is missing (`VB100` exists only on EC30-EKSTM32-XC). The message names the area's size; `--plc` selects another type.";
+        "The address does not exist on the selected PLC type: the area is too small (`MB200` on CPU-EC20, which has MB0..MB127) or the area is missing (`VB100` exists only on EC30-EKSTM32-XC). The message names the area's size and its valid range (`M has 128 bytes, MB0..MB127`; for timers and counters the numbers, `T has 16 numbers, T0..T15`), the help the stdlib types where the address exists; `--plc` selects another type.";
     E0307 ConstantOutOfRange Error "constant out of range"
         "A constant does not fit the width or type of its operand: `MOVB 300, MB1` (a byte holds 0..255, or -128..127), `+I 40000, MW0` (INT holds -32768..32767), or a literal outside the operand's documented range.";
     E0308 WriteToReadOnly Error "write to a constant or read-only area"
@@ -161,7 +161,7 @@ codes! {
     E0407 InterruptArguments Error "interrupt routine with parameters"
         "Nothing calls an interrupt routine with arguments, so it may declare only temporaries (`VAR`), not VAR_INPUT, VAR_IN_OUT or VAR_OUTPUT.";
     E0408 MissingMain Error "no MAIN"
-        "A program needs its main routine: `ORGANIZATION_BLOCK MAIN:OB1` (or `INTERRUPT_BLOCK MAIN:INT0`).";
+        "A program needs its main routine: `ORGANIZATION_BLOCK MAIN:OB1` (or `INTERRUPT_BLOCK MAIN:INT0`). In a Micro/WIN export whose files hold one subroutine or interrupt routine each (MicroWIN SMART exports a project one block per file), the help says to pass the export's files together, the one with OB1 among them, with the command (`gutta-cc MAIN.awl SBR_0.awl ...`).";
     E0409 CallCycle Error "recursive call or call too deep"
         "Subroutines may not call themselves, directly or through others (the PLC has no stack for it), and calls nest at most as deep as the target's CallDepth (8).";
     E0410 StackUnderflow Error "no power flow for this instruction"
@@ -241,7 +241,7 @@ codes! {
     W0205 EmptyNetwork Warning "empty network"
         "A network without instructions. It is kept (so numbering stays), but does nothing.";
     W0206 SystemNameShadowed Warning "user symbol hides a Micro/WIN system symbol"
-        "In a STEP 7-Micro/WIN export (docs/microwin.md) Micro/WIN's system symbols (`Always_On`, `Clock_1s`, ...) name the target's SM bits that mean the same (the `MicroWin` attribute of its `SystemBit` rows, docs/targets.md). A user symbol of the same name wins, as in Micro/WIN; this warning says so, in case the program meant the system bit.";
+        "In a STEP 7-Micro/WIN export (docs/microwin.md) Micro/WIN's system symbols (`Always_On`, `Clock_1s`, ...) name the target's SM bits that mean the same (the `MicroWin` attribute of its `SystemBit` rows, docs/targets.md). A user symbol of the same name wins, as in Micro/WIN; this warning says so, in case the program meant the system bit. MicroWIN SMART's default I/O names (`CPU_输入0`, `CPU_Output3`) are system symbols too: a user symbol named so at another address gets this warning, one at the same bit (a copy of SMART's I/O symbol table) none.";
     W0207 TimerResolution Warning "S7-200 timer resolution differs from the target's"
         "On an S7-200 a timer's number fixes its resolution (CPU 22x: TON/TOF T32 and T96 count 1 ms, T33-T36 and T97-T100 10 ms, the rest 100 ms; TONR T0 and T64 1 ms, T1-T4 and T65-T68 10 ms, the rest 100 ms). Where the target's resolution for that number (its `<Timers>` rows, docs/targets.md) differs, the same preset lasts a different time: the warning, once per timer, gives both resolutions and what the preset means on each. `gutta-cc --scale-timer-presets` (or `scale-timer-presets = true` in gutta.toml's [build]) scales constant presets to keep the S7-200 timing, rounded to the nearest unit; it warns only where rounding changes the time or a preset in memory cannot be scaled.";
     W0208 SymbolRepeated Warning "symbol declared twice with the same address"

@@ -126,3 +126,49 @@ pub fn to_json_lines(file: &SourceFile, index: &LineIndex, diagnostics: &[Diagno
     }
     out
 }
+
+/// A note (`--message-format json`): something a tool did that the user should know and
+/// that is no diagnostic, such as the code page a file was read in or where a Micro/WIN
+/// export's S7-200 interrupts went. It has no `code`, so the consumers that read
+/// diagnostics (problem matchers keyed on `code`) pass over it.
+#[derive(Debug, Serialize)]
+pub struct JsonNote<'a> {
+    /// Always `note`.
+    pub severity: &'static str,
+    /// What the note is about (`code-page`, `interrupts`, `events`, `s-area`,
+    /// `l-temporaries`: `microwin::NoteKind::as_str`).
+    pub kind: &'a str,
+    /// The file it is about, as named on the command line (the program's first source
+    /// for a note about the whole program).
+    pub file: &'a str,
+    pub message: &'a str,
+}
+
+/// One note as one line of JSON, with its newline.
+pub fn note_to_json_line(kind: &str, file: &str, message: &str) -> String {
+    let note = JsonNote {
+        severity: "note",
+        kind,
+        file,
+        message,
+    };
+    serde_json::to_string(&note).map_or_else(|_| String::new(), |line| line + "\n")
+}
+
+#[cfg(test)]
+mod note_tests {
+    use super::*;
+
+    #[test]
+    fn a_note_is_one_line_with_severity_kind_file_and_message() {
+        let line = note_to_json_line(
+            "code-page",
+            "MAIN.awl",
+            "MAIN.awl is not UTF-8; read as \"GBK\"",
+        );
+        assert_eq!(
+            line,
+            "{\"severity\":\"note\",\"kind\":\"code-page\",\"file\":\"MAIN.awl\",\"message\":\"MAIN.awl is not UTF-8; read as \\\"GBK\\\"\"}\n"
+        );
+    }
+}

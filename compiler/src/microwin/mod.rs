@@ -4,8 +4,9 @@
 //! parser applies the dialect's line rules (`NOP 0`, `MEND`, `NAME:SBRn` operands) and
 //! this stage does the rest before the checker runs: it places S7-200 interrupt blocks
 //! on GUTTA's numbers and drops template blocks (`interrupts.rs`), translates S7-200
-//! event numbers (`events.rs`) and hands Micro/WIN's system symbols over as predefined
-//! names (`names.rs`); after the checker, its pass over the checked code gives the
+//! event numbers (`events.rs`), hands Micro/WIN's system symbols and SMART's I/O names
+//! over as predefined names (`names.rs`) and the advice for an export split one block
+//! per file (`split.rs`); after the checker, its pass over the checked code gives the
 //! timer and counter bit lines the checker left as placeholders their instructions
 //! (`timer_bits/`). What the checker must apply it gets as plain data
 //! ([`check::Conventions`](crate::check::Conventions)); it never asks whether a program
@@ -16,6 +17,7 @@ mod aeno;
 mod events;
 mod interrupts;
 mod names;
+mod split;
 mod timer_bits;
 
 use gutta_catalog::Target;
@@ -143,7 +145,8 @@ pub fn is_export(file: &SourceFile) -> bool {
 /// The dialect's stage on a parsed program (its line rules applied by the parser): the
 /// program becomes an ordinary one, what the checker must apply comes back as
 /// [`Conventions`] and what the stage did as an [`Export`].
-pub fn desugar(program: &mut Program, text: &str, target: &Target) -> Desugared {
+pub fn desugar(program: &mut Program, file: &SourceFile, target: &Target) -> Desugared {
+    let text = file.text.as_str();
     let interrupt_placements = interrupts::place(program, text);
     let mut diagnostics = names::shadowed_system_names(program, text, target);
     let mut events = Vec::new();
@@ -153,7 +156,10 @@ pub fn desugar(program: &mut Program, text: &str, target: &Target) -> Desugared 
         predefined_names: names::system_names(target),
         interrupt_operand_offset: interrupts::INTERRUPT_OFFSET,
         renumbered_literals,
-        missing_main_help: Some(MISSING_MAIN_HELP),
+        missing_main_help: Some(
+            split::missing_main_help(program, file).unwrap_or_else(|| MISSING_MAIN_HELP.into()),
+        ),
+        block_elsewhere_help: split::block_elsewhere_help(program, file, target),
         timer_bit_lines: Some(timer_bits::bit_lines(target)),
         aeno: Some(aeno::meanings(target)),
         l_temporaries: LTemporaries::last_bytes_of_l(target),
@@ -218,7 +224,7 @@ mod tests {
 INTERRUPT_BLOCK INT_0:INT0\nBEGIN\nNETWORK 1\nLD SM0.0\n= Q0.1\nEND_INTERRUPT_BLOCK\n";
         let target = gutta_catalog::stdlib::shared(gutta_catalog::stdlib::DEFAULT).unwrap();
         let mut program = crate::syntax::parse_microwin_files(text, &[text.len()]).program;
-        let out = desugar(&mut program, text, &target);
+        let out = desugar(&mut program, &SourceFile::new("main.awl", text), &target);
         let export = out.export.as_ref().unwrap();
         assert!(!export.gutta_boxes && export.events.len() == 1);
         assert_eq!(

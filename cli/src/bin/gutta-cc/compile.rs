@@ -9,6 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use gutta_cli::fatal::{Fatal, MessageFormat};
+use gutta_cli::notes::{self, JsonTo};
 use gutta_cli::plural::count;
 use gutta_cli::sources::read_program_in;
 use gutta_cli::target::TargetArgs;
@@ -59,7 +60,9 @@ pub(crate) fn compile(cli: &Cli, job: &Job) -> Result<ExitCode, Fatal> {
         ));
     }
     let compiling = job.output.is_some() || job.emit.is_some();
-    let mut program = read_program_in(job.base, job.files, job.tables)?;
+    let mut notes = Vec::new();
+    let mut program = read_program_in(job.base, job.files, job.tables, &mut notes)?;
+    notes::print(&notes, cli.message_format, JsonTo::Stdout);
     program.options.scale_timer_presets = job.scale_timer_presets;
     let name = match program.sources.len() {
         1 => program.sources[0].name.clone(),
@@ -88,6 +91,10 @@ pub(crate) fn compile(cli: &Cli, job: &Job) -> Result<ExitCode, Fatal> {
         MessageFormat::Json => {
             let text = json::to_json_lines(&checked.file, &checked.index, checked.diagnostics());
             let _ = std::io::stdout().lock().write_all(text.as_bytes());
+            // The summary line's notes (an export's interrupts, events, ...), one object
+            // each; the human summary below says them in one line.
+            let summary = notes::program_notes(&checked);
+            notes::print(&summary, MessageFormat::Json, JsonTo::Stdout);
         }
         MessageFormat::Human => {
             let color = gutta_cli::color::use_color(cli.color, std::io::stderr().is_terminal());

@@ -14,6 +14,7 @@ use std::process::ExitCode;
 
 use gutta_catalog::TargetOrigin;
 use gutta_cli::fatal::{Fatal, MessageFormat};
+use gutta_cli::notes::{self, JsonTo};
 use gutta_cli::sources::read_program;
 use gutta_compiler::diagnostics::render::{render, RenderStyle};
 use gutta_compiler::source::SourceFile;
@@ -94,7 +95,9 @@ pub(crate) fn checked_input(cli: &Cli, input: &Path) -> Result<CheckedFile, Fata
             )));
         }
         let project = Project::load(&manifest).map_err(Fatal::usage)?;
-        let mut program = read_program(&project.sources, &project.symbols)?;
+        let mut notes = Vec::new();
+        let mut program = read_program(&project.sources, &project.symbols, &mut notes)?;
+        notes::print(&notes, cli.message_format, JsonTo::Stderr);
         program.options.scale_timer_presets =
             project.scale_timer_presets || cli.scale_timer_presets;
         let target = gutta_cli::target::TargetArgs {
@@ -104,7 +107,9 @@ pub(crate) fn checked_input(cli: &Cli, input: &Path) -> Result<CheckedFile, Fata
         let explicit = target.explicit()?;
         return Ok(check_program(program, explicit.as_ref()));
     }
-    let mut program = read_program(&[input.to_path_buf()], &cli.symbols)?;
+    let mut notes = Vec::new();
+    let mut program = read_program(&[input.to_path_buf()], &cli.symbols, &mut notes)?;
+    notes::print(&notes, cli.message_format, JsonTo::Stderr);
     program.options.scale_timer_presets = cli.scale_timer_presets;
     Ok(check_program(program, explicit.as_ref()))
 }

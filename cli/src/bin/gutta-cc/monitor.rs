@@ -328,12 +328,16 @@ fn load(cli: &Cli, given: Option<&Path>) -> Result<Program, Fatal> {
         }
     };
     let mut sources = ProgramSources::default();
+    let mut notes = Vec::new();
     for f in &files {
-        sources.sources.push(read_source(f, false)?);
+        sources.sources.push(read_source(f, false, &mut notes)?);
     }
     for t in &tables {
-        sources.symbol_tables.push(read_source(t, true)?);
+        sources
+            .symbol_tables
+            .push(read_source(t, true, &mut notes)?);
     }
+    gutta_cli::notes::print(&notes, cli.message_format, gutta_cli::notes::JsonTo::Stdout);
     sources.options.scale_timer_presets = scale;
     let explicit = cli.target.explicit()?;
     let compiled = compile_program(sources, explicit.as_ref());

@@ -478,9 +478,11 @@ fn build_program(
         rendered: String::new(),
         json: String::new(),
     };
+    let mut notes = Vec::new();
     let (mut sources, plc, scale, project_target) = match key {
         ProgramKey::File { path, plc, scale } => {
-            let source = read_source(path, false).map_err(|e| fail(e.message.clone()))?;
+            let source =
+                read_source(path, false, &mut notes).map_err(|e| fail(e.message.clone()))?;
             (ProgramSources::single(source), plc, *scale, None)
         }
         ProgramKey::Project {
@@ -493,17 +495,19 @@ fn build_program(
             for p in &project.sources {
                 sources
                     .sources
-                    .push(read_source(p, false).map_err(|e| fail(e.message.clone()))?);
+                    .push(read_source(p, false, &mut notes).map_err(|e| fail(e.message.clone()))?);
             }
             for p in &project.symbols {
                 sources
                     .symbol_tables
-                    .push(read_source(p, true).map_err(|e| fail(e.message.clone()))?);
+                    .push(read_source(p, true, &mut notes).map_err(|e| fail(e.message.clone()))?);
             }
             let scale = *scale || project.scale_timer_presets;
             (sources, plc, scale, Some(project.plc))
         }
     };
+    // A test's program read in another code page says so, as `gutta-cc` does.
+    gutta_cli::notes::print(&notes, cli.message_format, gutta_cli::notes::JsonTo::Stdout);
     sources.options.scale_timer_presets = scale || cli.scale_timer_presets;
     // The target, by the one rule: the command line's (loaded once, above), the test
     // file's PLC_TYPE, the project's, else the program's own PLC_TYPE or the default.
