@@ -14,6 +14,7 @@ mod memory;
 mod names;
 mod operands;
 pub mod program;
+mod sequence;
 mod symbols;
 mod system;
 mod units;
@@ -27,6 +28,7 @@ use crate::source::Span;
 use crate::syntax::ast::Program;
 pub use bit_lines::{BitLines, BitOp, BitUse, TimerBox};
 pub use program::*;
+pub use sequence::{SOperand, ScrLine, ScrOp, SequenceConvention, SequenceLines};
 pub use system::PORT_KEYS;
 
 /// What a definition is.
@@ -76,6 +78,9 @@ pub struct CheckOutput {
     /// Lines that use a timer's or counter's bit and the timer boxes, where the
     /// conventions ask for them (`bit_lines.rs`), for the pass after checking.
     pub bit_lines: BitLines,
+    /// SCR lines and S operands, where the conventions ask for them (`sequence.rs`),
+    /// for the pass after checking.
+    pub sequence: SequenceLines,
 }
 
 /// What a stage before the checker (a dialect's: `crate::microwin`) settled, as plain
@@ -96,6 +101,9 @@ pub struct Conventions {
     /// operand is a timer or counter (`LD T37`), and what each does; None: no line does
     /// (`bit_lines.rs`). When set, timer and counter boxes are recorded too.
     pub timer_bit_lines: Option<HashMap<InstrId, BitOp>>,
+    /// Where the S7-200's S area lives and that `LSCR`/`SCRT`/`SCRE`/`CSCRE` lines are
+    /// left for a later pass (`sequence.rs`); None: S operands are E0221, SCR lines E0220.
+    pub sequence: Option<SequenceConvention>,
 }
 
 /// A name the program may use without declaring it ([`Conventions::predefined_names`]).
@@ -136,6 +144,8 @@ pub(crate) struct Checker<'a> {
     /// Upper-case names that resolved to nothing: their one diagnostic and later uses.
     pub unknown_names: HashMap<String, names::UnknownName>,
     pub conventions: &'a Conventions,
+    /// What `sequence.rs` records for the pass after checking.
+    pub sequence: SequenceLines,
 }
 
 impl<'a> Checker<'a> {
@@ -185,6 +195,7 @@ pub fn check(text: &str, ast: &Program, target: &Target, conventions: &Conventio
         data_names: HashMap::new(),
         unknown_names: HashMap::new(),
         conventions,
+        sequence: SequenceLines::default(),
     };
     c.symbols();
     c.units();
@@ -195,6 +206,7 @@ pub fn check(text: &str, ast: &Program, target: &Target, conventions: &Conventio
     let mut out = std::mem::take(&mut c.out);
     out.diagnostics = c.diags;
     out.bit_lines = bit_lines;
+    out.sequence = c.sequence;
     out.program = Some(CheckedProgram {
         target_name: target.name().to_string(),
         units,

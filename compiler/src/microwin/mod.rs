@@ -15,6 +15,7 @@
 mod events;
 mod interrupts;
 mod names;
+mod scr;
 mod timer_bits;
 
 use gutta_catalog::Target;
@@ -28,6 +29,7 @@ use crate::CompileOptions;
 pub use crate::source::{has_gutta_boxes, has_marker, is_microwin, GUTTA_BOXES, MARKER};
 pub use events::{event_summary, EventTranslation};
 pub use interrupts::{interrupt_summary, InterruptPlacement};
+pub use scr::{s_area_summary, SAreaBase, SAreaPlacement};
 
 /// What the stage found that later stages and tools need to know: its diagnostics,
 /// what the checker applies, and what it did to the export.
@@ -53,6 +55,12 @@ pub struct Export {
     /// S7-200 timer and counter bit operands (`T37` of `LD T37`) and what they compile
     /// to, one Markdown line each (for hover); set by [`Desugared::after_check`].
     pub bits: Vec<(Span, String)>,
+    /// Where the S bits went, when the program uses the S area; set by
+    /// [`Desugared::after_check`].
+    pub s_area: Option<SAreaPlacement>,
+    /// Every S operand (`S0.1` of `LD S0.1`) with the address it compiles to (for hover
+    /// and the drawing).
+    pub s_operands: Vec<(Span, String, gutta_catalog::Address)>,
 }
 
 /// What a note of the dialect's stage is about: `--message-format json` writes each note
@@ -103,6 +111,10 @@ impl Export {
                 interrupt_summary(&self.interrupt_placements),
             ),
             (NoteKind::Events, event_summary(&self.events, target)),
+            (
+                NoteKind::SArea,
+                s_area_summary(self.s_area.as_ref(), target),
+            ),
         ]
         .into_iter()
         .filter_map(|(kind, message)| {
@@ -134,7 +146,12 @@ pub fn is_export(file: &SourceFile) -> bool {
 /// The dialect's stage on a parsed program (its line rules applied by the parser): the
 /// program becomes an ordinary one, what the checker must apply comes back as
 /// [`Conventions`] and what the stage did as an [`Export`].
-pub fn desugar(program: &mut Program, text: &str, target: &Target) -> Desugared {
+pub fn desugar(
+    program: &mut Program,
+    text: &str,
+    target: &Target,
+    options: CompileOptions,
+) -> Desugared {
     let interrupt_placements = interrupts::place(program, text);
     let mut diagnostics = names::shadowed_system_names(program, text, target);
     let mut events = Vec::new();
@@ -146,6 +163,7 @@ pub fn desugar(program: &mut Program, text: &str, target: &Target) -> Desugared 
         renumbered_literals,
         missing_main_help: Some(MISSING_MAIN_HELP),
         timer_bit_lines: Some(timer_bits::bit_lines(target)),
+        sequence: Some(scr::convention(target, options.s_area)),
     };
     Desugared {
         diagnostics,
@@ -155,6 +173,8 @@ pub fn desugar(program: &mut Program, text: &str, target: &Target) -> Desugared 
             gutta_boxes: has_gutta_boxes(text),
             events,
             bits: Vec::new(),
+            s_area: None,
+            s_operands: Vec::new(),
         }),
     }
 }
@@ -174,6 +194,21 @@ impl Desugared {
         let (Some(export), Some(program)) = (self.export.as_mut(), output.program.as_mut()) else {
             return Vec::new();
         };
+        let sequence = scr::rewrite(
+            &mut program.units,
+            &output.sequence,
+            &mut output.bit_lines,
+            target,
+            options.s_area.is_some(),
+        );
+        export.s_area = sequence.placement;
+        export.s_operands = output
+            .sequence
+            .s_operands
+            .iter()
+            .map(|s| (s.span, s.name.clone(), s.address))
+            .collect();
+        let mut diagnostics = sequence.diagnostics;
         let report = timer_bits::rewrite(
             &mut program.units,
             &output.bit_lines,
@@ -183,7 +218,8 @@ impl Desugared {
             !export.gutta_boxes,
         );
         export.bits = report.notes;
-        report.diagnostics
+        diagnostics.extend(report.diagnostics);
+        diagnostics
     }
 }
 
@@ -202,7 +238,7 @@ mod tests {
 INTERRUPT_BLOCK INT_0:INT0\nBEGIN\nNETWORK 1\nLD SM0.0\n= Q0.1\nEND_INTERRUPT_BLOCK\n";
         let target = gutta_catalog::stdlib::shared(gutta_catalog::stdlib::DEFAULT).unwrap();
         let mut program = crate::syntax::parse_microwin_files(text, &[text.len()]).program;
-        let out = desugar(&mut program, text, &target);
+        let out = desugar(&mut program, text, &target, CompileOptions::default());
         let export = out.export.as_ref().unwrap();
         assert!(!export.gutta_boxes && export.events.len() == 1);
         assert_eq!(
