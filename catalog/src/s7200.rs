@@ -372,6 +372,10 @@ pub fn s7200_name(name: &str) -> Option<S7200Name> {
     (byte_ok && bit_ok).then_some(S7200Name::Area(S7200AreaKind::SequenceRelay))
 }
 
+/// The SCR instructions, which the Micro/WIN dialect compiles (docs/microwin.md,
+/// "Sequence control relays"): E0220 only outside it, so the "lacks" table leaves them out.
+pub const SCR_MNEMONICS: [&str; 4] = ["LSCR", "SCRT", "SCRE", "CSCRE"];
+
 /// The S area of the S7-200 holds S0.0-S31.7: this many bytes.
 pub const S_AREA_BYTES: u32 = 32;
 

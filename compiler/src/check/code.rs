@@ -234,7 +234,7 @@ impl Checker<'_> {
             let ops = net.operands_of(ins);
             let stack_ref = (&mut stack.depth, &mut stack.known);
             if let Some(line) = self.scr_line(at, ins.mnemonic, ops, ins.span, stack_ref) {
-                if let (Ok(line), Some(id)) = (line, self.target.instructions.label_definition()) {
+                if let Some(id) = self.target.instructions.label_definition() {
                     cx.scr_lines.push(line);
                     // A placeholder: the pass after checking puts the instructions here.
                     instructions.push(CheckedInstruction {

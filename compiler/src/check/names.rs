@@ -85,7 +85,9 @@ impl Checker<'_> {
         let key = text.to_ascii_uppercase();
         if let Some(&(address, def)) = self.symbols.get(&key) {
             self.reference(name, def);
-            self.memory_use(name, address);
+            if !self.sequence.s_symbols.contains(&key) {
+                self.memory_use(name, address);
+            }
             return Some(Variable {
                 address,
                 ty: None,

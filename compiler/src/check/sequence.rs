@@ -96,6 +96,8 @@ pub struct SequenceLines {
     /// Every other memory operand of the program with the address it resolved to
     /// (symbols, system symbols and direct addresses), to find uses of the S bytes.
     pub memory_uses: Vec<(Span, Address)>,
+    /// Upper-case names of the symbols declared at an S address (`Step1 : S0.1`).
+    pub s_symbols: std::collections::HashSet<String>,
 }
 
 impl SequenceLines {
@@ -161,7 +163,8 @@ impl Checker<'_> {
 
     /// The line as an SCR line, when the conventions ask for them and its mnemonic is
     /// one; `stack` is the network's logic stack (depth, known), updated. Its operand is
-    /// checked here; everything about segments is the pass's.
+    /// checked here (a line whose operand is refused has no `bit`: the program has an
+    /// error); everything about segments is the pass's.
     pub(super) fn scr_line(
         &mut self,
         at: (usize, usize, usize),
@@ -169,7 +172,7 @@ impl Checker<'_> {
         ops: &[Operand],
         span: Span,
         stack: (&mut i32, &mut bool),
-    ) -> Option<Result<ScrLine, ()>> {
+    ) -> Option<ScrLine> {
         self.conventions.sequence.as_ref()?;
         let op = ScrOp::from_mnemonic(self.slice(mnemonic))?;
         let (depth, known) = stack;
@@ -192,7 +195,7 @@ impl Checker<'_> {
         let wants_bit = matches!(op, ScrOp::Load | ScrOp::Transition);
         let bit = match (wants_bit, ops) {
             (false, []) => None,
-            (true, [o]) => Some(self.scr_bit(op, o)?),
+            (true, [o]) => self.scr_bit(op, o),
             _ => {
                 let n = if wants_bit { "one S bit" } else { "no operand" };
                 self.report(Diagnostic::new(
@@ -200,11 +203,11 @@ impl Checker<'_> {
                     span,
                     format!("`{}` takes {n}", op.mnemonic()),
                 ));
-                return Some(Err(()));
+                None
             }
         };
         let (unit, network, index) = at;
-        Some(Ok(ScrLine {
+        Some(ScrLine {
             unit,
             network,
             index,
@@ -212,10 +215,11 @@ impl Checker<'_> {
             bit,
             mnemonic,
             span,
-        }))
+        })
     }
 
-    /// The S bit of `LSCR`/`SCRT`; None (reported) when it is no S bit.
+    /// The S bit of `LSCR`/`SCRT`; None (reported) when it is no S bit. The line is
+    /// recorded all the same, so that its segment is known.
     fn scr_bit(&mut self, op: ScrOp, o: &Operand) -> Option<Address> {
         if let OperandKind::Name {
             prefix: Prefix::None,

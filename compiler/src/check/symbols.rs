@@ -25,7 +25,10 @@ impl Checker<'_> {
                 continue;
             }
             let address = match self.s_operand(decl.address) {
-                Some(s) => s,
+                Some(s) => {
+                    self.sequence.s_symbols.insert(key.clone());
+                    s
+                }
                 None => self.direct_address(decl.address, None),
             };
             let Some(address) = address else {

@@ -224,9 +224,7 @@ pub fn rewrite(
         let Some(unit) = units.get(ui) else { continue };
         let before = diagnostics.len();
         let segments = segments(lines, &mut diagnostics);
-        if diagnostics.len() == before {
-            borders(unit, lines, &segments, &ids, &mut diagnostics);
-        }
+        borders(unit, lines, &segments, &ids, &mut diagnostics);
         if diagnostics.len() == before {
             match code(unit, lines, &segments, &ids) {
                 Ok(plan) => plans.push((ui, plan)),

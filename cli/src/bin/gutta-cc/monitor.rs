@@ -335,6 +335,7 @@ fn load(cli: &Cli, given: Option<&Path>) -> Result<Program, Fatal> {
         sources.symbol_tables.push(read_source(t, true)?);
     }
     sources.options.scale_timer_presets = scale;
+    sources.options.s_area = cli.s_area;
     let explicit = cli.target.explicit()?;
     let compiled = compile_program(sources, explicit.as_ref());
     let Some(image) = compiled.image.clone() else {
