@@ -563,3 +563,112 @@ fn apply(unit: &mut CheckedUnit, ui: usize, plan: Plan, bit_lines: &mut BitLines
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::source::SourceFile;
+
+    fn target() -> std::sync::Arc<Target> {
+        gutta_catalog::stdlib::shared(gutta_catalog::stdlib::DEFAULT).unwrap()
+    }
+
+    /// The mnemonics and operands of MAIN after the pass, one line each.
+    fn main_code(text: &str) -> Vec<String> {
+        let checked = crate::check_source(SourceFile::new("main.awl", text), None);
+        let errors: Vec<_> = checked
+            .diagnostics()
+            .iter()
+            .map(|d| d.message.clone())
+            .collect();
+        let program = checked
+            .output
+            .program
+            .as_ref()
+            .unwrap_or_else(|| panic!("{errors:?}"));
+        let set = &checked.target.instructions;
+        program.units[0]
+            .networks
+            .iter()
+            .flat_map(|n| &n.instructions)
+            .map(|i| {
+                let ops: Vec<String> = i
+                    .operands
+                    .iter()
+                    .map(|o| match o {
+                        CheckedOperand::Memory { address, .. } => {
+                            checked.target.memory.format_address(address)
+                        }
+                        CheckedOperand::Label(l) => l.to_string(),
+                        CheckedOperand::Constant {
+                            value: ConstValue::Integer(n),
+                            ..
+                        } => n.to_string(),
+                        other => format!("{other:?}"),
+                    })
+                    .collect();
+                format!("{} {}", set.get(i.id).mnemonic, ops.join(", "))
+                    .trim()
+                    .to_string()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_byte_address_parses_and_prints() {
+        let b: SAreaBase = "mb96".parse().unwrap();
+        assert_eq!(
+            (b.area(), b.byte, b.to_string()),
+            ("M", 96, "MB96".to_string())
+        );
+        assert_eq!("VB200".parse::<SAreaBase>().unwrap().area(), "V");
+        for bad in ["M96", "MB", "B96", "MW96", "M96.0", ""] {
+            assert!(bad.parse::<SAreaBase>().is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn the_default_is_the_last_32_bytes_of_m_and_a_bad_base_says_why() {
+        let t = target();
+        let m = t.memory.area("M").unwrap();
+        let (base, room) = convention(&t, None).area.unwrap();
+        assert_eq!((base.slot, base.offset, room), (m.slot, m.size - 32, 32));
+        let near_end = format!("MB{}", m.size - 4).parse().ok();
+        assert_eq!(convention(&t, near_end).area.unwrap().1, 4);
+        let input = convention(&t, "IB0".parse().ok()).area.unwrap_err();
+        assert!(input.contains("not a writable"), "{input}");
+        let outside = convention(&t, format!("MB{}", m.size).parse().ok());
+        assert!(outside.area.unwrap_err().contains("outside area M"));
+        let none = convention(&t, "XB0".parse().ok()).area.unwrap_err();
+        assert!(none.contains("no memory area X"), "{none}");
+    }
+
+    #[test]
+    fn segments_become_skips_sets_and_resets_on_free_labels() {
+        let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNetwork 1\nLSCR S0.0\nNetwork 2\n\
+LD I0.0\nJMP 255\nLD I0.1\nCSCRE\nNetwork 3\nLBL 255\nLD SM0.0\nSCRT S0.1\nNetwork 4\nSCRE\n\
+Network 5\nLSCR S0.1\nNetwork 6\nLD T5\nTON T5, 10\nNetwork 7\nSCRE\nEND_ORGANIZATION_BLOCK\n";
+        let code = main_code(text);
+        let expected = [
+            "LDN M96.0",
+            "JMP 254",
+            "NOT", // LSCR S0.0: label 255 is the program's
+            "LD I0.0",
+            "JMP 255",
+            "LD I0.1",
+            "JMP 254", // CSCRE
+            "LBL 255",
+            "LD SM0.0",
+            "S M96.1, 1",
+            "R M96.0, 1", // SCRT S0.1
+            "LBL 254",    // SCRE
+            "LDN M96.1",
+            "JMP 253",
+            "NOT",
+        ];
+        assert_eq!(code[..expected.len()], expected, "{code:#?}");
+        // The timer bit line after the segment's start still gets its compare.
+        assert!(code[expected.len()].starts_with("LDW>= T5"), "{code:#?}");
+        assert_eq!(code.last().map(String::as_str), Some("LBL 253"));
+    }
+}
