@@ -381,11 +381,19 @@ impl CheckedFile {
             .symbols
             .iter()
             .filter_map(|d| {
+                // A symbol of an S bit (`Step1 : S0.1`, in a Micro/WIN export) is at the
+                // address its S operand went to.
+                let s_address = || {
+                    let export = self.microwin.as_ref()?;
+                    let s = export.s_operands.iter().find(|s| s.0 == d.address)?;
+                    Some(s.2)
+                };
                 let address = self
                     .target
                     .memory
                     .parse_address(slice(d.address).trim())
-                    .ok()?;
+                    .ok()
+                    .or_else(s_address)?;
                 let at = self.file.locate(&self.index, d.name.start as usize);
                 let data_type = d
                     .data_type
