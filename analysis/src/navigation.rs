@@ -586,6 +586,7 @@ mod tests {
                     sources: vec![SourceFile::new("main.awl", text)],
                     options: gutta_compiler::CompileOptions {
                         scale_timer_presets: scale,
+                        ..Default::default()
                     },
                     ..Default::default()
                 },

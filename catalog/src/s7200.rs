@@ -7,6 +7,8 @@
 //! checker turns a match into a diagnostic. A test keeps every mnemonic here absent
 //! from the shipped ManagerFun.xml.
 
+use crate::Width;
+
 /// An S7-200 instruction GUTTA lacks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct S7200Instruction {
@@ -654,6 +656,36 @@ pub fn s7200_name(name: &str) -> Option<S7200Name> {
     (byte_ok && bit_ok).then_some(S7200Name::Area(S7200AreaKind::SequenceRelay))
 }
 
+/// The SCR instructions, which the Micro/WIN dialect compiles (docs/microwin.md,
+/// "Sequence control relays"): E0220 only outside it, so the "lacks" table leaves them out.
+pub const SCR_MNEMONICS: [&str; 4] = ["LSCR", "SCRT", "SCRE", "CSCRE"];
+
+/// The S area of the S7-200 holds S0.0-S31.7: this many bytes.
+pub const S_AREA_BYTES: u32 = 32;
+
+/// An operand of the S7-200's S area as written (`S0.1`, `SB2`, `SW0`, `SD4`): its width,
+/// byte and bit (0 unless a bit). The byte is as written, not checked against
+/// [`S_AREA_BYTES`].
+pub fn s_operand(name: &str) -> Option<(Width, u32, u8)> {
+    if s7200_name(name) != Some(S7200Name::Area(S7200AreaKind::SequenceRelay)) {
+        return None;
+    }
+    let rest = &name[1..];
+    let (width, rest) = match rest.as_bytes().first()?.to_ascii_uppercase() {
+        b'B' => (Width::Byte, &rest[1..]),
+        b'W' => (Width::Word, &rest[1..]),
+        b'D' => (Width::Dword, &rest[1..]),
+        _ => (Width::Bit, rest),
+    };
+    match rest.split_once('.') {
+        Some((byte, bit)) if width == Width::Bit => {
+            Some((width, byte.parse().ok()?, bit.parse().ok()?))
+        }
+        None if width != Width::Bit => Some((width, rest.parse().ok()?, 0)),
+        _ => None,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -715,6 +747,17 @@ mod tests {
         assert_eq!(s7200_event(12).map(|e| e.meaning), Some("HSC0 CV=PV"));
         assert_eq!(s7200_event(34), None);
         assert_eq!(s7200_event(-1), None);
+    }
+
+    #[test]
+    fn s_operands() {
+        assert_eq!(s_operand("S0.1"), Some((Width::Bit, 0, 1)));
+        assert_eq!(s_operand("sb2"), Some((Width::Byte, 2, 0)));
+        assert_eq!(s_operand("SW30"), Some((Width::Word, 30, 0)));
+        assert_eq!(s_operand("SD4"), Some((Width::Dword, 4, 0)));
+        assert_eq!(s_operand("SM0.0"), None);
+        assert_eq!(s_operand("S0"), None);
+        assert_eq!(s_operand("AC0"), None);
     }
 
     #[test]

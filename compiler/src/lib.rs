@@ -49,6 +49,10 @@ pub struct CompileOptions {
     /// resolution differs from the target's, so that the program keeps its S7-200
     /// timing (`--scale-timer-presets`; docs/microwin.md, "Timer resolutions").
     pub scale_timer_presets: bool,
+    /// In a Micro/WIN export, where SB0 of the S area goes (`--s-area MB96`, `[microwin]
+    /// s_area`); None: the last 32 bytes of M (docs/microwin.md, "Sequence control
+    /// relays").
+    pub s_area: Option<microwin::SAreaBase>,
 }
 
 /// The result of checking one file or program: its text (joined, for several files),
@@ -124,7 +128,7 @@ pub fn check_source_with(
     let target = resolve_target(&parsed.program, explicit, &mut diagnostics);
     let mut desugared = Desugared::default();
     if microwin {
-        desugared = microwin::desugar(&mut parsed.program, &file, &target);
+        desugared = microwin::desugar(&mut parsed.program, &file, &target, options);
     }
     diagnostics.append(&mut desugared.diagnostics);
     let mut output = check::check(&file.text, &parsed.program, &target, &desugared.conventions);
@@ -377,11 +381,19 @@ impl CheckedFile {
             .symbols
             .iter()
             .filter_map(|d| {
+                // A symbol of an S bit (`Step1 : S0.1`, in a Micro/WIN export) is at the
+                // address its S operand went to.
+                let s_address = || {
+                    let export = self.microwin.as_ref()?;
+                    let s = export.s_operands.iter().find(|s| s.0 == d.address)?;
+                    Some(s.2)
+                };
                 let address = self
                     .target
                     .memory
                     .parse_address(slice(d.address).trim())
-                    .ok()?;
+                    .ok()
+                    .or_else(s_address)?;
                 let at = self.file.locate(&self.index, d.name.start as usize);
                 let data_type = d
                     .data_type

@@ -8,7 +8,7 @@
     reason = "tests read the docs they keep in sync"
 )]
 
-use gutta_catalog::s7200::{S7200_INSTRUCTIONS, S7200_SYSTEM_SYMBOLS};
+use gutta_catalog::s7200::{S7200_INSTRUCTIONS, S7200_SYSTEM_SYMBOLS, SCR_MNEMONICS};
 use gutta_catalog::stdlib;
 use gutta_compiler::diagnostics::{Code, Diagnostic};
 use gutta_compiler::source::SourceFile;
@@ -143,6 +143,12 @@ fn docs_list_every_row_of_the_s7200_table() {
     let docs = std::fs::read_to_string(path).expect("docs/microwin.md");
     for ins in S7200_INSTRUCTIONS {
         let row = format!("| `{}` | {} |", ins.mnemonic, ins.what);
+        if SCR_MNEMONICS.contains(&ins.mnemonic) {
+            // Compiled in the dialect: "Sequence control relays", not the lacks table.
+            assert!(!docs.contains(&row), "docs/microwin.md still lists {row}");
+            assert!(docs.contains(&format!("`{}`", ins.mnemonic)));
+            continue;
+        }
         assert!(docs.contains(&row), "docs/microwin.md lacks {row}");
         if let Some(alt) = ins.instead {
             assert!(docs.contains(alt), "docs/microwin.md lacks {alt}");

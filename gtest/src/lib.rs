@@ -95,6 +95,12 @@ impl TestSource {
                 .options
                 .iter()
                 .any(|(o, _)| o == "scale-timer-presets"),
+            s_area: self
+                .parsed
+                .header
+                .s_area
+                .as_ref()
+                .and_then(|(v, _)| v.parse().ok()),
         }
     }
 }

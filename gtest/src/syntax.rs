@@ -20,7 +20,7 @@ pub const STATEMENT_KEYWORDS: [&str; 11] = [
 ];
 
 /// What `OPTION` may name: a compile option (`gutta_compiler::CompileOptions`).
-pub const OPTIONS: [&str; 1] = ["scale-timer-presets"];
+pub const OPTIONS: [&str; 2] = ["scale-timer-presets", "s-area"];
 
 /// A parsed test file.
 #[derive(Debug, Clone, Default)]
@@ -38,6 +38,8 @@ pub struct Header {
     pub scan_time_ms: Option<(u32, Span)>,
     pub plc_type: Option<(String, Span)>,
     pub options: Vec<(String, Span)>,
+    /// `OPTION s-area MB100`: where a Micro/WIN export's S area goes, as written.
+    pub s_area: Option<(String, Span)>,
     /// `WATCHDOG n`: instructions one scan may execute.
     pub watchdog: Option<(u64, Span)>,
 }
@@ -585,6 +587,25 @@ impl Parser {
                 }
             },
             "OPTION" => match (rest.len(), atom(0)) {
+                (2, Some(name)) if name.eq_ignore_ascii_case("s-area") => match atom(1) {
+                    Some(value) if value.parse::<gutta_compiler::microwin::SAreaBase>().is_ok() => {
+                        self.file.header.s_area = Some((value.to_string(), value_span));
+                    }
+                    _ => {
+                        self.error(
+                            Code::TestHeaderValue,
+                            value_span,
+                            "OPTION s-area takes a byte address such as MB96",
+                        );
+                    }
+                },
+                (1, Some(name)) if name.eq_ignore_ascii_case("s-area") => {
+                    self.error(
+                        Code::TestHeaderValue,
+                        value_span,
+                        "OPTION s-area takes a byte address such as MB96",
+                    );
+                }
                 (1, Some(name)) if OPTIONS.contains(&name.to_ascii_lowercase().as_str()) => {
                     self.file
                         .header

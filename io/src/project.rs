@@ -35,6 +35,9 @@ pub struct Project {
     /// `[build] scale-timer-presets`: `gutta-cc build --scale-timer-presets` (Micro/WIN
     /// exports keep their S7-200 timer timing; docs/microwin.md).
     pub scale_timer_presets: bool,
+    /// `[microwin] s_area`: where a Micro/WIN export's S area starts, a byte address
+    /// such as `MB96` (`gutta-cc --s-area`; docs/microwin.md, "Sequence control relays").
+    pub s_area: Option<String>,
     pub connection: Connection,
 }
 
@@ -70,7 +73,7 @@ pub use gutta_format::Parity;
 
 /// Every key a section may hold, for the unknown-key error and its did-you-mean.
 const SECTIONS: &[(&str, &[&str])] = &[
-    ("", &["program", "connection", "build"]),
+    ("", &["program", "connection", "build", "microwin"]),
     ("program", &["name", "plc", "target", "sources", "symbols"]),
     (
         "connection",
@@ -79,6 +82,7 @@ const SECTIONS: &[(&str, &[&str])] = &[
         ],
     ),
     ("build", &["output", "scale-timer-presets"]),
+    ("microwin", &["s_area"]),
 ];
 
 #[derive(Deserialize)]
@@ -87,6 +91,13 @@ struct Manifest {
     program: ProgramSection,
     connection: Option<ConnectionSection>,
     build: Option<BuildSection>,
+    microwin: Option<MicrowinSection>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MicrowinSection {
+    s_area: Option<Spanned<String>>,
 }
 
 #[derive(Deserialize)]
@@ -217,6 +228,18 @@ impl Project {
             None => (None, false),
         };
         let output = output.unwrap_or_else(|| DEFAULT_OUTPUT.to_string());
+        let s_area = match parsed.microwin.and_then(|m| m.s_area) {
+            Some(s) if !is_byte_address(s.get_ref()) => {
+                return Err(at(
+                    s.span(),
+                    format!(
+                        "[microwin] s_area `{}` is not a byte address such as \"MB96\"",
+                        s.get_ref()
+                    ),
+                ))
+            }
+            s => s.map(Spanned::into_inner),
+        };
         Ok(Project {
             root: root.to_path_buf(),
             manifest: manifest.to_path_buf(),
@@ -226,9 +249,20 @@ impl Project {
             symbols,
             output: root.join(output),
             scale_timer_presets,
+            s_area,
             connection,
         })
     }
+}
+
+/// Whether `text` has the shape of a byte address: an area name, `B`, digits (`MB96`).
+fn is_byte_address(text: &str) -> bool {
+    let letters = text.bytes().take_while(u8::is_ascii_alphabetic).count();
+    let (name, digits) = text.split_at(letters);
+    name.len() >= 2
+        && name.to_ascii_uppercase().ends_with('B')
+        && !digits.is_empty()
+        && digits.bytes().all(|b| b.is_ascii_digit())
 }
 
 /// The first `gutta.toml` in `start` or a folder above it.

@@ -257,6 +257,7 @@ impl Workspace {
         match (&key, &project) {
             (ProgramKey::Project(_), Some(p)) => {
                 sources.options.scale_timer_presets = p.scale_timer_presets;
+                sources.options.s_area = p.s_area.as_deref().and_then(|s| s.parse().ok());
                 for (paths, tables) in [(&p.sources, false), (&p.symbols, true)] {
                     for path in paths {
                         let (uri, file) = load(

@@ -124,6 +124,7 @@ impl Session {
             table_bom,
             options: CompileOptions {
                 scale_timer_presets: project.scale_timer_presets,
+                s_area: project.s_area.as_deref().and_then(|s| s.parse().ok()),
             },
             files: Vec::new(),
             tests: Vec::new(),

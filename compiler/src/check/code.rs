@@ -10,6 +10,7 @@ use gutta_catalog::{rules, BlockKind, InstrId, Instruction, LoopRole};
 use super::aeno_lines::PreviousLine;
 use super::bit_lines::{BitLines, TimerBox};
 use super::calls::CallSite;
+use super::sequence::SequenceLines;
 use super::{CheckedInstruction, CheckedNetwork, CheckedUnit, Checker, DefKind, UnitInfo};
 use crate::diagnostics::{Code, Diagnostic, Suggestion};
 use crate::source::Span;
@@ -29,6 +30,8 @@ pub(super) struct CodeContext {
     /// counter instructions (`bit_lines.rs`); and the network being checked (its index).
     pub bit_lines: BitLines,
     pub network: usize,
+    /// SCR lines met (`sequence.rs`), where an earlier stage asks for them.
+    pub scr_lines: Vec<super::ScrLine>,
 }
 
 /// The logic stack of one network as far as it is known.
@@ -57,6 +60,7 @@ impl Checker<'_> {
             timers: HashMap::new(),
             bit_lines: BitLines::default(),
             network: 0,
+            scr_lines: Vec::new(),
         };
         let mut checked = Vec::new();
         for ui in 0..self.units.len() {
@@ -72,6 +76,12 @@ impl Checker<'_> {
             position[*old] = new;
         }
         cx.bit_lines.renumber_units(&position);
+        let mut lines = SequenceLines {
+            lines: std::mem::take(&mut cx.scr_lines),
+            ..SequenceLines::default()
+        };
+        lines.renumber_units(&position);
+        self.sequence.lines = lines.lines;
         (indexed.into_iter().map(|(_, u)| u).collect(), cx.bit_lines)
     }
 
@@ -228,6 +238,21 @@ impl Checker<'_> {
                 let depth = stack.known.then_some(stack.depth);
                 let ops = net.operands_of(ins);
                 instructions.extend(self.aeno_line(ins, ops, previous, depth));
+                continue;
+            }
+            let at = (ui, cx.network, instructions.len());
+            let ops = net.operands_of(ins);
+            let stack_ref = (&mut stack.depth, &mut stack.known);
+            if let Some(line) = self.scr_line(at, ins.mnemonic, ops, ins.span, stack_ref) {
+                if let Some(id) = self.target.instructions.label_definition() {
+                    cx.scr_lines.push(line);
+                    // A placeholder: the pass after checking puts the instructions here.
+                    instructions.push(CheckedInstruction {
+                        id,
+                        operands: Vec::new(),
+                        span: ins.span,
+                    });
+                }
                 continue;
             }
             let Some(id) = self.mnemonic(ins) else {

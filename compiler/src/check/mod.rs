@@ -16,6 +16,7 @@ mod memory;
 mod names;
 mod operands;
 pub mod program;
+mod sequence;
 mod symbols;
 mod system;
 mod units;
@@ -31,6 +32,7 @@ pub use aeno_lines::AenoMeaning;
 pub use bit_lines::{BitLines, BitOp, BitUse, TimerBox};
 pub use l_temporaries::{LTemporaries, LTemporaryPlacement};
 pub use program::*;
+pub use sequence::{SOperand, ScrLine, ScrOp, SequenceConvention, SequenceLines};
 pub use system::PORT_KEYS;
 
 /// What a definition is.
@@ -83,6 +85,9 @@ pub struct CheckOutput {
     /// The blocks whose Micro/WIN temporaries L60-L63 were placed in the target's L
     /// (`l_temporaries.rs`), in check order.
     pub l_temporaries: Vec<LTemporaryPlacement>,
+    /// SCR lines and S operands, where the conventions ask for them (`sequence.rs`),
+    /// for the pass after checking.
+    pub sequence: SequenceLines,
 }
 
 /// What a stage before the checker (a dialect's: `crate::microwin`) settled, as plain
@@ -112,6 +117,9 @@ pub struct Conventions {
     /// Where a block's L addresses past the target's L go (Micro/WIN's LAD temporaries
     /// L60-L63); None: they are out of range (`l_temporaries.rs`).
     pub l_temporaries: Option<LTemporaries>,
+    /// Where the S7-200's S area lives and that `LSCR`/`SCRT`/`SCRE`/`CSCRE` lines are
+    /// left for a later pass (`sequence.rs`); None: S operands are E0221, SCR lines E0220.
+    pub sequence: Option<SequenceConvention>,
 }
 
 /// A name the program may use without declaring it ([`Conventions::predefined_names`]).
@@ -158,6 +166,8 @@ pub(crate) struct Checker<'a> {
     /// the first of a name), looked up for every name operand: a map, as an export's
     /// predefined names count in the hundreds (SMART's I/O names).
     pub predefined: HashMap<String, Option<Address>>,
+    /// What `sequence.rs` records for the pass after checking.
+    pub sequence: SequenceLines,
 }
 
 impl<'a> Checker<'a> {
@@ -209,6 +219,7 @@ pub fn check(text: &str, ast: &Program, target: &Target, conventions: &Conventio
         conventions,
         l_temporary_uses: Vec::new(),
         predefined: HashMap::new(),
+        sequence: SequenceLines::default(),
     };
     for p in conventions.predefined_names.iter().rev() {
         c.predefined.insert(p.name.to_ascii_uppercase(), p.address);
@@ -222,6 +233,7 @@ pub fn check(text: &str, ast: &Program, target: &Target, conventions: &Conventio
     let mut out = std::mem::take(&mut c.out);
     out.diagnostics = c.diags;
     out.bit_lines = bit_lines;
+    out.sequence = c.sequence;
     out.program = Some(CheckedProgram {
         target_name: target.name().to_string(),
         units,

@@ -85,6 +85,9 @@ impl Checker<'_> {
         let key = text.to_ascii_uppercase();
         if let Some(&(address, def)) = self.symbols.get(&key) {
             self.reference(name, def);
+            if !self.sequence.s_symbols.contains(&key) {
+                self.memory_use(name, address);
+            }
             return Some(Variable {
                 address,
                 ty: None,
@@ -93,6 +96,7 @@ impl Checker<'_> {
         }
         if let Some(a) = self.predefined_name(text) {
             self.out.addresses.push((name, a));
+            self.memory_use(name, a);
             return Some(Variable {
                 address: a,
                 ty: None,
@@ -110,8 +114,16 @@ impl Checker<'_> {
         if self.looks_like_address(text) {
             let a = self.direct_address(name, None)?;
             self.out.addresses.push((name, a));
+            self.memory_use(name, a);
             return Some(Variable {
                 address: a,
+                ty: None,
+                declared: None,
+            });
+        }
+        if let Some(s) = self.s_operand(name) {
+            return s.map(|address| Variable {
+                address,
                 ty: None,
                 declared: None,
             });

@@ -24,7 +24,14 @@ impl Checker<'_> {
                 );
                 continue;
             }
-            let Some(address) = self.direct_address(decl.address, None) else {
+            let address = match self.s_operand(decl.address) {
+                Some(s) => {
+                    self.sequence.s_symbols.insert(key.clone());
+                    s
+                }
+                None => self.direct_address(decl.address, None),
+            };
+            let Some(address) = address else {
                 continue;
             };
             if let Some((first_address, first)) = self.symbols.get(&key) {

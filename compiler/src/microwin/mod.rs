@@ -17,6 +17,7 @@ mod aeno;
 mod events;
 mod interrupts;
 mod names;
+mod scr;
 mod split;
 mod timer_bits;
 
@@ -32,6 +33,7 @@ pub use crate::source::{has_gutta_boxes, has_marker, is_microwin, GUTTA_BOXES, M
 pub use aeno::l_temporaries_summary;
 pub use events::{event_summary, EventTranslation};
 pub use interrupts::{interrupt_summary, InterruptPlacement};
+pub use scr::{s_area_summary, SAreaBase, SAreaPlacement};
 
 /// What the stage found that later stages and tools need to know: its diagnostics,
 /// what the checker applies, and what it did to the export.
@@ -57,6 +59,12 @@ pub struct Export {
     /// S7-200 timer and counter bit operands (`T37` of `LD T37`) and what they compile
     /// to, one Markdown line each (for hover); set by [`Desugared::after_check`].
     pub bits: Vec<(Span, String)>,
+    /// Where the S bits went, when the program uses the S area; set by
+    /// [`Desugared::after_check`].
+    pub s_area: Option<SAreaPlacement>,
+    /// Every S operand (`S0.1` of `LD S0.1`) with the address it compiles to (for hover
+    /// and the drawing).
+    pub s_operands: Vec<(Span, String, gutta_catalog::Address)>,
     /// The blocks whose Micro/WIN LAD temporaries L60-L63 went into the target's L, and
     /// where; set by [`Desugared::after_check`].
     pub l_temporaries: Vec<LTemporaryPlacement>,
@@ -111,6 +119,10 @@ impl Export {
             ),
             (NoteKind::Events, event_summary(&self.events, target)),
             (
+                NoteKind::SArea,
+                s_area_summary(self.s_area.as_ref(), target),
+            ),
+            (
                 NoteKind::LTemporaries,
                 l_temporaries_summary(&self.l_temporaries),
             ),
@@ -145,7 +157,12 @@ pub fn is_export(file: &SourceFile) -> bool {
 /// The dialect's stage on a parsed program (its line rules applied by the parser): the
 /// program becomes an ordinary one, what the checker must apply comes back as
 /// [`Conventions`] and what the stage did as an [`Export`].
-pub fn desugar(program: &mut Program, file: &SourceFile, target: &Target) -> Desugared {
+pub fn desugar(
+    program: &mut Program,
+    file: &SourceFile,
+    target: &Target,
+    options: CompileOptions,
+) -> Desugared {
     let text = file.text.as_str();
     let interrupt_placements = interrupts::place(program, text);
     let mut diagnostics = names::shadowed_system_names(program, text, target);
@@ -161,6 +178,7 @@ pub fn desugar(program: &mut Program, file: &SourceFile, target: &Target) -> Des
         ),
         block_elsewhere_help: split::block_elsewhere_help(program, file, target),
         timer_bit_lines: Some(timer_bits::bit_lines(target)),
+        sequence: Some(scr::convention(target, options.s_area)),
         aeno: Some(aeno::meanings(target)),
         l_temporaries: LTemporaries::last_bytes_of_l(target),
     };
@@ -172,6 +190,8 @@ pub fn desugar(program: &mut Program, file: &SourceFile, target: &Target) -> Des
             gutta_boxes: has_gutta_boxes(text),
             events,
             bits: Vec::new(),
+            s_area: None,
+            s_operands: Vec::new(),
             l_temporaries: Vec::new(),
         }),
     }
@@ -196,6 +216,21 @@ impl Desugared {
         let Some(program) = output.program.as_mut() else {
             return Vec::new();
         };
+        let sequence = scr::rewrite(
+            &mut program.units,
+            &output.sequence,
+            &mut output.bit_lines,
+            target,
+            options.s_area.is_some(),
+        );
+        export.s_area = sequence.placement;
+        export.s_operands = output
+            .sequence
+            .s_operands
+            .iter()
+            .map(|s| (s.span, s.name.clone(), s.address))
+            .collect();
+        let mut diagnostics = sequence.diagnostics;
         let report = timer_bits::rewrite(
             &mut program.units,
             &output.bit_lines,
@@ -205,7 +240,8 @@ impl Desugared {
             !export.gutta_boxes,
         );
         export.bits = report.notes;
-        report.diagnostics
+        diagnostics.extend(report.diagnostics);
+        diagnostics
     }
 }
 
@@ -224,7 +260,12 @@ mod tests {
 INTERRUPT_BLOCK INT_0:INT0\nBEGIN\nNETWORK 1\nLD SM0.0\n= Q0.1\nEND_INTERRUPT_BLOCK\n";
         let target = gutta_catalog::stdlib::shared(gutta_catalog::stdlib::DEFAULT).unwrap();
         let mut program = crate::syntax::parse_microwin_files(text, &[text.len()]).program;
-        let out = desugar(&mut program, &SourceFile::new("main.awl", text), &target);
+        let out = desugar(
+            &mut program,
+            &SourceFile::new("main.awl", text),
+            &target,
+            CompileOptions::default(),
+        );
         let export = out.export.as_ref().unwrap();
         assert!(!export.gutta_boxes && export.events.len() == 1);
         assert_eq!(

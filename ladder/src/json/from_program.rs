@@ -10,6 +10,20 @@ use gutta_compiler::CheckedFile;
 use super::{BlockJson, Element, Model, NetworkBody, NetworkJson, SymbolJson, VarJson};
 use crate::model::{BoxElement, Branch, BranchEnd, Contact, Ladder, Network, Node, Rung};
 
+/// A symbol declared at an S address (`Step1 : S0.1`, in a Micro/WIN export) keeps the
+/// S address as written: the program written from the model is an export again.
+fn written_s_address(checked: &CheckedFile, name: &str) -> Option<String> {
+    checked.microwin.as_ref()?;
+    let text = &checked.file.text;
+    let d = checked
+        .ast
+        .symbols
+        .iter()
+        .find(|d| text.get(d.name.range()) == Some(name))?;
+    let written = text.get(d.address.range())?.trim();
+    gutta_catalog::s7200::s_operand(written).map(|_| written.to_ascii_uppercase())
+}
+
 /// The JSON model of `checked`, whose ladder `build` made.
 pub fn model_of(checked: &CheckedFile, ladder: &Ladder) -> Model {
     let set = &checked.target.instructions;
@@ -18,8 +32,8 @@ pub fn model_of(checked: &CheckedFile, ladder: &Ladder) -> Model {
         .symbols
         .into_iter()
         .map(|s| SymbolJson {
+            address: written_s_address(checked, &s.name).unwrap_or(s.address),
             name: s.name,
-            address: s.address,
             data_type: s.data_type,
             comment: Some(s.comment).filter(|c| !c.is_empty()),
         })

@@ -56,6 +56,11 @@ pub(crate) struct Cli {
     /// S7-200 timing (rounded to the nearest unit; docs/microwin.md).
     #[arg(long, global = true)]
     pub(crate) scale_timer_presets: bool,
+    /// In a STEP 7-Micro/WIN export, where the S area (sequence control relays S0.0-S31.7)
+    /// goes: the byte address of SB0, such as MB96 (default: the last 32 bytes of M;
+    /// docs/microwin.md, "Sequence control relays").
+    #[arg(long, global = true, value_name = "BYTE", value_parser = parse_s_area)]
+    pub(crate) s_area: Option<gutta_compiler::microwin::SAreaBase>,
     /// A symbol table (CSV `Symbol,Address,Comment`, or Micro/WIN's tab-separated rows)
     /// or a program source (.lad) whose symbols the command may use (repeatable). When
     /// compiling, a table's symbols join the program's.
@@ -520,4 +525,9 @@ impl DrawArgs {
             symbol_info: self.symbol_info,
         }
     }
+}
+
+/// `--s-area MB96`: a byte address (whether the target has room there is the compiler's).
+fn parse_s_area(text: &str) -> Result<gutta_compiler::microwin::SAreaBase, String> {
+    text.parse()
 }

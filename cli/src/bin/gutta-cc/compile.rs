@@ -31,6 +31,8 @@ pub(crate) struct Job<'a> {
     pub output: Option<&'a Path>,
     pub emit: Option<Emit>,
     pub scale_timer_presets: bool,
+    /// `--s-area`, or the project's `[microwin] s_area`.
+    pub s_area: Option<gutta_compiler::microwin::SAreaBase>,
     pub target: &'a TargetArgs,
 }
 
@@ -46,6 +48,7 @@ pub(crate) fn files(cli: &Cli) -> Result<ExitCode, Fatal> {
             output: cli.output.as_deref(),
             emit: cli.emit,
             scale_timer_presets: cli.scale_timer_presets,
+            s_area: cli.s_area,
             target: &cli.target,
         },
     )
@@ -64,6 +67,7 @@ pub(crate) fn compile(cli: &Cli, job: &Job) -> Result<ExitCode, Fatal> {
     let mut program = read_program_in(job.base, job.files, job.tables, &mut notes)?;
     notes::print(&notes, cli.message_format, JsonTo::Stdout);
     program.options.scale_timer_presets = job.scale_timer_presets;
+    program.options.s_area = job.s_area;
     let name = match program.sources.len() {
         1 => program.sources[0].name.clone(),
         n => count(n, "file"),
@@ -184,5 +188,22 @@ fn print_summary(
     }
     if let Some(line) = checked.microwin_summary() {
         eprintln!("{name}: {line}");
+    }
+}
+
+/// `--s-area`, else the project's `[microwin] s_area`.
+pub(crate) fn s_area(
+    cli: &Cli,
+    project: &gutta_io::Project,
+) -> Result<Option<gutta_compiler::microwin::SAreaBase>, Fatal> {
+    match (cli.s_area, &project.s_area) {
+        (Some(chosen), _) => Ok(Some(chosen)),
+        (None, Some(text)) => text.parse().map(Some).map_err(|e: String| {
+            Fatal::usage(format!(
+                "{}: [microwin] s_area: {e}",
+                project.manifest.display()
+            ))
+        }),
+        (None, None) => Ok(None),
     }
 }

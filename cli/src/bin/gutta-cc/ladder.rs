@@ -100,6 +100,7 @@ pub(crate) fn checked_input(cli: &Cli, input: &Path) -> Result<CheckedFile, Fata
         notes::print(&notes, cli.message_format, JsonTo::Stderr);
         program.options.scale_timer_presets =
             project.scale_timer_presets || cli.scale_timer_presets;
+        program.options.s_area = crate::compile::s_area(cli, &project)?;
         let target = gutta_cli::target::TargetArgs {
             project: project.plc.spec(),
             ..cli.target.clone()
@@ -111,6 +112,7 @@ pub(crate) fn checked_input(cli: &Cli, input: &Path) -> Result<CheckedFile, Fata
     let mut program = read_program(&[input.to_path_buf()], &cli.symbols, &mut notes)?;
     notes::print(&notes, cli.message_format, JsonTo::Stderr);
     program.options.scale_timer_presets = cli.scale_timer_presets;
+    program.options.s_area = cli.s_area;
     Ok(check_program(program, explicit.as_ref()))
 }
 

@@ -173,6 +173,7 @@ pub(crate) fn build(
             output: Some(&in_project(&output)),
             emit: None,
             scale_timer_presets: cli.scale_timer_presets || project.scale_timer_presets,
+            s_area: crate::compile::s_area(cli, project)?,
             target: &target,
         },
     )

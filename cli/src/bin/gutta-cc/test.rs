@@ -48,12 +48,16 @@ enum ProgramKey {
         path: PathBuf,
         plc: Option<String>,
         scale: bool,
+        /// `OPTION s-area MB100`, as written.
+        s_area: Option<String>,
     },
     /// A project (its gutta.toml), with the header's PLC type and options.
     Project {
         manifest: PathBuf,
         plc: Option<String>,
         scale: bool,
+        /// `OPTION s-area MB100`, as written.
+        s_area: Option<String>,
     },
 }
 
@@ -263,6 +267,9 @@ fn rerun_flags(cli: &Cli) -> Vec<String> {
     if cli.scale_timer_presets {
         flags.push("--scale-timer-presets".into());
     }
+    if let Some(s_area) = cli.s_area {
+        flags.extend(["--s-area".to_string(), s_area.to_string()]);
+    }
     flags
 }
 
@@ -397,6 +404,7 @@ fn program_key(
     let header = &job.source.parsed.header;
     let plc = header.plc_type.as_ref().map(|(p, _)| p.clone());
     let scale = job.source.compile_options().scale_timer_presets;
+    let s_area = header.s_area.as_ref().map(|(v, _)| v.clone());
     let Some((program, span)) = &header.program else {
         let around = path
             .parent()
@@ -407,6 +415,7 @@ fn program_key(
                 manifest: p.manifest,
                 plc,
                 scale,
+                s_area,
             }),
             None => Err(Box::new(Diagnostic::new(
                 Code::TestProgramMissing,
@@ -453,6 +462,7 @@ fn program_key(
             manifest,
             plc,
             scale,
+            s_area,
         });
     }
     let canonical = full.canonicalize().map_err(|e| missing(e.to_string()))?;
@@ -463,6 +473,7 @@ fn program_key(
         path: canonical,
         plc,
         scale,
+        s_area,
     })
 }
 
@@ -479,16 +490,28 @@ fn build_program(
         json: String::new(),
     };
     let mut notes = Vec::new();
-    let (mut sources, plc, scale, project_target) = match key {
-        ProgramKey::File { path, plc, scale } => {
+    let (mut sources, plc, scale, project_target, s_area) = match key {
+        ProgramKey::File {
+            path,
+            plc,
+            scale,
+            s_area,
+        } => {
             let source =
                 read_source(path, false, &mut notes).map_err(|e| fail(e.message.clone()))?;
-            (ProgramSources::single(source), plc, *scale, None)
+            (
+                ProgramSources::single(source),
+                plc,
+                *scale,
+                None,
+                s_area.clone(),
+            )
         }
         ProgramKey::Project {
             manifest,
             plc,
             scale,
+            s_area,
         } => {
             let project = Project::load(manifest).map_err(fail)?;
             let mut sources = ProgramSources::default();
@@ -503,12 +526,18 @@ fn build_program(
                     .push(read_source(p, true, &mut notes).map_err(|e| fail(e.message.clone()))?);
             }
             let scale = *scale || project.scale_timer_presets;
-            (sources, plc, scale, Some(project.plc))
+            let s_area = s_area.clone().or(project.s_area);
+            (sources, plc, scale, Some(project.plc), s_area)
         }
     };
     // A test's program read in another code page says so, as `gutta-cc` does.
     gutta_cli::notes::print(&notes, cli.message_format, gutta_cli::notes::JsonTo::Stdout);
     sources.options.scale_timer_presets = scale || cli.scale_timer_presets;
+    sources.options.s_area = match (cli.s_area, s_area) {
+        (Some(chosen), _) => Some(chosen),
+        (None, Some(text)) => Some(text.parse().map_err(fail)?),
+        (None, None) => None,
+    };
     // The target, by the one rule: the command line's (loaded once, above), the test
     // file's PLC_TYPE, the project's, else the program's own PLC_TYPE or the default.
     let project_target = project_target.and_then(|t| t.spec());
