@@ -9,6 +9,7 @@ mod calls;
 mod code;
 mod constants;
 mod data;
+mod data_block_tab;
 mod instruction;
 mod memory;
 mod names;
