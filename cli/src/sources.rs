@@ -1,6 +1,6 @@
 //! Reading a program's files for the compiler: the sources and symbol tables as text,
-//! with the encoding rules of docs/cli.md (UTF-8; a table or a Micro/WIN export may be
-//! GBK or Windows-1252, said on stderr). What to compile and how to report it is the
+//! with the encoding rules of docs/cli.md (UTF-8; a table, a Micro/WIN export or a data
+//! block export may be GBK or Windows-1252, said on stderr). What to compile and how to report it is the
 //! commands' business, not this module's.
 
 use std::path::{Path, PathBuf};
@@ -42,8 +42,9 @@ pub fn read_program_in(
     Ok(program)
 }
 
-/// A file as text (BOM dropped), named as given: UTF-8; a symbol table or a Micro/WIN
-/// export (`.awl`, or the dialect's marker line) may also be GBK or Windows-1252
+/// A file as text (BOM dropped), named as given: UTF-8; a symbol table, a Micro/WIN
+/// export (`.awl`, or the dialect's marker line) or a data block export (its
+/// `DATA_BLOCK_TAB` line, any name) may also be GBK or Windows-1252
 /// (`SourceFile::from_code_page_bytes`; a note on stderr says which).
 pub fn read_source(path: &Path, table: bool) -> Result<SourceFile, Fatal> {
     read_named(Path::new(""), path, table)
