@@ -1,7 +1,8 @@
 //! Reading a program's files for the compiler: the sources and symbol tables as text,
-//! with the encoding rules of docs/cli.md (UTF-8; a table or a Micro/WIN export may be
-//! GBK or Windows-1252, said by a code-page note the caller prints: `notes.rs`). What
-//! to compile and how to report it is the commands' business, not this module's.
+//! with the encoding rules of docs/cli.md (UTF-8; a table, a Micro/WIN export or a data
+//! block export may be GBK or Windows-1252, said by a code-page note the caller prints:
+//! `notes.rs`). What to compile and how to report it is the commands' business, not
+//! this module's.
 
 use std::path::{Path, PathBuf};
 
@@ -52,8 +53,9 @@ pub fn read_program_in(
     Ok(program)
 }
 
-/// A file as text (BOM dropped), named as given: UTF-8; a symbol table or a Micro/WIN
-/// export (`.awl`, or the dialect's marker line) may also be GBK or Windows-1252
+/// A file as text (BOM dropped), named as given: UTF-8; a symbol table, a Micro/WIN
+/// export (`.awl`, or the dialect's marker line) or a data block export (its
+/// `DATA_BLOCK_TAB` line, any name) may also be GBK or Windows-1252
 /// (`SourceFile::from_code_page_bytes`; a note in `notes` says which).
 pub fn read_source(path: &Path, table: bool, notes: &mut Vec<Note>) -> Result<SourceFile, Fatal> {
     read_named(Path::new(""), path, table, notes)

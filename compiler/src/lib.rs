@@ -152,7 +152,8 @@ pub fn check_source_with(
 
 /// The sources of a text (one file, or several joined) parsed as one program, with the
 /// dialect's line rules when it is a Micro/WIN export, then its symbol tables' rows
-/// added to its symbols (after the SYMBOLS blocks', as they follow in the text).
+/// added to its symbols (after the SYMBOLS blocks', as they follow in the text) and its
+/// data block exports (`DATA_BLOCK_TAB` files) to its data block exports.
 fn parse(file: &SourceFile, microwin: bool) -> syntax::ParseOutput {
     let parts = file.parts();
     let ends: Vec<usize> = parts
@@ -165,10 +166,22 @@ fn parse(file: &SourceFile, microwin: bool) -> syntax::ParseOutput {
     } else {
         syntax::parse_files(&file.text, &ends)
     };
-    for table in parts.iter().filter(|p| p.kind == PartKind::SymbolTable) {
-        let (decls, mut diags) = syntax::table::parse_table(&file.text, table.start, table.end);
-        parsed.program.symbols.extend(decls);
-        parsed.diagnostics.append(&mut diags);
+    for part in &parts {
+        match part.kind {
+            PartKind::Source => {}
+            PartKind::SymbolTable => {
+                let (decls, mut diags) =
+                    syntax::table::parse_table(&file.text, part.start, part.end);
+                parsed.program.symbols.extend(decls);
+                parsed.diagnostics.append(&mut diags);
+            }
+            PartKind::DataBlockTab => {
+                let (block, mut diags) =
+                    syntax::data_block_tab::parse_data_block_tab(&file.text, part.start, part.end);
+                parsed.program.data_block_tabs.extend(block);
+                parsed.diagnostics.append(&mut diags);
+            }
+        }
     }
     parsed
 }

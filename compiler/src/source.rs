@@ -60,6 +60,9 @@ pub enum PartKind {
     Source,
     /// A symbol table (CSV or tab-separated rows).
     SymbolTable,
+    /// A Micro/WIN data block export ([`is_data_block_tab`]: its first line is
+    /// `DATA_BLOCK_TAB name`), given among the sources under any name.
+    DataBlockTab,
 }
 
 /// One file in a joined text.
@@ -104,7 +107,8 @@ impl SourceFile {
         }
     }
 
-    /// One text of several files: the sources in order, then the symbol tables, each
+    /// One text of several files: the sources in order, then the data block exports
+    /// among them ([`is_data_block_tab`], in their order), then the symbol tables, each
     /// followed by one separator newline. One source and no table stays as it is.
     pub fn join(sources: Vec<SourceFile>, tables: Vec<SourceFile>) -> SourceFile {
         if sources.len() == 1 && tables.is_empty() {
@@ -125,9 +129,14 @@ impl SourceFile {
             .sum();
         let mut text = String::with_capacity(total);
         let mut parts = Vec::with_capacity(sources.len() + tables.len());
+        // The program's own sources first: the block parser reads them as one run.
+        let (data_blocks, sources): (Vec<SourceFile>, Vec<SourceFile>) = sources
+            .into_iter()
+            .partition(|f| is_data_block_tab(&f.text));
         let kinds = sources
             .into_iter()
             .map(|f| (f, PartKind::Source))
+            .chain(data_blocks.into_iter().map(|f| (f, PartKind::DataBlockTab)))
             .chain(tables.into_iter().map(|f| (f, PartKind::SymbolTable)));
         for (file, kind) in kinds {
             let start = text.len();
@@ -147,9 +156,14 @@ impl SourceFile {
     /// Every file of the text (one part for a single file).
     pub fn parts(&self) -> Vec<FilePart> {
         if self.parts.is_empty() {
+            let kind = if is_data_block_tab(&self.text) {
+                PartKind::DataBlockTab
+            } else {
+                PartKind::Source
+            };
             return vec![FilePart {
                 name: self.name.clone(),
-                kind: PartKind::Source,
+                kind,
                 start: 0,
                 end: self.text.len(),
             }];
@@ -234,8 +248,9 @@ impl SourceFile {
     }
 
     /// A program file's bytes as text, by the one rule every tool follows
-    /// (docs/microwin.md): a symbol table (`table`) or a Micro/WIN export (a `.awl` name,
-    /// or the dialect marker on its first line) in its code page (UTF-8, else GBK, else
+    /// (docs/microwin.md): a symbol table (`table`), a Micro/WIN export (a `.awl` name,
+    /// or the dialect marker on its first line) or a data block export (its first line
+    /// `DATA_BLOCK_TAB`, any name) in its code page (UTF-8, else GBK, else
     /// Windows-1252); any other source strictly UTF-8.
     pub fn from_program_file_bytes(
         name: impl Into<String>,
@@ -244,7 +259,9 @@ impl SourceFile {
     ) -> Result<(SourceFile, SourceEncoding), EncodingError> {
         let name = name.into();
         let head = String::from_utf8_lossy(&bytes[..bytes.len().min(256)]).into_owned();
-        if table || is_microwin(&name, &head) {
+        // A data block export's header may follow any number of comment lines.
+        if table || is_microwin(&name, &head) || is_data_block_tab(&String::from_utf8_lossy(&bytes))
+        {
             return Ok(SourceFile::from_code_page_bytes(name, bytes));
         }
         SourceFile::from_bytes(name, bytes).map(|f| (f, SourceEncoding::Utf8))
@@ -266,6 +283,22 @@ pub fn is_microwin(name: &str, text: &str) -> bool {
         .rsplit_once('.')
         .is_some_and(|(_, ext)| ext.eq_ignore_ascii_case("awl"));
     awl || has_marker(text)
+}
+
+/// The keyword that opens a Micro/WIN data block export.
+pub const DATA_BLOCK_TAB: &str = "DATA_BLOCK_TAB";
+
+/// Whether a source file is a Micro/WIN data block export (docs/microwin.md, "Data
+/// block exports"), whatever it is called: its first line that is neither blank nor a
+/// `//` comment starts with the word `DATA_BLOCK_TAB` (any case; a BOM before it is
+/// allowed). Read here with the file's code page, like [`is_microwin`].
+pub fn is_data_block_tab(text: &str) -> bool {
+    let text = text.strip_prefix('\u{FEFF}').unwrap_or(text);
+    text.lines()
+        .map(str::trim)
+        .find(|l| !l.is_empty() && !l.starts_with("//"))
+        .and_then(|l| l.split_whitespace().next())
+        .is_some_and(|w| w.eq_ignore_ascii_case(DATA_BLOCK_TAB))
 }
 
 /// Whether the text's first line is [`MARKER`] (a BOM before it is allowed).
@@ -404,6 +437,45 @@ mod tests {
             "ORGANIZATION_BLOCK MAIN:OB1\n// dialect: microwin"
         ));
         assert!(!is_microwin("awl", ""));
+    }
+
+    #[test]
+    fn data_block_exports_are_known_by_their_header_and_join_after_the_sources() {
+        assert!(is_data_block_tab(
+            "\u{FEFF}// x\r\n\r\n  data_block_tab DB1\r\nBEGIN"
+        ));
+        assert!(is_data_block_tab("DATA_BLOCK_TAB"));
+        assert!(!is_data_block_tab("DATA_BLOCK DAT0\nDATA_BLOCK_TAB"));
+        assert!(!is_data_block_tab("DATA_BLOCK_TABLE x"));
+        let joined = SourceFile::join(
+            vec![
+                SourceFile::new("a.awl", "x"),
+                SourceFile::new("db.txt", "DATA_BLOCK_TAB\nEND_DATA_BLOCK_TAB"),
+                SourceFile::new("b.awl", "y"),
+            ],
+            vec![SourceFile::new("s.csv", "Symbol,Address\n")],
+        );
+        let kinds: Vec<(String, PartKind)> = joined
+            .parts()
+            .into_iter()
+            .map(|p| (p.name, p.kind))
+            .collect();
+        assert_eq!(
+            kinds,
+            [
+                ("a.awl".to_string(), PartKind::Source),
+                ("b.awl".to_string(), PartKind::Source),
+                ("db.txt".to_string(), PartKind::DataBlockTab),
+                ("s.csv".to_string(), PartKind::SymbolTable),
+            ]
+        );
+        let alone = SourceFile::new("DB1.txt", "DATA_BLOCK_TAB DB1");
+        assert_eq!(alone.parts()[0].kind, PartKind::DataBlockTab);
+        // GBK bytes around an ASCII header still make the file one.
+        let gbk = b"// \xca\xfd\xbe\xdd\r\nDATA_BLOCK_TAB \xca\xfd\r\n".to_vec();
+        let (file, encoding) = SourceFile::from_program_file_bytes("DB1.txt", gbk, false).unwrap();
+        assert_eq!(encoding, SourceEncoding::Gbk);
+        assert!(file.text.contains("数"));
     }
 
     #[test]

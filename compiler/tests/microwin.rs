@@ -7,7 +7,11 @@
 //! docs/microwin.md lists every file; the program exported one block per file
 //! (tests/data/microwin/split_program) compiles as one. The VM side (system symbols, a
 //! remapped interrupt running) is tests/data/run's `microwin_*` programs and
-//! cli/tests/cc_microwin_split.rs.
+//! cli/tests/cc_microwin_split.rs. Data block exports (`data_block_*.txt`, docs/microwin.md
+//! "Data block exports") are read as gutta-cc reads a source (known by their
+//! `DATA_BLOCK_TAB` line, in their code page) and compiled with the program their
+//! `// program: FILE` line names, for the target of their `// plc: NAME` line (the
+//! default without one); their inline expectations are on their own lines.
 
 #![allow(clippy::disallowed_methods, reason = "tests read their data files")]
 
@@ -16,22 +20,34 @@ mod common;
 use std::path::PathBuf;
 
 use common::{actual, expected, root};
-use gutta_compiler::compile;
 use gutta_compiler::microwin;
-use gutta_compiler::source::{SourceEncoding, SourceFile};
+use gutta_compiler::source::{PartKind, SourceEncoding, SourceFile};
+use gutta_compiler::{compile, compile_program, ExplicitTarget, ProgramSources};
 
-fn corpus() -> Vec<PathBuf> {
+/// The corpus files with one of these extensions, sorted.
+fn files_with(extensions: &[&str]) -> Vec<PathBuf> {
     let dir = root().join("tests/data/microwin");
     let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
         .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
         .map(|e| e.expect("dir entry").path())
         .filter(|p| {
             p.extension()
-                .is_some_and(|x| x.eq_ignore_ascii_case("awl") || x == "lad")
+                .and_then(|x| x.to_str())
+                .is_some_and(|x| extensions.iter().any(|e| x.eq_ignore_ascii_case(e)))
         })
         .collect();
     files.sort();
     files
+}
+
+/// The exports of programs: `.awl` files and `.lad` files with or without the marker.
+fn corpus() -> Vec<PathBuf> {
+    files_with(&["awl", "lad"])
+}
+
+/// The data block exports.
+fn data_blocks() -> Vec<PathBuf> {
+    files_with(&["txt"])
 }
 
 /// The value of a `// KEY: value` line, if the file has one.
@@ -95,6 +111,190 @@ fn every_export_reads_checks_and_compiles_as_announced() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
+/// docs/microwin.md, "Data block exports": each `data_block_*.txt` is known as a data
+/// block export by its header under its `.txt` name, read in the code page it announces,
+/// and compiled with the program it names gives exactly the diagnostics its own lines
+/// announce (none in the program), and an image when it announces no error.
+#[test]
+fn every_data_block_export_compiles_with_its_program_as_announced() {
+    let files = data_blocks();
+    assert!(files.len() >= 5, "the data block exports are missing");
+    let mut failures = Vec::new();
+    for path in files {
+        let name = path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .expect("a name")
+            .to_string();
+        let bytes = std::fs::read(&path).expect("read corpus file");
+        let (file, encoding) =
+            SourceFile::from_program_file_bytes(&name, bytes, false).expect("a code page");
+        let want_encoding = directive(&file.text, "encoding").unwrap_or("UTF-8");
+        if encoding.as_str() != want_encoding {
+            failures.push(format!(
+                "{name}: read as {}, announced {want_encoding}",
+                encoding.as_str()
+            ));
+        }
+        let want = expected(&file.text);
+        let program_name = directive(&file.text, "program")
+            .unwrap_or_else(|| panic!("{name} has no `// program:` line"))
+            .to_string();
+        let explicit = directive(&file.text, "plc").map(|plc| ExplicitTarget {
+            target: gutta_catalog::stdlib::shared(plc).expect("a stdlib target"),
+            origin: format!("--plc {plc}"),
+        });
+        let program_bytes = std::fs::read(root().join("tests/data/microwin").join(&program_name))
+            .expect("the program file");
+        let (program_file, _) = SourceFile::from_code_page_bytes(&program_name, program_bytes);
+        let mut program = ProgramSources::default();
+        program.sources.push(file);
+        program.sources.push(program_file);
+        let compiled = compile_program(program, explicit.as_ref());
+        let c = &compiled.checked;
+        let kinds: Vec<(String, PartKind)> = c
+            .file
+            .parts()
+            .into_iter()
+            .map(|p| (p.name, p.kind))
+            .collect();
+        assert_eq!(
+            kinds,
+            [
+                (program_name.clone(), PartKind::Source),
+                (name.clone(), PartKind::DataBlockTab)
+            ]
+        );
+        let mut got = std::collections::BTreeMap::new();
+        let mut described = Vec::new();
+        for d in c.diagnostics() {
+            let at = c.file.locate(&c.index, d.primary.span.start as usize);
+            described.push(format!(
+                "{}:{}: {} {}",
+                at.file,
+                at.line,
+                d.code.as_str(),
+                d.message
+            ));
+            let key = if at.file == name { at.line } else { 0 };
+            *got.entry((key, d.code.as_str().to_string())).or_insert(0) += 1;
+        }
+        if got != want {
+            failures.push(format!(
+                "{name}: expected {want:?}, got:\n  {}",
+                described.join("\n  ")
+            ));
+        }
+        let announces_error = want.keys().any(|(_, code)| code.starts_with('E'));
+        if compiled.image.is_none() != announces_error {
+            failures.push(format!(
+                "{name}: image {}, errors announced: {announces_error}",
+                compiled.image.is_some()
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The values of a data block export land in the image's data pages as data blocks of
+/// the next free numbers, each value at its address: what `DATA_BLOCK` rows of the same
+/// values give (the VM reads them in cli/tests/cc_data_block_export.rs).
+#[test]
+fn a_data_block_export_is_the_same_data_as_data_block_rows() {
+    let program =
+        "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.0\n= Q0.0\nEND_ORGANIZATION_BLOCK\n";
+    let export = "DATA_BLOCK_TAB DB1\r\nBEGIN\r\nVB20 7, 'A'\r\nVW28 -2\r\nVD32 1.5\r\nVB40 \"Hi\"\r\nEND_DATA_BLOCK_TAB\r\n";
+    let rows = "DATA_BLOCK DB0:DAT0\n  MB0 BYTE 1\nEND_DATA_BLOCK\nDATA_BLOCK DB1:DAT1\n  VB20 BYTE 7\n  VB21 BYTE 65\n  VW28 WORD -2\n  VD32 REAL 1.5\n  VB40 BYTE 2\n  VB41 BYTE 72\n  VB42 BYTE 105\nEND_DATA_BLOCK\n";
+    let target = ExplicitTarget {
+        target: gutta_catalog::stdlib::shared("EC30-EKSTM32-XC").expect("target"),
+        origin: "--plc EC30-EKSTM32-XC".into(),
+    };
+    let image = |files: &[(&str, &str)]| {
+        let mut program = ProgramSources::default();
+        for (name, text) in files {
+            program.sources.push(SourceFile::new(*name, *text));
+        }
+        let compiled = compile_program(program, Some(&target));
+        let d: Vec<String> = compiled
+            .checked
+            .diagnostics()
+            .iter()
+            .map(|d| d.message.clone())
+            .collect();
+        assert!(d.is_empty(), "{d:?}");
+        compiled.image.expect("an image")
+    };
+    // DAT0 is the program's own; the export takes DAT1, the next free number.
+    let with_export = image(&[
+        ("DB1.txt", export),
+        (
+            "main.lad",
+            &format!("{program}DATA_BLOCK DB0:DAT0\n  MB0 BYTE 1\nEND_DATA_BLOCK\n"),
+        ),
+    ]);
+    let with_rows = image(&[("main.lad", &format!("{program}{rows}"))]);
+    assert!(
+        with_export.pages == with_rows.pages,
+        "the data pages differ"
+    );
+}
+
+/// An export with more values than a data block holds fills the next data blocks.
+#[test]
+fn a_long_data_block_export_fills_several_data_blocks() {
+    let program =
+        "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.0\n= Q0.0\nEND_ORGANIZATION_BLOCK\n";
+    let values: Vec<String> = (0..40).map(|v| v.to_string()).collect();
+    let export = format!(
+        "DATA_BLOCK_TAB\nMB0 {}\nEND_DATA_BLOCK_TAB\n",
+        values.join(", ")
+    );
+    let mut sources = ProgramSources::default();
+    sources.sources.push(SourceFile::new("main.lad", program));
+    sources
+        .sources
+        .push(SourceFile::new("db.txt", export.as_str()));
+    // CPU-EC20: 16 rows per data block, so 40 values are DAT0..DAT2.
+    let checked = gutta_compiler::check_program(sources.clone(), None);
+    assert!(
+        checked.diagnostics().is_empty(),
+        "{:?}",
+        checked.diagnostics()
+    );
+    let program_out = checked.output.program.expect("checked");
+    let blocks: Vec<(u32, String, usize)> = program_out
+        .data_blocks
+        .iter()
+        .map(|d| (d.number, d.name.clone(), d.items.len()))
+        .collect();
+    assert_eq!(
+        blocks,
+        [
+            (0, "DAT0".into(), 16),
+            (1, "DAT1".into(), 16),
+            (2, "DAT2".into(), 8)
+        ]
+    );
+    // EC30-EKSTM32-XC: 16 data blocks of 128 rows hold 2048 values; the 2049th needs
+    // DAT16 (E0413).
+    let values: Vec<String> = (0..2049).map(|v| (v % 200).to_string()).collect();
+    let export = format!(
+        "DATA_BLOCK_TAB big\nVB0 {}\nEND_DATA_BLOCK_TAB\n",
+        values.join(", ")
+    );
+    sources.sources[1] = SourceFile::new("db.txt", export.as_str());
+    let target = ExplicitTarget {
+        target: gutta_catalog::stdlib::shared("EC30-EKSTM32-XC").expect("target"),
+        origin: "--plc EC30-EKSTM32-XC".into(),
+    };
+    let codes: Vec<&str> = gutta_compiler::check_program(sources, Some(&target))
+        .diagnostics()
+        .iter()
+        .map(|d| d.code.as_str())
+        .collect();
+    assert_eq!(codes, ["E0413"]);
+}
+
 /// The code page of a corpus file as its bytes show it: a UTF-8 BOM, valid UTF-8, or
 /// else what `decode_code_page` makes of it (GBK or Windows-1252, which the corpus test
 /// checks against the file's `// encoding:` line).
@@ -128,6 +328,7 @@ fn line_ends(bytes: &[u8]) -> Option<&'static str> {
 #[test]
 fn the_corpus_covers_every_code_page_and_line_end() {
     let mut files = corpus();
+    files.extend(data_blocks());
     let split = root().join("tests/data/microwin/split_program");
     files.extend(
         std::fs::read_dir(&split)
@@ -159,6 +360,7 @@ fn the_corpus_covers_every_code_page_and_line_end() {
     let docs = std::fs::read_to_string(root().join("docs/microwin.md")).expect("docs/microwin.md");
     let undocumented: Vec<String> = corpus()
         .iter()
+        .chain(&data_blocks())
         .filter_map(|p| p.file_name()?.to_str().map(|n| format!("`{n}`")))
         .filter(|n| !docs.contains(n.as_str()))
         .collect();

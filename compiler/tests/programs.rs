@@ -32,7 +32,8 @@ fn load(dir: &Path) -> ProgramSources {
         let bytes = std::fs::read(&path).expect("read");
         let file = SourceFile::from_bytes(&name, bytes).expect("UTF-8");
         match path.extension().and_then(|x| x.to_str()) {
-            Some("lad") => program.sources.push(file),
+            // A Micro/WIN data block export is a source under its .txt name.
+            Some("lad" | "txt") => program.sources.push(file),
             Some("csv" | "tsv") => program.symbol_tables.push(file),
             _ => {}
         }

@@ -176,7 +176,7 @@ fn rewritten(
         piece.push_str(&text[at..part.end]);
         let file = SourceFile::new(part.name.clone(), piece);
         match part.kind {
-            PartKind::Source => sources.push(file),
+            PartKind::Source | PartKind::DataBlockTab => sources.push(file),
             PartKind::SymbolTable => tables.push(file),
         }
     }

@@ -60,7 +60,13 @@ impl Checker<'_> {
         }
     }
 
-    fn address_error(&mut self, span: Span, text: &str, e: AddressError, context: Option<&str>) {
+    pub(super) fn address_error(
+        &mut self,
+        span: Span,
+        text: &str,
+        e: AddressError,
+        context: Option<&str>,
+    ) {
         let plc = self.target.name().to_string();
         let d = match &e {
             AddressError::NotAnAddress => Diagnostic::new(Code::MalformedAddress, span, format!("`{text}` is not an address"))

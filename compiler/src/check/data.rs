@@ -11,7 +11,7 @@ use crate::source::Span;
 use crate::syntax::ast::{self, BlockPrefix, OperandKind};
 
 /// Memory the data rows initialise: (slot, byte, bit) -> the row that sets it.
-type Initialised = BTreeMap<(u8, u32, u8), Span>;
+pub(super) type Initialised = BTreeMap<(u8, u32, u8), Span>;
 
 impl Checker<'_> {
     pub(super) fn data_blocks(&mut self) -> Vec<CheckedDataBlock> {
@@ -22,6 +22,10 @@ impl Checker<'_> {
         let mut out = Vec::new();
         for (d, number) in ast.data_blocks.iter().zip(numbers) {
             out.push(self.data_block(d, number, &mut used, &mut initialised));
+        }
+        // Micro/WIN data block exports take the numbers left free (data_block_tab.rs).
+        for tab in &ast.data_block_tabs {
+            out.extend(self.data_block_tab(tab, &mut used, &mut initialised));
         }
         out.sort_by_key(|d| d.number);
         out
@@ -119,7 +123,7 @@ impl Checker<'_> {
                 );
             }
             if let Some(item) = self.data_row(row) {
-                if self.no_overlap(row, &item, initialised) {
+                if self.no_overlap(row.address, &item, initialised) {
                     items.push(item);
                 }
             }
@@ -131,10 +135,11 @@ impl Checker<'_> {
         }
     }
 
-    /// The row sets no bit another row already sets; marks its bits.
-    fn no_overlap(
+    /// The item (of the row whose address is at `at`) sets no bit another row already
+    /// sets; marks its bits.
+    pub(super) fn no_overlap(
         &mut self,
-        row: &ast::DataRow,
+        at: Span,
         item: &DataItem,
         initialised: &mut Initialised,
     ) -> bool {
@@ -150,7 +155,7 @@ impl Checker<'_> {
             self.report(
                 Diagnostic::new(
                     Code::DataOverlap,
-                    row.address,
+                    at,
                     "this row initialises memory another row already sets",
                 )
                 .with_secondary(prev, "first set here"),
@@ -158,7 +163,7 @@ impl Checker<'_> {
             return false;
         }
         for c in cells {
-            initialised.insert(c, row.span);
+            initialised.insert(c, item.span);
         }
         true
     }

@@ -10,6 +10,7 @@ mod calls;
 mod code;
 mod constants;
 mod data;
+mod data_block_tab;
 mod instruction;
 mod l_temporaries;
 mod memory;

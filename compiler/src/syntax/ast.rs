@@ -12,6 +12,8 @@ pub struct Program {
     pub symbols: Vec<SymbolDecl>,
     pub units: Vec<Unit>,
     pub data_blocks: Vec<DataBlock>,
+    /// Micro/WIN data block exports (`DATA_BLOCK_TAB` files, `syntax/data_block_tab.rs`).
+    pub data_block_tabs: Vec<DataBlockTab>,
     pub system_blocks: Vec<SystemBlock>,
 }
 
@@ -216,6 +218,45 @@ pub struct DataRow {
     pub address: Span,
     pub ty: Option<Span>,
     pub value: Operand,
+}
+
+/// A Micro/WIN data block export: `DATA_BLOCK_TAB name`, `BEGIN`, rows,
+/// `END_DATA_BLOCK_TAB` (docs/microwin.md, "Data block exports").
+#[derive(Debug, Clone)]
+pub struct DataBlockTab {
+    /// The `DATA_BLOCK_TAB ...` line.
+    pub header: Span,
+    /// The name after `DATA_BLOCK_TAB`, when written.
+    pub name: Option<Span>,
+    pub rows: Vec<TabRow>,
+    /// The `END_DATA_BLOCK_TAB` line; None when the file ends first (reported).
+    pub end: Option<Span>,
+}
+
+/// `VB40 1, 2, 3 // comment` with its continuation lines: values at consecutive
+/// addresses from `address` on, each as wide as the address (a character one byte).
+#[derive(Debug, Clone)]
+pub struct TabRow {
+    /// The row's first line, without its comment.
+    pub span: Span,
+    pub address: Span,
+    pub values: Vec<TabValue>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct TabValue {
+    pub span: Span,
+    pub kind: TabValueKind,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum TabValueKind {
+    Integer(i64),
+    Real(f64),
+    /// `'AB'`: ASCII characters, one byte each.
+    Chars(Vec<u8>),
+    /// `"AB"`: an S7-200 string, a length byte and then the ASCII characters.
+    String(Vec<u8>),
 }
 
 /// `SYSTEM_BLOCK` ... `END_SYSTEM_BLOCK`.

@@ -4,6 +4,7 @@
 
 pub mod ast;
 mod blocks;
+pub mod data_block_tab;
 pub mod lexer;
 mod lines;
 pub mod numbers;

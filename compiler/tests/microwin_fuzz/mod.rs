@@ -3,8 +3,10 @@
 //! as `gutta-cc` decodes a Micro/WIN export (`decode_code_page`: UTF-8, else GBK, else
 //! Windows-1252), compiled in the dialect on CPU-EC20. An input whose first byte is odd
 //! is a program exported one block per file: the rest split at NUL bytes into
-//! `MAIN.awl`, `SBR_0.awl`, `INT_0.awl` and symbol tables (`symbols.csv`, then
-//! `symbols.txt`), each decoded on its own. Panics are the findings; this also asserts
+//! `MAIN.awl`, `SBR_0.awl`, `INT_0.awl`, symbol tables (`symbols.csv`, then
+//! `symbols.txt`) and a sixth part `DB1.txt`, a source like the first three (a data block
+//! export when it starts with `DATA_BLOCK_TAB`, as any source does), each decoded on its
+//! own. Panics are the findings; this also asserts
 //! that every span lies inside the text on char boundaries and that the diagnostics
 //! render. No I/O: the bytes come in as data.
 
@@ -19,6 +21,8 @@ use gutta_compiler::{compile_program, Compiled, ExplicitTarget, ProgramSources};
 /// The names the parts of a split input get, in order: sources, then tables.
 const SOURCES: [&str; 3] = ["MAIN.awl", "SBR_0.awl", "INT_0.awl"];
 const TABLES: [&str; 2] = ["symbols.csv", "symbols.txt"];
+/// The part after the tables: a source under Micro/WIN's name of a data block export.
+const DATA_BLOCK: &str = "DB1.txt";
 
 /// CPU-EC20, loaded once (loading it per input would dominate the run).
 pub fn cpu_ec20() -> &'static ExplicitTarget {
@@ -45,14 +49,13 @@ pub fn sources(data: &[u8]) -> ProgramSources {
     let mut program = ProgramSources::default();
     for (i, part) in rest
         .split(|&b| b == 0)
-        .take(SOURCES.len() + TABLES.len())
+        .take(SOURCES.len() + TABLES.len() + 1)
         .enumerate()
     {
-        match SOURCES.get(i) {
-            Some(name) => program.sources.push(decode(name, part)),
-            None => program
-                .symbol_tables
-                .push(decode(TABLES[i - SOURCES.len()], part)),
+        match (SOURCES.get(i), TABLES.get(i - i.min(SOURCES.len()))) {
+            (Some(name), _) => program.sources.push(decode(name, part)),
+            (None, Some(name)) => program.symbol_tables.push(decode(name, part)),
+            (None, None) => program.sources.push(decode(DATA_BLOCK, part)),
         }
     }
     program
