@@ -181,15 +181,6 @@ fn rung_of(
             ));
         }
         let Some(element) = resolver.element(net, ins) else {
-            let mnemonic = checked.file.slice(ins.mnemonic).to_ascii_uppercase();
-            if checked.microwin.is_some()
-                && gutta_catalog::s7200::SCR_MNEMONICS.contains(&mnemonic.as_str())
-            {
-                return Err(format!(
-                    "{} is a sequence control relay, compiled onto a jump around its segment (docs/microwin.md)",
-                    origin.at()
-                ));
-            }
             return Err(format!(
                 "{} is not an instruction of {}",
                 origin.at(),

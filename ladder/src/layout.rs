@@ -841,6 +841,15 @@ pub fn layout_network_with<'a>(net: &'a Network, names: Names) -> Option<Network
     }
 }
 
+/// Whether a rung without a power path is a sequence control relay of a Micro/WIN
+/// export (`LSCR`, `SCRE`), drawn wired to the left rail.
+fn on_rail_wired(rung: &Rung) -> bool {
+    rung.outputs.iter().all(|b| {
+        b.path.is_empty()
+            && matches!(&b.end, crate::model::BranchEnd::Box(x) if crate::model::is_scr(&x.mnemonic))
+    })
+}
+
 fn layout_rung(rung: &Rung, top: i32, names: Names) -> NetworkLayout<'_> {
     let (in_w, in_h) = rung
         .input
@@ -872,6 +881,9 @@ fn layout_rung(rung: &Rung, top: i32, names: Names) -> NetworkLayout<'_> {
     };
     let input = match &rung.input {
         Some(node) => placer.node(node, start, top, &[Power::Rail]),
+        // Micro/WIN's SCR box and SCRE coil stand on the rail, wired to it; a label,
+        // `NEXT`, `RET` stand free of it.
+        None if on_rail_wired(rung) => vec![Power::Rail],
         None => Vec::new(),
     };
     let out_h: i32 = rung.outputs.iter().map(|b| branch_height(b, names)).sum();

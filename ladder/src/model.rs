@@ -236,6 +236,13 @@ pub enum BoxShape {
     Label,
 }
 
+/// Whether a box's mnemonic is a sequence control relay line of a Micro/WIN export
+/// (`LSCR`, `SCRT`, `SCRE`, `CSCRE`), which the builder draws with the label and jump
+/// shapes though the catalog has no instruction for it.
+pub fn is_scr(mnemonic: &str) -> bool {
+    gutta_catalog::s7200::SCR_MNEMONICS.contains(&mnemonic)
+}
+
 /// An operand on a pin.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Pin {

@@ -292,6 +292,14 @@ impl Writer<'_> {
         for (i, (_, path)) in b.power_inputs.iter().enumerate() {
             self.within(Step::PowerInput(i), |w| w.load(path))?;
         }
+        if crate::model::is_scr(&b.mnemonic) {
+            // A sequence control relay of a Micro/WIN export (no catalog instruction):
+            // its STL line as Micro/WIN writes it, the S bit its only operand.
+            let ops: Vec<&str> = b.pins.iter().map(|p| p.operand.written.as_str()).collect();
+            let text = line(&b.mnemonic, &ops);
+            self.push(text);
+            return Ok(());
+        }
         let spec = self.spec(&b.mnemonic)?;
         let mut ops: Vec<&str> = Vec::with_capacity(b.pins.len() + 1);
         if spec.kind.is_some() || spec.call_arguments {

@@ -175,7 +175,13 @@ impl<'a> Resolver<'a> {
                 prefix: Prefix::None,
                 local: false,
                 name,
-            } => self.address_of(self.text(name)),
+            } => {
+                let named = self.address_of(self.text(name));
+                match named.address {
+                    None => self.s_operand(name).unwrap_or(named),
+                    Some(_) => named,
+                }
+            }
             _ => Named::default(),
         };
         Operand {
@@ -220,6 +226,20 @@ impl<'a> Resolver<'a> {
         }
     }
 
+    /// An S operand of a Micro/WIN export (`S0.1`): its S name drawn over the GUTTA
+    /// address it went to (`Export::s_operands`, docs/microwin.md "Sequence control
+    /// relays").
+    fn s_operand(&self, name: gutta_compiler::source::Span) -> Option<Named> {
+        let export = self.checked.microwin.as_ref()?;
+        let (_, s_name, address) = export.s_operands.iter().find(|s| s.0 == name)?;
+        Some(Named {
+            address: Some(self.checked.target.memory.format_address(address)),
+            symbol: Some(s_name.clone()),
+            comment: None,
+            data_type: Some(width_type(address.width).to_string()),
+        })
+    }
+
     fn user_symbol(&self, symbol: &gutta_format::Symbol) -> Named {
         let memory = &self.checked.target.memory;
         let width = memory.parse_address(&symbol.address).ok().map(|a| a.width);
@@ -237,14 +257,23 @@ impl<'a> Resolver<'a> {
     /// The element of one instruction of a network; `None` for an unknown mnemonic.
     pub(super) fn element(&self, net: &ast::Network, ins: &ast::Instruction) -> Option<Element> {
         let target = &self.checked.target;
-        let id = target.instructions.lookup(self.text(ins.mnemonic).trim())?;
-        let spec = target.instructions.get(id);
-        let ops: Vec<Operand> = net
-            .operands_of(ins)
-            .iter()
-            .map(|o| self.operand(o))
-            .collect();
+        let ops = || -> Vec<Operand> {
+            net.operands_of(ins)
+                .iter()
+                .map(|o| self.operand(o))
+                .collect()
+        };
         let line = self.line(ins.span.start);
+        let written = self.text(ins.mnemonic).trim();
+        let Some(id) = target.instructions.lookup(written) else {
+            return self
+                .checked
+                .microwin
+                .as_ref()
+                .and_then(|_| scr_element(written, ops(), line));
+        };
+        let spec = target.instructions.get(id);
+        let ops = ops();
         Some(match spec.ladder {
             LadderClass::Contact | LadderClass::ClosedContact | LadderClass::Compare => {
                 let join = match spec.join() {
@@ -379,6 +408,50 @@ impl<'a> Resolver<'a> {
             shape: BoxShape::Box,
         }
     }
+}
+
+/// A sequence control relay line of a Micro/WIN export (docs/microwin.md, "Sequence
+/// control relays") as Micro/WIN's LAD draws it, with the shapes of the label and jump
+/// boxes: `LSCR` the `SCR` box on the rail, its S bit above; `SCRT` a coil `(SCRT)` at
+/// the end of its branch, its S bit above; `CSCRE` a coil `(SCRE)` at the end of its
+/// branch; `SCRE` the coil `(SCRE)` on the rail. The mnemonic stays the STL one, which
+/// the writer writes back (`write.rs`); `None` for any other mnemonic.
+pub(super) fn scr_element(written: &str, ops: Vec<Operand>, line: u32) -> Option<Element> {
+    let mnemonic = written.to_ascii_uppercase();
+    let (title, shape) = match mnemonic.as_str() {
+        "LSCR" => ("SCR", BoxShape::Label),
+        "SCRT" => ("SCRT", BoxShape::Jump),
+        "SCRE" | "CSCRE" => ("SCRE", BoxShape::Jump),
+        _ => return None,
+    };
+    let pins = ops
+        .into_iter()
+        .map(|operand| Pin {
+            name: "S_bit".to_string(),
+            output: false,
+            operand,
+            input: None,
+        })
+        .collect();
+    let b = BoxElement {
+        id: 0,
+        title: title.to_string(),
+        pins,
+        power_inputs: Vec::new(),
+        enable: "EN".to_string(),
+        output: None,
+        line,
+        counted: None,
+        resolution_ms: None,
+        shape,
+        mnemonic,
+    };
+    // LSCR and SCRE stand on the rail alone in their network (Micro/WIN's SCR box and
+    // SCRE coil); SCRT and CSCRE end the branch whose power they take.
+    Some(match b.mnemonic.as_str() {
+        "LSCR" | "SCRE" => Element::Always(b),
+        _ => Element::EndBox(b, false),
+    })
 }
 
 /// A contact of a Load or Combine instruction.

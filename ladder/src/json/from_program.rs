@@ -96,6 +96,16 @@ fn vars(checked: &CheckedFile, unit: &ast::Unit, section: VarSection) -> Vec<Var
 
 fn network(set: &InstructionSet, net: &Network) -> NetworkJson {
     let body = match &net.body {
+        // The JSON model's boxes are the catalog's instructions: a network with a
+        // sequence control relay (drawn with the label and jump shapes, no catalog
+        // instruction) is kept as its STL lines, which build the same drawing again.
+        crate::model::Body::Rung(rung) if rung_has_scr(rung) => NetworkBody::Stl {
+            stl: net.stl.clone(),
+            reason: format!(
+                "network {} holds a sequence control relay, which the JSON model keeps as STL",
+                net.number
+            ),
+        },
         crate::model::Body::Rung(rung) => NetworkBody::Rung {
             rung: rung_element(set, rung),
         },
@@ -113,6 +123,29 @@ fn network(set: &InstructionSet, net: &Network) -> NetworkJson {
 }
 
 /// The rung: its input path in series with its outputs (in a `parallel` when several).
+/// Whether a rung holds an `LSCR`, `SCRT`, `SCRE` or `CSCRE` box.
+fn rung_has_scr(rung: &Rung) -> bool {
+    fn node(n: &Node) -> bool {
+        match n {
+            Node::Contact(_) => false,
+            Node::Box(b) => boxed(b),
+            Node::Series(v) | Node::Parallel(v) => v.iter().any(node),
+        }
+    }
+    fn boxed(b: &BoxElement) -> bool {
+        crate::model::is_scr(&b.mnemonic) || b.power_inputs.iter().any(|(_, n)| node(n))
+    }
+    fn branch(b: &Branch) -> bool {
+        b.path.iter().any(node)
+            || match &b.end {
+                BranchEnd::Coil(_) => false,
+                BranchEnd::Box(x) => boxed(x),
+                BranchEnd::Split(v) => v.iter().any(branch),
+            }
+    }
+    rung.input.as_ref().is_some_and(node) || rung.outputs.iter().any(branch)
+}
+
 fn rung_element(set: &InstructionSet, rung: &Rung) -> Element {
     let mut parts = Vec::new();
     if let Some(input) = &rung.input {
