@@ -178,3 +178,20 @@ fn sm_names_say_what_they_are_and_that_the_register_is_missing() {
         "`P0_Ctrl_Rcv` is Micro/WIN's system symbol for the S7-200's SMB87 (port 0's receive message control); CPU-EC20 has no such register"
     );
 }
+
+/// An SM name the target keeps under another Micro/WIN name (the scan times: the target
+/// names SMW4 `Last_Scan_Time`) says where the same value is and how to declare it.
+#[test]
+fn an_sm_name_with_the_same_value_elsewhere_says_how_to_declare_it() {
+    let diags = diagnostics("scan.awl", &main_with("MOVW Scan_Time, MW0"));
+    let d = only(&diags, Code::S7200Area);
+    assert!(
+        d.message.ends_with("CPU-EC20 has no such name"),
+        "{}",
+        d.message
+    );
+    assert_eq!(
+        d.help.as_deref(),
+        Some("declare it in SYMBOLS (`Scan_Time : SMW4`): CPU-EC20 keeps the same value there")
+    );
+}

@@ -266,10 +266,17 @@ fn s7200_name_diagnostic(
         S7200Name::SystemSymbol(s) => {
             // The target's own data says which bit the name stands for (its
             // ManagerVar.xml `MicroWin` attribute), as the Micro/WIN dialect reads it.
-            let here = on
+            // Else the S7-200 table's GUTTA address, where the target has it (the scan
+            // times: the target names SMW4 `Last_Scan_Time`, Micro/WIN `Scan_Time`).
+            let named = on
                 .memory
                 .microwin_system_bit(s.name)
                 .map(|b| b.address.clone());
+            let named_here = named.is_some();
+            let here = named.or_else(|| {
+                let a = s.gutta_address?;
+                on.memory.parse_address(a).ok().map(|_| a.to_string())
+            });
             let lacks = if here.is_some() { "name" } else { "register" };
             let d = Diagnostic::new(
                 Code::S7200Area,
@@ -280,6 +287,12 @@ fn s7200_name_diagnostic(
                 ),
             );
             match here {
+                Some(a) if !named_here => d
+                    .label(format!("{a} on this target"))
+                    .help(format!(
+                        "declare it in SYMBOLS (`{} : {a}`): {target} keeps the same value there",
+                        s.name
+                    )),
                 Some(a) => d.label(format!("{a} on this target")).help(format!(
                     "declare it in SYMBOLS (`{} : {a}`), or read the file as a Micro/WIN export \
                      (first line `// dialect: microwin`, or name it .awl), where Micro/WIN's \
