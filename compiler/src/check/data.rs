@@ -14,6 +14,33 @@ use crate::syntax::ast::{self, BlockPrefix, OperandKind};
 pub(super) type Initialised = BTreeMap<(u8, u32, u8), Span>;
 
 impl Checker<'_> {
+    /// Whether a data block may initialise `area` (E0503 at `at`, with
+    /// `help`, when it may not): a DATA_BLOCK row or a Micro/WIN data block export's.
+    pub(super) fn initialisable(
+        &mut self,
+        at: Span,
+        area: &gutta_catalog::Area,
+        help: &str,
+    ) -> bool {
+        if rules::INITIALISABLE.contains(&area.kind) {
+            return true;
+        }
+        self.report(
+            Diagnostic::new(
+                Code::DataArea,
+                at,
+                format!("data blocks cannot initialise area {}", area.name),
+            )
+            .label(format!(
+                "{} is {}",
+                area.name,
+                area.description.to_lowercase()
+            ))
+            .help(help.to_string()),
+        );
+        false
+    }
+
     pub(super) fn data_blocks(&mut self) -> Vec<CheckedDataBlock> {
         let ast = self.ast;
         let numbers = self.data_block_numbers();
@@ -179,20 +206,11 @@ impl Checker<'_> {
             None => self.direct_address(row.address, Some("a data row"))?,
         };
         let area = self.target.memory.area_by_slot(address.slot)?.clone();
-        if !rules::INITIALISABLE.contains(&area.kind) {
-            self.report(
-                Diagnostic::new(
-                    Code::DataArea,
-                    row.address,
-                    format!("data blocks cannot initialise area {}", area.name),
-                )
-                .label(format!(
-                    "{} is {}",
-                    area.name,
-                    area.description.to_lowercase()
-                ))
-                .help("data blocks initialise M, V, Q, AQ, T and C"),
-            );
+        if !self.initialisable(
+            row.address,
+            &area,
+            "data blocks initialise M, V, Q, AQ, T and C",
+        ) {
             return None;
         }
         let ty = match row.ty {

@@ -7,7 +7,7 @@
 
 use std::collections::BTreeMap;
 
-use gutta_catalog::{rules, Address, DataType, Width};
+use gutta_catalog::{Address, DataType, Width};
 
 use super::data::Initialised;
 use super::{CheckedDataBlock, Checker, ConstValue, DataItem, DefKind};
@@ -100,20 +100,7 @@ impl Checker<'_> {
         let Some(area) = self.target.memory.area_by_slot(address.slot).cloned() else {
             return;
         };
-        if !rules::INITIALISABLE.contains(&area.kind) {
-            self.report(
-                Diagnostic::new(
-                    Code::DataArea,
-                    row.address,
-                    format!("data blocks cannot initialise area {}", area.name),
-                )
-                .label(format!(
-                    "{} is {}",
-                    area.name,
-                    area.description.to_lowercase()
-                ))
-                .help("a Micro/WIN data block sets V memory"),
-            );
+        if !self.initialisable(row.address, &area, "a Micro/WIN data block sets V memory") {
             return;
         }
         let width = address.width;
