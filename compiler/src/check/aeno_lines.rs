@@ -23,7 +23,7 @@ pub enum AenoMeaning {
     /// Nothing: the box cannot fail, so its ENO is its power flow.
     Nothing,
     /// GUTTA cannot know the ENO; the reason, as the end of E0225's sentence
-    /// ("`AENO` follows `SHRB`, <reason>").
+    /// ("`AENO` follows `SHRB`, REASON").
     Unknown(String),
 }
 

@@ -28,7 +28,7 @@ use crate::diagnostics::{Code, Diagnostic};
 use crate::source::Span;
 
 /// Where SB0 goes, as chosen (`MB96`): an area name and a byte. Checked against the
-/// target when the program is checked ([`convention`]).
+/// target when the program is checked (`convention`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SAreaBase {
     area: [u8; 4],
