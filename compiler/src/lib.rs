@@ -43,7 +43,7 @@ pub struct ExplicitTarget {
 }
 
 /// Choices that change what a program compiles to, beyond its text and target.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct CompileOptions {
     /// In a Micro/WIN export, scale the constant presets of timers whose S7-200
     /// resolution differs from the target's, so that the program keeps its S7-200
@@ -128,7 +128,7 @@ pub fn check_source_with(
     let target = resolve_target(&parsed.program, explicit, &mut diagnostics);
     let mut desugared = Desugared::default();
     if microwin {
-        desugared = microwin::desugar(&mut parsed.program, &file, &target, options);
+        desugared = microwin::desugar(&mut parsed.program, &file, &target, &options);
     }
     diagnostics.append(&mut desugared.diagnostics);
     let mut output = check::check(&file.text, &parsed.program, &target, &desugared.conventions);
@@ -370,14 +370,17 @@ impl ProgramSources {
 
 /// Parse and check a whole program (see [`ProgramSources`]): its files are one program
 /// (one namespace, MAIN once, one PLC type), each diagnostic in its own file.
-pub fn check_program(program: ProgramSources, explicit: Option<&ExplicitTarget>) -> CheckedFile {
-    let options = program.options;
+pub fn check_program(
+    mut program: ProgramSources,
+    explicit: Option<&ExplicitTarget>,
+) -> CheckedFile {
+    let options = std::mem::take(&mut program.options);
     check_source_with(program.join(), explicit, options)
 }
 
 /// The whole pipeline on a whole program (see [`ProgramSources`]).
-pub fn compile_program(program: ProgramSources, explicit: Option<&ExplicitTarget>) -> Compiled {
-    let options = program.options;
+pub fn compile_program(mut program: ProgramSources, explicit: Option<&ExplicitTarget>) -> Compiled {
+    let options = std::mem::take(&mut program.options);
     compile_with(program.join(), explicit, options)
 }
 

@@ -162,7 +162,7 @@ impl Session {
             ProgramSources {
                 sources: vec![SourceFile::new(&f.name, &probe)],
                 symbol_tables: self.tables.clone(),
-                options: self.options,
+                options: self.options.clone(),
             },
             self.target.as_ref(),
         );

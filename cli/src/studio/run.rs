@@ -64,7 +64,7 @@ impl Session {
                 .map(|f| SourceFile::new(&f.name, &f.text))
                 .collect(),
             symbol_tables: self.tables.clone(),
-            options: self.options,
+            options: self.options.clone(),
         };
         let compiled = compile_program(sources, self.target.as_ref());
         let checked = &compiled.checked;

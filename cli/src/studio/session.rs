@@ -232,7 +232,7 @@ impl Session {
             ProgramSources {
                 sources: vec![SourceFile::new(name, text)],
                 symbol_tables: self.tables.clone(),
-                options: self.options,
+                options: self.options.clone(),
             },
             self.target.as_ref(),
         )
@@ -641,7 +641,7 @@ impl Session {
             ProgramSources {
                 sources,
                 symbol_tables: Vec::new(),
-                options: self.options,
+                options: self.options.clone(),
             },
             Some(&target),
         );

@@ -198,7 +198,7 @@ impl Session {
                     .map(|f| SourceFile::new(f.name.clone(), f.text.clone()))
                     .collect(),
                 symbol_tables: self.tables.clone(),
-                options: self.options,
+                options: self.options.clone(),
             },
             self.target.as_ref(),
         )

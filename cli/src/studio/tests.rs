@@ -66,7 +66,7 @@ impl Session {
                 .map(|f| SourceFile::new(&f.name, &f.text))
                 .collect(),
             symbol_tables: self.tables.clone(),
-            options: self.options,
+            options: self.options.clone(),
         }
     }
 

@@ -161,7 +161,7 @@ pub fn desugar(
     program: &mut Program,
     file: &SourceFile,
     target: &Target,
-    options: CompileOptions,
+    options: &CompileOptions,
 ) -> Desugared {
     let text = file.text.as_str();
     let interrupt_placements = interrupts::place(program, text);
@@ -178,7 +178,7 @@ pub fn desugar(
         ),
         block_elsewhere_help: split::block_elsewhere_help(program, file, target),
         timer_bit_lines: Some(timer_bits::bit_lines(target)),
-        sequence: Some(scr::convention(target, options.s_area)),
+        sequence: Some(scr::convention(target, options.s_area.clone())),
         aeno: Some(aeno::meanings(target)),
         l_temporaries: LTemporaries::last_bytes_of_l(target),
     };
@@ -264,7 +264,7 @@ INTERRUPT_BLOCK INT_0:INT0\nBEGIN\nNETWORK 1\nLD SM0.0\n= Q0.1\nEND_INTERRUPT_BL
             &mut program,
             &SourceFile::new("main.awl", text),
             &target,
-            CompileOptions::default(),
+            &CompileOptions::default(),
         );
         let export = out.export.as_ref().unwrap();
         assert!(!export.gutta_boxes && export.events.len() == 1);

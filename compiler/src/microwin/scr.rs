@@ -29,17 +29,16 @@ use crate::source::Span;
 
 /// Where SB0 goes, as chosen (`MB96`): an area name and a byte. Checked against the
 /// target when the program is checked (`convention`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub struct SAreaBase {
-    area: [u8; 4],
-    area_len: u8,
+    area: String,
     pub byte: u32,
 }
 
 impl SAreaBase {
     /// The area's name (`M`).
     pub fn area(&self) -> &str {
-        std::str::from_utf8(&self.area[..usize::from(self.area_len)]).unwrap_or("")
+        &self.area
     }
 }
 
@@ -58,18 +57,13 @@ impl FromStr for SAreaBase {
         let upper = text.trim().to_ascii_uppercase();
         let letters = upper.bytes().take_while(u8::is_ascii_alphabetic).count();
         let (name, digits) = upper.split_at(letters);
-        let area = name
-            .strip_suffix('B')
-            .filter(|a| !a.is_empty() && a.len() <= 4);
+        let area = name.strip_suffix('B').filter(|a| !a.is_empty());
         let (Some(area), false) = (area, digits.is_empty()) else {
             return Err(bad());
         };
         let byte = digits.parse().map_err(|_| bad())?;
-        let mut bytes = [0; 4];
-        bytes[..area.len()].copy_from_slice(area.as_bytes());
         Ok(SAreaBase {
-            area: bytes,
-            area_len: area.len() as u8,
+            area: area.to_string(),
             byte,
         })
     }

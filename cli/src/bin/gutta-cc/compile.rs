@@ -48,7 +48,7 @@ pub(crate) fn files(cli: &Cli) -> Result<ExitCode, Fatal> {
             output: cli.output.as_deref(),
             emit: cli.emit,
             scale_timer_presets: cli.scale_timer_presets,
-            s_area: cli.s_area,
+            s_area: cli.s_area.clone(),
             target: &cli.target,
         },
     )
@@ -67,7 +67,7 @@ pub(crate) fn compile(cli: &Cli, job: &Job) -> Result<ExitCode, Fatal> {
     let mut program = read_program_in(job.base, job.files, job.tables, &mut notes)?;
     notes::print(&notes, cli.message_format, JsonTo::Stdout);
     program.options.scale_timer_presets = job.scale_timer_presets;
-    program.options.s_area = job.s_area;
+    program.options.s_area = job.s_area.clone();
     let name = match program.sources.len() {
         1 => program.sources[0].name.clone(),
         n => count(n, "file"),
@@ -196,7 +196,7 @@ pub(crate) fn s_area(
     cli: &Cli,
     project: &gutta_io::Project,
 ) -> Result<Option<gutta_compiler::microwin::SAreaBase>, Fatal> {
-    match (cli.s_area, &project.s_area) {
+    match (cli.s_area.clone(), &project.s_area) {
         (Some(chosen), _) => Ok(Some(chosen)),
         (None, Some(text)) => text.parse().map(Some).map_err(|e: String| {
             Fatal::usage(format!(

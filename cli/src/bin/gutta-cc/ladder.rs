@@ -112,7 +112,7 @@ pub(crate) fn checked_input(cli: &Cli, input: &Path) -> Result<CheckedFile, Fata
     let mut program = read_program(&[input.to_path_buf()], &cli.symbols, &mut notes)?;
     notes::print(&notes, cli.message_format, JsonTo::Stderr);
     program.options.scale_timer_presets = cli.scale_timer_presets;
-    program.options.s_area = cli.s_area;
+    program.options.s_area = cli.s_area.clone();
     Ok(check_program(program, explicit.as_ref()))
 }
 

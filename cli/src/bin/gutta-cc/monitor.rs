@@ -339,7 +339,7 @@ fn load(cli: &Cli, given: Option<&Path>) -> Result<Program, Fatal> {
     }
     gutta_cli::notes::print(&notes, cli.message_format, gutta_cli::notes::JsonTo::Stdout);
     sources.options.scale_timer_presets = scale;
-    sources.options.s_area = cli.s_area;
+    sources.options.s_area = cli.s_area.clone();
     let explicit = cli.target.explicit()?;
     let compiled = compile_program(sources, explicit.as_ref());
     let Some(image) = compiled.image.clone() else {

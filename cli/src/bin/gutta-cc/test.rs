@@ -267,7 +267,7 @@ fn rerun_flags(cli: &Cli) -> Vec<String> {
     if cli.scale_timer_presets {
         flags.push("--scale-timer-presets".into());
     }
-    if let Some(s_area) = cli.s_area {
+    if let Some(s_area) = &cli.s_area {
         flags.extend(["--s-area".to_string(), s_area.to_string()]);
     }
     flags
@@ -533,7 +533,7 @@ fn build_program(
     // A test's program read in another code page says so, as `gutta-cc` does.
     gutta_cli::notes::print(&notes, cli.message_format, gutta_cli::notes::JsonTo::Stdout);
     sources.options.scale_timer_presets = scale || cli.scale_timer_presets;
-    sources.options.s_area = match (cli.s_area, s_area) {
+    sources.options.s_area = match (cli.s_area.clone(), s_area) {
         (Some(chosen), _) => Some(chosen),
         (None, Some(text)) => Some(text.parse().map_err(fail)?),
         (None, None) => None,
