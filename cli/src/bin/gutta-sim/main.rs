@@ -4,12 +4,14 @@
 //! function 13. All I/O is here, including the PLC's serial ports for EXCH (`ports.rs`);
 //! the protocol logic is the library's (gutta-sim).
 
+mod device;
 mod fx;
 mod listen;
 mod ports;
 #[cfg(test)]
 mod ports_tests;
 mod relay;
+mod scan;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -18,17 +20,13 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use clap::Parser;
-use gutta_catalog::{choose_target, OwnName, Target, TargetInputs, TargetSpec};
 use gutta_cli::fatal::{Fatal, MessageFormat};
 use gutta_cli::target::TargetArgs;
 use gutta_format::LineSettings;
 use gutta_sim::plc::{ConnectionId, Plc};
 use gutta_sim::session::{Framing, Session};
-use gutta_vm::VmConfig;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio_serial::SerialPortBuilderExt;
-
-use crate::ports::{PortSpec, PortWiring};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -148,26 +146,6 @@ fn main() -> ExitCode {
     }
 }
 
-/// --plc/--target, else the image's PLC type, else the stdlib default; a load error says
-/// which folder or PLC type failed.
-fn target_for(cli: &Cli, image: Option<&gutta_format::Image>) -> Result<Arc<Target>, Fatal> {
-    let chosen = choose_target(&TargetInputs {
-        own: image
-            .zip(cli.image.as_deref())
-            .map(|(i, dir)| OwnName::Image {
-                plc: &i.plc_type,
-                dir,
-            }),
-        ..cli.target.inputs()
-    });
-    gutta_io::load_target(&chosen.spec).map_err(|e| {
-        Fatal::target(match &chosen.spec {
-            TargetSpec::Folder(dir) => format!("--target {}: {e}", dir.display()),
-            TargetSpec::Stdlib(name) => format!("PLC type {name}: {e}"),
-        })
-    })
-}
-
 /// Ctrl-C: SIGINT on Unix, its handler installed now (before the listeners announce
 /// themselves, so a signal sent after that line is never the default, fatal one).
 #[cfg(unix)]
@@ -211,34 +189,6 @@ async fn run_relay_board(cli: Cli) -> Result<(), Fatal> {
         ));
     }
     relay::run(&cli.tcp, interrupted()?).await
-}
-
-/// The simulated PLC: the image (verified on its target) or none, its scan time and
-/// its EXCH port wiring (--port0/--port1).
-fn load_plc(cli: &Cli) -> Result<Plc, Fatal> {
-    let image = match &cli.image {
-        Some(dir) => Some(gutta_io::read_image_dir(dir).map_err(Fatal::io)?),
-        None => None,
-    };
-    let target = target_for(cli, image.as_ref())?;
-    if let Some(image) = &image {
-        gutta_format::verify(image, &target)
-            .map_err(|e| Fatal::program(format!("the image does not verify: {e}")))?;
-    }
-    let config = VmConfig {
-        scan_ms: cli.scan_ms,
-        ..VmConfig::default()
-    };
-    let pages = image.map(|i| i.pages).unwrap_or_default();
-    let mut plc = Plc::new(target, pages, config).map_err(Fatal::program)?;
-    let mut wiring = PortWiring::default();
-    for (n, spec) in [(0u8, &cli.port0), (1, &cli.port1)] {
-        if let Some(spec) = spec {
-            wiring.lead(n, PortSpec::parse(spec).map_err(Fatal::usage)?);
-        }
-    }
-    plc.set_port_factory(Box::new(wiring));
-    Ok(plc)
 }
 
 /// Serve the GUTTA protocol over RTU on each --serial device, its line following the
@@ -286,7 +236,14 @@ async fn run_plc(cli: Cli) -> Result<(), Fatal> {
     if cli.device == Device::Fx {
         return run_fx(&cli, ctrl_c).await;
     }
-    let plc = Arc::new(Mutex::new(load_plc(&cli)?));
+    let plc = Arc::new(Mutex::new(device::load_plc(&device::PlcSpec {
+        name: None,
+        image: cli.image.clone(),
+        target: cli.target.clone(),
+        flash: None,
+        scan_ms: cli.scan_ms,
+        ports: [cli.port0.clone(), cli.port1.clone()],
+    })?));
     let start = Instant::now();
 
     let mut listeners = Vec::new();
@@ -308,51 +265,19 @@ async fn run_plc(cli: Cli) -> Result<(), Fatal> {
 
     open_serial_lines(&cli, &plc, start)?;
 
-    // The scan cycle, in real time.
-    let mut tick = tokio::time::interval(Duration::from_millis(u64::from(cli.scan_ms.max(1))));
-    tick.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Delay);
-    let mut reported_fault = false;
-    let (mut window_start, mut last_scan) = (Instant::now(), Instant::now());
-    let (mut window_scans, mut window_max) = (0u64, Duration::ZERO);
-    loop {
-        tokio::select! {
-            _ = tick.tick() => {}
-            () = &mut ctrl_c => return listen::stopped_by_ctrl_c(),
-        }
-        let now = Instant::now();
-        window_max = window_max.max(now - last_scan);
-        last_scan = now;
-        window_scans += 1;
-        if let Some(every) = cli.stats_every {
-            let elapsed = now - window_start;
-            if elapsed.as_secs_f64() >= every {
-                say(&format!(
-                    "gutta-sim: stats: {} in {:.2} s, period max {:.1} ms",
-                    gutta_cli::plural::count(window_scans, "scan"),
-                    elapsed.as_secs_f64(),
-                    window_max.as_secs_f64() * 1e3
-                ));
-                (window_start, window_scans, window_max) = (now, 0, Duration::ZERO);
-            }
-        }
-        // EXCH may wait on a serial port at the end of the scan: let the runtime move
-        // other work off this thread meanwhile.
-        let result = tokio::task::block_in_place(|| match plc.lock() {
-            Ok(mut plc) => Ok(plc.scan()),
-            Err(_) => Err(Fatal("the PLC state was poisoned by a panic".into())),
-        })?;
-        match result {
-            Err(f) if !reported_fault => {
-                eprintln!(
-                    "gutta-sim: the program faulted: {f} (error code {})",
-                    f.code()
-                );
-                reported_fault = true;
-            }
-            Ok(_) => reported_fault = false,
-            Err(_) => {}
-        }
-    }
+    // The scan cycle, in real time, on a thread of its own (scan.rs).
+    let scans = scan::Scans::start(
+        vec![scan::ScanDevice {
+            name: None,
+            plc: Arc::clone(&plc),
+            scan_ms: cli.scan_ms,
+        }],
+        cli.stats_every,
+    )
+    .map_err(|e| Fatal::io(format!("cannot start the scan thread: {e}")))?;
+    ctrl_c.await;
+    scans.stop();
+    listen::stopped_by_ctrl_c()
 }
 
 /// `--device fx`: the options that mean something to it, the others refused.
