@@ -43,8 +43,7 @@ Examples:
   gutta-sim --tcp 127.0.0.1:5020                        # an empty CPU-EC20
   gutta-sim image/ --tcp 127.0.0.1:5020 --rtu-tcp 127.0.0.1:5021
   gutta-sim image/ --serial /dev/pts/3 --baud 9600
-  gutta-sim --plc CPU-EC20 --tcp 0.0.0.0:502 --stats-every 5
-  gutta-sim --plant examples/plants/an2002_sample3/plant.toml --trace-ports
+  gutta-sim --plant plant.toml --stats-every 5 --trace-ports   # a plant's devices
 
 --completions SHELL prints a completion script, --man the man page.
 Exit status: 0 after a clean stop (Ctrl-C included), 2 for usage, image or network errors.",
