@@ -191,3 +191,83 @@ impl Drop for DevicePort {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    //! The in-process line against what a line gives: the far PLC's answer is the one
+    //! its RTU session gives any connection, an exception comes back as the frame
+    //! received, a station that is not there and a PLC held by someone else are
+    //! silence bounded by the timeout, and a relay board answers through the gateway
+    //! conversion.
+
+    use super::*;
+    use gutta_catalog::stdlib;
+    use gutta_vm::VmConfig;
+
+    fn plc() -> Arc<Mutex<Plc>> {
+        let target = stdlib::shared("CPU-EC20").expect("target");
+        let plc = Plc::new(target, Default::default(), VmConfig::default()).expect("an empty PLC");
+        Arc::new(Mutex::new(plc))
+    }
+
+    fn line(plc: &Arc<Mutex<Plc>>) -> DevicePort {
+        InProcessLine::Plc {
+            plc: Arc::clone(plc),
+            start: Instant::now(),
+        }
+        .port()
+    }
+
+    #[test]
+    fn the_far_plc_answers_as_its_rtu_session_answers_any_connection() {
+        let far = plc();
+        let request = encode_rtu(1, &[0x03, 0x00, 0x08, 0x00, 0x02]);
+        let answer = line(&far).transact(&request, 500).expect("an answer");
+        let mut session = Session::new(Framing::Rtu, crate::next_connection());
+        let direct = session
+            .on_bytes(&mut far.lock().expect("plc"), &request, 0)
+            .expect("answers");
+        assert_eq!(answer, direct);
+        assert_eq!(answer, encode_rtu(1, &[0x03, 4, 0, 0, 0, 0]));
+        // An exception is the frame as received.
+        let refused = line(&far)
+            .transact(&encode_rtu(1, &[0x03, 0xFF, 0xF0, 0x00, 0x01]), 500)
+            .expect("an exception frame");
+        assert_eq!(refused, encode_rtu(1, &[0x03 | EXCEPTION_BIT, 0x02]));
+    }
+
+    #[test]
+    fn silence_and_a_busy_plc_end_at_the_timeout() {
+        let far = plc();
+        let begun = Instant::now();
+        let other_station = encode_rtu(7, &[0x03, 0x00, 0x08, 0x00, 0x01]);
+        assert_eq!(
+            line(&far).transact(&other_station, 100),
+            Err(PortError::Timeout)
+        );
+        assert!(begun.elapsed() >= Duration::from_millis(100));
+        let held = far.lock().expect("plc");
+        let begun = Instant::now();
+        let ours = encode_rtu(1, &[0x03, 0x00, 0x08, 0x00, 0x01]);
+        assert_eq!(line(&far).transact(&ours, 100), Err(PortError::Timeout));
+        let waited = begun.elapsed();
+        assert!(
+            waited >= Duration::from_millis(100) && waited < Duration::from_secs(2),
+            "{waited:?}"
+        );
+        drop(held);
+        assert!(line(&far).transact(&ours, 100).is_ok());
+    }
+
+    #[test]
+    fn a_relay_board_answers_through_the_gateway_conversion() {
+        let mut port = InProcessLine::Board(Board::new()).port();
+        let switch_on = encode_rtu(1, &[0x05, 0x02, 0x00, 0xFF, 0x00]);
+        assert_eq!(port.transact(&switch_on, 500), Ok(switch_on.clone()));
+        let read = encode_rtu(1, &[0x01, 0x02, 0x00, 0x00, 0x04]);
+        assert_eq!(
+            port.transact(&read, 500),
+            Ok(encode_rtu(1, &[0x01, 0x01, 0b0001]))
+        );
+    }
+}
