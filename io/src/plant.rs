@@ -76,21 +76,25 @@ impl PlantErrorCode {
     }
 }
 
-/// A plant file error: its code and the message with the file, line and column.
+/// A plant file error: its code, where it is and what was wrong.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct PlantError {
     pub code: PlantErrorCode,
-    /// `FILE:LINE:COLUMN: what was wrong` (or `FILE: ...` without a place).
+    /// `FILE:LINE:COLUMN`, or `FILE` when no key or value is at fault.
+    pub place: String,
     pub message: String,
 }
 
 impl std::fmt::Display for PlantError {
+    /// `plant.toml:3:8: [P0002] unknown key ...`: the place first, as gutta.toml's.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        // `plant.toml:3:8: [P0002] unknown key ...`: the place first, as gutta.toml's.
-        match self.message.split_once(": ") {
-            Some((place, rest)) => write!(f, "{place}: [{}] {rest}", self.code.as_str()),
-            None => write!(f, "[{}] {}", self.code.as_str(), self.message),
-        }
+        write!(
+            f,
+            "{}: [{}] {}",
+            self.place,
+            self.code.as_str(),
+            self.message
+        )
     }
 }
 
@@ -224,7 +228,8 @@ impl Plant {
     pub fn load(file: &Path) -> Result<Plant, PlantError> {
         let text = std::fs::read_to_string(file).map_err(|e| PlantError {
             code: PlantErrorCode::Syntax,
-            message: format!("cannot read {}: {e}", file.display()),
+            place: file.display().to_string(),
+            message: format!("cannot read the plant file: {e}"),
         })?;
         let folder = file.parent().map(Path::to_path_buf).unwrap_or_default();
         Plant::parse(&folder, file, &text)
@@ -239,7 +244,8 @@ impl Plant {
         };
         let at = |code: PlantErrorCode, span: Range<usize>, message: String| PlantError {
             code,
-            message: format!("{}: {message}", here(span)),
+            place: here(span),
+            message,
         };
         let parsed: PlantFile = toml::from_str(text).map_err(|e| {
             let span = e.span().unwrap_or(0..0);
@@ -672,6 +678,17 @@ mod tests {
             assert_eq!(got, *code, "{text}: {shown}");
             assert!(shown.contains(wanted), "{text}: {shown} lacks {wanted}");
         }
+    }
+
+    #[test]
+    fn a_missing_file_is_named() {
+        let e = Plant::load(Path::new("/no/such/plant.toml")).expect_err("refused");
+        assert_eq!(e.code, PlantErrorCode::Syntax);
+        assert!(
+            e.to_string()
+                .starts_with("/no/such/plant.toml: [P0001] cannot read the plant file: "),
+            "{e}"
+        );
     }
 
     #[test]
