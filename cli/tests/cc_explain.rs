@@ -41,6 +41,9 @@ fn every_code_of_every_registry_explains() {
     for t in CatalogErrorCode::ALL {
         assert_explains(t.as_str(), t.summary(), &mut failures);
     }
+    for p in gutta_io::PlantErrorCode::ALL {
+        assert_explains(p.as_str(), p.summary(), &mut failures);
+    }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 

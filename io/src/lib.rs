@@ -5,6 +5,7 @@
 //! The libraries do no I/O (their clippy.toml forbids it); only the binaries use this.
 
 mod image_dir;
+mod plant;
 mod project;
 mod source_map;
 mod target;
@@ -15,6 +16,10 @@ use gutta_catalog::{stdlib, CatalogErrorCode, Target, TargetSources};
 use gutta_format::Image;
 
 pub use image_dir::{write_image, WriteError};
+pub use plant::{
+    DeviceKind, Plant, PlantDevice, PlantError, PlantErrorCode, PlcProgram, PortLead,
+    DEFAULT_SCAN_MS,
+};
 pub use project::{
     find_manifest, Connection, Endpoint, Parity, Project, ProjectTarget, DEFAULT_OUTPUT, MANIFEST,
 };

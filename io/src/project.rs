@@ -451,7 +451,7 @@ fn section_at(text: &str, offset: usize) -> &str {
 }
 
 /// 1-based line and column (in characters) of byte `offset`.
-fn line_column(text: &str, offset: usize) -> (usize, usize) {
+pub(crate) fn line_column(text: &str, offset: usize) -> (usize, usize) {
     let before = &text[..offset.min(text.len())];
     let line = before.matches('\n').count() + 1;
     let start = before.rfind('\n').map_or(0, |i| i + 1);
@@ -459,7 +459,7 @@ fn line_column(text: &str, offset: usize) -> (usize, usize) {
 }
 
 /// The known key closest to `key` (edit distance at most 2, or one a third its length).
-fn closest<'a>(key: &str, known: &[&'a str]) -> Option<&'a str> {
+pub(crate) fn closest<'a>(key: &str, known: &[&'a str]) -> Option<&'a str> {
     known
         .iter()
         .map(|k| {

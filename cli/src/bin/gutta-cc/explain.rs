@@ -2,12 +2,14 @@
 //! (the compiler's `Code`), V (`gutta_format::VerifyCode`, with its longer meaning from
 //! docs/image-format.md's table row), T (`CatalogErrorCode`, the registry
 //! docs/diagnostics.md's table is generated from), L (`gutta_ladder::json::ModelErrorCode`,
-//! a ladder model read from JSON). It keeps no list of codes or texts of its own.
+//! a ladder model read from JSON), P (`gutta_io::PlantErrorCode`, a plant file of
+//! `gutta-sim --plant`). It keeps no list of codes or texts of its own.
 
 use gutta_catalog::CatalogErrorCode;
 use gutta_compiler::diagnostics::Code;
 use gutta_compiler::suggest::closest;
 use gutta_format::VerifyCode;
+use gutta_io::PlantErrorCode;
 use gutta_ladder::json::ModelErrorCode;
 
 /// docs/image-format.md: its Verification table has one row per V code.
@@ -44,6 +46,13 @@ pub(crate) fn explanation(code: &str) -> Result<String, String> {
             t.summary()
         ));
     }
+    if let Some(p) = PlantErrorCode::ALL.iter().find(|p| same(p.as_str())) {
+        return Ok(format!(
+            "{} (plant files of gutta-sim --plant: exit status 2): {}",
+            p.as_str(),
+            p.summary()
+        ));
+    }
     if let Some(l) = ModelErrorCode::parse(wanted) {
         return Ok(format!(
             "{} (ladder model: exit status 2): {}\n\n{}",
@@ -76,6 +85,7 @@ fn all_codes() -> impl Iterator<Item = &'static str> {
         .chain(VerifyCode::ALL.iter().map(|v| v.as_str()))
         .chain(CatalogErrorCode::ALL.iter().map(|t| t.as_str()))
         .chain(ModelErrorCode::ALL.iter().map(|l| l.as_str()))
+        .chain(PlantErrorCode::ALL.iter().map(|p| p.as_str()))
 }
 
 /// The message for a code no registry has, with the nearest one if there is one.
@@ -94,7 +104,7 @@ fn unknown(wanted: &str) -> String {
         .find(|c| padded.as_deref() == Some(*c))
         .or_else(|| closest(wanted, all_codes()));
     let known =
-        "codes are E and W (compiler), V (image verification), T (target files), L (ladder models)";
+        "codes are E and W (compiler), V (image verification), T (target files), L (ladder models), P (plant files)";
     match suggestion {
         Some(s) => format!("no code `{wanted}` ({known}); did you mean {s}?"),
         None => format!("no code `{wanted}` ({known})"),

@@ -13,6 +13,7 @@ use gutta_format::LineSettings;
 use gutta_protocol::fx::{BaudRate, FxSplitter};
 use gutta_sim::fx::FxDevice;
 use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt};
+use tokio::net::TcpListener;
 use tokio_serial::SerialPortBuilderExt;
 
 use crate::{listen, say, switch_line};
@@ -47,11 +48,7 @@ pub async fn run(options: FxOptions<'_>, ctrl_c: impl Future<Output = ()>) -> Re
     };
     let device = Arc::new(Mutex::new(FxDevice::new()));
     for address in options.tcp {
-        let listener = listen::bind(address, "fx-tcp").await?;
-        let device = Arc::clone(&device);
-        listen::accept_forever(listener, move |stream| {
-            serve(stream, Arc::clone(&device), None, |_, _| Ok(()))
-        });
+        accept(listen::bind(address, "fx-tcp").await?, &device);
     }
     for device_path in options.serial {
         let path = device_path.display().to_string();
@@ -70,6 +67,15 @@ pub async fn run(options: FxOptions<'_>, ctrl_c: impl Future<Output = ()>) -> Re
         ));
     }
     listen::until_ctrl_c(ctrl_c).await
+}
+
+/// Serves `device` on `listener` (raw frames) for the life of the process: the
+/// command line's `--tcp` and a plant's fx device.
+pub fn accept(listener: TcpListener, device: &Arc<Mutex<FxDevice>>) {
+    let device = Arc::clone(device);
+    listen::accept_forever(listener, move |stream| {
+        serve(stream, Arc::clone(&device), None, |_, _| Ok(()))
+    });
 }
 
 /// A serial line and its settings now.

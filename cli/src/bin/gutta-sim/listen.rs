@@ -5,6 +5,7 @@
 //! caller's (a closure per accepted stream); no protocol here.
 
 use std::future::Future;
+use std::net::SocketAddr;
 use std::time::Duration;
 
 use gutta_cli::fatal::Fatal;
@@ -19,14 +20,21 @@ const ACCEPT_RETRY: Duration = Duration::from_millis(100);
 /// Binds `address` and says `gutta-sim: {kind} on {local address}` on stdout once it
 /// listens (port 0 picks a free port, which the line names).
 pub async fn bind(address: &str, kind: &str) -> Result<TcpListener, Fatal> {
+    let (listener, local) = bind_silently(address).await?;
+    say(&format!("gutta-sim: {kind} on {local}"));
+    Ok(listener)
+}
+
+/// Binds `address` and says nothing: the listener and the address it listens on (a
+/// plant says every listener of a device on one line).
+pub async fn bind_silently(address: &str) -> Result<(TcpListener, SocketAddr), Fatal> {
     let listener = TcpListener::bind(address)
         .await
         .map_err(|e| Fatal::io(format!("cannot listen on {address}: {e}")))?;
     let local = listener
         .local_addr()
         .map_err(|e| Fatal::io(format!("{address}: {e}")))?;
-    say(&format!("gutta-sim: {kind} on {local}"));
-    Ok(listener)
+    Ok((listener, local))
 }
 
 /// Accepts connections on `listener` in a task of its own for the life of the process:

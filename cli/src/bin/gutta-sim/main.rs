@@ -7,6 +7,8 @@
 mod device;
 mod fx;
 mod listen;
+mod plant;
+mod plant_ports;
 mod ports;
 #[cfg(test)]
 mod ports_tests;
@@ -41,7 +43,7 @@ Examples:
   gutta-sim --tcp 127.0.0.1:5020                        # an empty CPU-EC20
   gutta-sim image/ --tcp 127.0.0.1:5020 --rtu-tcp 127.0.0.1:5021
   gutta-sim image/ --serial /dev/pts/3 --baud 9600
-  gutta-sim --plc CPU-EC20 --tcp 0.0.0.0:502 --stats-every 5
+  gutta-sim --plant plant.toml --stats-every 5 --trace-ports   # a plant's devices
 
 --completions SHELL prints a completion script, --man the man page.
 Exit status: 0 after a clean stop (Ctrl-C included), 2 for usage, image or network errors.",
@@ -87,6 +89,18 @@ struct Cli {
     /// (`gutta-sim: stats: 100 scans in 1.00 s, period max 10.4 ms`).
     #[arg(long, value_name = "SECS")]
     stats_every: Option<f64>,
+    /// Run every device of a plant file in this process (docs/simulator.md, "Plants"):
+    /// PLCs, relay boards and fx ports, each on its own listeners, EXCH between them in
+    /// process. The devices' options are the file's.
+    #[arg(long, value_name = "PLANT.toml", conflicts_with_all = [
+        "image", "device", "plc", "target", "tcp", "rtu_tcp", "serial", "baud", "scan_ms",
+        "port0", "port1",
+    ])]
+    plant: Option<PathBuf>,
+    /// Print every EXCH request and answer of every serial port, as hex
+    /// (`gutta-sim: [NAME: ]port0 > 01 02 00 04 00 04 38 08`, `port0 < ...`).
+    #[arg(long)]
+    trace_ports: bool,
     /// `json`: a start-up error is one JSON error object on stdout (docs/cli.md); the
     /// listener lines stay text.
     #[arg(long, value_name = "FORMAT", value_enum, default_value_t = MessageFormat::Human)]
@@ -115,7 +129,7 @@ fn say(line: &str) {
 /// The identity of the next connection or serial line: the PLC grants a download
 /// window to the connection whose PLC_CLEAR opened it (docs/simulator.md, the download
 /// safety rule), so every connection gets its own number for the life of the process.
-fn next_connection() -> ConnectionId {
+pub(crate) fn next_connection() -> ConnectionId {
     static NEXT: AtomicU64 = AtomicU64::new(1);
     ConnectionId(NEXT.fetch_add(1, Ordering::Relaxed))
 }
@@ -167,6 +181,10 @@ fn interrupted() -> Result<impl std::future::Future<Output = ()>, Fatal> {
 }
 
 async fn run(cli: Cli) -> Result<(), Fatal> {
+    ports::TRACE_PORTS.store(cli.trace_ports, std::sync::atomic::Ordering::Relaxed);
+    if let Some(file) = &cli.plant {
+        return plant::run(file, cli.stats_every, interrupted()?).await;
+    }
     match cli.device {
         Device::Plc | Device::Fx => run_plc(cli).await,
         Device::RelayBoard => run_relay_board(cli).await,
@@ -304,7 +322,7 @@ async fn run_fx(cli: &Cli, ctrl_c: impl std::future::Future<Output = ()>) -> Res
 
 /// One connection or serial line under a new connection identity: read, answer, until
 /// the client closes or sends garbage; then a download window it left open ends.
-async fn serve<S>(
+pub(crate) async fn serve<S>(
     stream: S,
     framing: Framing,
     plc: Arc<Mutex<Plc>>,

@@ -14,6 +14,7 @@
 use std::collections::BTreeMap;
 use std::io::{ErrorKind, Read, Write};
 use std::net::{TcpStream, ToSocketAddrs};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use gutta_format::LineSettings;
@@ -25,6 +26,9 @@ use gutta_protocol::stream::TcpSplitter;
 use gutta_protocol::tcp::MAX_STANDARD_MBAP_LENGTH;
 use gutta_sim::ports::PortFactory;
 use gutta_vm::exch::{PortError, SerialPort};
+
+use crate::plant_ports::InProcessLine;
+use crate::say;
 
 /// How long one read waits before the master's clock is checked.
 const POLL: Duration = Duration::from_millis(5);
@@ -58,11 +62,19 @@ impl PortSpec {
     }
 }
 
-/// Where each serial port of the PLC leads (`--port0`, `--port1`): the port factory of
-/// the simulator core. A port without a spec stays unconnected.
+/// `--trace-ports`: every port of every PLC of the process prints its exchanges
+/// ([`TracedPort`]). Set once at start, before any PLC scans.
+pub static TRACE_PORTS: AtomicBool = AtomicBool::new(false);
+
+/// Where each serial port of the PLC leads (`--port0`, `--port1`, a plant's
+/// `device:NAME`): the port factory of the simulator core. A port without a lead stays
+/// unconnected.
 #[derive(Debug, Default)]
 pub struct PortWiring {
+    /// The device's name in a plant: the prefix of its trace lines.
+    pub name: Option<String>,
     leads: BTreeMap<u8, PortSpec>,
+    in_process: BTreeMap<u8, InProcessLine>,
 }
 
 impl PortWiring {
@@ -70,14 +82,61 @@ impl PortWiring {
     pub fn lead(&mut self, port: u8, spec: PortSpec) {
         self.leads.insert(port, spec);
     }
+
+    /// Lead serial port `port` to another device of the process (a plant's
+    /// `device:NAME`).
+    pub fn lead_in_process(&mut self, port: u8, line: InProcessLine) {
+        self.in_process.insert(port, line);
+    }
 }
 
 impl PortFactory for PortWiring {
     fn port(&mut self, port: u8, line: LineSettings) -> Option<Box<dyn SerialPort>> {
-        match self.leads.get(&port)? {
-            PortSpec::ModbusTcp(address) => Some(Box::new(GatewayPort::new(address.clone()))),
-            spec => Some(Box::new(StreamPort::new(spec.clone(), line))),
+        let made: Box<dyn SerialPort> = match (self.in_process.get(&port), self.leads.get(&port)) {
+            (Some(device), _) => Box::new(device.port()),
+            (None, Some(PortSpec::ModbusTcp(address))) => {
+                Box::new(GatewayPort::new(address.clone()))
+            }
+            (None, Some(spec)) => Box::new(StreamPort::new(spec.clone(), line)),
+            (None, None) => return None,
+        };
+        if !TRACE_PORTS.load(Ordering::Relaxed) {
+            return Some(made);
         }
+        Some(Box::new(TracedPort {
+            inner: made,
+            label: format!("{}port{port}", crate::scan::prefix(self.name.as_deref())),
+        }))
+    }
+}
+
+/// A port that prints every exchange on stdout (`--trace-ports`): the request frame as
+/// the PLC sends it (`gutta-sim: NAME: port0 > 01 02 00 04 00 04 38 08`), then the
+/// answer as the PLC receives it (`port0 < ...`) or what EXCH makes of silence or a bad
+/// CRC. The bytes are the line's, whatever the port leads to.
+#[derive(Debug)]
+pub struct TracedPort {
+    inner: Box<dyn SerialPort>,
+    label: String,
+}
+
+/// Bytes as `01 02 0A`.
+pub fn hex(bytes: &[u8]) -> String {
+    let parts: Vec<String> = bytes.iter().map(|b| format!("{b:02X}")).collect();
+    parts.join(" ")
+}
+
+impl SerialPort for TracedPort {
+    fn transact(&mut self, request: &[u8], timeout_ms: u32) -> Result<Vec<u8>, PortError> {
+        say(&format!("{} > {}", self.label, hex(request)));
+        let answer = self.inner.transact(request, timeout_ms);
+        match &answer {
+            Ok(bytes) if bytes.is_empty() => say(&format!("{} < (no answer expected)", self.label)),
+            Ok(bytes) => say(&format!("{} < {}", self.label, hex(bytes))),
+            Err(PortError::Crc) => say(&format!("{} < (bad CRC)", self.label)),
+            Err(_) => say(&format!("{} < (no answer in {timeout_ms} ms)", self.label)),
+        }
+        answer
     }
 }
 
