@@ -174,7 +174,9 @@ impl Scanned {
 
     /// The scan due at `self.deadline`, started at `now` (the missed scans of a late
     /// one are not run back to back: [`next_deadline`]).
-    fn scan(&mut self, now: Instant, stats_every: Option<f64>) -> Next {
+    /// A stats line falling due is added to `said`, which the lane prints once the
+    /// PLCs then due are scanned (one write for them all, never between two scans).
+    fn scan(&mut self, now: Instant, stats_every: Option<f64>, said: &mut Vec<String>) -> Next {
         self.deadline = next_deadline(self.deadline, now, self.period);
         if let Some(last) = self.last_scan {
             self.window_max = self.window_max.max(now - last);
@@ -184,7 +186,7 @@ impl Scanned {
         if let Some(every) = stats_every {
             let elapsed = now.saturating_duration_since(self.window_start);
             if elapsed.as_secs_f64() >= every {
-                say(&stats_line(
+                said.push(stats_line(
                     &self.prefix,
                     self.window_scans,
                     elapsed,
@@ -246,7 +248,8 @@ fn stats_line(prefix: &str, scans: u64, elapsed: Duration, period_max: Duration)
 /// The longest a lane sleeps before it looks at `stop` again.
 const STOP_CHECK: Duration = Duration::from_millis(50);
 
-/// Scans the lane's PLCs, earliest deadline first, until `stop`.
+/// Scans the lane's PLCs, earliest deadline first, until `stop`; the stats lines of
+/// the PLCs scanned since the last sleep are printed before the next sleep.
 fn run_lane(lane: Vec<Scanned>, stats_every: Option<f64>, stop: &AtomicBool) {
     let mut plcs = lane;
     // (deadline, index): the earliest deadline on top; equal deadlines by index.
@@ -255,17 +258,23 @@ fn run_lane(lane: Vec<Scanned>, stats_every: Option<f64>, stop: &AtomicBool) {
         .enumerate()
         .map(|(i, p)| Reverse((p.deadline, i)))
         .collect();
+    let mut said = Vec::new();
     while !stop.load(Ordering::Relaxed) {
         let Some(&Reverse((deadline, i))) = due.peek() else {
             return;
         };
         let now = Instant::now();
         if now < deadline {
+            if !said.is_empty() {
+                say(&said.join("\n"));
+                said.clear();
+                continue;
+            }
             std::thread::sleep((deadline - now).min(STOP_CHECK));
             continue;
         }
         due.pop();
-        if plcs[i].scan(now, stats_every) == Next::Again {
+        if plcs[i].scan(now, stats_every, &mut said) == Next::Again {
             due.push(Reverse((plcs[i].deadline, i)));
         }
     }
