@@ -88,6 +88,16 @@ fn full(work: &Path, image: &Path, launch: Launch) {
         timing.measure.as_secs()
     );
     println!("holds: {}", Verdict::RULE);
+    // The machine's own noise: a plant of one PLC in the same conditions.
+    match run_plant(work, image, launch, 1, timing) {
+        Ok(one) => println!(
+            "control, a plant of 1 PLC: worst period {:.1} ms, gutta-sim {} cores",
+            one.worst(),
+            one.sim_cores
+                .map_or_else(|| "-".to_string(), |c| format!("{c:.3}"))
+        ),
+        Err(e) => println!("control, a plant of 1 PLC: did not start: {e}"),
+    }
     let hundred = run_plant(work, image, launch, 100, timing).expect("a plant of 100 starts");
     println!("\nthe plant of 100 PLCs:");
     hundred.print_per_plc();
@@ -401,6 +411,9 @@ struct Verdict {
     silent: usize,
     polls: PollCount,
     plcs_polled: usize,
+    /// CPU time of the gutta-sim process(es) over the measured window, in cores (Linux:
+    /// /proc; `None` elsewhere).
+    sim_cores: Option<f64>,
 }
 
 impl Verdict {
@@ -483,19 +496,24 @@ impl Verdict {
             self.polls.failed,
             self.polls.slowest_ms
         );
+        if let Some(cores) = self.sim_cores {
+            println!("gutta-sim used {cores:.2} cores over the measured window");
+        }
         println!("holds: {}", if self.holds() { "yes" } else { "no" });
     }
 
     fn summary_row(&self) -> SummaryRow {
         let (scans, expected) = self.scans();
         SummaryRow(format!(
-            "{:>8.1}  {:>9.1}  {:>7.2}  {:>8.2}  {:>9.1}  {:>6}  {}",
+            "{:>8.1}  {:>9.1}  {:>7.2}  {:>8.2}  {:>11.1}  {:>6}  {:>9}  {}",
             self.worst(),
             self.median_worst(),
             self.worst_mean_deviation() * 100.0,
             (scans as f64 / expected - 1.0) * 100.0,
             self.poll_rate(),
             self.polls.failed,
+            self.sim_cores
+                .map_or_else(|| "-".to_string(), |c| format!("{c:.2}")),
             if self.holds() { "yes" } else { "no" }
         ))
     }
@@ -507,7 +525,7 @@ struct SummaryRow(String);
 
 impl SummaryRow {
     const HEADER: &'static str =
-        "worst ms  median ms  mean ±%  scans ±%  polls/s/PLC  failed  holds";
+        "worst ms  median ms  mean ±%  scans ±%  polls/s/PLC  failed  sim cores  holds";
     fn failed(reason: &str) -> SummaryRow {
         SummaryRow(format!("did not start: {reason}"))
     }
@@ -614,9 +632,15 @@ fn run_plant(
     }
     let started_in = starting.elapsed();
     let polls = Poller::start(&addresses)?;
-    let measure_from = Instant::now() + timing.warmup;
-    std::thread::sleep(timing.warmup + timing.measure);
+    let pids: Vec<u32> = running.0.iter().map(Child::id).collect();
+    std::thread::sleep(timing.warmup);
+    let measure_from = Instant::now();
+    let cpu_from = cpu_seconds(&pids);
+    std::thread::sleep(timing.measure);
     let measure_to = Instant::now();
+    let sim_cores = cpu_seconds(&pids)
+        .zip(cpu_from)
+        .map(|(to, from)| (to - from) / (measure_to - measure_from).as_secs_f64());
     let polls = polls.stop();
     drop(running);
     if started_in > Duration::from_secs(5) {
@@ -626,14 +650,22 @@ fn run_plant(
         );
     }
     let lines = received.lock().map_err(|_| "poisoned")?.clone();
-    Ok(judge(
-        n,
-        &lines,
-        measure_from,
-        measure_to,
-        polls,
-        addresses.len(),
-    ))
+    let mut verdict = judge(n, &lines, measure_from, measure_to, polls, addresses.len());
+    verdict.sim_cores = sim_cores;
+    Ok(verdict)
+}
+
+/// User and system CPU seconds of these processes so far (Linux: /proc/PID/stat, at
+/// 100 ticks a second, the kernel's USER_HZ); `None` where that cannot be read.
+fn cpu_seconds(pids: &[u32]) -> Option<f64> {
+    let mut ticks = 0u64;
+    for pid in pids {
+        let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+        // After the command name in parentheses: state is field 3, utime 14, stime 15.
+        let fields: Vec<&str> = stat.rsplit_once(')')?.1.split_whitespace().collect();
+        ticks += fields.get(11)?.parse::<u64>().ok()? + fields.get(12)?.parse::<u64>().ok()?;
+    }
+    Some(ticks as f64 / 100.0)
 }
 
 /// A reader of one gutta-sim's stdout: listener lines go to `addresses` (named as the
@@ -693,6 +725,7 @@ fn judge(
         plcs,
         polls,
         plcs_polled,
+        sim_cores: None,
     }
 }
 
