@@ -449,6 +449,37 @@ mod tests {
     }
 
     #[test]
+    fn a_wired_plc_that_blocks_holds_up_no_other_plc() {
+        let wired = running_plc(10);
+        wired
+            .lock()
+            .expect("lock")
+            .set_port_factory(Box::new(Silent));
+        let others: Vec<Arc<Mutex<Plc>>> = (0..3).map(|_| running_plc(10)).collect();
+        let mut devices = vec![device("wired", Arc::clone(&wired))];
+        devices.extend(
+            others
+                .iter()
+                .enumerate()
+                .map(|(k, p)| device(&format!("p{k}"), Arc::clone(p))),
+        );
+        let running = Scans::start(devices, None).expect("starts");
+        std::thread::sleep(Duration::from_millis(50));
+        // The wired PLC's scan blocks for 300 ms (as an EXCH waiting on its line would):
+        // its state is held here meanwhile, so its scan thread waits.
+        {
+            let _held = wired.lock().expect("lock");
+            let before: Vec<u64> = others.iter().map(|p| scans(p)).collect();
+            std::thread::sleep(Duration::from_millis(300));
+            let during: Vec<u64> = others.iter().map(|p| scans(p)).collect();
+            for (k, (b, d)) in before.iter().zip(&during).enumerate() {
+                assert!(d - b >= 10, "PLC p{k} scanned {} times in 300 ms", d - b);
+            }
+        }
+        running.stop();
+    }
+
+    #[test]
     fn stop_ends_every_loop_and_the_scans_with_it() {
         let plcs: Vec<Arc<Mutex<Plc>>> = (0..3).map(|_| running_plc(10)).collect();
         let devices = plcs
