@@ -454,6 +454,14 @@ impl Engine {
         self.compile_tier();
     }
 
+    /// Compile the program now, whatever `VmConfig::native_after` says, if it is not
+    /// compiled yet (never without `fast` or while a breakpoint is set, as `tier_up`).
+    pub fn compile_now(&mut self) {
+        if self.tier == TierState::Interpreted && self.program.config.fast && !self.native_hold {
+            self.compile_tier();
+        }
+    }
+
     #[cfg(feature = "jit")]
     fn compile_tier(&mut self) {
         let compiled =
