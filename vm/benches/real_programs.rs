@@ -11,7 +11,7 @@
 //! about 2 ms of scans, timed one after the other per program (interpreted, compiled,
 //! native); figures are medians of the batches, instructions counted in the timed scans.
 //! `cargo bench -p gutta-vm --bench real_programs` (`-- fixed`: the fixed cost alone,
-//! e.g. under callgrind); `cargo test --benches` (no `--bench`) runs every program a few
+//! e.g. under callgrind; `-- NAME`: only the programs whose name contains NAME); `cargo test --benches` (no `--bench`) runs every program a few
 //! scans only.
 
 #![allow(
@@ -276,6 +276,11 @@ fn main() {
         plant_inputs(),
     );
     programs.push(conveyor);
+    let names: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with("--"))
+        .collect();
+    programs.retain(|p| names.is_empty() || names.iter().any(|n| p.name.contains(n.as_str())));
 
     println!(
         "\nReal programs (issue 31): ns per executed instruction per tier, median of {} \

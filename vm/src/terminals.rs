@@ -176,6 +176,10 @@ impl Terminals {
 
     /// Forced bits take their force values.
     pub fn apply_forces(&self, memory: &mut Memory) {
+        if self.forces.is_empty() {
+            // Twice a scan: an empty map is not even walked.
+            return;
+        }
         for (slot, (mask, image)) in &self.forces {
             if let Some(area) = memory.area_mut(*slot) {
                 for ((b, m), v) in area.iter_mut().zip(mask).zip(image) {
