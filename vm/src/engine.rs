@@ -509,7 +509,9 @@ impl Engine {
         if self.phase == Phase::Idle {
             self.begin_scan();
         }
-        if self.at_breakpoint() {
+        // Only a set breakpoint patches a `Break` into a unit (`native_hold` says one is
+        // set): without one, the scan does not look.
+        if self.native_hold && self.at_breakpoint() {
             // Leaving a breakpoint: its instruction runs once.
             let flow = self.exec::<true>()?;
             if flow != Flow::Stepped && self.next_phase(flow)? {

@@ -175,6 +175,7 @@ impl Terminals {
     }
 
     /// Forced bits take their force values.
+    #[inline]
     pub fn apply_forces(&self, memory: &mut Memory) {
         if self.forces.is_empty() {
             // Twice a scan: an empty map is not even walked.
