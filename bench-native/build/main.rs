@@ -1,7 +1,9 @@
-//! Build script of gutta-bench-native: generates the two benchmark programs (LAD text)
-//! and translates that text into native Rust, both into `OUT_DIR/programs.rs`. It must
+//! Build script of gutta-bench-native: generates the benchmark programs (LAD text)
+//! and translates that text into native Rust (the conveyor plant: generated in both
+//! forms from one description), all into `OUT_DIR/programs.rs`. It must
 //! not use the compiler: the transcription is checked against the VM by tests/agree.rs.
 
+mod conveyor;
 mod programs;
 mod transcribe;
 
@@ -9,6 +11,9 @@ use std::path::PathBuf;
 
 /// Instructions per scan of both programs (issue 4: 10,000).
 const INSTRUCTIONS: usize = 10_000;
+
+/// Stations of the conveyor plant (issue 31: 40).
+const STATIONS: usize = 40;
 
 fn main() {
     println!("cargo::rerun-if-changed=build");
@@ -26,6 +31,13 @@ fn main() {
     ));
     out.push_str(&transcribe::transcribe(&bit_logic, "bit_logic"));
     out.push_str(&transcribe::transcribe(&mixed, "mixed"));
+    out.push_str(&format!(
+        "/// (c) the conveyor plant: {STATIONS} stations of a latch, a TON, a CTU with reset,\n\
+         /// EU/ED with S/R, compares, moves, +I and a JMP around a block (issue 31).\n\
+         pub const CONVEYOR: &str = {:?};\n\n",
+        conveyor::lad(STATIONS)
+    ));
+    out.push_str(&conveyor::native(STATIONS));
     let dir = PathBuf::from(std::env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
     std::fs::write(dir.join("programs.rs"), out).expect("write programs.rs");
 }

@@ -123,4 +123,137 @@ pub fn set_dword(area: &mut [u8], byte: usize, v: i32) {
     area[byte..byte + 4].copy_from_slice(&v.to_le_bytes());
 }
 
+/// Bytes of the timer and counter areas (T0..T127, C0..C63: a word each).
+pub const T_BYTES: usize = 256;
+pub const C_BYTES: usize = 128;
+
+/// Milliseconds per unit of the timers the conveyor plant uses (T4..T127 on
+/// EC30-EKSTM32-XC).
+pub const TIMER_UNIT_MS: u32 = 100;
+
+/// The highest count of a counter (the target's `Counters Max`).
+pub const COUNTER_MAX: i16 = 32767;
+
+/// What a program with timers, counters and edges keeps besides I, Q, M and SM: the T
+/// and C words, each timer's running clock, each counter's last input, each edge's
+/// last input, and the scan count and virtual time the system bits derive from.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Plant {
+    pub mem: Memory,
+    pub t: [u8; T_BYTES],
+    pub c: [u8; C_BYTES],
+    /// Per timer: milliseconds not yet counted as a unit, and whether its clock runs.
+    pub timers: [(u32, bool); T_BYTES / 2],
+    /// Per counter: its up input at its previous execution.
+    pub counters: [bool; C_BYTES / 2],
+    /// Per EU/ED instruction: its input at its previous execution.
+    pub edges: [bool; 256],
+    pub scans: u64,
+    pub ms: u64,
+    pub scan_ms: u32,
+}
+
+impl Plant {
+    /// Everything zero, `scan_ms` virtual milliseconds per scan.
+    pub fn new(scan_ms: u32) -> Plant {
+        Plant {
+            mem: Memory::default(),
+            t: [0; T_BYTES],
+            c: [0; C_BYTES],
+            timers: [(0, false); T_BYTES / 2],
+            counters: [false; C_BYTES / 2],
+            edges: [false; 256],
+            scans: 0,
+            ms: 0,
+            scan_ms,
+        }
+    }
+
+    /// SMB0 for the scan about to start: SM0.0 on, SM0.1 the first scan, SM0.4 and
+    /// SM0.5 the 60 s and 1 s clocks, SM0.6 every other scan.
+    #[inline(always)]
+    pub fn begin_scan(&mut self) {
+        let t = self.ms;
+        let bits = 1
+            | u8::from(self.scans == 0) << 1
+            | u8::from((t / 30_000) % 2 == 1) << 4
+            | u8::from((t / 500) % 2 == 1) << 5
+            | u8::from(self.scans % 2 == 1) << 6;
+        self.mem.sm[0] = (self.mem.sm[0] & !0b0111_0011) | bits;
+    }
+
+    #[inline(always)]
+    pub fn end_scan(&mut self) {
+        self.scans += 1;
+        self.ms += u64::from(self.scan_ms);
+    }
+
+    /// TON T`n`, `pt` with input `input`: each execution with the input on counts the
+    /// scan's milliseconds (the first only starts the clock); off, the timer is 0.
+    /// Returns the done state.
+    #[inline(always)]
+    pub fn ton(&mut self, n: usize, input: bool, pt: i16, scan_ms: u32) -> bool {
+        let clock = &mut self.timers[n];
+        if !input {
+            *clock = (0, false);
+            set_word(&mut self.t, 2 * n, 0);
+            return false;
+        }
+        let units = if clock.1 {
+            let total = clock.0 + scan_ms;
+            clock.0 = total % TIMER_UNIT_MS;
+            total / TIMER_UNIT_MS
+        } else {
+            *clock = (0, true);
+            0
+        };
+        let mut t = word(&self.t, 2 * n);
+        if units > 0 && t < i16::MAX {
+            t = (i32::from(t) + units as i32).min(i32::from(i16::MAX)) as i16;
+            set_word(&mut self.t, 2 * n, t);
+        }
+        pt <= 0 || t >= pt
+    }
+
+    /// CTU C`n`, `pv` with up input `up` and reset `reset`: counts rising edges of `up`
+    /// up to the maximum; reset clears. Returns the done state (count >= `pv`).
+    #[inline(always)]
+    pub fn ctu(&mut self, n: usize, up: bool, reset: bool, pv: i16) -> bool {
+        let rose = up && !self.counters[n];
+        self.counters[n] = up;
+        let mut c = word(&self.c, 2 * n);
+        if reset {
+            c = 0;
+            set_word(&mut self.c, 2 * n, c);
+        } else if rose && c < COUNTER_MAX {
+            c += 1;
+            set_word(&mut self.c, 2 * n, c);
+        }
+        c >= pv
+    }
+
+    /// EU (`rising`) or ED number `n` on input `now`: true for one execution after the
+    /// input rose (fell).
+    #[inline(always)]
+    pub fn edge(&mut self, n: usize, now: bool, rising: bool) -> bool {
+        let before = std::mem::replace(&mut self.edges[n], now);
+        if rising {
+            now && !before
+        } else {
+            !now && before
+        }
+    }
+}
+
+/// `+I v, MW[at]`: the sum wraps; SM1.0 zero, SM1.1 overflow, SM1.2 negative, the
+/// other flags kept.
+#[inline(always)]
+pub fn add_int(mem: &mut Memory, v: i16, at: usize) {
+    let exact = i32::from(word(&mem.m, at)) + i32::from(v);
+    let r = exact as i16;
+    set_word(&mut mem.m, at, r);
+    let flags = u8::from(r == 0) | (u8::from(i32::from(r) != exact) << 1) | (u8::from(r < 0) << 2);
+    mem.sm[1] = (mem.sm[1] & !0x07) | flags;
+}
+
 include!(concat!(env!("OUT_DIR"), "/programs.rs"));

@@ -1,11 +1,12 @@
-//! The native transcriptions do what the VM does: both programs compiled for
+//! The native transcriptions do what the VM does: the programs compiled for
 //! EC30-EKSTM32-XC and run in the VM, and transcribed and run natively, from the same
 //! changing inputs, leave I, Q, M and the math flags (SMB1) byte-identical after every
-//! scan. Without this the benchmark's native figure would mean nothing.
+//! scan (the conveyor plant: T, C and SMB0 too, over thousands of scans of virtual
+//! time). Without this the benchmark's native figure would mean nothing.
 
 use std::sync::Arc;
 
-use gutta_bench_native::{Memory, BIT_LOGIC, MIXED};
+use gutta_bench_native::{Memory, Plant, BIT_LOGIC, CONVEYOR, CONVEYOR_STATIONS, MIXED};
 use gutta_catalog::{stdlib, Target};
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
@@ -163,4 +164,97 @@ fn memory_sizes_match_the_catalog() {
         u32::from(target.instructions.logic_stack_depth),
         gutta_bench_native::LOGIC_STACK_DEPTH
     );
+}
+
+/// The conveyor plant's inputs at scan `n`: every start button pressed now and then,
+/// stop buttons of a changing few stations held for a while, the acknowledge buttons
+/// pressed and released every 40 scans.
+fn plant_inputs(n: u32) -> [u8; 15] {
+    let mut bytes = [0u8; 15];
+    for (k, byte) in bytes.iter_mut().enumerate() {
+        let k = k as u32;
+        *byte = match k / 5 {
+            0 => {
+                if n % 400 < 3 {
+                    0xFF
+                } else {
+                    0
+                }
+            }
+            1 => {
+                if (n / 150 + k * 3).is_multiple_of(4) {
+                    0x5A_u32.rotate_left(n / 150 % 8) as u8
+                } else {
+                    0
+                }
+            }
+            _ => {
+                if (n / 40) % 2 == 1 {
+                    0xFF
+                } else {
+                    0
+                }
+            }
+        };
+    }
+    bytes
+}
+
+#[test]
+fn conveyor_agrees_with_the_vm() {
+    for config in configs() {
+        let (mut vm, target) = load(CONVEYOR, config);
+        let mut plant = Plant::new(config.scan_ms);
+        let (mut alarms_set, mut alarms_cleared, mut batches, mut skipped, mut totals) =
+            (0, 0, 0, 0, 0);
+        for n in 0..3000u32 {
+            for (k, &v) in plant_inputs(n).iter().enumerate() {
+                let a = target
+                    .memory
+                    .parse_address(&format!("IB{k}"))
+                    .expect("address");
+                vm.write(a, u32::from(v)).expect("write");
+                plant.mem.i[k] = v;
+            }
+            let before = plant.clone();
+            vm.scan().expect("scan");
+            gutta_bench_native::conveyor_scan(&mut plant);
+            for (name, bytes) in [
+                ("I", &plant.mem.i[..]),
+                ("Q", &plant.mem.q[..]),
+                ("M", &plant.mem.m[..]),
+                ("T", &plant.t[..]),
+                ("C", &plant.c[..]),
+                ("SM", &plant.mem.sm[..2]),
+            ] {
+                let vm_bytes = vm_area(&vm, &target, name);
+                if let Some(at) = (0..bytes.len()).find(|&k| vm_bytes[k] != bytes[k]) {
+                    panic!(
+                        "{config:?} scan {n}: {name}B{at} is {:#04x} in the VM and {:#04x} native",
+                        vm_bytes[at], bytes[at]
+                    );
+                }
+            }
+            // What the scan did, so the run is known to reach every family.
+            for k in 0..CONVEYOR_STATIONS {
+                let b = 100 + 16 * k;
+                let was = |bit: u32| gutta_bench_native::bit(&before.mem.m, b, bit);
+                let now = |bit: u32| gutta_bench_native::bit(&plant.mem.m, b, bit);
+                alarms_set += usize::from(!was(2) && now(2));
+                alarms_cleared += usize::from(was(2) && !now(2));
+                batches += usize::from(now(4));
+                skipped += usize::from(!now(0));
+                totals += usize::from(now(3));
+            }
+        }
+        assert!(alarms_set > 40, "EU and S: {alarms_set}");
+        assert!(alarms_cleared > 40, "ED and R: {alarms_cleared}");
+        assert!(
+            batches > 40,
+            "CTU to its preset, the compare, the reset: {batches}"
+        );
+        assert!(skipped > 1000, "the JMP taken: {skipped}");
+        assert!(totals > 1000, "the batch total past its limit: {totals}");
+        assert!(plant.t.iter().any(|&b| b != 0), "timers running at the end");
+    }
 }

@@ -1,6 +1,6 @@
 //! The `gutta-vm` command line: images compiled in the test (with the compiler library)
 //! and written as gutta-cc writes them, then run by the binary: --read, --json, --set,
-//! --force, --trace, --vcd, --break, and the exit status of verification errors and
+//! --force, --trace, --vcd, --break, --tier and --stats, and the exit status of verification errors and
 //! faults.
 
 use std::path::{Path, PathBuf};
@@ -385,4 +385,142 @@ fn a_watchdog_fault_is_exit_1() {
     // The default watchdog (10,000,000 instructions) catches it too.
     let o = gutta_vm(&dir, &[]);
     assert_eq!(o.status.code(), Some(1));
+}
+
+/// `stats: SCANS scans, INSTRUCTIONS instructions, SECONDS s, NS ns/scan, NS
+/// ns/instruction, tier TIER`, parsed strictly: the numbers and the tier's name.
+struct Stats {
+    scans: u64,
+    instructions: u64,
+    seconds: f64,
+    ns_per_scan: f64,
+    ns_per_instruction: f64,
+    tier: String,
+}
+
+fn parse_stats(stderr: &str) -> Stats {
+    let lines: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("stats: "))
+        .collect();
+    assert_eq!(lines.len(), 1, "one stats line in {stderr}");
+    let rest = &lines[0]["stats: ".len()..];
+    let fields: Vec<&str> = rest.split(", ").collect();
+    assert_eq!(fields.len(), 6, "six fields in {rest}");
+    let number = |field: &str, unit: &str| -> f64 {
+        let value = field
+            .strip_suffix(unit)
+            .unwrap_or_else(|| panic!("{field:?} ends with {unit:?}"));
+        value
+            .parse()
+            .unwrap_or_else(|e| panic!("{value:?} is a number: {e}"))
+    };
+    let whole = |field: &str, unit: &str| -> u64 {
+        let value = field
+            .strip_suffix(unit)
+            .unwrap_or_else(|| panic!("{field:?} ends with {unit:?}"));
+        value
+            .parse()
+            .unwrap_or_else(|e| panic!("{value:?} is a count: {e}"))
+    };
+    Stats {
+        scans: whole(fields[0], " scans"),
+        instructions: whole(fields[1], " instructions"),
+        seconds: number(fields[2], " s"),
+        ns_per_scan: number(fields[3], " ns/scan"),
+        ns_per_instruction: number(fields[4], " ns/instruction"),
+        tier: fields[5]
+            .strip_prefix("tier ")
+            .unwrap_or_else(|| panic!("{:?} starts with \"tier \"", fields[5]))
+            .to_string(),
+    }
+}
+
+/// Four instructions per scan (network records count none), all of them compilable.
+const COUNTER: &str = "NETWORK 1\nLD SM0.0\n+I 1, MW0\nNETWORK 2\nLD I0.0\n= Q0.0";
+
+#[test]
+fn stats_line_counts_the_scans_and_names_the_tier_asked() {
+    let dir = image_dir(&main_block(COUNTER), "stats");
+    for tier in ["interpreted", "compiled", "auto"] {
+        let o = gutta_vm(
+            &dir,
+            &["--scans", "250", "--tier", tier, "--stats", "--read", "MW0"],
+        );
+        assert_eq!(o.status.code(), Some(0), "{tier}: {}", stderr(&o));
+        // The same results on every tier (auto compiles after scan 100).
+        assert_eq!(stdout(&o), "MW0 = 250\n", "{tier}");
+        let s = parse_stats(&stderr(&o));
+        assert_eq!(s.tier, tier);
+        assert_eq!(s.scans, 250, "{tier}");
+        assert_eq!(s.instructions, 1000, "{tier}");
+        assert!(s.seconds > 0.0, "{tier}: {}", s.seconds);
+        // The per-scan and per-instruction figures are the seconds divided (to the
+        // rounding of the printed seconds, 1 us).
+        let close = |printed: f64, n: f64| (printed - s.seconds * 1e9 / n).abs() <= 1e3 / n + 0.1;
+        assert!(close(s.ns_per_scan, 250.0), "{tier}: {}", s.ns_per_scan);
+        assert!(
+            close(s.ns_per_instruction, 1000.0),
+            "{tier}: {}",
+            s.ns_per_instruction
+        );
+        assert!(
+            !stderr(&o).contains("note:"),
+            "{tier}: the program compiles: {}",
+            stderr(&o)
+        );
+    }
+    // Without --stats, no line.
+    let o = gutta_vm(&dir, &["--scans", "3", "--tier", "compiled"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("stats:"), "{}", stderr(&o));
+}
+
+#[test]
+fn stats_in_stop_count_only_the_scans_that_ran() {
+    // STOP in the third scan: the scans after it run nothing.
+    let code = "NETWORK 1\nLD SM0.0\n+I 1, MW0\nNETWORK 2\nLDW= MW0, 3\nSTOP";
+    let dir = image_dir(&main_block(code), "stats-stop");
+    let o = gutta_vm(&dir, &["--scans", "10", "--stats", "--tier", "interpreted"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let s = parse_stats(&stderr(&o));
+    assert_eq!(s.scans, 3);
+    // LD, +I, LDW= and STOP per scan (a box counts without power flow too).
+    assert_eq!(s.instructions, 12);
+}
+
+#[test]
+fn tier_compiled_says_when_nothing_compiles() {
+    // A timer alone: nothing the compiled tier takes.
+    let dir = image_dir(
+        &main_block("NETWORK 1\nLD SM0.0\nTON T4, 100"),
+        "stats-tier",
+    );
+    let o = gutta_vm(&dir, &["--scans", "5", "--tier", "compiled", "--stats"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let s = parse_stats(&stderr(&o));
+    assert_eq!((s.tier.as_str(), s.instructions), ("compiled", 10));
+    assert!(
+        stderr(&o).contains(
+            "gutta-vm: note: --tier compiled: nothing in the program compiles; every scan ran interpreted"
+        ),
+        "{}",
+        stderr(&o)
+    );
+    let o = gutta_vm(&dir, &["--scans", "5", "--tier", "interpreted", "--stats"]);
+    assert!(!stderr(&o).contains("note:"), "{}", stderr(&o));
+}
+
+#[test]
+fn a_wrong_tier_is_a_usage_error() {
+    let dir = image_dir(&main_block(COUNTER), "stats-bad-tier");
+    let o = gutta_vm(&dir, &["--tier", "native", "--stats"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(err.contains("--tier"), "{err}");
+    assert!(
+        err.contains("interpreted") && err.contains("compiled") && err.contains("auto"),
+        "the possible values: {err}"
+    );
+    assert!(!err.contains("stats:"), "{err}");
 }

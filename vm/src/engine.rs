@@ -6,7 +6,6 @@
 //! `debug.rs`, above it) and no protocol.
 
 use std::collections::VecDeque;
-use std::sync::Arc;
 
 use gutta_catalog::{Address, Width};
 
@@ -350,8 +349,19 @@ impl Engine {
                     Op::Generic { boxed } => {
                         self.machine.stack = st;
                         self.machine.set_pc(pc);
-                        let unit = Arc::clone(shared);
-                        let control = self.generic(&unit, pc, boxed)?;
+                        // The unit stays borrowed from the program while the semantic
+                        // changes the other parts: no reference count, and the frame
+                        // goes on in this loop unless the semantic left it.
+                        let parts = Parts {
+                            program: &self.program,
+                            handlers: &self.handlers,
+                            machine: &mut self.machine,
+                            terminals: &self.terminals,
+                            interrupts: &mut self.interrupts,
+                            exch: &mut self.exch.queue,
+                            clock: &mut self.clock,
+                        };
+                        let control = generic(parts, unit, pc, boxed)?;
                         let next = match control {
                             Control::Next => pc + 1,
                             Control::Goto(j) => j,
@@ -380,11 +390,13 @@ impl Engine {
                             }
                         };
                         // The semantic may have changed the stack; the frame continues.
-                        self.machine.set_pc(next);
+                        st = self.machine.stack;
+                        pc = next;
                         if SINGLE {
+                            self.machine.set_pc(pc);
                             return Ok(Flow::Stepped);
                         }
-                        continue 'frames;
+                        continue;
                     }
                     _ => {
                         fast_op(&mut self.machine.memory.bytes, op, &mut st, mask, flags_at);
@@ -400,45 +412,6 @@ impl Engine {
         }
     }
 
-    /// Run an instruction's semantic from `ops/`.
-    fn generic(&mut self, unit: &Unit, pc: usize, boxed: bool) -> Result<Control, Fault> {
-        let Some((id, offset, operands)) = unit.instruction(pc) else {
-            return Ok(Control::Next);
-        };
-        if boxed && self.machine.stack & 1 == 0 {
-            // FOR without power flow skips its whole loop.
-            if let Some(&next) = unit.loops.get(&pc) {
-                return Ok(Control::Goto(next + 1));
-            }
-            return Ok(Control::Next);
-        }
-        let mnemonic = unit.mnemonic(id);
-        let handler = self
-            .handlers
-            .get(id.0 as usize)
-            .copied()
-            .flatten()
-            .ok_or_else(|| Fault::NoSemantics {
-                mnemonic: mnemonic.to_string(),
-            })?;
-        let mut exec = Exec {
-            machine: &mut self.machine,
-            program: &self.program,
-            terminals: &self.terminals,
-            interrupts: &mut self.interrupts,
-            exch: &mut self.exch.queue,
-            clock: &mut self.clock,
-            at: Instruction {
-                unit,
-                operands,
-                index: pc,
-                offset,
-                mnemonic,
-            },
-        };
-        handler(&mut exec)
-    }
-
     /// After a completed scan: compile the program when `VmConfig::native_after` scans
     /// have completed (once; never while a breakpoint is set).
     #[inline]
@@ -452,6 +425,14 @@ impl Engine {
             return;
         }
         self.compile_tier();
+    }
+
+    /// Compile the program now, whatever `VmConfig::native_after` says, if it is not
+    /// compiled yet (never without `fast` or while a breakpoint is set, as `tier_up`).
+    pub fn compile_now(&mut self) {
+        if self.tier == TierState::Interpreted && self.program.config.fast && !self.native_hold {
+            self.compile_tier();
+        }
     }
 
     #[cfg(feature = "jit")]
@@ -528,7 +509,9 @@ impl Engine {
         if self.phase == Phase::Idle {
             self.begin_scan();
         }
-        if self.at_breakpoint() {
+        // Only a set breakpoint patches a `Break` into a unit (`native_hold` says one is
+        // set): without one, the scan does not look.
+        if self.native_hold && self.at_breakpoint() {
             // Leaving a breakpoint: its instruction runs once.
             let flow = self.exec::<true>()?;
             if flow != Flow::Stepped && self.next_phase(flow)? {
@@ -567,4 +550,55 @@ impl Engine {
         }
         unit.ops.get(pc).copied()
     }
+}
+
+/// The parts of the engine a generic semantic may reach, borrowed apart from the
+/// program (which the running unit is borrowed from).
+struct Parts<'a> {
+    program: &'a Program,
+    handlers: &'a [Option<Handler>],
+    machine: &'a mut Machine,
+    terminals: &'a Terminals,
+    interrupts: &'a mut Interrupts,
+    exch: &'a mut crate::exch::ExchQueue,
+    clock: &'a mut Clock,
+}
+
+/// Run an instruction's semantic from `ops/`.
+fn generic(parts: Parts<'_>, unit: &Unit, pc: usize, boxed: bool) -> Result<Control, Fault> {
+    let Some((id, offset, operands)) = unit.instruction(pc) else {
+        return Ok(Control::Next);
+    };
+    if boxed && parts.machine.stack & 1 == 0 {
+        // FOR without power flow skips its whole loop.
+        if let Some(&next) = unit.loops.get(&pc) {
+            return Ok(Control::Goto(next + 1));
+        }
+        return Ok(Control::Next);
+    }
+    let mnemonic = unit.mnemonic(id);
+    let handler = parts
+        .handlers
+        .get(id.0 as usize)
+        .copied()
+        .flatten()
+        .ok_or_else(|| Fault::NoSemantics {
+            mnemonic: mnemonic.to_string(),
+        })?;
+    let mut exec = Exec {
+        machine: parts.machine,
+        program: parts.program,
+        terminals: parts.terminals,
+        interrupts: parts.interrupts,
+        exch: parts.exch,
+        clock: parts.clock,
+        at: Instruction {
+            unit,
+            operands,
+            index: pc,
+            offset,
+            mnemonic,
+        },
+    };
+    handler(&mut exec)
 }

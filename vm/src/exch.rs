@@ -119,6 +119,9 @@ impl Exch {
     /// End-of-scan communication: carry out the exchanges queued in scan `scan` in
     /// order (entries left over from a faulted scan before a reset are dropped).
     pub fn service(&mut self, memory: &mut Memory, image: &VerifiedImage, scan: u64) {
+        if self.queue.0.is_empty() {
+            return;
+        }
         let queue = std::mem::take(&mut self.queue.0);
         for q in queue {
             if q.scan != scan {

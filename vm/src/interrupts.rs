@@ -154,23 +154,33 @@ impl Interrupts {
         // records it, so entering RUN raises no edge). Recorded whether attached or not,
         // so an ATCH later sees the right previous value: the watched bytes are kept
         // whole, and compared bit by bit only when one changed and an event is attached.
-        now_bytes.clear();
-        now_bytes.extend(
-            sources
-                .watched
-                .iter()
-                .map(|&at| memory.bytes.get(at).copied().unwrap_or(0)),
-        );
-        if last_bytes.len() == now_bytes.len() && last_bytes != now_bytes && !attached.is_empty() {
-            for e in &sources.bit_edges {
-                let before = last_bytes[e.byte] & e.mask != 0;
-                let now = now_bytes[e.byte] & e.mask != 0;
-                if is_edge(e.rising, before, now) && attached.contains_key(&e.event) {
-                    occurred.push(e.event);
+        if attached.is_empty() && last_bytes.len() == sources.watched.len() {
+            // Nothing attached (most scans of most programs): only record the bytes.
+            for (last, &at) in last_bytes.iter_mut().zip(&sources.watched) {
+                *last = memory.bytes.get(at).copied().unwrap_or(0);
+            }
+        } else {
+            now_bytes.clear();
+            now_bytes.extend(
+                sources
+                    .watched
+                    .iter()
+                    .map(|&at| memory.bytes.get(at).copied().unwrap_or(0)),
+            );
+            if last_bytes.len() == now_bytes.len()
+                && last_bytes != now_bytes
+                && !attached.is_empty()
+            {
+                for e in &sources.bit_edges {
+                    let before = last_bytes[e.byte] & e.mask != 0;
+                    let now = now_bytes[e.byte] & e.mask != 0;
+                    if is_edge(e.rising, before, now) && attached.contains_key(&e.event) {
+                        occurred.push(e.event);
+                    }
                 }
             }
+            std::mem::swap(last_bytes, now_bytes);
         }
-        std::mem::swap(last_bytes, now_bytes);
         last_input.resize(sources.other_edges.len(), None);
         for (&(event, rising, input), last) in sources.other_edges.iter().zip(last_input.iter_mut())
         {

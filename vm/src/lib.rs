@@ -286,6 +286,15 @@ impl Vm {
         &self.engine.tier
     }
 
+    /// Compile the program to the compiled tier now, if it is not compiled yet, instead
+    /// of waiting for `VmConfig::native_after` scans (a host that times its scans
+    /// compiles between them: `gutta-vm --tier auto --stats`). Nothing happens without
+    /// `VmConfig::fast`, while a breakpoint is set, or without the `jit` feature.
+    pub fn compile_tier(&mut self) -> &TierState {
+        self.engine.compile_now();
+        &self.engine.tier
+    }
+
     /// Connect a device to serial port `port` (replacing any previous one).
     pub fn attach_port(&mut self, port: u8, p: Box<dyn SerialPort>) {
         self.engine.exch.ports.insert(port, p);

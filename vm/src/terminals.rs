@@ -25,8 +25,9 @@ impl std::error::Error for ForceError {}
 /// Input terminals and force images.
 #[derive(Debug, Default)]
 pub(crate) struct Terminals {
-    /// Terminal images of the input areas (I, AI), by slot.
-    inputs: HashMap<u8, Vec<u8>>,
+    /// Terminal images of the input areas (I, AI), by slot (two or so: a list, which
+    /// the start of every scan walks faster than a map).
+    inputs: Vec<(u8, Vec<u8>)>,
     /// Force images of the forcing areas (I, Q): slot -> (mask, value), byte per byte.
     forces: HashMap<u8, (Vec<u8>, Vec<u8>)>,
 }
@@ -62,7 +63,7 @@ impl Terminals {
         address: Address,
         value: u32,
     ) -> Result<(), AccessError> {
-        if let Some(terminal) = self.inputs.get_mut(&address.slot) {
+        if let Some(terminal) = self.terminal_mut(address.slot) {
             memory::write_in(terminal, address, value)?;
         }
         memory.write(address, value)
@@ -164,6 +165,14 @@ impl Terminals {
             .unwrap_or_else(|| (vec![0; size], vec![0; size]))
     }
 
+    /// The terminal image of input slot `slot`.
+    fn terminal_mut(&mut self, slot: u8) -> Option<&mut Vec<u8>> {
+        self.inputs
+            .iter_mut()
+            .find(|(s, _)| *s == slot)
+            .map(|(_, t)| t)
+    }
+
     /// The input areas take their terminals' values (start of scan).
     pub fn refresh_inputs(&self, memory: &mut Memory) {
         for (slot, terminal) in &self.inputs {
@@ -175,7 +184,12 @@ impl Terminals {
     }
 
     /// Forced bits take their force values.
+    #[inline]
     pub fn apply_forces(&self, memory: &mut Memory) {
+        if self.forces.is_empty() {
+            // Twice a scan: an empty map is not even walked.
+            return;
+        }
         for (slot, (mask, image)) in &self.forces {
             if let Some(area) = memory.area_mut(*slot) {
                 for ((b, m), v) in area.iter_mut().zip(mask).zip(image) {
@@ -188,7 +202,12 @@ impl Terminals {
     /// The physical input byte `at` of `slot` (its terminal with the forces laid over
     /// it), or None for a slot without terminals.
     pub fn input_byte(&self, slot: u8, at: usize) -> Option<u8> {
-        let terminal = *self.inputs.get(&slot)?.get(at)?;
+        let terminal = *self
+            .inputs
+            .iter()
+            .find(|(s, _)| *s == slot)
+            .map(|(_, t)| t)?
+            .get(at)?;
         Some(match self.forces.get(&slot) {
             Some((mask, image)) => {
                 let m = mask.get(at).copied().unwrap_or(0);

@@ -74,6 +74,16 @@ pub fn semantics(instruction: &gutta_catalog::Instruction) -> Option<Handler> {
         .or_else(|| special::lookup(mnemonic))
 }
 
+/// The access width of an operand: a variable's or a pointer's; a DWORD for a number
+/// (label, unit, literal).
+fn width_of(op: Operand) -> Width {
+    match op {
+        Operand::Value(a) => a.width,
+        Operand::AddressOf { width, .. } | Operand::Pointer { width, .. } => width,
+        Operand::Label(_) | Operand::Unit(_) | Operand::Literal(_) => Width::Dword,
+    }
+}
+
 /// The instruction being executed.
 #[derive(Debug)]
 pub(crate) struct Instruction<'a> {
@@ -126,11 +136,7 @@ impl Exec<'_> {
     /// The access width of operand `i`: a variable's or a pointer's; a DWORD for an
     /// operand that is a number (label, unit, literal).
     pub fn width(&self, i: usize) -> Result<Width, Fault> {
-        Ok(match self.operand(i)? {
-            Operand::Value(a) => a.width,
-            Operand::AddressOf { width, .. } | Operand::Pointer { width, .. } => width,
-            Operand::Label(_) | Operand::Unit(_) | Operand::Literal(_) => Width::Dword,
-        })
+        Ok(width_of(self.operand(i)?))
     }
 
     /// The operand's value, zero-extended.
@@ -139,10 +145,12 @@ impl Exec<'_> {
         self.machine.memory.value(op).map_err(|e| self.fault(e.0))
     }
 
-    /// The operand's value, sign-extended from the access width.
+    /// The operand's value, sign-extended from the access width (the operand decoded
+    /// once: timers and counters read their preset this way at every execution).
     pub fn get_signed(&self, i: usize) -> Result<i64, Fault> {
-        let v = self.get(i)?;
-        Ok(match self.width(i)? {
+        let op = self.operand(i)?;
+        let v = self.machine.memory.value(op).map_err(|e| self.fault(e.0))?;
+        Ok(match width_of(op) {
             Width::Bit => v as i64,
             Width::Byte => v as u8 as i8 as i64,
             Width::Word => v as u16 as i16 as i64,

@@ -7,13 +7,14 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use clap::Parser;
 use gutta_catalog::{choose_target, OwnName, Target, TargetInputs};
 use gutta_cli::fatal::{Fatal, MessageFormat};
 use gutta_cli::target::TargetArgs;
 use gutta_format::{MappedInstruction, SourceMap};
-use gutta_vm::{Fault, Position, ScanEnd, Vm, VmConfig};
+use gutta_vm::{Fault, Position, ScanEnd, TierState, Vm, VmConfig, DEFAULT_NATIVE_AFTER};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -85,8 +86,46 @@ struct Cli {
     /// line without an instruction stands for the next line that has one.
     #[arg(long = "break", value_name = "FUNCTION:NETWORK:STEP|FILE:LINE")]
     breakpoint: Option<String>,
+    /// How the program runs: `interpreted` (never compiled), `compiled` (compiled to
+    /// native code at load), `auto` (interpreted, compiled after 100 scans).
+    #[arg(long, value_name = "TIER", value_enum, default_value_t = TierChoice::Auto)]
+    tier: TierChoice,
+    /// After the run, print one line on stderr: scans, instructions, the seconds of
+    /// scanning (not loading or compiling), ns per scan and per instruction, the tier.
+    #[arg(long)]
+    stats: bool,
     #[command(flatten)]
     target: TargetArgs,
+}
+
+/// `--tier`: which of the VM's tiers runs the program (docs/vm.md, "Compiled tier").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum TierChoice {
+    /// The interpreter only.
+    Interpreted,
+    /// Compiled to native code at load.
+    Compiled,
+    /// Interpreted, then compiled once 100 scans have completed.
+    Auto,
+}
+
+impl TierChoice {
+    /// What `VmConfig::native_after` says for it. `auto` compiles in `scan`, between two
+    /// timed scans (`Vm::compile_tier`), at the scan count the VM's default would.
+    fn native_after(self) -> Option<u64> {
+        match self {
+            TierChoice::Interpreted | TierChoice::Auto => None,
+            TierChoice::Compiled => Some(0),
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            TierChoice::Interpreted => "interpreted",
+            TierChoice::Compiled => "compiled",
+            TierChoice::Auto => "auto",
+        }
+    }
 }
 
 /// The name errors start with and JSON errors carry.
@@ -140,6 +179,9 @@ struct Outcome {
     changes: Vec<Change>,
     fault: Option<(u64, Fault)>,
     paused: Option<(u64, Position)>,
+    /// Instructions the scans executed and the seconds spent in them (`--stats`).
+    instructions: u64,
+    scanning: Duration,
 }
 
 fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
@@ -162,6 +204,9 @@ fn run(cli: &Cli) -> Result<ExitCode, Fatal> {
         let _ = writeln!(std::io::stdout().lock(), "{report}");
     } else {
         print_human(&loaded, &outcome, &source);
+    }
+    if cli.stats {
+        print_stats(cli.tier, &loaded.vm, &outcome);
     }
     Ok(if outcome.fault.is_some() {
         ExitCode::from(1)
@@ -194,6 +239,7 @@ fn load(cli: &Cli) -> Result<Loaded, Fatal> {
     let config = VmConfig {
         scan_ms: cli.scan_ms,
         watchdog: cli.watchdog,
+        native_after: cli.tier.native_after(),
         ..VmConfig::default()
     };
     let mut vm = Vm::new(verified, Arc::clone(&target), config)
@@ -267,8 +313,25 @@ fn scan(cli: &Cli, loaded: &mut Loaded) -> Result<Outcome, Fatal> {
     let mut paused: Option<(u64, Position)> = None;
     let per_scan = cli.trace || vcd.is_some();
     let mut now = values.clone();
+    let (mut instructions, mut scanning) = (0u64, Duration::ZERO);
+    let mut started = Instant::now();
     for n in 1..=cli.scans {
-        match vm.run_scan() {
+        let end = vm.run_scan();
+        if !matches!(end, Ok(ScanEnd::Stopped)) {
+            // In STOP nothing ran: the count is the last scan's that did.
+            instructions += vm.executed_last_scan();
+        }
+        if cli.tier == TierChoice::Auto
+            && matches!(end, Ok(ScanEnd::Completed))
+            && *vm.tier() == TierState::Interpreted
+            && vm.scans() >= DEFAULT_NATIVE_AFTER
+        {
+            // Compiling is not scanning: the clock stops for it.
+            scanning += started.elapsed();
+            vm.compile_tier();
+            started = Instant::now();
+        }
+        match end {
             Err(f) => fault = Some((n, f)),
             Ok(ScanEnd::Paused(at)) => paused = Some((n, at)),
             // Nothing runs in STOP: the scans left would change nothing.
@@ -276,6 +339,8 @@ fn scan(cli: &Cli, loaded: &mut Loaded) -> Result<Outcome, Fatal> {
             Ok(_) => {}
         }
         if per_scan {
+            // Sampling and printing are not scanning either.
+            scanning += started.elapsed();
             sample(vm, &mut now)?;
             if let Some(dump) = vcd.as_mut() {
                 dump.sample(vm.clock_ms(), &now);
@@ -304,11 +369,13 @@ fn scan(cli: &Cli, loaded: &mut Loaded) -> Result<Outcome, Fatal> {
                 }
             }
             values.copy_from_slice(&now);
+            started = Instant::now();
         }
         if fault.is_some() || paused.is_some() {
             break;
         }
     }
+    scanning += started.elapsed();
     if !per_scan {
         sample(vm, &mut values)?;
     }
@@ -323,7 +390,44 @@ fn scan(cli: &Cli, loaded: &mut Loaded) -> Result<Outcome, Fatal> {
         changes,
         fault,
         paused,
+        instructions,
+        scanning,
     })
+}
+
+/// `--stats`: `stats: 1000 scans, 18000 instructions, 0.000620 s, 620.0 ns/scan, 34.44
+/// ns/instruction, tier auto` on stderr (0 per scan or instruction when there were none).
+/// The seconds are those of the scans alone: not loading, compiling (`auto` compiles
+/// between two scans), nor the sampling of --trace and --vcd between scans.
+fn print_stats(tier: TierChoice, vm: &Vm, outcome: &Outcome) {
+    let scans = vm.scans();
+    let seconds = outcome.scanning.as_secs_f64();
+    let per = |n: u64| {
+        if n == 0 {
+            0.0
+        } else {
+            seconds * 1e9 / n as f64
+        }
+    };
+    eprintln!(
+        "stats: {scans} scans, {} instructions, {seconds:.6} s, {:.1} ns/scan, {:.2} ns/instruction, tier {}",
+        outcome.instructions,
+        per(scans),
+        per(outcome.instructions),
+        tier.name()
+    );
+    if tier != TierChoice::Interpreted {
+        if let TierState::NothingToCompile | TierState::Refused(_) = vm.tier() {
+            eprintln!(
+                "gutta-vm: note: --tier {}: {}; every scan ran interpreted",
+                tier.name(),
+                match vm.tier() {
+                    TierState::Refused(why) => format!("the code generator refused ({why})"),
+                    _ => "nothing in the program compiles".to_string(),
+                }
+            );
+        }
+    }
 }
 
 /// The --read values on stdout; where the run paused or faulted on stderr.

@@ -1,0 +1,393 @@
+//! Issue 31's benchmark: the VM on programs shaped like real ones, per tier, all from one
+//! run. The programs: every Micro/WIN export of the corpus that compiles and runs
+//! (tests/data/microwin, each file alone, and split_program/ as one program),
+//! examples/tank.lad, examples/an2002_sample3_master.lad (polling on, no port attached)
+//! and the conveyor plant of gutta-bench-native (40 stations of every family), whose
+//! native Rust transcription (checked against the VM by bench-native/tests/agree.rs) is
+//! the limit. Per program: instructions per scan, ns per executed instruction
+//! interpreted (`native_after` None) and compiled at load (`Some(0)`), the speed-up,
+//! native ns per instruction and compiled / native; and the fixed cost of a scan (an
+//! empty MAIN through `Vm::scan`). Each VM runs 1,000 warm-up scans, then batches of
+//! about 2 ms of scans, timed one after the other per program (interpreted, compiled,
+//! native); figures are medians of the batches, instructions counted in the timed scans.
+//! `cargo bench -p gutta-vm --bench real_programs` (`-- fixed`: the fixed cost alone,
+//! e.g. under callgrind; `-- NAME`: only the programs whose name contains NAME); `cargo test --benches` (no `--bench`) runs every program a few
+//! scans only.
+
+#![allow(
+    clippy::disallowed_methods,
+    clippy::disallowed_types,
+    clippy::disallowed_macros,
+    reason = "a benchmark is a program: it reads the corpus, times and prints"
+)]
+
+use std::hint::black_box;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+use gutta_bench_native::Plant;
+use gutta_catalog::{stdlib, Target};
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{compile, compile_program, Compiled, ExplicitTarget, ProgramSources};
+use gutta_format::VerifiedImage;
+use gutta_vm::{TierState, Vm, VmConfig};
+
+/// The conveyor plant's target (the one bench-native's memory sizes follow).
+const PLANT_TARGET: &str = "EC30-EKSTM32-XC";
+
+/// A MAIN without instructions: what a scan costs around the program.
+const EMPTY_MAIN: &str = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nEND_ORGANIZATION_BLOCK\n";
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// How much to measure.
+#[derive(Debug, Clone, Copy)]
+struct Effort {
+    warm_up: usize,
+    batches: usize,
+    /// Nanoseconds a batch should last (its scans are chosen from the warm-up).
+    batch_ns: f64,
+}
+
+/// A program to run: its verified image, target, and the inputs to set before scanning.
+struct Program {
+    name: String,
+    image: VerifiedImage,
+    target: Arc<Target>,
+    inputs: Vec<(&'static str, u32)>,
+}
+
+fn verified(name: &str, c: Compiled) -> Option<(VerifiedImage, Arc<Target>)> {
+    let image = c.image?;
+    let target = Arc::clone(&c.checked.target);
+    match gutta_format::verify(&image, &target) {
+        Ok(v) => Some((v, target)),
+        Err(e) => {
+            eprintln!("{name}: does not verify: {e}");
+            None
+        }
+    }
+}
+
+fn read(path: &Path) -> SourceFile {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let name = path
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into());
+    SourceFile::from_code_page_bytes(name, bytes).0
+}
+
+/// The corpus's programs that compile, as published.
+fn corpus() -> Vec<Program> {
+    let dir = root().join("tests/data/microwin");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("the corpus")
+        .map(|e| e.expect("entry").path())
+        .filter(|p| p.extension().is_some_and(|x| x == "awl" || x == "lad"))
+        .collect();
+    files.sort();
+    let mut programs: Vec<Program> = files
+        .iter()
+        .filter_map(|p| {
+            let name = p.file_name()?.to_string_lossy().into_owned();
+            let (image, target) = verified(&name, compile(read(p), None))?;
+            Some(Program {
+                name,
+                image,
+                target,
+                inputs: Vec::new(),
+            })
+        })
+        .collect();
+    let split = dir.join("split_program");
+    let sources = ProgramSources {
+        sources: ["MAIN.awl", "SBR_0.awl", "INT_0.awl"]
+            .map(|f| read(&split.join(f)))
+            .to_vec(),
+        symbol_tables: ["symbols.csv", "symbols_gbk.txt"]
+            .map(|f| read(&split.join(f)))
+            .to_vec(),
+        options: Default::default(),
+    };
+    if let Some((image, target)) = verified("split_program/", compile_program(sources, None)) {
+        programs.push(Program {
+            name: "split_program/".into(),
+            image,
+            target,
+            inputs: Vec::new(),
+        });
+    }
+    programs
+}
+
+fn lad(name: &str, text: &str, target: Option<&str>, inputs: Vec<(&'static str, u32)>) -> Program {
+    let explicit = target.map(|t| ExplicitTarget {
+        target: stdlib::shared(t).expect("target"),
+        origin: "bench".into(),
+    });
+    let c = compile(SourceFile::new(name, text), explicit.as_ref());
+    let (image, target) = verified(name, c).unwrap_or_else(|| panic!("{name} compiles"));
+    Program {
+        name: name.into(),
+        image,
+        target,
+        inputs,
+    }
+}
+
+fn example(name: &str) -> String {
+    std::fs::read_to_string(root().join("examples").join(name)).expect("example")
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Tier {
+    Interpreted,
+    Compiled,
+}
+
+fn load(p: &Program, tier: Tier) -> Vm {
+    let config = VmConfig {
+        native_after: match tier {
+            Tier::Interpreted => None,
+            Tier::Compiled => Some(0),
+        },
+        ..VmConfig::default()
+    };
+    let mut vm = Vm::new(p.image.clone(), Arc::clone(&p.target), config).expect("loads");
+    for (var, value) in &p.inputs {
+        let a = p.target.memory.parse_address(var).expect("address");
+        vm.write(a, *value).expect("write");
+    }
+    vm
+}
+
+fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
+}
+
+/// Something to time: a scan, returning the instructions it executed.
+trait Scanner {
+    fn scan(&mut self) -> u64;
+}
+
+impl Scanner for Vm {
+    #[inline]
+    fn scan(&mut self) -> u64 {
+        Vm::scan(self).expect("the program runs without a fault");
+        self.executed_last_scan()
+    }
+}
+
+/// The native conveyor plant; it counts the instructions the VM counted per scan.
+struct Native {
+    plant: Plant,
+    per_scan: u64,
+}
+
+impl Scanner for Native {
+    #[inline]
+    fn scan(&mut self) -> u64 {
+        gutta_bench_native::conveyor_scan(black_box(&mut self.plant));
+        self.per_scan
+    }
+}
+
+/// Warm up, then time: ns per scan and instructions per scan of each batch.
+fn warm(effort: Effort, s: &mut impl Scanner) -> usize {
+    let t = Instant::now();
+    for _ in 0..effort.warm_up {
+        s.scan();
+    }
+    let per_scan = t.elapsed().as_secs_f64() * 1e9 / effort.warm_up.max(1) as f64;
+    ((effort.batch_ns / per_scan.max(1.0)) as usize).clamp(1, 1_000_000)
+}
+
+/// One batch: (ns per scan, instructions per scan).
+fn batch(scans: usize, s: &mut impl Scanner) -> (f64, f64) {
+    let mut instructions = 0;
+    let t = Instant::now();
+    for _ in 0..scans {
+        instructions += s.scan();
+    }
+    let ns = t.elapsed().as_secs_f64() * 1e9;
+    (ns / scans as f64, instructions as f64 / scans as f64)
+}
+
+/// Median ns per scan and per instruction of the batches of several scanners timed in
+/// turn (one batch each, then the next round), so they see the same machine.
+fn measure(
+    effort: Effort,
+    scanners: &mut [&mut dyn FnMut(usize) -> (f64, f64)],
+    scans: &[usize],
+) -> Vec<(f64, f64)> {
+    let mut per = vec![(Vec::new(), Vec::new()); scanners.len()];
+    for _ in 0..effort.batches {
+        for (k, s) in scanners.iter_mut().enumerate() {
+            let (ns, instr) = s(scans[k]);
+            per[k].0.push(ns);
+            per[k].1.push(ns / instr.max(1e-9));
+        }
+    }
+    per.into_iter()
+        .map(|(a, b)| (median(a), median(b)))
+        .collect()
+}
+
+fn main() {
+    let bench = std::env::args().any(|a| a == "--bench");
+    let effort = if bench {
+        Effort {
+            warm_up: 1000,
+            batches: 31,
+            batch_ns: 2e6,
+        }
+    } else {
+        Effort {
+            warm_up: 3,
+            batches: 1,
+            batch_ns: 1.0,
+        }
+    };
+    if std::env::args().any(|a| a == "fixed") {
+        fixed_cost(effort, bench);
+        return;
+    }
+    let mut programs = corpus();
+    programs.push(lad(
+        "tank.lad",
+        &example("tank.lad"),
+        None,
+        vec![("I0.0", 1)],
+    ));
+    programs.push(lad(
+        "an2002_sample3_master.lad",
+        &example("an2002_sample3_master.lad"),
+        None,
+        vec![("I0.1", 1)],
+    ));
+    let conveyor = lad(
+        "conveyor (40 stations)",
+        gutta_bench_native::CONVEYOR,
+        Some(PLANT_TARGET),
+        plant_inputs(),
+    );
+    programs.push(conveyor);
+    let names: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with("--"))
+        .collect();
+    programs.retain(|p| names.is_empty() || names.iter().any(|n| p.name.contains(n.as_str())));
+
+    println!(
+        "\nReal programs (issue 31): ns per executed instruction per tier, median of {} \
+         batches of ~{:.0} us after {} warm-up scans",
+        effort.batches,
+        effort.batch_ns / 1e3,
+        effort.warm_up
+    );
+    println!(
+        "{:<34} {:>10} {:>8} {:>8} {:>9} {:>8} {:>8} {:>10} {:>10}",
+        "program",
+        "instr/scan",
+        "interp",
+        "compiled",
+        "interp/cc",
+        "native",
+        "cc/nat",
+        "interp ns/scan",
+        "cc ns/scan"
+    );
+    for p in &programs {
+        let mut interpreted = load(p, Tier::Interpreted);
+        let mut compiled = load(p, Tier::Compiled);
+        let compiled_state = compiled.tier().clone();
+        let s_i = warm(effort, &mut interpreted);
+        let s_c = warm(effort, &mut compiled);
+        let per_scan = interpreted.executed_last_scan();
+        if per_scan == 0 {
+            println!("{:<34} runs no instruction per scan: skipped", p.name);
+            continue;
+        }
+        let is_plant = p.name.starts_with("conveyor");
+        let mut native = Native {
+            plant: Plant::new(VmConfig::default().scan_ms),
+            per_scan,
+        };
+        if is_plant {
+            for (var, value) in &p.inputs {
+                let a = p.target.memory.parse_address(var).expect("address");
+                native.plant.mem.i[a.offset as usize] = *value as u8;
+            }
+        }
+        let s_n = if is_plant {
+            warm(effort, &mut native)
+        } else {
+            1
+        };
+        let mut run_i = |n: usize| batch(n, &mut interpreted);
+        let mut run_c = |n: usize| batch(n, &mut compiled);
+        let mut run_n = |n: usize| batch(n, &mut native);
+        let figures = if is_plant {
+            measure(
+                effort,
+                &mut [&mut run_i, &mut run_c, &mut run_n],
+                &[s_i, s_c, s_n],
+            )
+        } else {
+            measure(effort, &mut [&mut run_i, &mut run_c], &[s_i, s_c])
+        };
+        let (i_scan, i_instr) = figures[0];
+        let (c_scan, c_instr) = figures[1];
+        let compiled_note = match compiled_state {
+            TierState::Compiled { regions, .. } => format!("{regions} regions"),
+            other => format!("{other:?}"),
+        };
+        let (native_col, ratio_col) = match figures.get(2) {
+            Some(&(_, n_instr)) => (
+                format!("{n_instr:.3}"),
+                format!("{:.1}x", c_instr / n_instr),
+            ),
+            None => ("-".into(), "-".into()),
+        };
+        println!(
+            "{:<34} {:>10} {:>8.2} {:>8.2} {:>8.2}x {:>8} {:>8} {:>10.0} {:>10.0}   ({compiled_note})",
+            p.name,
+            per_scan,
+            i_instr,
+            c_instr,
+            i_instr / c_instr,
+            native_col,
+            ratio_col,
+            i_scan,
+            c_scan,
+        );
+    }
+    fixed_cost(effort, bench);
+}
+
+/// The fixed cost of a scan: an empty MAIN (nothing to compile) through `Vm::scan`.
+fn fixed_cost(effort: Effort, bench: bool) {
+    let empty = lad("empty MAIN", EMPTY_MAIN, None, Vec::new());
+    let mut vm = load(&empty, Tier::Interpreted);
+    let scans = warm(effort, &mut vm).max(if bench { 10_000 } else { 1 });
+    let mut run = |n: usize| batch(n, &mut vm);
+    let (ns, _) = measure(effort, &mut [&mut run], &[scans])[0];
+    println!("\nFixed cost per scan (empty MAIN through Vm::scan): {ns:.1} ns (bar: 30 ns)");
+}
+
+/// The conveyor plant's inputs while timed: every station started (IB0..IB4), stations
+/// 0 and 7 held stopped (their blocks jumped over), acknowledge released.
+fn plant_inputs() -> Vec<(&'static str, u32)> {
+    vec![
+        ("IB0", 0xFF),
+        ("IB1", 0xFF),
+        ("IB2", 0xFF),
+        ("IB3", 0xFF),
+        ("IB4", 0xFF),
+        ("IB5", 0x81),
+    ]
+}
