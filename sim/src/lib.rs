@@ -8,6 +8,7 @@
 
 pub mod fx;
 pub mod modbus_data;
+pub mod persist;
 pub mod plc;
 pub mod ports;
 pub mod relay;
