@@ -5,6 +5,7 @@
 //! the protocol logic is the library's (gutta-sim).
 
 mod device;
+mod flash;
 mod fx;
 mod listen;
 mod ports;
@@ -87,6 +88,11 @@ struct Cli {
     /// (`gutta-sim: stats: 100 scans in 1.00 s, period max 10.4 ms`).
     #[arg(long, value_name = "SECS")]
     stats_every: Option<f64>,
+    /// Keep the PLC's user flash (program, system page and password, RUN/STOP) in DIR
+    /// across restarts, created if missing (docs/simulator.md, "Flash and power-on").
+    /// An image seeds a DIR that holds no flash yet.
+    #[arg(long, value_name = "DIR")]
+    flash: Option<PathBuf>,
     /// `json`: a start-up error is one JSON error object on stdout (docs/cli.md); the
     /// listener lines stay text.
     #[arg(long, value_name = "FORMAT", value_enum, default_value_t = MessageFormat::Human)]
@@ -179,13 +185,14 @@ async fn run_relay_board(cli: Cli) -> Result<(), Fatal> {
         return Err(Fatal::usage("--device relay-board: give --tcp HOST:PORT"));
     }
     if cli.image.is_some()
+        || cli.flash.is_some()
         || !cli.rtu_tcp.is_empty()
         || !cli.serial.is_empty()
         || cli.port0.is_some()
         || cli.port1.is_some()
     {
         return Err(Fatal::usage(
-            "--device relay-board serves Modbus TCP only: no image, --rtu-tcp, --serial or --port0/--port1",
+            "--device relay-board serves Modbus TCP only: no image, --flash, --rtu-tcp, --serial or --port0/--port1",
         ));
     }
     relay::run(&cli.tcp, interrupted()?).await
@@ -240,7 +247,7 @@ async fn run_plc(cli: Cli) -> Result<(), Fatal> {
         name: None,
         image: cli.image.clone(),
         target: cli.target.clone(),
-        flash: None,
+        flash: cli.flash.clone(),
         scan_ms: cli.scan_ms,
         ports: [cli.port0.clone(), cli.port1.clone()],
     })?));
@@ -283,6 +290,7 @@ async fn run_plc(cli: Cli) -> Result<(), Fatal> {
 /// `--device fx`: the options that mean something to it, the others refused.
 async fn run_fx(cli: &Cli, ctrl_c: impl std::future::Future<Output = ()>) -> Result<(), Fatal> {
     let plc_only = cli.image.is_some()
+        || cli.flash.is_some()
         || cli.target.plc.is_some()
         || cli.target.target.is_some()
         || !cli.rtu_tcp.is_empty()
@@ -290,8 +298,8 @@ async fn run_fx(cli: &Cli, ctrl_c: impl std::future::Future<Output = ()>) -> Res
         || cli.port1.is_some();
     if plc_only {
         return Err(Fatal::usage(
-            "--device fx takes --tcp, --serial and --baud only (no image, --plc, --target, \
-             --rtu-tcp or --portN)",
+            "--device fx takes --tcp, --serial and --baud only (no image, --flash, --plc, \
+             --target, --rtu-tcp or --portN)",
         ));
     }
     let options = fx::FxOptions {
