@@ -18,6 +18,10 @@
 //!   owner's reset erases the pages. Page writes also need the PLC stopped.
 //!   STATUS_RESET then loads the pages: an image that verifies runs; one that does not
 //!   leaves the PLC stopped with ERROR set.
+//! - With a flash store (`power`, `gutta-sim --flash`), PLC_CLEAR, STATUS_RESET and
+//!   STATUS_WRITE are made durable before they are answered; a failed commit refuses
+//!   the request and changes nothing. Power-on loads what the last commit left; a
+//!   cleared or broken flash gives no program, with ERROR and a code saying why.
 //! - A failed ATTACH counts; from the third failure in a row every ATTACH is refused
 //!   for a lockout that doubles from 1 s up to 60 s (answered as Modbus exception 04,
 //!   a wrong password as the failure form); a good password resets it.

@@ -7,7 +7,8 @@
 //!
 //! Fault injection for tests: `GUTTA_SIM_FLASH_PAUSE_MS=N` makes every commit write
 //! half of the temp file, say so on stderr and pause N ms before it writes the rest
-//! (a kill in the pause is a power cut in the middle of a commit).
+//! (a kill in the pause is a power cut in the middle of a commit); with
+//! `GUTTA_SIM_FLASH_PAUSE_COMMIT=K` only the K-th commit of the process (from 1) pauses.
 
 use std::fs::File;
 use std::io::Write;
@@ -24,8 +25,9 @@ pub const FLASH_FILE: &str = "flash.bin";
 const TEMP_FILE: &str = "flash.bin.tmp";
 /// The file a simulator holds locked while it uses DIR.
 const LOCK_FILE: &str = "lock";
-/// The fault-injection knob (docs/simulator.md).
+/// The fault-injection knobs (docs/simulator.md).
 const PAUSE_VARIABLE: &str = "GUTTA_SIM_FLASH_PAUSE_MS";
+const PAUSE_COMMIT_VARIABLE: &str = "GUTTA_SIM_FLASH_PAUSE_COMMIT";
 
 /// What DIR held at start.
 #[derive(Debug, Clone)]
@@ -44,6 +46,10 @@ pub struct FileStore {
     /// Held (locked) while the store lives.
     _lock: File,
     pause: Option<Duration>,
+    /// Only this commit (1-based) pauses; none: every one.
+    pause_commit: Option<u64>,
+    /// Commits so far.
+    commits: u64,
 }
 
 /// Open DIR (created if missing), lock it, read its flash file.
@@ -82,20 +88,21 @@ pub fn open(dir: &Path) -> Result<(FileStore, Found), Fatal> {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Found::Nothing,
         Err(e) => return Err(Fatal::io(format!("--flash {}: {e}", path.display()))),
     };
-    let pause = std::env::var(PAUSE_VARIABLE)
-        .ok()
-        .map(|v| {
-            v.parse::<u64>().map(Duration::from_millis).map_err(|_| {
-                Fatal::usage(format!(
-                    "{PAUSE_VARIABLE}={v}: not a number of milliseconds"
-                ))
+    let number = |name: &str| {
+        std::env::var(name)
+            .ok()
+            .map(|v| {
+                v.parse::<u64>()
+                    .map_err(|_| Fatal::usage(format!("{name}={v}: not a whole number")))
             })
-        })
-        .transpose()?;
+            .transpose()
+    };
     let store = FileStore {
         dir: dir.to_path_buf(),
         _lock: lock,
-        pause,
+        pause: number(PAUSE_VARIABLE)?.map(Duration::from_millis),
+        pause_commit: number(PAUSE_COMMIT_VARIABLE)?,
+        commits: 0,
     };
     Ok((store, found))
 }
@@ -128,7 +135,8 @@ impl FileStore {
         let half = bytes.len() / 2;
         file.write_all(&bytes[..half])
             .map_err(|e| fail("write", e))?;
-        if let Some(pause) = self.pause {
+        let this_one = self.pause_commit.is_none_or(|k| k == self.commits);
+        if let Some(pause) = self.pause.filter(|_| this_one) {
             file.sync_data().map_err(|e| fail("sync", e))?;
             eprintln!(
                 "gutta-sim: flash {}: paused {} ms in a commit ({PAUSE_VARIABLE})",
@@ -156,6 +164,7 @@ impl FileStore {
 impl FlashStore for FileStore {
     fn commit(&mut self, flash: &FlashImage) -> Result<(), String> {
         let bytes = flash.encode()?;
+        self.commits += 1;
         self.write_temp(&bytes)?;
         let temp = self.dir.join(TEMP_FILE);
         let target = self.dir.join(FLASH_FILE);
