@@ -62,6 +62,8 @@ impl FlashSim {
                 if let Some(mut e) = child.stderr.take() {
                     let _ = e.read_to_string(&mut err);
                 }
+                let _ = child.kill();
+                let _ = child.wait();
                 panic!("gutta-sim ended before listening: {start:?} {err}");
             };
             if line.contains("modbus-tcp on") {

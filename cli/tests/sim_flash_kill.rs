@@ -84,20 +84,19 @@ impl Sim {
             }
         });
         let out = BufReader::new(child.stdout.take().expect("stdout"));
-        let address = out
+        let listening = out
             .lines()
             .map_while(Result::ok)
-            .find(|l| l.contains("modbus-tcp on"))
-            .unwrap_or_else(|| {
-                panic!(
-                    "gutta-sim did not listen: {:?}",
-                    stderr.try_iter().collect::<Vec<_>>()
-                )
-            })
-            .rsplit(' ')
-            .next()
-            .expect("address")
-            .to_string();
+            .find(|l| l.contains("modbus-tcp on"));
+        let Some(listening) = listening else {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!(
+                "gutta-sim did not listen: {:?}",
+                stderr.try_iter().collect::<Vec<_>>()
+            );
+        };
+        let address = listening.rsplit(' ').next().expect("address").to_string();
         Sim {
             child,
             address,
