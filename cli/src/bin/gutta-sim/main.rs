@@ -89,8 +89,8 @@ struct Cli {
     #[arg(long, value_name = "SECS")]
     stats_every: Option<f64>,
     /// Keep the PLC's user flash (program, system page and password, RUN/STOP) in DIR
-    /// across restarts, created if missing (docs/simulator.md, "Flash and power-on").
-    /// An image seeds a DIR that holds no flash yet.
+    /// across restarts, created if missing. An image is loaded into a DIR that holds
+    /// no flash yet; a DIR with a flash keeps it.
     #[arg(long, value_name = "DIR")]
     flash: Option<PathBuf>,
     /// `json`: a start-up error is one JSON error object on stdout (docs/cli.md); the
