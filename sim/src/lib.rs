@@ -4,10 +4,12 @@
 //! binary (package gutta-cli) puts it on TCP and serial transports and gives it its
 //! serial ports for EXCH through a [`ports::PortFactory`] (docs/simulator.md). `fx` and
 //! `relay` are the other devices of the documents: the FX-style programming port and the
-//! Modbus-TCP relay board (docs/devices.md).
+//! Modbus-TCP relay board (docs/devices.md). `persist` is the PLC's flash as bytes, for
+//! `gutta-sim --flash DIR` (the binary keeps the files).
 
 pub mod fx;
 pub mod modbus_data;
+pub mod persist;
 pub mod plc;
 pub mod ports;
 pub mod relay;

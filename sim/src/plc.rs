@@ -18,6 +18,10 @@
 //!   owner's reset erases the pages. Page writes also need the PLC stopped.
 //!   STATUS_RESET then loads the pages: an image that verifies runs; one that does not
 //!   leaves the PLC stopped with ERROR set.
+//! - With a flash store (`power`, `gutta-sim --flash`), PLC_CLEAR, STATUS_RESET and
+//!   STATUS_WRITE are made durable before they are answered; a failed commit refuses
+//!   the request and changes nothing. Power-on loads what the last commit left; a
+//!   cleared or broken flash gives no program, with ERROR and a code saying why.
 //! - A failed ATTACH counts; from the third failure in a row every ATTACH is refused
 //!   for a lockout that doubles from 1 s up to 60 s (answered as Modbus exception 04,
 //!   a wrong password as the failure form); a good password resets it.
@@ -41,10 +45,14 @@ use crate::ports::PortFactory;
 mod debugger;
 mod flash;
 mod identity;
+mod power;
 mod run_state;
 mod variables;
 mod window;
 
+pub use power::{
+    FlashFault, PowerOn, ERROR_DOWNLOAD_INTERRUPTED, ERROR_FLASH_CHECK, ERROR_IMAGE_INVALID,
+};
 pub use variables::RELEASE_USE;
 pub use window::{ConnectionId, DownloadWindow, WINDOW_TIMEOUT_MS};
 
@@ -84,6 +92,9 @@ pub enum Refusal {
     NoProgram,
     Access(String),
     Debug(String),
+    /// The flash store could not make the request's state durable: the request is
+    /// refused and the PLC stays as it was (docs/simulator.md, "Flash and power-on").
+    FlashFailed(String),
 }
 
 /// The simulated PLC.
@@ -111,6 +122,12 @@ pub struct Plc {
     /// The ports of the system page as of the last reset (empty: defaults). Writing a
     /// new system page changes nothing until STATUS_RESET; PLC_CLEAR reverts them.
     active_ports: Vec<gutta_format::PortEntry>,
+    /// Where PLC_CLEAR, STATUS_RESET and STATUS_WRITE are made durable (`power`);
+    /// none: a volatile PLC.
+    store: Option<Box<dyn crate::persist::FlashStore>>,
+    /// Why the PLC has no program (a download cut short, a flash that failed its
+    /// check): STATUS_READ's ERROR and a code in the debug block.
+    flash_fault: Option<FlashFault>,
 }
 
 fn blank_image(target: &Target) -> Image {
@@ -159,6 +176,8 @@ impl Plc {
             last_refusal: None,
             port_factory: None,
             active_ports: Vec::new(),
+            store: None,
+            flash_fault: None,
         };
         plc.reset();
         Ok(plc)
@@ -206,21 +225,46 @@ impl Plc {
     /// drop the login, load the pages. An image that verifies runs; otherwise the PLC
     /// is stopped, with ERROR set when pages were there.
     pub fn reset(&mut self) {
-        self.window = None;
-        self.attached = false;
+        let loaded = self.load_pages();
+        self.apply_reset(loaded);
+    }
+
+    /// The pages in flash as a VM, if they verify.
+    fn load_pages(&self) -> Option<Vm> {
         let image = Image {
             plc_type: self.target.name().to_string(),
             pages: self.pages.clone(),
         };
+        verify(&image, &self.target)
+            .ok()
+            .and_then(|v| Vm::new(v, Arc::clone(&self.target), self.config).ok())
+    }
+
+    /// STATUS_RESET through the protocol: committed first (the pages, and RUN when
+    /// they verify), so a refused commit leaves the window, the pages and the run
+    /// state as they were.
+    fn reset_committed(&mut self) -> Result<(), Refusal> {
+        let loaded = self.load_pages();
+        let pages = self.pages.clone();
+        self.commit(
+            crate::persist::FlashState::Committed,
+            loaded.is_some(),
+            &pages,
+        )?;
+        self.apply_reset(loaded);
+        Ok(())
+    }
+
+    fn apply_reset(&mut self, loaded: Option<Vm>) {
+        self.window = None;
+        self.attached = false;
+        self.flash_fault = None;
         let system = self
             .pages
             .get(&PageId::new(PageKind::System, 0))
             .and_then(|b| gutta_format::SystemPage::decode(b).ok());
         self.password = system.as_ref().map_or(FACTORY_PASSWORD, |s| s.password);
         self.active_ports = system.map(|s| s.ports).unwrap_or_default();
-        let loaded = verify(&image, &self.target)
-            .ok()
-            .and_then(|v| Vm::new(v, Arc::clone(&self.target), self.config).ok());
         match loaded {
             Some(vm) => {
                 self.vm = vm;
@@ -273,8 +317,8 @@ impl Plc {
     pub fn status_byte(&self) -> u8 {
         let mut status = self.vm.status();
         status.attach = self.attached;
-        status.error |= self.image_error;
-        status.run &= !self.image_error;
+        status.error |= self.image_error || self.flash_fault.is_some();
+        status.run &= !self.image_error && self.flash_fault.is_none();
         status.byte()
     }
 
@@ -359,6 +403,7 @@ impl Plc {
         let packet = request.packet;
         match request.command {
             Command::PlcClear => {
+                self.commit(crate::persist::FlashState::Cleared, false, &BTreeMap::new())?;
                 self.clear(from, now_ms);
                 Ok(ack)
             }
@@ -378,10 +423,7 @@ impl Plc {
             Command::StatusRead => Ok(Reply::Status(self.status_byte())),
             Command::StatusWrite { run } => self.set_running(run != 0).map(|()| ack),
             Command::StatusScan { count } => self.scan_stopped(count).map(|()| ack),
-            Command::StatusReset => {
-                self.reset();
-                Ok(ack)
-            }
+            Command::StatusReset => self.reset_committed().map(|()| ack),
             Command::VarRead(addresses) => self.read_vars(&addresses).map(Reply::VarValues),
             Command::VarWrite(pairs) => self.write_vars(pairs).map(|()| ack),
             Command::ForceRead(addresses) => self.read_forces(&addresses).map(Reply::ForceValues),

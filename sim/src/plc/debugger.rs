@@ -42,8 +42,14 @@ impl Plc {
     }
 
     /// STATUS_DEBUG_INFOR_READ.
+    /// Byte 15 (ERROR) says why a PLC has no program when its flash does
+    /// (`Plc::error_code`), else carries the VM's fault code.
     pub(super) fn debug_info(&self) -> DebugInfo {
-        crate::vm_access::debug_info(&self.vm)
+        let info = crate::vm_access::debug_info(&self.vm);
+        DebugInfo {
+            error: self.error_code(info.error),
+            ..info
+        }
     }
 
     /// STATUS_DEBUG_INFOR_WRITE: set the breakpoint; function 0xFF clears it.

@@ -36,6 +36,7 @@ impl Plc {
         self.active_ports.clear();
         self.window = Some(DownloadWindow::open(from, now_ms));
         self.image_error = false;
+        self.flash_fault = None;
         self.vm.set_running(false);
     }
 

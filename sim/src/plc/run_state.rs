@@ -4,12 +4,24 @@
 //! "a PLC without a verified program cannot run".
 
 use super::{Plc, Refusal};
+use crate::persist::FlashState;
 
 impl Plc {
-    /// STATUS_WRITE: run (only a program that verified) or stop.
+    /// STATUS_WRITE: run (only a program that verified and was reset: not inside a
+    /// download window, not with a flash fault) or stop. Outside a window the new run
+    /// state is committed to the flash before it takes effect; inside one the flash
+    /// stays cleared.
     pub(super) fn set_running(&mut self, run: bool) -> Result<(), Refusal> {
-        if run && (self.image_error || !self.has_program()) {
+        let no_program = self.image_error
+            || !self.has_program()
+            || self.window.is_some()
+            || self.flash_fault.is_some();
+        if run && no_program {
             return Err(Refusal::NoProgram);
+        }
+        if self.window.is_none() {
+            let pages = self.pages.clone();
+            self.commit(FlashState::Committed, run, &pages)?;
         }
         self.vm.set_running(run);
         Ok(())

@@ -101,11 +101,13 @@ impl Plc {
 
     /// A window that ends without its owner's STATUS_RESET: the pages it wrote may be
     /// half an image, so they are erased and the flash locked. The PLC stays stopped
-    /// as PLC_CLEAR left it.
+    /// as PLC_CLEAR left it, its status saying the download was interrupted (the
+    /// flash says so already: PLC_CLEAR committed it cleared).
     fn abandon_window(&mut self) {
         self.window = None;
         self.pages.clear();
         self.image_error = false;
+        self.flash_fault = Some(super::FlashFault::DownloadInterrupted);
     }
 
     /// Every request: a window whose owner has been silent for the timeout ends; one

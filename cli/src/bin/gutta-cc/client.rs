@@ -382,11 +382,55 @@ pub(crate) fn upload(online: &Online, dir: &Path, args: &LinkArgs) -> Result<Exi
     Ok(ExitCode::SUCCESS)
 }
 
+/// What a PLC's status byte, program list and (with ERROR) debug error code say, one
+/// `state` of `gutta-cc status` (docs/online.md): the codes 0x10.. are the simulator's
+/// flash states (docs/simulator.md, "Flash and power-on"), 1..4 the VM's faults.
+fn plc_state(
+    status: u8,
+    has_program: bool,
+    error_code: Option<u8>,
+) -> (&'static str, &'static str) {
+    use gutta_sim::plc::{ERROR_DOWNLOAD_INTERRUPTED, ERROR_FLASH_CHECK, ERROR_IMAGE_INVALID};
+    if status & 1 != 0 {
+        return ("running", "RUN");
+    }
+    match error_code.filter(|_| status & 8 != 0) {
+        Some(ERROR_DOWNLOAD_INTERRUPTED) => (
+            "download-interrupted",
+            "STOP, no program: a download was interrupted (PLC_CLEAR without STATUS_RESET)",
+        ),
+        Some(ERROR_FLASH_CHECK) => (
+            "flash-check-failed",
+            "STOP, no program: the flash failed its check at power-on",
+        ),
+        Some(ERROR_IMAGE_INVALID) => (
+            "image-invalid",
+            "STOP: the program in flash does not verify",
+        ),
+        Some(_) => ("faulted", "STOP: the program faulted"),
+        None if status & 8 != 0 => ("error", "STOP: ERROR"),
+        None if !has_program => ("empty", "STOP, no program"),
+        None => ("stopped", "STOP"),
+    }
+}
+
 pub(crate) fn status(online: &Online, args: &LinkArgs) -> Result<ExitCode, Fatal> {
     let mut session = login(args)?;
     let client = session.client();
     let name = client.plc_name().map_err(link_error)?;
     let s = client.status().map_err(link_error)?;
+    let has_program = !client
+        .page_list(gutta_protocol::function::PageArea::Program)
+        .map_err(link_error)?
+        .is_empty();
+    // The debug block's error code says why when ERROR is set (a PLC without the
+    // debug functions: none).
+    let error_code = if s & 8 != 0 {
+        client.debug_info().ok().map(|(_, info)| info.error)
+    } else {
+        None
+    };
+    let (state, said) = plc_state(s, has_program, error_code);
     let flags = [(1, "RUN"), (2, "RESET"), (4, "ATTACH"), (8, "ERROR")];
     let on: Vec<&str> = flags
         .iter()
@@ -400,11 +444,13 @@ pub(crate) fn status(online: &Online, args: &LinkArgs) -> Result<ExitCode, Fatal
             "run": s & 1 != 0,
             "status_byte": s,
             "flags": on,
+            "state": state,
+            "error_code": error_code,
         }),
         || {
+            let code = error_code.map_or(String::new(), |c| format!(", error code {c:#04X}"));
             format!(
-                "{name}: {} (status byte {s:#04X}: {})",
-                if s & 1 != 0 { "RUN" } else { "STOP" },
+                "{name}: {said} (status byte {s:#04X}: {}{code})",
                 if on.is_empty() {
                     "none".to_string()
                 } else {

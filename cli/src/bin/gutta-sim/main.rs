@@ -5,6 +5,7 @@
 //! the protocol logic is the library's (gutta-sim).
 
 mod device;
+mod flash;
 mod fx;
 mod listen;
 mod plant;
@@ -94,13 +95,18 @@ struct Cli {
     /// process. The devices' options are the file's.
     #[arg(long, value_name = "PLANT.toml", conflicts_with_all = [
         "image", "device", "plc", "target", "tcp", "rtu_tcp", "serial", "baud", "scan_ms",
-        "port0", "port1",
+        "port0", "port1", "flash",
     ])]
     plant: Option<PathBuf>,
     /// Print every EXCH request and answer of every serial port, as hex
     /// (`gutta-sim: [NAME: ]port0 > 01 02 00 04 00 04 38 08`, `port0 < ...`).
     #[arg(long)]
     trace_ports: bool,
+    /// Keep the PLC's user flash (program, system page and password, RUN/STOP) in DIR
+    /// across restarts, created if missing. An image is loaded into a DIR that holds
+    /// no flash yet; a DIR with a flash keeps it.
+    #[arg(long, value_name = "DIR")]
+    flash: Option<PathBuf>,
     /// `json`: a start-up error is one JSON error object on stdout (docs/cli.md); the
     /// listener lines stay text.
     #[arg(long, value_name = "FORMAT", value_enum, default_value_t = MessageFormat::Human)]
@@ -197,13 +203,14 @@ async fn run_relay_board(cli: Cli) -> Result<(), Fatal> {
         return Err(Fatal::usage("--device relay-board: give --tcp HOST:PORT"));
     }
     if cli.image.is_some()
+        || cli.flash.is_some()
         || !cli.rtu_tcp.is_empty()
         || !cli.serial.is_empty()
         || cli.port0.is_some()
         || cli.port1.is_some()
     {
         return Err(Fatal::usage(
-            "--device relay-board serves Modbus TCP only: no image, --rtu-tcp, --serial or --port0/--port1",
+            "--device relay-board serves Modbus TCP only: no image, --flash, --rtu-tcp, --serial or --port0/--port1",
         ));
     }
     relay::run(&cli.tcp, interrupted()?).await
@@ -258,7 +265,7 @@ async fn run_plc(cli: Cli) -> Result<(), Fatal> {
         name: None,
         image: cli.image.clone(),
         target: cli.target.clone(),
-        flash: None,
+        flash: cli.flash.clone(),
         scan_ms: cli.scan_ms,
         ports: [cli.port0.clone(), cli.port1.clone()],
     })?));
@@ -301,6 +308,7 @@ async fn run_plc(cli: Cli) -> Result<(), Fatal> {
 /// `--device fx`: the options that mean something to it, the others refused.
 async fn run_fx(cli: &Cli, ctrl_c: impl std::future::Future<Output = ()>) -> Result<(), Fatal> {
     let plc_only = cli.image.is_some()
+        || cli.flash.is_some()
         || cli.target.plc.is_some()
         || cli.target.target.is_some()
         || !cli.rtu_tcp.is_empty()
@@ -308,8 +316,8 @@ async fn run_fx(cli: &Cli, ctrl_c: impl std::future::Future<Output = ()>) -> Res
         || cli.port1.is_some();
     if plc_only {
         return Err(Fatal::usage(
-            "--device fx takes --tcp, --serial and --baud only (no image, --plc, --target, \
-             --rtu-tcp or --portN)",
+            "--device fx takes --tcp, --serial and --baud only (no image, --flash, --plc, \
+             --target, --rtu-tcp or --portN)",
         ));
     }
     let options = fx::FxOptions {
