@@ -608,3 +608,102 @@ fn a_project_that_does_not_compile_stops_the_start_with_its_first_error() {
     assert!(stderr.contains("run `gutta-cc build` in"), "{stderr}");
     assert!(!common::stdout(&out).contains(" on "), "no device started");
 }
+
+/// The files of an image directory, by name.
+fn image_files(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for entry in std::fs::read_dir(&d).expect("reads the image") {
+            let path = entry.expect("entry").path();
+            if path.is_dir() {
+                stack.push(path);
+            } else {
+                let name = path.strip_prefix(dir).expect("inside").display().to_string();
+                out.push((name, std::fs::read(&path).expect("reads a page")));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// A plant device's `flash` is the command line's `--flash`: a program downloaded into
+/// it survives kill -9 of the whole plant and a Ctrl-C stop, and comes back running,
+/// while the volatile PLC beside it comes back empty.
+#[test]
+fn a_plant_devices_flash_survives_kill_9_and_ctrl_c() {
+    let dir = common::scratch("plant-flash");
+    let flash = dir.join("flash-kept");
+    std::fs::write(
+        dir.join("plant.toml"),
+        "[[device]]\nname = \"kept\"\nkind = \"plc\"\nflash = \"flash-kept\"\ntcp = \"127.0.0.1:0\"\n\
+         [[device]]\nname = \"volatile\"\nkind = \"plc\"\ntcp = \"127.0.0.1:0\"\n",
+    )
+    .expect("writes");
+    let plant = dir.join("plant.toml").display().to_string();
+    let image = common::image_dir("plant-flash-image", &common::example("tank.lad"));
+    let start = || {
+        let sim = Running::start(&["--plant", &plant]);
+        let lines = sim.lines_until(|seen| {
+            seen.iter()
+                .any(|l| l.starts_with("gutta-sim: volatile: modbus-tcp on "))
+        });
+        let flash_line = lines
+            .iter()
+            .find(|l| l.starts_with("gutta-sim: kept: flash "))
+            .cloned()
+            .unwrap_or_else(|| panic!("no flash line in {lines:?}"));
+        let kept = lines
+            .iter()
+            .find(|l| l.starts_with("gutta-sim: kept: modbus-tcp"))
+            .map(|l| address_of(l, "kept", "modbus-tcp"))
+            .expect("kept's start line");
+        let volatile = address_of(lines.last().expect("a line"), "volatile", "modbus-tcp");
+        (sim, flash_line, kept, volatile)
+    };
+    let (sim, flash_line, kept, volatile) = start();
+    assert_eq!(
+        flash_line,
+        format!("gutta-sim: kept: flash {}: empty", flash.display())
+    );
+    for address in [&kept, &volatile] {
+        let o = common::cc(&["download", &image.display().to_string(), "--tcp", address]);
+        assert!(o.status.success(), "{}", common::text(&o));
+    }
+    drop(sim); // SIGKILL
+
+    let uploaded = |address: &str, tag: &str| {
+        let up = common::scratch(tag).join("up");
+        let o = common::cc(&["upload", "-o", &up.display().to_string(), "--tcp", address]);
+        assert!(o.status.code() != Some(2), "{}", common::text(&o));
+        (o.status.code(), up)
+    };
+    let (sim, flash_line, kept, volatile) = start();
+    assert!(
+        flash_line.contains(": CPU-EC20 program, ") && flash_line.ends_with(", RUN"),
+        "{flash_line}"
+    );
+    let (code, up) = uploaded(&kept, "plant-flash-up1");
+    assert_eq!(code, Some(0));
+    assert_eq!(image_files(&up), image_files(&image), "kept's upload");
+    let status = common::cc(&["status", "--tcp", &kept]);
+    assert!(
+        common::stdout(&status).contains(": RUN "),
+        "{}",
+        common::text(&status)
+    );
+    let (code, _) = uploaded(&volatile, "plant-flash-up2");
+    assert_eq!(code, Some(1), "the volatile PLC comes back empty");
+
+    // Stopped with Ctrl-C in STOP: it comes back stopped, its program kept.
+    let o = common::cc(&["stop", "--tcp", &kept]);
+    assert!(o.status.success(), "{}", common::text(&o));
+    let (code, _) = stop_with_ctrl_c(sim);
+    assert_eq!(code, Some(0));
+    let (_sim, flash_line, kept, _) = start();
+    assert!(flash_line.ends_with(", STOP"), "{flash_line}");
+    let (code, up) = uploaded(&kept, "plant-flash-up3");
+    assert_eq!(code, Some(0));
+    assert_eq!(image_files(&up), image_files(&image), "kept's upload");
+}
