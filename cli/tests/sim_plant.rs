@@ -619,7 +619,11 @@ fn image_files(dir: &Path) -> Vec<(String, Vec<u8>)> {
             if path.is_dir() {
                 stack.push(path);
             } else {
-                let name = path.strip_prefix(dir).expect("inside").display().to_string();
+                let name = path
+                    .strip_prefix(dir)
+                    .expect("inside")
+                    .display()
+                    .to_string();
                 out.push((name, std::fs::read(&path).expect("reads a page")));
             }
         }

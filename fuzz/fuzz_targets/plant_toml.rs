@@ -25,7 +25,10 @@ fuzz_target!(|data: &[u8]| {
                     .next()
                     .and_then(|l| l.parse().ok())
                     .unwrap_or_else(|| panic!("no line in {shown}"));
-                assert!(line >= 1 && line <= text.lines().count().max(1) + 1, "{shown}");
+                assert!(
+                    line >= 1 && line <= text.lines().count().max(1) + 1,
+                    "{shown}"
+                );
             } else {
                 panic!("no place in {shown}");
             }
