@@ -305,6 +305,11 @@ impl Vm {
         self.engine.exch.ports.remove(&port)
     }
 
+    /// Whether serial port `port` leads somewhere (a port was attached to it).
+    pub fn has_port(&self, port: u8) -> bool {
+        self.engine.exch.ports.contains_key(&port)
+    }
+
     /// Exchanges waiting in the EXCH queue.
     pub fn exch_queue(&self) -> &[Queued] {
         &self.engine.exch.queue.0
