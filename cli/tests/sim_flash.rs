@@ -124,25 +124,6 @@ fn scratch(tag: &str) -> PathBuf {
     common::scratch(&format!("flash-{tag}"))
 }
 
-/// Every file of an image directory, by relative path.
-fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut out = Vec::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for entry in std::fs::read_dir(&d).expect("reads") {
-            let path = entry.expect("entry").path();
-            if path.is_dir() {
-                stack.push(path);
-            } else {
-                let name = path.strip_prefix(dir).expect("under").display().to_string();
-                out.push((name, std::fs::read(&path).expect("reads")));
-            }
-        }
-    }
-    out.sort();
-    out
-}
-
 #[test]
 fn a_download_survives_kill_9() {
     let base = scratch("survives");
@@ -179,8 +160,8 @@ fn a_download_survives_kill_9() {
     let o = sim.cc(&["upload", "-o", &up.display().to_string()], Some(PASSWORD));
     assert!(o.status.success(), "{}", text(&o));
     assert_eq!(
-        files(&up),
-        files(&image),
+        common::tree_files(&up),
+        common::tree_files(&image),
         "the upload differs from the image"
     );
 }

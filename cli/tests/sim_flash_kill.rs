@@ -255,8 +255,8 @@ fn outcome(dir: &Path, old: &Path, new: &Path, scratch: &Path) -> Outcome {
             assert!(o.status.success(), "{}", text(&o));
             let expected = if password.is_some() { new } else { old };
             assert_eq!(
-                files(&up),
-                files(expected),
+                common::tree_files(&up),
+                common::tree_files(expected),
                 "uploaded a program that is neither"
             );
             if password.is_some() {
@@ -284,25 +284,6 @@ fn outcome(dir: &Path, old: &Path, new: &Path, scratch: &Path) -> Outcome {
         }
         other => panic!("after the restart the PLC is `{other}`: {status}"),
     }
-}
-
-/// Every file of an image directory.
-fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut out = Vec::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for entry in std::fs::read_dir(&d).expect("reads") {
-            let path = entry.expect("entry").path();
-            if path.is_dir() {
-                stack.push(path);
-            } else {
-                let name = path.strip_prefix(dir).expect("under").display().to_string();
-                out.push((name, std::fs::read(&path).expect("reads")));
-            }
-        }
-    }
-    out.sort();
-    out
 }
 
 /// Cut a download at `cut`, restart, and say what the PLC holds.

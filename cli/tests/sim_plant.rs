@@ -287,21 +287,6 @@ fn the_an2002_plant_reproduces_the_capture_as_two_processes_do() {
     assert_eq!(now, (0b1101, 42));
 }
 
-/// Channels 1..4 of the board as bits 0..3, read by mbpoll.
-fn channels(board: &str) -> u32 {
-    let port = board.rsplit(':').next().expect("port").to_string();
-    let out = Command::new("mbpoll")
-        .args(["-m", "tcp", "-p", &port, "-a", "1", "-1"])
-        .args(["-t", "0", "-r", "513", "-c", "4", "127.0.0.1"])
-        .output()
-        .expect("runs mbpoll");
-    let text = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(out.status.success(), "{text}");
-    (0..4u32)
-        .filter(|n| text.contains(&format!("[{}]: \t1", 513 + n)))
-        .fold(0, |bits, n| bits | 1 << n)
-}
-
 #[test]
 fn the_relay_board_plant_switches_a_relay_from_the_plc_program() {
     if !common::have("mbpoll") {
@@ -311,16 +296,22 @@ fn the_relay_board_plant_switches_a_relay_from_the_plc_program() {
     let sim = Running::start(&["--plant", &plant.display().to_string()]);
     let plc = address_of(&sim.line(), "plc", "modbus-tcp");
     let board = address_of(&sim.line(), "board", "relay-board");
-    assert_eq!(channels(&board), 0);
+    assert_eq!(common::relay_channels(&board), 0);
     write(&plc, &["I0.0=1", "I0.2=1"]);
     assert_eq!(
-        settle((0b0101, 0b0101), || (channels(&board), read(&plc, "MB1"))),
+        settle((0b0101, 0b0101), || (
+            common::relay_channels(&board),
+            read(&plc, "MB1")
+        )),
         (0b0101, 0b0101),
         "channels 1..4 follow I0.0..I0.3; the PLC reads them back into M1.0..M1.3"
     );
     write(&plc, &["I0.0=0", "I0.1=1", "I0.3=1"]);
     assert_eq!(
-        settle((0b1110, 0b1110), || (channels(&board), read(&plc, "MB1"))),
+        settle((0b1110, 0b1110), || (
+            common::relay_channels(&board),
+            read(&plc, "MB1")
+        )),
         (0b1110, 0b1110)
     );
     // Every exchange answered: the read's and the report switch's error bytes stay 0.
@@ -609,29 +600,6 @@ fn a_project_that_does_not_compile_stops_the_start_with_its_first_error() {
     assert!(!common::stdout(&out).contains(" on "), "no device started");
 }
 
-/// The files of an image directory, by name.
-fn image_files(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut out = Vec::new();
-    let mut stack = vec![dir.to_path_buf()];
-    while let Some(d) = stack.pop() {
-        for entry in std::fs::read_dir(&d).expect("reads the image") {
-            let path = entry.expect("entry").path();
-            if path.is_dir() {
-                stack.push(path);
-            } else {
-                let name = path
-                    .strip_prefix(dir)
-                    .expect("inside")
-                    .display()
-                    .to_string();
-                out.push((name, std::fs::read(&path).expect("reads a page")));
-            }
-        }
-    }
-    out.sort();
-    out
-}
-
 /// A plant device's `flash` is the command line's `--flash`: a program downloaded into
 /// it survives kill -9 of the whole plant and a Ctrl-C stop, and comes back running,
 /// while the volatile PLC beside it comes back empty.
@@ -690,7 +658,11 @@ fn a_plant_devices_flash_survives_kill_9_and_ctrl_c() {
     );
     let (code, up) = uploaded(&kept, "plant-flash-up1");
     assert_eq!(code, Some(0));
-    assert_eq!(image_files(&up), image_files(&image), "kept's upload");
+    assert_eq!(
+        common::tree_files(&up),
+        common::tree_files(&image),
+        "kept's upload"
+    );
     let status = common::cc(&["status", "--tcp", &kept]);
     assert!(
         common::stdout(&status).contains(": RUN "),
@@ -709,5 +681,9 @@ fn a_plant_devices_flash_survives_kill_9_and_ctrl_c() {
     assert!(flash_line.ends_with(", STOP"), "{flash_line}");
     let (code, up) = uploaded(&kept, "plant-flash-up3");
     assert_eq!(code, Some(0));
-    assert_eq!(image_files(&up), image_files(&image), "kept's upload");
+    assert_eq!(
+        common::tree_files(&up),
+        common::tree_files(&image),
+        "kept's upload"
+    );
 }

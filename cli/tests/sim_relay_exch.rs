@@ -7,7 +7,6 @@
 
 mod common;
 
-use std::process::Command;
 use std::time::{Duration, Instant};
 
 use common::Sim;
@@ -20,26 +19,11 @@ fn read(address: &str, var: &str) -> u32 {
     common::read_number(address, var)
 }
 
-/// Channels 1..4 of the board as bits 0..3, read by mbpoll.
-fn channels(board: &str) -> u32 {
-    let port = board.rsplit(':').next().expect("port").to_string();
-    let out = Command::new("mbpoll")
-        .args(["-m", "tcp", "-p", &port, "-a", "1", "-1"])
-        .args(["-t", "0", "-r", "513", "-c", "4", "127.0.0.1"])
-        .output()
-        .expect("runs mbpoll");
-    let text = String::from_utf8_lossy(&out.stdout).into_owned();
-    assert!(out.status.success(), "{text}");
-    (0..4u32)
-        .filter(|n| text.contains(&format!("[{}]: \t1", 513 + n)))
-        .fold(0, |bits, n| bits | 1 << n)
-}
-
 /// Polls until (the board's channels, the PLC's MB1) is `want`, or 5 s pass.
 fn settle(plc: &str, board: &str, want: (u32, u32)) -> (u32, u32) {
     let deadline = Instant::now() + Duration::from_secs(5);
     loop {
-        let now = (channels(board), read(plc, "MB1"));
+        let now = (common::relay_channels(board), read(plc, "MB1"));
         if now == want || Instant::now() > deadline {
             return now;
         }

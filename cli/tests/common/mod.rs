@@ -16,6 +16,43 @@ use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
 use gutta_format::Image;
 
+/// Every file of a directory tree (an image directory, an upload) with its bytes, by
+/// path relative to `dir`, sorted: two trees are the same when these are equal.
+pub fn tree_files(dir: &std::path::Path) -> Vec<(String, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for entry in std::fs::read_dir(&d).expect("reads the directory") {
+            let path = entry.expect("entry").path();
+            if path.is_dir() {
+                stack.push(path);
+            } else {
+                let name = path.strip_prefix(dir).expect("under").display().to_string();
+                out.push((name, std::fs::read(&path).expect("reads the file")));
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// Channels 1..4 of a relay board (`gutta-sim --device relay-board` or a plant's) at
+/// `board` (HOST:PORT) as bits 0..3, read by mbpoll as an independent Modbus TCP
+/// client: channel n is coil 16#0200 + n - 1, mbpoll's reference 513 + n - 1.
+pub fn relay_channels(board: &str) -> u32 {
+    let port = board.rsplit(':').next().expect("port").to_string();
+    let out = std::process::Command::new("mbpoll")
+        .args(["-m", "tcp", "-p", &port, "-a", "1", "-1"])
+        .args(["-t", "0", "-r", "513", "-c", "4", "127.0.0.1"])
+        .output()
+        .expect("runs mbpoll");
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success(), "{text}");
+    (0..4u32)
+        .filter(|n| text.contains(&format!("[{}]: \t1", 513 + n)))
+        .fold(0, |bits, n| bits | 1 << n)
+}
+
 /// The repository's root.
 pub fn root() -> PathBuf {
     docs::repo()
