@@ -1,4 +1,4 @@
-//! Ctrl-C on a `gutta-sim` process (SIGINT, sent with `kill -INT`): it stops cleanly
+//! Ctrl-C on a `gutta-sim` process (SIGINT, sent with `kill -INT`) and SIGTERM: it stops cleanly
 //! with exit status 0 and one line saying so, as its help promises, also with a client
 //! connected. Unix only (SIGINT); nothing here drives the protocol.
 
@@ -21,6 +21,18 @@ impl Drop for Sim {
 
 #[test]
 fn ctrl_c_stops_the_simulator_with_status_0() {
+    stops_cleanly_on("-INT", "gutta-sim: stopped by Ctrl-C\n");
+}
+
+/// SIGTERM (what a service manager or `docker stop` sends) is a clean stop too.
+#[test]
+fn sigterm_stops_the_simulator_with_status_0() {
+    stops_cleanly_on("-TERM", "gutta-sim: stopped by SIGTERM\n");
+}
+
+/// `kill SIGNAL` on a simulator with a client connected: exit status 0, `line` the
+/// only output after the listener line, nothing on stderr.
+fn stops_cleanly_on(signal: &str, line: &str) {
     let mut sim = Sim(Command::new(env!("CARGO_BIN_EXE_gutta-sim"))
         .args(["--tcp", "127.0.0.1:0"])
         .stdout(Stdio::piped())
@@ -34,10 +46,10 @@ fn ctrl_c_stops_the_simulator_with_status_0() {
     // A connected client does not keep it running.
     let _client = TcpStream::connect(address).expect("connects");
     let sent = Command::new("kill")
-        .args(["-INT", &sim.0.id().to_string()])
+        .args([signal, &sim.0.id().to_string()])
         .status()
         .expect("kill runs");
-    assert!(sent.success(), "kill -INT failed");
+    assert!(sent.success(), "kill {signal} failed");
 
     let deadline = Instant::now() + Duration::from_secs(10);
     let status = loop {
@@ -46,7 +58,7 @@ fn ctrl_c_stops_the_simulator_with_status_0() {
         }
         assert!(
             Instant::now() < deadline,
-            "gutta-sim still runs 10 s after SIGINT"
+            "gutta-sim still runs 10 s after kill {signal}"
         );
         std::thread::sleep(Duration::from_millis(20));
     };
@@ -57,6 +69,6 @@ fn ctrl_c_stops_the_simulator_with_status_0() {
         e.read_to_string(&mut stderr).expect("stderr");
     }
     assert_eq!(status.code(), Some(0), "{status}; stderr: {stderr}");
-    assert_eq!(rest, "gutta-sim: stopped by Ctrl-C\n", "stderr: {stderr}");
+    assert_eq!(rest, line, "stderr: {stderr}");
     assert_eq!(stderr, "");
 }

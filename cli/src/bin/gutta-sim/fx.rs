@@ -37,7 +37,10 @@ fn line_7e1(baud: u32) -> LineSettings {
 }
 
 /// Serves the device until Ctrl-C.
-pub async fn run(options: FxOptions<'_>, ctrl_c: impl Future<Output = ()>) -> Result<(), Fatal> {
+pub async fn run(
+    options: FxOptions<'_>,
+    ctrl_c: impl Future<Output = listen::StoppedBy>,
+) -> Result<(), Fatal> {
     let start_baud = match options.baud {
         None => BaudRate::B9600,
         Some(bps) => BaudRate::from_bits_per_second(bps).ok_or_else(|| {

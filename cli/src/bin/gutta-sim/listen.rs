@@ -63,15 +63,26 @@ where
     });
 }
 
-/// Waits for `ctrl_c` and says the simulator stopped: a clean stop (the help's exit
-/// status 0); the device's state is not kept.
-pub async fn until_ctrl_c(ctrl_c: impl Future<Output = ()>) -> Result<(), Fatal> {
-    ctrl_c.await;
-    stopped_by_ctrl_c()
+/// What stopped the simulator: Ctrl-C (SIGINT) or SIGTERM; both are a clean stop.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StoppedBy {
+    CtrlC,
+    Sigterm,
 }
 
-/// The stop line, for a caller that waits on Ctrl-C in its own loop (the PLC's scans).
-pub fn stopped_by_ctrl_c() -> Result<(), Fatal> {
-    say("gutta-sim: stopped by Ctrl-C");
+/// Waits for `ctrl_c` (Ctrl-C or SIGTERM) and says the simulator stopped: a clean stop
+/// (the help's exit status 0).
+pub async fn until_ctrl_c(ctrl_c: impl Future<Output = StoppedBy>) -> Result<(), Fatal> {
+    let by = ctrl_c.await;
+    stopped(by)
+}
+
+/// The stop line, `gutta-sim: stopped by Ctrl-C` (or `by SIGTERM`), for a caller that
+/// waits on the signal in its own loop (the PLC's scans).
+pub fn stopped(by: StoppedBy) -> Result<(), Fatal> {
+    say(match by {
+        StoppedBy::CtrlC => "gutta-sim: stopped by Ctrl-C",
+        StoppedBy::Sigterm => "gutta-sim: stopped by SIGTERM",
+    });
     Ok(())
 }

@@ -37,8 +37,8 @@ use tokio_serial::SerialPortBuilderExt;
     version,
     about = "A simulated GUTTA PLC: the reference VM behind Modbus and the GUTTA protocol",
     after_help = "Each listener prints `gutta-sim: LISTENER on ADDRESS` once it listens \
-                  (port 0 picks a free port). Ctrl-C (SIGINT) stops the simulator cleanly: \
-                  it says so and exits 0.
+                  (port 0 picks a free port). Ctrl-C (SIGINT) or SIGTERM stops the simulator \
+                  cleanly: it says so and exits 0.
 
 Examples:
   gutta-sim --tcp 127.0.0.1:5020                        # an empty CPU-EC20
@@ -166,23 +166,30 @@ fn main() -> ExitCode {
     }
 }
 
-/// Ctrl-C: SIGINT on Unix, its handler installed now (before the listeners announce
-/// themselves, so a signal sent after that line is never the default, fatal one).
+/// Ctrl-C (SIGINT) or SIGTERM (a service manager's or container's stop) on Unix, their
+/// handlers installed now (before the listeners announce themselves, so a signal sent
+/// after that line is never the default, fatal one); the future says which came.
 #[cfg(unix)]
-fn interrupted() -> Result<impl std::future::Future<Output = ()>, Fatal> {
+fn interrupted() -> Result<impl std::future::Future<Output = listen::StoppedBy>, Fatal> {
     use tokio::signal::unix::{signal, SignalKind};
     let mut sigint = signal(SignalKind::interrupt())
         .map_err(|e| Fatal::io(format!("cannot handle Ctrl-C: {e}")))?;
+    let mut sigterm = signal(SignalKind::terminate())
+        .map_err(|e| Fatal::io(format!("cannot handle SIGTERM: {e}")))?;
     Ok(async move {
-        sigint.recv().await;
+        tokio::select! {
+            _ = sigint.recv() => listen::StoppedBy::CtrlC,
+            _ = sigterm.recv() => listen::StoppedBy::Sigterm,
+        }
     })
 }
 
 /// Ctrl-C: the console's Ctrl-C event elsewhere.
 #[cfg(not(unix))]
-fn interrupted() -> Result<impl std::future::Future<Output = ()>, Fatal> {
+fn interrupted() -> Result<impl std::future::Future<Output = listen::StoppedBy>, Fatal> {
     Ok(async {
         let _ = tokio::signal::ctrl_c().await;
+        listen::StoppedBy::CtrlC
     })
 }
 
@@ -300,13 +307,16 @@ async fn run_plc(cli: Cli) -> Result<(), Fatal> {
         cli.stats_every,
     )
     .map_err(|e| Fatal::io(format!("cannot start the scan thread: {e}")))?;
-    ctrl_c.await;
+    let by = ctrl_c.await;
     scans.stop();
-    listen::stopped_by_ctrl_c()
+    listen::stopped(by)
 }
 
 /// `--device fx`: the options that mean something to it, the others refused.
-async fn run_fx(cli: &Cli, ctrl_c: impl std::future::Future<Output = ()>) -> Result<(), Fatal> {
+async fn run_fx(
+    cli: &Cli,
+    ctrl_c: impl std::future::Future<Output = listen::StoppedBy>,
+) -> Result<(), Fatal> {
     let plc_only = cli.image.is_some()
         || cli.flash.is_some()
         || cli.target.plc.is_some()

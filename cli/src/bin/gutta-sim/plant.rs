@@ -34,7 +34,7 @@ enum Made {
 pub async fn run(
     file: &Path,
     stats_every: Option<f64>,
-    ctrl_c: impl Future<Output = ()>,
+    ctrl_c: impl Future<Output = listen::StoppedBy>,
 ) -> Result<(), Fatal> {
     let plant = Plant::load(file).map_err(|e| Fatal::usage(e.to_string()))?;
     let start = Instant::now();
@@ -68,9 +68,9 @@ pub async fn run(
         .collect();
     let scans = scan::Scans::start(plcs, stats_every)
         .map_err(|e| Fatal::io(format!("cannot start the scan threads: {e}")))?;
-    ctrl_c.await;
+    let by = ctrl_c.await;
     scans.stop();
-    listen::stopped_by_ctrl_c()
+    listen::stopped(by)
 }
 
 /// An error of one device, said with its name and place in the plant file.

@@ -65,7 +65,10 @@ impl Board {
 }
 
 /// Listens on `addresses` until `ctrl_c`.
-pub async fn run(addresses: &[String], ctrl_c: impl Future<Output = ()>) -> Result<(), Fatal> {
+pub async fn run(
+    addresses: &[String],
+    ctrl_c: impl Future<Output = listen::StoppedBy>,
+) -> Result<(), Fatal> {
     let board = Board::new();
     let mut listeners = Vec::new();
     for address in addresses {
