@@ -45,30 +45,40 @@ fn read_after_load(image: &Path, vars: &[&str]) -> Vec<(String, String)> {
         .collect()
 }
 
-fn pairs(expected: &[(&str, String)]) -> Vec<(String, String)> {
-    expected
+/// After load, each variable of `expected` holds its value (as gutta-vm prints it).
+fn assert_values(image: &Path, expected: &[(&str, String)]) {
+    let vars: Vec<&str> = expected.iter().map(|(v, _)| *v).collect();
+    let want: Vec<(String, String)> = expected
         .iter()
         .map(|(v, x)| (v.to_string(), x.clone()))
-        .collect()
+        .collect();
+    assert_eq!(read_after_load(image, &vars), want);
+}
+
+/// `files` of the corpus compiled on EC30-EKSTM32-XC (a target with V) into a scratch
+/// image, which must succeed: the scratch folder, the image and gutta-cc's stderr.
+fn compile_on_ec30(tag: &str, files: &[&str]) -> (PathBuf, PathBuf, String) {
+    let dir = scratch(tag);
+    let image = dir.join("image");
+    let mut args = files.to_vec();
+    args.extend([
+        "--plc",
+        "EC30-EKSTM32-XC",
+        "-o",
+        image.to_str().expect("path"),
+    ]);
+    let o = cc_in(&corpus(), &args);
+    let err = stderr(&o);
+    assert!(o.status.success(), "{err}");
+    (dir, image, err)
 }
 
 #[test]
 fn every_kind_of_value_is_in_memory_after_load() {
-    let dir = scratch("data-block-values");
-    let image = dir.join("image");
-    let o = cc_in(
-        &corpus(),
-        &[
-            "data_block_program.awl",
-            "data_block_utf8_crlf.txt",
-            "--plc",
-            "EC30-EKSTM32-XC",
-            "-o",
-            image.to_str().expect("path"),
-        ],
+    let (dir, image, err) = compile_on_ec30(
+        "data-block-values",
+        &["data_block_program.awl", "data_block_utf8_crlf.txt"],
     );
-    let err = stderr(&o);
-    assert!(o.status.success(), "{err}");
     assert!(err.contains("2 files: wrote"), "{err}");
     // 20 values (a character, a string length one each) in one data block (128 rows on EC30-EKSTM32-XC).
     assert!(err.contains("data 1 page / 16, 20 items"), "{err}");
@@ -98,28 +108,16 @@ fn every_kind_of_value_is_in_memory_after_load() {
         // The program ran its one scan: the data block is no code.
         ("MW0", "1".into()),
     ];
-    let vars: Vec<&str> = expected.iter().map(|(v, _)| *v).collect();
-    assert_eq!(read_after_load(&image, &vars), pairs(&expected));
+    assert_values(&image, &expected);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn a_gbk_export_is_read_in_its_code_page() {
-    let dir = scratch("data-block-gbk");
-    let image = dir.join("image");
-    let o = cc_in(
-        &corpus(),
-        &[
-            "data_block_gbk_crlf.txt",
-            "data_block_program.awl",
-            "--plc",
-            "EC30-EKSTM32-XC",
-            "-o",
-            image.to_str().expect("path"),
-        ],
+    let (dir, image, err) = compile_on_ec30(
+        "data-block-gbk",
+        &["data_block_gbk_crlf.txt", "data_block_program.awl"],
     );
-    let err = stderr(&o);
-    assert!(o.status.success(), "{err}");
     assert!(
         err.contains("note: data_block_gbk_crlf.txt is not UTF-8; read as GBK"),
         "{err}"
@@ -131,8 +129,7 @@ fn a_gbk_export_is_read_in_its_code_page() {
         ("VB11", "75".into()),
         ("VD12", 3.25f32.to_bits().to_string()),
     ];
-    let vars: Vec<&str> = expected.iter().map(|(v, _)| *v).collect();
-    assert_eq!(read_after_load(&image, &vars), pairs(&expected));
+    assert_values(&image, &expected);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -156,8 +153,10 @@ fn a_project_lists_the_export_among_its_sources() {
     assert!(o.status.success(), "{err}");
     let image = dir.join("target/image");
     assert!(image.is_dir(), "{err}");
-    let expected = [("VW28", "15".to_string()), ("VD32", "100000".into())];
-    assert_eq!(read_after_load(&image, &["VW28", "VD32"]), pairs(&expected));
+    assert_values(
+        &image,
+        &[("VW28", "15".to_string()), ("VD32", "100000".into())],
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
