@@ -13,9 +13,8 @@ use std::sync::{Arc, Mutex, TryLockError};
 use std::time::{Duration, Instant};
 
 use gutta_protocol::gateway::{answer_to_rtu, Gateway};
-use gutta_protocol::master::{Master, MasterConfig, MasterError, MasterEvent};
-use gutta_protocol::modbus::EXCEPTION_BIT;
-use gutta_protocol::rtu::{decode_rtu, encode_rtu};
+use gutta_protocol::master::{Master, MasterConfig};
+use gutta_protocol::rtu::decode_rtu;
 use gutta_protocol::stream::TcpSplitter;
 use gutta_protocol::tcp::MAX_STANDARD_MBAP_LENGTH;
 use gutta_sim::plc::Plc;
@@ -23,6 +22,7 @@ use gutta_sim::relay::RelaySession;
 use gutta_sim::session::{Framing, Session};
 use gutta_vm::exch::{PortError, SerialPort};
 
+use crate::ports::exch_result;
 use crate::relay::Board;
 
 /// How long a port waits before it tries a busy PLC's lock again.
@@ -166,16 +166,10 @@ impl SerialPort for DevicePort {
         if answer.is_empty() {
             return silence();
         }
-        match master.on_bytes(&answer, now()) {
-            MasterEvent::Response(f) => Ok(f.encode()),
-            // EXCH hands the PLC program the answer frame as received.
-            MasterEvent::Exception {
-                station,
-                function,
-                code,
-            } => Ok(encode_rtu(station, &[function | EXCEPTION_BIT, code])),
-            MasterEvent::Failed(MasterError::Crc { .. }) => Err(PortError::Crc),
-            _ => silence(),
+        // Anything but an answer frame or a bad CRC is what a line's silence gives.
+        match exch_result(master.on_bytes(&answer, now())) {
+            Some(Err(PortError::Timeout)) | None => silence(),
+            Some(result) => result,
         }
     }
 }
@@ -202,6 +196,8 @@ mod tests {
 
     use super::*;
     use gutta_catalog::stdlib;
+    use gutta_protocol::modbus::EXCEPTION_BIT;
+    use gutta_protocol::rtu::encode_rtu;
     use gutta_vm::VmConfig;
 
     fn plc() -> Arc<Mutex<Plc>> {

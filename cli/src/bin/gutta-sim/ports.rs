@@ -140,6 +140,26 @@ impl SerialPort for TracedPort {
     }
 }
 
+/// What EXCH gets from the master's event on a port: the answer frame (a response, or
+/// an exception frame as received: EXCH hands the PLC program the frame), a CRC error
+/// (error 3), or silence (error 2) for any other failure; `None` while the master waits
+/// (or asks for a retry, which the port sends).
+pub fn exch_result(event: MasterEvent) -> Option<Result<Vec<u8>, PortError>> {
+    match event {
+        MasterEvent::Response(f) => Some(Ok(f.encode())),
+        MasterEvent::Exception {
+            station,
+            function,
+            code,
+        } => Some(Ok(encode_rtu(station, &[function | EXCEPTION_BIT, code]))),
+        MasterEvent::Failed(gutta_protocol::master::MasterError::Crc { .. }) => {
+            Some(Err(PortError::Crc))
+        }
+        MasterEvent::Failed(_) => Some(Err(PortError::Timeout)),
+        MasterEvent::Retry(_) | MasterEvent::Pending | MasterEvent::Idle => None,
+    }
+}
+
 trait Stream: Read + Write + Send + std::fmt::Debug {}
 impl<T: Read + Write + Send + std::fmt::Debug> Stream for T {}
 
@@ -232,24 +252,12 @@ impl StreamPort {
                     return Err(PortError::Timeout);
                 }
             };
-            match event {
-                MasterEvent::Response(f) => return Ok(f.encode()),
-                // EXCH hands the PLC program the answer frame as received.
-                MasterEvent::Exception {
-                    station,
-                    function,
-                    code,
-                } => return Ok(encode_rtu(station, &[function | EXCEPTION_BIT, code])),
-                MasterEvent::Failed(gutta_protocol::master::MasterError::Crc { .. }) => {
-                    return Err(PortError::Crc)
+            if let MasterEvent::Retry(b) = &event {
+                if let Some(s) = self.stream.as_mut() {
+                    let _ = s.write_all(b);
                 }
-                MasterEvent::Failed(_) => return Err(PortError::Timeout),
-                MasterEvent::Retry(b) => {
-                    if let Some(s) = self.stream.as_mut() {
-                        let _ = s.write_all(&b);
-                    }
-                }
-                MasterEvent::Pending | MasterEvent::Idle => {}
+            } else if let Some(result) = exch_result(event) {
+                return result;
             }
             if now.saturating_sub(start) > u64::from(timeout_ms) + 1000 {
                 return Err(PortError::Timeout);
