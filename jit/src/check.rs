@@ -29,10 +29,15 @@ pub(crate) fn check(layout: &Layout, functions: &[Function]) -> Result<(), JitEr
 
 /// A step's fault before it knows where it is.
 enum Fault {
-    OutOfRange { at: u32, width: u8 },
+    OutOfRange {
+        at: u32,
+        width: u8,
+    },
     BitNumber(u8),
     Width(u8),
     NoSuchCallee(u32),
+    /// Not compiled yet (issue 31 in progress).
+    Unsupported,
 }
 
 impl Fault {
@@ -54,6 +59,7 @@ impl Fault {
                 step,
                 width,
             },
+            Fault::Unsupported => JitError::Unsupported { function, step },
             Fault::NoSuchCallee(callee) => JitError::NoSuchCallee {
                 function,
                 step,
@@ -86,6 +92,12 @@ fn width(width: u8, allowed: &[u8]) -> Result<(), Fault> {
 
 fn check_step(layout: &Layout, functions: usize, step: &Step) -> Result<(), Fault> {
     match *step {
+        Step::Timer { .. }
+        | Step::Counter { .. }
+        | Step::Edge { .. }
+        | Step::SetBits { .. }
+        | Step::Jump { .. }
+        | Step::Label { .. } => Err(Fault::Unsupported),
         Step::Network | Step::Not | Step::Ald | Step::Old | Step::Lps | Step::Lrd | Step::Lpp => {
             Ok(())
         }

@@ -51,6 +51,30 @@ pub struct Arg {
     pub output: bool,
 }
 
+/// Which timer (ManagerFun.xml TON, TOF, TONR; `vm/src/ops/timers.rs`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TimerKind {
+    On,
+    Off,
+    Retentive,
+}
+
+/// Which counter (CTU, CTD, CTUD; `vm/src/ops/timers.rs`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CounterKind {
+    Up,
+    Down,
+    UpDown,
+}
+
+/// A timer's or counter's preset: a constant, or the signed INT at a memory index
+/// (read at each execution).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Preset {
+    Const(i16),
+    Word(u32),
+}
+
 /// One straight-line operation (the semantics: `reference::step`).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Step {
@@ -116,6 +140,56 @@ pub enum Step {
         callee: u32,
         args: Vec<Arg>,
     },
+    /// TON/TOF/TONR exactly as `vm/src/ops/timers.rs` (Flow Stack: runs whatever the
+    /// power flow, leaves its done state on top of the logic stack). `at`: the T word
+    /// (signed, little-endian); `state`: its 8 bytes of hidden state (u32 LE: the
+    /// milliseconds not yet counted as a unit, then the flags RUNNING = 1, ARMED = 2);
+    /// `res`: ms per unit (>= 1); `scan_ms`: the virtual ms one execution counts.
+    Timer {
+        kind: TimerKind,
+        at: u32,
+        state: u32,
+        preset: Preset,
+        res: u32,
+        scan_ms: u32,
+    },
+    /// CTU/CTD/CTUD exactly as `vm/src/ops/timers.rs` (pops its inputs, pushes whether
+    /// done). `at`: the C word; `state`: its hidden u32 LE flags (PREV_UP = 1,
+    /// PREV_DOWN = 2); `max`: the upper limit of the count.
+    Counter {
+        kind: CounterKind,
+        at: u32,
+        state: u32,
+        preset: Preset,
+        max: i16,
+    },
+    /// EU (`rising`) / ED exactly as `vm/src/ops/bits.rs` `edge`: `state` is this
+    /// instance's byte (its input at its previous execution, 0 or 1).
+    Edge {
+        rising: bool,
+        state: u32,
+    },
+    /// S (`value` true) / R and their immediate forms: while the top is 1, `n` bits
+    /// from bit `bit` of the byte at `at` on (crossing into the following bytes) take
+    /// `value`; the stack is unchanged.
+    SetBits {
+        at: u32,
+        bit: u8,
+        n: u16,
+        value: bool,
+    },
+    /// JMP: with power flow (top 1), continue after the `Label` step of the same number
+    /// in the same function (the VM continues after the LBL record; the LBL does not
+    /// run); without, nothing. Counts 1 either way. The label must follow the jump
+    /// (forward jumps only: every function still ends, and its count is bounded by
+    /// the number of its steps).
+    Jump {
+        label: u16,
+    },
+    /// LBL: a jump target; counts 1 when reached by falling through (it does nothing).
+    Label {
+        number: u16,
+    },
 }
 
 /// A function: its steps, run from the first.
@@ -171,6 +245,8 @@ pub enum JitError {
     },
     /// A cycle of Calls through `function` (the VM never compiles recursion).
     Recursion { function: usize },
+    /// A step the code generator does not compile (yet).
+    Unsupported { function: usize, step: usize },
     /// Cranelift failed: the host ISA is not supported, or code generation failed.
     Cranelift(String),
 }
@@ -203,6 +279,9 @@ impl fmt::Display for JitError {
                 step,
                 callee,
             } => write!(f, "function {function}, step {step}: calls function {callee}, which does not exist"),
+            JitError::Unsupported { function, step } => {
+                write!(f, "function {function}, step {step}: not compiled")
+            }
             JitError::Recursion { function } => {
                 write!(f, "function {function} calls itself through a cycle of calls")
             }

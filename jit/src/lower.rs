@@ -110,6 +110,12 @@ fn mark(layout: &Layout, touched: &mut [bool], at: u32, width: u8) {
 /// The memory (index, width) a step other than a Call reads or writes.
 fn accesses(layout: &Layout, step: &Step) -> Vec<(u32, u8)> {
     match *step {
+        Step::Timer { .. }
+        | Step::Counter { .. }
+        | Step::Edge { .. }
+        | Step::SetBits { .. }
+        | Step::Jump { .. }
+        | Step::Label { .. } => unreachable!("refused by check"),
         Step::Ld { at, .. }
         | Step::Ldn { at, .. }
         | Step::A { at, .. }
@@ -434,6 +440,12 @@ impl Emitter<'_, '_> {
     fn step(&mut self, step: &Step) {
         let s = self.b.use_var(self.s);
         let new = match *step {
+            Step::Timer { .. }
+            | Step::Counter { .. }
+            | Step::Edge { .. }
+            | Step::SetBits { .. }
+            | Step::Jump { .. }
+            | Step::Label { .. } => unreachable!("refused by check"),
             Step::Network => self.k(0),
             Step::Ld { at, bit } | Step::Ldn { at, bit } => {
                 let v = self.bit(at, bit, matches!(step, Step::Ldn { .. }));

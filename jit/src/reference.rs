@@ -76,6 +76,12 @@ pub fn step(
 ) -> u64 {
     let (s, mask) = (*st, layout.stack_mask);
     *st = match *step {
+        Step::Timer { .. }
+        | Step::Counter { .. }
+        | Step::Edge { .. }
+        | Step::SetBits { .. }
+        | Step::Jump { .. }
+        | Step::Label { .. } => unimplemented!("issue 31: not stated yet"),
         Step::Network => {
             *st = 0;
             return 0;

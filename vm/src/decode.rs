@@ -15,7 +15,7 @@ use gutta_format::{LocalEntry, LocalSection, Operand, PackedOperand, UnitRecord,
 
 use crate::fuse::build;
 use crate::memory::Memory;
-use crate::op::{Arith, Bit, ChainStep, Combine, Op, Rel};
+use crate::op::{Arith, Bit, ChainStep, Combine, CounterOp, Op, Rel, TimerOp};
 
 /// One argument of a planned CALL: the caller's variable and the callee's parameter in
 /// L, as flat memory indices.
@@ -177,6 +177,12 @@ pub(crate) struct Unit {
     pub params: Vec<LocalEntry>,
     /// Plans of the unit's planned CALLs.
     pub calls: Vec<CallPlan>,
+    /// (record index, flat index of its edge byte) of each EU/ED record, sorted: the
+    /// hidden state after the areas (`Memory::add_hidden`), allocated at load.
+    pub edges: Vec<(u32, u32)>,
+    /// The operands of `Op::Timer` and `Op::Counter` records, by their `index`.
+    pub timers: Vec<TimerOp>,
+    pub counters: Vec<CounterOp>,
     /// The instruction set, for mnemonics.
     pub target: Arc<Target>,
 }
@@ -190,6 +196,13 @@ impl Unit {
             .operands
             .get(r.first as usize..r.first as usize + r.len as usize)?;
         Some((r.id, r.offset as usize, ops))
+    }
+
+    /// The flat index of record `pc`'s edge byte, if it is an EU/ED.
+    pub fn edge_state(&self, pc: usize) -> Option<usize> {
+        let pc = u32::try_from(pc).ok()?;
+        let k = self.edges.binary_search_by_key(&pc, |&(p, _)| p).ok()?;
+        Some(self.edges[k].1 as usize)
     }
 
     pub fn mnemonic(&self, id: InstrId) -> &str {
@@ -406,11 +419,12 @@ fn fast(memory: &Memory, mnemonic: &str, ops: &[PackedOperand]) -> Option<Op> {
 
 /// Decode a unit. `fast_ops` false keeps every instruction `Generic` (the tests compare
 /// both forms).
-/// `params`: the parameters of each unit, by page (for CALL plans).
+/// `params`: the parameters of each unit, by page (for CALL plans). The hidden state
+/// of its EU/ED records is allocated from `memory` (`Memory::add_hidden`).
 pub(crate) fn decode(
     unit: &VerifiedUnit,
     target: &Arc<Target>,
-    memory: &Memory,
+    memory: &mut Memory,
     fast_ops: bool,
     params: &BTreeMap<u8, Vec<LocalEntry>>,
 ) -> Unit {
@@ -424,6 +438,7 @@ pub(crate) fn decode(
     let (mut networks, mut generic, mut records) =
         (Vec::new(), GenericRecords::default(), Vec::new());
     let mut operands = Vec::new();
+    let mut edges = Vec::new();
     for (pc, r) in unit.records.iter().enumerate() {
         match r {
             UnitRecord::Network { number, .. } => {
@@ -440,6 +455,13 @@ pub(crate) fn decode(
                 offset,
             } => {
                 let ins = target.instructions.get(*id);
+                if matches!(ins.mnemonic.as_str(), "EU" | "ED") {
+                    let at = memory.add_hidden(1);
+                    edges.push((
+                        u32::try_from(pc).unwrap_or(u32::MAX),
+                        u32::try_from(at).unwrap_or(u32::MAX),
+                    ));
+                }
                 let planned = (fast_ops
                     && ins.mnemonic == "CALL"
                     && plan_call(memory, target, packed, params, &mut scratch))
@@ -487,6 +509,9 @@ pub(crate) fn decode(
         loops: unit.loops.clone(),
         params: unit.parameters().copied().collect(),
         calls,
+        edges,
+        timers: Vec::new(),
+        counters: Vec::new(),
         target: Arc::clone(target),
     };
     unit.set_ops(plain, fast_ops, None);

@@ -165,6 +165,10 @@ pub(crate) fn fast_op(mem: &mut [u8], op: Op, st: &mut u32, mask: u32, flags_at:
         | Op::NetworkLoad { .. }
         | Op::Chain { .. }
         | Op::Call { .. }
+        | Op::Timer { .. }
+        | Op::Counter { .. }
+        | Op::Edge { .. }
+        | Op::SetBits { .. }
         | Op::Generic { .. }
         | Op::Break => return false,
     };

@@ -41,6 +41,8 @@ mod program;
 mod terminals;
 #[cfg(feature = "jit")]
 mod tier;
+#[cfg(feature = "jit")]
+mod tier_generic;
 pub mod vcd;
 
 use std::sync::Arc;

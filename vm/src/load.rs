@@ -71,9 +71,9 @@ pub(crate) fn load(
     if !missing.is_empty() {
         return Err(LoadError::MissingSemantics(missing));
     }
-    let machine = Machine::new(&target);
+    let mut machine = Machine::new(&target);
     let terminals = Terminals::new(&target);
-    let program = Program::new(image, target, config, &machine.memory);
+    let program = Program::new(image, target, config, &mut machine.memory);
     let mut engine = Engine {
         program,
         handlers,

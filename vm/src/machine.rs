@@ -85,18 +85,13 @@ impl Hasher for KeyHasher {
 /// A map of hidden state.
 pub(crate) type KeyMap<K, V> = HashMap<K, V, BuildHasherDefault<KeyHasher>>;
 
-/// State the program cannot address, kept per instruction instance or memory cell and
-/// cleared at reset.
+/// State the program cannot address that has no place after the areas in the flat
+/// memory (`Memory::cell_state_at`, `Unit::edge_state`): the hidden words of a timer or
+/// counter reached through a pointer into an area other than T and C. Cleared at reset.
 #[derive(Debug, Default)]
 pub(crate) struct HiddenState {
-    /// Edge memory of EU/ED, per (page, record index).
-    pub edges: KeyMap<(u8, usize), bool>,
-    /// Per (page, record index): four words a family may use as it documents (e.g. a
-    /// timer's remainder of a time unit).
-    pub instances: KeyMap<(u8, usize), [u32; 4]>,
-    /// Per (slot, byte offset): e.g. a counter's previous inputs, shared by every
-    /// instruction driving that counter.
-    pub cells: KeyMap<(u8, u32), [u32; 4]>,
+    /// Per (slot, byte offset).
+    pub cells: KeyMap<(u8, u32), [u32; 2]>,
 }
 
 /// The size of L on every target today; `save_local` and `restore_local` copy it with

@@ -5,7 +5,7 @@
 //! `gutta_format::Pointer`, so nothing here takes an operand word or a pointer value
 //! apart. Every access is bounds-checked.
 
-use gutta_catalog::{Address, MemoryMap, Width};
+use gutta_catalog::{Address, AreaKind, MemoryMap, Width};
 use gutta_format::{Operand, PackedOperand, Pointer};
 
 /// The areas of a target.
@@ -15,7 +15,17 @@ pub struct Memory {
     pub(crate) bytes: Vec<u8>,
     /// Slot -> (start in `bytes`, length); slots without an area have length 0.
     spans: Vec<(usize, usize)>,
+    /// Hidden state (docs/vm.md, "Hidden state"), after the areas in `bytes`, so the
+    /// fast path and the compiled tier reach it by a constant index like any variable:
+    /// per T and C area (slot, start of its cells): `CELL_STATE` bytes per byte of the
+    /// area, then (appended by `add_hidden` at load) one byte per EU/ED record.
+    cells: Vec<(u8, usize)>,
 }
+
+/// Bytes of hidden state per byte of a T or C area: two little-endian u32 words (a
+/// timer: the milliseconds not yet counted as a unit, then its flags; a counter: its
+/// flags, then 0).
+pub(crate) const CELL_STATE: usize = 8;
 
 /// An access outside an area, or to a slot that does not exist.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -76,14 +86,56 @@ impl Memory {
         let mut sorted: Vec<_> = map.areas.iter().collect();
         sorted.sort_by_key(|a| a.slot);
         let mut total = 0usize;
-        for a in sorted {
+        for a in &sorted {
             spans[a.slot as usize] = (total, a.size as usize);
             total += a.size as usize;
+        }
+        let mut cells = Vec::new();
+        for a in &sorted {
+            if matches!(a.kind, AreaKind::Timer | AreaKind::Counter) {
+                cells.push((a.slot, total));
+                total += a.size as usize * CELL_STATE;
+            }
         }
         Memory {
             bytes: vec![0; total],
             spans,
+            cells,
         }
+    }
+
+    /// The flat index of the hidden state of the T or C cell at byte `offset` of `slot`
+    /// (`CELL_STATE` bytes); None for any other slot or an offset outside the area.
+    pub(crate) fn cell_state_at(&self, slot: u8, offset: u32) -> Option<usize> {
+        let &(_, start) = self.cells.iter().find(|&&(s, _)| s == slot)?;
+        let (_, len) = self.span(slot)?;
+        ((offset as usize) < len).then(|| start + offset as usize * CELL_STATE)
+    }
+
+    /// Grow the hidden state by `n` zeroed bytes (per-instruction state, at load);
+    /// returns the flat index of the first.
+    pub(crate) fn add_hidden(&mut self, n: usize) -> usize {
+        let at = self.bytes.len();
+        self.bytes.resize(at + n, 0);
+        at
+    }
+
+    /// Word `k` (0 or 1) of a cell's hidden state at flat index `at` (`cell_state_at`).
+    #[inline]
+    pub(crate) fn state_word(&self, at: usize, k: usize) -> u32 {
+        let i = at + 4 * k;
+        u32::from_le_bytes([
+            self.bytes[i],
+            self.bytes[i + 1],
+            self.bytes[i + 2],
+            self.bytes[i + 3],
+        ])
+    }
+
+    #[inline]
+    pub(crate) fn set_state_word(&mut self, at: usize, k: usize, v: u32) {
+        let i = at + 4 * k;
+        self.bytes[i..i + 4].copy_from_slice(&v.to_le_bytes());
     }
 
     /// Clear every area.

@@ -2,6 +2,52 @@
 //! what the fast path runs (`fast.rs`), including the steps of fused bit-logic chains
 //! (`fuse.rs`). Plain data: no behaviour beyond a compare's relation.
 
+/// Which timer (TON, TOF, TONR).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum TimerKind {
+    On,
+    Off,
+    Retentive,
+}
+
+/// Which counter (CTU, CTD, CTUD).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum CounterKind {
+    Up,
+    Down,
+    UpDown,
+}
+
+/// A timer's or counter's preset: a constant, or the signed INT at a flat index (read
+/// at each execution).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Preset {
+    Const(i16),
+    Word(u32),
+}
+
+/// A timer on a plain T operand (`ops/timers.rs`): `at` the T word, `state` its hidden
+/// state (`Memory::cell_state_at`), `preset` a constant or a plain INT, `res` ms per
+/// unit. Flow Stack: runs whatever the power flow.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct TimerOp {
+    pub kind: TimerKind,
+    pub at: u32,
+    pub state: u32,
+    pub preset: Preset,
+    pub res: u32,
+}
+
+/// A counter on a plain C operand (`ops/timers.rs`); `max` the count's limit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct CounterOp {
+    pub kind: CounterKind,
+    pub at: u32,
+    pub state: u32,
+    pub preset: Preset,
+    pub max: i16,
+}
+
 /// A bit of memory: byte index into the flat memory and the bit's mask.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct Bit {
@@ -143,6 +189,28 @@ pub(crate) enum Op {
         rel: Rel,
         a: u32,
         b: u32,
+    },
+    /// TON/TOF/TONR on a plain T operand: `Unit::timers[index]` (a side table keeps
+    /// `Op` small).
+    Timer {
+        index: u32,
+    },
+    /// CTU/CTD/CTUD on a plain C operand: `Unit::counters[index]`.
+    Counter {
+        index: u32,
+    },
+    /// EU (`rising`) / ED: `state` this record's edge byte (`Unit::edge_state`).
+    Edge {
+        rising: bool,
+        state: u32,
+    },
+    /// S/R/SI/RI with a constant N whose bits lie inside the area: while the top is 1,
+    /// `n` bits from bit `bit` of the byte at `at` on take `value`.
+    SetBits {
+        at: u32,
+        bit: u8,
+        n: u16,
+        value: bool,
     },
     /// CALL with plain arguments whose widths match the parameters: `Unit::calls[plan]`.
     Call {

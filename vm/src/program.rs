@@ -77,12 +77,13 @@ pub(crate) struct Program {
 }
 
 impl Program {
-    /// Decode `image`'s units for `target` on `memory`'s layout.
+    /// Decode `image`'s units for `target` on `memory`'s layout (growing its hidden
+    /// state by what the units' instructions keep).
     pub fn new(
         mut image: VerifiedImage,
         target: Arc<Target>,
         config: VmConfig,
-        memory: &Memory,
+        memory: &mut Memory,
     ) -> Program {
         let slots = Slots::of(&target);
         let verified_units = image.take_units();

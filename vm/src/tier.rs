@@ -83,6 +83,7 @@ struct Callee {
 /// Builds the functions: whole units first (as callees, in call order), then regions.
 struct Builder<'a> {
     program: &'a Program,
+    memory: &'a Memory,
     functions: Vec<Function>,
     /// Per page: `Some` once the unit is known to compile whole, `None` when it cannot;
     /// absent while being looked at (a cycle of CALLs is not compiled).
@@ -163,6 +164,10 @@ fn simple_step(op: Op) -> Option<Step> {
         | Op::CompareW { .. }
         | Op::CompareD { .. }
         | Op::Call { .. }
+        | Op::Timer { .. }
+        | Op::Counter { .. }
+        | Op::Edge { .. }
+        | Op::SetBits { .. }
         | Op::Generic { .. }
         | Op::Break => return None,
     })
@@ -195,6 +200,12 @@ impl Builder<'_> {
                 1 + callee.max_count,
                 1 + callee.depth,
             ));
+        }
+        if let Op::Generic { .. } = op {
+            // Instructions the interpreter runs through `ops/` that the tier compiles
+            // from their operands (`tier_generic.rs`).
+            let step = crate::tier_generic::generic_step(unit, pc, self.memory)?;
+            return Some((step, 1, 0));
         }
         let step = simple_step(op)?;
         let count = u64::from(op != Op::Network);
@@ -294,6 +305,7 @@ pub(crate) fn compile(
 ) -> Result<Option<Native>, String> {
     let mut b = Builder {
         program,
+        memory,
         functions: Vec::new(),
         whole: BTreeMap::new(),
     };

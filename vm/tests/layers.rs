@@ -39,6 +39,7 @@ const LAYERS: &[(&str, u8)] = &[
     ("program", 3),
     ("calls", 4),
     ("tier", 4),
+    ("tier_generic", 3),
     ("ops", 4),
     ("engine", 5),
     ("debug", 6),

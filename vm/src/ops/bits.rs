@@ -108,8 +108,15 @@ fn lds(e: &mut Exec<'_>) -> Result<Control, Fault> {
 /// instruction's previous execution; each instance keeps its own edge memory.
 fn edge(e: &mut Exec<'_>, rising: bool) -> Result<Control, Fault> {
     let now = e.top();
-    let key = (e.at.unit.page, e.at.index);
-    let before = e.machine.hidden.edges.insert(key, now).unwrap_or(false);
+    let before = match e.edge_state() {
+        Some(at) => {
+            let mem = &mut e.machine.memory.bytes;
+            let before = mem[at] != 0;
+            mem[at] = u8::from(now);
+            before
+        }
+        None => return Err(e.fault("EU/ED without its edge state".to_string())),
+    };
     e.set_top(if rising {
         now && !before
     } else {

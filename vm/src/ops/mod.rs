@@ -233,19 +233,38 @@ impl Exec<'_> {
         self.sm_bit(3, true);
     }
 
-    /// This instruction instance's hidden state (zeroed at reset).
-    pub fn instance_state(&mut self) -> &mut [u32; 4] {
-        let key = (self.page(), self.at.index);
-        self.machine.hidden.instances.entry(key).or_default()
+    /// Word `k` (0 or 1) of the hidden state of the T or C cell at `loc` (zeroed at
+    /// reset), kept after the areas in the flat memory (`Memory::cell_state_at`); a cell
+    /// of another area (reachable only through a pointer) keeps it in a map.
+    pub fn cell_word(&mut self, loc: Address, k: usize) -> u32 {
+        match self.machine.memory.cell_state_at(loc.slot, loc.offset) {
+            Some(at) => self.machine.memory.state_word(at, k),
+            None => self
+                .machine
+                .hidden
+                .cells
+                .get(&(loc.slot, loc.offset))
+                .map_or(0, |w| w[k]),
+        }
     }
 
-    /// Hidden state of a memory cell (zeroed at reset).
-    pub fn cell_state(&mut self, loc: Address) -> &mut [u32; 4] {
-        self.machine
-            .hidden
-            .cells
-            .entry((loc.slot, loc.offset))
-            .or_default()
+    pub fn set_cell_word(&mut self, loc: Address, k: usize, v: u32) {
+        match self.machine.memory.cell_state_at(loc.slot, loc.offset) {
+            Some(at) => self.machine.memory.set_state_word(at, k, v),
+            None => {
+                self.machine
+                    .hidden
+                    .cells
+                    .entry((loc.slot, loc.offset))
+                    .or_default()[k] = v;
+            }
+        }
+    }
+
+    /// The flat index of this EU/ED instance's edge byte (its input at its previous
+    /// execution, 0 or 1; zeroed at reset).
+    pub fn edge_state(&self) -> Option<usize> {
+        self.at.unit.edge_state(self.at.index)
     }
 
     /// Virtual milliseconds one scan lasts.

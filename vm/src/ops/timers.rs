@@ -8,7 +8,7 @@
 //! `TON T4, 20` is done at the execution 2000 ms of virtual time after the one that
 //! first saw `IN` = 1.
 //!
-//! Hidden state is kept per timer / counter number (`cell_state` of its word in T/C),
+//! Hidden state is kept per timer / counter number (`cell_word` of its word in T/C),
 //! so every instruction driving the same number shares it:
 //! - timers: word 0 = milliseconds elapsed but not yet counted as a whole unit,
 //!   word 1 = flags (`RUNNING`: the clock is started; `ARMED`: TOF's armed bit);
@@ -52,22 +52,22 @@ fn store(e: &mut Exec<'_>, loc: Address, v: i64) -> Result<(), Fault> {
 /// keeps the uncounted remainder.
 fn advance(e: &mut Exec<'_>, loc: Address, res: u32) -> i64 {
     let scan = e.scan_ms();
-    let st = e.cell_state(loc);
-    if st[1] & RUNNING == 0 {
-        st[1] |= RUNNING;
-        st[0] = 0;
+    let flags = e.cell_word(loc, 1);
+    if flags & RUNNING == 0 {
+        e.set_cell_word(loc, 1, flags | RUNNING);
+        e.set_cell_word(loc, 0, 0);
         return 0;
     }
-    let total = st[0] as u64 + scan as u64;
-    st[0] = (total % res as u64) as u32;
+    let total = e.cell_word(loc, 0) as u64 + scan as u64;
+    e.set_cell_word(loc, 0, (total % res as u64) as u32);
     (total / res as u64) as i64
 }
 
 /// Stop the timer clock: the uncounted fraction of a unit is dropped.
 fn stop(e: &mut Exec<'_>, loc: Address) {
-    let st = e.cell_state(loc);
-    st[0] = 0;
-    st[1] &= !RUNNING;
+    let flags = e.cell_word(loc, 1);
+    e.set_cell_word(loc, 0, 0);
+    e.set_cell_word(loc, 1, flags & !RUNNING);
 }
 
 fn ton(e: &mut Exec<'_>) -> Result<Control, Fault> {
@@ -95,10 +95,11 @@ fn tof(e: &mut Exec<'_>) -> Result<Control, Fault> {
     let pt = e.get_signed(1)?;
     let out = if e.top() {
         stop(e, loc);
-        e.cell_state(loc)[1] |= ARMED;
+        let flags = e.cell_word(loc, 1);
+        e.set_cell_word(loc, 1, flags | ARMED);
         store(e, loc, 0)?;
         true
-    } else if e.cell_state(loc)[1] & ARMED != 0 {
+    } else if e.cell_word(loc, 1) & ARMED != 0 {
         let units = advance(e, loc, res);
         let mut t = current(e, loc)?;
         if units > 0 && t < pt {
@@ -109,7 +110,8 @@ fn tof(e: &mut Exec<'_>) -> Result<Control, Fault> {
             true
         } else {
             stop(e, loc);
-            e.cell_state(loc)[1] &= !ARMED;
+            let flags = e.cell_word(loc, 1);
+            e.set_cell_word(loc, 1, flags & !ARMED);
             false
         }
     } else {
@@ -146,13 +148,9 @@ fn counter(e: &Exec<'_>) -> Result<(Address, i64, i64), Fault> {
 
 /// Record the up (or down) input of a counter; true on its rising edge.
 fn edge(e: &mut Exec<'_>, loc: Address, bit: u32, now: bool) -> bool {
-    let st = e.cell_state(loc);
-    let before = st[0] & bit != 0;
-    if now {
-        st[0] |= bit;
-    } else {
-        st[0] &= !bit;
-    }
+    let flags = e.cell_word(loc, 0);
+    let before = flags & bit != 0;
+    e.set_cell_word(loc, 0, if now { flags | bit } else { flags & !bit });
     now && !before
 }
 
