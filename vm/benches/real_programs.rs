@@ -6,8 +6,10 @@
 //! native Rust transcription (checked against the VM by bench-native/tests/agree.rs) is
 //! the limit. Per program: instructions per scan, ns per executed instruction
 //! interpreted (`native_after` None) and compiled at load (`Some(0)`), the speed-up,
-//! native ns per instruction and compiled / native; and the fixed cost of a scan (an
-//! empty MAIN through `Vm::scan`). Each VM runs 1,000 warm-up scans, then batches of
+//! native ns per instruction and compiled / native, the compiled regions and the share
+//! of executed instructions they ran (`Vm::executed_natively`, over as many scans as the
+//! warm-up); the fixed cost of a scan (an empty MAIN through `Vm::scan`); and a summary,
+//! one line per bar of issue 31 with the program that decides it. Each VM runs 1,000 warm-up scans, then batches of
 //! about 2 ms of scans, timed one after the other per program (interpreted, compiled,
 //! native); figures are medians of the batches, instructions counted in the timed scans.
 //! `cargo bench -p gutta-vm --bench real_programs` (`-- fixed`: the fixed cost alone,
@@ -253,7 +255,7 @@ fn main() {
         }
     };
     if std::env::args().any(|a| a == "fixed") {
-        fixed_cost(effort, bench);
+        let _ = fixed_cost(effort, bench);
         return;
     }
     let mut programs = corpus();
@@ -290,7 +292,7 @@ fn main() {
         effort.warm_up
     );
     println!(
-        "{:<34} {:>10} {:>8} {:>8} {:>9} {:>8} {:>8} {:>10} {:>10}",
+        "{:<34} {:>10} {:>8} {:>8} {:>9} {:>8} {:>8} {:>10} {:>10} {:>7} {:>8}",
         "program",
         "instr/scan",
         "interp",
@@ -299,14 +301,18 @@ fn main() {
         "native",
         "cc/nat",
         "interp ns/scan",
-        "cc ns/scan"
+        "cc ns/scan",
+        "regions",
+        "native%"
     );
+    let mut rows = Vec::new();
     for p in &programs {
         let mut interpreted = load(p, Tier::Interpreted);
         let mut compiled = load(p, Tier::Compiled);
         let compiled_state = compiled.tier().clone();
         let s_i = warm(effort, &mut interpreted);
         let s_c = warm(effort, &mut compiled);
+        let native_share = native_share(&mut compiled, effort.warm_up.max(1));
         let per_scan = interpreted.executed_last_scan();
         if per_scan == 0 {
             println!("{:<34} runs no instruction per scan: skipped", p.name);
@@ -342,9 +348,10 @@ fn main() {
         };
         let (i_scan, i_instr) = figures[0];
         let (c_scan, c_instr) = figures[1];
-        let compiled_note = match compiled_state {
-            TierState::Compiled { regions, .. } => format!("{regions} regions"),
-            other => format!("{other:?}"),
+        let (regions, compiled_note) = match compiled_state {
+            TierState::Compiled { regions, .. } => (regions.to_string(), String::new()),
+            TierState::NothingToCompile => ("0".into(), String::new()),
+            other => ("-".into(), format!("   ({other:?})")),
         };
         let (native_col, ratio_col) = match figures.get(2) {
             Some(&(_, n_instr)) => (
@@ -354,7 +361,7 @@ fn main() {
             None => ("-".into(), "-".into()),
         };
         println!(
-            "{:<34} {:>10} {:>8.2} {:>8.2} {:>8.2}x {:>8} {:>8} {:>10.0} {:>10.0}   ({compiled_note})",
+            "{:<34} {:>10} {:>8.2} {:>8.2} {:>8.2}x {:>8} {:>8} {:>10.0} {:>10.0} {:>7} {:>7.1}%{compiled_note}",
             p.name,
             per_scan,
             i_instr,
@@ -364,19 +371,129 @@ fn main() {
             ratio_col,
             i_scan,
             c_scan,
+            regions,
+            native_share * 100.0,
         );
+        rows.push(Row {
+            name: p.name.clone(),
+            per_scan,
+            interpreted: i_instr,
+            compiled: c_instr,
+            native: figures.get(2).map(|f| f.1),
+        });
     }
-    fixed_cost(effort, bench);
+    let fixed = fixed_cost(effort, bench);
+    summary(&rows, fixed);
 }
 
-/// The fixed cost of a scan: an empty MAIN (nothing to compile) through `Vm::scan`.
-fn fixed_cost(effort: Effort, bench: bool) {
+/// Programs of at least this many instructions per scan are "sizeable" in the summary:
+/// a scan's fixed cost (about 30 ns) is a small part of theirs, so ns per instruction
+/// measures the instructions.
+const SIZEABLE: u64 = 100;
+
+/// One program's figures, for the summary.
+struct Row {
+    name: String,
+    per_scan: u64,
+    /// ns per instruction interpreted, compiled, native (the transcription, if any).
+    interpreted: f64,
+    compiled: f64,
+    native: Option<f64>,
+}
+
+/// The share of executed instructions the compiled regions ran, over `scans` scans.
+fn native_share(vm: &mut Vm, scans: usize) -> f64 {
+    let before = vm.executed_natively();
+    let mut executed = 0;
+    for _ in 0..scans {
+        executed += Scanner::scan(vm);
+    }
+    (vm.executed_natively() - before) as f64 / executed.max(1) as f64
+}
+
+/// The worst program of `rows` by `key` (largest, or smallest with `min`), as
+/// "value (program)".
+fn worst(rows: &[&Row], key: impl Fn(&Row) -> f64, min: bool) -> Option<(f64, String)> {
+    rows.iter()
+        .map(|r| (key(r), r.name.clone()))
+        .reduce(|a, b| if (b.0 > a.0) != min { b } else { a })
+}
+
+/// One line per bar of issue 31 ("Done when"), from this run: the note quotes them.
+fn summary(rows: &[Row], fixed: f64) {
+    let all: Vec<&Row> = rows.iter().collect();
+    let large: Vec<&Row> = rows.iter().filter(|r| r.per_scan > 200).collect();
+    let with_native: Vec<&Row> = rows.iter().filter(|r| r.native.is_some()).collect();
+    let line =
+        |what: &str, found: Option<(f64, String)>, unit: &str, bar: &str, ok: fn(f64) -> bool| {
+            match found {
+                Some((v, name)) => println!(
+                    "  {what:<52} {v:>7.2}{unit:<9} ({name}; bar {bar}: {})",
+                    if ok(v) { "met" } else { "NOT met" }
+                ),
+                None => println!("  {what:<52} {:>7} (no program)", "-"),
+            }
+        };
+    println!(
+        "\nSummary (issue 31's bars, this run; \"sizeable\": >= {SIZEABLE} instr/scan, where \
+         the fixed cost is a small part of a scan):"
+    );
+    let sizeable: Vec<&Row> = rows.iter().filter(|r| r.per_scan >= SIZEABLE).collect();
+    for (set, rows) in [("sizeable", &sizeable), ("every program", &all)] {
+        line(
+            &format!("compiled, max ns/instr ({set})"),
+            worst(rows, |r| r.compiled, false),
+            " ns",
+            "<= 2",
+            |v| v <= 2.0,
+        );
+    }
+    line(
+        "compiled / native, worst",
+        worst(
+            &with_native,
+            |r| r.compiled / r.native.unwrap_or(f64::NAN),
+            false,
+        ),
+        "x",
+        "<= 3",
+        |v| v <= 3.0,
+    );
+    line(
+        "interpreted / compiled, min (> 200 instr/scan)",
+        worst(&large, |r| r.interpreted / r.compiled, true),
+        "x",
+        ">= 4",
+        |v| v >= 4.0,
+    );
+    for (set, rows) in [("sizeable", &sizeable), ("every program", &all)] {
+        line(
+            &format!("interpreted, max ns/instr ({set})"),
+            worst(rows, |r| r.interpreted, false),
+            " ns",
+            "<= 8",
+            |v| v <= 8.0,
+        );
+    }
+    line(
+        "fixed cost per scan",
+        Some((fixed, "empty MAIN".into())),
+        " ns",
+        "<= 30",
+        |v| v <= 30.0,
+    );
+}
+
+/// The fixed cost of a scan: an empty MAIN (nothing to compile) through `Vm::scan`, in
+/// ns (printed too).
+fn fixed_cost(effort: Effort, bench: bool) -> f64 {
     let empty = lad("empty MAIN", EMPTY_MAIN, None, Vec::new());
     let mut vm = load(&empty, Tier::Interpreted);
     let scans = warm(effort, &mut vm).max(if bench { 10_000 } else { 1 });
     let mut run = |n: usize| batch(n, &mut vm);
     let (ns, _) = measure(effort, &mut [&mut run], &[scans])[0];
     println!("\nFixed cost per scan (empty MAIN through Vm::scan): {ns:.1} ns (bar: 30 ns)");
+    ns
 }
 
 /// The conveyor plant's inputs while timed: every station started (IB0..IB4), stations

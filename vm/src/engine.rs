@@ -105,6 +105,8 @@ pub(crate) struct Engine {
     /// A breakpoint is set: everything runs interpreted (a breakpoint may sit inside a
     /// compiled region).
     pub native_hold: bool,
+    /// Instructions run by compiled regions since load (`Vm::executed_natively`).
+    pub native_executed: u64,
 }
 
 /// The compiled tier's state (`Vm::tier`).
@@ -282,6 +284,7 @@ impl Engine {
                                 &mut st,
                             );
                             self.clock.executed += ran;
+                            self.native_executed += ran;
                             pc += r.records as usize;
                         }
                     }

@@ -155,6 +155,12 @@ impl Vm {
         self.engine.clock.executed
     }
 
+    /// Instructions run as compiled code (docs/vm-jit.md) since load, of all scans:
+    /// against the instructions executed, the share the compiled tier covers.
+    pub fn executed_natively(&self) -> u64 {
+        self.engine.native_executed
+    }
+
     pub fn scans(&self) -> u64 {
         self.engine.clock.scans
     }

@@ -92,6 +92,7 @@ pub(crate) fn load(
         native: None,
         tier: Default::default(),
         native_hold: false,
+        native_executed: 0,
     };
     engine.reset();
     // `native_after: Some(0)`: compiled at load.
