@@ -1,8 +1,10 @@
 //! Fuzz target of the VM: byte mutations of a valid image (the format tests' full
-//! program, every operand kind) that still verify are loaded and run, with the fast
-//! operations on and off, through scans, a breakpoint and single steps. Panics and hangs
-//! are the bugs it looks for; faults are fine (they are typed errors). Both VMs must
-//! also agree on memory and on the fault.
+//! program, every operand kind; or, when the first byte's top bit is set, the plant of
+//! vm_pair/plant.lad: timers, counters, edges, S/R, jumps, CALL with parameters, FOR,
+//! conversions) that still verify are loaded and run on the three engines (fast
+//! operations off, on, and compiled at load) through 40 scans, then a breakpoint and
+//! single steps. Panics and hangs are the bugs it looks for; faults are fine (they are
+//! typed errors). The engines must also agree on memory, the count and the fault.
 #![no_main]
 
 use gutta_format::verify;
@@ -18,7 +20,7 @@ fuzz_target!(|data: &[u8]| {
     let Some((&inputs, rest)) = data.split_first() else {
         return;
     };
-    let mut image = base_image().clone();
+    let mut image = vm_pair::base(base_image(), default_target(), inputs).clone();
     mutate(&mut image, rest, false);
     let Ok(verified) = verify(&image, default_target()) else {
         return;

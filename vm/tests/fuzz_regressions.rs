@@ -1,7 +1,8 @@
 //! Inputs the `vm_run` fuzz target (fuzz/fuzz_targets/vm_run.rs) found, replayed as it
-//! replays them: byte edits of the format tests' full program; an image that verifies
-//! runs with the fast operations on and off, which must agree on every scan's outcome
-//! and on all memory. Adding a regression means adding a file to
+//! replays them: byte edits of the format tests' full program or of the plant
+//! (vm_pair/plant.lad; the first byte's top bit picks it); an image that verifies runs
+//! on the generic semantics, the interpreter and the compiled tier, which must agree on
+//! every scan's outcome and count and on all memory. The unmutated plant replays too. Adding a regression means adding a file to
 //! vm/tests/data/fuzz/vm_run/ (and, when the fix was in the verifier, a row below).
 
 #![allow(
@@ -36,11 +37,24 @@ fn replay(data: &[u8]) -> Result<(), VerifyCode> {
     let Some((&inputs, rest)) = data.split_first() else {
         return Ok(());
     };
-    let mut image = base_image().clone();
+    let mut image = vm_pair::base(base_image(), default_target(), inputs).clone();
     mutate(&mut image, rest, false);
     let verified = verify(&image, default_target()).map_err(|e| e.code())?;
     vm_pair::scan_both(&verified, default_target(), inputs);
     Ok(())
+}
+
+/// The plant base itself verifies and runs alike on the three engines (an input of one
+/// byte with the top bit: no edits).
+#[test]
+fn the_plant_base_runs_alike() {
+    for inputs in [0x80, 0xFF, 0xA5] {
+        assert_eq!(replay(&[inputs]), Ok(()));
+    }
+    let verified = verify(vm_pair::plant_image(default_target()), default_target())
+        .expect("the plant verifies");
+    let vm = vm_pair::scan_both(&verified, default_target(), 0xC3).expect("loads");
+    assert!(vm.scans() >= u64::from(vm_pair::SCANS), "ran every scan");
 }
 
 #[test]
