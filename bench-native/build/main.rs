@@ -1,9 +1,10 @@
 //! Build script of gutta-bench-native: generates the benchmark programs (LAD text)
-//! and translates that text into native Rust (the conveyor plant: generated in both
-//! forms from one description), all into `OUT_DIR/programs.rs`. It must
+//! and translates that text into native Rust (the conveyor plant and the mixing
+//! station: generated in both forms from one description), all into `OUT_DIR/programs.rs`. It must
 //! not use the compiler: the transcription is checked against the VM by tests/agree.rs.
 
 mod conveyor;
+mod mixing;
 mod programs;
 mod transcribe;
 
@@ -14,6 +15,9 @@ const INSTRUCTIONS: usize = 10_000;
 
 /// Stations of the conveyor plant (issue 31: 40).
 const STATIONS: usize = 40;
+
+/// Stations of the mixing station (issue 31's second realistic program).
+const MIXERS: usize = 20;
 
 fn main() {
     println!("cargo::rerun-if-changed=build");
@@ -38,6 +42,14 @@ fn main() {
         conveyor::lad(STATIONS)
     ));
     out.push_str(&conveyor::native(STATIONS));
+    out.push_str(&format!(
+        "/// (d) the mixing station: {MIXERS} tanks of a fill/mix/drain sequence (SCR as\n\
+         /// compiled), INT math, TONR, TOF, CTUD with reset, EU/ED with S/R, ITD, DTR, *R,\n\
+         /// TRUNC (issue 31).\n\
+         pub const MIXING: &str = {:?};\n\n",
+        mixing::lad(MIXERS)
+    ));
+    out.push_str(&mixing::native(MIXERS));
     let dir = PathBuf::from(std::env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));
     std::fs::write(dir.join("programs.rs"), out).expect("write programs.rs");
 }

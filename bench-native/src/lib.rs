@@ -146,6 +146,10 @@ pub struct Plant {
     pub timers: [(u32, bool); T_BYTES / 2],
     /// Per counter: its up input at its previous execution.
     pub counters: [bool; C_BYTES / 2],
+    /// Per counter: its down input at its previous execution (CTUD).
+    pub counters_down: [bool; C_BYTES / 2],
+    /// Per timer: TOF's armed state (its input was on; the delay runs when it is off).
+    pub armed: [bool; T_BYTES / 2],
     /// Per EU/ED instruction: its input at its previous execution.
     pub edges: [bool; 256],
     pub scans: u64,
@@ -162,6 +166,8 @@ impl Plant {
             c: [0; C_BYTES],
             timers: [(0, false); T_BYTES / 2],
             counters: [false; C_BYTES / 2],
+            counters_down: [false; C_BYTES / 2],
+            armed: [false; T_BYTES / 2],
             edges: [false; 256],
             scans: 0,
             ms: 0,
@@ -215,6 +221,89 @@ impl Plant {
         pt <= 0 || t >= pt
     }
 
+    /// One execution of timer `n`'s clock: the whole units since its previous
+    /// execution (0 when this one starts it), the remainder kept.
+    #[inline(always)]
+    fn advance(&mut self, n: usize, scan_ms: u32) -> i32 {
+        let clock = &mut self.timers[n];
+        if !clock.1 {
+            *clock = (0, true);
+            return 0;
+        }
+        let total = clock.0 + scan_ms;
+        clock.0 = total % TIMER_UNIT_MS;
+        (total / TIMER_UNIT_MS) as i32
+    }
+
+    /// TOF T`n`, `pt`: on, the timer is 0 and armed (done); off after on, each
+    /// execution counts the scan's milliseconds (the first only starts the clock) until
+    /// `pt`, done until then. Returns the done state.
+    #[inline(always)]
+    pub fn tof(&mut self, n: usize, input: bool, pt: i16, scan_ms: u32) -> bool {
+        if input {
+            self.timers[n] = (0, false);
+            self.armed[n] = true;
+            set_word(&mut self.t, 2 * n, 0);
+            return true;
+        }
+        if !self.armed[n] {
+            return false;
+        }
+        let units = self.advance(n, scan_ms);
+        let mut t = word(&self.t, 2 * n);
+        if units > 0 && t < pt {
+            t = (i32::from(t) + units).min(i32::from(pt)) as i16;
+            set_word(&mut self.t, 2 * n, t);
+        }
+        if t < pt {
+            true
+        } else {
+            self.timers[n] = (0, false);
+            self.armed[n] = false;
+            false
+        }
+    }
+
+    /// TONR T`n`, `pt`: on, each execution counts the scan's milliseconds (the first
+    /// of a run only starts the clock) and keeps the value when off. Returns the done
+    /// state.
+    #[inline(always)]
+    pub fn tonr(&mut self, n: usize, input: bool, pt: i16, scan_ms: u32) -> bool {
+        let mut t = word(&self.t, 2 * n);
+        if input {
+            let units = self.advance(n, scan_ms);
+            if units > 0 && t < i16::MAX {
+                t = (i32::from(t) + units).min(i32::from(i16::MAX)) as i16;
+                set_word(&mut self.t, 2 * n, t);
+            }
+        } else {
+            self.timers[n] = (0, false);
+        }
+        t >= pt
+    }
+
+    /// CTUD C`n`, `pv`: a rising `up` counts up (to the maximum), a rising `down` down
+    /// (to -32768), both at once nothing; `reset` clears. Returns count >= `pv`.
+    #[inline(always)]
+    pub fn ctud(&mut self, n: usize, up: bool, down: bool, reset: bool, pv: i16) -> bool {
+        let rose = up && !self.counters[n];
+        self.counters[n] = up;
+        let fell = down && !self.counters_down[n];
+        self.counters_down[n] = down;
+        let mut c = word(&self.c, 2 * n);
+        if reset {
+            c = 0;
+            set_word(&mut self.c, 2 * n, c);
+        } else if rose && !fell && c < COUNTER_MAX {
+            c += 1;
+            set_word(&mut self.c, 2 * n, c);
+        } else if fell && !rose && c > i16::MIN {
+            c -= 1;
+            set_word(&mut self.c, 2 * n, c);
+        }
+        c >= pv
+    }
+
     /// CTU C`n`, `pv` with up input `up` and reset `reset`: counts rising edges of `up`
     /// up to the maximum; reset clears. Returns the done state (count >= `pv`).
     #[inline(always)]
@@ -254,6 +343,37 @@ pub fn add_int(mem: &mut Memory, v: i16, at: usize) {
     set_word(&mut mem.m, at, r);
     let flags = u8::from(r == 0) | (u8::from(i32::from(r) != exact) << 1) | (u8::from(r < 0) << 2);
     mem.sm[1] = (mem.sm[1] & !0x07) | flags;
+}
+
+/// `-I v, MW[at]`: the difference wraps; flags as `add_int`.
+#[inline(always)]
+pub fn sub_int(mem: &mut Memory, v: i16, at: usize) {
+    let exact = i32::from(word(&mem.m, at)) - i32::from(v);
+    let r = exact as i16;
+    set_word(&mut mem.m, at, r);
+    let flags = u8::from(r == 0) | (u8::from(i32::from(r) != exact) << 1) | (u8::from(r < 0) << 2);
+    mem.sm[1] = (mem.sm[1] & !0x07) | flags;
+}
+
+/// `*R v, MD[at]`: SM1.0 zero, SM1.1 not finite, SM1.2 negative.
+#[inline(always)]
+pub fn mul_real(mem: &mut Memory, v: f32, at: usize) {
+    let r = f32::from_bits(dword(&mem.m, at) as u32) * v;
+    set_dword(&mut mem.m, at, r.to_bits() as i32);
+    let flags = u8::from(r == 0.0) | (u8::from(!r.is_finite()) << 1) | (u8::from(r < 0.0) << 2);
+    mem.sm[1] = (mem.sm[1] & !0x07) | flags;
+}
+
+/// `TRUNC MD[from], MD[to]`: toward zero when it fits a DINT (else OUT kept); SM1.1
+/// when it does not.
+#[inline(always)]
+pub fn trunc_real(mem: &mut Memory, from: usize, to: usize) {
+    let r = f32::from_bits(dword(&mem.m, from) as u32).trunc();
+    let ok = r.is_finite() && (-2_147_483_648.0..2_147_483_648.0).contains(&r);
+    if ok {
+        set_dword(&mut mem.m, to, r as i32);
+    }
+    mem.sm[1] = (mem.sm[1] & !0x02) | (u8::from(!ok) << 1);
 }
 
 include!(concat!(env!("OUT_DIR"), "/programs.rs"));

@@ -1,12 +1,14 @@
 //! The native transcriptions do what the VM does: the programs compiled for
 //! EC30-EKSTM32-XC and run in the VM, and transcribed and run natively, from the same
 //! changing inputs, leave I, Q, M and the math flags (SMB1) byte-identical after every
-//! scan (the conveyor plant: T, C and SMB0 too, over thousands of scans of virtual
-//! time). Without this the benchmark's native figure would mean nothing.
+//! scan (the conveyor plant and the mixing station: T, C and SMB0 too, over thousands
+//! of scans of virtual time). Without this the benchmark's native figure would mean nothing.
 
 use std::sync::Arc;
 
-use gutta_bench_native::{Memory, Plant, BIT_LOGIC, CONVEYOR, CONVEYOR_STATIONS, MIXED};
+use gutta_bench_native::{
+    Memory, Plant, BIT_LOGIC, CONVEYOR, CONVEYOR_STATIONS, MIXED, MIXING, MIXING_STATIONS,
+};
 use gutta_catalog::{stdlib, Target};
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
@@ -256,5 +258,83 @@ fn conveyor_agrees_with_the_vm() {
         assert!(skipped > 1000, "the JMP taken: {skipped}");
         assert!(totals > 1000, "the batch total past its limit: {totals}");
         assert!(plant.t.iter().any(|&b| b != 0), "timers running at the end");
+    }
+}
+
+/// The VM's I, Q, M, T, C and SMB0..1 against the plant's, after scan `n`.
+fn same_areas(vm: &Vm, target: &Target, plant: &Plant, config: VmConfig, n: u32) {
+    for (name, bytes) in [
+        ("I", &plant.mem.i[..]),
+        ("Q", &plant.mem.q[..]),
+        ("M", &plant.mem.m[..]),
+        ("T", &plant.t[..]),
+        ("C", &plant.c[..]),
+        ("SM", &plant.mem.sm[..2]),
+    ] {
+        let vm_bytes = vm_area(vm, target, name);
+        if let Some(at) = (0..bytes.len()).find(|&k| vm_bytes[k] != bytes[k]) {
+            panic!(
+                "{config:?} scan {n}: {name}B{at} is {:#04x} in the VM and {:#04x} native",
+                vm_bytes[at], bytes[at]
+            );
+        }
+    }
+}
+
+/// The mixing station's inputs at scan `n`: start buttons (IB0..IB2) pressed for a
+/// few scans every 97 and, rotating, held; acknowledge buttons (IB3..IB5) pressed and
+/// released every 70 scans.
+fn mixing_inputs(n: u32) -> [u8; 6] {
+    let start = if n % 97 < 4 {
+        0xFF
+    } else {
+        0x0F_u32.rotate_left(n / 500 % 8) as u8
+    };
+    let ack = if (n / 70) % 2 == 1 { 0xFF } else { 0 };
+    [start, start, start, ack, ack, ack]
+}
+
+#[test]
+fn mixing_agrees_with_the_vm() {
+    for config in configs() {
+        let (mut vm, target) = load(MIXING, config);
+        let mut plant = Plant::new(config.scan_ms);
+        let (mut batches, mut slow, mut cleared, mut run_on, mut stopped, mut scaled) =
+            (0, 0, 0, 0, 0, 0);
+        for n in 0..3000u32 {
+            for (k, &v) in mixing_inputs(n).iter().enumerate() {
+                let a = target
+                    .memory
+                    .parse_address(&format!("IB{k}"))
+                    .expect("address");
+                vm.write(a, u32::from(v)).expect("write");
+                plant.mem.i[k] = v;
+            }
+            let before = plant.clone();
+            vm.scan().expect("scan");
+            gutta_bench_native::mixing_scan(&mut plant);
+            same_areas(&vm, &target, &plant, config, n);
+            // What the scan did, so the run is known to reach every family.
+            for k in 0..MIXING_STATIONS {
+                let b = 800 + 24 * k;
+                let now = |bit: u32| gutta_bench_native::bit(&plant.mem.m, b, bit);
+                let was = |bit: u32| gutta_bench_native::bit(&before.mem.m, b, bit);
+                let counted = gutta_bench_native::word(&plant.c, 2 * (40 + k));
+                batches += usize::from(counted > gutta_bench_native::word(&before.c, 2 * (40 + k)));
+                slow += usize::from(!was(4) && now(4));
+                cleared += usize::from(now(7));
+                let agitator = gutta_bench_native::bit(&plant.mem.q, 10 + k / 8, (k % 8) as u32);
+                let agitated = gutta_bench_native::bit(&before.mem.q, 10 + k / 8, (k % 8) as u32);
+                run_on += usize::from(agitator && !now(1));
+                stopped += usize::from(agitated && !agitator);
+                scaled += usize::from(gutta_bench_native::dword(&plant.mem.m, b + 16) > 0);
+            }
+        }
+        assert!(batches > 100, "fill, mix, drain, CTUD up: {batches}");
+        assert!(slow > 100, "TONR past its preset: {slow}");
+        assert!(cleared > 20, "CTUD done and reset: {cleared}");
+        assert!(run_on > 1000, "TOF running the agitator on: {run_on}");
+        assert!(stopped > 100, "TOF's delay over: {stopped}");
+        assert!(scaled > 1000, "ITD, DTR, *R, TRUNC: {scaled}");
     }
 }

@@ -1,10 +1,10 @@
 //! Issue 31's benchmark: the VM on programs shaped like real ones, per tier, all from one
 //! run. The programs: every Micro/WIN export of the corpus that compiles and runs
 //! (tests/data/microwin, each file alone, and split_program/ as one program),
-//! examples/tank.lad, examples/an2002_sample3_master.lad (polling on, no port attached)
-//! and the conveyor plant of gutta-bench-native (40 stations of every family), whose
-//! native Rust transcription (checked against the VM by bench-native/tests/agree.rs) is
-//! the limit. Per program: instructions per scan, ns per executed instruction
+//! examples/tank.lad, examples/an2002_sample3_master.lad (polling on, no port attached),
+//! the conveyor plant of gutta-bench-native (40 stations of every family) and its mixing
+//! station (20 tanks: an SCR sequence, TONR, TOF, CTUD, conversions), whose native Rust
+//! transcriptions (checked against the VM by bench-native/tests/agree.rs) are the limit. Per program: instructions per scan, ns per executed instruction
 //! interpreted (`native_after` None) and compiled at load (`Some(0)`), the speed-up,
 //! native ns per instruction and compiled / native, the compiled regions and the share
 //! of executed instructions they ran (`Vm::executed_natively`, over as many scans as the
@@ -184,17 +184,30 @@ impl Scanner for Vm {
     }
 }
 
-/// The native conveyor plant; it counts the instructions the VM counted per scan.
+/// A native transcription (the conveyor plant's or the mixing station's scan); it
+/// counts the instructions the VM counted per scan.
 struct Native {
     plant: Plant,
+    run: fn(&mut Plant),
     per_scan: u64,
 }
 
 impl Scanner for Native {
     #[inline]
     fn scan(&mut self) -> u64 {
-        gutta_bench_native::conveyor_scan(black_box(&mut self.plant));
+        (self.run)(black_box(&mut self.plant));
         self.per_scan
+    }
+}
+
+/// The native transcription of a program of the benchmark, if it has one.
+fn transcription(name: &str) -> Option<fn(&mut Plant)> {
+    if name.starts_with("conveyor") {
+        Some(gutta_bench_native::conveyor_scan)
+    } else if name.starts_with("mixing") {
+        Some(gutta_bench_native::mixing_scan)
+    } else {
+        None
     }
 }
 
@@ -278,6 +291,12 @@ fn main() {
         plant_inputs(),
     );
     programs.push(conveyor);
+    programs.push(lad(
+        "mixing station (20 tanks)",
+        gutta_bench_native::MIXING,
+        Some(PLANT_TARGET),
+        mixing_inputs(),
+    ));
     let names: Vec<String> = std::env::args()
         .skip(1)
         .filter(|a| !a.starts_with("--"))
@@ -318,9 +337,11 @@ fn main() {
             println!("{:<34} runs no instruction per scan: skipped", p.name);
             continue;
         }
-        let is_plant = p.name.starts_with("conveyor");
+        let run = transcription(&p.name);
+        let is_plant = run.is_some();
         let mut native = Native {
             plant: Plant::new(VmConfig::default().scan_ms),
+            run: run.unwrap_or(gutta_bench_native::conveyor_scan),
             per_scan,
         };
         if is_plant {
@@ -494,6 +515,12 @@ fn fixed_cost(effort: Effort, bench: bool) -> f64 {
     let (ns, _) = measure(effort, &mut [&mut run], &[scans])[0];
     println!("\nFixed cost per scan (empty MAIN through Vm::scan): {ns:.1} ns (bar: 30 ns)");
     ns
+}
+
+/// The mixing station's inputs while timed: every tank started (IB0..IB2) and cycling
+/// fill, mix, drain; acknowledge released.
+fn mixing_inputs() -> Vec<(&'static str, u32)> {
+    vec![("IB0", 0xFF), ("IB1", 0xFF), ("IB2", 0xFF)]
 }
 
 /// The conveyor plant's inputs while timed: every station started (IB0..IB4), stations
