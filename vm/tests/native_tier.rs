@@ -617,6 +617,13 @@ fn a_program_of_compilable_networks_compiles_whole() {
         native.scan().expect("scan");
     }
     assert_eq!(memory(&native), memory(&reference));
+    // Everything ran natively (`Vm::executed_natively`, what the benchmark reports).
+    assert_eq!(
+        native.executed_natively(),
+        3 * native.executed_last_scan(),
+        "every instruction of the three scans in compiled code"
+    );
+    assert_eq!(reference.executed_natively(), 0);
     assert_eq!(common::read(&native, "MD10"), 3, "MID ran three times");
     assert_eq!(common::read(&native, "MW2"), 12, "LEAF: 5 + 7");
     assert_eq!(native.executed_last_scan(), reference.executed_last_scan());
