@@ -523,6 +523,16 @@ fn real_math_flags_nan_infinity_and_division_by_zero() {
     // By zero (either sign): OUT unchanged, SM1.3.
     assert_eq!(real(RealOp::Div, 7.0, -0.0, 0x07), (7.0, 0x08));
     assert_eq!(real(RealOp::Div, 7.0, 2.0, 0x08), (3.5, 0x00));
+    // Two NaNs of different payloads: the compiled code and the reference give the
+    // same NaN (x86: the first operand's, quieted).
+    for op in [RealOp::Add, RealOp::Sub, RealOp::Mul, RealOp::Div] {
+        for (a, b) in [(0x7FC0_0001, 0xFFC0_0002), (0xFF80_0003, 0x7FA0_0000)] {
+            run(
+                Step::RealMath { op, src: B, dst: A },
+                &memory(a, b, 0, 0, true),
+            );
+        }
+    }
     let (m, _) = run(
         Step::Sqrt { src: B, dst: A },
         &memory(0, (-4.0f32).to_bits(), 0, 0x04, true),
