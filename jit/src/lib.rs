@@ -94,7 +94,8 @@ pub enum Shift {
 
 /// A conversion (`vm/src/ops/convert.rs`), each with its own fixed widths (source ->
 /// destination bytes): Bti 1 -> 2, Itb 2 -> 1, Itd 2 -> 4, Dti 4 -> 2, Dtr 4 -> 4,
-/// Round 4 -> 4, Trunc 4 -> 4, Bcdi 2 -> 2, Ibcd 2 -> 2.
+/// Round 4 -> 4, Trunc 4 -> 4, Bcdi 2 -> 2, Ibcd 2 -> 2, Seg 1 -> 1, Deco 1 -> 2,
+/// Enco 2 -> 1.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Convert {
     Bti,
@@ -106,6 +107,9 @@ pub enum Convert {
     Trunc,
     Bcdi,
     Ibcd,
+    Seg,
+    Deco,
+    Enco,
 }
 
 impl Convert {
@@ -118,6 +122,9 @@ impl Convert {
             Convert::Dti => (4, 2),
             Convert::Dtr | Convert::Round | Convert::Trunc => (4, 4),
             Convert::Bcdi | Convert::Ibcd => (2, 2),
+            Convert::Seg => (1, 1),
+            Convert::Deco => (1, 2),
+            Convert::Enco => (2, 1),
         }
     }
 }
@@ -316,7 +323,10 @@ pub enum Step {
     /// finite and in -2^31..2^31): when it fits, dst := the value; flag 1 := it did not
     /// fit (dst unchanged). Bcdi: four BCD digits (15..12 thousands) to their value,
     /// Ibcd: an INT in 0..=9999 to four BCD digits; when the digits are all <= 9 (the
-    /// INT in range), dst := the value; flag 6 := it was not.
+    /// INT in range), dst := the value; flag 6 := it was not. Seg: the seven-segment
+    /// pattern of the low nibble (bit 0 segment a .. bit 6 segment g; 0..F as
+    /// `vm/src/ops/convert.rs` SEGMENTS). Deco: 1 << the low nibble. Enco: the number of
+    /// the lowest set bit of the word; a word of 0 leaves dst; flag 1 := the word was 0.
     Convert {
         op: Convert,
         src: u32,

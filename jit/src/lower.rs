@@ -1248,6 +1248,43 @@ impl Emitter<'_, '_> {
                 let bad = at_bit(self, bad, 6);
                 self.write_flags(0x40, bad);
             }
+            Convert::Seg => {
+                // The 16 patterns in two 64-bit constants, a byte each: no table in
+                // memory to bound.
+                let v = self.load32(src, 1, false);
+                let nibble = self.b.ins().band_imm_u(v, 0xF);
+                let low = self.b.ins().icmp_imm_u(IntCC::UnsignedLessThan, nibble, 8);
+                let lo = self.b.ins().iconst(I64, SEGMENTS_LO as i64);
+                let hi = self.b.ins().iconst(I64, SEGMENTS_HI as i64);
+                let table = self.b.ins().select(low, lo, hi);
+                let k = self.b.ins().band_imm_u(nibble, 7);
+                let k = self.b.ins().ishl_imm_u(k, 3);
+                let k = self.b.ins().uextend(I64, k);
+                let pattern = self.b.ins().ushr(table, k);
+                let pattern = self.b.ins().ireduce(I32, pattern);
+                let pattern = self.b.ins().band_imm_u(pattern, 0xFF);
+                self.store32(pattern, dst, to);
+            }
+            Convert::Deco => {
+                let v = self.load32(src, 1, false);
+                let nibble = self.b.ins().band_imm_u(v, 0xF);
+                let one = self.k(1);
+                let r = self.b.ins().ishl(one, nibble);
+                self.store32(r, dst, to);
+            }
+            Convert::Enco => {
+                let v = self.load32(src, 2, false);
+                let zero = self.b.ins().icmp_imm_s(IntCC::Equal, v, 0);
+                let ok = self.b.ins().bxor_imm_u(zero, 1);
+                let lowest = self.b.ins().ctz(v);
+                self.store_if(ok, lowest, dst, to);
+                let bad = at_bit(self, zero, 1);
+                self.write_flags(0x02, bad);
+            }
         }
     }
 }
+
+/// SEG's patterns of 0..7 and 8..F, a byte each from the low end (convert.rs SEGMENTS).
+const SEGMENTS_LO: u64 = 0x07_7D_6D_66_4F_5B_06_3F;
+const SEGMENTS_HI: u64 = 0x71_79_5E_39_7C_77_6F_7F;

@@ -489,5 +489,19 @@ fn convert(layout: &Layout, mem: &mut [u8], op: Convert, src: u32, dst: u32) {
             }
             flag(layout, mem, 6, !ok);
         }
+        Convert::Seg => store(mem, dst, to, SEGMENTS[(v & 0xF) as usize]),
+        Convert::Deco => store(mem, dst, to, 1 << (v & 0xF)),
+        Convert::Enco => {
+            let v = v & 0xFFFF;
+            if v != 0 {
+                store(mem, dst, to, v.trailing_zeros());
+            }
+            flag(layout, mem, 1, v == 0);
+        }
     }
 }
+
+/// Seven-segment patterns of 0..F (convert.rs).
+const SEGMENTS: [u32; 16] = [
+    0x3F, 0x06, 0x5B, 0x4F, 0x66, 0x6D, 0x7D, 0x07, 0x7F, 0x6F, 0x77, 0x7C, 0x39, 0x5E, 0x79, 0x71,
+];

@@ -205,6 +205,9 @@ fn boxed_steps() -> Vec<Step> {
         Convert::Trunc,
         Convert::Bcdi,
         Convert::Ibcd,
+        Convert::Seg,
+        Convert::Deco,
+        Convert::Enco,
     ] {
         steps.push(Step::Convert { op, src: B, dst: A });
     }
@@ -499,6 +502,21 @@ fn conversions_store_only_what_fits() {
     assert_eq!(conv(Convert::Ibcd, 9999, 0x40), (0xDEAD_9999, 0x00));
     assert_eq!(conv(Convert::Ibcd, 10_000, 0x00), (0xDEAD_BEEF, 0x40));
     assert_eq!(conv(Convert::Ibcd, 0xFFFF, 0x00), (0xDEAD_BEEF, 0x40));
+    // SEG of every nibble (the byte's high nibble ignored), DECO, ENCO.
+    let segments = [
+        0x3F, 0x06, 0x5B, 0x4F, 0x66, 0x6D, 0x7D, 0x07, 0x7F, 0x6F, 0x77, 0x7C, 0x39, 0x5E, 0x79,
+        0x71,
+    ];
+    for (k, pattern) in segments.into_iter().enumerate() {
+        assert_eq!(
+            conv(Convert::Seg, 0xA0 | k as u32, 0),
+            (0xDEAD_BE00 | pattern, 0)
+        );
+    }
+    assert_eq!(conv(Convert::Deco, 0xFF, 0), (0xDEAD_8000, 0));
+    assert_eq!(conv(Convert::Deco, 0x10, 0), (0xDEAD_0001, 0));
+    assert_eq!(conv(Convert::Enco, 0x0000_8000, 0x02), (0xDEAD_BE0F, 0x00));
+    assert_eq!(conv(Convert::Enco, 0x0001_0000, 0x00), (0xDEAD_BEEF, 0x02));
 }
 
 #[test]

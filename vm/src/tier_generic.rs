@@ -119,7 +119,8 @@ fn decode(mnemonic: &str, operands: &[PackedOperand], memory: &Memory) -> Option
                 count: var(1, Width::Byte)?,
             }
         }
-        "BTI" | "ITB" | "ITD" | "DTI" | "DTR" | "ROUND" | "TRUNC" | "BCDI" | "IBCD" => {
+        "BTI" | "ITB" | "ITD" | "DTI" | "DTR" | "ROUND" | "TRUNC" | "BCDI" | "IBCD" | "SEG"
+        | "DECO" | "ENCO" => {
             let op = match mnemonic {
                 "BTI" => Convert::Bti,
                 "ITB" => Convert::Itb,
@@ -129,7 +130,10 @@ fn decode(mnemonic: &str, operands: &[PackedOperand], memory: &Memory) -> Option
                 "ROUND" => Convert::Round,
                 "TRUNC" => Convert::Trunc,
                 "BCDI" => Convert::Bcdi,
-                _ => Convert::Ibcd,
+                "IBCD" => Convert::Ibcd,
+                "SEG" => Convert::Seg,
+                "DECO" => Convert::Deco,
+                _ => Convert::Enco,
             };
             let (from, to) = op.widths();
             let (from, to) = (sized_width(from)?, sized_width(to)?);

@@ -220,7 +220,7 @@ fn step(r: &mut Reader, layout: &Layout, f: u32, functions: u32, loose: bool) ->
 
 // ---- Generic families (helper C) ----------------------------------------------------
 
-const CONVERTS: [Convert; 9] = [
+const CONVERTS: [Convert; 12] = [
     Convert::Bti,
     Convert::Itb,
     Convert::Itd,
@@ -230,6 +230,9 @@ const CONVERTS: [Convert; 9] = [
     Convert::Trunc,
     Convert::Bcdi,
     Convert::Ibcd,
+    Convert::Seg,
+    Convert::Deco,
+    Convert::Enco,
 ];
 
 /// One of the generic families' steps.
@@ -296,7 +299,7 @@ fn generic_step(r: &mut Reader, layout: &Layout, loose: bool) -> Step {
             }
         }
         7 => {
-            let op = CONVERTS[r.below(9) as usize];
+            let op = CONVERTS[r.below(CONVERTS.len() as u32) as usize];
             let (from, to) = op.widths();
             Step::Convert {
                 op,
