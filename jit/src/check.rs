@@ -136,6 +136,56 @@ fn check_step(layout: &Layout, functions: usize, step: &Step) -> Result<(), Faul
             }
             Ok(())
         }
+        // ---- Generic families (helper C) ----
+        Step::Logic {
+            src, dst, width: w, ..
+        } => {
+            width(w, &[1, 2, 4])?;
+            inside(layout, src, w)?;
+            inside(layout, dst, w)
+        }
+        Step::Invert { at, width: w } | Step::IncDec { at, width: w, .. } => {
+            width(w, &[1, 2, 4])?;
+            inside(layout, at, w)
+        }
+        Step::Divide { src, dst, width: w } => {
+            width(w, &[2, 4])?;
+            inside(layout, src, w)?;
+            inside(layout, dst, w)
+        }
+        Step::MulWide { src, dst } | Step::DivWide { src, dst } => {
+            inside(layout, src, 2)?;
+            inside(layout, dst, 4)
+        }
+        Step::Shift {
+            at,
+            width: w,
+            count,
+            ..
+        } => {
+            width(w, &[1, 2, 4])?;
+            inside(layout, at, w)?;
+            inside(layout, count, 1)
+        }
+        Step::Convert { op, src, dst } => {
+            let (from, to) = op.widths();
+            inside(layout, src, from)?;
+            inside(layout, dst, to)
+        }
+        Step::RealMath { src, dst, .. } | Step::Sqrt { src, dst } => {
+            inside(layout, src, 4)?;
+            inside(layout, dst, 4)
+        }
+        Step::CompareReal { a, b, .. } => {
+            inside(layout, a, 4)?;
+            inside(layout, b, 4)
+        }
+        Step::Const { dst, width: w, .. } => {
+            width(w, &[1, 2, 4])?;
+            inside(layout, dst, w)
+        }
+        Step::Swap { at } => inside(layout, at, 2),
+        Step::Lds { .. } | Step::Nop => Ok(()),
     }
 }
 

@@ -75,6 +75,69 @@ pub enum Preset {
     Word(u32),
 }
 
+/// Word logic (dst := dst op src; `vm/src/ops/math.rs` ANDx, ORx, XORx).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Logic {
+    And,
+    Or,
+    Xor,
+}
+
+/// A shift or rotate (`vm/src/ops/shift.rs` SRx, SLx, RRx, RLx).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Shift {
+    Right,
+    Left,
+    RotateRight,
+    RotateLeft,
+}
+
+/// A conversion (`vm/src/ops/convert.rs`), each with its own fixed widths (source ->
+/// destination bytes): Bti 1 -> 2, Itb 2 -> 1, Itd 2 -> 4, Dti 4 -> 2, Dtr 4 -> 4,
+/// Round 4 -> 4, Trunc 4 -> 4, Bcdi 2 -> 2, Ibcd 2 -> 2, Seg 1 -> 1, Deco 1 -> 2,
+/// Enco 2 -> 1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Convert {
+    Bti,
+    Itb,
+    Itd,
+    Dti,
+    Dtr,
+    Round,
+    Trunc,
+    Bcdi,
+    Ibcd,
+    Seg,
+    Deco,
+    Enco,
+}
+
+impl Convert {
+    /// (source, destination) widths in bytes.
+    pub fn widths(self) -> (u8, u8) {
+        match self {
+            Convert::Bti => (1, 2),
+            Convert::Itb => (2, 1),
+            Convert::Itd => (2, 4),
+            Convert::Dti => (4, 2),
+            Convert::Dtr | Convert::Round | Convert::Trunc => (4, 4),
+            Convert::Bcdi | Convert::Ibcd => (2, 2),
+            Convert::Seg => (1, 1),
+            Convert::Deco => (1, 2),
+            Convert::Enco => (2, 1),
+        }
+    }
+}
+
+/// REAL math (dst := dst op src; `vm/src/ops/math.rs` +R, -R, *R, /R).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RealOp {
+    Add,
+    Sub,
+    Mul,
+    Div,
+}
+
 /// One straight-line operation (the semantics: `reference::step`).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Step {
@@ -190,6 +253,125 @@ pub enum Step {
     Label {
         number: u16,
     },
+    // ---- Generic families (vm/src/tier_generic.rs; helper C) -------------------------
+    // Every one below but CompareReal, Lds and Nop runs only while the top of the logic
+    // stack is 1 and leaves the stack unchanged (ManagerFun.xml Flow="Box"); "flags"
+    // are bits of the byte at `Layout::flags_at` (SMB1: 0 zero, 1 overflow, 2 negative,
+    // 3 divide by zero, 6 BCD error), each written after the result's store, the bits a
+    // step does not name kept. Values are little-endian; INT and DINT signed.
+    /// ANDx/ORx/XORx: dst := dst op src in `width` bytes (1, 2, 4); flags 0 := result
+    /// zero, 1 := 0, 2 := 0.
+    Logic {
+        op: Logic,
+        src: u32,
+        dst: u32,
+        width: u8,
+    },
+    /// INVx: the `width` bytes at `at` inverted; flags 0 := result zero, 1 := 0, 2 := 0.
+    Invert {
+        at: u32,
+        width: u8,
+    },
+    /// INCx (`up`) / DECx: the value at `at` plus or minus 1, wrapped. Width 1 is
+    /// unsigned: flags 0 := zero, 1 := wrapped, 2 := 0. Widths 2 and 4 are signed:
+    /// flags 0 := zero, 1 := signed overflow, 2 := negative.
+    IncDec {
+        at: u32,
+        width: u8,
+        up: bool,
+    },
+    /// /I (width 2), /D (width 4): dst := dst / src, truncated, signed, both read first.
+    /// src = 0: flags 0..2 := 0, 3 := 1, dst unchanged. Else flag 3 := 0, then MIN / -1:
+    /// dst unchanged, flags 0 := 0, 1 := 1, 2 := 0; else dst := the quotient and flags
+    /// 0 := zero, 1 := 0, 2 := negative.
+    Divide {
+        src: u32,
+        dst: u32,
+        width: u8,
+    },
+    /// MUL: the DINT at `dst` := the INT at `src` times the INT in the low word of the
+    /// DINT at `dst`; flags 0 := zero, 1 := 0, 2 := negative.
+    MulWide {
+        src: u32,
+        dst: u32,
+    },
+    /// DIV: n := the INT in the low word of the DINT at `dst`, d := the INT at `src`
+    /// (both read first). d = 0: as Divide by 0. Else flag 3 := 0; n = -32768 and
+    /// d = -1: dst unchanged, flags 0 := 0, 1 := 1, 2 := 0; else dst := remainder << 16
+    /// | quotient (16 bits each, truncated division), flags 0 := quotient zero, 1 := 0,
+    /// 2 := quotient negative.
+    DivWide {
+        src: u32,
+        dst: u32,
+    },
+    /// SRx/SLx/RRx/RLx: the `width`-byte value v at `at` shifted by n, the byte at
+    /// `count`. Shifts: n >= 8 * width gives 0; flag 1 := the last bit moved out (for
+    /// 1 <= n <= 8 * width: bit n - 1 of v right, bit 8 * width - n left; else 0).
+    /// Rotates by n mod 8 * width: 0 leaves v and flag 1 := 0; else flag 1 := the top
+    /// bit (right) or bit 0 (left) of the result. Then flag 0 := result zero; flag 2
+    /// kept.
+    Shift {
+        op: Shift,
+        at: u32,
+        width: u8,
+        count: u32,
+    },
+    /// A conversion from `src` to `dst` (widths: `Convert::widths`). Bti: the byte to
+    /// an INT. Itd: sign extension. Dtr: the DINT to the nearest REAL (ties to even).
+    /// Itb (INT in 0..=255), Dti (DINT fits an INT), Round (the REAL to the nearest
+    /// integer, halves away from zero), Trunc (toward zero; both then fit a DINT:
+    /// finite and in -2^31..2^31): when it fits, dst := the value; flag 1 := it did not
+    /// fit (dst unchanged). Bcdi: four BCD digits (15..12 thousands) to their value,
+    /// Ibcd: an INT in 0..=9999 to four BCD digits; when the digits are all <= 9 (the
+    /// INT in range), dst := the value; flag 6 := it was not. Seg: the seven-segment
+    /// pattern of the low nibble (bit 0 segment a .. bit 6 segment g; 0..F as
+    /// `vm/src/ops/convert.rs` SEGMENTS). Deco: 1 << the low nibble. Enco: the number of
+    /// the lowest set bit of the word; a word of 0 leaves dst; flag 1 := the word was 0.
+    Convert {
+        op: Convert,
+        src: u32,
+        dst: u32,
+    },
+    /// +R -R *R /R on the REALs at `dst` (a) and `src` (b): dst := a op b (IEEE single,
+    /// round to nearest), flags 0 := result == 0, 1 := not finite, 2 := result < 0.
+    /// Div: b == 0 (either sign): flags 0..2 := 0, 3 := 1, dst unchanged; else flag 3
+    /// := 0 first, then a and b read again and as above.
+    RealMath {
+        op: RealOp,
+        src: u32,
+        dst: u32,
+    },
+    /// SQRT: dst := sqrt(src) (REAL), flags 0 := result == 0, 1 := not finite, 2 := 0.
+    Sqrt {
+        src: u32,
+        dst: u32,
+    },
+    /// LDR/AR/OR compares of the REALs at `a` and `b` (IEEE: with a NaN only Ne holds),
+    /// combined with the stack as Compare; runs whatever the power flow.
+    CompareReal {
+        combine: Combine,
+        rel: Rel,
+        a: u32,
+        b: u32,
+    },
+    /// A MOVx whose source is a constant (an address, `&VB100`): the low `width` bytes
+    /// (1, 2, 4) of `value` stored at `dst`.
+    Const {
+        value: u32,
+        dst: u32,
+        width: u8,
+    },
+    /// SWAP: the two bytes of the word at `at` exchanged.
+    Swap {
+        at: u32,
+    },
+    /// LDS n: push level n of the stack (0 the top, before the push; 0 for n >= 32);
+    /// runs whatever the power flow.
+    Lds {
+        n: u16,
+    },
+    /// NOP: nothing (counts 1), whatever the power flow.
+    Nop,
 }
 
 /// A function: its steps, run from the first.

@@ -6,8 +6,8 @@
 //! only the L bytes its callee can touch. It trusts `check.rs`: every
 //! offset it emits has been checked against the memory's length. No unsafe code here.
 
-use cranelift_codegen::ir::condcodes::IntCC;
-use cranelift_codegen::ir::types::{I16, I32, I64, I8};
+use cranelift_codegen::ir::condcodes::{FloatCC, IntCC};
+use cranelift_codegen::ir::types::{F32, I16, I32, I64, I8};
 use cranelift_codegen::ir::{
     AbiParam, Endianness, FuncRef, InstBuilder, MemFlagsData, StackSlot, StackSlotData,
     StackSlotKind, Type, Value,
@@ -20,7 +20,7 @@ use cranelift_jit::{JITBuilder, JITModule};
 use cranelift_module::{default_libcall_names, FuncId, Linkage, Module as _};
 
 use crate::call::Code;
-use crate::{Arith, Combine, Function, JitError, Layout, Rel, Step};
+use crate::{Arith, Combine, Convert, Function, JitError, Layout, Logic, RealOp, Rel, Shift, Step};
 
 /// The compiled functions and their machine code size.
 pub(crate) struct Compiled {
@@ -136,6 +136,33 @@ fn accesses(layout: &Layout, step: &Step) -> Vec<(u32, u8)> {
         | Step::Lrd
         | Step::Lpp
         | Step::Call { .. } => Vec::new(),
+        // ---- Generic families (helper C) ----
+        Step::Logic {
+            src, dst, width, ..
+        }
+        | Step::Divide { src, dst, width } => {
+            vec![(src, width), (dst, width), (layout.flags_at, 1)]
+        }
+        Step::Invert { at, width } | Step::IncDec { at, width, .. } => {
+            vec![(at, width), (layout.flags_at, 1)]
+        }
+        Step::MulWide { src, dst } | Step::DivWide { src, dst } => {
+            vec![(src, 2), (dst, 4), (layout.flags_at, 1)]
+        }
+        Step::Shift {
+            at, width, count, ..
+        } => vec![(at, width), (count, 1), (layout.flags_at, 1)],
+        Step::Convert { op, src, dst } => {
+            let (from, to) = op.widths();
+            vec![(src, from), (dst, to), (layout.flags_at, 1)]
+        }
+        Step::RealMath { src, dst, .. } | Step::Sqrt { src, dst } => {
+            vec![(src, 4), (dst, 4), (layout.flags_at, 1)]
+        }
+        Step::CompareReal { a, b, .. } => vec![(a, 4), (b, 4)],
+        Step::Const { dst, width, .. } => vec![(dst, width)],
+        Step::Swap { at } => vec![(at, 2)],
+        Step::Lds { .. } | Step::Nop => Vec::new(),
     }
 }
 
@@ -277,6 +304,25 @@ fn boxed(step: &Step) -> bool {
     matches!(
         step,
         Step::Move { .. } | Step::Math { .. } | Step::Call { .. }
+    ) || generic_boxed(step)
+}
+
+/// The generic steps that run only with power flow and leave the stack (helper C).
+fn generic_boxed(step: &Step) -> bool {
+    matches!(
+        step,
+        Step::Logic { .. }
+            | Step::Invert { .. }
+            | Step::IncDec { .. }
+            | Step::Divide { .. }
+            | Step::MulWide { .. }
+            | Step::DivWide { .. }
+            | Step::Shift { .. }
+            | Step::Convert { .. }
+            | Step::RealMath { .. }
+            | Step::Sqrt { .. }
+            | Step::Const { .. }
+            | Step::Swap { .. }
     )
 }
 
@@ -432,6 +478,7 @@ impl Emitter<'_, '_> {
                 width,
             } => self.math(op, src, dst, width, flags_live),
             Step::Call { callee, ref args } => self.call(callee as usize, args),
+            _ if generic_boxed(step) => self.generic(step),
             _ => self.step(step),
         }
     }
@@ -510,6 +557,49 @@ impl Emitter<'_, '_> {
             }
             // `steps` emits them in a power block.
             Step::Move { .. } | Step::Math { .. } | Step::Call { .. } => s,
+            // ---- Generic families (helper C) ----
+            Step::CompareReal { combine, rel, a, b } => {
+                let x = self.load(F32, a);
+                let y = self.load(F32, b);
+                let cc = match rel {
+                    Rel::Eq => FloatCC::Equal,
+                    Rel::Ne => FloatCC::NotEqual,
+                    Rel::Lt => FloatCC::LessThan,
+                    Rel::Le => FloatCC::LessThanOrEqual,
+                    Rel::Gt => FloatCC::GreaterThan,
+                    Rel::Ge => FloatCC::GreaterThanOrEqual,
+                };
+                let r = self.b.ins().fcmp(cc, x, y);
+                let r = self.b.ins().uextend(I32, r);
+                match combine {
+                    Combine::Load => self.push(s, r),
+                    Combine::And => self.and_top(s, r),
+                    Combine::Or => self.b.ins().bor(s, r),
+                }
+            }
+            Step::Lds { n } => {
+                let level = if n < 32 {
+                    let shifted = self.b.ins().ushr_imm_u(s, i64::from(n));
+                    self.b.ins().band_imm_u(shifted, 1)
+                } else {
+                    self.k(0)
+                };
+                self.push(s, level)
+            }
+            Step::Nop => s,
+            // `steps` emits them in a power block.
+            Step::Logic { .. }
+            | Step::Invert { .. }
+            | Step::IncDec { .. }
+            | Step::Divide { .. }
+            | Step::MulWide { .. }
+            | Step::DivWide { .. }
+            | Step::Shift { .. }
+            | Step::Convert { .. }
+            | Step::RealMath { .. }
+            | Step::Sqrt { .. }
+            | Step::Const { .. }
+            | Step::Swap { .. } => s,
         };
         self.b.def_var(self.s, new);
     }
@@ -678,3 +768,523 @@ impl Emitter<'_, '_> {
         self.b.def_var(self.count, count);
     }
 }
+
+// ---- Generic families (helper C): `vm/src/ops/{math,shift,convert,moves}.rs` ----------
+
+/// A bool (the i8 of icmp/fcmp) at bit `bit` of an i32.
+fn at_bit(e: &mut Emitter<'_, '_>, cond: Value, bit: u8) -> Value {
+    let v = e.b.ins().uextend(I32, cond);
+    if bit == 0 {
+        v
+    } else {
+        e.b.ins().ishl_imm_u(v, i64::from(bit))
+    }
+}
+
+/// The low `width` bytes as an i32 mask.
+fn mask_of(width: u8) -> u32 {
+    if width >= 4 {
+        u32::MAX
+    } else {
+        (1u32 << (u32::from(width) * 8)) - 1
+    }
+}
+
+impl Emitter<'_, '_> {
+    /// The `width` bytes at `at`, zero-extended (or sign-extended) to an i32.
+    fn load32(&mut self, at: u32, width: u8, signed: bool) -> Value {
+        let (base, off) = self.addr(at);
+        let ins = self.b.ins();
+        match (width, signed) {
+            (1, false) => ins.uload8(I32, memory_flags(), base, off),
+            (1, true) => ins.sload8(I32, memory_flags(), base, off),
+            (2, false) => ins.uload16(I32, memory_flags(), base, off),
+            (2, true) => ins.sload16(I32, memory_flags(), base, off),
+            _ => ins.load(I32, memory_flags(), base, off),
+        }
+    }
+
+    /// Store the low `width` bytes of the i32 `v` at `at`.
+    fn store32(&mut self, v: Value, at: u32, width: u8) {
+        let (base, off) = self.addr(at);
+        match width {
+            1 => self.b.ins().istore8(memory_flags(), v, base, off),
+            2 => self.b.ins().istore16(memory_flags(), v, base, off),
+            _ => self.b.ins().store(memory_flags(), v, base, off),
+        };
+        self.stored(at, u32::from(width));
+    }
+
+    /// The flags byte's bits in `mask` := `bits` (an i32 with only those bits), the
+    /// others as they are in memory now (after the result's store).
+    fn write_flags(&mut self, mask: u8, bits: Value) {
+        let byte = self.byte(self.layout.flags_at);
+        let kept = self.b.ins().band_imm_u(byte, i64::from(!mask));
+        let new = self.b.ins().bor(kept, bits);
+        let (base, off) = self.addr(self.layout.flags_at);
+        self.b.ins().istore8(memory_flags(), new, base, off);
+        if mask & 0xF8 != 0 {
+            self.reload_flags();
+        }
+    }
+
+    /// Flags 0 zero, 1 overflow, 2 negative from three bools (i8); None: 0.
+    fn flags3(&mut self, zero: Value, overflow: Option<Value>, negative: Option<Value>) {
+        let mut bits = at_bit(self, zero, 0);
+        if let Some(o) = overflow {
+            let o = at_bit(self, o, 1);
+            bits = self.b.ins().bor(bits, o);
+        }
+        if let Some(n) = negative {
+            let n = at_bit(self, n, 2);
+            bits = self.b.ins().bor(bits, n);
+        }
+        self.write_flags(0x07, bits);
+    }
+
+    /// Division by zero: flags 0..2 := 0, 3 := 1.
+    fn divide_by_zero(&mut self) {
+        let eight = self.k(8);
+        self.write_flags(0x0F, eight);
+    }
+
+    /// Flag 3 := 0.
+    fn clear_divide(&mut self) {
+        let zero = self.k(0);
+        self.write_flags(0x08, zero);
+    }
+
+    /// `then` when the bool `cond` holds, else `otherwise`; both continue after.
+    fn branch(
+        &mut self,
+        cond: Value,
+        then: impl FnOnce(&mut Self),
+        otherwise: impl FnOnce(&mut Self),
+    ) {
+        let (t, o, after) = (
+            self.b.create_block(),
+            self.b.create_block(),
+            self.b.create_block(),
+        );
+        self.b.ins().brif(cond, t, &[], o, &[]);
+        self.b.seal_block(t);
+        self.b.seal_block(o);
+        self.b.switch_to_block(t);
+        then(self);
+        self.b.ins().jump(after, &[]);
+        self.b.switch_to_block(o);
+        otherwise(self);
+        self.b.ins().jump(after, &[]);
+        self.b.seal_block(after);
+        self.b.switch_to_block(after);
+    }
+
+    /// REAL flags of `r`: 0 == 0, 1 not finite, 2 < 0 (if `negative`).
+    fn real_flags(&mut self, r: Value, negative: bool) {
+        let zero = self.b.ins().f32const(0.0);
+        let is_zero = self.b.ins().fcmp(FloatCC::Equal, r, zero);
+        let abs = self.b.ins().fabs(r);
+        let inf = self.b.ins().f32const(f32::INFINITY);
+        let not_finite = self
+            .b
+            .ins()
+            .fcmp(FloatCC::UnorderedOrGreaterThanOrEqual, abs, inf);
+        let neg = negative.then(|| self.b.ins().fcmp(FloatCC::LessThan, r, zero));
+        self.flags3(is_zero, Some(not_finite), neg);
+    }
+
+    /// `v` (i32) stored at `dst` in `width` bytes when the bool `ok` holds; else the
+    /// bytes stay (written back as they were).
+    fn store_if(&mut self, ok: Value, v: Value, dst: u32, width: u8) {
+        let old = self.load32(dst, width, false);
+        let new = self.b.ins().select(ok, v, old);
+        self.store32(new, dst, width);
+    }
+
+    /// A boxed generic step, power flow known.
+    fn generic(&mut self, step: &Step) {
+        match *step {
+            Step::Logic {
+                op,
+                src,
+                dst,
+                width,
+            } => {
+                let a = self.load32(dst, width, false);
+                let b = self.load32(src, width, false);
+                let r = match op {
+                    Logic::And => self.b.ins().band(a, b),
+                    Logic::Or => self.b.ins().bor(a, b),
+                    Logic::Xor => self.b.ins().bxor(a, b),
+                };
+                self.store32(r, dst, width);
+                let zero = self.b.ins().icmp_imm_s(IntCC::Equal, r, 0);
+                self.flags3(zero, None, None);
+            }
+            Step::Invert { at, width } => {
+                let v = self.load32(at, width, false);
+                let r = self.b.ins().bnot(v);
+                let r = self.b.ins().band_imm_u(r, i64::from(mask_of(width)));
+                self.store32(r, at, width);
+                let zero = self.b.ins().icmp_imm_s(IntCC::Equal, r, 0);
+                self.flags3(zero, None, None);
+            }
+            Step::IncDec { at, width: 1, up } => {
+                let v = self.load32(at, 1, false);
+                let r = self.b.ins().iadd_imm_s(v, if up { 1 } else { -1 });
+                let r = self.b.ins().band_imm_u(r, 0xFF);
+                self.store32(r, at, 1);
+                let zero = self.b.ins().icmp_imm_s(IntCC::Equal, r, 0);
+                let wrapped = self
+                    .b
+                    .ins()
+                    .icmp_imm_u(IntCC::Equal, v, if up { 255 } else { 0 });
+                self.flags3(zero, Some(wrapped), None);
+            }
+            Step::IncDec { at, width, up } => {
+                let ty = width_type(width);
+                let v = self.load(ty, at);
+                let one = self.b.ins().iconst(ty, 1);
+                let (r, overflow) = if up {
+                    self.b.ins().sadd_overflow(v, one)
+                } else {
+                    self.b.ins().ssub_overflow(v, one)
+                };
+                self.store(r, at);
+                let zero = self.b.ins().icmp_imm_s(IntCC::Equal, r, 0);
+                let neg = self.b.ins().icmp_imm_s(IntCC::SignedLessThan, r, 0);
+                self.flags3(zero, Some(overflow), Some(neg));
+            }
+            Step::Divide { src, dst, width } => {
+                let a = self.load32(dst, width, true);
+                let b = self.load32(src, width, true);
+                let min = if width == 2 {
+                    i64::from(i16::MIN)
+                } else {
+                    i64::from(i32::MIN)
+                };
+                self.divide(a, b, min, |e, a, b| {
+                    let q = e.b.ins().sdiv(a, b);
+                    e.store32(q, dst, width);
+                    let q = if width == 2 {
+                        let q16 = e.b.ins().ireduce(I16, q);
+                        e.b.ins().sextend(I32, q16)
+                    } else {
+                        q
+                    };
+                    let zero = e.b.ins().icmp_imm_s(IntCC::Equal, q, 0);
+                    let neg = e.b.ins().icmp_imm_s(IntCC::SignedLessThan, q, 0);
+                    e.flags3(zero, None, Some(neg));
+                });
+            }
+            Step::MulWide { src, dst } => {
+                let a = self.load32(src, 2, true);
+                let b = self.load32(dst, 2, true);
+                let p = self.b.ins().imul(a, b);
+                self.store32(p, dst, 4);
+                let zero = self.b.ins().icmp_imm_s(IntCC::Equal, p, 0);
+                let neg = self.b.ins().icmp_imm_s(IntCC::SignedLessThan, p, 0);
+                self.flags3(zero, None, Some(neg));
+            }
+            Step::DivWide { src, dst } => {
+                let d = self.load32(src, 2, true);
+                let n = self.load32(dst, 2, true);
+                self.divide(n, d, i64::from(i16::MIN), |e, n, d| {
+                    let q = e.b.ins().sdiv(n, d);
+                    let r = e.b.ins().srem(n, d);
+                    let high = e.b.ins().ishl_imm_u(r, 16);
+                    let low = e.b.ins().band_imm_u(q, 0xFFFF);
+                    let v = e.b.ins().bor(high, low);
+                    e.store32(v, dst, 4);
+                    let zero = e.b.ins().icmp_imm_s(IntCC::Equal, q, 0);
+                    let neg = e.b.ins().icmp_imm_s(IntCC::SignedLessThan, q, 0);
+                    e.flags3(zero, None, Some(neg));
+                });
+            }
+            Step::Shift {
+                op,
+                at,
+                width,
+                count,
+            } => self.shift(op, at, width, count),
+            Step::Convert { op, src, dst } => self.convert(op, src, dst),
+            Step::RealMath { op, src, dst } => {
+                let body = |e: &mut Self| {
+                    let a = e.load(F32, dst);
+                    let b = e.load(F32, src);
+                    let r = match op {
+                        RealOp::Add => e.b.ins().fadd(a, b),
+                        RealOp::Sub => e.b.ins().fsub(a, b),
+                        RealOp::Mul => e.b.ins().fmul(a, b),
+                        RealOp::Div => e.b.ins().fdiv(a, b),
+                    };
+                    e.store(r, dst);
+                    e.real_flags(r, true);
+                };
+                if op == RealOp::Div {
+                    let b = self.load(F32, src);
+                    let zero = self.b.ins().f32const(0.0);
+                    let is_zero = self.b.ins().fcmp(FloatCC::Equal, b, zero);
+                    self.branch(
+                        is_zero,
+                        |e| e.divide_by_zero(),
+                        |e| {
+                            e.clear_divide();
+                            body(e);
+                        },
+                    );
+                } else {
+                    body(self);
+                }
+            }
+            Step::Sqrt { src, dst } => {
+                let x = self.load(F32, src);
+                let r = self.b.ins().sqrt(x);
+                self.store(r, dst);
+                self.real_flags(r, false);
+            }
+            Step::Const { value, dst, width } => {
+                let v = self.k(value);
+                self.store32(v, dst, width);
+            }
+            Step::Swap { at } => {
+                let v = self.load(I16, at);
+                let r = self.b.ins().bswap(v);
+                self.store(r, at);
+            }
+            _ => {}
+        }
+    }
+
+    /// A signed division of the i32s `n / d` (both read already): by zero, the
+    /// overflow `min / -1`, or `body` after flag 3 is cleared.
+    fn divide(&mut self, n: Value, d: Value, min: i64, body: impl FnOnce(&mut Self, Value, Value)) {
+        let by_zero = self.b.ins().icmp_imm_s(IntCC::Equal, d, 0);
+        self.branch(
+            by_zero,
+            |e| e.divide_by_zero(),
+            |e| {
+                e.clear_divide();
+                let is_min = e.b.ins().icmp_imm_s(IntCC::Equal, n, min);
+                let minus_one = e.b.ins().icmp_imm_s(IntCC::Equal, d, -1);
+                let overflow = e.b.ins().band(is_min, minus_one);
+                e.branch(
+                    overflow,
+                    |e| {
+                        let two = e.k(2);
+                        e.write_flags(0x07, two);
+                    },
+                    |e| body(e, n, d),
+                );
+            },
+        );
+    }
+
+    /// SRx/SLx/RRx/RLx (`Step::Shift`).
+    fn shift(&mut self, op: Shift, at: u32, width: u8, count: u32) {
+        let w = i64::from(width) * 8;
+        let m = i64::from(mask_of(width));
+        let v = self.load32(at, width, false);
+        let n = self.load32(count, 1, false);
+        let zero = self.k(0);
+        let (r, out) = match op {
+            Shift::Right | Shift::Left => {
+                let shifted = if op == Shift::Right {
+                    self.b.ins().ushr(v, n)
+                } else {
+                    let s = self.b.ins().ishl(v, n);
+                    self.b.ins().band_imm_u(s, m)
+                };
+                let over = self
+                    .b
+                    .ins()
+                    .icmp_imm_u(IntCC::UnsignedGreaterThanOrEqual, n, w);
+                let r = self.b.ins().select(over, zero, shifted);
+                // 1 <= n <= w: n - 1 < w unsigned.
+                let n1 = self.b.ins().iadd_imm_s(n, -1);
+                let moved = self.b.ins().icmp_imm_u(IntCC::UnsignedLessThan, n1, w);
+                let amount = if op == Shift::Right {
+                    n1
+                } else {
+                    let wk = self.k(w as u32);
+                    self.b.ins().isub(wk, n)
+                };
+                let bit = self.b.ins().ushr(v, amount);
+                let bit = self.b.ins().band_imm_u(bit, 1);
+                (r, self.b.ins().select(moved, bit, zero))
+            }
+            Shift::RotateRight | Shift::RotateLeft => {
+                let n = self.b.ins().band_imm_u(n, w - 1);
+                let wk = self.k(w as u32);
+                let back = self.b.ins().isub(wk, n);
+                let (a, b) = if op == Shift::RotateRight {
+                    (self.b.ins().ushr(v, n), self.b.ins().ishl(v, back))
+                } else {
+                    (self.b.ins().ishl(v, n), self.b.ins().ushr(v, back))
+                };
+                let r = self.b.ins().bor(a, b);
+                let r = self.b.ins().band_imm_u(r, m);
+                let bit = if op == Shift::RotateRight {
+                    self.b.ins().ushr_imm_u(r, w - 1)
+                } else {
+                    r
+                };
+                let bit = self.b.ins().band_imm_u(bit, 1);
+                let none = self.b.ins().icmp_imm_s(IntCC::Equal, n, 0);
+                (r, self.b.ins().select(none, zero, bit))
+            }
+        };
+        self.store32(r, at, width);
+        let is_zero = self.b.ins().icmp_imm_s(IntCC::Equal, r, 0);
+        let z = at_bit(self, is_zero, 0);
+        let out = self.b.ins().ishl_imm_u(out, 1);
+        let bits = self.b.ins().bor(z, out);
+        self.write_flags(0x03, bits);
+    }
+
+    /// One conversion (`Step::Convert`).
+    fn convert(&mut self, op: Convert, src: u32, dst: u32) {
+        let (from, to) = op.widths();
+        match op {
+            Convert::Bti => {
+                let v = self.load32(src, 1, false);
+                self.store32(v, dst, to);
+            }
+            Convert::Itd => {
+                let v = self.load32(src, 2, true);
+                self.store32(v, dst, to);
+            }
+            Convert::Dtr => {
+                let v = self.load32(src, 4, false);
+                let r = self.b.ins().fcvt_from_sint(F32, v);
+                self.store(r, dst);
+            }
+            Convert::Itb | Convert::Dti => {
+                let v = self.load32(src, from, true);
+                let ok = if op == Convert::Itb {
+                    self.b.ins().icmp_imm_u(IntCC::UnsignedLessThan, v, 256)
+                } else {
+                    let v16 = self.b.ins().ireduce(I16, v);
+                    let back = self.b.ins().sextend(I32, v16);
+                    self.b.ins().icmp(IntCC::Equal, back, v)
+                };
+                self.store_if(ok, v, dst, to);
+                let bad = self.b.ins().bxor_imm_u(ok, 1);
+                let bad = at_bit(self, bad, 1);
+                self.write_flags(0x02, bad);
+            }
+            Convert::Round | Convert::Trunc => {
+                let x = self.load(F32, src);
+                // A DINT holds round(x) and trunc(x) exactly when -2^31 <= x < 2^31
+                // (the f32 next to those bounds are integers already): false for NaN.
+                let lo = self.b.ins().f32const(-2_147_483_648.0);
+                let hi = self.b.ins().f32const(2_147_483_648.0);
+                let above = self.b.ins().fcmp(FloatCC::GreaterThanOrEqual, x, lo);
+                let below = self.b.ins().fcmp(FloatCC::LessThan, x, hi);
+                let ok = self.b.ins().band(above, below);
+                // Toward zero, saturating (never traps; the value is used only if ok).
+                let mut t = self.b.ins().fcvt_to_sint_sat(I32, x);
+                if op == Convert::Round {
+                    // x - trunc(x) is exact; halves go away from zero.
+                    let tf = self.b.ins().fcvt_from_sint(F32, t);
+                    let frac = self.b.ins().fsub(x, tf);
+                    let half = self.b.ins().f32const(0.5);
+                    let minus_half = self.b.ins().f32const(-0.5);
+                    let up = self.b.ins().fcmp(FloatCC::GreaterThanOrEqual, frac, half);
+                    let down = self
+                        .b
+                        .ins()
+                        .fcmp(FloatCC::LessThanOrEqual, frac, minus_half);
+                    let up = self.b.ins().uextend(I32, up);
+                    let down = self.b.ins().uextend(I32, down);
+                    t = self.b.ins().iadd(t, up);
+                    t = self.b.ins().isub(t, down);
+                }
+                self.store_if(ok, t, dst, 4);
+                let bad = self.b.ins().bxor_imm_u(ok, 1);
+                let bad = at_bit(self, bad, 1);
+                self.write_flags(0x02, bad);
+            }
+            Convert::Bcdi => {
+                let v = self.load32(src, 2, false);
+                let mut bad = None;
+                let mut n = self.k(0);
+                for shift in [12, 8, 4, 0] {
+                    let d = self.b.ins().ushr_imm_u(v, shift);
+                    let d = self.b.ins().band_imm_u(d, 0xF);
+                    let over = self.b.ins().icmp_imm_u(IntCC::UnsignedGreaterThan, d, 9);
+                    bad = Some(match bad {
+                        None => over,
+                        Some(b) => self.b.ins().bor(b, over),
+                    });
+                    let ten = self.b.ins().imul_imm_u(n, 10);
+                    n = self.b.ins().iadd(ten, d);
+                }
+                let bad = bad.unwrap_or(n);
+                let ok = self.b.ins().bxor_imm_u(bad, 1);
+                self.store_if(ok, n, dst, to);
+                let bad = at_bit(self, bad, 6);
+                self.write_flags(0x40, bad);
+            }
+            Convert::Ibcd => {
+                let v = self.load32(src, 2, true);
+                let ok = self
+                    .b
+                    .ins()
+                    .icmp_imm_u(IntCC::UnsignedLessThanOrEqual, v, 9999);
+                let thousands = self.b.ins().udiv_imm_u(v, 1000);
+                let hundreds = self.b.ins().udiv_imm_u(v, 100);
+                let hundreds = self.b.ins().urem_imm_u(hundreds, 10);
+                let tens = self.b.ins().udiv_imm_u(v, 10);
+                let tens = self.b.ins().urem_imm_u(tens, 10);
+                let ones = self.b.ins().urem_imm_u(v, 10);
+                let mut bcd = self.b.ins().ishl_imm_u(thousands, 12);
+                for (digit, shift) in [(hundreds, 8), (tens, 4), (ones, 0)] {
+                    let d = self.b.ins().ishl_imm_u(digit, shift);
+                    bcd = self.b.ins().bor(bcd, d);
+                }
+                self.store_if(ok, bcd, dst, to);
+                let bad = self.b.ins().bxor_imm_u(ok, 1);
+                let bad = at_bit(self, bad, 6);
+                self.write_flags(0x40, bad);
+            }
+            Convert::Seg => {
+                // The 16 patterns in two 64-bit constants, a byte each: no table in
+                // memory to bound.
+                let v = self.load32(src, 1, false);
+                let nibble = self.b.ins().band_imm_u(v, 0xF);
+                let low = self.b.ins().icmp_imm_u(IntCC::UnsignedLessThan, nibble, 8);
+                let lo = self.b.ins().iconst(I64, SEGMENTS_LO as i64);
+                let hi = self.b.ins().iconst(I64, SEGMENTS_HI as i64);
+                let table = self.b.ins().select(low, lo, hi);
+                let k = self.b.ins().band_imm_u(nibble, 7);
+                let k = self.b.ins().ishl_imm_u(k, 3);
+                let k = self.b.ins().uextend(I64, k);
+                let pattern = self.b.ins().ushr(table, k);
+                let pattern = self.b.ins().ireduce(I32, pattern);
+                let pattern = self.b.ins().band_imm_u(pattern, 0xFF);
+                self.store32(pattern, dst, to);
+            }
+            Convert::Deco => {
+                let v = self.load32(src, 1, false);
+                let nibble = self.b.ins().band_imm_u(v, 0xF);
+                let one = self.k(1);
+                let r = self.b.ins().ishl(one, nibble);
+                self.store32(r, dst, to);
+            }
+            Convert::Enco => {
+                let v = self.load32(src, 2, false);
+                let zero = self.b.ins().icmp_imm_s(IntCC::Equal, v, 0);
+                let ok = self.b.ins().bxor_imm_u(zero, 1);
+                let lowest = self.b.ins().ctz(v);
+                self.store_if(ok, lowest, dst, to);
+                let bad = at_bit(self, zero, 1);
+                self.write_flags(0x02, bad);
+            }
+        }
+    }
+}
+
+/// SEG's patterns of 0..7 and 8..F, a byte each from the low end (convert.rs SEGMENTS).
+const SEGMENTS_LO: u64 = 0x07_7D_6D_66_4F_5B_06_3F;
+const SEGMENTS_HI: u64 = 0x71_79_5E_39_7C_77_6F_7F;

@@ -5,7 +5,7 @@
 //! that `compile` accepts: it indexes the memory (panics outside it) and would not end
 //! on a cycle of Calls.
 
-use crate::{Arith, Combine, Function, Layout, Rel, Step};
+use crate::{Arith, Combine, Convert, Function, Layout, Logic, RealOp, Rel, Shift, Step};
 
 /// Run function `f` on `memory` with the logic stack `stack`, as `Module::run` does;
 /// returns the instructions executed.
@@ -206,6 +206,302 @@ pub fn step(
             }
             return 1 + executed;
         }
+        // ---- Generic families (helper C) ----
+        Step::Logic { .. }
+        | Step::Invert { .. }
+        | Step::IncDec { .. }
+        | Step::Divide { .. }
+        | Step::MulWide { .. }
+        | Step::DivWide { .. }
+        | Step::Shift { .. }
+        | Step::Convert { .. }
+        | Step::RealMath { .. }
+        | Step::Sqrt { .. }
+        | Step::Const { .. }
+        | Step::Swap { .. } => {
+            if s & 1 == 1 {
+                boxed(layout, step, mem);
+            }
+            s
+        }
+        Step::CompareReal { combine, rel, a, b } => {
+            let x = f32::from_bits(load(mem, a, 4));
+            let y = f32::from_bits(load(mem, b, 4));
+            let r = u32::from(holds(rel, x, y));
+            match combine {
+                Combine::Load => ((s << 1) | r) & mask,
+                Combine::And => s & (!1 | r),
+                Combine::Or => s | r,
+            }
+        }
+        Step::Lds { n } => {
+            let level = if n < 32 { (s >> n) & 1 } else { 0 };
+            ((s << 1) | level) & mask
+        }
+        Step::Nop => s,
     };
     1
 }
+
+// ---- Generic families (helper C): `vm/src/ops/{math,shift,convert,moves}.rs` ----------
+
+/// SM1 bit `bit` := `v` (the handlers' `Exec::flag`).
+fn flag(layout: &Layout, mem: &mut [u8], bit: u8, v: bool) {
+    let f = &mut mem[layout.flags_at as usize];
+    *f = (*f & !(1 << bit)) | (u8::from(v) << bit);
+}
+
+/// SM1.0 zero, SM1.1 overflow, SM1.2 negative (`Exec::flags`).
+fn flags(layout: &Layout, mem: &mut [u8], zero: bool, overflow: bool, negative: bool) {
+    flag(layout, mem, 0, zero);
+    flag(layout, mem, 1, overflow);
+    flag(layout, mem, 2, negative);
+}
+
+/// `Exec::divide_by_zero`.
+fn divide_by_zero(layout: &Layout, mem: &mut [u8]) {
+    flags(layout, mem, false, false, false);
+    flag(layout, mem, 3, true);
+}
+
+/// math.rs `store_int`: the exact result wrapped into `width` bytes, stored, flags.
+fn store_int(layout: &Layout, mem: &mut [u8], at: u32, width: u8, exact: i64) {
+    let bits = u32::from(width) * 8;
+    let (lo, hi) = (-(1i64 << (bits - 1)), (1i64 << (bits - 1)) - 1);
+    let wrapped = ((exact as i128).rem_euclid(1i128 << bits)) as i64;
+    let signed = if wrapped > hi {
+        wrapped - (1i64 << bits)
+    } else {
+        wrapped
+    };
+    store(mem, at, width, wrapped as u32);
+    flags(
+        layout,
+        mem,
+        signed == 0,
+        !(lo..=hi).contains(&exact),
+        signed < 0,
+    );
+}
+
+fn width_mask(width: u8) -> u32 {
+    if width >= 4 {
+        u32::MAX
+    } else {
+        (1u32 << (u32::from(width) * 8)) - 1
+    }
+}
+
+/// A REAL already rounded to an integer into the DINT at `dst`, or flag 1.
+fn real_to_dint(layout: &Layout, mem: &mut [u8], dst: u32, r: f32) {
+    let ok = r.is_finite() && (-2_147_483_648.0..2_147_483_648.0).contains(&r);
+    if ok {
+        store(mem, dst, 4, (r as i32) as u32);
+    }
+    flag(layout, mem, 1, !ok);
+}
+
+/// The boxed generic steps, power flow known (their handlers, line by line).
+fn boxed(layout: &Layout, step: &Step, mem: &mut [u8]) {
+    match *step {
+        Step::Logic {
+            op,
+            src,
+            dst,
+            width,
+        } => {
+            let (a, b) = (load(mem, dst, width), load(mem, src, width));
+            let r = match op {
+                Logic::And => a & b,
+                Logic::Or => a | b,
+                Logic::Xor => a ^ b,
+            } & width_mask(width);
+            store(mem, dst, width, r);
+            flags(layout, mem, r == 0, false, false);
+        }
+        Step::Invert { at, width } => {
+            let r = !load(mem, at, width) & width_mask(width);
+            store(mem, at, width, r);
+            flags(layout, mem, r == 0, false, false);
+        }
+        Step::IncDec { at, width, up } => {
+            let delta = if up { 1 } else { -1 };
+            if width == 1 {
+                let v = i64::from(load(mem, at, 1)) + delta;
+                let r = v.rem_euclid(256);
+                store(mem, at, 1, r as u32);
+                flags(layout, mem, r == 0, !(0..=255).contains(&v), false);
+            } else {
+                let v = sign_extend(load(mem, at, width), width) + delta;
+                store_int(layout, mem, at, width, v);
+            }
+        }
+        Step::Divide { src, dst, width } => {
+            let a = sign_extend(load(mem, dst, width), width);
+            let b = sign_extend(load(mem, src, width), width);
+            if b == 0 {
+                divide_by_zero(layout, mem);
+                return;
+            }
+            flag(layout, mem, 3, false);
+            let q = a / b;
+            if q > (1i64 << (u32::from(width) * 8 - 1)) - 1 {
+                flags(layout, mem, false, true, false);
+                return;
+            }
+            store_int(layout, mem, dst, width, q);
+        }
+        Step::MulWide { src, dst } => {
+            let a = sign_extend(load(mem, src, 2), 2);
+            let b = i64::from(load(mem, dst, 4) as u16 as i16);
+            store_int(layout, mem, dst, 4, a * b);
+        }
+        Step::DivWide { src, dst } => {
+            let d = sign_extend(load(mem, src, 2), 2);
+            let n = i64::from(load(mem, dst, 4) as u16 as i16);
+            if d == 0 {
+                divide_by_zero(layout, mem);
+                return;
+            }
+            flag(layout, mem, 3, false);
+            if n == -32768 && d == -1 {
+                flags(layout, mem, false, true, false);
+                return;
+            }
+            let (q, r) = (n.wrapping_div(d), n.wrapping_rem(d));
+            let v = (u32::from(r as u16) << 16) | u32::from(q as u16);
+            store(mem, dst, 4, v);
+            flags(layout, mem, q == 0, !(-32768..=32767).contains(&q), q < 0);
+        }
+        Step::Shift {
+            op,
+            at,
+            width,
+            count,
+        } => {
+            let w = u32::from(width) * 8;
+            let m = width_mask(width);
+            let v = load(mem, at, width) & m;
+            let n = load(mem, count, 1) & 0xFF;
+            let (r, out) = match op {
+                Shift::Right => (
+                    if n >= w { 0 } else { v >> n },
+                    (1..=w).contains(&n) && (v >> (n - 1)) & 1 == 1,
+                ),
+                Shift::Left => (
+                    if n >= w { 0 } else { (v << n) & m },
+                    (1..=w).contains(&n) && (v >> (w - n)) & 1 == 1,
+                ),
+                Shift::RotateRight | Shift::RotateLeft => {
+                    let n = n % w;
+                    if n == 0 {
+                        (v, false)
+                    } else if op == Shift::RotateRight {
+                        let r = ((v >> n) | (v << (w - n))) & m;
+                        (r, (r >> (w - 1)) & 1 == 1)
+                    } else {
+                        let r = ((v << n) | (v >> (w - n))) & m;
+                        (r, r & 1 == 1)
+                    }
+                }
+            };
+            store(mem, at, width, r);
+            flag(layout, mem, 0, r == 0);
+            flag(layout, mem, 1, out);
+        }
+        Step::Convert { op, src, dst } => convert(layout, mem, op, src, dst),
+        Step::RealMath { op, src, dst } => {
+            if op == RealOp::Div {
+                if f32::from_bits(load(mem, src, 4)) == 0.0 {
+                    divide_by_zero(layout, mem);
+                    return;
+                }
+                flag(layout, mem, 3, false);
+            }
+            let a = f32::from_bits(load(mem, dst, 4));
+            let b = f32::from_bits(load(mem, src, 4));
+            let r = match op {
+                RealOp::Add => a + b,
+                RealOp::Sub => a - b,
+                RealOp::Mul => a * b,
+                RealOp::Div => a / b,
+            };
+            store(mem, dst, 4, r.to_bits());
+            flags(layout, mem, r == 0.0, !r.is_finite(), r < 0.0);
+        }
+        Step::Sqrt { src, dst } => {
+            let r = f32::from_bits(load(mem, src, 4)).sqrt();
+            store(mem, dst, 4, r.to_bits());
+            flags(layout, mem, r == 0.0, !r.is_finite(), false);
+        }
+        Step::Const { value, dst, width } => store(mem, dst, width, value),
+        Step::Swap { at } => {
+            let v = load(mem, at, 2) as u16;
+            store(mem, at, 2, u32::from(v.swap_bytes()));
+        }
+        _ => unreachable!("not a boxed generic step"),
+    }
+}
+
+/// convert.rs, one conversion.
+fn convert(layout: &Layout, mem: &mut [u8], op: Convert, src: u32, dst: u32) {
+    let (from, to) = op.widths();
+    let v = load(mem, src, from);
+    match op {
+        Convert::Bti => store(mem, dst, to, v & 0xFF),
+        Convert::Itb => {
+            let v = v as u16 as i16;
+            let ok = (0..=255).contains(&v);
+            if ok {
+                store(mem, dst, to, v as u32);
+            }
+            flag(layout, mem, 1, !ok);
+        }
+        Convert::Itd => store(mem, dst, to, v as u16 as i16 as i32 as u32),
+        Convert::Dti => {
+            let v = v as i32;
+            let ok = i16::try_from(v).is_ok();
+            if ok {
+                store(mem, dst, to, u32::from(v as u16));
+            }
+            flag(layout, mem, 1, !ok);
+        }
+        Convert::Dtr => store(mem, dst, to, (v as i32 as f32).to_bits()),
+        Convert::Round => real_to_dint(layout, mem, dst, f32::from_bits(v).round()),
+        Convert::Trunc => real_to_dint(layout, mem, dst, f32::from_bits(v).trunc()),
+        Convert::Bcdi => {
+            let v = v & 0xFFFF;
+            let digits = [(v >> 12) & 0xF, (v >> 8) & 0xF, (v >> 4) & 0xF, v & 0xF];
+            let ok = digits.iter().all(|d| *d <= 9);
+            if ok {
+                store(mem, dst, to, digits.iter().fold(0, |acc, d| acc * 10 + d));
+            }
+            flag(layout, mem, 6, !ok);
+        }
+        Convert::Ibcd => {
+            let v = v as u16 as i16;
+            let ok = (0..=9999).contains(&v);
+            if ok {
+                let v = v as u32;
+                let bcd =
+                    ((v / 1000) << 12) | ((v / 100 % 10) << 8) | ((v / 10 % 10) << 4) | (v % 10);
+                store(mem, dst, to, bcd);
+            }
+            flag(layout, mem, 6, !ok);
+        }
+        Convert::Seg => store(mem, dst, to, SEGMENTS[(v & 0xF) as usize]),
+        Convert::Deco => store(mem, dst, to, 1 << (v & 0xF)),
+        Convert::Enco => {
+            let v = v & 0xFFFF;
+            if v != 0 {
+                store(mem, dst, to, v.trailing_zeros());
+            }
+            flag(layout, mem, 1, v == 0);
+        }
+    }
+}
+
+/// Seven-segment patterns of 0..F (convert.rs).
+const SEGMENTS: [u32; 16] = [
+    0x3F, 0x06, 0x5B, 0x4F, 0x66, 0x6D, 0x7D, 0x07, 0x7F, 0x6F, 0x77, 0x7C, 0x39, 0x5E, 0x79, 0x71,
+];

@@ -5,7 +5,10 @@
 
 #![allow(dead_code, reason = "each includer uses a part")]
 
-use gutta_jit::{compile, reference, Arg, Arith, Combine, Function, Layout, Rel, Step};
+use gutta_jit::{
+    compile, reference, Arg, Arith, Combine, Convert, Function, Layout, Logic, RealOp, Rel, Shift,
+    Step,
+};
 
 /// Reads bytes; zeros once they run out (every input decodes to something).
 pub struct Reader<'a> {
@@ -126,6 +129,9 @@ fn bit(r: &mut Reader, loose: bool) -> u8 {
 }
 
 fn step(r: &mut Reader, layout: &Layout, f: u32, functions: u32, loose: bool) -> Step {
+    if r.byte() & 3 == 0 {
+        return generic_step(r, layout, loose);
+    }
     let kind = r.below(18);
     match kind {
         0 => Step::Network,
@@ -209,6 +215,133 @@ fn step(r: &mut Reader, layout: &Layout, f: u32, functions: u32, loose: bool) ->
                 .collect();
             Step::Call { callee, args }
         }
+    }
+}
+
+// ---- Generic families (helper C) ----------------------------------------------------
+
+const CONVERTS: [Convert; 12] = [
+    Convert::Bti,
+    Convert::Itb,
+    Convert::Itd,
+    Convert::Dti,
+    Convert::Dtr,
+    Convert::Round,
+    Convert::Trunc,
+    Convert::Bcdi,
+    Convert::Ibcd,
+    Convert::Seg,
+    Convert::Deco,
+    Convert::Enco,
+];
+
+/// One of the generic families' steps.
+fn generic_step(r: &mut Reader, layout: &Layout, loose: bool) -> Step {
+    let kind = r.below(15);
+    let any = |r: &mut Reader, w: u8| index(r, layout, w, loose);
+    match kind {
+        0 => {
+            let op = [Logic::And, Logic::Or, Logic::Xor][r.below(3) as usize];
+            let width = width(r, &[1, 2, 4], loose);
+            let w = width.min(4);
+            Step::Logic {
+                op,
+                src: any(r, w),
+                dst: any(r, w),
+                width,
+            }
+        }
+        1 => {
+            let width = width(r, &[1, 2, 4], loose);
+            Step::Invert {
+                at: any(r, width.min(4)),
+                width,
+            }
+        }
+        2 => {
+            let width = width(r, &[1, 2, 4], loose);
+            Step::IncDec {
+                at: any(r, width.min(4)),
+                width,
+                up: r.byte() & 1 == 1,
+            }
+        }
+        3 => {
+            let width = width(r, &[2, 4], loose);
+            let w = width.min(4);
+            Step::Divide {
+                src: any(r, w),
+                dst: any(r, w),
+                width,
+            }
+        }
+        4 => Step::MulWide {
+            src: any(r, 2),
+            dst: any(r, 4),
+        },
+        5 => Step::DivWide {
+            src: any(r, 2),
+            dst: any(r, 4),
+        },
+        6 => {
+            let op = [
+                Shift::Right,
+                Shift::Left,
+                Shift::RotateRight,
+                Shift::RotateLeft,
+            ][r.below(4) as usize];
+            let width = width(r, &[1, 2, 4], loose);
+            Step::Shift {
+                op,
+                at: any(r, width.min(4)),
+                width,
+                count: any(r, 1),
+            }
+        }
+        7 => {
+            let op = CONVERTS[r.below(CONVERTS.len() as u32) as usize];
+            let (from, to) = op.widths();
+            Step::Convert {
+                op,
+                src: any(r, from),
+                dst: any(r, to),
+            }
+        }
+        8 => {
+            let op = [RealOp::Add, RealOp::Sub, RealOp::Mul, RealOp::Div][r.below(4) as usize];
+            Step::RealMath {
+                op,
+                src: any(r, 4),
+                dst: any(r, 4),
+            }
+        }
+        9 => Step::Sqrt {
+            src: any(r, 4),
+            dst: any(r, 4),
+        },
+        10 => {
+            let combine = [Combine::Load, Combine::And, Combine::Or][r.below(3) as usize];
+            let rel = [Rel::Eq, Rel::Ne, Rel::Lt, Rel::Le, Rel::Gt, Rel::Ge][r.below(6) as usize];
+            Step::CompareReal {
+                combine,
+                rel,
+                a: any(r, 4),
+                b: any(r, 4),
+            }
+        }
+        11 => {
+            let width = width(r, &[1, 2, 4], loose);
+            Step::Const {
+                value: r.u32(),
+                dst: any(r, width.min(4)),
+                width,
+            }
+        }
+        12 => Step::Swap { at: any(r, 2) },
+        13 => Step::Lds {
+            n: u16::from(r.byte() % 40),
+        },
+        _ => Step::Nop,
     }
 }
 
