@@ -71,6 +71,22 @@ const TABLE: &[(&str, Tier)] = &[
     ("CompareD", Plain(&["Compare"], &["Compare"])),
     ("Call", Call("Call")),
     (
+        "Timer",
+        Interpreted("not translated yet (Step::Timer: helper B, issue 31)"),
+    ),
+    (
+        "Counter",
+        Interpreted("not translated yet (Step::Counter: helper B, issue 31)"),
+    ),
+    (
+        "Edge",
+        Interpreted("not translated yet (Step::Edge: helper B, issue 31)"),
+    ),
+    (
+        "SetBits",
+        Interpreted("not translated yet (Step::SetBits: helper B, issue 31)"),
+    ),
+    (
         "Generic",
         Interpreted("any other instruction: its semantic by mnemonic (ops/), run-time lookups"),
     ),
