@@ -26,13 +26,19 @@ use crate::memory::Memory;
 use crate::op::{Arith, Combine, CounterKind, Op, Preset, Rel, TimerKind};
 use crate::program::Program;
 
-/// Regions shorter than this (in instructions) stay interpreted: entering native code
-/// costs about as much as interpreting a couple of operations.
-const MIN_REGION: u64 = 3;
+/// What entering a region costs and what each instruction it runs natively saves, in
+/// picoseconds, measured by `benches/regions.rs` (docs/vm-jit.md, "Regions"; 2-core
+/// Xeon, 2026-11-28: entry 3.7 ns, gain 0.68 ns per bit-logic instruction, the family
+/// the interpreter runs fastest, so the least any region saves).
+const ENTRY_PS: u64 = 3_700;
+const GAIN_PS: u64 = 680;
 
-/// Whether a region of at most `max_count` instructions pays for its entry.
-fn worth(max_count: u64) -> bool {
-    max_count >= MIN_REGION
+/// Whether a region of at most `max_count` instructions, with CALLs nested `depth` deep,
+/// saves more than its entry costs: from 6 instructions on, or with a CALL (interpreted,
+/// a CALL pushes and pops a frame and copies L and its arguments: more than an entry).
+/// Shorter ones stay interpreted.
+fn worth(max_count: u64, depth: u32) -> bool {
+    depth > 0 || max_count.saturating_mul(GAIN_PS) >= ENTRY_PS
 }
 
 /// Longer runs are cut into regions of this many records: Cranelift compiles a few
@@ -339,7 +345,7 @@ impl Builder<'_> {
         let n = unit.ops.len();
         if n <= MAX_REGION {
             if let Some(whole) = self.whole_unit(page) {
-                if !worth(whole.max_count) {
+                if !worth(whole.max_count, whole.depth) {
                     return Vec::new();
                 }
                 return vec![Region {
@@ -379,7 +385,7 @@ impl Builder<'_> {
             let (max_count, depth) = run.iter().flatten().fold((0u64, 0u32), |(c, d), s| {
                 (c.saturating_add(s.1), d.max(s.2))
             });
-            if !worth(max_count) {
+            if !worth(max_count, depth) {
                 continue;
             }
             regions.push(Region {
