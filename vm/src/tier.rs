@@ -10,11 +10,12 @@
 //!
 //! A region starts at record 0 of a unit or right after a record the tier cannot take
 //! (those are the only records the interpreter reaches other than by falling through,
-//! apart from a resumed pause or an interpreted JMP landing inside a region, which run
-//! interpreted up to the next region). A JMP inside a region lands inside it (its LBL
-//! is later in the same region, or the JMP is left to the interpreter).
+//! apart from a resumed pause, which runs interpreted up to the next region, and where
+//! an interpreted JMP lands, where a region starts too). A JMP inside a region lands
+//! inside it (its LBL is later in the same region, or the JMP is left to the
+//! interpreter).
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::sync::{Arc, Mutex, PoisonError, Weak};
 
 use gutta_jit::{Arg, Function, Layout, Module, Step};
@@ -214,6 +215,18 @@ enum Control {
     Other,
 }
 
+/// Where the interpreter continues when JMP record `pc` jumps: after its LBL.
+fn landing(unit: &Unit, pc: usize) -> Option<usize> {
+    let (id, _, operands) = unit.instruction(pc)?;
+    if unit.mnemonic(id) != "JMP" {
+        return None;
+    }
+    match crate::memory::operand(*operands.first()?) {
+        Ok(Operand::Label(n)) => unit.labels.get(&n).map(|&j| j + 1),
+        _ => None,
+    }
+}
+
 /// Whether record `pc` is a JMP or LBL, and what the tier makes of it (`Builder::regions`
 /// also ends a region at a JMP whose LBL lies beyond it).
 fn jump_or_label(unit: &Unit, pc: usize) -> Option<Control> {
@@ -360,11 +373,20 @@ impl Builder<'_> {
         let mut steps: Vec<Option<(Step, u64, u32)>> =
             (0..n).map(|pc| self.step(&unit, pc)).collect();
         // A JMP whose LBL is not later in its region stays interpreted (it ends the
-        // region); that can move a region's end before another JMP's LBL: again until
-        // none moves.
+        // region), and where an interpreted JMP lands (after its LBL) a region starts,
+        // so the interpreter enters it there; either can move a region's end before
+        // another JMP's LBL: again until nothing moves.
+        let mut starts = BTreeSet::new();
         loop {
             let mut moved = false;
-            for (start, end) in spans(&steps) {
+            for (pc, step) in steps.iter().enumerate() {
+                if step.is_none() {
+                    if let Some(landing) = landing(&unit, pc) {
+                        moved |= landing < n && starts.insert(landing);
+                    }
+                }
+            }
+            for (start, end) in spans(&steps, &starts) {
                 for (pc, step) in steps.iter_mut().enumerate().take(end).skip(start) {
                     if let Some((Step::Jump { label }, _, _)) = step {
                         let inside = unit.labels.get(label).is_some_and(|&j| j > pc && j < end);
@@ -380,7 +402,7 @@ impl Builder<'_> {
             }
         }
         let mut regions = Vec::new();
-        for (start, end) in spans(&steps) {
+        for (start, end) in spans(&steps, &starts) {
             let run = &mut steps[start..end];
             let (max_count, depth) = run.iter().flatten().fold((0u64, 0u32), |(c, d), s| {
                 (c.saturating_add(s.1), d.max(s.2))
@@ -406,8 +428,8 @@ impl Builder<'_> {
 }
 
 /// The runs of records that compile (`Some`), as (first, end) record ranges, cut every
-/// `MAX_REGION` records.
-fn spans<T>(steps: &[Option<T>]) -> Vec<(usize, usize)> {
+/// `MAX_REGION` records and where a region must start (`starts`).
+fn spans<T>(steps: &[Option<T>], starts: &BTreeSet<usize>) -> Vec<(usize, usize)> {
     let mut spans = Vec::new();
     let mut pc = 0;
     while pc < steps.len() {
@@ -416,7 +438,11 @@ fn spans<T>(steps: &[Option<T>]) -> Vec<(usize, usize)> {
             continue;
         }
         let start = pc;
-        while pc < steps.len() && steps[pc].is_some() && pc - start < MAX_REGION {
+        while pc < steps.len()
+            && steps[pc].is_some()
+            && pc - start < MAX_REGION
+            && (pc == start || !starts.contains(&pc))
+        {
             pc += 1;
         }
         spans.push((start, pc));
@@ -522,7 +548,7 @@ mod tests {
     //! interpreter scan by scan (docs/vm-jit.md, "Regions"): timers of each kind,
     //! counters, edges, S/R, JMP taken and not, a JMP over a CALL, a JMP whose LBL lies
     //! past a record the tier leaves to the interpreter (DISI: the JMP stays interpreted
-    //! and lands inside the next region, which then runs interpreted up to its end).
+    //! and a region starts where it lands).
 
     use std::sync::Arc;
 
@@ -597,6 +623,8 @@ LD SM0.0
 = Q1.0
 A I0.1
 = Q1.1
+O I0.2
+= Q1.2
 END_ORGANIZATION_BLOCK
 SUBROUTINE_BLOCK S0:SBR0
 BEGIN
@@ -639,8 +667,10 @@ END_SUBROUTINE_BLOCK
             TierState::Compiled { regions, .. } => *regions,
             other => panic!("not compiled: {other:?}"),
         };
-        // MAIN up to the DISI, after it, and SBR0 whole (its own region and callee).
-        assert!((2..=4).contains(&regions), "{regions} regions");
+        // MAIN up to the JMP 2 (which stays interpreted: its LBL lies past the DISI),
+        // MAIN from where JMP 2 lands (the runs between, of 2 and 3 instructions, are
+        // not worth their entry), and SBR0 whole.
+        assert_eq!(regions, 3);
         let i0 = compiled.target().memory.parse_address("IB0").expect("IB0");
         for scan in 0..400u32 {
             // Inputs that hold for a while, so timers run out and edges are rare.
