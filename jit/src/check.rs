@@ -1,10 +1,12 @@
 //! What `compile` demands before any code is generated: every memory access a step can
 //! make lies inside `Layout::memory_len` (so the generated code, which does no checks of
-//! its own, never leaves the slice `Module::run` was given), widths and bit numbers are
-//! ones the steps have, and Calls name existing functions without a cycle. It generates
-//! nothing.
+//! its own, never leaves the slice `Module::run` was given: a timer's word, preset word
+//! and 8 bytes of state, a counter's word, preset word and 4 bytes of state, an edge's
+//! byte, every byte an S/R touches), widths and bit numbers are ones the steps have,
+//! timers have a resolution, every Jump has its Label later in its function (once),
+//! and Calls name existing functions without a cycle. It generates nothing.
 
-use crate::{Function, JitError, Layout, Step};
+use crate::{Function, JitError, Layout, Preset, Step};
 
 /// Check the layout and every step of every function.
 pub(crate) fn check(layout: &Layout, functions: &[Function]) -> Result<(), JitError> {
@@ -23,21 +25,65 @@ pub(crate) fn check(layout: &Layout, functions: &[Function]) -> Result<(), JitEr
         for (step, s) in f.steps.iter().enumerate() {
             check_step(layout, functions.len(), s).map_err(|e| e.at(function, step))?;
         }
+        labels(function, f)?;
     }
     no_cycles(functions)
 }
 
+/// Every Label number once per function, every Jump to a Label later in it (forward
+/// jumps only: the function still runs each step at most once).
+fn labels(function: usize, f: &Function) -> Result<(), JitError> {
+    let mut seen = std::collections::BTreeSet::new();
+    for (step, s) in f.steps.iter().enumerate() {
+        if let Step::Label { number } = *s {
+            if !seen.insert(number) {
+                return Err(JitError::DuplicateLabel {
+                    function,
+                    step,
+                    label: number,
+                });
+            }
+        }
+    }
+    for (step, s) in f.steps.iter().enumerate() {
+        if let Step::Jump { label } = *s {
+            let later = f.steps[step + 1..].contains(&Step::Label { number: label });
+            if !later {
+                return Err(JitError::NoLabel {
+                    function,
+                    step,
+                    label,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The bytes of `n` bits from bit `bit` of the byte at `at` on: (first byte, count;
+/// none when `n` is 0).
+pub(crate) fn bit_span(at: u32, bit: u8, n: u16) -> (u64, u64) {
+    if n == 0 {
+        return (u64::from(at), 0);
+    }
+    let bits = u64::from(bit) + u64::from(n);
+    (u64::from(at), bits.div_ceil(8))
+}
+
+fn preset(layout: &Layout, p: Preset) -> Result<(), Fault> {
+    match p {
+        Preset::Const(_) => Ok(()),
+        Preset::Word(at) => inside(layout, at, 2),
+    }
+}
+
 /// A step's fault before it knows where it is.
 enum Fault {
-    OutOfRange {
-        at: u32,
-        width: u8,
-    },
+    OutOfRange { at: u32, width: u8 },
     BitNumber(u8),
     Width(u8),
     NoSuchCallee(u32),
-    /// Not compiled yet (issue 31 in progress).
-    Unsupported,
+    Resolution,
 }
 
 impl Fault {
@@ -59,7 +105,7 @@ impl Fault {
                 step,
                 width,
             },
-            Fault::Unsupported => JitError::Unsupported { function, step },
+            Fault::Resolution => JitError::Resolution { function, step },
             Fault::NoSuchCallee(callee) => JitError::NoSuchCallee {
                 function,
                 step,
@@ -92,12 +138,49 @@ fn width(width: u8, allowed: &[u8]) -> Result<(), Fault> {
 
 fn check_step(layout: &Layout, functions: usize, step: &Step) -> Result<(), Fault> {
     match *step {
-        Step::Timer { .. }
-        | Step::Counter { .. }
-        | Step::Edge { .. }
-        | Step::SetBits { .. }
-        | Step::Jump { .. }
-        | Step::Label { .. } => Err(Fault::Unsupported),
+        Step::Timer {
+            at,
+            state,
+            preset: p,
+            res,
+            ..
+        } => {
+            inside(layout, at, 2)?;
+            inside(layout, state, 8)?;
+            preset(layout, p)?;
+            if res == 0 {
+                return Err(Fault::Resolution);
+            }
+            Ok(())
+        }
+        Step::Counter {
+            at,
+            state,
+            preset: p,
+            ..
+        } => {
+            inside(layout, at, 2)?;
+            inside(layout, state, 4)?;
+            preset(layout, p)
+        }
+        Step::Edge { state, .. } => inside(layout, state, 1),
+        Step::SetBits { at, bit: b, n, .. } => {
+            if b > 7 {
+                return Err(Fault::BitNumber(b));
+            }
+            let (first, bytes) = bit_span(at, b, n);
+            if first + bytes > u64::from(layout.memory_len) {
+                // The last byte it would touch.
+                let last = first + bytes - 1;
+                return Err(Fault::OutOfRange {
+                    at: u32::try_from(last).unwrap_or(u32::MAX),
+                    width: 1,
+                });
+            }
+            Ok(())
+        }
+        // Checked per function (`labels`).
+        Step::Jump { .. } | Step::Label { .. } => Ok(()),
         Step::Network | Step::Not | Step::Ald | Step::Old | Step::Lps | Step::Lrd | Step::Lpp => {
             Ok(())
         }

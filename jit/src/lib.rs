@@ -1,7 +1,7 @@
-//! gutta-jit: compiles runs of the VM's straight-line operations (bit logic, moves,
-//! integer math, compares, planned CALLs) to native code with Cranelift, with exactly the
-//! semantics of `vm/src/fast.rs` and `vm/src/calls.rs` (`reference` is the executable
-//! statement of them). It knows nothing of images, units or the VM: the VM translates
+//! gutta-jit: compiles runs of the VM's operations (bit logic, moves, integer math,
+//! compares, planned CALLs, timers, counters, edges, S/R, forward jumps) to native code
+//! with Cranelift, with exactly the semantics of `vm/src/fast.rs`, `vm/src/calls.rs` and
+//! `vm/src/ops/` (`reference` is the executable statement of them). It knows nothing of images, units or the VM: the VM translates
 //! its pre-decoded operations into `Step`s. The soundness argument (docs/vm-jit.md):
 //! `compile` checks every memory index against `Layout::memory_len` (`check.rs`) and
 //! `Module::run` checks the slice's length, so the generated code only touches the slice.
@@ -427,8 +427,20 @@ pub enum JitError {
     },
     /// A cycle of Calls through `function` (the VM never compiles recursion).
     Recursion { function: usize },
-    /// A step the code generator does not compile (yet).
-    Unsupported { function: usize, step: usize },
+    /// A Timer whose resolution (`res`, ms per unit) is 0 (its clock would divide by it).
+    Resolution { function: usize, step: usize },
+    /// A Jump without a Label of its number later in the same function.
+    NoLabel {
+        function: usize,
+        step: usize,
+        label: u16,
+    },
+    /// A second Label of the same number in one function.
+    DuplicateLabel {
+        function: usize,
+        step: usize,
+        label: u16,
+    },
     /// Cranelift failed: the host ISA is not supported, or code generation failed.
     Cranelift(String),
 }
@@ -461,9 +473,22 @@ impl fmt::Display for JitError {
                 step,
                 callee,
             } => write!(f, "function {function}, step {step}: calls function {callee}, which does not exist"),
-            JitError::Unsupported { function, step } => {
-                write!(f, "function {function}, step {step}: not compiled")
+            JitError::Resolution { function, step } => {
+                write!(f, "function {function}, step {step}: a timer of resolution 0 ms")
             }
+            JitError::NoLabel {
+                function,
+                step,
+                label,
+            } => write!(
+                f,
+                "function {function}, step {step}: jump to label {label}, which does not follow it in the function"
+            ),
+            JitError::DuplicateLabel {
+                function,
+                step,
+                label,
+            } => write!(f, "function {function}, step {step}: label {label} is already defined"),
             JitError::Recursion { function } => {
                 write!(f, "function {function} calls itself through a cycle of calls")
             }

@@ -9,7 +9,7 @@
 use cranelift_codegen::ir::condcodes::{FloatCC, IntCC};
 use cranelift_codegen::ir::types::{F32, I16, I32, I64, I8};
 use cranelift_codegen::ir::{
-    AbiParam, Endianness, FuncRef, InstBuilder, MemFlagsData, StackSlot, StackSlotData,
+    AbiParam, Block, Endianness, FuncRef, InstBuilder, MemFlagsData, StackSlot, StackSlotData,
     StackSlotKind, Type, Value,
 };
 use cranelift_codegen::isa::TargetFrontendConfig;
@@ -20,7 +20,10 @@ use cranelift_jit::{JITBuilder, JITModule};
 use cranelift_module::{default_libcall_names, FuncId, Linkage, Module as _};
 
 use crate::call::Code;
-use crate::{Arith, Combine, Convert, Function, JitError, Layout, Logic, RealOp, Rel, Shift, Step};
+use crate::{
+    Arith, Combine, Convert, CounterKind, Function, JitError, Layout, Logic, Preset, RealOp, Rel,
+    Shift, Step, TimerKind,
+};
 
 /// The compiled functions and their machine code size.
 pub(crate) struct Compiled {
@@ -110,12 +113,34 @@ fn mark(layout: &Layout, touched: &mut [bool], at: u32, width: u8) {
 /// The memory (index, width) a step other than a Call reads or writes.
 fn accesses(layout: &Layout, step: &Step) -> Vec<(u32, u8)> {
     match *step {
-        Step::Timer { .. }
-        | Step::Counter { .. }
-        | Step::Edge { .. }
-        | Step::SetBits { .. }
-        | Step::Jump { .. }
-        | Step::Label { .. } => unreachable!("refused by check"),
+        Step::Timer {
+            at, state, preset, ..
+        } => {
+            let mut v = vec![(at, 2), (state, 8)];
+            if let Preset::Word(p) = preset {
+                v.push((p, 2));
+            }
+            v
+        }
+        Step::Counter {
+            at, state, preset, ..
+        } => {
+            let mut v = vec![(at, 2), (state, 4)];
+            if let Preset::Word(p) = preset {
+                v.push((p, 2));
+            }
+            v
+        }
+        Step::Edge { state, .. } => vec![(state, 1)],
+        Step::SetBits { at, bit, n, .. } => {
+            // In pieces of at most 128 bytes (widths are u8); inside the memory (check).
+            let (first, bytes) = crate::check::bit_span(at, bit, n);
+            (0..bytes)
+                .step_by(128)
+                .map(|k| ((first + k) as u32, (bytes - k).min(128) as u8))
+                .collect()
+        }
+        Step::Jump { .. } | Step::Label { .. } => Vec::new(),
         Step::Ld { at, .. }
         | Step::Ldn { at, .. }
         | Step::A { at, .. }
@@ -287,6 +312,7 @@ fn build(
         plan,
         callees,
         callee_stack: None,
+        labels: std::collections::BTreeMap::new(),
     };
     e.reload_flags();
     e.steps(&function.steps);
@@ -298,12 +324,12 @@ fn build(
     b.finalize(frontend);
 }
 
-/// Move, Math and Call run only with power flow and leave the logic stack as it was (a
-/// Call restores the caller's): a run of them shares one test of the top.
+/// Move, Math, Call and SetBits run only with power flow and leave the logic stack as it
+/// was (a Call restores the caller's): a run of them shares one test of the top.
 fn boxed(step: &Step) -> bool {
     matches!(
         step,
-        Step::Move { .. } | Step::Math { .. } | Step::Call { .. }
+        Step::Move { .. } | Step::Math { .. } | Step::Call { .. } | Step::SetBits { .. }
     ) || generic_boxed(step)
 }
 
@@ -366,6 +392,8 @@ struct Emitter<'a, 'b> {
     callees: &'b [Option<FuncRef>],
     /// The callee's logic stack of a real call, made at the first one.
     callee_stack: Option<StackSlot>,
+    /// Per label number, the block after its Label, made at the first Jump to it.
+    labels: std::collections::BTreeMap<u16, Block>,
 }
 
 impl Emitter<'_, '_> {
@@ -445,6 +473,16 @@ impl Emitter<'_, '_> {
     fn steps(&mut self, steps: &[Step]) {
         let mut i = 0;
         while i < steps.len() {
+            if let Step::Jump { label } = steps[i] {
+                self.jump(label, &steps[i + 1..]);
+                i += 1;
+                continue;
+            }
+            if let Step::Label { number } = steps[i] {
+                self.label(number);
+                i += 1;
+                continue;
+            }
             if !boxed(&steps[i]) {
                 self.step(&steps[i]);
                 i += 1;
@@ -478,6 +516,7 @@ impl Emitter<'_, '_> {
                 width,
             } => self.math(op, src, dst, width, flags_live),
             Step::Call { callee, ref args } => self.call(callee as usize, args),
+            Step::SetBits { at, bit, n, value } => self.set_bits(at, bit, n, value),
             _ if generic_boxed(step) => self.generic(step),
             _ => self.step(step),
         }
@@ -487,12 +526,26 @@ impl Emitter<'_, '_> {
     fn step(&mut self, step: &Step) {
         let s = self.b.use_var(self.s);
         let new = match *step {
-            Step::Timer { .. }
-            | Step::Counter { .. }
-            | Step::Edge { .. }
-            | Step::SetBits { .. }
-            | Step::Jump { .. }
-            | Step::Label { .. } => unreachable!("refused by check"),
+            Step::Timer {
+                kind,
+                at,
+                state,
+                preset,
+                res,
+                scan_ms,
+            } => {
+                let done = self.timer(kind, at, state, preset, res, scan_ms, s);
+                let rest = self.b.ins().band_imm_u(s, i64::from(!1u32));
+                self.b.ins().bor(rest, done)
+            }
+            Step::Counter {
+                kind,
+                at,
+                state,
+                preset,
+                max,
+            } => self.counter(kind, at, state, preset, max, s),
+            Step::Edge { rising, state } => self.edge(rising, state, s),
             Step::Network => self.k(0),
             Step::Ld { at, bit } | Step::Ldn { at, bit } => {
                 let v = self.bit(at, bit, matches!(step, Step::Ldn { .. }));
@@ -555,8 +608,13 @@ impl Emitter<'_, '_> {
                     Combine::Or => self.b.ins().bor(s, r),
                 }
             }
-            // `steps` emits them in a power block.
-            Step::Move { .. } | Step::Math { .. } | Step::Call { .. } => s,
+            // `steps` emits them in a power block, or as jumps and labels.
+            Step::Move { .. }
+            | Step::Math { .. }
+            | Step::Call { .. }
+            | Step::SetBits { .. }
+            | Step::Jump { .. }
+            | Step::Label { .. } => s,
             // ---- Generic families (helper C) ----
             Step::CompareReal { combine, rel, a, b } => {
                 let x = self.load(F32, a);
@@ -616,6 +674,414 @@ impl Emitter<'_, '_> {
         self.b.ins().jump(after, &[]);
         self.b.seal_block(after);
         self.b.switch_to_block(after);
+    }
+
+    /// Emit `then` in a block entered when `cond` is not 0, `els` in one entered when it
+    /// is; both continue after (values cross by variables).
+    fn branch(&mut self, cond: Value, then: impl FnOnce(&mut Self), els: impl FnOnce(&mut Self)) {
+        let (yes, no, after) = (
+            self.b.create_block(),
+            self.b.create_block(),
+            self.b.create_block(),
+        );
+        self.b.ins().brif(cond, yes, &[], no, &[]);
+        self.b.seal_block(yes);
+        self.b.seal_block(no);
+        self.b.switch_to_block(yes);
+        then(self);
+        self.b.ins().jump(after, &[]);
+        self.b.switch_to_block(no);
+        els(self);
+        self.b.ins().jump(after, &[]);
+        self.b.seal_block(after);
+        self.b.switch_to_block(after);
+    }
+
+    /// JMP: with power flow, the count loses the steps it skips (up to and including its
+    /// Label, which does not run when jumped to; a Call skipped adds nothing either, it
+    /// adds its callee's count only when it runs) and the code goes on after the Label.
+    /// `after` are the steps that follow the Jump (its Label among them: `check.rs`).
+    fn jump(&mut self, label: u16, after: &[Step]) {
+        let skipped = after
+            .iter()
+            .position(|s| *s == Step::Label { number: label })
+            .map_or(after, |k| &after[..=k])
+            .iter()
+            .filter(|s| **s != Step::Network)
+            .count() as i64;
+        let target = *self
+            .labels
+            .entry(label)
+            .or_insert_with(|| self.b.create_block());
+        let s = self.b.use_var(self.s);
+        let top = self.b.ins().band_imm_u(s, 1);
+        let (taken, next) = (self.b.create_block(), self.b.create_block());
+        self.b.ins().brif(top, taken, &[], next, &[]);
+        self.b.seal_block(taken);
+        self.b.seal_block(next);
+        self.b.switch_to_block(taken);
+        let count = self.b.use_var(self.count);
+        let count = self.b.ins().iadd_imm_s(count, -skipped);
+        self.b.def_var(self.count, count);
+        self.b.ins().jump(target, &[]);
+        self.b.switch_to_block(next);
+    }
+
+    /// LBL: the code after it, where the jumps to it land (they all precede it, so its
+    /// block is sealed here).
+    fn label(&mut self, number: u16) {
+        if let Some(block) = self.labels.remove(&number) {
+            self.b.ins().jump(block, &[]);
+            self.b.seal_block(block);
+            self.b.switch_to_block(block);
+        }
+    }
+
+    /// S/R, power flow known: the first and last bytes read, changed in their bits and
+    /// written; the whole bytes between stored as constants, 8 bytes at a time.
+    fn set_bits(&mut self, at: u32, bit: u8, n: u16, value: bool) {
+        let (first, bytes) = crate::check::bit_span(at, bit, n);
+        let end_bit = u64::from(bit) + u64::from(n);
+        let mut k = 0u64;
+        while k < bytes {
+            let lo = (k * 8).max(u64::from(bit));
+            let hi = ((k + 1) * 8).min(end_bit);
+            let idx = (first + k) as u32;
+            if lo == k * 8 && hi == (k + 1) * 8 {
+                // A run of whole bytes.
+                let whole = (k..bytes).take_while(|&j| (j + 1) * 8 <= end_bit).count() as u64;
+                let mut j = 0;
+                for (size, ty) in [(8u64, I64), (4, I32), (2, I16), (1, I8)] {
+                    while whole - j >= size {
+                        let v = if value { -1 } else { 0 };
+                        let c = self.b.ins().iconst(ty, v);
+                        self.store(c, idx + j as u32);
+                        j += size;
+                    }
+                }
+                k += whole;
+                continue;
+            }
+            let mask = (((1u32 << (hi - lo)) - 1) << (lo - k * 8)) as u8;
+            let byte = self.byte(idx);
+            let new = if value {
+                self.b.ins().bor_imm_u(byte, i64::from(mask))
+            } else {
+                self.b.ins().band_imm_u(byte, i64::from(!mask))
+            };
+            let (base, off) = self.addr(idx);
+            self.b.ins().istore8(memory_flags(), new, base, off);
+            self.stored(idx, 1);
+            k += 1;
+        }
+    }
+
+    /// A signed INT at `at`, sign-extended to i64.
+    fn int(&mut self, at: u32) -> Value {
+        let (base, off) = self.addr(at);
+        self.b.ins().sload16(I64, memory_flags(), base, off)
+    }
+
+    /// Store the low 16 bits of the i64 `v` at `at`.
+    fn set_int(&mut self, at: u32, v: Value) {
+        let (base, off) = self.addr(at);
+        self.b.ins().istore16(memory_flags(), v, base, off);
+        self.stored(at, 2);
+    }
+
+    fn preset(&mut self, preset: Preset) -> Value {
+        match preset {
+            Preset::Const(v) => self.b.ins().iconst(I64, i64::from(v)),
+            Preset::Word(at) => self.int(at),
+        }
+    }
+
+    /// Hidden state word `k` (u32 LE) at `state`, as i32.
+    fn word(&mut self, state: u32, k: u32) -> Value {
+        self.load(I32, state + 4 * k)
+    }
+
+    fn set_word(&mut self, state: u32, k: u32, v: Value) {
+        self.store(v, state + 4 * k);
+    }
+
+    /// A running timer's clock (`reference::advance`): the units elapsed (i64). Both
+    /// words are written whether the clock starts or runs (the flags with RUNNING set,
+    /// which a running clock has already; word 0 is 0 when starting): the same bytes as
+    /// the reference, which writes the flags only when starting.
+    fn advance(&mut self, state: u32, res: u32, scan_ms: u32) -> Value {
+        let flags = self.word(state, 1);
+        let w0 = self.word(state, 0);
+        let running = self.b.ins().band_imm_u(flags, 1);
+        let set = self.b.ins().bor_imm_u(flags, 1);
+        self.set_word(state, 1, set);
+        let w0 = self.b.ins().uextend(I64, w0);
+        let total = self.b.ins().iadd_imm_u(w0, i64::from(scan_ms));
+        let (rem, units) = if res == 1 {
+            (self.b.ins().iconst(I64, 0), total)
+        } else {
+            (
+                self.b.ins().urem_imm_u(total, i64::from(res)),
+                self.b.ins().udiv_imm_u(total, i64::from(res)),
+            )
+        };
+        let zero = self.b.ins().iconst(I64, 0);
+        let rem = self.b.ins().select(running, rem, zero);
+        let rem = self.b.ins().ireduce(I32, rem);
+        self.set_word(state, 0, rem);
+        self.b.ins().select(running, units, zero)
+    }
+
+    /// Stop the clock: word 0 := 0, flags & !RUNNING & !`also`.
+    fn stop(&mut self, state: u32, also: u32) {
+        let flags = self.word(state, 1);
+        let zero = self.k(0);
+        self.set_word(state, 0, zero);
+        let cleared = self.b.ins().band_imm_u(flags, i64::from(!(1 | also)));
+        self.set_word(state, 1, cleared);
+    }
+
+    /// t + units capped at `cap` when units > 0 and t < cap, else t (all i64).
+    fn count_up(&mut self, t: Value, units: Value, cap: Value) -> Value {
+        let sum = self.b.ins().iadd(t, units);
+        let capped = self.b.ins().smin(sum, cap);
+        let some = self.b.ins().icmp_imm_s(IntCC::SignedGreaterThan, units, 0);
+        let below = self.b.ins().icmp(IntCC::SignedLessThan, t, cap);
+        let both = self.b.ins().band(some, below);
+        self.b.ins().select(both, capped, t)
+    }
+
+    /// TON/TOF/TONR in the order of `reference::timer` (loads and stores in the same
+    /// order, so overlapping operands agree too): the done state (i32 0/1).
+    #[allow(clippy::too_many_arguments)]
+    fn timer(
+        &mut self,
+        kind: TimerKind,
+        at: u32,
+        state: u32,
+        preset: Preset,
+        res: u32,
+        scan_ms: u32,
+        s: Value,
+    ) -> Value {
+        const MAX: i64 = i16::MAX as i64;
+        let pt = self.preset(preset);
+        let top = self.b.ins().band_imm_u(s, 1);
+        let done = self.b.declare_var(I32);
+        match kind {
+            TimerKind::On => self.branch(
+                top,
+                |e| {
+                    let units = e.advance(state, res, scan_ms);
+                    let t = e.int(at);
+                    let max = e.b.ins().iconst(I64, MAX);
+                    // Storing t back when it does not change writes what is there.
+                    let t = e.count_up(t, units, max);
+                    e.set_int(at, t);
+                    let none = e.b.ins().icmp_imm_s(IntCC::SignedLessThanOrEqual, pt, 0);
+                    let reached = e.b.ins().icmp(IntCC::SignedGreaterThanOrEqual, t, pt);
+                    let d = e.b.ins().bor(none, reached);
+                    let d = e.b.ins().uextend(I32, d);
+                    e.b.def_var(done, d);
+                },
+                |e| {
+                    e.stop(state, 0);
+                    let zero = e.b.ins().iconst(I64, 0);
+                    e.set_int(at, zero);
+                    let d = e.k(0);
+                    e.b.def_var(done, d);
+                },
+            ),
+            TimerKind::Off => self.branch(
+                top,
+                |e| {
+                    e.stop(state, 0);
+                    let flags = e.word(state, 1);
+                    let armed = e.b.ins().bor_imm_u(flags, 2);
+                    e.set_word(state, 1, armed);
+                    let zero = e.b.ins().iconst(I64, 0);
+                    e.set_int(at, zero);
+                    let d = e.k(1);
+                    e.b.def_var(done, d);
+                },
+                |e| {
+                    let flags = e.word(state, 1);
+                    let armed = e.b.ins().band_imm_u(flags, 2);
+                    e.branch(
+                        armed,
+                        |e| {
+                            let units = e.advance(state, res, scan_ms);
+                            let t = e.int(at);
+                            let t = e.count_up(t, units, pt);
+                            e.set_int(at, t);
+                            let below = e.b.ins().icmp(IntCC::SignedLessThan, t, pt);
+                            e.branch(
+                                below,
+                                |e| {
+                                    let d = e.k(1);
+                                    e.b.def_var(done, d);
+                                },
+                                |e| {
+                                    e.stop(state, 2);
+                                    let d = e.k(0);
+                                    e.b.def_var(done, d);
+                                },
+                            );
+                        },
+                        |e| {
+                            let d = e.k(0);
+                            e.b.def_var(done, d);
+                        },
+                    );
+                },
+            ),
+            TimerKind::Retentive => {
+                // t is read before the clock runs: stored only when it changes.
+                let t = self.int(at);
+                let tv = self.b.declare_var(I64);
+                self.b.def_var(tv, t);
+                self.branch(
+                    top,
+                    |e| {
+                        let units = e.advance(state, res, scan_ms);
+                        let max = e.b.ins().iconst(I64, MAX);
+                        let new = e.count_up(t, units, max);
+                        let changed = e.b.ins().icmp(IntCC::NotEqual, new, t);
+                        e.branch(
+                            changed,
+                            |e| {
+                                e.set_int(at, new);
+                                e.b.def_var(tv, new);
+                            },
+                            |_| {},
+                        );
+                    },
+                    |e| e.stop(state, 0),
+                );
+                let t = self.b.use_var(tv);
+                let d = self.b.ins().icmp(IntCC::SignedGreaterThanOrEqual, t, pt);
+                let d = self.b.ins().uextend(I32, d);
+                self.b.def_var(done, d);
+            }
+        }
+        self.b.use_var(done)
+    }
+
+    /// A counter input's edge (`reference::counter_edge`): records `now` (i32 0/1) in
+    /// flag `bit` of word 0; whether it rose (i32 0/1).
+    fn counter_edge(&mut self, state: u32, bit: u32, now: Value) -> Value {
+        let flags = self.word(state, 0);
+        let before = self.b.ins().band_imm_u(flags, i64::from(bit));
+        let cleared = self.b.ins().band_imm_u(flags, i64::from(!bit));
+        let set = self.b.ins().imul_imm_u(now, i64::from(bit));
+        let new = self.b.ins().bor(cleared, set);
+        self.set_word(state, 0, new);
+        let was = self.b.ins().icmp_imm_u(IntCC::NotEqual, before, 0);
+        let was = self.b.ins().uextend(I32, was);
+        self.b.ins().band_not(now, was)
+    }
+
+    /// CTU/CTD/CTUD (`reference::counter`): the new stack. The count is stored whether
+    /// it changes or not (read just before, nothing written in between: the same bytes).
+    fn counter(
+        &mut self,
+        kind: CounterKind,
+        at: u32,
+        state: u32,
+        preset: Preset,
+        max: i16,
+        s: Value,
+    ) -> Value {
+        let pv = self.preset(preset);
+        let level = |e: &mut Self, k: i64| {
+            let v = e.b.ins().ushr_imm_u(s, k);
+            e.b.ins().band_imm_u(v, 1)
+        };
+        let (pops, done) = match kind {
+            CounterKind::Up => {
+                let (r, cu) = (level(self, 0), level(self, 1));
+                let up = self.counter_edge(state, 1, cu);
+                let c = self.int(at);
+                let below = self
+                    .b
+                    .ins()
+                    .icmp_imm_s(IntCC::SignedLessThan, c, i64::from(max));
+                let below = self.b.ins().uextend(I32, below);
+                let inc = self.b.ins().band(up, below);
+                let plus = self.b.ins().iadd_imm_s(c, 1);
+                let c = self.b.ins().select(inc, plus, c);
+                let zero = self.b.ins().iconst(I64, 0);
+                let c = self.b.ins().select(r, zero, c);
+                self.set_int(at, c);
+                (2, self.b.ins().icmp(IntCC::SignedGreaterThanOrEqual, c, pv))
+            }
+            CounterKind::Down => {
+                let (ld, cd) = (level(self, 0), level(self, 1));
+                let down = self.counter_edge(state, 2, cd);
+                let c = self.int(at);
+                let above = self.b.ins().icmp_imm_s(IntCC::SignedGreaterThan, c, 0);
+                let above = self.b.ins().uextend(I32, above);
+                let dec = self.b.ins().band(down, above);
+                let minus = self.b.ins().iadd_imm_s(c, -1);
+                let c = self.b.ins().select(dec, minus, c);
+                let c = self.b.ins().select(ld, pv, c);
+                self.set_int(at, c);
+                (2, self.b.ins().icmp_imm_s(IntCC::Equal, c, 0))
+            }
+            CounterKind::UpDown => {
+                let (r, cd, cu) = (level(self, 0), level(self, 1), level(self, 2));
+                let up = self.counter_edge(state, 1, cu);
+                let down = self.counter_edge(state, 2, cd);
+                let c = self.int(at);
+                let below = self
+                    .b
+                    .ins()
+                    .icmp_imm_s(IntCC::SignedLessThan, c, i64::from(max));
+                let below = self.b.ins().uextend(I32, below);
+                let inc = self.b.ins().band_not(up, down);
+                let inc = self.b.ins().band(inc, below);
+                let above =
+                    self.b
+                        .ins()
+                        .icmp_imm_s(IntCC::SignedGreaterThan, c, i64::from(i16::MIN));
+                let above = self.b.ins().uextend(I32, above);
+                let dec = self.b.ins().band_not(down, up);
+                let dec = self.b.ins().band(dec, above);
+                let plus = self.b.ins().iadd_imm_s(c, 1);
+                let minus = self.b.ins().iadd_imm_s(c, -1);
+                let c1 = self.b.ins().select(dec, minus, c);
+                let c1 = self.b.ins().select(inc, plus, c1);
+                let zero = self.b.ins().iconst(I64, 0);
+                let c1 = self.b.ins().select(r, zero, c1);
+                self.set_int(at, c1);
+                (
+                    3,
+                    self.b.ins().icmp(IntCC::SignedGreaterThanOrEqual, c1, pv),
+                )
+            }
+        };
+        let rest = self.b.ins().ushr_imm_u(s, pops);
+        let done = self.b.ins().uextend(I32, done);
+        self.push(rest, done)
+    }
+
+    /// EU/ED: the top becomes whether the input rose (fell) since the previous
+    /// execution; the state byte keeps the input.
+    fn edge(&mut self, rising: bool, state: u32, s: Value) -> Value {
+        let now = self.b.ins().band_imm_u(s, 1);
+        let before = self.byte(state);
+        let (base, off) = self.addr(state);
+        self.b.ins().istore8(memory_flags(), now, base, off);
+        self.stored(state, 1);
+        let was = self.b.ins().icmp_imm_u(IntCC::NotEqual, before, 0);
+        let was = self.b.ins().uextend(I32, was);
+        let out = if rising {
+            self.b.ins().band_not(now, was)
+        } else {
+            self.b.ins().band_not(was, now)
+        };
+        let rest = self.b.ins().band_imm_u(s, i64::from(!1u32));
+        self.b.ins().bor(rest, out)
     }
 
     /// dst := dst op src in the width (signed overflow), the SM1 flags if `flags_live`.
@@ -852,31 +1318,6 @@ impl Emitter<'_, '_> {
     fn clear_divide(&mut self) {
         let zero = self.k(0);
         self.write_flags(0x08, zero);
-    }
-
-    /// `then` when the bool `cond` holds, else `otherwise`; both continue after.
-    fn branch(
-        &mut self,
-        cond: Value,
-        then: impl FnOnce(&mut Self),
-        otherwise: impl FnOnce(&mut Self),
-    ) {
-        let (t, o, after) = (
-            self.b.create_block(),
-            self.b.create_block(),
-            self.b.create_block(),
-        );
-        self.b.ins().brif(cond, t, &[], o, &[]);
-        self.b.seal_block(t);
-        self.b.seal_block(o);
-        self.b.switch_to_block(t);
-        then(self);
-        self.b.ins().jump(after, &[]);
-        self.b.switch_to_block(o);
-        otherwise(self);
-        self.b.ins().jump(after, &[]);
-        self.b.seal_block(after);
-        self.b.switch_to_block(after);
     }
 
     /// REAL flags of `r`: 0 == 0, 1 not finite, 2 < 0 (if `negative`).

@@ -1,11 +1,16 @@
-//! The semantics of `Step`s as a plain interpreter, mirroring `vm/src/fast.rs` `fast_op`
-//! and `vm/src/calls.rs` (enter_planned + return_planned) line by line. The tests and the
+//! The semantics of `Step`s as a plain interpreter, mirroring `vm/src/fast.rs` `fast_op`,
+//! `vm/src/calls.rs` (enter_planned + return_planned), `vm/src/ops/timers.rs` (timers
+//! and counters, their hidden state here in memory), `ops/bits.rs` (EU/ED, S/R) and
+//! `ops/control.rs` (JMP/LBL) line by line. The tests and the
 //! fuzz target compare the compiled code against it; it is also the documentation of
 //! what the code must do. Slow on purpose (no fusing, no tricks) and only for step lists
 //! that `compile` accepts: it indexes the memory (panics outside it) and would not end
 //! on a cycle of Calls.
 
-use crate::{Arith, Combine, Convert, Function, Layout, Logic, RealOp, Rel, Shift, Step};
+use crate::{
+    Arith, Combine, Convert, CounterKind, Function, Layout, Logic, Preset, RealOp, Rel, Shift, Step,
+    TimerKind,
+};
 
 /// Run function `f` on `memory` with the logic stack `stack`, as `Module::run` does;
 /// returns the instructions executed.
@@ -16,11 +21,228 @@ pub fn run(
     memory: &mut [u8],
     stack: &mut u32,
 ) -> u64 {
+    let steps = &functions[f].steps;
     let mut count = 0;
-    for s in &functions[f].steps {
-        count += step(layout, functions, s, memory, stack);
+    let mut i = 0;
+    while i < steps.len() {
+        if let Step::Jump { label } = steps[i] {
+            if *stack & 1 == 1 {
+                // Taken: on after its Label (which does not run); the jump counts 1.
+                count += 1;
+                i = steps[i + 1..]
+                    .iter()
+                    .position(|s| *s == Step::Label { number: label })
+                    .map_or(steps.len(), |k| i + 1 + k + 1);
+                continue;
+            }
+        }
+        count += step(layout, functions, &steps[i], memory, stack);
+        i += 1;
     }
     count
+}
+
+/// Word `k` (u32 LE) of the hidden state at `state`.
+fn word(mem: &[u8], state: u32, k: u32) -> u32 {
+    load(mem, state + 4 * k, 4)
+}
+
+fn set_word(mem: &mut [u8], state: u32, k: u32, v: u32) {
+    store(mem, state + 4 * k, 4, v);
+}
+
+/// A timer's or counter's current value (signed INT).
+fn current(mem: &[u8], at: u32) -> i64 {
+    i64::from(load(mem, at, 2) as u16 as i16)
+}
+
+fn set_current(mem: &mut [u8], at: u32, v: i64) {
+    store(mem, at, 2, v as i16 as u16 as u32);
+}
+
+fn preset(mem: &[u8], p: Preset) -> i64 {
+    match p {
+        Preset::Const(v) => i64::from(v),
+        Preset::Word(at) => current(mem, at),
+    }
+}
+
+// Timer flags (word 1) and counter flags (word 0), as in `vm/src/ops/timers.rs`.
+const RUNNING: u32 = 1;
+const ARMED: u32 = 2;
+const PREV_UP: u32 = 1;
+const PREV_DOWN: u32 = 2;
+const TIMER_MAX: i64 = i16::MAX as i64;
+
+/// One execution of a running timer's clock: the whole units since its previous one
+/// (0 when this one starts the clock), the remainder kept.
+fn advance(mem: &mut [u8], state: u32, res: u32, scan_ms: u32) -> i64 {
+    let flags = word(mem, state, 1);
+    if flags & RUNNING == 0 {
+        set_word(mem, state, 1, flags | RUNNING);
+        set_word(mem, state, 0, 0);
+        return 0;
+    }
+    let total = u64::from(word(mem, state, 0)) + u64::from(scan_ms);
+    set_word(mem, state, 0, (total % u64::from(res)) as u32);
+    (total / u64::from(res)) as i64
+}
+
+/// Stop the clock, dropping the fraction of a unit.
+fn stop(mem: &mut [u8], state: u32) {
+    let flags = word(mem, state, 1);
+    set_word(mem, state, 0, 0);
+    set_word(mem, state, 1, flags & !RUNNING);
+}
+
+/// TON/TOF/TONR: the new top of the stack (done).
+fn timer(mem: &mut [u8], s: u32, step: &Step) -> bool {
+    let Step::Timer {
+        kind,
+        at,
+        state,
+        preset: p,
+        res,
+        scan_ms,
+    } = *step
+    else {
+        unreachable!("a timer step");
+    };
+    let pt = preset(mem, p);
+    let top = s & 1 == 1;
+    match kind {
+        TimerKind::On => {
+            if top {
+                let units = advance(mem, state, res, scan_ms);
+                let mut t = current(mem, at);
+                if units > 0 && t < TIMER_MAX {
+                    t = (t + units).min(TIMER_MAX);
+                    set_current(mem, at, t);
+                }
+                pt <= 0 || t >= pt
+            } else {
+                stop(mem, state);
+                set_current(mem, at, 0);
+                false
+            }
+        }
+        TimerKind::Off => {
+            if top {
+                stop(mem, state);
+                let flags = word(mem, state, 1);
+                set_word(mem, state, 1, flags | ARMED);
+                set_current(mem, at, 0);
+                true
+            } else if word(mem, state, 1) & ARMED != 0 {
+                let units = advance(mem, state, res, scan_ms);
+                let mut t = current(mem, at);
+                if units > 0 && t < pt {
+                    t = (t + units).min(pt);
+                    set_current(mem, at, t);
+                }
+                if t < pt {
+                    true
+                } else {
+                    stop(mem, state);
+                    let flags = word(mem, state, 1);
+                    set_word(mem, state, 1, flags & !ARMED);
+                    false
+                }
+            } else {
+                false
+            }
+        }
+        TimerKind::Retentive => {
+            let mut t = current(mem, at);
+            if top {
+                let units = advance(mem, state, res, scan_ms);
+                if units > 0 && t < TIMER_MAX {
+                    t = (t + units).min(TIMER_MAX);
+                    set_current(mem, at, t);
+                }
+            } else {
+                stop(mem, state);
+            }
+            t >= pt
+        }
+    }
+}
+
+/// A counter input's edge: records `now` in flag `bit`; true when it rose.
+fn counter_edge(mem: &mut [u8], state: u32, bit: u32, now: bool) -> bool {
+    let flags = word(mem, state, 0);
+    let before = flags & bit != 0;
+    set_word(mem, state, 0, if now { flags | bit } else { flags & !bit });
+    now && !before
+}
+
+/// CTU/CTD/CTUD: the new stack.
+fn counter(mem: &mut [u8], s: u32, mask: u32, step: &Step) -> u32 {
+    let Step::Counter {
+        kind,
+        at,
+        state,
+        preset: p,
+        max,
+    } = *step
+    else {
+        unreachable!("a counter step");
+    };
+    let pv = preset(mem, p);
+    let max = i64::from(max);
+    let level = |k: u32| (s >> k) & 1 == 1;
+    let (rest, done) = match kind {
+        CounterKind::Up => {
+            let (r, cu) = (level(0), level(1));
+            let up = counter_edge(mem, state, PREV_UP, cu);
+            let c = current(mem, at);
+            let c = if r {
+                set_current(mem, at, 0);
+                0
+            } else if up && c < max {
+                set_current(mem, at, c + 1);
+                c + 1
+            } else {
+                c
+            };
+            (s >> 2, c >= pv)
+        }
+        CounterKind::Down => {
+            let (ld, cd) = (level(0), level(1));
+            let down = counter_edge(mem, state, PREV_DOWN, cd);
+            let c = current(mem, at);
+            let c = if ld {
+                set_current(mem, at, pv);
+                pv
+            } else if down && c > 0 {
+                set_current(mem, at, c - 1);
+                c - 1
+            } else {
+                c
+            };
+            (s >> 2, c == 0)
+        }
+        CounterKind::UpDown => {
+            let (r, cd, cu) = (level(0), level(1), level(2));
+            let up = counter_edge(mem, state, PREV_UP, cu);
+            let down = counter_edge(mem, state, PREV_DOWN, cd);
+            let c = current(mem, at);
+            let c = if r {
+                set_current(mem, at, 0);
+                0
+            } else if up && !down && c < max {
+                set_current(mem, at, c + 1);
+                c + 1
+            } else if down && !up && c > i64::from(i16::MIN) {
+                set_current(mem, at, c - 1);
+                c - 1
+            } else {
+                c
+            };
+            (s >> 3, c >= pv)
+        }
+    };
+    ((rest << 1) | u32::from(done)) & mask
 }
 
 fn bit(mem: &[u8], at: u32, bit: u8) -> u32 {
@@ -66,7 +288,8 @@ fn holds<T: PartialOrd>(rel: Rel, a: T, b: T) -> bool {
     }
 }
 
-/// Execute one step; returns the instructions it counts.
+/// Execute one step; returns the instructions it counts. A Jump here is one not taken
+/// (`run` makes the jumps).
 pub fn step(
     layout: &Layout,
     functions: &[Function],
@@ -76,12 +299,33 @@ pub fn step(
 ) -> u64 {
     let (s, mask) = (*st, layout.stack_mask);
     *st = match *step {
-        Step::Timer { .. }
-        | Step::Counter { .. }
-        | Step::Edge { .. }
-        | Step::SetBits { .. }
-        | Step::Jump { .. }
-        | Step::Label { .. } => unimplemented!("issue 31: not stated yet"),
+        Step::Timer { .. } => (s & !1) | u32::from(timer(mem, s, step)),
+        Step::Counter { .. } => counter(mem, s, mask, step),
+        Step::Edge { rising, state } => {
+            let now = s & 1 == 1;
+            let byte = &mut mem[state as usize];
+            let before = *byte != 0;
+            *byte = u8::from(now);
+            let out = if rising {
+                now && !before
+            } else {
+                !now && before
+            };
+            (s & !1) | u32::from(out)
+        }
+        Step::SetBits { at, bit, n, value } => {
+            if s & 1 == 1 {
+                for k in 0..u32::from(n) {
+                    let b = u32::from(bit) + k;
+                    let byte = &mut mem[(at + b / 8) as usize];
+                    let m = 1u8 << (b % 8);
+                    *byte = if value { *byte | m } else { *byte & !m };
+                }
+            }
+            s
+        }
+        // Not taken (`run` makes a taken one), or a Label fallen through to.
+        Step::Jump { .. } | Step::Label { .. } => s,
         Step::Network => {
             *st = 0;
             return 0;

@@ -913,3 +913,433 @@ fn flags_of_a_math_are_kept_when_anything_reads_them_before_the_next_math() {
         }
     }
 }
+
+// ---- timers, counters, edges, S/R, jumps (issue 31) ------------------------------------
+
+use gutta_jit::{CounterKind, Preset, TimerKind};
+
+/// The T (or C) word, its 8 bytes of state, the edge byte, a preset word.
+const T: u32 = 0;
+const STATE: u32 = 8;
+const EDGE: u32 = 20;
+const PRESET: u32 = 24;
+
+fn word(m: &[u8], at: u32) -> i16 {
+    i16::from_le_bytes([m[at as usize], m[at as usize + 1]])
+}
+
+fn set_word(m: &mut [u8], at: u32, v: i16) {
+    m[at as usize..at as usize + 2].copy_from_slice(&v.to_le_bytes());
+}
+
+/// Run the single function of `step` once per entry of `tops` (the stack before each
+/// execution), compiled and by the reference; returns the memory and the stack after
+/// each execution.
+fn executions(step: Step, memory: &mut Vec<u8>, stacks: &[u32]) -> Vec<(Vec<u8>, u32)> {
+    let layout = layout();
+    let functions = vec![function(vec![step])];
+    let module = compile(&layout, &functions).expect("compiles");
+    stacks
+        .iter()
+        .map(|&stack| {
+            let (m, s, count) = both(&layout, &functions, &module, 0, memory, stack);
+            assert_eq!(count, 1);
+            *memory = m.clone();
+            (m, s)
+        })
+        .collect()
+}
+
+fn timer(kind: TimerKind, preset: Preset, res: u32, scan_ms: u32) -> Step {
+    Step::Timer {
+        kind,
+        at: T,
+        state: STATE,
+        preset,
+        res,
+        scan_ms,
+    }
+}
+
+#[test]
+fn ton_counts_units_from_its_second_execution_to_the_preset_and_past_it() {
+    let mut m = memory_with(&[]);
+    // res 100, 100 ms a scan: the first execution starts the clock.
+    let runs = executions(
+        timer(TimerKind::On, Preset::Const(3), 100, 100),
+        &mut m,
+        &[1; 6],
+    );
+    let values: Vec<(i16, u32)> = runs.iter().map(|(m, s)| (word(m, T), *s)).collect();
+    assert_eq!(values, [(0, 0), (1, 0), (2, 0), (3, 1), (4, 1), (5, 1)]);
+    // Power gone: the value and the clock are reset.
+    let runs = executions(
+        timer(TimerKind::On, Preset::Const(3), 100, 100),
+        &mut m,
+        &[0b10],
+    );
+    assert_eq!((word(&runs[0].0, T), runs[0].1), (0, 0b10));
+    assert_eq!(&runs[0].0[STATE as usize..STATE as usize + 8], &[0; 8]);
+    // The preset from memory, and the value capped at i16::MAX.
+    let mut m = memory_with(&[]);
+    set_word(&mut m, PRESET, i16::MAX);
+    set_word(&mut m, T, i16::MAX - 2);
+    let runs = executions(
+        timer(TimerKind::On, Preset::Word(PRESET), 1, 7),
+        &mut m,
+        &[1, 1, 1, 1],
+    );
+    let values: Vec<(i16, u32)> = runs.iter().map(|(m, s)| (word(m, T), *s)).collect();
+    assert_eq!(
+        values,
+        [
+            (i16::MAX - 2, 0),
+            (i16::MAX, 1),
+            (i16::MAX, 1),
+            (i16::MAX, 1)
+        ]
+    );
+    // A preset of 0 or below is done at once.
+    let mut m = memory_with(&[]);
+    let runs = executions(
+        timer(TimerKind::On, Preset::Const(-1), 10, 10),
+        &mut m,
+        &[1],
+    );
+    assert_eq!(runs[0].1, 1);
+}
+
+#[test]
+fn the_resolution_keeps_the_remainder_of_each_scan() {
+    for (res, after_30) in [(1, 203), (10, 20), (100, 2)] {
+        let mut m = memory_with(&[]);
+        let runs = executions(
+            timer(TimerKind::Retentive, Preset::Const(i16::MAX), res, 7),
+            &mut m,
+            &[1; 30],
+        );
+        // 29 advancing executions of 7 ms each.
+        assert_eq!(word(&runs[29].0, T), after_30, "res {res}");
+    }
+}
+
+#[test]
+fn tof_is_armed_by_power_and_runs_out_after_it() {
+    let mut m = memory_with(&[]);
+    let tof = timer(TimerKind::Off, Preset::Const(2), 10, 10);
+    // Never powered: not armed, stays off.
+    let runs = executions(tof.clone(), &mut m, &[0, 0]);
+    assert!(runs.iter().all(|(_, s)| *s == 0));
+    // Powered: on, armed; then off: starts, counts 1, 2 and falls.
+    let runs = executions(tof.clone(), &mut m, &[1, 0, 0, 0, 0]);
+    let values: Vec<(i16, u32)> = runs.iter().map(|(m, s)| (word(m, T), *s)).collect();
+    assert_eq!(values, [(0, 1), (0, 1), (1, 1), (2, 0), (2, 0)]);
+    // Disarmed: the flags word has neither RUNNING nor ARMED.
+    assert_eq!(runs[4].0[STATE as usize + 4], 0);
+    // Power again in the middle of a run-out: back to 0, armed again.
+    let runs = executions(tof, &mut m, &[1, 0, 0, 1]);
+    let values: Vec<(i16, u32)> = runs.iter().map(|(m, s)| (word(m, T), *s)).collect();
+    assert_eq!(values, [(0, 1), (0, 1), (1, 1), (0, 1)]);
+}
+
+#[test]
+fn tonr_keeps_its_value_without_power() {
+    let mut m = memory_with(&[]);
+    let tonr = timer(TimerKind::Retentive, Preset::Const(3), 10, 10);
+    let runs = executions(tonr, &mut m, &[1, 1, 1, 0, 0, 1, 1, 1]);
+    let values: Vec<(i16, u32)> = runs.iter().map(|(m, s)| (word(m, T), *s)).collect();
+    assert_eq!(
+        values,
+        [
+            (0, 0),
+            (1, 0),
+            (2, 0),
+            (2, 0),
+            (2, 0),
+            (2, 0),
+            (3, 1),
+            (4, 1)
+        ]
+    );
+}
+
+fn counter(kind: CounterKind, preset: Preset, max: i16) -> Step {
+    Step::Counter {
+        kind,
+        at: T,
+        state: STATE,
+        preset,
+        max,
+    }
+}
+
+#[test]
+fn counters_count_edges_up_to_max_down_to_their_limits_and_reset_or_load() {
+    // CTU: stack bit 1 = CU, bit 0 = R; pushes done after popping both.
+    let mut m = memory_with(&[]);
+    let ctu = counter(CounterKind::Up, Preset::Const(2), 3);
+    let runs = executions(ctu.clone(), &mut m, &[0b10, 0b00, 0b10, 0b10, 0b00, 0b110]);
+    let values: Vec<(i16, u32)> = runs.iter().map(|(m, s)| (word(m, T), *s)).collect();
+    // Level CU does not count twice; the last has a third level kept below.
+    assert_eq!(values, [(1, 0), (1, 0), (2, 1), (2, 1), (2, 1), (3, 0b11)]);
+    let runs = executions(ctu.clone(), &mut m, &[0, 0b10]);
+    // At max (3) it stays.
+    assert_eq!(word(&runs[1].0, T), 3);
+    let runs = executions(ctu, &mut m, &[0b11]);
+    assert_eq!((word(&runs[0].0, T), runs[0].1), (0, 0));
+    // CTD: bit 1 = CD, bit 0 = LD; done when 0, stops at 0.
+    let mut m = memory_with(&[]);
+    set_word(&mut m, PRESET, 2);
+    let ctd = counter(CounterKind::Down, Preset::Word(PRESET), i16::MAX);
+    let runs = executions(ctd, &mut m, &[0b01, 0b10, 0, 0b10, 0, 0b10]);
+    let values: Vec<(i16, u32)> = runs.iter().map(|(m, s)| (word(m, T), *s)).collect();
+    assert_eq!(values, [(2, 0), (1, 0), (1, 0), (0, 1), (0, 1), (0, 1)]);
+    // CTUD: bit 2 = CU, bit 1 = CD, bit 0 = R; both edges at once: no count; stops at
+    // i16::MIN and at max.
+    let mut m = memory_with(&[]);
+    set_word(&mut m, T, i16::MIN + 1);
+    let ctud = counter(CounterKind::UpDown, Preset::Const(i16::MIN + 1), 5);
+    let runs = executions(ctud.clone(), &mut m, &[0b010, 0, 0b010, 0, 0b110, 0, 0b100]);
+    let values: Vec<(i16, u32)> = runs.iter().map(|(m, s)| (word(m, T), *s)).collect();
+    let mut want = vec![(i16::MIN, 0); 6];
+    want.push((i16::MIN + 1, 1));
+    assert_eq!(values, want);
+    set_word(&mut m, T, 5);
+    let runs = executions(ctud.clone(), &mut m, &[0, 0b100]);
+    assert_eq!(word(&runs[1].0, T), 5);
+    let runs = executions(ctud, &mut m, &[0b101]);
+    assert_eq!((word(&runs[0].0, T), runs[0].1), (0, 1));
+}
+
+#[test]
+fn edges_fire_once_per_change() {
+    for rising in [true, false] {
+        let mut m = memory_with(&[]);
+        let runs = executions(
+            Step::Edge {
+                rising,
+                state: EDGE,
+            },
+            &mut m,
+            &[0b10, 0b11, 0b11, 0b10, 0b10, 0b11],
+        );
+        let tops: Vec<u32> = runs.iter().map(|(_, s)| *s).collect();
+        if rising {
+            assert_eq!(tops, [0b10, 0b11, 0b10, 0b10, 0b10, 0b11]);
+        } else {
+            assert_eq!(tops, [0b10, 0b10, 0b10, 0b11, 0b10, 0b10]);
+        }
+        assert_eq!(runs[5].0[EDGE as usize], 1);
+    }
+}
+
+#[test]
+fn set_bits_cross_bytes_and_n_zero_touches_nothing() {
+    for (bit, n, value) in [
+        (5u8, 20u16, true),
+        (5, 20, false),
+        (0, 8, true),
+        (0, 64, true),
+        (3, 1, false),
+        (7, 2, true),
+        (2, 0, true),
+        (0, 77, false),
+    ] {
+        let step = Step::SetBits {
+            at: 4,
+            bit,
+            n,
+            value,
+        };
+        for byte in [0x00, 0xFF, 0xA5] {
+            let mut m = vec![byte; MEMORY as usize];
+            let before = m.clone();
+            let runs = executions(step.clone(), &mut m, &[1, 0]);
+            let mut want = before.clone();
+            for k in 0..u32::from(n) {
+                let b = u32::from(bit) + k;
+                let i = (4 + b / 8) as usize;
+                want[i] = if value {
+                    want[i] | 1 << (b % 8)
+                } else {
+                    want[i] & !(1 << (b % 8))
+                };
+            }
+            assert_eq!(runs[0].0, want, "bit {bit} n {n} {value}");
+            // Without power: nothing more.
+            assert_eq!(runs[1].0, want);
+        }
+    }
+}
+
+#[test]
+fn jumps_skip_to_after_their_label_and_count_what_ran() {
+    let layout = layout();
+    let steps = vec![
+        Step::Ld { at: 0, bit: 0 },
+        Step::Jump { label: 7 },
+        Step::Assign { at: 1, bit: 0 },
+        Step::Network,
+        Step::Ld { at: 0, bit: 1 },
+        Step::Assign { at: 1, bit: 1 },
+        Step::Label { number: 7 },
+        Step::Ld { at: 0, bit: 2 },
+        Step::Assign { at: 1, bit: 2 },
+    ];
+    let functions = vec![function(steps)];
+    let module = compile(&layout, &functions).expect("compiles");
+    // Not taken: everything runs, the label counts 1.
+    let (m, s, count) = both(&layout, &functions, &module, 0, &memory_with(&[(0, 6)]), 0);
+    assert_eq!((m[1], s, count), (6, 0b11, 8));
+    // Taken: the three records after it up to its label skip (the label too).
+    let (m, s, count) = both(&layout, &functions, &module, 0, &memory_with(&[(0, 7)]), 0);
+    assert_eq!((m[1], s, count), (4, 0b11, 4));
+}
+
+#[test]
+fn a_jump_over_a_call_skips_the_callees_count() {
+    let layout = layout();
+    let functions = vec![
+        function(vec![
+            Step::Ld { at: 0, bit: 0 },
+            Step::Jump { label: 1 },
+            Step::Call {
+                callee: 1,
+                args: vec![],
+            },
+            Step::Label { number: 1 },
+            Step::Label { number: 2 },
+        ]),
+        function(vec![
+            Step::Ld { at: 0, bit: 1 },
+            Step::Assign { at: 1, bit: 0 },
+            Step::Assign { at: 1, bit: 1 },
+        ]),
+    ];
+    let module = compile(&layout, &functions).expect("compiles");
+    let (m, _, count) = both(&layout, &functions, &module, 0, &memory_with(&[(0, 0)]), 0);
+    // LD, JMP (not taken), CALL (no power: counts 1), LBL, LBL.
+    assert_eq!((m[1], count), (0, 5));
+    let (m, _, count) = both(&layout, &functions, &module, 0, &memory_with(&[(0, 1)]), 1);
+    // LD, JMP taken, the second LBL.
+    assert_eq!((m[1], count), (0, 3));
+    // A jump not taken then a call that runs its three steps.
+    let functions2 = vec![
+        function(vec![
+            Step::Ldn { at: 0, bit: 0 },
+            Step::Jump { label: 1 },
+            Step::Ld { at: 0, bit: 1 },
+            Step::Call {
+                callee: 1,
+                args: vec![],
+            },
+            Step::Label { number: 1 },
+        ]),
+        functions[1].clone(),
+    ];
+    let module = compile(&layout, &functions2).expect("compiles");
+    let (m, _, count) = both(&layout, &functions2, &module, 0, &memory_with(&[(0, 3)]), 0);
+    assert_eq!((m[1], count), (3, 8));
+}
+
+#[test]
+fn timers_counters_edges_s_r_and_jumps_out_of_range_are_refused() {
+    let layout = layout();
+    let refused = |step: Step| compile(&layout, &[function(vec![step])]).map(|_| ());
+    let t = |at, state, preset, res| Step::Timer {
+        kind: TimerKind::On,
+        at,
+        state,
+        preset,
+        res,
+        scan_ms: 10,
+    };
+    assert!(refused(t(MEMORY - 2, MEMORY - 8, Preset::Word(MEMORY - 2), 1)).is_ok());
+    assert!(matches!(
+        refused(t(MEMORY - 1, 0, Preset::Const(1), 1)),
+        Err(JitError::OutOfRange { width: 2, .. })
+    ));
+    assert!(matches!(
+        refused(t(0, MEMORY - 7, Preset::Const(1), 1)),
+        Err(JitError::OutOfRange { width: 8, .. })
+    ));
+    assert!(matches!(
+        refused(t(0, 8, Preset::Word(MEMORY - 1), 1)),
+        Err(JitError::OutOfRange { width: 2, .. })
+    ));
+    let e = refused(t(0, 8, Preset::Const(1), 0));
+    assert!(
+        matches!(e, Err(JitError::Resolution { step: 0, .. })),
+        "{e:?}"
+    );
+    assert!(e.unwrap_err().to_string().contains("resolution"));
+    let c = |state| Step::Counter {
+        kind: CounterKind::Up,
+        at: 0,
+        state,
+        preset: Preset::Const(1),
+        max: 1,
+    };
+    assert!(refused(c(MEMORY - 4)).is_ok());
+    assert!(matches!(
+        refused(c(MEMORY - 3)),
+        Err(JitError::OutOfRange { width: 4, .. })
+    ));
+    assert!(matches!(
+        refused(Step::Edge {
+            rising: true,
+            state: MEMORY
+        }),
+        Err(JitError::OutOfRange { width: 1, .. })
+    ));
+    let s = |at, bit, n| Step::SetBits {
+        at,
+        bit,
+        n,
+        value: true,
+    };
+    assert!(refused(s(MEMORY - 2, 7, 9)).is_ok());
+    assert!(refused(s(MEMORY, 0, 0)).is_ok(), "n = 0 touches nothing");
+    assert_eq!(
+        refused(s(MEMORY - 2, 7, 10)),
+        Err(JitError::OutOfRange {
+            function: 0,
+            step: 0,
+            at: MEMORY,
+            width: 1
+        })
+    );
+    assert!(matches!(
+        refused(s(0, 8, 1)),
+        Err(JitError::BitNumber { bit: 8, .. })
+    ));
+    let jumps = |steps: Vec<Step>| compile(&layout, &[function(steps)]).map(|_| ());
+    let e = jumps(vec![Step::Label { number: 3 }, Step::Jump { label: 3 }]);
+    assert_eq!(
+        e,
+        Err(JitError::NoLabel {
+            function: 0,
+            step: 1,
+            label: 3
+        })
+    );
+    assert!(e.unwrap_err().to_string().contains("label 3"));
+    assert!(matches!(
+        jumps(vec![Step::Jump { label: 4 }]),
+        Err(JitError::NoLabel { label: 4, .. })
+    ));
+    let e = jumps(vec![
+        Step::Jump { label: 3 },
+        Step::Label { number: 3 },
+        Step::Label { number: 3 },
+    ]);
+    assert_eq!(
+        e,
+        Err(JitError::DuplicateLabel {
+            function: 0,
+            step: 2,
+            label: 3
+        })
+    );
+    assert!(e.unwrap_err().to_string().contains("already"));
+}

@@ -10,12 +10,14 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use gutta_catalog::{Address, Flow, InstrId, Target, Width};
+use gutta_catalog::{Address, Flow, InstrId, Instruction, Target, TimerCounterKind, Width};
 use gutta_format::{LocalEntry, LocalSection, Operand, PackedOperand, UnitRecord, VerifiedUnit};
 
 use crate::fuse::build;
 use crate::memory::Memory;
-use crate::op::{Arith, Bit, ChainStep, Combine, CounterOp, Op, Rel, TimerOp};
+use crate::op::{
+    Arith, Bit, ChainStep, Combine, CounterKind, CounterOp, Op, Preset, Rel, TimerKind, TimerOp,
+};
 
 /// One argument of a planned CALL: the caller's variable and the callee's parameter in
 /// L, as flat memory indices.
@@ -417,6 +419,152 @@ fn fast(memory: &Memory, mnemonic: &str, ops: &[PackedOperand]) -> Option<Op> {
     })
 }
 
+/// A timer's or counter's preset (operand 1): a literal that fits an INT, or a plain
+/// INT variable (what `Exec::get_signed` reads the same way at every execution).
+fn preset(memory: &Memory, op: Option<&PackedOperand>) -> Option<Preset> {
+    let op = *op?;
+    match op.decode() {
+        Ok(Operand::Literal(n)) => i16::try_from(n).ok().map(Preset::Const),
+        _ => plain(memory, op, Width::Word).map(Preset::Word),
+    }
+}
+
+/// The T or C cell operand (operand 0) of a timer or counter: a plain word inside its
+/// area, with its hidden state; (the address, its flat index, its state's flat index).
+fn cell(memory: &Memory, op: Option<&PackedOperand>) -> Option<(Address, u32, u32)> {
+    let a = variable(*op?, Width::Word)?;
+    let at = u32::try_from(memory.index_of(a)?).ok()?;
+    let state = u32::try_from(memory.cell_state_at(a.slot, a.offset)?).ok()?;
+    Some((a, at, state))
+}
+
+/// What `decode` collects besides the operations: the side tables of timers and
+/// counters, and the configuration their operations need.
+struct Stateful<'a> {
+    target: &'a Target,
+    scan_ms: u32,
+    /// The K slot and K as a reset leaves it.
+    constants: (u8, &'a [u8]),
+    timers: Vec<TimerOp>,
+    counters: Vec<CounterOp>,
+}
+
+impl Stateful<'_> {
+    /// The fast form of a timer, counter, EU/ED or S/R/SI/RI record, if it has one
+    /// (`edge`: the record's edge byte, for EU/ED). Anything the handler could fault
+    /// on (a timer without a resolution, bits past the area, a pointer) stays `Generic`,
+    /// so the fault stays the handler's.
+    fn op(
+        &mut self,
+        memory: &Memory,
+        ins: &Instruction,
+        ops: &[PackedOperand],
+        edge: Option<u32>,
+    ) -> Option<Op> {
+        if let Some(kind) = ins.kind {
+            return match kind {
+                TimerCounterKind::OnDelay
+                | TimerCounterKind::OffDelay
+                | TimerCounterKind::RetentiveOnDelay => self.timer(memory, kind, ops),
+                _ => self.counter(memory, kind, ops),
+            };
+        }
+        match ins.mnemonic.as_str() {
+            "EU" | "ED" => Some(Op::Edge {
+                rising: ins.mnemonic == "EU",
+                state: edge?,
+            }),
+            "S" | "SI" | "R" | "RI" => {
+                set_bits(memory, self.constants, ins.mnemonic.starts_with('S'), ops)
+            }
+            _ => None,
+        }
+    }
+
+    fn timer(
+        &mut self,
+        memory: &Memory,
+        kind: TimerCounterKind,
+        ops: &[PackedOperand],
+    ) -> Option<Op> {
+        let (a, at, state) = cell(memory, ops.first())?;
+        let res = self.target.memory.timer_resolution(a.offset / 2)?.max(1);
+        let preset = preset(memory, ops.get(1))?;
+        let kind = match kind {
+            TimerCounterKind::OnDelay => TimerKind::On,
+            TimerCounterKind::OffDelay => TimerKind::Off,
+            _ => TimerKind::Retentive,
+        };
+        let index = u32::try_from(self.timers.len()).ok()?;
+        self.timers.push(TimerOp {
+            kind,
+            at,
+            state,
+            preset,
+            res,
+            scan_ms: self.scan_ms,
+        });
+        Some(Op::Timer { index })
+    }
+
+    fn counter(
+        &mut self,
+        memory: &Memory,
+        kind: TimerCounterKind,
+        ops: &[PackedOperand],
+    ) -> Option<Op> {
+        let (_, at, state) = cell(memory, ops.first())?;
+        let preset = preset(memory, ops.get(1))?;
+        let kind = match kind {
+            TimerCounterKind::CountUp => CounterKind::Up,
+            TimerCounterKind::CountDown => CounterKind::Down,
+            _ => CounterKind::UpDown,
+        };
+        let max =
+            i16::try_from(self.target.memory.counter_max.clamp(0, i32::from(i16::MAX))).ok()?;
+        let index = u32::try_from(self.counters.len()).ok()?;
+        self.counters.push(CounterOp {
+            kind,
+            at,
+            state,
+            preset,
+            max,
+        });
+        Some(Op::Counter { index })
+    }
+}
+
+/// S/R BIT, N with N a constant (a byte of K, `constants`: the K slot and its bytes
+/// after reset; or a literal) and all N bits inside BIT's area (N = 0 included).
+fn set_bits(
+    memory: &Memory,
+    (k_slot, k): (u8, &[u8]),
+    value: bool,
+    ops: &[PackedOperand],
+) -> Option<Op> {
+    let a = variable(*ops.first()?, Width::Bit)?;
+    let n = match ops.get(1)?.decode() {
+        Ok(Operand::Literal(n)) => n,
+        Ok(Operand::Value(c)) if c.slot == k_slot && c.width == Width::Byte => {
+            u16::from(*k.get(c.offset as usize)?)
+        }
+        _ => return None,
+    };
+    let at = u32::try_from(memory.index_of(a)?).ok()?;
+    // The byte holding the last bit lies inside the area too.
+    let last = u32::from(a.bit) + u32::from(n.max(1)) - 1;
+    memory.index_of(Address {
+        offset: a.offset.checked_add(last / 8)?,
+        ..a
+    })?;
+    Some(Op::SetBits {
+        at,
+        bit: a.bit,
+        n,
+        value,
+    })
+}
+
 /// Decode a unit. `fast_ops` false keeps every instruction `Generic` (the tests compare
 /// both forms).
 /// `params`: the parameters of each unit, by page (for CALL plans). The hidden state
@@ -426,8 +574,17 @@ pub(crate) fn decode(
     target: &Arc<Target>,
     memory: &mut Memory,
     fast_ops: bool,
+    scan_ms: u32,
+    constants: (u8, &[u8]),
     params: &BTreeMap<u8, Vec<LocalEntry>>,
 ) -> Unit {
+    let mut stateful = Stateful {
+        target,
+        scan_ms,
+        constants,
+        timers: Vec::new(),
+        counters: Vec::new(),
+    };
     let mut calls = Vec::new();
     let mut plan_of: BTreeMap<CallPlan, u32> = BTreeMap::new();
     let mut scratch = CallPlan {
@@ -455,12 +612,11 @@ pub(crate) fn decode(
                 offset,
             } => {
                 let ins = target.instructions.get(*id);
+                let mut edge = None;
                 if matches!(ins.mnemonic.as_str(), "EU" | "ED") {
-                    let at = memory.add_hidden(1);
-                    edges.push((
-                        u32::try_from(pc).unwrap_or(u32::MAX),
-                        u32::try_from(at).unwrap_or(u32::MAX),
-                    ));
+                    let at = u32::try_from(memory.add_hidden(1)).unwrap_or(u32::MAX);
+                    edges.push((u32::try_from(pc).unwrap_or(u32::MAX), at));
+                    edge = Some(at);
                 }
                 let planned = (fast_ops
                     && ins.mnemonic == "CALL"
@@ -472,6 +628,11 @@ pub(crate) fn decode(
                     .or_else(|| {
                         fast_ops
                             .then(|| fast(memory, &ins.mnemonic, packed))
+                            .flatten()
+                    })
+                    .or_else(|| {
+                        fast_ops
+                            .then(|| stateful.op(memory, ins, packed, edge))
                             .flatten()
                     })
                     .unwrap_or(Op::Generic {
@@ -510,8 +671,8 @@ pub(crate) fn decode(
         params: unit.parameters().copied().collect(),
         calls,
         edges,
-        timers: Vec::new(),
-        counters: Vec::new(),
+        timers: stateful.timers,
+        counters: stateful.counters,
         target: Arc::clone(target),
     };
     unit.set_ops(plain, fast_ops, None);

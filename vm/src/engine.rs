@@ -13,7 +13,7 @@ use crate::calls;
 use crate::clock::Clock;
 use crate::decode::Unit;
 use crate::exch::Exch;
-use crate::fast::{fast_op, run_fast};
+use crate::fast::{fast_op, run_fast, Tables};
 use crate::fault::Fault;
 use crate::interrupts::Interrupts;
 use crate::machine::Machine;
@@ -136,16 +136,7 @@ impl Engine {
     pub fn reset(&mut self) {
         let memory = &mut self.machine.memory;
         memory.clear();
-        if let Some(k) = memory.area_mut(self.program.slots.constant) {
-            let consts = self.program.image.constants();
-            let n = consts.len().min(k.len());
-            k[..n].copy_from_slice(&consts[..n]);
-        }
-        for item in self.program.image.data().values().flatten() {
-            // Verified: in-area, value fits; a failure here would be a verifier bug.
-            let _ =
-                crate::memory::operand(item.operand).and_then(|op| memory.store(op, item.value));
-        }
+        crate::program::initial_values(memory, &self.program.image, self.program.slots.constant);
         self.machine.hidden = Default::default();
         self.abandon_scan();
         self.interrupts = Interrupts::default();
@@ -264,6 +255,11 @@ impl Engine {
             };
             let unit: &Unit = shared;
             let ops: &[Op] = &unit.ops;
+            let tables = Tables {
+                chain: &unit.chain,
+                timers: &unit.timers,
+                counters: &unit.counters,
+            };
             let mut st = self.machine.stack;
             loop {
                 #[cfg(feature = "jit")]
@@ -298,7 +294,7 @@ impl Engine {
                     let (at, ran) = run_fast(
                         &mut self.machine.memory.bytes,
                         &ops[..end],
-                        &unit.chain,
+                        tables,
                         pc,
                         &mut st,
                         mask,
@@ -402,7 +398,14 @@ impl Engine {
                         continue;
                     }
                     _ => {
-                        fast_op(&mut self.machine.memory.bytes, op, &mut st, mask, flags_at);
+                        fast_op(
+                            &mut self.machine.memory.bytes,
+                            op,
+                            tables,
+                            &mut st,
+                            mask,
+                            flags_at,
+                        );
                     }
                 }
                 pc += 1;

@@ -3,7 +3,19 @@
 //! returns to the engine, which runs it through `ops/`. It must stay free of anything
 //! that is not an instruction's effect on memory and the stack.
 
-use crate::op::{Arith, Bit, ChainStep, Combine, Op, Rel, STEP_STORE, STEP_TABLE};
+use crate::op::{
+    Arith, Bit, ChainStep, Combine, CounterKind, CounterOp, Op, Preset, Rel, TimerKind, TimerOp,
+    STEP_STORE, STEP_TABLE,
+};
+
+/// The side tables a unit's fast operations index: fused chains' steps, timers and
+/// counters (`decode::Unit`).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Tables<'a> {
+    pub chain: &'a [ChainStep],
+    pub timers: &'a [TimerOp],
+    pub counters: &'a [CounterOp],
+}
 
 /// Run fast operations from `pc` until one is not (or the ops end). Returns where it
 /// stopped and how many instructions ran (network records do not count).
@@ -11,7 +23,7 @@ use crate::op::{Arith, Bit, ChainStep, Combine, Op, Rel, STEP_STORE, STEP_TABLE}
 pub(crate) fn run_fast(
     mem: &mut [u8],
     ops: &[Op],
-    chain: &[ChainStep],
+    tables: Tables<'_>,
     mut pc: usize,
     st: &mut u32,
     mask: u32,
@@ -50,7 +62,7 @@ pub(crate) fn run_fast(
                 // After a network start the rest of the stack is empty; t is the top.
                 let mut t = s & 1;
                 let rest = if n > 0 { 0 } else { s & !1 };
-                for step in &chain[first..first + steps] {
+                for step in &tables.chain[first..first + steps] {
                     let at = step.at as usize;
                     let byte = mem[at];
                     if step.kind == STEP_STORE {
@@ -67,7 +79,7 @@ pub(crate) fn run_fast(
                 continue;
             }
             op => {
-                if !fast_op(mem, op, &mut s, mask, flags_at) {
+                if !fast_op(mem, op, tables, &mut s, mask, flags_at) {
                     break;
                 }
             }
@@ -106,7 +118,14 @@ pub(crate) fn store(mem: &mut [u8], at: u32, width: u8, v: u32) {
 /// Execute a fast operation on the flat memory and the logic stack `st`; false (and
 /// nothing done) for an op that is not one (network records, generic, breakpoints).
 #[inline(always)]
-pub(crate) fn fast_op(mem: &mut [u8], op: Op, st: &mut u32, mask: u32, flags_at: usize) -> bool {
+pub(crate) fn fast_op(
+    mem: &mut [u8],
+    op: Op,
+    tables: Tables<'_>,
+    st: &mut u32,
+    mask: u32,
+    flags_at: usize,
+) -> bool {
     let s = *st;
     *st = match op {
         Op::Ld(b) => ((s << 1) | bit(mem, b)) & mask,
@@ -161,14 +180,30 @@ pub(crate) fn fast_op(mem: &mut [u8], op: Op, st: &mut u32, mask: u32, flags_at:
         Op::CompareB { combine, rel, a, b } => compare::<1>(mem, s, mask, combine, rel, a, b),
         Op::CompareW { combine, rel, a, b } => compare::<2>(mem, s, mask, combine, rel, a, b),
         Op::CompareD { combine, rel, a, b } => compare::<4>(mem, s, mask, combine, rel, a, b),
+        Op::Timer { index } => timer(mem, s, &tables.timers[index as usize]),
+        Op::Counter { index } => counter(mem, s, mask, &tables.counters[index as usize]),
+        Op::Edge { rising, state } => {
+            let now = s & 1;
+            let cell = &mut mem[state as usize];
+            let before = u32::from(*cell != 0);
+            *cell = now as u8;
+            let out = if rising {
+                now & (before ^ 1)
+            } else {
+                (now ^ 1) & before
+            };
+            (s & !1) | out
+        }
+        Op::SetBits { at, bit, n, value } => {
+            if s & 1 == 1 {
+                set_bits(mem, at, bit, n, value);
+            }
+            s
+        }
         Op::Network
         | Op::NetworkLoad { .. }
         | Op::Chain { .. }
         | Op::Call { .. }
-        | Op::Timer { .. }
-        | Op::Counter { .. }
-        | Op::Edge { .. }
-        | Op::SetBits { .. }
         | Op::Generic { .. }
         | Op::Break => return false,
     };
@@ -248,4 +283,208 @@ fn sign_extend(v: u32, bits: u32) -> i64 {
         16 => v as u16 as i16 as i64,
         _ => v as i32 as i64,
     }
+}
+
+/// S/R: `n` bits from bit `bit` of the byte at `at` on take `value` (inside the area:
+/// `decode` checked).
+#[inline(never)]
+fn set_bits(mem: &mut [u8], at: u32, bit: u8, n: u16, value: bool) {
+    let (mut at, mut bit, mut n) = (at as usize, u32::from(bit), u32::from(n));
+    while n > 0 {
+        // The bits of this byte from `bit` on, at most `n`.
+        let take = (8 - bit).min(n);
+        let mask = (((1u32 << take) - 1) << bit) as u8;
+        let byte = &mut mem[at];
+        *byte = if value { *byte | mask } else { *byte & !mask };
+        n -= take;
+        bit = 0;
+        at += 1;
+    }
+}
+
+/// Bits of a timer's hidden state (word 1) and a counter's (word 0), as `ops/timers.rs`.
+const RUNNING: u32 = 1;
+const ARMED: u32 = 2;
+const PREV_UP: u32 = 1;
+const PREV_DOWN: u32 = 2;
+
+#[inline(always)]
+fn word(mem: &[u8], at: usize) -> u32 {
+    u32::from_le_bytes([mem[at], mem[at + 1], mem[at + 2], mem[at + 3]])
+}
+
+#[inline(always)]
+fn set_word(mem: &mut [u8], at: usize, v: u32) {
+    mem[at..at + 4].copy_from_slice(&v.to_le_bytes());
+}
+
+#[inline(always)]
+fn int(mem: &[u8], at: u32) -> i64 {
+    i64::from(load(mem, at, 2) as u16 as i16)
+}
+
+#[inline(always)]
+fn set_int(mem: &mut [u8], at: u32, v: i64) {
+    store(mem, at, 2, v as i16 as u16 as u32);
+}
+
+#[inline(always)]
+fn preset(mem: &[u8], p: Preset) -> i64 {
+    match p {
+        Preset::Const(v) => i64::from(v),
+        Preset::Word(at) => int(mem, at),
+    }
+}
+
+/// One execution of a timer's clock: the whole units elapsed since its previous
+/// advancing execution (0 when this one starts it); the remainder is kept.
+#[inline(always)]
+fn advance(mem: &mut [u8], t: &TimerOp) -> i64 {
+    let state = t.state as usize;
+    let flags = word(mem, state + 4);
+    if flags & RUNNING == 0 {
+        set_word(mem, state + 4, flags | RUNNING);
+        set_word(mem, state, 0);
+        return 0;
+    }
+    let total = u64::from(word(mem, state)) + u64::from(t.scan_ms);
+    let res = u64::from(t.res);
+    set_word(mem, state, (total % res) as u32);
+    (total / res) as i64
+}
+
+/// Stop a timer's clock (the uncounted fraction dropped).
+#[inline(always)]
+fn stop(mem: &mut [u8], state: usize) {
+    let flags = word(mem, state + 4);
+    set_word(mem, state, 0);
+    set_word(mem, state + 4, flags & !RUNNING);
+}
+
+/// TON/TOF/TONR (`ops/timers.rs`): the done state replaces the top.
+#[inline(never)]
+fn timer(mem: &mut [u8], s: u32, t: &TimerOp) -> u32 {
+    const MAX: i64 = i16::MAX as i64;
+    let pt = preset(mem, t.preset);
+    let state = t.state as usize;
+    let top = s & 1 == 1;
+    let out = match t.kind {
+        TimerKind::On => {
+            if top {
+                let units = advance(mem, t);
+                let mut v = int(mem, t.at);
+                if units > 0 && v < MAX {
+                    v = (v + units).min(MAX);
+                    set_int(mem, t.at, v);
+                }
+                pt <= 0 || v >= pt
+            } else {
+                stop(mem, state);
+                set_int(mem, t.at, 0);
+                false
+            }
+        }
+        TimerKind::Off => {
+            if top {
+                stop(mem, state);
+                let flags = word(mem, state + 4);
+                set_word(mem, state + 4, flags | ARMED);
+                set_int(mem, t.at, 0);
+                true
+            } else if word(mem, state + 4) & ARMED != 0 {
+                let units = advance(mem, t);
+                let mut v = int(mem, t.at);
+                if units > 0 && v < pt {
+                    v = (v + units).min(pt);
+                    set_int(mem, t.at, v);
+                }
+                if v < pt {
+                    true
+                } else {
+                    stop(mem, state);
+                    let flags = word(mem, state + 4);
+                    set_word(mem, state + 4, flags & !ARMED);
+                    false
+                }
+            } else {
+                false
+            }
+        }
+        TimerKind::Retentive => {
+            let mut v = int(mem, t.at);
+            if top {
+                let units = advance(mem, t);
+                if units > 0 && v < MAX {
+                    v = (v + units).min(MAX);
+                    set_int(mem, t.at, v);
+                }
+            } else {
+                stop(mem, state);
+            }
+            v >= pt
+        }
+    };
+    (s & !1) | u32::from(out)
+}
+
+/// Record a counter's up (down) input; true on its rising edge.
+#[inline(always)]
+fn counter_edge(mem: &mut [u8], state: usize, bit: u32, now: bool) -> bool {
+    let flags = word(mem, state);
+    set_word(mem, state, if now { flags | bit } else { flags & !bit });
+    now && flags & bit == 0
+}
+
+/// CTU/CTD/CTUD (`ops/timers.rs`): their inputs popped, the done state pushed.
+#[inline(never)]
+fn counter(mem: &mut [u8], s: u32, mask: u32, c: &CounterOp) -> u32 {
+    let pv = preset(mem, c.preset);
+    let state = c.state as usize;
+    let max = i64::from(c.max);
+    let (rest, out) = match c.kind {
+        CounterKind::Up => {
+            let (r, cu) = (s & 1 == 1, s & 2 == 2);
+            let up = counter_edge(mem, state, PREV_UP, cu);
+            let mut v = int(mem, c.at);
+            if r {
+                v = 0;
+                set_int(mem, c.at, v);
+            } else if up && v < max {
+                v += 1;
+                set_int(mem, c.at, v);
+            }
+            (s >> 2, v >= pv)
+        }
+        CounterKind::Down => {
+            let (ld, cd) = (s & 1 == 1, s & 2 == 2);
+            let down = counter_edge(mem, state, PREV_DOWN, cd);
+            let mut v = int(mem, c.at);
+            if ld {
+                v = pv;
+                set_int(mem, c.at, v);
+            } else if down && v > 0 {
+                v -= 1;
+                set_int(mem, c.at, v);
+            }
+            (s >> 2, v == 0)
+        }
+        CounterKind::UpDown => {
+            let (r, cd, cu) = (s & 1 == 1, s & 2 == 2, s & 4 == 4);
+            let up = counter_edge(mem, state, PREV_UP, cu);
+            let down = counter_edge(mem, state, PREV_DOWN, cd);
+            let mut v = int(mem, c.at);
+            if r {
+                v = 0;
+                set_int(mem, c.at, v);
+            } else if up && !down && v < max {
+                v += 1;
+                set_int(mem, c.at, v);
+            } else if down && !up && v > i64::from(i16::MIN) {
+                v -= 1;
+                set_int(mem, c.at, v);
+            }
+            (s >> 3, v >= pv)
+        }
+    };
+    ((rest << 1) | u32::from(out)) & mask
 }

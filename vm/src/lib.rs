@@ -288,6 +288,22 @@ impl Vm {
         Ok(end)
     }
 
+    /// The records of the loaded program that run their semantic from `ops/` (`Generic`,
+    /// not pre-decoded into a fast operation), counted per mnemonic, by mnemonic. With
+    /// `VmConfig::fast` off every instruction is one. For tests and benchmarks: what
+    /// the interpreter still looks up at run time.
+    pub fn generic_records(&self) -> Vec<(String, usize)> {
+        let mut counts = std::collections::BTreeMap::<String, usize>::new();
+        for unit in self.engine.program.units.iter().flatten() {
+            for pc in 0..unit.ops.len() {
+                if let Some((id, _, _)) = unit.instruction(pc) {
+                    *counts.entry(unit.mnemonic(id).to_string()).or_default() += 1;
+                }
+            }
+        }
+        counts.into_iter().collect()
+    }
+
     /// The compiled tier's state: interpreted (not yet or off), compiled (regions and
     /// machine code bytes), nothing to compile, or refused with the reason.
     pub fn tier(&self) -> &TierState {

@@ -112,6 +112,13 @@ impl Memory {
         ((offset as usize) < len).then(|| start + offset as usize * CELL_STATE)
     }
 
+    /// The hidden state: every byte after the areas (timers', counters' and EU/ED
+    /// records' state, docs/vm.md "Hidden state"). Read-only, for tests and tools.
+    pub fn hidden(&self) -> &[u8] {
+        let end = self.spans.iter().map(|&(s, l)| s + l).max().unwrap_or(0);
+        &self.bytes[end..]
+    }
+
     /// Grow the hidden state by `n` zeroed bytes (per-instruction state, at load);
     /// returns the flat index of the first.
     pub(crate) fn add_hidden(&mut self, n: usize) -> usize {

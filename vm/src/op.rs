@@ -28,7 +28,8 @@ pub(crate) enum Preset {
 
 /// A timer on a plain T operand (`ops/timers.rs`): `at` the T word, `state` its hidden
 /// state (`Memory::cell_state_at`), `preset` a constant or a plain INT, `res` ms per
-/// unit. Flow Stack: runs whatever the power flow.
+/// unit (at least 1), `scan_ms` the virtual milliseconds each execution counts
+/// (`VmConfig::scan_ms`). Flow Stack: runs whatever the power flow.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) struct TimerOp {
     pub kind: TimerKind,
@@ -36,6 +37,7 @@ pub(crate) struct TimerOp {
     pub state: u32,
     pub preset: Preset,
     pub res: u32,
+    pub scan_ms: u32,
 }
 
 /// A counter on a plain C operand (`ops/timers.rs`); `max` the count's limit.
@@ -322,4 +324,16 @@ pub(crate) struct ChainStep {
     /// The bit's number in its byte.
     pub bit: u8,
     pub kind: u8,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Op;
+
+    /// The interpreter walks `Op`s: 12 bytes each (the largest, a compare, is two flat
+    /// indices and three bytes). Timers and counters sit in side tables to keep it so.
+    #[test]
+    fn an_op_is_twelve_bytes() {
+        assert_eq!(std::mem::size_of::<Op>(), 12);
+    }
 }

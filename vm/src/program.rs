@@ -76,6 +76,19 @@ pub(crate) struct Program {
     pub flags_at: usize,
 }
 
+/// What a reset puts into cleared memory: K from the const page, then the data pages.
+pub(crate) fn initial_values(memory: &mut Memory, image: &VerifiedImage, constant: u8) {
+    if let Some(k) = memory.area_mut(constant) {
+        let consts = image.constants();
+        let n = consts.len().min(k.len());
+        k[..n].copy_from_slice(&consts[..n]);
+    }
+    for item in image.data().values().flatten() {
+        // Verified: in-area, value fits; a failure here would be a verifier bug.
+        let _ = crate::memory::operand(item.operand).and_then(|op| memory.store(op, item.value));
+    }
+}
+
 impl Program {
     /// Decode `image`'s units for `target` on `memory`'s layout (growing its hidden
     /// state by what the units' instructions keep).
@@ -91,6 +104,10 @@ impl Program {
             .iter()
             .map(|(&page, u)| (page, u.parameters().copied().collect()))
             .collect();
+        // K as every reset leaves it: S/R's N (a constant in K) is folded at load.
+        let mut reset = Memory::new(&target.memory);
+        initial_values(&mut reset, &image, slots.constant);
+        let k = reset.area(slots.constant).unwrap_or(&[]);
         let mut units = vec![None; 256];
         for (page, unit) in &verified_units {
             units[*page as usize] = Some(Arc::new(crate::decode::decode(
@@ -98,6 +115,8 @@ impl Program {
                 &target,
                 memory,
                 config.fast,
+                config.scan_ms,
+                (slots.constant, k),
                 &parameters,
             )));
         }

@@ -1,28 +1,46 @@
 //! The compiled tier (docs/vm.md, "Speed"; docs/vm-jit.md): runs of a unit's
 //! pre-decoded operations that need no run-time lookups (bit logic, moves, integer math,
-//! compares, planned CALLs of subroutines that are themselves entirely such operations)
-//! become native functions through the `gutta-jit` crate (Cranelift). The interpreter
+//! compares, timers, counters, edges, S/R, JMP to a later LBL of the run, the generic
+//! records `tier_generic.rs` compiles, planned CALLs of subroutines that are themselves
+//! entirely such operations) become native functions through the `gutta-jit` crate
+//! (Cranelift). The interpreter
 //! stays the reference: a region runs natively only when the result cannot differ (the
 //! watchdog cannot trip inside it, no CALL inside can go deeper than CallDepth, no
 //! breakpoint is set); otherwise the interpreter runs the same records.
 //!
 //! A region starts at record 0 of a unit or right after a record the tier cannot take
 //! (those are the only records the interpreter reaches other than by falling through,
-//! apart from a resumed pause, which runs interpreted up to the next region).
+//! apart from a resumed pause, which runs interpreted up to the next region, and where
+//! an interpreted JMP lands, where a region starts too). A JMP inside a region lands
+//! inside it (its LBL is later in the same region, or the JMP is left to the
+//! interpreter).
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 use std::sync::{Arc, Mutex, PoisonError, Weak};
 
 use gutta_jit::{Arg, Function, Layout, Module, Step};
 
+use gutta_format::Operand;
+
 use crate::decode::Unit;
 use crate::memory::Memory;
-use crate::op::{Arith, Combine, Op, Rel};
+use crate::op::{Arith, Combine, CounterKind, Op, Preset, Rel, TimerKind};
 use crate::program::Program;
 
-/// Regions shorter than this (in instructions) stay interpreted: entering native code
-/// costs about as much as interpreting a couple of operations.
-const MIN_REGION: u64 = 3;
+/// What entering a region costs and what each instruction it runs natively saves, in
+/// picoseconds, measured by `benches/regions.rs` (docs/vm-jit.md, "Regions"; 2-core
+/// Xeon, 2026-11-28: entry 3.7 ns, gain 0.68 ns per bit-logic instruction, the family
+/// the interpreter runs fastest, so the least any region saves).
+const ENTRY_PS: u64 = 3_700;
+const GAIN_PS: u64 = 680;
+
+/// Whether a region of at most `max_count` instructions, with CALLs nested `depth` deep,
+/// saves more than its entry costs: from 6 instructions on, or with a CALL (interpreted,
+/// a CALL pushes and pops a frame and copies L and its arguments: more than an entry).
+/// Shorter ones stay interpreted.
+fn worth(max_count: u64, depth: u32) -> bool {
+    depth > 0 || max_count.saturating_mul(GAIN_PS) >= ENTRY_PS
+}
 
 /// Longer runs are cut into regions of this many records: Cranelift compiles a few
 /// medium functions faster than one huge one (10,000 mixed steps: 220 ms whole, 140 ms
@@ -51,6 +69,10 @@ pub(crate) struct Native {
     /// The module was compiled for another VM first.
     pub shared: bool,
     pub regions: Vec<Vec<Region>>,
+    /// Per unit page, per record: 1 + the index in `regions` of the region starting
+    /// there, 0 where none does. One load per record the interpreter reaches (a binary
+    /// search there cost more than a short region saved).
+    starts: Vec<Vec<u32>>,
 }
 
 impl std::fmt::Debug for Native {
@@ -66,9 +88,11 @@ impl Native {
     /// The region of unit `page` starting at record `pc`.
     #[inline]
     pub fn region(&self, page: u8, pc: usize) -> Option<&Region> {
-        let regions = self.regions.get(page as usize)?;
-        let k = regions.binary_search_by_key(&pc, |r| r.pc as usize).ok()?;
-        regions.get(k)
+        let k = *self.starts.get(page as usize)?.get(pc)?;
+        if k == 0 {
+            return None;
+        }
+        self.regions.get(page as usize)?.get(k as usize - 1)
     }
 }
 
@@ -152,6 +176,8 @@ fn simple_step(op: Op) -> Option<Step> {
             b,
             width,
         },
+        Op::Edge { rising, state } => Step::Edge { rising, state },
+        Op::SetBits { at, bit, n, value } => Step::SetBits { at, bit, n, value },
         // Plain operations are never fused or per-width forms (`Unit::plain_op`).
         Op::Chain { .. }
         | Op::NetworkLoad { .. }
@@ -163,13 +189,60 @@ fn simple_step(op: Op) -> Option<Step> {
         | Op::CompareB { .. }
         | Op::CompareW { .. }
         | Op::CompareD { .. }
+        // With their side tables (`Builder::step`).
         | Op::Call { .. }
         | Op::Timer { .. }
         | Op::Counter { .. }
-        | Op::Edge { .. }
-        | Op::SetBits { .. }
         | Op::Generic { .. }
         | Op::Break => return None,
+    })
+}
+
+fn preset(p: Preset) -> gutta_jit::Preset {
+    match p {
+        Preset::Const(v) => gutta_jit::Preset::Const(v),
+        Preset::Word(at) => gutta_jit::Preset::Word(at),
+    }
+}
+
+/// A JMP or LBL record.
+enum Control {
+    /// JMP to a label later in the unit (the interpreter continues after its LBL).
+    Jump(u16),
+    /// The LBL a JMP of the unit lands after (`Unit::labels`).
+    Label(u16),
+    /// A JMP backwards or to no label, or a LBL no JMP lands after: interpreted.
+    Other,
+}
+
+/// Where the interpreter continues when JMP record `pc` jumps: after its LBL.
+fn landing(unit: &Unit, pc: usize) -> Option<usize> {
+    let (id, _, operands) = unit.instruction(pc)?;
+    if unit.mnemonic(id) != "JMP" {
+        return None;
+    }
+    match crate::memory::operand(*operands.first()?) {
+        Ok(Operand::Label(n)) => unit.labels.get(&n).map(|&j| j + 1),
+        _ => None,
+    }
+}
+
+/// Whether record `pc` is a JMP or LBL, and what the tier makes of it (`Builder::regions`
+/// also ends a region at a JMP whose LBL lies beyond it).
+fn jump_or_label(unit: &Unit, pc: usize) -> Option<Control> {
+    let (id, _, operands) = unit.instruction(pc)?;
+    let mnemonic = unit.mnemonic(id);
+    if mnemonic != "JMP" && mnemonic != "LBL" {
+        return None;
+    }
+    let Some(Ok(Operand::Label(n))) = operands.first().map(|&o| crate::memory::operand(o)) else {
+        return Some(Control::Other);
+    };
+    let target = unit.labels.get(&n).copied();
+    Some(match mnemonic {
+        "JMP" if target.is_some_and(|j| j > pc) => Control::Jump(n),
+        "LBL" if target == Some(pc) => Control::Label(n),
+        _ => Control::Other,
     })
 }
 
@@ -201,7 +274,44 @@ impl Builder<'_> {
                 1 + callee.depth,
             ));
         }
+        if let Op::Timer { index } = op {
+            let t = unit.timers.get(index as usize)?;
+            let step = Step::Timer {
+                kind: match t.kind {
+                    TimerKind::On => gutta_jit::TimerKind::On,
+                    TimerKind::Off => gutta_jit::TimerKind::Off,
+                    TimerKind::Retentive => gutta_jit::TimerKind::Retentive,
+                },
+                at: t.at,
+                state: t.state,
+                preset: preset(t.preset),
+                res: t.res,
+                scan_ms: t.scan_ms,
+            };
+            return Some((step, 1, 0));
+        }
+        if let Op::Counter { index } = op {
+            let c = unit.counters.get(index as usize)?;
+            let step = Step::Counter {
+                kind: match c.kind {
+                    CounterKind::Up => gutta_jit::CounterKind::Up,
+                    CounterKind::Down => gutta_jit::CounterKind::Down,
+                    CounterKind::UpDown => gutta_jit::CounterKind::UpDown,
+                },
+                at: c.at,
+                state: c.state,
+                preset: preset(c.preset),
+                max: c.max,
+            };
+            return Some((step, 1, 0));
+        }
         if let Op::Generic { .. } = op {
+            match jump_or_label(unit, pc) {
+                Some(Control::Jump(label)) => return Some((Step::Jump { label }, 1, 0)),
+                Some(Control::Label(number)) => return Some((Step::Label { number }, 1, 0)),
+                Some(Control::Other) => return None,
+                None => {}
+            }
             // Instructions the interpreter runs through `ops/` that the tier compiles
             // from their operands (`tier_generic.rs`).
             let step = crate::tier_generic::generic_step(unit, pc, self.memory)?;
@@ -248,7 +358,7 @@ impl Builder<'_> {
         let n = unit.ops.len();
         if n <= MAX_REGION {
             if let Some(whole) = self.whole_unit(page) {
-                if whole.max_count < MIN_REGION {
+                if !worth(whole.max_count, whole.depth) {
                     return Vec::new();
                 }
                 return vec![Region {
@@ -260,39 +370,84 @@ impl Builder<'_> {
                 }];
             }
         }
+        let mut steps: Vec<Option<(Step, u64, u32)>> =
+            (0..n).map(|pc| self.step(&unit, pc)).collect();
+        // A JMP whose LBL is not later in its region stays interpreted (it ends the
+        // region), and where an interpreted JMP lands (after its LBL) a region starts,
+        // so the interpreter enters it there; either can move a region's end before
+        // another JMP's LBL: again until nothing moves.
+        let mut starts = BTreeSet::new();
+        loop {
+            let mut moved = false;
+            for (pc, step) in steps.iter().enumerate() {
+                if step.is_none() {
+                    if let Some(landing) = landing(&unit, pc) {
+                        moved |= landing < n && starts.insert(landing);
+                    }
+                }
+            }
+            for (start, end) in spans(&steps, &starts) {
+                for (pc, step) in steps.iter_mut().enumerate().take(end).skip(start) {
+                    if let Some((Step::Jump { label }, _, _)) = step {
+                        let inside = unit.labels.get(label).is_some_and(|&j| j > pc && j < end);
+                        if !inside {
+                            *step = None;
+                            moved = true;
+                        }
+                    }
+                }
+            }
+            if !moved {
+                break;
+            }
+        }
         let mut regions = Vec::new();
-        let mut pc = 0;
-        while pc < n {
-            let start = pc;
-            let mut steps = Vec::new();
-            let (mut max_count, mut depth) = (0u64, 0u32);
-            while pc < n && pc - start < MAX_REGION {
-                let Some((step, count, d)) = self.step(&unit, pc) else {
-                    break;
-                };
-                steps.push(step);
-                max_count = max_count.saturating_add(count);
-                depth = depth.max(d);
-                pc += 1;
+        for (start, end) in spans(&steps, &starts) {
+            let run = &mut steps[start..end];
+            let (max_count, depth) = run.iter().flatten().fold((0u64, 0u32), |(c, d), s| {
+                (c.saturating_add(s.1), d.max(s.2))
+            });
+            if !worth(max_count, depth) {
+                continue;
             }
-            let cut = pc - start == MAX_REGION;
-            if max_count >= MIN_REGION {
-                regions.push(Region {
-                    pc: start as u32,
-                    records: (pc - start) as u32,
-                    function: self.functions.len() as u32,
-                    max_count,
-                    depth,
-                });
-                self.functions.push(Function { steps });
-            }
-            if !cut {
-                // The record the tier cannot take (or the end).
-                pc += 1;
-            }
+            regions.push(Region {
+                pc: start as u32,
+                records: (end - start) as u32,
+                function: self.functions.len() as u32,
+                max_count,
+                depth,
+            });
+            let steps = run
+                .iter_mut()
+                .filter_map(|s| s.take().map(|s| s.0))
+                .collect();
+            self.functions.push(Function { steps });
         }
         regions
     }
+}
+
+/// The runs of records that compile (`Some`), as (first, end) record ranges, cut every
+/// `MAX_REGION` records and where a region must start (`starts`).
+fn spans<T>(steps: &[Option<T>], starts: &BTreeSet<usize>) -> Vec<(usize, usize)> {
+    let mut spans = Vec::new();
+    let mut pc = 0;
+    while pc < steps.len() {
+        if steps[pc].is_none() {
+            pc += 1;
+            continue;
+        }
+        let start = pc;
+        while pc < steps.len()
+            && steps[pc].is_some()
+            && pc - start < MAX_REGION
+            && (pc == start || !starts.contains(&pc))
+        {
+            pc += 1;
+        }
+        spans.push((start, pc));
+    }
+    spans
 }
 
 /// Compile `program`'s units on `memory`'s layout. None when nothing is worth compiling
@@ -325,10 +480,24 @@ pub(crate) fn compile(
             .map(|(start, len)| (start as u32, len as u32)),
     };
     let (module, shared) = shared_module(layout, b.functions).map_err(|e| e.to_string())?;
+    let starts = regions
+        .iter()
+        .map(|rs| {
+            let Some(last) = rs.last() else {
+                return Vec::new();
+            };
+            let mut table = vec![0u32; last.pc as usize + 1];
+            for (k, r) in rs.iter().enumerate() {
+                table[r.pc as usize] = k as u32 + 1;
+            }
+            table
+        })
+        .collect();
     Ok(Some(Native {
         module,
         regions,
         shared,
+        starts,
     }))
 }
 

@@ -309,3 +309,263 @@ fn every_fast_operation_agrees() {
     assert_eq!(common::read(&fast, "MD4") as i32, -12);
     assert_eq!(common::read(&fast, "Q0.4"), 1);
 }
+
+// ---- timers, counters, edges, S/R (issue 31) -----------------------------------------
+
+/// A timer: kind, T number (T0-T1 1 ms, T2-T3 10 ms, T4-T15 100 ms on the default PLC
+/// type), preset (a literal, a variable, or a pointer: the last stays generic).
+fn timer() -> impl Strategy<Value = String> {
+    (0..3usize, 0..16u32, preset())
+        .prop_map(|(k, n, pt)| format!("{} T{n}, {pt}", ["TON", "TOF", "TONR"][k]))
+}
+
+fn preset() -> impl Strategy<Value = String> {
+    prop_oneof![
+        (-3..40i32).prop_map(|v| v.to_string()),
+        Just("0".to_string()),
+        Just("32767".to_string()),
+        Just("MW60".to_string()),
+        Just("MW62".to_string()),
+        Just("*MD20".to_string()),
+    ]
+}
+
+/// Logic that leaves exactly one level on the stack, with timers, counters and edges
+/// (each leaves its output on top; `= M10..` records it).
+fn stateful_logic() -> impl Strategy<Value = String> {
+    let combine = prop_oneof![
+        bit().prop_map(|b| format!("A {b}")),
+        bit().prop_map(|b| format!("O {b}")),
+        timer(),
+        timer(),
+        (bit(), 0..8u32, preset()).prop_map(|(b, n, pv)| format!("LD {b}\nCTU C{n}, {pv}")),
+        (bit(), 0..8u32, preset()).prop_map(|(b, n, pv)| format!("LD {b}\nCTD C{n}, {pv}")),
+        (bit(), bit(), 0..8u32, preset())
+            .prop_map(|(a, b, n, pv)| format!("LD {a}\nLD {b}\nCTUD C{n}, {pv}")),
+        Just("EU".to_string()),
+        Just("ED".to_string()),
+        (0..16u32).prop_map(|k| format!("= M10.{}\nA M{}.{}", k % 8, 11 + k / 8, k % 8)),
+    ];
+    (bit(), prop::collection::vec(combine, 1..6)).prop_map(|(first, rest)| {
+        let mut s = format!("LD {first}");
+        for r in rest {
+            s.push('\n');
+            s.push_str(&r);
+        }
+        s
+    })
+}
+
+fn stateful_action() -> impl Strategy<Value = String> {
+    prop_oneof![
+        out_bit().prop_map(|b| format!("= {b}")),
+        // N from 1 to 20 from any bit: across byte boundaries (the compiler refuses a
+        // literal N of 0; a variable N of 0 stays generic, below).
+        (0..4u32, 0..8u32, 1..21u32, any::<bool>()).prop_map(|(byte, bit, n, set)| {
+            format!("{} M{}.{bit}, {n}", if set { "S" } else { "R" }, 20 + byte)
+        }),
+        (0..2u32, 0..8u32, 1..12u32).prop_map(|(byte, bit, n)| format!("SI Q{byte}.{bit}, {n}")),
+        (0..2u32, 0..8u32, 1..12u32).prop_map(|(byte, bit, n)| format!("RI Q{byte}.{bit}, {n}")),
+        // Past the end of M (bytes 0-127): the fault stays the handler's.
+        (0..8u32, 1..40u32).prop_map(|(bit, n)| format!("S M126.{bit}, {n}")),
+        Just("S M30.0, MB3".to_string()),
+        Just("EU\n= M31.0".to_string()),
+        timer().prop_map(|t| format!("{t}\n= M31.1")),
+    ]
+}
+
+fn stateful_program() -> impl Strategy<Value = String> {
+    let network = (
+        stateful_logic(),
+        prop::collection::vec(stateful_action(), 1..3),
+    )
+        .prop_map(|(l, acts)| {
+            let mut s = l;
+            for a in acts {
+                s.push('\n');
+                s.push_str(&a);
+            }
+            s
+        });
+    prop::collection::vec(network, 1..8).prop_map(|nets| {
+        // MD20 points at MW60 (a preset through a pointer).
+        let mut s = String::from(
+            "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.0\nMOVD &MB60, MD20\n",
+        );
+        for (k, n) in nets.iter().enumerate() {
+            s.push_str(&format!("NETWORK {}\n{n}\n", k + 2));
+        }
+        s.push_str("END_ORGANIZATION_BLOCK\n");
+        s
+    })
+}
+
+/// A start value for a timer or counter: at and around the limits, or small.
+fn cell_value() -> impl Strategy<Value = u32> {
+    prop_oneof![
+        Just(0u32),
+        Just(32767),
+        Just(32766),
+        Just(0x8000),
+        Just(0x8001),
+        Just(0xFFFF),
+        0..50u32,
+    ]
+}
+
+/// The bytes after the areas: timers', counters' and edges' hidden state.
+fn hidden(vm: &Vm) -> Vec<u8> {
+    vm.memory().hidden().to_vec()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(192))]
+
+    /// Timers (every kind, every resolution, preset literal, variable and through a
+    /// pointer), counters (from their limits, reset and load), EU/ED and S/R/SI/RI (N 0
+    /// to 20 across bytes, past the area's end) run by the interpreter's fast operations
+    /// and by the handlers agree after every scan on every byte of memory, on the hidden
+    /// state, on the instructions executed and on faults, with any scan time, across a
+    /// reset.
+    #[test]
+    fn stateful_operations_agree(
+        text in stateful_program(),
+        scan_ms in prop_oneof![Just(1u32), Just(3), Just(10), Just(55), Just(250), 0..2000u32],
+        cells in prop::collection::vec(cell_value(), 24),
+        inputs in prop::collection::vec((any::<[u8; 3]>(), -3..40i32, -3..40i32), 1..40),
+        reset_at in 0..60usize,
+    ) {
+        let base = VmConfig { scan_ms, native_after: None, ..VmConfig::default() };
+        let mut fast = common::load(&text, base);
+        let mut slow = common::load(&text, VmConfig { fast: false, ..base });
+        for vm in [&mut fast, &mut slow] {
+            for (k, &v) in cells.iter().enumerate() {
+                let cell = if k < 16 { format!("T{k}") } else { format!("C{}", k - 16) };
+                common::set(vm, &cell, v);
+            }
+        }
+        for (scan, &(bits, w0, w1)) in inputs.iter().enumerate() {
+            for vm in [&mut fast, &mut slow] {
+                if scan == reset_at {
+                    vm.reset();
+                }
+                common::set(vm, "IB0", u32::from(bits[0]));
+                common::set(vm, "IB1", u32::from(bits[1]));
+                common::set(vm, "MB3", u32::from(bits[2]) % 24);
+                common::set(vm, "MW60", w0 as u16 as u32);
+                common::set(vm, "MW62", w1 as u16 as u32);
+            }
+            let (f, s) = (fast.scan(), slow.scan());
+            prop_assert_eq!(&f, &s, "scan {}\n{}", scan, text);
+            prop_assert_eq!(fast.fault_position(), slow.fault_position());
+            prop_assert_eq!(fast.executed_last_scan(), slow.executed_last_scan());
+            prop_assert!(all_memory(&fast) == all_memory(&slow), "memory differs after scan {}\n{}", scan, text);
+            prop_assert!(hidden(&fast) == hidden(&slow), "hidden state differs after scan {}\n{}", scan, text);
+            if f.is_err() {
+                break;
+            }
+        }
+    }
+}
+
+/// Run `text` on the fast path and the handlers `scans` times with `inputs(scan)` set
+/// before each scan; both agree after each; returns the fast VM.
+fn agree(
+    text: &str,
+    scan_ms: u32,
+    scans: usize,
+    inputs: impl Fn(usize) -> Vec<(&'static str, u32)>,
+) -> Vm {
+    let base = VmConfig {
+        scan_ms,
+        native_after: None,
+        ..VmConfig::default()
+    };
+    let mut fast = common::load(text, base);
+    let mut slow = common::load(
+        text,
+        VmConfig {
+            fast: false,
+            ..base
+        },
+    );
+    for scan in 0..scans {
+        for vm in [&mut fast, &mut slow] {
+            for (var, v) in inputs(scan) {
+                common::set(vm, var, v);
+            }
+        }
+        assert_eq!(fast.scan(), slow.scan(), "scan {scan}");
+        assert_eq!(fast.executed_last_scan(), slow.executed_last_scan());
+        assert_eq!(all_memory(&fast), all_memory(&slow), "scan {scan}");
+        assert_eq!(hidden(&fast), hidden(&slow), "scan {scan}");
+    }
+    fast
+}
+
+/// Every timer kind at every resolution, the preset a literal and a variable, with a
+/// scan time that leaves remainders (7 ms): the fast path runs them (no generic record
+/// left) and agrees with the handlers scan by scan; the values are those of the
+/// semantics (a 1 ms timer counts 7 per scan, a 10 ms one 7 per 10 ms).
+#[test]
+fn timers_agree_at_every_resolution() {
+    let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\n\
+        NETWORK 1\nLD I0.0\nTON T0, 50\n= Q0.0\nLD I0.0\nTON T2, MW60\n= Q0.1\n\
+        LD I0.0\nTON T4, 3\n= Q0.2\n\
+        NETWORK 2\nLD I0.1\nTOF T1, 30\n= Q0.3\nLD I0.1\nTOF T3, MW60\n= Q0.4\n\
+        LD I0.1\nTOF T5, 2\n= Q0.5\n\
+        NETWORK 3\nLD I0.2\nTONR T6, MW62\n= Q0.6\nLD I0.2\nTONR T7, 0\n= Q0.7\n\
+        NETWORK 4\nLDN I0.2\nTON T8, -1\n= Q1.0\nEND_ORGANIZATION_BLOCK\n";
+    let fast = agree(text, 7, 60, |scan| {
+        vec![
+            ("I0.0", u32::from((scan / 20) % 2 == 0)),
+            ("I0.1", u32::from(scan < 5 || (30..33).contains(&scan))),
+            ("I0.2", u32::from(scan % 7 < 4)),
+            ("MW60", 12),
+            ("MW62", 5),
+        ]
+    });
+    assert_eq!(fast.generic_records(), Vec::<(String, usize)>::new());
+    // I0.0 went 1 (0-19), 0 (20-39), 1 (40-59): 20 scans of 7 ms, the first starts.
+    assert_eq!(common::read(&fast, "T0"), 19 * 7);
+    assert_eq!(common::read(&fast, "T2"), 19 * 7 / 10);
+    assert_eq!(common::read(&fast, "Q0.0"), 1);
+}
+
+/// Counters at their limits, reset and load, presets literal and variable; EU/ED on
+/// rising and falling inputs; S/R across byte boundaries (N 1 to 16; a literal 0 the
+/// compiler refuses).
+#[test]
+fn counters_edges_and_set_bits_agree() {
+    let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\n\
+        NETWORK 1\nLD I0.0\nLD I0.1\nCTU C0, 5\n= Q0.0\n\
+        LD I0.0\nLD I0.1\nCTD C1, MW60\n= Q0.1\n\
+        LD I0.0\nLD I0.2\nLD I0.1\nCTUD C2, MW60\n= Q0.2\n\
+        LD I0.2\nLD I0.1\nCTUD C3, -32768\n= Q0.3\n\
+        NETWORK 2\nLD I0.0\nEU\n= Q1.0\nLD I0.0\nED\n= Q1.1\n\
+        NETWORK 3\nLD I0.3\nS M0.6, 5\nR M2.3, 13\nS M5.0, 1\nR M6.7, 1\n\
+        NETWORK 4\nLDN I0.3\nR M0.7, 3\nS M2.0, 16\nSI Q1.6, 2\nRI Q1.7, 1\n\
+        END_ORGANIZATION_BLOCK\n";
+    let base = VmConfig {
+        native_after: None,
+        ..VmConfig::default()
+    };
+    let probe = common::load(text, base);
+    assert_eq!(probe.generic_records(), Vec::<(String, usize)>::new());
+    let fast = agree(text, 10, 40, |scan| {
+        let mut v = vec![
+            ("I0.0", u32::from(scan % 2 == 0)),
+            ("I0.1", u32::from(scan % 11 == 10)),
+            ("I0.2", u32::from(scan % 3 == 0)),
+            ("I0.3", u32::from(scan % 4 < 2)),
+            ("MW60", 3),
+        ];
+        if scan == 0 {
+            // At the limits: CTU at max, CTUD at min.
+            v.extend([("C0", 32767), ("C2", 0x8001), ("C3", 0x8000)]);
+        }
+        v
+    });
+    // Reset at scan 32; I0.0 rose at 34, 36 and 38 since.
+    assert_eq!(common::read(&fast, "C0"), 3);
+}

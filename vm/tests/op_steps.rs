@@ -26,13 +26,17 @@ enum Tier {
     /// Never in `simple_step` (it returns None): the tier takes the plain operations
     /// it stands for (`Unit::plain_op`), these `Op`s, whose steps these are.
     Plain(&'static [&'static str], &'static [&'static str]),
-    /// `Builder::step`: a planned CALL whose callee compiles whole.
-    Call(&'static str),
+    /// `Builder::step` translates it to these steps (a planned CALL whose callee
+    /// compiles whole; a timer or counter with its side table; JMP/LBL records).
+    Call(&'static [&'static str]),
+    /// `Builder::step` translates the first steps itself (JMP/LBL records) and hands
+    /// the other generic records to `tier_generic.rs`, which builds the second.
+    Generic(&'static [&'static str], &'static [&'static str]),
     /// The tier never takes it: why.
     Interpreted(&'static str),
 }
 
-use Tier::{Call, Direct, Interpreted, Plain};
+use Tier::{Call, Direct, Generic, Interpreted, Plain};
 
 const BIT_OPS: &[&str] = &["Network", "Ld", "Ldn", "A", "An", "O", "On", "Assign"];
 const BIT_STEPS: &[&str] = BIT_OPS;
@@ -69,10 +73,34 @@ const TABLE: &[(&str, Tier)] = &[
     ("CompareB", Plain(&["Compare"], &["Compare"])),
     ("CompareW", Plain(&["Compare"], &["Compare"])),
     ("CompareD", Plain(&["Compare"], &["Compare"])),
-    ("Call", Call("Call")),
+    ("Call", Call(&["Call"])),
+    ("Timer", Call(&["Timer"])),
+    ("Counter", Call(&["Counter"])),
+    ("Edge", Direct(&["Edge"])),
+    ("SetBits", Direct(&["SetBits"])),
+    // JMP/LBL records (the other generic records: tier_generic.rs).
     (
         "Generic",
-        Interpreted("any other instruction: its semantic by mnemonic (ops/), run-time lookups"),
+        Generic(
+            &["Jump", "Label"],
+            &[
+                "CompareReal",
+                "Const",
+                "Convert",
+                "DivWide",
+                "Divide",
+                "IncDec",
+                "Invert",
+                "Lds",
+                "Logic",
+                "MulWide",
+                "Nop",
+                "RealMath",
+                "Shift",
+                "Sqrt",
+                "Swap",
+            ],
+        ),
     ),
     (
         "Break",
@@ -203,6 +231,8 @@ fn set(names: &[&str]) -> BTreeSet<String> {
 fn every_op_has_a_row_and_every_step_an_op() {
     let op_rs = parse("src/op.rs");
     let tier_rs = parse("src/tier.rs");
+    let tier_generic_rs = parse("src/tier_generic.rs");
+    let (steps_in_generic, _) = paths_of("Step", |p| p.visit_file(&tier_generic_rs));
     let ops = variants(&op_rs, "Op");
     let steps: BTreeSet<String> = variants(&parse("../jit/src/lib.rs"), "Step")
         .into_iter()
@@ -266,11 +296,30 @@ fn every_op_has_a_row_and_every_step_an_op() {
             }
             Call(to) => {
                 assert_eq!(built, &None, "simple_step must leave {op} to Builder::step");
-                assert!(
-                    in_step.contains(*op) && steps_in_step.contains(*to),
-                    "Builder::step must translate Op::{op} to Step::{to}"
-                );
-                mapped.insert(to.to_string());
+                for to in *to {
+                    assert!(
+                        in_step.contains(*op) && steps_in_step.contains(*to),
+                        "Builder::step must translate Op::{op} to Step::{to}"
+                    );
+                    mapped.insert(to.to_string());
+                }
+            }
+            Generic(own, generic) => {
+                assert_eq!(built, &None, "simple_step must leave {op} to Builder::step");
+                for to in *own {
+                    assert!(
+                        in_step.contains(*op) && steps_in_step.contains(*to),
+                        "Builder::step must translate Op::{op} to Step::{to}"
+                    );
+                    mapped.insert(to.to_string());
+                }
+                for to in *generic {
+                    assert!(
+                        steps_in_generic.contains(*to),
+                        "tier_generic.rs must build Step::{to}"
+                    );
+                    mapped.insert(to.to_string());
+                }
             }
             Interpreted(why) => {
                 assert!(!why.is_empty());

@@ -6,8 +6,8 @@
 #![allow(dead_code, reason = "each includer uses a part")]
 
 use gutta_jit::{
-    compile, reference, Arg, Arith, Combine, Convert, Function, Layout, Logic, RealOp, Rel, Shift,
-    Step,
+    compile, reference, Arg, Arith, Combine, Convert, CounterKind, Function, Layout, Logic, Preset,
+    RealOp, Rel, Shift, Step, TimerKind,
 };
 
 /// Reads bytes; zeros once they run out (every input decodes to something).
@@ -79,6 +79,9 @@ pub fn decode(data: &[u8]) -> Case {
             if large {
                 grow(&mut steps);
             }
+            if !loose {
+                forward_jumps(&mut steps);
+            }
             Function { steps }
         })
         .collect();
@@ -103,6 +106,43 @@ fn grow(steps: &mut Vec<Step>) {
     while steps.len() <= 64 {
         steps.push(steps[i].clone());
         i += 1;
+    }
+}
+
+/// Strict functions: every Label a number of its own, every Jump to one of the Labels
+/// after it (chosen by its decoded number), or a Not when none follows.
+fn forward_jumps(steps: &mut [Step]) {
+    let mut next = 0u16;
+    for s in steps.iter_mut() {
+        if let Step::Label { number } = s {
+            *number = next;
+            next += 1;
+        }
+    }
+    for i in 0..steps.len() {
+        if let Step::Jump { label } = steps[i] {
+            let later: Vec<u16> = steps[i + 1..]
+                .iter()
+                .filter_map(|s| match s {
+                    Step::Label { number } => Some(*number),
+                    _ => None,
+                })
+                .collect();
+            steps[i] = match later.len() {
+                0 => Step::Not,
+                n => Step::Jump {
+                    label: later[usize::from(label) % n],
+                },
+            };
+        }
+    }
+}
+
+fn preset(r: &mut Reader, layout: &Layout, loose: bool) -> Preset {
+    if r.byte() & 1 == 0 {
+        Preset::Const(i16::from_le_bytes([r.byte(), r.byte()]))
+    } else {
+        Preset::Word(index(r, layout, 2, loose))
     }
 }
 
@@ -132,7 +172,7 @@ fn step(r: &mut Reader, layout: &Layout, f: u32, functions: u32, loose: bool) ->
     if r.byte() & 3 == 0 {
         return generic_step(r, layout, loose);
     }
-    let kind = r.below(18);
+    let kind = r.below(24);
     match kind {
         0 => Step::Network,
         1..=7 => {
@@ -187,6 +227,73 @@ fn step(r: &mut Reader, layout: &Layout, f: u32, functions: u32, loose: bool) ->
                 width,
             }
         }
+        18 => {
+            let kind = [TimerKind::On, TimerKind::Off, TimerKind::Retentive][r.below(3) as usize];
+            let at = index(r, layout, 2, loose);
+            let state = index(r, layout, 8, loose);
+            let preset = preset(r, layout, loose);
+            let res = match r.below(5) {
+                0 => 1,
+                1 => 10,
+                2 => 100,
+                3 if loose => u32::from(r.byte()),
+                _ => 1 + u32::from(r.byte()),
+            };
+            let scan_ms = [7, 10, 100, 1, u32::from(r.byte())][r.below(5) as usize];
+            Step::Timer {
+                kind,
+                at,
+                state,
+                preset,
+                res,
+                scan_ms,
+            }
+        }
+        19 => {
+            let kind =
+                [CounterKind::Up, CounterKind::Down, CounterKind::UpDown][r.below(3) as usize];
+            let at = index(r, layout, 2, loose);
+            let state = index(r, layout, 4, loose);
+            let preset = preset(r, layout, loose);
+            let max = match r.below(3) {
+                0 => i16::MAX,
+                _ => i16::from_le_bytes([r.byte(), r.byte()]),
+            };
+            Step::Counter {
+                kind,
+                at,
+                state,
+                preset,
+                max,
+            }
+        }
+        20 => Step::Edge {
+            rising: r.byte() & 1 == 1,
+            state: index(r, layout, 1, loose),
+        },
+        21 => {
+            let at = index(r, layout, 1, loose);
+            let bit = bit(r, loose);
+            let n = if loose {
+                u16::from(r.byte())
+            } else {
+                // Bits left from `bit` of `at` to the memory's end.
+                let room = (layout.memory_len - at) * 8 - u32::from(bit);
+                r.below(room.min(48) + 1) as u16
+            };
+            Step::SetBits {
+                at,
+                bit,
+                n,
+                value: r.byte() & 1 == 1,
+            }
+        }
+        22 => Step::Jump {
+            label: u16::from(r.byte() % 4),
+        },
+        23 => Step::Label {
+            number: u16::from(r.byte() % 4),
+        },
         _ => {
             let later = functions - f - 1;
             if later == 0 && !loose {
