@@ -16,7 +16,8 @@ use gutta_format::{LocalEntry, LocalSection, Operand, PackedOperand, UnitRecord,
 use crate::fuse::build;
 use crate::memory::Memory;
 use crate::op::{
-    Arith, Bit, ChainStep, Combine, CounterKind, CounterOp, Op, Preset, Rel, TimerKind, TimerOp,
+    Arith, Bit, ChainStep, Combine, CounterKind, CounterOp, Op, Preset, Quick, Rel, TimerKind,
+    TimerOp,
 };
 
 /// One argument of a planned CALL: the caller's variable and the callee's parameter in
@@ -565,6 +566,52 @@ fn set_bits(
     })
 }
 
+/// How the fast path runs generic record `pc` (`Op::Generic`'s `quick`).
+fn quick(
+    memory: &Memory,
+    unit: &VerifiedUnit,
+    pc: usize,
+    ins: &Instruction,
+    ops: &[PackedOperand],
+) -> Quick {
+    let boxed = ins.flow == Flow::Box;
+    let fallback = if boxed && !unit.loops.contains_key(&pc) {
+        Quick::Box
+    } else {
+        Quick::Handler
+    };
+    let m = ins.mnemonic.as_str();
+    match m {
+        "LBL" | "NOP" if ins.flow == Flow::Always && ops.len() <= 1 => Quick::Nothing,
+        "JMP" if boxed => {
+            let Some(Ok(Operand::Label(n))) = ops.first().map(|o| o.decode()) else {
+                return fallback;
+            };
+            let to = unit.labels.get(&n).map_or(unit.records.len(), |&j| j + 1);
+            match u32::try_from(to) {
+                Ok(to) if to as usize > pc => Quick::Jump { to },
+                _ => fallback,
+            }
+        }
+        "INCB" | "INCW" | "INCD" | "DECB" | "DECW" | "DECD" if boxed && ops.len() == 1 => {
+            let width = match m.as_bytes()[3] {
+                b'B' => 1,
+                b'W' => 2,
+                _ => 4,
+            };
+            match plain(memory, ops[0], width_of(width)) {
+                Some(at) => Quick::Step {
+                    at,
+                    width,
+                    up: m.starts_with("INC"),
+                },
+                None => fallback,
+            }
+        }
+        _ => fallback,
+    }
+}
+
 /// Decode a unit. `fast_ops` false keeps every instruction `Generic` (the tests compare
 /// both forms).
 /// `params`: the parameters of each unit, by page (for CALL plans). The hidden state
@@ -635,8 +682,13 @@ pub(crate) fn decode(
                             .then(|| stateful.op(memory, ins, packed, edge))
                             .flatten()
                     })
-                    .unwrap_or(Op::Generic {
+                    .unwrap_or_else(|| Op::Generic {
                         boxed: ins.flow == Flow::Box,
+                        quick: if fast_ops {
+                            quick(memory, unit, pc, ins, packed)
+                        } else {
+                            Quick::Handler
+                        },
                     });
                 let is_generic = matches!(op, Op::Generic { .. });
                 plain.push(op);

@@ -342,7 +342,7 @@ impl Engine {
                             continue 'frames;
                         }
                     }
-                    Op::Generic { boxed } => {
+                    Op::Generic { boxed, .. } => {
                         self.machine.stack = st;
                         self.machine.set_pc(pc);
                         // The unit stays borrowed from the program while the semantic
