@@ -16,8 +16,8 @@ use gutta_format::{LocalEntry, LocalSection, Operand, PackedOperand, UnitRecord,
 use crate::fuse::build;
 use crate::memory::Memory;
 use crate::op::{
-    Arith, Bit, ChainStep, Combine, CounterKind, CounterOp, Op, Preset, Quick, Rel, TimerKind,
-    TimerOp,
+    Arith, Bit, ChainStep, Combine, CounterKind, CounterOp, DivideOp, Op, Preset, Quick, Rel,
+    TimerKind, TimerOp,
 };
 
 /// One argument of a planned CALL: the caller's variable and the callee's parameter in
@@ -186,6 +186,8 @@ pub(crate) struct Unit {
     /// The operands of `Op::Timer` and `Op::Counter` records, by their `index`.
     pub timers: Vec<TimerOp>,
     pub counters: Vec<CounterOp>,
+    /// The operands of `Quick::Divide` records, by their `index`.
+    pub divides: Vec<DivideOp>,
     /// The instruction set, for mnemonics.
     pub target: Arc<Target>,
 }
@@ -573,6 +575,7 @@ fn quick(
     pc: usize,
     ins: &Instruction,
     ops: &[PackedOperand],
+    divides: &mut Vec<DivideOp>,
 ) -> Quick {
     let boxed = ins.flow == Flow::Box;
     let fallback = if boxed && !unit.loops.contains_key(&pc) {
@@ -606,6 +609,20 @@ fn quick(
                     up: m.starts_with("INC"),
                 },
                 None => fallback,
+            }
+        }
+        "/I" | "/D" if boxed && ops.len() == 2 => {
+            let width = if m == "/I" { 2 } else { 4 };
+            let (src, dst) = (
+                plain(memory, ops[0], width_of(width)),
+                plain(memory, ops[1], width_of(width)),
+            );
+            match (src, dst, u32::try_from(divides.len())) {
+                (Some(src), Some(dst), Ok(index)) => {
+                    divides.push(DivideOp { src, dst, width });
+                    Quick::Divide { index }
+                }
+                _ => fallback,
             }
         }
         _ => fallback,
@@ -643,6 +660,7 @@ pub(crate) fn decode(
         (Vec::new(), GenericRecords::default(), Vec::new());
     let mut operands = Vec::new();
     let mut edges = Vec::new();
+    let mut divides = Vec::new();
     for (pc, r) in unit.records.iter().enumerate() {
         match r {
             UnitRecord::Network { number, .. } => {
@@ -685,7 +703,7 @@ pub(crate) fn decode(
                     .unwrap_or_else(|| Op::Generic {
                         boxed: ins.flow == Flow::Box,
                         quick: if fast_ops {
-                            quick(memory, unit, pc, ins, packed)
+                            quick(memory, unit, pc, ins, packed, &mut divides)
                         } else {
                             Quick::Handler
                         },
@@ -725,6 +743,7 @@ pub(crate) fn decode(
         edges,
         timers: stateful.timers,
         counters: stateful.counters,
+        divides,
         target: Arc::clone(target),
     };
     unit.set_ops(plain, fast_ops, None);

@@ -257,6 +257,7 @@ impl Engine {
                 chain: &unit.chain,
                 timers: &unit.timers,
                 counters: &unit.counters,
+                divides: &unit.divides,
             };
             let mut st = self.machine.stack;
             loop {

@@ -4,8 +4,8 @@
 //! that is not an instruction's effect on memory and the stack.
 
 use crate::op::{
-    Arith, Bit, ChainStep, Combine, CounterKind, CounterOp, Op, Preset, Quick, Rel, TimerKind,
-    TimerOp, STEP_STORE, STEP_TABLE,
+    Arith, Bit, ChainStep, Combine, CounterKind, CounterOp, DivideOp, Op, Preset, Quick, Rel,
+    TimerKind, TimerOp, STEP_STORE, STEP_TABLE,
 };
 
 /// The side tables a unit's fast operations index: fused chains' steps, timers and
@@ -15,6 +15,7 @@ pub(crate) struct Tables<'a> {
     pub chain: &'a [ChainStep],
     pub timers: &'a [TimerOp],
     pub counters: &'a [CounterOp],
+    pub divides: &'a [DivideOp],
 }
 
 /// Run fast operations from `pc` until one is not (or the ops end). Returns where it
@@ -92,6 +93,11 @@ pub(crate) fn run_fast(
                 Quick::Step { at, width, up } => {
                     if s & 1 == 1 {
                         step(mem, at, width, up, flags_at);
+                    }
+                }
+                Quick::Divide { index } => {
+                    if s & 1 == 1 {
+                        divide(mem, &tables.divides[index as usize], flags_at);
                     }
                 }
                 Quick::Box | Quick::Handler => break,
@@ -527,4 +533,27 @@ fn counter(mem: &mut [u8], s: u32, mask: u32, c: &CounterOp) -> u32 {
         }
     };
     ((rest << 1) | u32::from(out)) & mask
+}
+
+/// /I, /D (`ops/math.rs` `divide`): by zero SM1.3 set and SM1.0-2 clear, OUT kept;
+/// MIN / -1 SM1.1 set (SM1.0, SM1.2, SM1.3 clear), OUT kept; else OUT := the truncated
+/// quotient, SM1.0 zero, SM1.2 negative, SM1.1 and SM1.3 clear.
+#[inline(never)]
+fn divide(mem: &mut [u8], d: &DivideOp, flags_at: usize) {
+    let bits = u32::from(d.width) * 8;
+    let a = sign_extend(load(mem, d.dst, d.width), bits);
+    let b = sign_extend(load(mem, d.src, d.width), bits);
+    let flags = if b == 0 {
+        0b1000
+    } else {
+        let q = a / b;
+        if q > (1i64 << (bits - 1)) - 1 {
+            0b0010
+        } else {
+            store(mem, d.dst, d.width, q as u32);
+            u8::from(q == 0) | (u8::from(q < 0) << 2)
+        }
+    };
+    let f = &mut mem[flags_at];
+    *f = (*f & !0x0F) | flags;
 }

@@ -285,7 +285,7 @@ impl Vm {
 
     /// The records of the loaded program whose semantic the interpreter runs from
     /// `ops/` (not pre-decoded into a fast operation, nor run by the fast path itself
-    /// as LBL, NOP, a forward JMP or INC/DEC are), counted per mnemonic, by mnemonic.
+    /// as LBL, NOP, a forward JMP, INC/DEC, /I and /D are), counted per mnemonic.
     /// With `VmConfig::fast` off every instruction is one. For tests and benchmarks:
     /// what the interpreter still looks up at run time.
     pub fn generic_records(&self) -> Vec<(String, usize)> {
@@ -295,7 +295,10 @@ impl Vm {
                 let quick = matches!(
                     unit.plain_op(pc),
                     Some(Op::Generic {
-                        quick: Quick::Nothing | Quick::Jump { .. } | Quick::Step { .. },
+                        quick: Quick::Nothing
+                            | Quick::Jump { .. }
+                            | Quick::Step { .. }
+                            | Quick::Divide { .. },
                         ..
                     })
                 );

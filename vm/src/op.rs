@@ -115,6 +115,17 @@ pub(crate) enum Quick {
     /// INCB/INCW/INCD (`up`) and DECB/DECW/DECD on a plain variable of `width` bytes:
     /// with power flow, OUT := OUT +- 1 with the SM1 flags of the handler.
     Step { at: u32, width: u8, up: bool },
+    /// /I (width 2) and /D (4) on plain variables: `Unit::divides[index]`.
+    Divide { index: u32 },
+}
+
+/// /I or /D on plain variables (`Quick::Divide`): OUT (`dst`) := OUT / IN1 (`src`),
+/// `width` bytes, signed, truncated, with the handler's SM1 flags.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct DivideOp {
+    pub src: u32,
+    pub dst: u32,
+    pub width: u8,
 }
 
 /// One decoded record.

@@ -384,6 +384,10 @@ fn stateful_action() -> impl Strategy<Value = String> {
         (0..3u32).prop_map(|k| format!("JMP {k}")),
         (0..3u32).prop_map(|k| format!("JMP {k}")),
         Just("/I MW62, MW66".to_string()),
+        (0..4u32, 0..4u32).prop_map(|(a, b)| format!("/I MW{}, MW{}", 70 + 2 * a, 70 + 2 * b)),
+        (0..4u32, 0..4u32).prop_map(|(a, b)| format!("/D MD{}, MD{}", 70 + 4 * a, 70 + 4 * b)),
+        Just("/D -1, MD70".to_string()),
+        Just("SWAP MW64".to_string()),
         Just("NOP".to_string()),
         Just("EU\n= M31.0".to_string()),
         timer().prop_map(|t| format!("{t}\n= M31.1")),
@@ -603,7 +607,8 @@ fn counters_edges_and_set_bits_agree() {
 }
 
 /// Generic records the fast path runs itself: INC/DEC at the edges of their ranges
-/// (each one's SM1 flags copied after it), LBL and NOP, a forward JMP over networks and
+/// and /I, /D by zero, of MIN by -1 and of negatives (each one's SM1 flags copied
+/// after it), LBL and NOP, a forward JMP over networks and
 /// a box without power flow; both engines agree and count the same instructions.
 #[test]
 fn quick_generic_records_agree() {
@@ -618,6 +623,12 @@ fn quick_generic_records_agree() {
         ("INCB", "MB16", "255"),
         ("DECB", "MB17", "0"),
         ("DECB", "MB18", "1"),
+        ("/I 0,", "MW20", "7"),
+        ("/I -1,", "MW22", "-32768"),
+        ("/I -3,", "MW24", "7"),
+        ("/D 2,", "MD28", "-2147483647"),
+        ("/D -1,", "MD32", "-2147483648"),
+        ("/D 5,", "MD36", "3"),
     ];
     for (k, (m, var, start)) in cases.iter().enumerate() {
         let mov = match var.as_bytes()[1] {
@@ -627,25 +638,27 @@ fn quick_generic_records_agree() {
         };
         text.push_str(&format!(
             "{mov} {start}, {var}\n{m} {var}\nMOVB SMB1, MB{}\n",
-            40 + k
+            60 + k
         ));
     }
     text.push_str(
-        "NETWORK 2\nLD I0.0\nJMP 1\nNETWORK 3\nLD SM0.0\nINCW MW20\nNOP\n\
-         NETWORK 4\nLBL 1\nNETWORK 5\nLDN SM0.0\n/I MW0, MW22\nINCW MW24\n\
-         NETWORK 6\nLD SM0.0\nINCW MW26\nEND_ORGANIZATION_BLOCK\n",
+        "NETWORK 2\nLD I0.0\nJMP 1\nNETWORK 3\nLD SM0.0\nINCW MW40\nNOP\n\
+         NETWORK 4\nLBL 1\nNETWORK 5\nLDN SM0.0\nSWAP MW50\nINCW MW52\n\
+         NETWORK 6\nLD SM0.0\nINCW MW46\nEND_ORGANIZATION_BLOCK\n",
     );
     let fast = agree(&text, 10, 4, |scan| {
         vec![("I0.0", u32::from(scan % 2 == 1))]
     });
     // Only the box reaches its handler (with power flow; here it has none).
-    assert_eq!(fast.generic_records(), vec![("/I".to_string(), 1)]);
-    // MW20 counted in the scans I0.0 was 0 (0 and 2), MW26 in every scan.
-    assert_eq!(common::read(&fast, "MW20"), 2);
-    assert_eq!(common::read(&fast, "MW26"), 4);
+    assert_eq!(fast.generic_records(), vec![("SWAP".to_string(), 1)]);
+    // MW40 counted in the scans I0.0 was 0 (0 and 2), MW46 in every scan.
+    assert_eq!(common::read(&fast, "MW40"), 2);
+    assert_eq!(common::read(&fast, "MW46"), 4);
     assert_eq!(
-        common::read(&fast, "MB42"),
+        common::read(&fast, "MB62"),
         0b110,
         "32767 + 1: overflow, negative"
     );
+    assert_eq!(common::read(&fast, "MB69"), 0b1000, "division by zero");
+    assert_eq!(common::read(&fast, "MB70"), 0b0010, "-32768 / -1");
 }
