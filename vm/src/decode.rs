@@ -523,8 +523,8 @@ impl Stateful<'_> {
             TimerCounterKind::CountDown => CounterKind::Down,
             _ => CounterKind::UpDown,
         };
-        let max =
-            i16::try_from(self.target.memory.counter_max.clamp(0, i32::from(i16::MAX))).ok()?;
+        // The handler's limit: counter_max, at most i16::MAX.
+        let max = i16::try_from(self.target.memory.counter_max.min(i32::from(i16::MAX))).ok()?;
         let index = u32::try_from(self.counters.len()).ok()?;
         self.counters.push(CounterOp {
             kind,
