@@ -16,7 +16,8 @@ use gutta_format::{LocalEntry, LocalSection, Operand, PackedOperand, UnitRecord,
 use crate::fuse::build;
 use crate::memory::Memory;
 use crate::op::{
-    Arith, Bit, ChainStep, Combine, CounterKind, CounterOp, Op, Preset, Rel, TimerKind, TimerOp,
+    Arith, Bit, ChainStep, Combine, CounterKind, CounterOp, DivideOp, Op, Preset, Quick, Rel,
+    TimerKind, TimerOp,
 };
 
 /// One argument of a planned CALL: the caller's variable and the callee's parameter in
@@ -185,6 +186,8 @@ pub(crate) struct Unit {
     /// The operands of `Op::Timer` and `Op::Counter` records, by their `index`.
     pub timers: Vec<TimerOp>,
     pub counters: Vec<CounterOp>,
+    /// The operands of `Quick::Divide` records, by their `index`.
+    pub divides: Vec<DivideOp>,
     /// The instruction set, for mnemonics.
     pub target: Arc<Target>,
 }
@@ -520,8 +523,8 @@ impl Stateful<'_> {
             TimerCounterKind::CountDown => CounterKind::Down,
             _ => CounterKind::UpDown,
         };
-        let max =
-            i16::try_from(self.target.memory.counter_max.clamp(0, i32::from(i16::MAX))).ok()?;
+        // The handler's limit: counter_max, at most i16::MAX.
+        let max = i16::try_from(self.target.memory.counter_max.min(i32::from(i16::MAX))).ok()?;
         let index = u32::try_from(self.counters.len()).ok()?;
         self.counters.push(CounterOp {
             kind,
@@ -565,6 +568,67 @@ fn set_bits(
     })
 }
 
+/// How the fast path runs generic record `pc` (`Op::Generic`'s `quick`).
+fn quick(
+    memory: &Memory,
+    unit: &VerifiedUnit,
+    pc: usize,
+    ins: &Instruction,
+    ops: &[PackedOperand],
+    divides: &mut Vec<DivideOp>,
+) -> Quick {
+    let boxed = ins.flow == Flow::Box;
+    let fallback = if boxed && !unit.loops.contains_key(&pc) {
+        Quick::Box
+    } else {
+        Quick::Handler
+    };
+    let m = ins.mnemonic.as_str();
+    match m {
+        "LBL" | "NOP" if ins.flow == Flow::Always && ops.len() <= 1 => Quick::Nothing,
+        "JMP" if boxed => {
+            let Some(Ok(Operand::Label(n))) = ops.first().map(|o| o.decode()) else {
+                return fallback;
+            };
+            let to = unit.labels.get(&n).map_or(unit.records.len(), |&j| j + 1);
+            match u32::try_from(to) {
+                Ok(to) if to as usize > pc => Quick::Jump { to },
+                _ => fallback,
+            }
+        }
+        "INCB" | "INCW" | "INCD" | "DECB" | "DECW" | "DECD" if boxed && ops.len() == 1 => {
+            let width = match m.as_bytes()[3] {
+                b'B' => 1,
+                b'W' => 2,
+                _ => 4,
+            };
+            match plain(memory, ops[0], width_of(width)) {
+                Some(at) => Quick::Step {
+                    at,
+                    width,
+                    up: m.starts_with("INC"),
+                },
+                None => fallback,
+            }
+        }
+        "/I" | "/D" if boxed && ops.len() == 2 => {
+            let width = if m == "/I" { 2 } else { 4 };
+            let (src, dst) = (
+                plain(memory, ops[0], width_of(width)),
+                plain(memory, ops[1], width_of(width)),
+            );
+            match (src, dst, u32::try_from(divides.len())) {
+                (Some(src), Some(dst), Ok(index)) => {
+                    divides.push(DivideOp { src, dst, width });
+                    Quick::Divide { index }
+                }
+                _ => fallback,
+            }
+        }
+        _ => fallback,
+    }
+}
+
 /// Decode a unit. `fast_ops` false keeps every instruction `Generic` (the tests compare
 /// both forms).
 /// `params`: the parameters of each unit, by page (for CALL plans). The hidden state
@@ -596,6 +660,7 @@ pub(crate) fn decode(
         (Vec::new(), GenericRecords::default(), Vec::new());
     let mut operands = Vec::new();
     let mut edges = Vec::new();
+    let mut divides = Vec::new();
     for (pc, r) in unit.records.iter().enumerate() {
         match r {
             UnitRecord::Network { number, .. } => {
@@ -635,8 +700,13 @@ pub(crate) fn decode(
                             .then(|| stateful.op(memory, ins, packed, edge))
                             .flatten()
                     })
-                    .unwrap_or(Op::Generic {
+                    .unwrap_or_else(|| Op::Generic {
                         boxed: ins.flow == Flow::Box,
+                        quick: if fast_ops {
+                            quick(memory, unit, pc, ins, packed, &mut divides)
+                        } else {
+                            Quick::Handler
+                        },
                     });
                 let is_generic = matches!(op, Op::Generic { .. });
                 plain.push(op);
@@ -673,6 +743,7 @@ pub(crate) fn decode(
         edges,
         timers: stateful.timers,
         counters: stateful.counters,
+        divides,
         target: Arc::clone(target),
     };
     unit.set_ops(plain, fast_ops, None);

@@ -259,6 +259,7 @@ impl Engine {
                 chain: &unit.chain,
                 timers: &unit.timers,
                 counters: &unit.counters,
+                divides: &unit.divides,
             };
             let mut st = self.machine.stack;
             loop {
@@ -306,6 +307,17 @@ impl Engine {
                 let Some(&fast) = ops.get(pc) else {
                     // The unit's end: return from it.
                     self.machine.stack = st;
+                    let machine = &mut self.machine;
+                    if let [root] = machine.frames.as_slice() {
+                        if root.call.is_none() {
+                            // The phase's unit (MAIN, an interrupt routine) ends:
+                            // nothing to copy back, no frame left (`leave`, shortly).
+                            let loops = root.loops_at_entry;
+                            machine.frames.clear();
+                            machine.loops.truncate(loops);
+                            return Ok(if SINGLE { Flow::Stepped } else { Flow::Empty });
+                        }
+                    }
                     self.machine.set_pc(pc);
                     if !calls::leave_planned(&mut self.machine, &self.program) {
                         self.leave()?;
@@ -345,7 +357,7 @@ impl Engine {
                             continue 'frames;
                         }
                     }
-                    Op::Generic { boxed } => {
+                    Op::Generic { boxed, .. } => {
                         self.machine.stack = st;
                         self.machine.set_pc(pc);
                         // The unit stays borrowed from the program while the semantic
@@ -479,6 +491,7 @@ impl Engine {
     /// start the next routine, or end the scan. True when the scan has ended.
     pub fn next_phase(&mut self, flow: Flow) -> Result<bool, Fault> {
         let mut queue = match std::mem::take(&mut self.phase) {
+            Phase::Main if self.interrupts.idle_scan(&self.machine.memory) => VecDeque::new(),
             Phase::Main => self
                 .interrupts
                 .occurred_events(

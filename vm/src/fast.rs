@@ -4,8 +4,8 @@
 //! that is not an instruction's effect on memory and the stack.
 
 use crate::op::{
-    Arith, Bit, ChainStep, Combine, CounterKind, CounterOp, Op, Preset, Rel, TimerKind, TimerOp,
-    STEP_STORE, STEP_TABLE,
+    Arith, Bit, ChainStep, Combine, CounterKind, CounterOp, DivideOp, Op, Preset, Quick, Rel,
+    TimerKind, TimerOp, STEP_STORE, STEP_TABLE,
 };
 
 /// The side tables a unit's fast operations index: fused chains' steps, timers and
@@ -15,6 +15,7 @@ pub(crate) struct Tables<'a> {
     pub chain: &'a [ChainStep],
     pub timers: &'a [TimerOp],
     pub counters: &'a [CounterOp],
+    pub divides: &'a [DivideOp],
 }
 
 /// Run fast operations from `pc` until one is not (or the ops end). Returns where it
@@ -29,7 +30,7 @@ pub(crate) fn run_fast(
     mask: u32,
     flags_at: usize,
 ) -> (usize, u64) {
-    let (start, mut networks) = (pc, 0u64);
+    let (start, mut networks, mut skipped) = (pc, 0u64, 0u64);
     let mut s = *st;
     while let Some(&op) = ops.get(pc) {
         match op {
@@ -78,6 +79,29 @@ pub(crate) fn run_fast(
                 pc += records;
                 continue;
             }
+            Op::Generic { quick, .. } => match quick {
+                Quick::Nothing => {}
+                Quick::Box if s & 1 == 0 => {}
+                Quick::Jump { to } => {
+                    if s & 1 == 1 {
+                        // Forward: the records jumped over do not run.
+                        skipped += u64::from(to) - pc as u64 - 1;
+                        pc = to as usize;
+                        continue;
+                    }
+                }
+                Quick::Step { at, width, up } => {
+                    if s & 1 == 1 {
+                        step(mem, at, width, up, flags_at);
+                    }
+                }
+                Quick::Divide { index } => {
+                    if s & 1 == 1 {
+                        divide(mem, &tables.divides[index as usize], flags_at);
+                    }
+                }
+                Quick::Box | Quick::Handler => break,
+            },
             op => {
                 if !fast_op(mem, op, tables, &mut s, mask, flags_at) {
                     break;
@@ -87,7 +111,29 @@ pub(crate) fn run_fast(
         pc += 1;
     }
     *st = s;
-    (pc, (pc - start) as u64 - networks)
+    (pc, (pc - start) as u64 - networks - skipped)
+}
+
+/// INCx (`up`) / DECx of `width` bytes at `at` (`ops/math.rs` `step`): a byte wraps
+/// unsigned (SM1.1 when it wrapped, SM1.2 clear), a word or double word signed.
+#[inline(never)]
+fn step(mem: &mut [u8], at: u32, width: u8, up: bool, flags_at: usize) {
+    let delta: i64 = if up { 1 } else { -1 };
+    let bits = u32::from(width) * 8;
+    let v = load(mem, at, width);
+    let (r, overflow, negative) = if width == 1 {
+        let exact = i64::from(v) + delta;
+        let r = exact.rem_euclid(256);
+        (r, !(0..=255).contains(&exact), false)
+    } else {
+        let exact = sign_extend(v, bits) + delta;
+        let r = sign_extend(exact as u32, bits);
+        (r, r != exact, r < 0)
+    };
+    store(mem, at, width, r as u32);
+    let flags = u8::from(r == 0) | (u8::from(overflow) << 1) | (u8::from(negative) << 2);
+    let f = &mut mem[flags_at];
+    *f = (*f & !0x07) | flags;
 }
 
 #[inline(always)]
@@ -487,4 +533,27 @@ fn counter(mem: &mut [u8], s: u32, mask: u32, c: &CounterOp) -> u32 {
         }
     };
     ((rest << 1) | u32::from(out)) & mask
+}
+
+/// /I, /D (`ops/math.rs` `divide`): by zero SM1.3 set and SM1.0-2 clear, OUT kept;
+/// MIN / -1 SM1.1 set (SM1.0, SM1.2, SM1.3 clear), OUT kept; else OUT := the truncated
+/// quotient, SM1.0 zero, SM1.2 negative, SM1.1 and SM1.3 clear.
+#[inline(never)]
+fn divide(mem: &mut [u8], d: &DivideOp, flags_at: usize) {
+    let bits = u32::from(d.width) * 8;
+    let a = sign_extend(load(mem, d.dst, d.width), bits);
+    let b = sign_extend(load(mem, d.src, d.width), bits);
+    let flags = if b == 0 {
+        0b1000
+    } else {
+        let q = a / b;
+        if q > (1i64 << (bits - 1)) - 1 {
+            0b0010
+        } else {
+            store(mem, d.dst, d.width, q as u32);
+            u8::from(q == 0) | (u8::from(q < 0) << 2)
+        }
+    };
+    let f = &mut mem[flags_at];
+    *f = (*f & !0x0F) | flags;
 }

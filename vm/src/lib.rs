@@ -49,6 +49,7 @@ use std::sync::Arc;
 
 use gutta_catalog::{Address, Target};
 use gutta_format::VerifiedImage;
+use op::{Op, Quick};
 
 pub use debug::{DebugError, DebugState, Status, Step};
 pub use engine::{Position, ScanEnd, TierState};
@@ -288,15 +289,26 @@ impl Vm {
         Ok(end)
     }
 
-    /// The records of the loaded program that run their semantic from `ops/` (`Generic`,
-    /// not pre-decoded into a fast operation), counted per mnemonic, by mnemonic. With
-    /// `VmConfig::fast` off every instruction is one. For tests and benchmarks: what
-    /// the interpreter still looks up at run time.
+    /// The records of the loaded program whose semantic the interpreter runs from
+    /// `ops/` (not pre-decoded into a fast operation, nor run by the fast path itself
+    /// as LBL, NOP, a forward JMP, INC/DEC, /I and /D are), counted per mnemonic.
+    /// With `VmConfig::fast` off every instruction is one. For tests and benchmarks:
+    /// what the interpreter still looks up at run time.
     pub fn generic_records(&self) -> Vec<(String, usize)> {
         let mut counts = std::collections::BTreeMap::<String, usize>::new();
         for unit in self.engine.program.units.iter().flatten() {
             for pc in 0..unit.ops.len() {
-                if let Some((id, _, _)) = unit.instruction(pc) {
+                let quick = matches!(
+                    unit.plain_op(pc),
+                    Some(Op::Generic {
+                        quick: Quick::Nothing
+                            | Quick::Jump { .. }
+                            | Quick::Step { .. }
+                            | Quick::Divide { .. },
+                        ..
+                    })
+                );
+                if let Some((id, _, _)) = unit.instruction(pc).filter(|_| !quick) {
                     *counts.entry(unit.mnemonic(id).to_string()).or_default() += 1;
                 }
             }

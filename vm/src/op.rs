@@ -98,6 +98,36 @@ pub(crate) enum Arith {
     Mul,
 }
 
+/// How the fast path runs a generic record (`Op::Generic`) without its handler, with
+/// exactly its effect (`ops/`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Quick {
+    /// Only through its handler (the engine's slow path).
+    Handler,
+    /// A box (`Flow::Box`) other than FOR: without power flow it does nothing; with
+    /// power flow its handler runs.
+    Box,
+    /// Nothing at all (LBL, NOP).
+    Nothing,
+    /// JMP to a label after it: with power flow, continue at record `to` (the one after
+    /// the LBL, or the unit's end when the label is missing); `to` > the JMP's record.
+    Jump { to: u32 },
+    /// INCB/INCW/INCD (`up`) and DECB/DECW/DECD on a plain variable of `width` bytes:
+    /// with power flow, OUT := OUT +- 1 with the SM1 flags of the handler.
+    Step { at: u32, width: u8, up: bool },
+    /// /I (width 2) and /D (4) on plain variables: `Unit::divides[index]`.
+    Divide { index: u32 },
+}
+
+/// /I or /D on plain variables (`Quick::Divide`): OUT (`dst`) := OUT / IN1 (`src`),
+/// `width` bytes, signed, truncated, with the handler's SM1 flags.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct DivideOp {
+    pub src: u32,
+    pub dst: u32,
+    pub width: u8,
+}
+
 /// One decoded record.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Op {
@@ -219,9 +249,12 @@ pub(crate) enum Op {
         plan: u32,
     },
     /// Any other instruction: its semantic runs with the record's operands. `boxed`:
-    /// it runs only with power flow.
+    /// it runs only with power flow. `quick`: what the fast path does instead, when the
+    /// record allows (the record stays generic for everything else: single steps, the
+    /// reference engine, the compiled tier's `tier_generic`).
     Generic {
         boxed: bool,
+        quick: Quick,
     },
     /// A breakpoint patched over the op (the original: `Unit::plain_op`).
     Break,

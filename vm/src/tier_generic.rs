@@ -19,7 +19,7 @@ use crate::op::Op;
 /// 1 instruction and makes no CALL). The target is `unit.target`.
 pub(crate) fn generic_step(unit: &Unit, pc: usize, memory: &Memory) -> Option<Step> {
     let (id, _, operands) = unit.instruction(pc)?;
-    let Some(Op::Generic { boxed }) = unit.plain_op(pc) else {
+    let Some(Op::Generic { boxed, .. }) = unit.plain_op(pc) else {
         return None;
     };
     let step = decode(unit.mnemonic(id), operands, memory)?;

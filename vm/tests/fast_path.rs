@@ -369,6 +369,26 @@ fn stateful_action() -> impl Strategy<Value = String> {
         // Past the end of M (bytes 0-127): the fault stays the handler's.
         (0..8u32, 1..40u32).prop_map(|(bit, n)| format!("S M126.{bit}, {n}")),
         Just("S M30.0, MB3".to_string()),
+        // Generic records the fast path runs itself: INC/DEC, jumps (to labels the
+        // program places, forward and backward), and boxes without power flow.
+        (0..6usize, 0..4u32).prop_map(|(k, v)| {
+            let m = ["INCB", "INCW", "INCD", "DECB", "DECW", "DECD"][k];
+            let var = match k % 3 {
+                0 => format!("MB{}", 70 + v),
+                1 => format!("MW{}", 70 + 2 * v),
+                _ => format!("MD{}", 70 + 4 * v),
+            };
+            format!("{m} {var}")
+        }),
+        Just("INCW *MD20".to_string()),
+        (0..3u32).prop_map(|k| format!("JMP {k}")),
+        (0..3u32).prop_map(|k| format!("JMP {k}")),
+        Just("/I MW62, MW66".to_string()),
+        (0..4u32, 0..4u32).prop_map(|(a, b)| format!("/I MW{}, MW{}", 70 + 2 * a, 70 + 2 * b)),
+        (0..4u32, 0..4u32).prop_map(|(a, b)| format!("/D MD{}, MD{}", 70 + 4 * a, 70 + 4 * b)),
+        Just("/D -1, MD70".to_string()),
+        Just("SWAP MW64".to_string()),
+        Just("NOP".to_string()),
         Just("EU\n= M31.0".to_string()),
         timer().prop_map(|t| format!("{t}\n= M31.1")),
     ]
@@ -387,17 +407,32 @@ fn stateful_program() -> impl Strategy<Value = String> {
             }
             s
         });
-    prop::collection::vec(network, 1..8).prop_map(|nets| {
-        // MD20 points at MW60 (a preset through a pointer).
-        let mut s = String::from(
-            "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.0\nMOVD &MB60, MD20\n",
-        );
-        for (k, n) in nets.iter().enumerate() {
-            s.push_str(&format!("NETWORK {}\n{n}\n", k + 2));
-        }
-        s.push_str("END_ORGANIZATION_BLOCK\n");
-        s
-    })
+    (
+        prop::collection::vec(network, 1..8),
+        [0..9usize, 0..9, 0..9],
+    )
+        .prop_map(|(nets, at)| {
+            // MD20 points at MW60 (a preset through a pointer).
+            let mut s = String::from(
+                "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.0\nMOVD &MB60, MD20\n",
+            );
+            // LBL 0..2 each in a network of its own, before network `at[k]` (or at the end).
+            let mut number = 2;
+            for k in 0..=nets.len() {
+                for (label, &before) in at.iter().enumerate() {
+                    if before.min(nets.len()) == k {
+                        s.push_str(&format!("NETWORK {number}\nLBL {label}\n"));
+                        number += 1;
+                    }
+                }
+                if let Some(n) = nets.get(k) {
+                    s.push_str(&format!("NETWORK {number}\n{n}\n"));
+                    number += 1;
+                }
+            }
+            s.push_str("END_ORGANIZATION_BLOCK\n");
+            s
+        })
 }
 
 /// A start value for a timer or counter: at and around the limits, or small.
@@ -435,7 +470,8 @@ proptest! {
         inputs in prop::collection::vec((any::<[u8; 3]>(), -3..40i32, -3..40i32), 1..40),
         reset_at in 0..60usize,
     ) {
-        let base = VmConfig { scan_ms, native_after: None, ..VmConfig::default() };
+        // A backward jump may loop: the watchdog ends it, at the same instruction.
+        let base = VmConfig { scan_ms, native_after: None, watchdog: 5000, ..VmConfig::default() };
         let mut fast = common::load(&text, base);
         let mut slow = common::load(&text, VmConfig { fast: false, ..base });
         for vm in [&mut fast, &mut slow] {
@@ -568,4 +604,61 @@ fn counters_edges_and_set_bits_agree() {
     });
     // Reset at scan 32; I0.0 rose at 34, 36 and 38 since.
     assert_eq!(common::read(&fast, "C0"), 3);
+}
+
+/// Generic records the fast path runs itself: INC/DEC at the edges of their ranges
+/// and /I, /D by zero, of MIN by -1 and of negatives (each one's SM1 flags copied
+/// after it), LBL and NOP, a forward JMP over networks and
+/// a box without power flow; both engines agree and count the same instructions.
+#[test]
+fn quick_generic_records_agree() {
+    let mut text = String::from("ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.0\n");
+    let cases = [
+        ("INCW", "MW0", "16#FFFF"),
+        ("DECW", "MW2", "1"),
+        ("INCW", "MW4", "32767"),
+        ("DECW", "MW6", "-32768"),
+        ("INCD", "MD8", "-1"),
+        ("DECD", "MD12", "-2147483648"),
+        ("INCB", "MB16", "255"),
+        ("DECB", "MB17", "0"),
+        ("DECB", "MB18", "1"),
+        ("/I 0,", "MW20", "7"),
+        ("/I -1,", "MW22", "-32768"),
+        ("/I -3,", "MW24", "7"),
+        ("/D 2,", "MD28", "-2147483647"),
+        ("/D -1,", "MD32", "-2147483648"),
+        ("/D 5,", "MD36", "3"),
+    ];
+    for (k, (m, var, start)) in cases.iter().enumerate() {
+        let mov = match var.as_bytes()[1] {
+            b'W' => "MOVW",
+            b'D' => "MOVD",
+            _ => "MOVB",
+        };
+        text.push_str(&format!(
+            "{mov} {start}, {var}\n{m} {var}\nMOVB SMB1, MB{}\n",
+            60 + k
+        ));
+    }
+    text.push_str(
+        "NETWORK 2\nLD I0.0\nJMP 1\nNETWORK 3\nLD SM0.0\nINCW MW40\nNOP\n\
+         NETWORK 4\nLBL 1\nNETWORK 5\nLDN SM0.0\nSWAP MW50\nINCW MW52\n\
+         NETWORK 6\nLD SM0.0\nINCW MW46\nEND_ORGANIZATION_BLOCK\n",
+    );
+    let fast = agree(&text, 10, 4, |scan| {
+        vec![("I0.0", u32::from(scan % 2 == 1))]
+    });
+    // Only the box reaches its handler (with power flow; here it has none).
+    assert_eq!(fast.generic_records(), vec![("SWAP".to_string(), 1)]);
+    // MW40 counted in the scans I0.0 was 0 (0 and 2), MW46 in every scan.
+    assert_eq!(common::read(&fast, "MW40"), 2);
+    assert_eq!(common::read(&fast, "MW46"), 4);
+    assert_eq!(
+        common::read(&fast, "MB62"),
+        0b110,
+        "32767 + 1: overflow, negative"
+    );
+    assert_eq!(common::read(&fast, "MB69"), 0b1000, "division by zero");
+    assert_eq!(common::read(&fast, "MB70"), 0b0010, "-32768 / -1");
 }
