@@ -8,8 +8,8 @@
 //! on a cycle of Calls.
 
 use crate::{
-    Arith, Combine, Convert, CounterKind, Function, Layout, Logic, Preset, RealOp, Rel, Shift, Step,
-    TimerKind,
+    Arith, Combine, Convert, CounterKind, Function, Layout, Logic, Preset, RealOp, Rel, Shift,
+    Step, TimerKind,
 };
 
 /// Run function `f` on `memory` with the logic stack `stack`, as `Module::run` does;
