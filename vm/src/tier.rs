@@ -386,7 +386,7 @@ impl Builder<'_> {
                     }
                 }
             }
-            for (start, end) in spans(&steps, &starts) {
+            for (start, end) in spans(&steps, &starts, &spanned(&unit, &steps)) {
                 for (pc, step) in steps.iter_mut().enumerate().take(end).skip(start) {
                     if let Some((Step::Jump { label }, _, _)) = step {
                         let inside = unit.labels.get(label).is_some_and(|&j| j > pc && j < end);
@@ -402,7 +402,7 @@ impl Builder<'_> {
             }
         }
         let mut regions = Vec::new();
-        for (start, end) in spans(&steps, &starts) {
+        for (start, end) in spans(&steps, &starts, &spanned(&unit, &steps)) {
             let run = &mut steps[start..end];
             let (max_count, depth) = run.iter().flatten().fold((0u64, 0u32), |(c, d), s| {
                 (c.saturating_add(s.1), d.max(s.2))
@@ -427,9 +427,37 @@ impl Builder<'_> {
     }
 }
 
-/// The runs of records that compile (`Some`), as (first, end) record ranges, cut every
-/// `MAX_REGION` records and where a region must start (`starts`).
-fn spans<T>(steps: &[Option<T>], starts: &BTreeSet<usize>) -> Vec<(usize, usize)> {
+/// Per record pc: whether a compiled JMP before it lands at or after it (its LBL at pc or
+/// later), so a region cut at pc would leave that JMP without its LBL.
+fn spanned(unit: &Unit, steps: &[Option<(Step, u64, u32)>]) -> Vec<bool> {
+    let mut open = vec![0i32; steps.len() + 1];
+    for (pc, step) in steps.iter().enumerate() {
+        if let Some((Step::Jump { label }, _, _)) = step {
+            if let Some(&j) = unit.labels.get(label).filter(|&&j| j > pc) {
+                open[pc + 1] += 1;
+                open[(j + 1).min(steps.len())] -= 1;
+            }
+        }
+    }
+    let mut depth = 0;
+    open.iter()
+        .take(steps.len())
+        .map(|d| {
+            depth += d;
+            depth > 0
+        })
+        .collect()
+}
+
+/// The runs of records that compile (`Some`), as (first, end) record ranges, cut where
+/// a region must start (`starts`) and before `MAX_REGION` records: at the last record of
+/// the run's second half that no compiled jump spans (`spanned`), so the jumps of a long
+/// unit stay inside their regions, else at `MAX_REGION`.
+fn spans<T>(
+    steps: &[Option<T>],
+    starts: &BTreeSet<usize>,
+    spanned: &[bool],
+) -> Vec<(usize, usize)> {
     let mut spans = Vec::new();
     let mut pc = 0;
     while pc < steps.len() {
@@ -444,6 +472,15 @@ fn spans<T>(steps: &[Option<T>], starts: &BTreeSet<usize>) -> Vec<(usize, usize)
             && (pc == start || !starts.contains(&pc))
         {
             pc += 1;
+        }
+        if pc - start == MAX_REGION && pc < steps.len() && steps[pc].is_some() {
+            // Cut by length: where no jump is open, if the second half has such a place.
+            if let Some(cut) = (start + MAX_REGION / 2..pc)
+                .rev()
+                .find(|&c| !spanned.get(c).copied().unwrap_or(true))
+            {
+                pc = cut;
+            }
         }
         spans.push((start, pc));
     }

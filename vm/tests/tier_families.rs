@@ -135,3 +135,52 @@ fn every_family_the_tier_takes_agrees_with_the_interpreter_scan_by_scan() {
         );
     }
 }
+
+/// A MAIN longer than a region (1,024 records) made of blocks a JMP skips: the tier cuts
+/// it where no jump is open, so every JMP keeps its LBL in its region and the whole scan
+/// runs natively (cut blindly at 1,024 records, the JMPs around the cut stayed
+/// interpreted and the rest of the unit ran as more, shorter regions).
+#[test]
+fn a_long_unit_is_cut_where_no_jump_is_open() {
+    // 15 records a block, so the 1,024th record lies between a JMP and its LBL.
+    let mut text = String::from("ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\n");
+    for k in 0..90 {
+        text.push_str(&format!(
+            "NETWORK\nLDN I0.{b}\nJMP {k}\nNETWORK\nLD SM0.0\n+I 1, MW{w}\nMOVW MW{w}, MW{v}\n\
+             NETWORK\nLDW>= MW{w}, 50\n= M{m}.{b}\nNETWORK\nLBL {k}\nNETWORK\nLD M{m}.{b}\n\
+             = Q{q}.{b}\n",
+            b = k % 8,
+            w = 10 + 2 * (k % 20),
+            v = 60 + 2 * (k % 20),
+            m = 100 + k / 8,
+            q = k / 8 % 2,
+        ));
+    }
+    text.push_str("END_ORGANIZATION_BLOCK\n");
+    let mut vms = common::three_engines(VmConfig::default()).map(|c| common::load(&text, c));
+    match vms[2].tier() {
+        TierState::Compiled { regions, .. } => assert!(*regions >= 2, "{regions} regions"),
+        other => panic!("not compiled: {other:?}"),
+    }
+    let mut executed = 0;
+    for scan in 0..60u32 {
+        for vm in &mut vms {
+            common::set(vm, "IB0", (scan / 5) ^ (scan / 3 % 2));
+            vm.scan().expect("scan");
+        }
+        executed += vms[2].executed_last_scan();
+        for vm in &vms[1..] {
+            assert_eq!(
+                vm.executed_last_scan(),
+                vms[0].executed_last_scan(),
+                "scan {scan}"
+            );
+            assert!(vm.memory() == vms[0].memory(), "memory after scan {scan}");
+        }
+    }
+    assert_eq!(
+        vms[2].executed_natively(),
+        executed,
+        "every instruction ran natively"
+    );
+}
