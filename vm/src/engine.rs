@@ -260,6 +260,13 @@ impl Engine {
                 timers: &unit.timers,
                 counters: &unit.counters,
                 divides: &unit.divides,
+                #[cfg(feature = "jit")]
+                regions: match &self.native {
+                    Some(native) if !SINGLE && !self.native_hold => native.starts(page),
+                    _ => &[],
+                },
+                #[cfg(not(feature = "jit"))]
+                regions: &[],
             };
             let mut st = self.machine.stack;
             loop {
@@ -301,8 +308,15 @@ impl Engine {
                         mask,
                         flags_at,
                     );
+                    let moved = at != pc;
                     pc = at;
                     self.clock.executed += ran;
+                    if moved && tables.regions.get(pc).is_some_and(|&k| k != 0) {
+                        // The fast path stopped where a region starts (it moved, so
+                        // this cannot repeat at one record when the region is not
+                        // entered).
+                        continue;
+                    }
                 }
                 let Some(&fast) = ops.get(pc) else {
                     // The unit's end: return from it.

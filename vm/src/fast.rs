@@ -16,6 +16,10 @@ pub(crate) struct Tables<'a> {
     pub timers: &'a [TimerOp],
     pub counters: &'a [CounterOp],
     pub divides: &'a [DivideOp],
+    /// Per record of the unit, non-zero where a compiled region starts (the tier's
+    /// table; empty without one): the fast path stops there after a generic record it
+    /// ran itself, so the engine enters the region instead of interpreting it.
+    pub regions: &'a [u32],
 }
 
 /// Run fast operations from `pc` until one is not (or the ops end). Returns where it
@@ -79,29 +83,38 @@ pub(crate) fn run_fast(
                 pc += records;
                 continue;
             }
-            Op::Generic { quick, .. } => match quick {
-                Quick::Nothing => {}
-                Quick::Box if s & 1 == 0 => {}
-                Quick::Jump { to } => {
-                    if s & 1 == 1 {
-                        // Forward: the records jumped over do not run.
-                        skipped += u64::from(to) - pc as u64 - 1;
-                        pc = to as usize;
-                        continue;
+            Op::Generic { quick, .. } => {
+                match quick {
+                    Quick::Nothing => pc += 1,
+                    Quick::Box if s & 1 == 0 => pc += 1,
+                    Quick::Jump { to } => {
+                        if s & 1 == 1 {
+                            // Forward: the records jumped over do not run.
+                            skipped += u64::from(to) - pc as u64 - 1;
+                            pc = to as usize;
+                        } else {
+                            pc += 1;
+                        }
                     }
-                }
-                Quick::Step { at, width, up } => {
-                    if s & 1 == 1 {
-                        step(mem, at, width, up, flags_at);
+                    Quick::Step { at, width, up } => {
+                        if s & 1 == 1 {
+                            step(mem, at, width, up, flags_at);
+                        }
+                        pc += 1;
                     }
-                }
-                Quick::Divide { index } => {
-                    if s & 1 == 1 {
-                        divide(mem, &tables.divides[index as usize], flags_at);
+                    Quick::Divide { index } => {
+                        if s & 1 == 1 {
+                            divide(mem, &tables.divides[index as usize], flags_at);
+                        }
+                        pc += 1;
                     }
+                    Quick::Box | Quick::Handler => break,
                 }
-                Quick::Box | Quick::Handler => break,
-            },
+                if tables.regions.get(pc).is_some_and(|&k| k != 0) {
+                    break;
+                }
+                continue;
+            }
             op => {
                 if !fast_op(mem, op, tables, &mut s, mask, flags_at) {
                     break;

@@ -85,6 +85,12 @@ impl std::fmt::Debug for Native {
 }
 
 impl Native {
+    /// Per record of unit `page`: non-zero where a region starts.
+    #[inline]
+    pub fn starts(&self, page: u8) -> &[u32] {
+        self.starts.get(page as usize).map_or(&[], Vec::as_slice)
+    }
+
     /// The region of unit `page` starting at record `pc`.
     #[inline]
     pub fn region(&self, page: u8, pc: usize) -> Option<&Region> {

@@ -184,3 +184,31 @@ fn a_long_unit_is_cut_where_no_jump_is_open() {
         "every instruction ran natively"
     );
 }
+
+/// A region that starts after a generic record the interpreter's fast path runs itself
+/// (an unpowered EXCH, a box: nothing happens without power flow) is entered: the fast
+/// path stops there for the engine, instead of interpreting the region's records.
+#[test]
+fn a_region_after_a_record_the_fast_path_runs_is_entered() {
+    let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD I0.7\nEXCH MB20, 0\n\
+                NETWORK 2\nLD I0.0\nA I0.1\n= Q0.0\nLD SM0.0\n+I 1, MW10\nMOVW MW10, MW12\n\
+                +I MW12, MW14\nEND_ORGANIZATION_BLOCK\n";
+    let mut vms = common::three_engines(VmConfig::default()).map(|c| common::load(text, c));
+    for scan in 0..20u32 {
+        for vm in &mut vms {
+            common::set(vm, "IB0", scan % 4);
+            vm.scan().expect("scan");
+        }
+        for vm in &vms[1..] {
+            assert_eq!(
+                vm.executed_last_scan(),
+                vms[0].executed_last_scan(),
+                "scan {scan}"
+            );
+            assert!(vm.memory() == vms[0].memory(), "memory after scan {scan}");
+        }
+    }
+    // LD I0.7 and EXCH interpreted, the 7 instructions of network 2 natively.
+    assert_eq!(vms[0].executed_last_scan(), 9);
+    assert_eq!(vms[2].executed_natively(), 20 * 7);
+}
