@@ -491,25 +491,35 @@ impl Engine {
     /// start the next routine, or end the scan. True when the scan has ended.
     pub fn next_phase(&mut self, flow: Flow) -> Result<bool, Fault> {
         let mut queue = match std::mem::take(&mut self.phase) {
-            Phase::Main if self.interrupts.idle_scan(&self.machine.memory) => VecDeque::new(),
-            Phase::Main => self
-                .interrupts
-                .occurred_events(
+            Phase::Main if self.interrupts.quiet_scan(&self.machine.memory) => VecDeque::new(),
+            Phase::Main => {
+                let mut queue = self.interrupts.take_queue();
+                self.interrupts.occurred_events(
                     &self.program.target,
                     &self.machine.memory,
                     self.program.config.scan_ms,
-                )
-                .into(),
+                    &mut queue,
+                );
+                queue
+            }
             Phase::Events(q) if flow != Flow::EndScan => q,
-            _ => VecDeque::new(),
+            Phase::Events(mut q) => {
+                // END or STOP in a routine: the rest of the queue is dropped.
+                q.clear();
+                q
+            }
+            Phase::Idle => VecDeque::new(),
         };
         while let Some(event) = queue.pop_front() {
-            let Some(&page) = self.interrupts.attached.get(&event) else {
+            let Some(page) = self.interrupts.routine(event) else {
                 continue;
             };
             self.machine.push_frame(page, None);
             self.phase = Phase::Events(queue);
             return Ok(false);
+        }
+        if queue.capacity() != 0 {
+            self.interrupts.keep_queue(queue);
         }
         self.phase = Phase::Idle;
         self.terminals.apply_forces(&mut self.machine.memory);
@@ -525,7 +535,7 @@ impl Engine {
     /// Continue the current scan (starting one when idle) until it ends or pauses at
     /// a breakpoint.
     pub fn continue_scan(&mut self) -> Result<ScanEnd, Fault> {
-        if self.phase == Phase::Idle {
+        if matches!(self.phase, Phase::Idle) {
             self.begin_scan();
         }
         // Only a set breakpoint patches a `Break` into a unit (`native_hold` says one is
