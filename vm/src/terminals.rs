@@ -219,17 +219,17 @@ impl Terminals {
     }
 }
 
-/// `dst.copy_from_slice(src)` (same lengths) for the few bytes of an input area, in
-/// 8-byte words: inline moves instead of a call of `memcpy` (twice a scan).
+/// `dst.copy_from_slice(src)` (same lengths) for the few bytes of an input area, as
+/// 8-byte words: inline moves instead of a call of `memcpy` (twice a scan), one move
+/// per word (whole arrays, no per-chunk slicing or length checks).
 #[inline(always)]
 fn copy_small(dst: &mut [u8], src: &[u8]) {
-    let mut d = dst.chunks_exact_mut(8);
-    let mut s = src.chunks_exact(8);
-    for (a, b) in (&mut d).zip(&mut s) {
-        let word: [u8; 8] = b.try_into().unwrap_or([0; 8]);
-        a.copy_from_slice(&word);
+    let (d, d_rest) = dst.as_chunks_mut::<8>();
+    let (s, s_rest) = src.as_chunks::<8>();
+    for (a, b) in d.iter_mut().zip(s) {
+        *a = *b;
     }
-    for (a, b) in d.into_remainder().iter_mut().zip(s.remainder()) {
+    for (a, b) in d_rest.iter_mut().zip(s_rest) {
         *a = *b;
     }
 }
