@@ -476,6 +476,7 @@ impl Engine {
     fn compile_tier(&mut self) {}
 
     /// Start a scan: inputs, forces, system bits, then MAIN.
+    #[inline]
     pub fn begin_scan(&mut self) {
         let memory = &mut self.machine.memory;
         self.terminals.refresh_inputs(memory);
@@ -488,10 +489,22 @@ impl Engine {
     }
 
     /// The frames of a phase are done (`flow`: they ran out or ended with END/STOP):
-    /// start the next routine, or end the scan. True when the scan has ended.
+    /// start the next routine, or end the scan. True when the scan has ended. MAIN
+    /// done with no event that can occur (most scans): the end of scan at once, inline.
+    #[inline(always)]
     pub fn next_phase(&mut self, flow: Flow) -> Result<bool, Fault> {
+        if matches!(self.phase, Phase::Main) && self.interrupts.quiet_scan(&self.machine.memory) {
+            self.phase = Phase::Idle;
+            self.end_scan();
+            return Ok(true);
+        }
+        self.next_routine(flow)
+    }
+
+    /// `next_phase` after MAIN when an event may occur, or after a routine.
+    #[inline(never)]
+    fn next_routine(&mut self, flow: Flow) -> Result<bool, Fault> {
         let mut queue = match std::mem::take(&mut self.phase) {
-            Phase::Main if self.interrupts.quiet_scan(&self.machine.memory) => VecDeque::new(),
             Phase::Main => {
                 let mut queue = self.interrupts.take_queue();
                 self.interrupts.occurred_events(
@@ -521,7 +534,13 @@ impl Engine {
         if queue.capacity() != 0 {
             self.interrupts.keep_queue(queue);
         }
-        self.phase = Phase::Idle;
+        self.end_scan();
+        Ok(true)
+    }
+
+    /// The end of a scan (the phase is `Idle`): forces, EXCH, the clock.
+    #[inline]
+    fn end_scan(&mut self) {
         self.terminals.apply_forces(&mut self.machine.memory);
         self.exch.service(
             &mut self.machine.memory,
@@ -529,7 +548,6 @@ impl Engine {
             self.clock.scans,
         );
         self.clock.end_scan(self.program.config.scan_ms);
-        Ok(true)
     }
 
     /// Continue the current scan (starting one when idle) until it ends or pauses at
