@@ -219,17 +219,20 @@ impl Terminals {
     }
 }
 
-/// `dst.copy_from_slice(src)` (same lengths) for the few bytes of an input area, as
-/// 8-byte words: inline moves instead of a call of `memcpy` (twice a scan), one move
-/// per word (whole arrays, no per-chunk slicing or length checks).
+/// `dst.copy_from_slice(src)` (same lengths) for the few bytes of an input area, in
+/// 8-byte words: inline moves instead of a call of `memcpy` (every scan), one load and
+/// one store per word (an index loop: no chunk iterators to set up per area).
 #[inline(always)]
 fn copy_small(dst: &mut [u8], src: &[u8]) {
-    let (d, d_rest) = dst.as_chunks_mut::<8>();
-    let (s, s_rest) = src.as_chunks::<8>();
-    for (a, b) in d.iter_mut().zip(s) {
-        *a = *b;
+    let n = dst.len().min(src.len());
+    let mut at = 0;
+    while at + 8 <= n {
+        let word: [u8; 8] = src[at..at + 8].try_into().unwrap_or([0; 8]);
+        dst[at..at + 8].copy_from_slice(&word);
+        at += 8;
     }
-    for (a, b) in d_rest.iter_mut().zip(s_rest) {
-        *a = *b;
+    while at < n {
+        dst[at] = src[at];
+        at += 1;
     }
 }
