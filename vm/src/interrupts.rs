@@ -224,7 +224,8 @@ impl Interrupts {
     }
 
     /// After MAIN, when no event can occur (nothing attached that can occur, nothing
-    /// pending, no edge event read through `Memory::read`, the sources known and the
+    /// pending (a safeguard: only attached events are pending, and those are in the
+    /// plan), no edge event read through `Memory::read`, the sources known and the
     /// plan current): record the watched input bytes, as `occurred_events` does then,
     /// and return true. Otherwise nothing is done and `occurred_events` is the way
     /// (false). Most scans of most programs: a few loads and stores, inline.
