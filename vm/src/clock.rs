@@ -28,11 +28,12 @@ impl Clock {
         let Some(smb0) = memory.area_mut(sm).and_then(|a| a.first_mut()) else {
             return;
         };
-        let t = self.ms;
+        // Half seconds since reset: SM0.5 is its parity, SM0.4 that of its 60ths.
+        let halves = self.ms / 500;
         let bits = 1
             | u8::from(self.scans == 0) << 1
-            | u8::from((t / 30_000) % 2 == 1) << 4
-            | u8::from((t / 500) % 2 == 1) << 5
+            | u8::from((halves / 60) % 2 == 1) << 4
+            | u8::from(halves % 2 == 1) << 5
             | u8::from(self.scans % 2 == 1) << 6;
         *smb0 = (*smb0 & !0b0111_0011) | bits;
     }

@@ -490,6 +490,7 @@ impl Engine {
     fn compile_tier(&mut self) {}
 
     /// Start a scan: inputs, forces, system bits, then MAIN.
+    #[inline]
     pub fn begin_scan(&mut self) {
         let memory = &mut self.machine.memory;
         self.terminals.refresh_inputs(memory);
@@ -502,30 +503,58 @@ impl Engine {
     }
 
     /// The frames of a phase are done (`flow`: they ran out or ended with END/STOP):
-    /// start the next routine, or end the scan. True when the scan has ended.
+    /// start the next routine, or end the scan. True when the scan has ended. MAIN
+    /// done with no event that can occur (most scans): the end of scan at once, inline.
+    #[inline(always)]
     pub fn next_phase(&mut self, flow: Flow) -> Result<bool, Fault> {
+        if matches!(self.phase, Phase::Main) && self.interrupts.quiet_scan(&self.machine.memory) {
+            self.phase = Phase::Idle;
+            self.end_scan();
+            return Ok(true);
+        }
+        self.next_routine(flow)
+    }
+
+    /// `next_phase` after MAIN when an event may occur, or after a routine.
+    #[inline(never)]
+    fn next_routine(&mut self, flow: Flow) -> Result<bool, Fault> {
         let mut queue = match std::mem::take(&mut self.phase) {
-            Phase::Main if self.interrupts.idle_scan(&self.machine.memory) => VecDeque::new(),
-            Phase::Main => self
-                .interrupts
-                .occurred_events(
+            Phase::Main => {
+                let mut queue = self.interrupts.take_queue();
+                self.interrupts.occurred_events(
                     &self.program.target,
                     &self.machine.memory,
                     self.program.config.scan_ms,
-                )
-                .into(),
+                    &mut queue,
+                );
+                queue
+            }
             Phase::Events(q) if flow != Flow::EndScan => q,
-            _ => VecDeque::new(),
+            Phase::Events(mut q) => {
+                // END or STOP in a routine: the rest of the queue is dropped.
+                q.clear();
+                q
+            }
+            Phase::Idle => VecDeque::new(),
         };
         while let Some(event) = queue.pop_front() {
-            let Some(&page) = self.interrupts.attached.get(&event) else {
+            let Some(page) = self.interrupts.routine(event) else {
                 continue;
             };
             self.machine.push_frame(page, None);
             self.phase = Phase::Events(queue);
             return Ok(false);
         }
-        self.phase = Phase::Idle;
+        if queue.capacity() != 0 {
+            self.interrupts.keep_queue(queue);
+        }
+        self.end_scan();
+        Ok(true)
+    }
+
+    /// The end of a scan (the phase is `Idle`): forces, EXCH, the clock.
+    #[inline]
+    fn end_scan(&mut self) {
         self.terminals.apply_forces(&mut self.machine.memory);
         self.exch.service(
             &mut self.machine.memory,
@@ -533,13 +562,12 @@ impl Engine {
             self.clock.scans,
         );
         self.clock.end_scan(self.program.config.scan_ms);
-        Ok(true)
     }
 
     /// Continue the current scan (starting one when idle) until it ends or pauses at
     /// a breakpoint.
     pub fn continue_scan(&mut self) -> Result<ScanEnd, Fault> {
-        if self.phase == Phase::Idle {
+        if matches!(self.phase, Phase::Idle) {
             self.begin_scan();
         }
         // Only a set breakpoint patches a `Break` into a unit (`native_hold` says one is

@@ -118,10 +118,16 @@ pub(crate) fn write_status(memory: &mut Memory, slot: u8, table: u32, a: bool, d
 impl Exch {
     /// End-of-scan communication: carry out the exchanges queued in scan `scan` in
     /// order (entries left over from a faulted scan before a reset are dropped).
+    #[inline]
     pub fn service(&mut self, memory: &mut Memory, image: &VerifiedImage, scan: u64) {
-        if self.queue.0.is_empty() {
-            return;
+        if !self.queue.0.is_empty() {
+            // Most scans queue nothing: no call, no frame.
+            self.serve(memory, image, scan);
         }
+    }
+
+    #[inline(never)]
+    fn serve(&mut self, memory: &mut Memory, image: &VerifiedImage, scan: u64) {
         let queue = std::mem::take(&mut self.queue.0);
         for q in queue {
             if q.scan != scan {

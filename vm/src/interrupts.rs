@@ -1,20 +1,69 @@
 //! Interrupt state and event detection (docs/vm.md, "Interrupts"): the global enable,
 //! attachments, timed-event clocks, pending occurrences and edge-event inputs. Which
 //! routines run after MAIN is decided here; running them is the engine's.
+//!
+//! A scan does only what can happen in it: the attached events' sources are gathered
+//! into a plan when the attachments change (an ATCH of an event attached already, to
+//! whichever routine, changes nothing), so after MAIN the attached timed events add the scan's time
+//! and compare it with their period byte, the attached edge events compare one bit with
+//! the previous scan's, and the routines to run go into a queue kept between scans.
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::{BTreeMap, BTreeSet, VecDeque};
 use std::sync::Arc;
 
 use gutta_catalog::{Address, Target, Width};
 
 use crate::memory::Memory;
 
+/// A variable at a known place of the flat memory (found once, read at every scan).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Flat {
+    at: usize,
+    width: Width,
+    bit: u8,
+}
+
+impl Flat {
+    /// Where `a` lies, if inside its area (`Memory::read` fails otherwise).
+    fn of(memory: &Memory, a: Address) -> Option<Flat> {
+        memory.index_of(a).map(|at| Flat {
+            at,
+            width: a.width,
+            bit: a.bit & 7,
+        })
+    }
+
+    /// Its value, as `Memory::read` gives it.
+    #[inline]
+    fn read(self, bytes: &[u8]) -> u32 {
+        let b = |k: usize| bytes.get(self.at + k).copied().unwrap_or(0);
+        match self.width {
+            Width::Bit => u32::from((b(0) >> self.bit) & 1),
+            Width::Byte => u32::from(b(0)),
+            Width::Word => u32::from(u16::from_le_bytes([b(0), b(1)])),
+            Width::Dword => u32::from_le_bytes([b(0), b(1), b(2), b(3)]),
+        }
+    }
+}
+
+/// A timed event of the target.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Timed {
+    event: u32,
+    /// Its accumulator in `Interrupts::elapsed` (shared by entries of the same number).
+    acc: usize,
+    /// The period variable (None: it does not parse or lies outside its area, so it
+    /// reads as 0 and the event never occurs).
+    period: Option<Flat>,
+}
+
 /// A target's timed and edge events with their addresses parsed, in the target's order
 /// (parsed once, not at every scan).
 #[derive(Debug, Default, Clone, PartialEq, Eq)]
 struct Sources {
-    /// Timed events: number and period variable (None: the period does not parse).
-    timed: Vec<(u32, Option<Address>)>,
+    timed: Vec<Timed>,
+    /// How many accumulators the timed events need (one per event number).
+    accumulators: usize,
     /// Edge events whose input is a bit inside its area: read from `watched`.
     bit_edges: Vec<Edge>,
     /// The flat-memory bytes holding those bits, each once.
@@ -29,8 +78,9 @@ struct Edge {
     event: u32,
     /// Rising (else falling).
     rising: bool,
-    /// The input's byte (index into `Sources::watched`) and bit mask.
+    /// The input's byte: index into `Sources::watched`, and its flat index.
     byte: usize,
+    at: usize,
     mask: u8,
 }
 
@@ -48,7 +98,18 @@ impl Sources {
                     .and_then(|t| target.memory.parse_address(t).ok())
             };
             if e.kind.eq_ignore_ascii_case("Timed") {
-                sources.timed.push((e.number, parse(&e.period)));
+                let acc = match sources.timed.iter().find(|t| t.event == e.number) {
+                    Some(t) => t.acc,
+                    None => {
+                        sources.accumulators += 1;
+                        sources.accumulators - 1
+                    }
+                };
+                sources.timed.push(Timed {
+                    event: e.number,
+                    acc,
+                    period: parse(&e.period).and_then(|a| Flat::of(memory, a)),
+                });
                 continue;
             }
             let rising = e.kind.eq_ignore_ascii_case("RisingEdge");
@@ -74,6 +135,7 @@ impl Sources {
                         event: e.number,
                         rising,
                         byte,
+                        at,
                         mask: 1 << (input.bit & 7),
                     });
                 }
@@ -84,42 +146,97 @@ impl Sources {
     }
 }
 
+/// What the scan looks at after MAIN, from the sources and the attachments (rebuilt
+/// when an attachment changes).
+#[derive(Debug, Default, Clone, PartialEq, Eq)]
+struct Plan {
+    /// The attached timed events with a period variable, in the target's order.
+    timed: Vec<(u32, usize, Flat)>,
+    /// The attached edge events on bits, in the target's order.
+    edges: Vec<Edge>,
+    /// Nothing to do but record the watched bytes: nothing above, and no edge event
+    /// read through `Memory::read` (whose input is recorded whether attached or not).
+    quiet: bool,
+}
+
 /// Interrupt state.
 #[derive(Debug, Default, Clone, PartialEq, Eq)]
 pub(crate) struct Interrupts {
     /// ENI/DISI; off when the PLC enters RUN.
     pub enabled: bool,
-    /// Event number -> the page of its interrupt routine.
-    pub attached: BTreeMap<u32, u8>,
-    /// Timed events: milliseconds accumulated towards the next occurrence.
-    elapsed: BTreeMap<u32, u32>,
+    /// Event number -> the page of its interrupt routine (`attach`, `detach`).
+    attached: BTreeMap<u32, u8>,
     /// Events that occurred while interrupts were disabled (one kept per event).
     pub pending: BTreeSet<u32>,
     /// The target's events, parsed at the first scan after a reset.
     sources: Option<Arc<Sources>>,
+    /// `plan` no longer follows `attached` (or the sources are new).
+    stale: bool,
+    plan: Plan,
+    /// Timed events: milliseconds accumulated towards the next occurrence, per
+    /// accumulator (`Timed::acc`); 0 for an event not attached.
+    elapsed: Vec<u32>,
     /// The watched input bytes at the previous scan (empty before the first).
     last_bytes: Vec<u8>,
-    /// The watched input bytes now (a buffer kept between scans).
-    now_bytes: Vec<u8>,
     /// Other edge events (by index): their input bit at the previous scan.
     last_input: Vec<Option<bool>>,
+    /// The events of this scan (a buffer kept between scans).
+    occurred: Vec<u32>,
+    /// The engine's queue of routines to run, kept between scans (`take_queue`).
+    spare: VecDeque<u32>,
 }
 
 impl Interrupts {
-    /// After MAIN, when no event can occur (nothing attached, nothing pending, no edge
-    /// event read through `Memory::read`, the sources known): record the watched input
-    /// bytes, as `occurred_events` does then, and return true. Otherwise nothing is done
-    /// and `occurred_events` is the way (false). Most scans of most programs: a few
-    /// loads and stores instead of the whole call.
+    /// ATCH: event `event` now runs the routine on page `page` (the plan holds events,
+    /// not routines: only a newly attached event changes it).
+    pub fn attach(&mut self, event: u32, page: u8) {
+        if self.attached.insert(event, page).is_none() {
+            self.stale = true;
+        }
+    }
+
+    /// DTCH: event `event` runs nothing any more (its pending occurrence is the
+    /// caller's to drop).
+    pub fn detach(&mut self, event: u32) {
+        if self.attached.remove(&event).is_some() {
+            self.stale = true;
+        }
+    }
+
+    /// The page of the routine `event` runs, if attached.
     #[inline]
-    pub fn idle_scan(&mut self, memory: &Memory) -> bool {
+    pub fn routine(&self, event: u32) -> Option<u8> {
+        self.attached.get(&event).copied()
+    }
+
+    /// An empty queue for `occurred_events` (its buffer kept from an earlier scan); give it
+    /// back with `keep_queue` when the scan has served it.
+    #[inline]
+    pub fn take_queue(&mut self) -> VecDeque<u32> {
+        std::mem::take(&mut self.spare)
+    }
+
+    /// Keep a served queue's buffer for the next scan.
+    #[inline]
+    pub fn keep_queue(&mut self, mut queue: VecDeque<u32>) {
+        queue.clear();
+        self.spare = queue;
+    }
+
+    /// After MAIN, when no event can occur (nothing attached that can occur, nothing
+    /// pending (a safeguard: only attached events are pending, and those are in the
+    /// plan), no edge event read through `Memory::read`, the sources known and the
+    /// plan current): record the watched input bytes, as `occurred_events` does then,
+    /// and return true. Otherwise nothing is done and `occurred_events` is the way
+    /// (false). Most scans of most programs: a few loads and stores, inline.
+    #[inline]
+    pub fn quiet_scan(&mut self, memory: &Memory) -> bool {
         let Some(sources) = &self.sources else {
             return false;
         };
-        if !self.attached.is_empty()
+        if !self.plan.quiet
+            || self.stale
             || !self.pending.is_empty()
-            || !self.elapsed.is_empty()
-            || !sources.other_edges.is_empty()
             || self.last_bytes.len() != sources.watched.len()
         {
             return false;
@@ -130,101 +247,124 @@ impl Interrupts {
         true
     }
 
-    /// After MAIN: advance the timed events by the scan's virtual time, compare the
-    /// edge events' inputs, and return the events whose routines run now, in order
-    /// (pending ones first); while interrupts are disabled, one occurrence per event is
-    /// kept pending and none run.
-    pub fn occurred_events(&mut self, target: &Target, memory: &Memory, scan_ms: u32) -> Vec<u32> {
+    /// Gather the plan from the sources and the attachments; the timed events no longer
+    /// attached lose their accumulated time.
+    fn replan(&mut self, sources: &Sources) {
+        let attached = &self.attached;
+        self.elapsed.resize(sources.accumulators, 0);
+        let mut timed = Vec::new();
+        for t in &sources.timed {
+            if !attached.contains_key(&t.event) {
+                self.elapsed[t.acc] = 0;
+            } else if let Some(period) = t.period {
+                timed.push((t.event, t.acc, period));
+            }
+        }
+        let edges: Vec<Edge> = sources
+            .bit_edges
+            .iter()
+            .filter(|e| attached.contains_key(&e.event))
+            .copied()
+            .collect();
+        self.plan = Plan {
+            quiet: timed.is_empty() && edges.is_empty() && sources.other_edges.is_empty(),
+            timed,
+            edges,
+        };
+        self.stale = false;
+    }
+
+    /// After MAIN: advance the attached timed events by the scan's virtual time, compare
+    /// the edge events' inputs with the previous scan's, and put the events whose
+    /// routines run now into `queue` (empty), in order (pending ones first); while
+    /// interrupts are disabled, one occurrence per event is kept pending and none run.
+    #[inline(never)]
+    pub fn occurred_events(
+        &mut self,
+        target: &Target,
+        memory: &Memory,
+        scan_ms: u32,
+        queue: &mut VecDeque<u32>,
+    ) {
+        let sources = match &self.sources {
+            Some(s) => Arc::clone(s),
+            None => {
+                let s = Arc::new(Sources::of(target, memory));
+                self.sources = Some(Arc::clone(&s));
+                self.stale = true;
+                s
+            }
+        };
+        if self.stale {
+            self.replan(&sources);
+        }
+        let bytes = &memory.bytes;
+        let byte = |at: usize| bytes.get(at).copied().unwrap_or(0);
         let Interrupts {
             enabled,
             attached,
-            elapsed,
             pending,
-            sources,
+            plan,
+            elapsed,
             last_bytes,
-            now_bytes,
             last_input,
+            occurred,
+            ..
         } = self;
-        let sources: &Sources =
-            sources.get_or_insert_with(|| Arc::new(Sources::of(target, memory)));
-        let mut occurred: Vec<u32> = Vec::new();
-        if attached.is_empty() {
-            // No timed event is attached: none accumulates time.
-            if !elapsed.is_empty() {
-                elapsed.clear();
+        occurred.clear();
+        for &(event, acc, period) in &plan.timed {
+            let period_ms = period.read(bytes);
+            if period_ms == 0 {
+                continue;
             }
-        } else {
-            for &(event, period) in &sources.timed {
-                if !attached.contains_key(&event) {
-                    elapsed.remove(&event);
-                    continue;
-                }
-                let Some(addr) = period else {
-                    continue;
-                };
-                let period_ms = memory.read(addr).unwrap_or(0);
-                if period_ms == 0 {
-                    continue;
-                }
-                let acc = elapsed.entry(event).or_insert(0);
-                *acc += scan_ms;
-                while *acc >= period_ms {
-                    *acc -= period_ms;
-                    occurred.push(event);
-                }
+            let acc = &mut elapsed[acc];
+            *acc += scan_ms;
+            while *acc >= period_ms {
+                *acc -= period_ms;
+                occurred.push(event);
             }
         }
         // Edge events: the input bit now against the previous scan (the first scan only
         // records it, so entering RUN raises no edge). Recorded whether attached or not,
-        // so an ATCH later sees the right previous value: the watched bytes are kept
-        // whole, and compared bit by bit only when one changed and an event is attached.
-        if attached.is_empty() && last_bytes.len() == sources.watched.len() {
-            // Nothing attached (most scans of most programs): only record the bytes.
-            for (last, &at) in last_bytes.iter_mut().zip(&sources.watched) {
-                *last = memory.bytes.get(at).copied().unwrap_or(0);
-            }
-        } else {
-            now_bytes.clear();
-            now_bytes.extend(
-                sources
-                    .watched
-                    .iter()
-                    .map(|&at| memory.bytes.get(at).copied().unwrap_or(0)),
-            );
-            if last_bytes.len() == now_bytes.len()
-                && last_bytes != now_bytes
-                && !attached.is_empty()
-            {
-                for e in &sources.bit_edges {
-                    let before = last_bytes[e.byte] & e.mask != 0;
-                    let now = now_bytes[e.byte] & e.mask != 0;
-                    if is_edge(e.rising, before, now) && attached.contains_key(&e.event) {
-                        occurred.push(e.event);
-                    }
+        // so an ATCH later sees the right previous value.
+        if last_bytes.len() == sources.watched.len() {
+            for e in &plan.edges {
+                let before = last_bytes[e.byte] & e.mask != 0;
+                let now = byte(e.at) & e.mask != 0;
+                if is_edge(e.rising, before, now) {
+                    occurred.push(e.event);
                 }
             }
-            std::mem::swap(last_bytes, now_bytes);
+            for (last, &at) in last_bytes.iter_mut().zip(&sources.watched) {
+                *last = byte(at);
+            }
+        } else {
+            last_bytes.clear();
+            last_bytes.extend(sources.watched.iter().map(|&at| byte(at)));
         }
-        last_input.resize(sources.other_edges.len(), None);
-        for (&(event, rising, input), last) in sources.other_edges.iter().zip(last_input.iter_mut())
-        {
-            let now = memory.read(input).unwrap_or(0) == 1;
-            if let Some(before) = last.replace(now) {
-                if is_edge(rising, before, now) && attached.contains_key(&event) {
-                    occurred.push(event);
+        if !sources.other_edges.is_empty() {
+            last_input.resize(sources.other_edges.len(), None);
+            for (&(event, rising, input), last) in
+                sources.other_edges.iter().zip(last_input.iter_mut())
+            {
+                let now = memory.read(input).unwrap_or(0) == 1;
+                if let Some(before) = last.replace(now) {
+                    if is_edge(rising, before, now) && attached.contains_key(&event) {
+                        occurred.push(event);
+                    }
                 }
             }
         }
         if occurred.is_empty() && pending.is_empty() {
-            return occurred;
+            return;
         }
         occurred.sort_unstable();
         if !*enabled {
-            pending.extend(occurred);
-            return Vec::new();
+            pending.extend(occurred.drain(..));
+            return;
         }
-        let mut queue: Vec<u32> = std::mem::take(pending).into_iter().collect();
-        queue.extend(occurred);
-        queue
+        queue.extend(pending.iter().copied());
+        pending.clear();
+        queue.extend(occurred.drain(..));
     }
 }

@@ -220,16 +220,19 @@ impl Terminals {
 }
 
 /// `dst.copy_from_slice(src)` (same lengths) for the few bytes of an input area, in
-/// 8-byte words: inline moves instead of a call of `memcpy` (twice a scan).
+/// 8-byte words: inline moves instead of a call of `memcpy` (every scan), one load and
+/// one store per word (an index loop: no chunk iterators to set up per area).
 #[inline(always)]
 fn copy_small(dst: &mut [u8], src: &[u8]) {
-    let mut d = dst.chunks_exact_mut(8);
-    let mut s = src.chunks_exact(8);
-    for (a, b) in (&mut d).zip(&mut s) {
-        let word: [u8; 8] = b.try_into().unwrap_or([0; 8]);
-        a.copy_from_slice(&word);
+    let n = dst.len().min(src.len());
+    let mut at = 0;
+    while at + 8 <= n {
+        let word: [u8; 8] = src[at..at + 8].try_into().unwrap_or([0; 8]);
+        dst[at..at + 8].copy_from_slice(&word);
+        at += 8;
     }
-    for (a, b) in d.into_remainder().iter_mut().zip(s.remainder()) {
-        *a = *b;
+    while at < n {
+        dst[at] = src[at];
+        at += 1;
     }
 }

@@ -26,14 +26,14 @@ fn atch(e: &mut Exec<'_>) -> Result<Control, Fault> {
         .page(&e.program.target.plc)
         .ok_or_else(|| e.fault(format!("{routine}: no such unit on the target")))?;
     let event = e.get(1)?;
-    e.interrupts.attached.insert(event, page);
+    e.interrupts.attach(event, page);
     Ok(Control::Next)
 }
 
 /// DTCH EVNT: event EVNT runs nothing any more (pending occurrences are dropped).
 fn dtch(e: &mut Exec<'_>) -> Result<Control, Fault> {
     let event = e.get(0)?;
-    e.interrupts.attached.remove(&event);
+    e.interrupts.detach(event);
     e.interrupts.pending.remove(&event);
     Ok(Control::Next)
 }
