@@ -417,14 +417,20 @@ fn print_stats(tier: TierChoice, vm: &Vm, outcome: &Outcome) {
         tier.name()
     );
     if tier != TierChoice::Interpreted {
-        if let TierState::NothingToCompile | TierState::Refused(_) = vm.tier() {
+        let why = match vm.tier() {
+            TierState::Refused(why) => Some(format!("the code generator refused ({why})")),
+            TierState::NothingToCompile => Some("nothing in the program compiles".to_string()),
+            // Compiled, but every run of compilable records is too short to pay for
+            // entering it (docs/vm-jit.md, "Regions").
+            TierState::Compiled { regions: 0, .. } => Some(
+                "nothing in the program is worth compiling (no run of 6 instructions)".to_string(),
+            ),
+            _ => None,
+        };
+        if let Some(why) = why {
             eprintln!(
-                "gutta-vm: note: --tier {}: {}; every scan ran interpreted",
-                tier.name(),
-                match vm.tier() {
-                    TierState::Refused(why) => format!("the code generator refused ({why})"),
-                    _ => "nothing in the program compiles".to_string(),
-                }
+                "gutta-vm: note: --tier {}: {why}; every scan ran interpreted",
+                tier.name()
             );
         }
     }
