@@ -1,7 +1,7 @@
 //! CALLs with BOOL parameters run from their plan (`decode::plan_call`, `calls.rs`) and
 //! compile as a Call step (docs/vm.md, CALL): a subroutine with BOOL, INT and DINT
 //! parameters of each section, called with bits of I, M, Q and the caller's own L
-//! (several in one byte), run by the reference semantics (`fast` off), the interpreter
+//! (several in one byte) and INT and DINT literals, run by the reference semantics (`fast` off), the interpreter
 //! and compiled at load over many scans of changing inputs: memory and counts agree
 //! after every scan. And the Micro/WIN export whose CALL has a BOOL output
 //! (tests/data/microwin/ltemp_cp1252_lf.awl) runs no CALL generically and compiles its
@@ -36,7 +36,7 @@ LD L0.1
 LD L0.2
 = Q1.1
 LD SM0.0
-CALL SUB, Q0.1, I1.7, MW2, MD4, L0.0, L0.0, MW30, MD32, Q1.2, Q1.3, LW4, LD8
+CALL SUB, Q0.1, I1.7, 100, -70000, L0.0, L0.0, MW30, MD32, Q1.2, Q1.3, LW4, LD8
 MOVW LW4, MW40
 MOVD LD8, MD42
 END_ORGANIZATION_BLOCK
