@@ -1,11 +1,11 @@
 //! CALLs with BOOL parameters run from their plan (`decode::plan_call`, `calls.rs`) and
 //! compile as a Call step (docs/vm.md, CALL): a subroutine with BOOL, INT and DINT
 //! parameters of each section, called with bits of I, M, Q and the caller's own L
-//! (several in one byte) and INT and DINT literals, run by the reference semantics (`fast` off), the interpreter
-//! and compiled at load over many scans of changing inputs: memory and counts agree
-//! after every scan. And the Micro/WIN export whose CALL has a BOOL output
-//! (tests/data/microwin/ltemp_cp1252_lf.awl) runs no CALL generically and compiles its
-//! MAIN whole.
+//! (several in one byte) and with INT and DINT literals, run by the reference
+//! semantics (`fast` off), the interpreter and compiled at load over many scans of
+//! changing inputs: memory and counts agree after every scan. And the Micro/WIN export
+//! whose CALL has a BOOL output (tests/data/microwin/ltemp_cp1252_lf.awl) runs no CALL
+//! generically and compiles its MAIN whole.
 #![cfg(feature = "jit")]
 #![allow(clippy::disallowed_methods, reason = "the test reads a corpus export")]
 
