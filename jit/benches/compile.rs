@@ -100,6 +100,7 @@ fn mixed() -> Vec<Function> {
                         width: 2,
                         input: true,
                         output: false,
+                        bits: None,
                     },
                     Arg {
                         var: word(&mut a),
@@ -107,6 +108,7 @@ fn mixed() -> Vec<Function> {
                         width: 2,
                         input: false,
                         output: true,
+                        bits: None,
                     },
                 ],
             },
@@ -199,6 +201,7 @@ fn vm_mixed() -> (Layout, Vec<Function>) {
                         width: 2,
                         input: true,
                         output: false,
+                        bits: None,
                     },
                     Arg {
                         var: word(c),
@@ -206,6 +209,7 @@ fn vm_mixed() -> (Layout, Vec<Function>) {
                         width: 2,
                         input: false,
                         output: true,
+                        bits: None,
                     },
                 ],
             },

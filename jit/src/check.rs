@@ -213,6 +213,11 @@ fn check_step(layout: &Layout, functions: usize, step: &Step) -> Result<(), Faul
                 return Err(Fault::NoSuchCallee(callee));
             }
             for a in args {
+                if let Some((var_bit, param_bit)) = a.bits {
+                    width(a.width, &[1])?;
+                    bit(layout, a.var, var_bit)?;
+                    bit(layout, a.param, param_bit)?;
+                }
                 width(a.width, &[1, 2, 4])?;
                 inside(layout, a.var, a.width)?;
                 inside(layout, a.param, a.width)?;

@@ -42,6 +42,10 @@ pub enum Rel {
 }
 
 /// One argument of a Call: caller's variable and callee's parameter, flat memory indices.
+/// A BOOL parameter has `bits: Some((var_bit, param_bit))` and width 1: `var` and
+/// `param` are then the bytes holding the bits; an input copies the variable's bit into
+/// the parameter's, an output the parameter's bit back into the variable's, each
+/// leaving the other bits of its byte as they are (`vm/src/ops/control.rs`, CALL).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Arg {
     pub var: u32,
@@ -49,6 +53,8 @@ pub struct Arg {
     pub width: u8,
     pub input: bool,
     pub output: bool,
+    /// A BOOL argument: the bit (0..8) of `var` and the bit of `param`.
+    pub bits: Option<(u8, u8)>,
 }
 
 /// Which timer (ManagerFun.xml TON, TOF, TONR; `vm/src/ops/timers.rs`).

@@ -1170,7 +1170,7 @@ impl Emitter<'_, '_> {
     fn call(&mut self, callee: usize, args: &[crate::Arg]) {
         let inputs: Vec<Option<Value>> = args
             .iter()
-            .map(|a| a.input.then(|| self.load(width_type(a.width), a.var)))
+            .map(|a| a.input.then(|| self.arg_load(a, false)))
             .collect();
         let touched = self.plan.call_touches(self.layout, callee, args);
         let pieces = Self::pieces(&touched);
@@ -1185,21 +1185,52 @@ impl Emitter<'_, '_> {
         }
         for (a, v) in args.iter().zip(&inputs) {
             if let Some(v) = *v {
-                self.store(v, a.param);
+                self.arg_store(a, true, v);
             }
         }
         self.real_call(callee);
         let outputs: Vec<Option<Value>> = args
             .iter()
-            .map(|a| a.output.then(|| self.load(width_type(a.width), a.param)))
+            .map(|a| a.output.then(|| self.arg_load(a, true)))
             .collect();
         for (&(off, _), &v) in pieces.iter().zip(&saved) {
             self.store(v, start + off);
         }
         for (a, v) in args.iter().zip(&outputs) {
             if let Some(v) = *v {
-                self.store(v, a.var);
+                self.arg_store(a, false, v);
             }
+        }
+    }
+
+    /// A Call argument's value, its variable's (`param` false) or its parameter's:
+    /// `width` bytes, or a BOOL's bit as an i32 0 or 1.
+    fn arg_load(&mut self, a: &crate::Arg, param: bool) -> Value {
+        let at = if param { a.param } else { a.var };
+        match a.bits {
+            Some((var_bit, param_bit)) => {
+                self.bit(at, if param { param_bit } else { var_bit }, false)
+            }
+            None => self.load(width_type(a.width), at),
+        }
+    }
+
+    /// Store a Call argument's value (from `arg_load`): `width` bytes, or a BOOL's bit
+    /// into its byte, the other bits kept.
+    fn arg_store(&mut self, a: &crate::Arg, param: bool, v: Value) {
+        let at = if param { a.param } else { a.var };
+        match a.bits {
+            Some((var_bit, param_bit)) => {
+                let bit = if param { param_bit } else { var_bit };
+                let byte = self.byte(at);
+                let cleared = self.b.ins().band_imm_u(byte, i64::from(!(1u8 << bit)));
+                let set = self.b.ins().ishl_imm_u(v, i64::from(bit));
+                let new = self.b.ins().bor(cleared, set);
+                let (base, off) = self.addr(at);
+                self.b.ins().istore8(memory_flags(), new, base, off);
+                self.stored(at, 1);
+            }
+            None => self.store(v, at),
         }
     }
 

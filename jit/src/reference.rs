@@ -8,7 +8,7 @@
 //! on a cycle of Calls.
 
 use crate::{
-    Arith, Combine, Convert, CounterKind, Function, Layout, Logic, Preset, RealOp, Rel, Shift,
+    Arg, Arith, Combine, Convert, CounterKind, Function, Layout, Logic, Preset, RealOp, Rel, Shift,
     Step, TimerKind,
 };
 
@@ -259,6 +259,34 @@ pub fn load(mem: &[u8], at: u32, width: u8) -> u32 {
     }
 }
 
+/// Where a Call argument lies: its variable (`param` false) or its parameter, as a
+/// memory index and, for a BOOL, the bit.
+fn arg_at(a: &Arg, param: bool) -> (u32, Option<u8>) {
+    let at = if param { a.param } else { a.var };
+    (at, a.bits.map(|(v, p)| if param { p } else { v }))
+}
+
+/// A Call argument's value (its variable's or its parameter's): `width` bytes, or the
+/// bit (0 or 1) of a BOOL.
+fn arg_load(mem: &[u8], a: &Arg, param: bool) -> u32 {
+    match arg_at(a, param) {
+        (at, Some(bit)) => u32::from(mem[at as usize] >> bit) & 1,
+        (at, None) => load(mem, at, a.width),
+    }
+}
+
+/// Store a Call argument's value: `width` bytes, or for a BOOL the low bit of `v` into
+/// its bit, the other bits of the byte kept.
+fn arg_store(mem: &mut [u8], a: &Arg, param: bool, v: u32) {
+    match arg_at(a, param) {
+        (at, Some(bit)) => {
+            let byte = &mut mem[at as usize];
+            *byte = (*byte & !(1 << bit)) | (((v & 1) as u8) << bit);
+        }
+        (at, None) => store(mem, at, a.width, v),
+    }
+}
+
 /// Store the low `width` bytes of `v`, little-endian.
 pub fn store(mem: &mut [u8], at: u32, width: u8, v: u32) {
     let at = at as usize;
@@ -405,13 +433,7 @@ pub fn step(
             // inputs stored into the parameters, the callee run with an empty stack.
             let inputs: Vec<u32> = args
                 .iter()
-                .map(|a| {
-                    if a.input {
-                        load(mem, a.var, a.width)
-                    } else {
-                        0
-                    }
-                })
+                .map(|a| if a.input { arg_load(mem, a, false) } else { 0 })
                 .collect();
             let local = layout
                 .local
@@ -423,7 +445,7 @@ pub fn step(
             });
             for (a, &v) in args.iter().zip(&inputs) {
                 if a.input {
-                    store(mem, a.param, a.width, v);
+                    arg_store(mem, a, true, v);
                 }
             }
             let mut callee_stack = 0;
@@ -432,20 +454,14 @@ pub fn step(
             // restored, outputs stored into the variables in argument order.
             let outputs: Vec<u32> = args
                 .iter()
-                .map(|a| {
-                    if a.output {
-                        load(mem, a.param, a.width)
-                    } else {
-                        0
-                    }
-                })
+                .map(|a| if a.output { arg_load(mem, a, true) } else { 0 })
                 .collect();
             if let (Some(l), Some(saved)) = (local, saved) {
                 mem[l].copy_from_slice(&saved);
             }
             for (a, &v) in args.iter().zip(&outputs) {
                 if a.output {
-                    store(mem, a.var, a.width, v);
+                    arg_store(mem, a, false, v);
                 }
             }
             return 1 + executed;

@@ -384,6 +384,7 @@ fn calling() -> Vec<Function> {
             width: 2,
             input: true,
             output: false,
+            bits: None,
         },
         Arg {
             var: 4,
@@ -391,6 +392,7 @@ fn calling() -> Vec<Function> {
             width: 4,
             input: false,
             output: true,
+            bits: None,
         },
         Arg {
             var: 8,
@@ -398,6 +400,7 @@ fn calling() -> Vec<Function> {
             width: 1,
             input: true,
             output: true,
+            bits: None,
         },
     ];
     let leaf = vec![
@@ -560,6 +563,7 @@ fn out_of_range_steps_are_refused() {
         width: 2,
         input: false,
         output: false,
+        bits: None,
     };
     let call = Step::Call {
         callee: 0,
@@ -698,6 +702,7 @@ fn nested() -> Vec<Function> {
         width: 2,
         input,
         output,
+        bits: None,
     };
     vec![
         function(vec![

@@ -1,11 +1,12 @@
 //! Planned CALLs (docs/vm.md, CALL): a CALL whose arguments are plain variables of their
-//! parameters' widths runs from its plan (`decode::CallPlan`) on flat memory indices.
+//! parameters' widths (BOOL ones too) runs from its plan (`decode::CallPlan`) on flat
+//! memory indices.
 //! The same semantics as the general CALL in `ops/control.rs`, without resolving
 //! operands at run time, and in one pass over the arguments: the caller's L is saved
 //! first, so an argument in the caller's L is read from (or, returning, written into)
 //! its saved copy, which the return then restores.
 
-use crate::decode::Unit;
+use crate::decode::{ArgPlan, Unit};
 use crate::fast::{load, store};
 use crate::fault::Fault;
 use crate::machine::{CallSave, Frame, Machine};
@@ -18,6 +19,33 @@ fn in_local(local: Option<(usize, usize)>, var: u32, width: u8) -> Option<usize>
     let (start, len) = local?;
     let off = (var as usize).checked_sub(start)?;
     (off + usize::from(width) <= len).then_some(off)
+}
+
+/// An argument's value at `at` in `mem` (its variable, `param` false, or its parameter):
+/// its bytes, or a BOOL's bit (0 or 1).
+#[inline(always)]
+fn arg_load(mem: &[u8], at: u32, a: &ArgPlan, param: bool) -> u32 {
+    match a.bits {
+        Some((var_bit, param_bit)) => {
+            let bit = if param { param_bit } else { var_bit };
+            u32::from(mem[at as usize] >> bit) & 1
+        }
+        None => load(mem, at, a.width),
+    }
+}
+
+/// Store an argument's value at `at` in `mem`: its bytes, or for a BOOL the low bit of
+/// `v` into its bit, the byte's other bits kept (`memory::write_in`).
+#[inline(always)]
+fn arg_store(mem: &mut [u8], at: u32, a: &ArgPlan, param: bool, v: u32) {
+    match a.bits {
+        Some((var_bit, param_bit)) => {
+            let bit = if param { param_bit } else { var_bit };
+            let byte = &mut mem[at as usize];
+            *byte = (*byte & !(1 << bit)) | (((v & 1) as u8) << bit);
+        }
+        None => store(mem, at, a.width, v),
+    }
 }
 
 /// Enter a planned CALL: arguments read in the caller's context, the caller's L saved
@@ -41,10 +69,10 @@ pub(crate) fn enter_planned(
     let (mem, saved) = (&mut machine.memory.bytes, &machine.l_stack[l_mark..]);
     for a in p.args.iter().filter(|a| a.input) {
         let v = match in_local(local, a.var, a.width) {
-            Some(off) => load(saved, off as u32, a.width),
-            None => load(mem, a.var, a.width),
+            Some(off) => arg_load(saved, off as u32, a, false),
+            None => arg_load(mem, a.var, a, false),
         };
-        store(mem, a.param, a.width, v);
+        arg_store(mem, a.param, a, true, v);
     }
     let saved_stack = machine.stack;
     machine.push_frame(
@@ -103,11 +131,11 @@ fn finish(machine: &mut Machine, program: &Program, plan: u32, l_mark: usize, sa
     let mem = &mut machine.memory.bytes;
     let saved = machine.l_stack.get_mut(l_mark..).unwrap_or_default();
     for a in p.args.iter().filter(|a| a.output) {
-        let v = load(mem, a.param, a.width);
+        let v = arg_load(mem, a.param, a, true);
         match in_local(local, a.var, a.width) {
             // The caller's L comes back from its saved copy: the output goes there.
-            Some(off) => store(saved, off as u32, a.width, v),
-            None => store(mem, a.var, a.width, v),
+            Some(off) => arg_store(saved, off as u32, a, false, v),
+            None => arg_store(mem, a.var, a, false, v),
         }
     }
     machine.restore_local(local, l_mark);

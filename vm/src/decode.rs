@@ -31,9 +31,13 @@ pub(crate) struct ArgPlan {
     pub input: bool,
     /// VAR_OUTPUT or VAR_IN_OUT: copied back.
     pub output: bool,
+    /// A BOOL parameter: the bit of `var` and the bit of `param` (`width` is then 1, and
+    /// `var`, `param` the bytes holding them).
+    pub bits: Option<(u8, u8)>,
 }
 
-/// A CALL whose arguments are all plain variables of their parameters' widths. CALLs
+/// A CALL whose arguments are all plain variables of their parameters' widths (BOOL,
+/// BYTE, WORD, DWORD; a literal argument arrives as a constant's plain address). CALLs
 /// with the same callee and arguments share one plan.
 #[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
 pub(crate) struct CallPlan {
@@ -68,12 +72,20 @@ fn plan_call(
             return false;
         };
         let width = declared.width;
-        if width == Width::Bit {
-            return false;
-        }
-        let (Some(param), Some(var)) = (plain(memory, p.operand, width), plain(memory, op, width))
-        else {
-            return false;
+        let (var, param, bits) = if width == Width::Bit {
+            let (Some(param), Some(var)) = (plain_bit(memory, p.operand), plain_bit(memory, op))
+            else {
+                return false;
+            };
+            let bit = |b: Bit| b.mask.trailing_zeros() as u8;
+            (var.at, param.at, Some((bit(var), bit(param))))
+        } else {
+            let (Some(param), Some(var)) =
+                (plain(memory, p.operand, width), plain(memory, op, width))
+            else {
+                return false;
+            };
+            (var, param, None)
         };
         plan.args.push(ArgPlan {
             var,
@@ -81,6 +93,7 @@ fn plan_call(
             width: width.bytes() as u8,
             input: p.section != LocalSection::Output,
             output: p.section != LocalSection::Input,
+            bits,
         });
     }
     true

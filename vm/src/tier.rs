@@ -269,6 +269,7 @@ impl Builder<'_> {
                     width: a.width,
                     input: a.input,
                     output: a.output,
+                    bits: a.bits,
                 })
                 .collect();
             return Some((

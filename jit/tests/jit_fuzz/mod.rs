@@ -311,12 +311,24 @@ fn step(r: &mut Reader, layout: &Layout, f: u32, functions: u32, loose: bool) ->
                     let width = width(r, &[1, 2, 4], loose);
                     let w = width.min(4);
                     let io = r.byte();
+                    let var = index(r, layout, w, loose);
+                    let param = index(r, layout, w, loose);
+                    // Bit 2 of `io`: a BOOL argument (its bits drawn after the rest).
+                    let bits = (io & 4 == 4).then(|| {
+                        let b = r.byte();
+                        if loose {
+                            (b & 15, b >> 4)
+                        } else {
+                            (b & 7, (b >> 4) & 7)
+                        }
+                    });
                     Arg {
-                        var: index(r, layout, w, loose),
-                        param: index(r, layout, w, loose),
-                        width,
+                        var,
+                        param,
+                        width: if bits.is_some() && !loose { 1 } else { width },
                         input: io & 1 == 1,
                         output: io & 2 == 2,
+                        bits,
                     }
                 })
                 .collect();
