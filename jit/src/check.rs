@@ -224,7 +224,7 @@ fn check_step(layout: &Layout, functions: usize, step: &Step) -> Result<(), Faul
             }
             Ok(())
         }
-        // ---- Generic families (helper C) ----
+        // ---- Generic families ----
         Step::Logic {
             src, dst, width: w, ..
         } => {

@@ -259,7 +259,7 @@ pub enum Step {
     Label {
         number: u16,
     },
-    // ---- Generic families (vm/src/tier_generic.rs; helper C) -------------------------
+    // ---- Generic families (vm/src/tier_generic.rs) -------------------------
     // Every one below but CompareReal, Lds and Nop runs only while the top of the logic
     // stack is 1 and leaves the stack unchanged (ManagerFun.xml Flow="Box"); "flags"
     // are bits of the byte at `Layout::flags_at` (SMB1: 0 zero, 1 overflow, 2 negative,

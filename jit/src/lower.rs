@@ -161,7 +161,7 @@ fn accesses(layout: &Layout, step: &Step) -> Vec<(u32, u8)> {
         | Step::Lrd
         | Step::Lpp
         | Step::Call { .. } => Vec::new(),
-        // ---- Generic families (helper C) ----
+        // ---- Generic families ----
         Step::Logic {
             src, dst, width, ..
         }
@@ -333,7 +333,7 @@ fn boxed(step: &Step) -> bool {
     ) || generic_boxed(step)
 }
 
-/// The generic steps that run only with power flow and leave the stack (helper C).
+/// The generic steps that run only with power flow and leave the stack.
 fn generic_boxed(step: &Step) -> bool {
     matches!(
         step,
@@ -615,7 +615,7 @@ impl Emitter<'_, '_> {
             | Step::SetBits { .. }
             | Step::Jump { .. }
             | Step::Label { .. } => s,
-            // ---- Generic families (helper C) ----
+            // ---- Generic families ----
             Step::CompareReal { combine, rel, a, b } => {
                 let x = self.load(F32, a);
                 let y = self.load(F32, b);
@@ -1266,7 +1266,7 @@ impl Emitter<'_, '_> {
     }
 }
 
-// ---- Generic families (helper C): `vm/src/ops/{math,shift,convert,moves}.rs` ----------
+// ---- Generic families: `vm/src/ops/{math,shift,convert,moves}.rs` ----------
 
 /// A bool (the i8 of icmp/fcmp) at bit `bit` of an i32.
 fn at_bit(e: &mut Emitter<'_, '_>, cond: Value, bit: u8) -> Value {

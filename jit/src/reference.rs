@@ -466,7 +466,7 @@ pub fn step(
             }
             return 1 + executed;
         }
-        // ---- Generic families (helper C) ----
+        // ---- Generic families ----
         Step::Logic { .. }
         | Step::Invert { .. }
         | Step::IncDec { .. }
@@ -503,7 +503,7 @@ pub fn step(
     1
 }
 
-// ---- Generic families (helper C): `vm/src/ops/{math,shift,convert,moves}.rs` ----------
+// ---- Generic families: `vm/src/ops/{math,shift,convert,moves}.rs` ----------
 
 /// SM1 bit `bit` := `v` (the handlers' `Exec::flag`).
 fn flag(layout: &Layout, mem: &mut [u8], bit: u8, v: bool) {

@@ -82,15 +82,6 @@ INCD #e
 END_SUBROUTINE_BLOCK
 ";
 
-fn memory(vm: &Vm) -> Vec<Vec<u8>> {
-    vm.target()
-        .memory
-        .areas
-        .iter()
-        .map(|a| vm.memory().area(a.slot).unwrap_or(&[]).to_vec())
-        .collect()
-}
-
 /// A simple generator of input values.
 fn next(state: &mut u32) -> u32 {
     *state = state.wrapping_mul(1_103_515_245).wrapping_add(12_345);
@@ -133,7 +124,7 @@ fn bool_int_and_dint_parameters_agree_on_three_engines() {
                 common::set(vm, "MD24", md24);
             }
             vm.run_scan().expect("a scan");
-            after.push((memory(vm), vm.executed_last_scan()));
+            after.push((common::areas(vm), vm.executed_last_scan()));
         }
         assert_eq!(after[1], after[0], "interpreter, scan {scan}");
         assert_eq!(after[2], after[0], "compiled, scan {scan}");

@@ -29,15 +29,6 @@ fn load3(text: &str, watchdog: u64) -> [Vm; 3] {
     configs(watchdog).map(|c| common::load(text, c))
 }
 
-fn memory(vm: &Vm) -> Vec<Vec<u8>> {
-    vm.target()
-        .memory
-        .areas
-        .iter()
-        .map(|a| vm.memory().area(a.slot).unwrap_or(&[]).to_vec())
-        .collect()
-}
-
 /// Statements a network may hold after its first LD. A `{name}` is replaced by an operand
 /// of the list `name` (see `Operands`), chosen with the statement; `{body}` (FOR) by
 /// one of `FOR_BODY`.
@@ -534,7 +525,7 @@ fn agree(text: &str, config: VmConfig, inputs: &[[u8; 3]]) -> Result<[Vm; 3], Te
                 text
             );
             prop_assert!(
-                memory(vm) == memory(&vms[0]) && vm.memory() == vms[0].memory(),
+                common::areas(vm) == common::areas(&vms[0]) && vm.memory() == vms[0].memory(),
                 "memory differs after scan {} (VM {})\n{}",
                 scan,
                 k,
@@ -616,7 +607,7 @@ fn a_program_of_compilable_networks_compiles_whole() {
         reference.scan().expect("scan");
         native.scan().expect("scan");
     }
-    assert_eq!(memory(&native), memory(&reference));
+    assert_eq!(common::areas(&native), common::areas(&reference));
     // Everything ran natively (`Vm::executed_natively`, what the benchmark reports).
     assert_eq!(
         native.executed_natively(),
@@ -717,7 +708,7 @@ fn a_breakpoint_inside_a_region_pauses_there() {
         vm.scan().expect("the paused scan ends");
         vm.scan().expect("scan");
     }
-    assert_eq!(memory(&native), memory(&reference));
+    assert_eq!(common::areas(&native), common::areas(&reference));
     assert_eq!(common::read(&native, "MW2"), 3);
 }
 
@@ -757,7 +748,10 @@ fn a_long_unit_runs_as_consecutive_regions() {
                 .collect();
             assert_eq!(outcomes[1], outcomes[0], "scan {scan}, watchdog {watchdog}");
             assert_eq!(outcomes[2], outcomes[0], "scan {scan}, watchdog {watchdog}");
-            assert!(memory(&vms[1]) == memory(&vms[0]) && memory(&vms[2]) == memory(&vms[0]));
+            assert!(
+                common::areas(&vms[1]) == common::areas(&vms[0])
+                    && common::areas(&vms[2]) == common::areas(&vms[0])
+            );
         }
     }
 }

@@ -549,15 +549,6 @@ mod differential {
         }
     }
 
-    fn memory(vm: &Vm) -> Vec<Vec<u8>> {
-        vm.target()
-            .memory
-            .areas
-            .iter()
-            .map(|a| vm.memory().area(a.slot).unwrap_or(&[]).to_vec())
-            .collect()
-    }
-
     /// Function `f` of gutta-jit on operands `a`, `b`: compiled and by the reference,
     /// which must agree; returns the memory and the logic stack.
     fn jit(e: &Engines, f: usize, width: u8, a: u32, b: u32, stack: u32) -> (Vec<u8>, u32) {
@@ -620,7 +611,7 @@ mod differential {
         for k in 1..3 {
             assert_eq!(outcomes[k], outcomes[0], "outcome of VM {k} on {o:?}");
             assert!(
-                memory(&e.vms[k]) == memory(&e.vms[0]),
+                common::areas(&e.vms[k]) == common::areas(&e.vms[0]),
                 "memory of VM {k} differs from the generic semantics on {o:?}"
             );
         }

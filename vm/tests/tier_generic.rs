@@ -13,15 +13,6 @@ mod common;
 use gutta_vm::{TierState, Vm, VmConfig};
 use proptest::prelude::*;
 
-fn memory(vm: &Vm) -> Vec<Vec<u8>> {
-    vm.target()
-        .memory
-        .areas
-        .iter()
-        .map(|a| vm.memory().area(a.slot).unwrap_or(&[]).to_vec())
-        .collect()
-}
-
 /// Every mnemonic the tier takes from `tier_generic`, with placeholders.
 const STATEMENTS: &[&str] = &[
     "ANDB {b}, {b2}",
@@ -210,7 +201,7 @@ fn agree(text: &str, inputs: &[Inputs]) -> Result<(), TestCaseError> {
                 text
             );
             prop_assert!(
-                memory(vm) == memory(&vms[0]),
+                common::areas(vm) == common::areas(&vms[0]),
                 "memory differs after scan {} (VM {})\n{}",
                 scan,
                 k,

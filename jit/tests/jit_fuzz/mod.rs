@@ -337,7 +337,7 @@ fn step(r: &mut Reader, layout: &Layout, f: u32, functions: u32, loose: bool) ->
     }
 }
 
-// ---- Generic families (helper C) ----------------------------------------------------
+// ---- Generic families ----------------------------------------------------
 
 const CONVERTS: [Convert; 12] = [
     Convert::Bti,

@@ -11,6 +11,17 @@ use gutta_compiler::{compile, ExplicitTarget};
 use gutta_vm::{Vm, VmConfig};
 
 /// Compile, verify and load a whole program on the default PLC type.
+/// Every area's bytes, in the target's order (what a test compares area by area; the
+/// whole memory, hidden state included, compares with `Vm::memory`'s `==`).
+pub fn areas(vm: &Vm) -> Vec<Vec<u8>> {
+    vm.target()
+        .memory
+        .areas
+        .iter()
+        .map(|a| vm.memory().area(a.slot).unwrap_or(&[]).to_vec())
+        .collect()
+}
+
 pub fn load(text: &str, config: VmConfig) -> Vm {
     let target = stdlib::shared(stdlib::DEFAULT).expect("target");
     let explicit = ExplicitTarget {
