@@ -210,33 +210,11 @@ fn conveyor_agrees_with_the_vm() {
         let (mut alarms_set, mut alarms_cleared, mut batches, mut skipped, mut totals) =
             (0, 0, 0, 0, 0);
         for n in 0..3000u32 {
-            for (k, &v) in plant_inputs(n).iter().enumerate() {
-                let a = target
-                    .memory
-                    .parse_address(&format!("IB{k}"))
-                    .expect("address");
-                vm.write(a, u32::from(v)).expect("write");
-                plant.mem.i[k] = v;
-            }
+            set_inputs(&mut vm, &target, &mut plant, &plant_inputs(n));
             let before = plant.clone();
             vm.scan().expect("scan");
             gutta_bench_native::conveyor_scan(&mut plant);
-            for (name, bytes) in [
-                ("I", &plant.mem.i[..]),
-                ("Q", &plant.mem.q[..]),
-                ("M", &plant.mem.m[..]),
-                ("T", &plant.t[..]),
-                ("C", &plant.c[..]),
-                ("SM", &plant.mem.sm[..2]),
-            ] {
-                let vm_bytes = vm_area(&vm, &target, name);
-                if let Some(at) = (0..bytes.len()).find(|&k| vm_bytes[k] != bytes[k]) {
-                    panic!(
-                        "{config:?} scan {n}: {name}B{at} is {:#04x} in the VM and {:#04x} native",
-                        vm_bytes[at], bytes[at]
-                    );
-                }
-            }
+            same_areas(&vm, &target, &plant, config, n);
             // What the scan did, so the run is known to reach every family.
             for k in 0..CONVEYOR_STATIONS {
                 let b = 100 + 16 * k;
@@ -258,6 +236,18 @@ fn conveyor_agrees_with_the_vm() {
         assert!(skipped > 1000, "the JMP taken: {skipped}");
         assert!(totals > 1000, "the batch total past its limit: {totals}");
         assert!(plant.t.iter().any(|&b| b != 0), "timers running at the end");
+    }
+}
+
+/// IB0.. of the VM and of the native plant set to `bytes`.
+fn set_inputs(vm: &mut Vm, target: &Target, plant: &mut Plant, bytes: &[u8]) {
+    for (k, &v) in bytes.iter().enumerate() {
+        let a = target
+            .memory
+            .parse_address(&format!("IB{k}"))
+            .expect("address");
+        vm.write(a, u32::from(v)).expect("write");
+        plant.mem.i[k] = v;
     }
 }
 
@@ -302,14 +292,7 @@ fn mixing_agrees_with_the_vm() {
         let (mut batches, mut slow, mut cleared, mut run_on, mut stopped, mut scaled) =
             (0, 0, 0, 0, 0, 0);
         for n in 0..3000u32 {
-            for (k, &v) in mixing_inputs(n).iter().enumerate() {
-                let a = target
-                    .memory
-                    .parse_address(&format!("IB{k}"))
-                    .expect("address");
-                vm.write(a, u32::from(v)).expect("write");
-                plant.mem.i[k] = v;
-            }
+            set_inputs(&mut vm, &target, &mut plant, &mixing_inputs(n));
             let before = plant.clone();
             vm.scan().expect("scan");
             gutta_bench_native::mixing_scan(&mut plant);
