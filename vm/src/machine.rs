@@ -4,7 +4,6 @@
 //! debugger or the host.
 
 use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
 
 use gutta_catalog::Target;
 use gutta_format::Operand;
@@ -46,52 +45,13 @@ pub(crate) struct LoopFrame {
     pub stack: u32,
 }
 
-/// Hashes the hidden state's keys (small integers: page and record, slot and offset)
-/// with a rotate, an xor and a multiply per integer instead of SipHash: the keys come
-/// from the verified program, not from an adversary, and every execution of a timer,
-/// counter or edge looks its state up (SipHash made that most of their cost).
-#[derive(Debug, Default, Clone, Copy)]
-pub(crate) struct KeyHasher(u64);
-
-impl Hasher for KeyHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.write_u64(u64::from(b));
-        }
-    }
-
-    fn write_u8(&mut self, n: u8) {
-        self.write_u64(u64::from(n));
-    }
-
-    fn write_u32(&mut self, n: u32) {
-        self.write_u64(u64::from(n));
-    }
-
-    fn write_usize(&mut self, n: usize) {
-        self.write_u64(n as u64);
-    }
-
-    #[inline]
-    fn write_u64(&mut self, n: u64) {
-        self.0 = (self.0.rotate_left(5) ^ n).wrapping_mul(0x517c_c1b7_2722_0a95);
-    }
-}
-
-/// A map of hidden state.
-pub(crate) type KeyMap<K, V> = HashMap<K, V, BuildHasherDefault<KeyHasher>>;
-
 /// State the program cannot address that has no place after the areas in the flat
 /// memory (`Memory::cell_state_at`, `Unit::edge_state`): the hidden words of a timer or
 /// counter reached through a pointer into an area other than T and C. Cleared at reset.
 #[derive(Debug, Default)]
 pub(crate) struct HiddenState {
     /// Per (slot, byte offset).
-    pub cells: KeyMap<(u8, u32), [u32; 2]>,
+    pub cells: HashMap<(u8, u32), [u32; 2]>,
 }
 
 /// The size of L on every target today; `save_local` and `restore_local` copy it with
