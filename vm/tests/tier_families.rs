@@ -212,3 +212,33 @@ fn a_region_after_a_record_the_fast_path_runs_is_entered() {
     assert_eq!(vms[0].executed_last_scan(), 9);
     assert_eq!(vms[2].executed_natively(), 20 * 7);
 }
+
+/// FOR and NEXT stay interpreted (docs/vm-jit.md, "What stays interpreted"), but the
+/// loop's body is a region of its own: NEXT sends the interpreter back to the record
+/// after FOR, where the region starts, so every iteration runs the body natively.
+#[test]
+fn a_for_loops_body_runs_natively_on_every_iteration() {
+    let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.0\nFOR MW2, 1, MW0\n\
+                NETWORK 2\nLD SM0.0\n+I 1, MW10\nMOVW MW10, MW12\n+I MW2, MW12\nLDW>= MW12, 40\n\
+                = M0.0\nA I0.0\n= Q0.0\nNETWORK 3\nNEXT\nEND_ORGANIZATION_BLOCK\n";
+    let mut vms = common::three_engines(VmConfig::default()).map(|c| common::load(text, c));
+    let mut iterations = 0;
+    for scan in 0..30u32 {
+        for vm in &mut vms {
+            common::set(vm, "MW0", scan % 7);
+            common::set(vm, "IB0", scan % 2);
+            vm.scan().expect("scan");
+        }
+        iterations += u64::from(scan % 7);
+        for vm in &vms[1..] {
+            assert_eq!(
+                vm.executed_last_scan(),
+                vms[0].executed_last_scan(),
+                "scan {scan}"
+            );
+            assert!(vm.memory() == vms[0].memory(), "memory after scan {scan}");
+        }
+    }
+    // The body's 8 instructions, natively, on every iteration.
+    assert_eq!(vms[2].executed_natively(), iterations * 8);
+}
