@@ -495,7 +495,8 @@ impl Engine {
         let memory = &mut self.machine.memory;
         self.terminals.refresh_inputs(memory);
         self.terminals.apply_forces(memory);
-        self.clock.set_system_bits(memory, self.program.slots.sm);
+        self.clock
+            .set_system_bits(&mut memory.bytes, self.program.smb0_at);
         self.clock.executed = 0;
         self.machine.frames.clear();
         self.machine.push_frame(0, None);

@@ -74,6 +74,9 @@ pub(crate) struct Program {
     pub units: Vec<Option<Arc<Unit>>>,
     /// Index of SMB1 (the math flags) in the flat memory.
     pub flags_at: usize,
+    /// Index of SMB0 (the system bits a scan's start writes) in the flat memory; None
+    /// for a target without SM.
+    pub smb0_at: Option<usize>,
 }
 
 /// What a reset puts into cleared memory: K from the const page, then the data pages.
@@ -124,6 +127,10 @@ impl Program {
             .span(slots.sm)
             .filter(|&(_, len)| len > 1)
             .map_or(0, |(start, _)| start + 1);
+        let smb0_at = memory
+            .span(slots.sm)
+            .filter(|&(_, len)| len > 0)
+            .map(|(start, _)| start);
         Program {
             target,
             image,
@@ -131,6 +138,7 @@ impl Program {
             slots,
             units,
             flags_at,
+            smb0_at,
         }
     }
 
