@@ -286,17 +286,16 @@ impl Interrupts {
         scan_ms: u32,
         queue: &mut VecDeque<u32>,
     ) {
-        let sources = match &self.sources {
-            Some(s) => Arc::clone(s),
-            None => {
-                let s = Arc::new(Sources::of(target, memory));
-                self.sources = Some(Arc::clone(&s));
-                self.stale = true;
-                s
-            }
-        };
+        if self.sources.is_none() {
+            self.sources = Some(Arc::new(Sources::of(target, memory)));
+            self.stale = true;
+        }
         if self.stale {
-            self.replan(&sources);
+            // Rare (an attachment changed): the shared sources are counted once more
+            // while the plan is rebuilt from them.
+            if let Some(sources) = self.sources.clone() {
+                self.replan(&sources);
+            }
         }
         let bytes = &memory.bytes;
         let byte = |at: usize| bytes.get(at).copied().unwrap_or(0);
@@ -304,13 +303,19 @@ impl Interrupts {
             enabled,
             attached,
             pending,
+            sources: Some(sources),
             plan,
             elapsed,
             last_bytes,
             last_input,
             occurred,
             ..
-        } = self;
+        } = self
+        else {
+            return;
+        };
+        // Borrowed, not counted: no atomic reference count at every scan.
+        let sources: &Sources = sources;
         occurred.clear();
         for &(event, acc, period) in &plan.timed {
             let period_ms = period.read(bytes);
@@ -363,8 +368,15 @@ impl Interrupts {
             pending.extend(occurred.drain(..));
             return;
         }
-        queue.extend(pending.iter().copied());
-        pending.clear();
-        queue.extend(occurred.drain(..));
+        if !pending.is_empty() {
+            queue.extend(pending.iter().copied());
+            pending.clear();
+        }
+        // One by one: the events of a scan are a few, and a general `extend` sets up
+        // more than it moves.
+        for &event in occurred.iter() {
+            queue.push_back(event);
+        }
+        occurred.clear();
     }
 }
