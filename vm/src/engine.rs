@@ -346,8 +346,12 @@ impl Engine {
                     self.machine.set_pc(pc);
                     return Ok(Flow::Break);
                 }
-                // One record, unfused (a breakpoint's own instruction when stepping).
-                let op = unit.unfused(pc, fast);
+                // One record, unfused (a breakpoint's own instruction when stepping). A
+                // CALL or a generic record is never fused nor widened: no lookup.
+                let op = match fast {
+                    Op::Call { .. } | Op::Generic { .. } => fast,
+                    _ => unit.unfused(pc, fast),
+                };
                 if matches!(op, Op::Network) {
                     st = 0;
                     pc += 1;
