@@ -512,7 +512,11 @@ impl Engine {
     /// done with no event that can occur (most scans): the end of scan at once, inline.
     #[inline(always)]
     pub fn next_phase(&mut self, flow: Flow) -> Result<bool, Fault> {
-        if matches!(self.phase, Phase::Main) && self.interrupts.quiet_scan(&self.machine.memory) {
+        if matches!(self.phase, Phase::Main)
+            && self
+                .interrupts
+                .quiet_scan(&self.machine.memory, self.program.config.scan_ms)
+        {
             self.phase = Phase::Idle;
             self.end_scan();
             return Ok(true);

@@ -223,23 +223,46 @@ impl Interrupts {
         self.spare = queue;
     }
 
-    /// After MAIN, when no event can occur (nothing attached that can occur, nothing
-    /// pending (a safeguard: only attached events are pending, and those are in the
-    /// plan), no edge event read through `Memory::read`, the sources known and the
-    /// plan current): record the watched input bytes, as `occurred_events` does then,
+    /// After MAIN, when no event can occur in this scan (nothing attached that can
+    /// occur, or only timed events none of which is due; nothing pending (a safeguard:
+    /// only attached events are pending, and those are in the plan), no edge event, the
+    /// sources known and the plan current): advance the attached timed events by the
+    /// scan's time and record the watched input bytes, as `occurred_events` does then,
     /// and return true. Otherwise nothing is done and `occurred_events` is the way
-    /// (false). Most scans of most programs: a few loads and stores, inline.
+    /// (false). Most scans of most programs, a timed interrupt's scans between its
+    /// runs too: a few loads and stores, inline.
     #[inline]
-    pub fn quiet_scan(&mut self, memory: &Memory) -> bool {
+    pub fn quiet_scan(&mut self, memory: &Memory, scan_ms: u32) -> bool {
         let Some(sources) = &self.sources else {
             return false;
         };
-        if !self.plan.quiet
-            || self.stale
-            || !self.pending.is_empty()
-            || self.last_bytes.len() != sources.watched.len()
+        if self.stale || !self.pending.is_empty() || self.last_bytes.len() != sources.watched.len()
         {
             return false;
+        }
+        if !self.plan.quiet {
+            if !self.plan.edges.is_empty() || !sources.other_edges.is_empty() {
+                return false;
+            }
+            // Timed events only. Due when its accumulator reaches its period; entries
+            // of one event number share an accumulator, so at most every entry's
+            // time reaches one: none due below that bound, else the whole check.
+            let bytes = &memory.bytes;
+            let most = u64::from(scan_ms) * self.plan.timed.len() as u64;
+            for &(_, acc, period) in &self.plan.timed {
+                let period_ms = period.read(bytes);
+                let elapsed = self.elapsed.get(acc).copied().unwrap_or(0);
+                if period_ms != 0 && u64::from(elapsed) + most >= u64::from(period_ms) {
+                    return false;
+                }
+            }
+            for &(_, acc, period) in &self.plan.timed {
+                if period.read(bytes) != 0 {
+                    if let Some(elapsed) = self.elapsed.get_mut(acc) {
+                        *elapsed += scan_ms;
+                    }
+                }
+            }
         }
         for (last, &at) in self.last_bytes.iter_mut().zip(&sources.watched) {
             *last = memory.bytes.get(at).copied().unwrap_or(0);
