@@ -233,39 +233,52 @@ impl Interrupts {
     /// runs too: a few loads and stores, inline.
     #[inline]
     pub fn quiet_scan(&mut self, memory: &Memory, scan_ms: u32) -> bool {
+        let Some(watched) = self.sources.as_ref().map(|s| s.watched.len()) else {
+            return false;
+        };
+        if self.stale || !self.pending.is_empty() || self.last_bytes.len() != watched {
+            return false;
+        }
+        if !self.plan.quiet && !self.advance_timed_not_due(memory, scan_ms) {
+            return false;
+        }
         let Some(sources) = &self.sources else {
             return false;
         };
-        if self.stale || !self.pending.is_empty() || self.last_bytes.len() != sources.watched.len()
-        {
-            return false;
-        }
-        if !self.plan.quiet {
-            if !self.plan.edges.is_empty() || !sources.other_edges.is_empty() {
-                return false;
-            }
-            // Timed events only. Due when its accumulator reaches its period; entries
-            // of one event number share an accumulator, so at most every entry's
-            // time reaches one: none due below that bound, else the whole check.
-            let bytes = &memory.bytes;
-            let most = u64::from(scan_ms) * self.plan.timed.len() as u64;
-            for &(_, acc, period) in &self.plan.timed {
-                let period_ms = period.read(bytes);
-                let elapsed = self.elapsed.get(acc).copied().unwrap_or(0);
-                if period_ms != 0 && u64::from(elapsed) + most >= u64::from(period_ms) {
-                    return false;
-                }
-            }
-            for &(_, acc, period) in &self.plan.timed {
-                if period.read(bytes) != 0 {
-                    if let Some(elapsed) = self.elapsed.get_mut(acc) {
-                        *elapsed += scan_ms;
-                    }
-                }
-            }
-        }
         for (last, &at) in self.last_bytes.iter_mut().zip(&sources.watched) {
             *last = memory.bytes.get(at).copied().unwrap_or(0);
+        }
+        true
+    }
+
+    /// `quiet_scan` when something is attached: if only timed events are (no edge
+    /// event) and none is due in this scan, advance them by `scan_ms` and return true;
+    /// otherwise change nothing (false). Timed events are due when their accumulator
+    /// reaches their period; entries of one event number share an accumulator, so at
+    /// most every entry's time reaches one: none due below that bound, else the whole
+    /// check decides. Out of line: `quiet_scan` stays small for the scans with nothing
+    /// attached.
+    #[inline(never)]
+    fn advance_timed_not_due(&mut self, memory: &Memory, scan_ms: u32) -> bool {
+        let other_edges = self.sources.as_ref().map_or(0, |s| s.other_edges.len());
+        if !self.plan.edges.is_empty() || other_edges != 0 {
+            return false;
+        }
+        let bytes = &memory.bytes;
+        let most = u64::from(scan_ms) * self.plan.timed.len() as u64;
+        for &(_, acc, period) in &self.plan.timed {
+            let period_ms = period.read(bytes);
+            let elapsed = self.elapsed.get(acc).copied().unwrap_or(0);
+            if period_ms != 0 && u64::from(elapsed) + most >= u64::from(period_ms) {
+                return false;
+            }
+        }
+        for &(_, acc, period) in &self.plan.timed {
+            if period.read(bytes) != 0 {
+                if let Some(elapsed) = self.elapsed.get_mut(acc) {
+                    *elapsed += scan_ms;
+                }
+            }
         }
         true
     }
