@@ -77,6 +77,9 @@ pub(crate) struct Program {
     /// Index of SMB0 (the system bits a scan's start writes) in the flat memory; None
     /// for a target without SM.
     pub smb0_at: Option<usize>,
+    /// L's start and length in the flat memory (what a CALL saves and clears), found
+    /// at load.
+    pub local_span: Option<(usize, usize)>,
 }
 
 /// What a reset puts into cleared memory: K from the const page, then the data pages.
@@ -131,6 +134,7 @@ impl Program {
             .span(slots.sm)
             .filter(|&(_, len)| len > 0)
             .map(|(start, _)| start);
+        let local_span = memory.span(slots.local);
         Program {
             target,
             image,
@@ -139,6 +143,7 @@ impl Program {
             units,
             flags_at,
             smb0_at,
+            local_span,
         }
     }
 
