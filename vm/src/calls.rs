@@ -64,7 +64,7 @@ pub(crate) fn enter_planned(
     let Some(p) = unit.calls.get(plan as usize) else {
         return Ok(());
     };
-    let local = machine.memory.span(program.slots.local);
+    let local = program.local_span;
     let l_mark = machine.save_local(local);
     let (mem, saved) = (&mut machine.memory.bytes, &machine.l_stack[l_mark..]);
     for a in p.args.iter().filter(|a| a.input) {
@@ -127,7 +127,7 @@ fn finish(machine: &mut Machine, program: &Program, plan: u32, l_mark: usize, sa
     let Some(p) = program.unit(page).and_then(|u| u.calls.get(plan as usize)) else {
         return;
     };
-    let local = machine.memory.span(program.slots.local);
+    let local = program.local_span;
     let mem = &mut machine.memory.bytes;
     let saved = machine.l_stack.get_mut(l_mark..).unwrap_or_default();
     for a in p.args.iter().filter(|a| a.output) {

@@ -346,8 +346,12 @@ impl Engine {
                     self.machine.set_pc(pc);
                     return Ok(Flow::Break);
                 }
-                // One record, unfused (a breakpoint's own instruction when stepping).
-                let op = unit.unfused(pc, fast);
+                // One record, unfused (a breakpoint's own instruction when stepping). A
+                // CALL or a generic record is never fused nor widened: no lookup.
+                let op = match fast {
+                    Op::Call { .. } | Op::Generic { .. } => fast,
+                    _ => unit.unfused(pc, fast),
+                };
                 if matches!(op, Op::Network) {
                     st = 0;
                     pc += 1;
@@ -495,7 +499,8 @@ impl Engine {
         let memory = &mut self.machine.memory;
         self.terminals.refresh_inputs(memory);
         self.terminals.apply_forces(memory);
-        self.clock.set_system_bits(memory, self.program.slots.sm);
+        self.clock
+            .set_system_bits(&mut memory.bytes, self.program.smb0_at);
         self.clock.executed = 0;
         self.machine.frames.clear();
         self.machine.push_frame(0, None);
@@ -507,7 +512,11 @@ impl Engine {
     /// done with no event that can occur (most scans): the end of scan at once, inline.
     #[inline(always)]
     pub fn next_phase(&mut self, flow: Flow) -> Result<bool, Fault> {
-        if matches!(self.phase, Phase::Main) && self.interrupts.quiet_scan(&self.machine.memory) {
+        if matches!(self.phase, Phase::Main)
+            && self
+                .interrupts
+                .quiet_scan(&self.machine.memory, self.program.config.scan_ms)
+        {
             self.phase = Phase::Idle;
             self.end_scan();
             return Ok(true);

@@ -223,26 +223,62 @@ impl Interrupts {
         self.spare = queue;
     }
 
-    /// After MAIN, when no event can occur (nothing attached that can occur, nothing
-    /// pending (a safeguard: only attached events are pending, and those are in the
-    /// plan), no edge event read through `Memory::read`, the sources known and the
-    /// plan current): record the watched input bytes, as `occurred_events` does then,
+    /// After MAIN, when no event can occur in this scan (nothing attached that can
+    /// occur, or only timed events none of which is due; nothing pending (a safeguard:
+    /// only attached events are pending, and those are in the plan), no edge event, the
+    /// sources known and the plan current): advance the attached timed events by the
+    /// scan's time and record the watched input bytes, as `occurred_events` does then,
     /// and return true. Otherwise nothing is done and `occurred_events` is the way
-    /// (false). Most scans of most programs: a few loads and stores, inline.
+    /// (false). Most scans of most programs, a timed interrupt's scans between its
+    /// runs too: a few loads and stores, inline.
     #[inline]
-    pub fn quiet_scan(&mut self, memory: &Memory) -> bool {
+    pub fn quiet_scan(&mut self, memory: &Memory, scan_ms: u32) -> bool {
+        let Some(watched) = self.sources.as_ref().map(|s| s.watched.len()) else {
+            return false;
+        };
+        if self.stale || !self.pending.is_empty() || self.last_bytes.len() != watched {
+            return false;
+        }
+        if !self.plan.quiet && !self.advance_timed_not_due(memory, scan_ms) {
+            return false;
+        }
         let Some(sources) = &self.sources else {
             return false;
         };
-        if !self.plan.quiet
-            || self.stale
-            || !self.pending.is_empty()
-            || self.last_bytes.len() != sources.watched.len()
-        {
-            return false;
-        }
         for (last, &at) in self.last_bytes.iter_mut().zip(&sources.watched) {
             *last = memory.bytes.get(at).copied().unwrap_or(0);
+        }
+        true
+    }
+
+    /// `quiet_scan` when something is attached: if only timed events are (no edge
+    /// event) and none is due in this scan, advance them by `scan_ms` and return true;
+    /// otherwise change nothing (false). Timed events are due when their accumulator
+    /// reaches their period; entries of one event number share an accumulator, so at
+    /// most every entry's time reaches one: none due below that bound, else the whole
+    /// check decides. Out of line: `quiet_scan` stays small for the scans with nothing
+    /// attached.
+    #[inline(never)]
+    fn advance_timed_not_due(&mut self, memory: &Memory, scan_ms: u32) -> bool {
+        let other_edges = self.sources.as_ref().map_or(0, |s| s.other_edges.len());
+        if !self.plan.edges.is_empty() || other_edges != 0 {
+            return false;
+        }
+        let bytes = &memory.bytes;
+        let most = u64::from(scan_ms) * self.plan.timed.len() as u64;
+        for &(_, acc, period) in &self.plan.timed {
+            let period_ms = period.read(bytes);
+            let elapsed = self.elapsed.get(acc).copied().unwrap_or(0);
+            if period_ms != 0 && u64::from(elapsed) + most >= u64::from(period_ms) {
+                return false;
+            }
+        }
+        for &(_, acc, period) in &self.plan.timed {
+            if period.read(bytes) != 0 {
+                if let Some(elapsed) = self.elapsed.get_mut(acc) {
+                    *elapsed += scan_ms;
+                }
+            }
         }
         true
     }
@@ -286,17 +322,16 @@ impl Interrupts {
         scan_ms: u32,
         queue: &mut VecDeque<u32>,
     ) {
-        let sources = match &self.sources {
-            Some(s) => Arc::clone(s),
-            None => {
-                let s = Arc::new(Sources::of(target, memory));
-                self.sources = Some(Arc::clone(&s));
-                self.stale = true;
-                s
-            }
-        };
+        if self.sources.is_none() {
+            self.sources = Some(Arc::new(Sources::of(target, memory)));
+            self.stale = true;
+        }
         if self.stale {
-            self.replan(&sources);
+            // Rare (an attachment changed): the shared sources are counted once more
+            // while the plan is rebuilt from them.
+            if let Some(sources) = self.sources.clone() {
+                self.replan(&sources);
+            }
         }
         let bytes = &memory.bytes;
         let byte = |at: usize| bytes.get(at).copied().unwrap_or(0);
@@ -304,13 +339,19 @@ impl Interrupts {
             enabled,
             attached,
             pending,
+            sources: Some(sources),
             plan,
             elapsed,
             last_bytes,
             last_input,
             occurred,
             ..
-        } = self;
+        } = self
+        else {
+            return;
+        };
+        // Borrowed, not counted: no atomic reference count at every scan.
+        let sources: &Sources = sources;
         occurred.clear();
         for &(event, acc, period) in &plan.timed {
             let period_ms = period.read(bytes);
@@ -363,8 +404,15 @@ impl Interrupts {
             pending.extend(occurred.drain(..));
             return;
         }
-        queue.extend(pending.iter().copied());
-        pending.clear();
-        queue.extend(occurred.drain(..));
+        if !pending.is_empty() {
+            queue.extend(pending.iter().copied());
+            pending.clear();
+        }
+        // One by one: the events of a scan are a few, and a general `extend` sets up
+        // more than it moves.
+        for &event in occurred.iter() {
+            queue.push_back(event);
+        }
+        occurred.clear();
     }
 }

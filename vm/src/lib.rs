@@ -272,11 +272,16 @@ impl Vm {
 
     /// Like `scan`, saying how it ended: a paused scan continues where it stopped.
     pub fn run_scan(&mut self) -> Result<ScanEnd, Fault> {
-        if let Some(end) = self.engine.blocked() {
-            return end;
-        }
-        if self.engine.reset_requested {
-            self.reset();
+        let engine = &self.engine;
+        // One test of the flags of the rare states (a fault, STOP, a pause, a reset
+        // requested) before anything else in most scans.
+        if engine.fault.is_some() | engine.stopped | engine.paused | engine.reset_requested {
+            if let Some(end) = self.engine.blocked() {
+                return end;
+            }
+            if self.engine.reset_requested {
+                self.reset();
+            }
         }
         self.debugger.reset_pending = false;
         let engine = &mut self.engine;

@@ -72,7 +72,7 @@ pub(crate) fn load(
         return Err(LoadError::MissingSemantics(missing));
     }
     let mut machine = Machine::new(&target);
-    let terminals = Terminals::new(&target);
+    let terminals = Terminals::new(&target, &machine.memory);
     let program = Program::new(image, target, config, &mut machine.memory);
     let mut engine = Engine {
         program,

@@ -74,6 +74,12 @@ pub(crate) struct Program {
     pub units: Vec<Option<Arc<Unit>>>,
     /// Index of SMB1 (the math flags) in the flat memory.
     pub flags_at: usize,
+    /// Index of SMB0 (the system bits a scan's start writes) in the flat memory; None
+    /// for a target without SM.
+    pub smb0_at: Option<usize>,
+    /// L's start and length in the flat memory (what a CALL saves and clears), found
+    /// at load.
+    pub local_span: Option<(usize, usize)>,
 }
 
 /// What a reset puts into cleared memory: K from the const page, then the data pages.
@@ -124,6 +130,11 @@ impl Program {
             .span(slots.sm)
             .filter(|&(_, len)| len > 1)
             .map_or(0, |(start, _)| start + 1);
+        let smb0_at = memory
+            .span(slots.sm)
+            .filter(|&(_, len)| len > 0)
+            .map(|(start, _)| start);
+        let local_span = memory.span(slots.local);
         Program {
             target,
             image,
@@ -131,6 +142,8 @@ impl Program {
             slots,
             units,
             flags_at,
+            smb0_at,
+            local_span,
         }
     }
 

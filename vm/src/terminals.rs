@@ -28,6 +28,9 @@ pub(crate) struct Terminals {
     /// Terminal images of the input areas (I, AI), by slot (two or so: a list, which
     /// the start of every scan walks faster than a map).
     inputs: Vec<(u8, Vec<u8>)>,
+    /// Where each input area of `inputs` (same order) starts in the flat memory, found
+    /// once at load: the start of a scan copies without looking the area up.
+    input_at: Vec<usize>,
     /// Force images of the forcing areas (I, Q): slot -> (mask, value), byte per byte.
     forces: HashMap<u8, (Vec<u8>, Vec<u8>)>,
 }
@@ -41,17 +44,22 @@ fn bit_mask(a: Address) -> Vec<u8> {
 }
 
 impl Terminals {
-    /// Terminals of `target`'s input areas, all 0; nothing forced.
-    pub fn new(target: &Target) -> Terminals {
-        let inputs = target
+    /// Terminals of `target`'s input areas, all 0; nothing forced. `memory` (the
+    /// target's, laid out by `Memory::new`) gives where each area starts.
+    pub fn new(target: &Target, memory: &Memory) -> Terminals {
+        let (inputs, input_at) = target
             .memory
             .areas
             .iter()
             .filter(|a| matches!(a.kind, AreaKind::DigitalInput | AreaKind::AnalogInput))
-            .map(|a| (a.slot, vec![0; a.size as usize]))
-            .collect();
+            .filter_map(|a| {
+                let (start, len) = memory.span(a.slot)?;
+                Some(((a.slot, vec![0; len]), start))
+            })
+            .unzip();
         Terminals {
             inputs,
+            input_at,
             forces: HashMap::new(),
         }
     }
@@ -175,10 +183,9 @@ impl Terminals {
 
     /// The input areas take their terminals' values (start of scan).
     pub fn refresh_inputs(&self, memory: &mut Memory) {
-        for (slot, terminal) in &self.inputs {
-            if let Some(area) = memory.area_mut(*slot) {
-                let n = area.len().min(terminal.len());
-                copy_small(&mut area[..n], &terminal[..n]);
+        for ((_, terminal), &at) in self.inputs.iter().zip(&self.input_at) {
+            if let Some(area) = memory.bytes.get_mut(at..at + terminal.len()) {
+                copy_image(area, terminal);
             }
         }
     }
@@ -219,20 +226,22 @@ impl Terminals {
     }
 }
 
-/// `dst.copy_from_slice(src)` (same lengths) for the few bytes of an input area, in
-/// 8-byte words: inline moves instead of a call of `memcpy` (every scan), one load and
-/// one store per word (an index loop: no chunk iterators to set up per area).
+/// `dst.copy_from_slice(src)` (same lengths) for an input area, every scan: the
+/// default target's sizes (8 and 16 bytes) as register moves, inline, without a call;
+/// other sizes by the general copy (`memcpy`).
 #[inline(always)]
-fn copy_small(dst: &mut [u8], src: &[u8]) {
-    let n = dst.len().min(src.len());
-    let mut at = 0;
-    while at + 8 <= n {
-        let word: [u8; 8] = src[at..at + 8].try_into().unwrap_or([0; 8]);
-        dst[at..at + 8].copy_from_slice(&word);
-        at += 8;
-    }
-    while at < n {
-        dst[at] = src[at];
-        at += 1;
+fn copy_image(dst: &mut [u8], src: &[u8]) {
+    if let (Ok(d), Ok(s)) = (
+        <&mut [u8; 16]>::try_from(&mut *dst),
+        <&[u8; 16]>::try_from(src),
+    ) {
+        *d = *s;
+    } else if let (Ok(d), Ok(s)) = (
+        <&mut [u8; 8]>::try_from(&mut *dst),
+        <&[u8; 8]>::try_from(src),
+    ) {
+        *d = *s;
+    } else {
+        dst.copy_from_slice(src);
     }
 }

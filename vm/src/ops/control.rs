@@ -60,7 +60,7 @@ fn call(e: &mut Exec<'_>) -> Result<Control, Fault> {
         k += 1;
     }
     // Save the caller's L on the L stack, clear L, pass the arguments.
-    let local_area = e.machine.memory.span(program.slots.local);
+    let local_area = program.local_span;
     let l_mark = e.machine.save_local(local_area);
     for (k, v) in args.iter().enumerate() {
         if let Some(p) = param(k) {
@@ -116,7 +116,7 @@ pub(crate) fn finish_call(
         };
         outputs.push(v);
     }
-    machine.restore_local(machine.memory.span(program.slots.local), save.l_mark);
+    machine.restore_local(program.local_span, save.l_mark);
     machine.stack = save.saved_stack;
     // The values go through the CALL's operands, in the caller's context.
     let (offset, operands) = program

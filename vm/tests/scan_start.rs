@@ -1,0 +1,126 @@
+//! What the start of every scan writes, against what it must be, on every engine: the
+//! system bits of SMB0 from the virtual time (kept in steps, `clock.rs`) and the input
+//! image from the terminals (copied to where each area starts, `terminals.rs`), on
+//! targets of different input sizes. Not the instructions: the scan around them.
+
+mod common;
+
+use std::sync::Arc;
+
+use gutta_catalog::{stdlib, AreaKind};
+use gutta_compiler::source::SourceFile;
+use gutta_compiler::{compile, ExplicitTarget};
+use gutta_vm::{Vm, VmConfig};
+
+use common::{read, set, three_engines};
+
+/// Compile, verify and load `text` on the PLC type `target`.
+fn load_on(target: &str, text: &str, config: VmConfig) -> Vm {
+    let target = stdlib::shared(target).expect("target");
+    let explicit = ExplicitTarget {
+        target: Arc::clone(&target),
+        origin: "test".into(),
+    };
+    let c = compile(SourceFile::new("t.lad", text), Some(&explicit));
+    let image = c
+        .image
+        .unwrap_or_else(|| panic!("does not compile: {:?}", c.checked.diagnostics()));
+    let verified = gutta_format::verify(&image, &target).expect("verifies");
+    Vm::new(verified, target, config).expect("loads")
+}
+
+fn main_block(body: &str) -> String {
+    format!("ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\n{body}\nEND_ORGANIZATION_BLOCK\n")
+}
+
+/// SMB0 as the scan starting at `ms` virtual milliseconds, after `scans` completed
+/// scans, must see it (docs/vm.md, "System bits"): SM0.0 on, SM0.1 on the first scan,
+/// SM0.4 off and on every 30 s, SM0.5 every 0.5 s, SM0.6 every other scan.
+fn expected_smb0(scans: u64, ms: u64) -> u32 {
+    let halves = ms / 500;
+    1 | u32::from(scans == 0) << 1
+        | u32::from((halves / 60) % 2 == 1) << 4
+        | u32::from(halves % 2 == 1) << 5
+        | u32::from(scans % 2 == 1) << 6
+}
+
+/// Every scan copies SMB0 to MB0; after each scan MB0 holds what the formula says for
+/// that scan's start, whatever the scan time (none, odd, a divisor or not of 500 ms,
+/// longer than a half second), across SM0.4's 30 s step and after a reset.
+#[test]
+fn system_bits_follow_the_virtual_time_on_every_engine() {
+    let text = main_block("NETWORK 1\nLD SM0.0\nMOVB SMB0, MB0");
+    for scan_ms in [0, 7, 10, 250, 333, 500, 1000, 29_999, 30_000] {
+        // Enough scans to pass 61 s (SM0.4 on, then off again), at most 9,000.
+        let scans = if scan_ms == 0 {
+            50
+        } else {
+            (61_000 / u64::from(scan_ms) + 2).min(9_000)
+        };
+        for config in three_engines(VmConfig {
+            scan_ms,
+            ..VmConfig::default()
+        }) {
+            let mut vm = common::load(&text, config);
+            for round in 0..2 {
+                for k in 0..scans {
+                    vm.scan().expect("scan");
+                    let want = expected_smb0(k, k * u64::from(scan_ms));
+                    assert_eq!(
+                        read(&vm, "MB0"),
+                        want,
+                        "scan {k} at {scan_ms} ms a scan, round {round}, {config:?}"
+                    );
+                }
+                // A reset starts the clock again: the first scan, time 0.
+                vm.reset();
+            }
+        }
+    }
+}
+
+/// The input image after a host write: the first and the last byte of I and the first
+/// and last word of AI reach the program, on targets whose input areas are 8 and 16,
+/// 8 and 24, 32 and 256 bytes, and hold across a reset (the terminals keep them).
+#[test]
+fn inputs_reach_the_program_whole_on_every_target() {
+    for target in [stdlib::DEFAULT, "EC30-EK51", "EC30-EKSTM32-XC"] {
+        let shared = stdlib::shared(target).expect("target");
+        let size = |kind: AreaKind| {
+            shared
+                .memory
+                .areas
+                .iter()
+                .find(|a| a.kind == kind)
+                .map(|a| a.size)
+                .expect("an input area")
+        };
+        let (i_last, ai_last) = (
+            size(AreaKind::DigitalInput) - 1,
+            size(AreaKind::AnalogInput) - 2,
+        );
+        let text = main_block(&format!(
+            "NETWORK 1\nLD SM0.0\nMOVB IB0, MB1\nMOVB IB{i_last}, MB2\n\
+             MOVW AIW0, MW4\nMOVW AIW{ai_last}, MW6"
+        ));
+        for config in three_engines(VmConfig::default()) {
+            let mut vm = load_on(target, &text, config);
+            set(&mut vm, "IB0", 0x5A);
+            set(&mut vm, &format!("IB{i_last}"), 0xA5);
+            set(&mut vm, "AIW0", 0x1234);
+            set(&mut vm, &format!("AIW{ai_last}"), 0xBEEF);
+            for round in 0..2 {
+                for _ in 0..3 {
+                    vm.scan().expect("scan");
+                }
+                let got = ["MB1", "MB2", "MW4", "MW6"].map(|v| read(&vm, v));
+                assert_eq!(
+                    got,
+                    [0x5A, 0xA5, 0x1234, 0xBEEF],
+                    "{target} round {round} {config:?}"
+                );
+                vm.reset();
+            }
+        }
+    }
+}
