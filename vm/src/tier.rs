@@ -502,8 +502,9 @@ impl Builder<'_> {
 }
 
 /// The resume regions of region `start..end`: after each Escape at record e (but the
-/// last record), records e + 1 up to and including the next Escape that no Jump of
-/// the piece spans (every Jump's Label lies inside the piece), else to `end`. After a
+/// last record, and one followed by another Escape), records e + 1 up to and including
+/// the next Escape that no Jump of the piece spans (every Jump's Label lies inside the
+/// piece), else to `end`. After a
 /// box ran with power flow the interpreter continues at e + 1 and enters the piece
 /// there; where it ends, the next piece (or the region after) starts. So the code is
 /// at most about twice the region's, against the square of a copy of the whole rest
@@ -518,7 +519,9 @@ fn resume(
     let mut pieces = Vec::new();
     for e in (start..end).filter(|&pc| is_escape(pc)) {
         let first = e + 1;
-        if first >= end {
+        // Another escape right after: the interpreter runs that one too (a box the
+        // fast path skips when unpowered) and enters the piece after it.
+        if first >= end || is_escape(first) {
             continue;
         }
         // The furthest Label a Jump of the piece so far lands at.

@@ -16,7 +16,8 @@ use gutta_vm::{TierState, Vm, VmConfig};
 /// from the inputs, event 11 to B on the first scan only; EXCH powered by I0.3; two
 /// boxes in a row (ATCH then CEVNT on I1.1); a DTCH inside a JMP's span (jumped over
 /// while I0.4); ENI every scan and DISI when I1.4 (Flow Always: they stay interpreted
-/// and split the unit); an EXCH as MAIN's last record.
+/// and split the unit), an ATCH (on I1.2) first in the region after ENI; an EXCH as
+/// MAIN's last record.
 const PROGRAM: &str = "
 ORGANIZATION_BLOCK MAIN:OB1
 BEGIN
@@ -62,6 +63,7 @@ AN     I1.0
 +I     3, MW16
 LD     I1.2
 ENI
+ATCH   B, 11
 NETWORK 9
 LD     I1.3
 A      I0.0
