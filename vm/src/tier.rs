@@ -284,15 +284,6 @@ impl Builder<'_> {
     /// (`escapable`) the tier cannot compile is an Escape (its id set by `regions`);
     /// without, None (a whole unit that CALLs enter holds none: gutta-jit refuses it).
     fn step(&mut self, unit: &Unit, pc: usize, escapes: bool) -> Option<(Step, u64, u32)> {
-        let step = self.compiled_step(unit, pc);
-        if step.is_none() && escapes && escapable(unit, pc) {
-            return Some((Step::Escape { id: 0 }, 1, 0));
-        }
-        step
-    }
-
-    /// The step of record `pc` the tier compiles, if any (`step`).
-    fn compiled_step(&mut self, unit: &Unit, pc: usize) -> Option<(Step, u64, u32)> {
         let op = unit.plain_op(pc)?;
         if let Op::Call { plan } = op {
             let plan = unit.calls.get(plan as usize)?;
@@ -357,9 +348,13 @@ impl Builder<'_> {
                 None => {}
             }
             // Instructions the interpreter runs through `ops/` that the tier compiles
-            // from their operands (`tier_generic.rs`).
-            let step = crate::tier_generic::generic_step(unit, pc, self.memory)?;
-            return Some((step, 1, 0));
+            // from their operands (`tier_generic.rs`); else, inside a region, a box
+            // that does nothing unpowered is an escape.
+            return match crate::tier_generic::generic_step(unit, pc, self.memory) {
+                Some(step) => Some((step, 1, 0)),
+                None if escapes && escapable(unit, pc) => Some((Step::Escape { id: 0 }, 1, 0)),
+                None => None,
+            };
         }
         let step = simple_step(op)?;
         let count = u64::from(op != Op::Network);
