@@ -281,7 +281,7 @@ fn escapable(unit: &Unit, pc: usize) -> bool {
 impl Builder<'_> {
     /// The step of record `pc` of `unit`, with the most instructions it can run and its
     /// CALL depth; None when the tier cannot take it. With `escapes`, an escapable box
-    /// (`escapable`) the tier cannot compile is an Escape (its id set by `regions`);
+    /// (`escapable`) the tier cannot compile is an Escape (its id set by `region`);
     /// without, None (a whole unit that CALLs enter holds none: gutta-jit refuses it).
     fn step(&mut self, unit: &Unit, pc: usize, escapes: bool) -> Option<(Step, u64, u32)> {
         let op = unit.plain_op(pc)?;
