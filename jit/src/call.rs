@@ -10,9 +10,10 @@ use cranelift_jit::JITModule;
 use cranelift_module::FuncId;
 
 /// The native signature of every generated function (`lower.rs`: the ISA's default
-/// calling convention, which is the platform's C convention): memory, logic stack, and
-/// the instructions executed.
-type Entry = unsafe extern "C" fn(*mut u8, *mut u32) -> i64;
+/// calling convention, which is the platform's C convention): memory, logic stack, the
+/// exit word (written 1 + an Escape's id when the function returns at it, else left),
+/// and the instructions executed.
+type Entry = unsafe extern "C" fn(*mut u8, *mut u32, *mut u32) -> i64;
 
 /// Finalized code: one entry per function, and the module owning the code memory.
 pub(crate) struct Code {
@@ -32,7 +33,7 @@ impl Code {
                 let address = module.get_finalized_function(id);
                 // SAFETY: `address` is the start of function `id`, finalized (relocated,
                 // made executable) by `finalize_definitions`, and compiled with the
-                // signature (ptr, ptr) -> i64 in the ISA's default calling convention,
+                // signature (ptr, ptr, ptr) -> i64 in the ISA's default calling convention,
                 // which is `extern "C"` on the host: the pointer types agree.
                 unsafe { std::mem::transmute::<*const u8, Entry>(address) }
             })
@@ -49,8 +50,9 @@ impl Code {
     }
 
     /// Call function `f` on `memory` (its length checked here again: the soundness of
-    /// the call depends on it).
-    pub(crate) fn run(&self, f: usize, memory: &mut [u8], stack: &mut u32) -> u64 {
+    /// the call depends on it). Returns the instructions executed and the exit word (0:
+    /// ran to its end; 1 + id: returned at the Escape `id`).
+    pub(crate) fn run(&self, f: usize, memory: &mut [u8], stack: &mut u32) -> (u64, u32) {
         assert_eq!(
             memory.len(),
             self.memory_len as usize,
@@ -60,11 +62,15 @@ impl Code {
         // SAFETY: the code stays mapped while `self` lives (freed only in Drop, which
         // cannot run during this borrow). It reads and writes only `memory[..memory_len]`
         // (every index + width checked by check.rs at compile time, asserted equal to
-        // the slice's length above) and the u32 behind `stack`, both exclusively
-        // borrowed here; its calls go only to other functions of this module (no
-        // recursion, checked), with their own stack slots. It has no other effects.
-        let executed = unsafe { entry(memory.as_mut_ptr(), stack) };
-        executed as u64
+        // the slice's length above), the u32 behind `stack` and the u32 `exit` (a local
+        // here, written only by an Escape's early return), all exclusively borrowed
+        // here; its calls go only to other functions of this module (no recursion,
+        // checked), with their own stack slots and the same exit word (never written
+        // by a callee: check.rs refuses an Escape in a called function). It has no
+        // other effects.
+        let mut exit = 0u32;
+        let executed = unsafe { entry(memory.as_mut_ptr(), stack, &mut exit) };
+        (executed as u64, exit)
     }
 }
 

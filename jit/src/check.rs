@@ -4,7 +4,8 @@
 //! and 8 bytes of state, a counter's word, preset word and 4 bytes of state, an edge's
 //! byte, every byte an S/R touches), widths and bit numbers are ones the steps have,
 //! timers have a resolution, every Jump has its Label later in its function (once),
-//! and Calls name existing functions without a cycle. It generates nothing.
+//! Calls name existing functions without a cycle, and no function a Call enters holds
+//! an Escape. It generates nothing.
 
 use crate::{Function, JitError, Layout, Preset, Step};
 
@@ -27,7 +28,33 @@ pub(crate) fn check(layout: &Layout, functions: &[Function]) -> Result<(), JitEr
         }
         labels(function, f)?;
     }
-    no_cycles(functions)
+    no_cycles(functions)?;
+    no_escape_in_callees(functions)
+}
+
+/// No Escape in a function that some Call enters: its early return would leave the
+/// caller's code mid-step (the VM resumes only at a record of the region it entered).
+fn no_escape_in_callees(functions: &[Function]) -> Result<(), JitError> {
+    for (caller, f) in functions.iter().enumerate() {
+        for s in &f.steps {
+            let Step::Call { callee, .. } = *s else {
+                continue;
+            };
+            let c = callee as usize;
+            if let Some(step) = functions[c]
+                .steps
+                .iter()
+                .position(|s| matches!(s, Step::Escape { .. }))
+            {
+                return Err(JitError::EscapeInCallee {
+                    function: c,
+                    step,
+                    caller,
+                });
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Every Label number once per function, every Jump to a Label later in it (forward
@@ -273,7 +300,7 @@ fn check_step(layout: &Layout, functions: usize, step: &Step) -> Result<(), Faul
             inside(layout, dst, w)
         }
         Step::Swap { at } => inside(layout, at, 2),
-        Step::Lds { .. } | Step::Nop => Ok(()),
+        Step::Lds { .. } | Step::Nop | Step::Escape { .. } => Ok(()),
     }
 }
 

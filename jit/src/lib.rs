@@ -1,5 +1,6 @@
 //! gutta-jit: compiles runs of the VM's operations (bit logic, moves, integer math,
-//! compares, planned CALLs, timers, counters, edges, S/R, forward jumps) to native code
+//! compares, planned CALLs, timers, counters, edges, S/R, forward jumps, escapes back to
+//! the interpreter at the boxes it keeps) to native code
 //! with Cranelift, with exactly the semantics of `vm/src/fast.rs`, `vm/src/calls.rs` and
 //! `vm/src/ops/` (`reference` is the executable statement of them). It knows nothing of images, units or the VM: the VM translates
 //! its pre-decoded operations into `Step`s. The soundness argument (docs/vm-jit.md):
@@ -378,6 +379,14 @@ pub enum Step {
     },
     /// NOP: nothing (counts 1), whatever the power flow.
     Nop,
+    /// A box the VM runs interpreted (EXCH, ATCH, ENI, ...; `vm/src/tier.rs`). Without
+    /// power flow (top 0): nothing, counts 1. With power flow: the function returns at
+    /// once, the logic stack as it is, its count the instructions executed before this
+    /// step (the escape itself not counted), and `Module::enter` reports `id`. Only in a
+    /// function no other function Calls (the VM could not resume inside a callee).
+    Escape {
+        id: u16,
+    },
 }
 
 /// A function: its steps, run from the first.
@@ -447,6 +456,13 @@ pub enum JitError {
         step: usize,
         label: u16,
     },
+    /// An Escape in a function that a Call of function `caller` enters (an early
+    /// return could not be resumed inside a callee).
+    EscapeInCallee {
+        function: usize,
+        step: usize,
+        caller: usize,
+    },
     /// Cranelift failed: the host ISA is not supported, or code generation failed.
     Cranelift(String),
 }
@@ -498,12 +514,29 @@ impl fmt::Display for JitError {
             JitError::Recursion { function } => {
                 write!(f, "function {function} calls itself through a cycle of calls")
             }
+            JitError::EscapeInCallee {
+                function,
+                step,
+                caller,
+            } => write!(
+                f,
+                "function {function}, step {step}: an escape in a function that function {caller} calls"
+            ),
             JitError::Cranelift(message) => write!(f, "code generation failed: {message}"),
         }
     }
 }
 
 impl std::error::Error for JitError {}
+
+/// How a run of a function ended (`Module::enter`, `reference::enter`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Exit {
+    /// Instructions executed (an Escape taken not counted).
+    pub executed: u64,
+    /// The id of the Escape the function returned at, None when it ran to its end.
+    pub escape: Option<u16>,
+}
 
 /// Compiled code for a set of functions; `run` calls one of them.
 pub struct Module {
@@ -539,8 +572,16 @@ impl Module {
     /// a message; checked before any code runs), with the logic stack `stack` (bit 0 the
     /// top; read at entry, written at return). Returns the instructions executed: every
     /// Step except Network counts 1, a Call counts 1 plus whatever the callee executed,
-    /// a Call without power flow counts 1 and does not run the callee.
+    /// a Call without power flow counts 1 and does not run the callee. An Escape taken
+    /// ends the run (`enter` says which one).
     pub fn run(&self, f: usize, memory: &mut [u8], stack: &mut u32) -> u64 {
+        self.enter(f, memory, stack).executed
+    }
+
+    /// As `run`, and whether the function returned early at an Escape with power flow
+    /// (`Exit::escape`: its id; `executed` then counts the steps before it, and `stack`
+    /// is the logic stack the Escape found).
+    pub fn enter(&self, f: usize, memory: &mut [u8], stack: &mut u32) -> Exit {
         assert!(
             memory.len() == self.memory_len as usize,
             "gutta-jit: the memory is {} bytes, the module was compiled for {}",
@@ -552,7 +593,11 @@ impl Module {
             "gutta-jit: function {f} of a module of {}",
             self.code.len()
         );
-        self.code.run(f, memory, stack)
+        let (executed, exit) = self.code.run(f, memory, stack);
+        Exit {
+            executed,
+            escape: exit.checked_sub(1).and_then(|id| u16::try_from(id).ok()),
+        }
     }
 
     /// Machine code size of all functions, for the memory figures.

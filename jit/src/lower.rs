@@ -140,7 +140,7 @@ fn accesses(layout: &Layout, step: &Step) -> Vec<(u32, u8)> {
                 .map(|k| ((first + k) as u32, (bytes - k).min(128) as u8))
                 .collect()
         }
-        Step::Jump { .. } | Step::Label { .. } => Vec::new(),
+        Step::Jump { .. } | Step::Label { .. } | Step::Escape { .. } => Vec::new(),
         Step::Ld { at, .. }
         | Step::Ldn { at, .. }
         | Step::A { at, .. }
@@ -207,6 +207,8 @@ pub(crate) fn lower(layout: &Layout, functions: &[Function]) -> Result<Compiled,
     let mut module = JITModule::new(JITBuilder::with_isa(isa, default_libcall_names()));
     let ptr = module.target_config().pointer_type();
     let mut signature = module.make_signature();
+    // Memory, logic stack, exit word (`call.rs`).
+    signature.params.push(AbiParam::new(ptr));
     signature.params.push(AbiParam::new(ptr));
     signature.params.push(AbiParam::new(ptr));
     signature.returns.push(AbiParam::new(I64));
@@ -287,7 +289,7 @@ fn build(
     b.switch_to_block(entry);
     b.seal_block(entry);
     let params = b.block_params(entry);
-    let (mem, stack_ptr) = (params[0], params[1]);
+    let (mem, stack_ptr, exit_ptr) = (params[0], params[1], params[2]);
     let s = b.declare_var(I32);
     let count = b.declare_var(I64);
     // The stack pointer is a `&mut u32`: aligned and valid.
@@ -305,6 +307,8 @@ fn build(
         b,
         mem,
         ptr,
+        stack_ptr,
+        exit_ptr,
         s,
         count,
         flags_kept,
@@ -379,6 +383,11 @@ struct Emitter<'a, 'b> {
     b: FunctionBuilder<'a>,
     mem: Value,
     ptr: Type,
+    /// Where the logic stack is returned (an Escape stores it before its early return).
+    stack_ptr: Value,
+    /// The exit word: an Escape taken stores 1 + its id there; passed on to callees,
+    /// which hold no Escape (`check.rs`).
+    exit_ptr: Value,
     /// The logic stack.
     s: Variable,
     count: Variable,
@@ -480,6 +489,11 @@ impl Emitter<'_, '_> {
             }
             if let Step::Label { number } = steps[i] {
                 self.label(number);
+                i += 1;
+                continue;
+            }
+            if let Step::Escape { id } = steps[i] {
+                self.escape(id, &steps[i..]);
                 i += 1;
                 continue;
             }
@@ -614,7 +628,8 @@ impl Emitter<'_, '_> {
             | Step::Call { .. }
             | Step::SetBits { .. }
             | Step::Jump { .. }
-            | Step::Label { .. } => s,
+            | Step::Label { .. }
+            | Step::Escape { .. } => s,
             // ---- Generic families ----
             Step::CompareReal { combine, rel, a, b } => {
                 let x = self.load(F32, a);
@@ -724,6 +739,33 @@ impl Emitter<'_, '_> {
         let count = self.b.ins().iadd_imm_s(count, -skipped);
         self.b.def_var(self.count, count);
         self.b.ins().jump(target, &[]);
+        self.b.switch_to_block(next);
+    }
+
+    /// Escape: with power flow, store the stack and 1 + `id`, and return the count less
+    /// what has not run: `rest` (the Escape and the steps after it; the count holds
+    /// them all until a Jump skips some, and no Jump after it has run yet). Without,
+    /// nothing (it counts 1, already in the count).
+    fn escape(&mut self, id: u16, rest: &[Step]) {
+        let not_run = rest.iter().filter(|s| **s != Step::Network).count() as i64;
+        let s = self.b.use_var(self.s);
+        let top = self.b.ins().band_imm_u(s, 1);
+        let (taken, next) = (self.b.create_block(), self.b.create_block());
+        self.b.ins().brif(top, taken, &[], next, &[]);
+        self.b.seal_block(taken);
+        self.b.seal_block(next);
+        self.b.set_cold_block(taken);
+        self.b.switch_to_block(taken);
+        self.b
+            .ins()
+            .store(MemFlagsData::trusted(), s, self.stack_ptr, 0);
+        let exit = self.k(u32::from(id) + 1);
+        self.b
+            .ins()
+            .store(MemFlagsData::trusted(), exit, self.exit_ptr, 0);
+        let count = self.b.use_var(self.count);
+        let count = self.b.ins().iadd_imm_s(count, -not_run);
+        self.b.ins().return_(&[count]);
         self.b.switch_to_block(next);
     }
 
@@ -1256,7 +1298,7 @@ impl Emitter<'_, '_> {
         let empty = self.k(0);
         self.b.ins().stack_store(self.ptr, empty, slot, 0);
         let stack = self.b.ins().stack_addr(self.ptr, slot, 0);
-        let call = self.b.ins().call(func, &[self.mem, stack]);
+        let call = self.b.ins().call(func, &[self.mem, stack, self.exit_ptr]);
         let executed = self.b.inst_results(call)[0];
         // The callee may have changed it.
         self.reload_flags();

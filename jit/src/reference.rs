@@ -1,15 +1,16 @@
 //! The semantics of `Step`s as a plain interpreter, mirroring `vm/src/fast.rs` `fast_op`,
 //! `vm/src/calls.rs` (enter_planned + return_planned), `vm/src/ops/timers.rs` (timers
 //! and counters, their hidden state here in memory), `ops/bits.rs` (EU/ED, S/R) and
-//! `ops/control.rs` (JMP/LBL) line by line. The tests and the
+//! `ops/control.rs` (JMP/LBL) line by line; an Escape with power flow returns to the
+//! caller, which runs the box itself. The tests and the
 //! fuzz target compare the compiled code against it; it is also the documentation of
 //! what the code must do. Slow on purpose (no fusing, no tricks) and only for step lists
 //! that `compile` accepts: it indexes the memory (panics outside it) and would not end
 //! on a cycle of Calls.
 
 use crate::{
-    Arg, Arith, Combine, Convert, CounterKind, Function, Layout, Logic, Preset, RealOp, Rel, Shift,
-    Step, TimerKind,
+    Arg, Arith, Combine, Convert, CounterKind, Exit, Function, Layout, Logic, Preset, RealOp, Rel,
+    Shift, Step, TimerKind,
 };
 
 /// Run function `f` on `memory` with the logic stack `stack`, as `Module::run` does;
@@ -21,10 +22,31 @@ pub fn run(
     memory: &mut [u8],
     stack: &mut u32,
 ) -> u64 {
+    enter(layout, functions, f, memory, stack).executed
+}
+
+/// Run function `f` as `Module::enter` does: the instructions executed and the Escape
+/// it returned at, if any.
+pub fn enter(
+    layout: &Layout,
+    functions: &[Function],
+    f: usize,
+    memory: &mut [u8],
+    stack: &mut u32,
+) -> Exit {
     let steps = &functions[f].steps;
     let mut count = 0;
     let mut i = 0;
     while i < steps.len() {
+        if let Step::Escape { id } = steps[i] {
+            if *stack & 1 == 1 {
+                // Taken: back to the VM, which runs the box itself; not counted here.
+                return Exit {
+                    executed: count,
+                    escape: Some(id),
+                };
+            }
+        }
         if let Step::Jump { label } = steps[i] {
             if *stack & 1 == 1 {
                 // Taken: on after its Label (which does not run); the jump counts 1.
@@ -39,7 +61,10 @@ pub fn run(
         count += step(layout, functions, &steps[i], memory, stack);
         i += 1;
     }
-    count
+    Exit {
+        executed: count,
+        escape: None,
+    }
 }
 
 /// Word `k` (u32 LE) of the hidden state at `state`.
@@ -316,8 +341,8 @@ fn holds<T: PartialOrd>(rel: Rel, a: T, b: T) -> bool {
     }
 }
 
-/// Execute one step; returns the instructions it counts. A Jump here is one not taken
-/// (`run` makes the jumps).
+/// Execute one step; returns the instructions it counts. A Jump or an Escape here is one
+/// not taken (`enter` makes the jumps and the early returns).
 pub fn step(
     layout: &Layout,
     functions: &[Function],
@@ -498,7 +523,7 @@ pub fn step(
             let level = if n < 32 { (s >> n) & 1 } else { 0 };
             ((s << 1) | level) & mask
         }
-        Step::Nop => s,
+        Step::Nop | Step::Escape { .. } => s,
     };
     1
 }

@@ -282,13 +282,20 @@ impl Engine {
                             if r.max_count > remaining || depth > usize::from(call_depth) + 1 {
                                 break;
                             }
-                            let ran = native.module.run(
+                            let exit = native.module.enter(
                                 r.function as usize,
                                 &mut self.machine.memory.bytes,
                                 &mut st,
                             );
-                            self.clock.executed += ran;
-                            self.native_executed += ran;
+                            self.clock.executed += exit.executed;
+                            self.native_executed += exit.executed;
+                            if let Some(id) = exit.escape {
+                                // A box with power flow (tier.rs, escapes): the
+                                // interpreter runs it below, then the resume region
+                                // at the next record.
+                                pc = r.pc as usize + usize::from(id);
+                                break;
+                            }
                             pc += r.records as usize;
                         }
                     }

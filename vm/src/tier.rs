@@ -14,6 +14,12 @@
 //! an interpreted JMP lands, where a region starts too). A JMP inside a region lands
 //! inside it (its LBL is later in the same region, or the JMP is left to the
 //! interpreter).
+//!
+//! A box the tier cannot compile but whose unpowered run is "nothing, count 1" (EXCH,
+//! ATCH, DTCH, ENI, DISI, ...: the records decode.rs runs as `Quick::Box`) does not end
+//! its region: it becomes a `Step::Escape`, and with power flow the region returns
+//! there, the interpreter runs the box and continues at the next record, where a
+//! resume region starts (`resume`).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::{Arc, Mutex, PoisonError, Weak};
@@ -24,7 +30,7 @@ use gutta_format::Operand;
 
 use crate::decode::Unit;
 use crate::memory::Memory;
-use crate::op::{Arith, Combine, CounterKind, Op, Preset, Rel, TimerKind};
+use crate::op::{Arith, Combine, CounterKind, Op, Preset, Quick, Rel, TimerKind};
 use crate::program::Program;
 
 /// What entering a region costs and what each instruction it runs natively saves, in
@@ -52,7 +58,8 @@ const MAX_REGION: usize = 1024;
 pub(crate) struct Region {
     /// First record.
     pub pc: u32,
-    /// Records it covers (the interpreter continues at `pc + records`).
+    /// Records it covers (the interpreter continues at `pc + records`; after an escape
+    /// taken, at the escape's record `pc + id`).
     pub records: u32,
     /// Its function in the module.
     pub function: u32,
@@ -252,10 +259,31 @@ fn jump_or_label(unit: &Unit, pc: usize) -> Option<Control> {
     })
 }
 
+/// Whether record `pc` may become an Escape: a generic box the fast path runs as
+/// `Quick::Box` (with power flow its handler runs, without it does nothing and counts
+/// 1; never a FOR, whose records decode.rs keeps `Quick::Handler`) that goes on to the
+/// next record: not a JMP (one the tier does not compile jumps backwards or nowhere: it
+/// stays interpreted, so a region starts where it lands), nor the boxes that leave the
+/// unit (CRET, CRETI, END, STOP), which stay where they were, ending their region.
+fn escapable(unit: &Unit, pc: usize) -> bool {
+    let Some(Op::Generic {
+        boxed: true,
+        quick: Quick::Box,
+    }) = unit.plain_op(pc)
+    else {
+        return false;
+    };
+    unit.instruction(pc).is_some_and(|(id, _, _)| {
+        !matches!(unit.mnemonic(id), "JMP" | "CRET" | "CRETI" | "END" | "STOP")
+    })
+}
+
 impl Builder<'_> {
     /// The step of record `pc` of `unit`, with the most instructions it can run and its
-    /// CALL depth; None when the tier cannot take it.
-    fn step(&mut self, unit: &Unit, pc: usize) -> Option<(Step, u64, u32)> {
+    /// CALL depth; None when the tier cannot take it. With `escapes`, an escapable box
+    /// (`escapable`) the tier cannot compile is an Escape (its id set by `region`);
+    /// without, None (a whole unit that CALLs enter holds none: gutta-jit refuses it).
+    fn step(&mut self, unit: &Unit, pc: usize, escapes: bool) -> Option<(Step, u64, u32)> {
         let op = unit.plain_op(pc)?;
         if let Op::Call { plan } = op {
             let plan = unit.calls.get(plan as usize)?;
@@ -320,9 +348,13 @@ impl Builder<'_> {
                 None => {}
             }
             // Instructions the interpreter runs through `ops/` that the tier compiles
-            // from their operands (`tier_generic.rs`).
-            let step = crate::tier_generic::generic_step(unit, pc, self.memory)?;
-            return Some((step, 1, 0));
+            // from their operands (`tier_generic.rs`); else, inside a region, a box
+            // that does nothing unpowered is an escape.
+            return match crate::tier_generic::generic_step(unit, pc, self.memory) {
+                Some(step) => Some((step, 1, 0)),
+                None if escapes && escapable(unit, pc) => Some((Step::Escape { id: 0 }, 1, 0)),
+                None => None,
+            };
         }
         let step = simple_step(op)?;
         let count = u64::from(op != Op::Network);
@@ -341,7 +373,7 @@ impl Builder<'_> {
         let mut steps = Vec::with_capacity(unit.ops.len());
         let (mut max_count, mut depth) = (0u64, 0u32);
         for pc in 0..unit.ops.len() {
-            let (step, count, d) = self.step(&unit, pc)?;
+            let (step, count, d) = self.step(&unit, pc, false)?;
             steps.push(step);
             max_count = max_count.saturating_add(count);
             depth = depth.max(d);
@@ -378,7 +410,7 @@ impl Builder<'_> {
             }
         }
         let mut steps: Vec<Option<(Step, u64, u32)>> =
-            (0..n).map(|pc| self.step(&unit, pc)).collect();
+            (0..n).map(|pc| self.step(&unit, pc, true)).collect();
         // A JMP whose LBL is not later in its region stays interpreted (it ends the
         // region), and where an interpreted JMP lands (after its LBL) a region starts,
         // so the interpreter enters it there; either can move a region's end before
@@ -410,28 +442,103 @@ impl Builder<'_> {
         }
         let mut regions = Vec::new();
         for (start, end) in spans(&steps, &starts, &spanned(&unit, &steps)) {
-            let run = &mut steps[start..end];
-            let (max_count, depth) = run.iter().flatten().fold((0u64, 0u32), |(c, d), s| {
-                (c.saturating_add(s.1), d.max(s.2))
-            });
-            if !worth(max_count, depth) {
-                continue;
+            let mut pieces = vec![(start, end)];
+            pieces.extend(resume(&unit, &steps, start, end));
+            for (first, last) in pieces {
+                if let Some(region) = self.region(&steps, first, last) {
+                    regions.push(region);
+                }
             }
-            regions.push(Region {
-                pc: start as u32,
-                records: (end - start) as u32,
-                function: self.functions.len() as u32,
-                max_count,
-                depth,
-            });
-            let steps = run
-                .iter_mut()
-                .filter_map(|s| s.take().map(|s| s.0))
-                .collect();
-            self.functions.push(Function { steps });
         }
+        // The starts table (`compile`) wants them in record order.
+        regions.sort_by_key(|r| r.pc);
         regions
     }
+
+    /// Records `start..end` of `steps` as a region's function, if `worth` it; each
+    /// Escape's id is its record's offset from `start`.
+    fn region(
+        &mut self,
+        steps: &[Option<(Step, u64, u32)>],
+        start: usize,
+        end: usize,
+    ) -> Option<Region> {
+        let run = &steps[start..end];
+        let (max_count, depth) = run.iter().flatten().fold((0u64, 0u32), |(c, d), s| {
+            (c.saturating_add(s.1), d.max(s.2))
+        });
+        if !worth(max_count, depth) {
+            return None;
+        }
+        let steps = run
+            .iter()
+            .enumerate()
+            .filter_map(|(k, s)| {
+                let (step, _, _) = s.as_ref()?;
+                Some(match step {
+                    // Regions are at most MAX_REGION records: the offset fits.
+                    Step::Escape { .. } => Step::Escape {
+                        id: u16::try_from(k).ok()?,
+                    },
+                    step => step.clone(),
+                })
+            })
+            .collect();
+        let region = Region {
+            pc: start as u32,
+            records: (end - start) as u32,
+            function: self.functions.len() as u32,
+            max_count,
+            depth,
+        };
+        self.functions.push(Function { steps });
+        Some(region)
+    }
+}
+
+/// The resume regions of region `start..end`: after each Escape at record e (but the
+/// last record, and one followed by another Escape), records e + 1 up to and including
+/// the next Escape that no Jump of the piece spans (every Jump's Label lies inside the
+/// piece), else to `end`. After a
+/// box ran with power flow the interpreter continues at e + 1 and enters the piece
+/// there; where it ends, the next piece (or the region after) starts. So the code is
+/// at most about twice the region's, against the square of a copy of the whole rest
+/// after each escape (docs/vm-jit.md, "Escapes").
+fn resume(
+    unit: &Unit,
+    steps: &[Option<(Step, u64, u32)>],
+    start: usize,
+    end: usize,
+) -> Vec<(usize, usize)> {
+    let is_escape = |pc: usize| matches!(steps[pc], Some((Step::Escape { .. }, _, _)));
+    let mut pieces = Vec::new();
+    for e in (start..end).filter(|&pc| is_escape(pc)) {
+        let first = e + 1;
+        // Another escape right after: the interpreter runs that one too (a box the
+        // fast path skips when unpowered) and enters the piece after it.
+        if first >= end || is_escape(first) {
+            continue;
+        }
+        // The furthest Label a Jump of the piece so far lands at.
+        let mut reach = first;
+        let mut last = end;
+        for (pc, step) in steps.iter().enumerate().take(end).skip(first) {
+            match *step {
+                Some((Step::Jump { label }, _, _)) => {
+                    if let Some(&j) = unit.labels.get(&label) {
+                        reach = reach.max(j);
+                    }
+                }
+                Some((Step::Escape { .. }, _, _)) if reach < pc => {
+                    last = pc + 1;
+                    break;
+                }
+                _ => {}
+            }
+        }
+        pieces.push((first, last));
+    }
+    pieces
 }
 
 /// Per record pc: whether a compiled JMP before it lands at or after it (its LBL at pc or

@@ -29,8 +29,9 @@ enum Tier {
     /// `Builder::step` translates it to these steps (a planned CALL whose callee
     /// compiles whole; a timer or counter with its side table; JMP/LBL records).
     Call(&'static [&'static str]),
-    /// `Builder::step` translates the first steps itself (JMP/LBL records) and hands
-    /// the other generic records to `tier_generic.rs`, which builds the second.
+    /// `Builder::step` translates the first steps itself (JMP/LBL records, and the
+    /// boxes it keeps interpreted as escapes) and hands the other generic records to
+    /// `tier_generic.rs`, which builds the second.
     Generic(&'static [&'static str], &'static [&'static str]),
     /// The tier never takes it: why.
     Interpreted(&'static str),
@@ -82,7 +83,7 @@ const TABLE: &[(&str, Tier)] = &[
     (
         "Generic",
         Generic(
-            &["Jump", "Label"],
+            &["Jump", "Label", "Escape"],
             &[
                 "CompareReal",
                 "Const",
