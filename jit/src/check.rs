@@ -300,6 +300,7 @@ fn check_step(layout: &Layout, functions: usize, step: &Step) -> Result<(), Faul
             inside(layout, dst, w)
         }
         Step::Swap { at } => inside(layout, at, 2),
+        Step::Store { at, .. } => inside(layout, at, 1),
         Step::Lds { .. } | Step::Nop | Step::Escape { .. } => Ok(()),
     }
 }

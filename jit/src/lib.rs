@@ -261,7 +261,7 @@ pub enum Step {
         number: u16,
     },
     // ---- Generic families (vm/src/tier_generic.rs) -------------------------
-    // Every one below but CompareReal, Lds and Nop runs only while the top of the logic
+    // Every one below but CompareReal, Lds, Nop and Store runs only while the top of the logic
     // stack is 1 and leaves the stack unchanged (ManagerFun.xml Flow="Box"); "flags"
     // are bits of the byte at `Layout::flags_at` (SMB1: 0 zero, 1 overflow, 2 negative,
     // 3 divide by zero, 6 BCD error), each written after the result's store, the bits a
@@ -379,6 +379,12 @@ pub enum Step {
     },
     /// NOP: nothing (counts 1), whatever the power flow.
     Nop,
+    /// ENI (`value` 1) and DISI (0): the byte at `at` (the VM's interrupt enable) :=
+    /// `value`, whatever the power flow; the stack unchanged.
+    Store {
+        at: u32,
+        value: u8,
+    },
     /// A box the VM runs interpreted (EXCH, ATCH, ENI, ...; `vm/src/tier.rs`). Without
     /// power flow (top 0): nothing, counts 1. With power flow: the function returns at
     /// once, the logic stack as it is, its count the instructions executed before this

@@ -187,6 +187,7 @@ fn accesses(layout: &Layout, step: &Step) -> Vec<(u32, u8)> {
         Step::CompareReal { a, b, .. } => vec![(a, 4), (b, 4)],
         Step::Const { dst, width, .. } => vec![(dst, width)],
         Step::Swap { at } => vec![(at, 2)],
+        Step::Store { at, .. } => vec![(at, 1)],
         Step::Lds { .. } | Step::Nop => Vec::new(),
     }
 }
@@ -660,6 +661,11 @@ impl Emitter<'_, '_> {
                 self.push(s, level)
             }
             Step::Nop => s,
+            Step::Store { at, value } => {
+                let v = self.b.ins().iconst(I8, i64::from(value));
+                self.store(v, at);
+                s
+            }
             // `steps` emits them in a power block.
             Step::Logic { .. }
             | Step::Invert { .. }

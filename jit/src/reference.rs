@@ -524,6 +524,10 @@ pub fn step(
             ((s << 1) | level) & mask
         }
         Step::Nop | Step::Escape { .. } => s,
+        Step::Store { at, value } => {
+            mem[at as usize] = value;
+            s
+        }
     };
     1
 }

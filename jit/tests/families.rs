@@ -621,6 +621,37 @@ fn const_swap_lds_and_nop() {
     }
 }
 
+/// ENI/DISI: the byte is stored with power flow and without, the stack kept; a store
+/// into the flags byte is what a later flag-writing step keeps.
+#[test]
+fn store_writes_its_byte_whatever_the_power_flow() {
+    for power in [false, true] {
+        for value in [0u8, 1, 0xA5] {
+            let (m, s) = run(Step::Store { at: A, value }, &memory(0, 0, 0, 0, power));
+            assert_eq!(m[A as usize], value, "power {power}");
+            assert_eq!(m[A as usize + 1], 0, "only one byte");
+            assert_eq!(s, u32::from(power));
+        }
+    }
+    let (m, _) = Prepared::new(vec![
+        Step::Ld { at: POWER, bit: 0 },
+        Step::Store {
+            at: FLAGS,
+            value: 0xF0,
+        },
+        Step::IncDec {
+            at: A,
+            width: 2,
+            up: true,
+        },
+    ])
+    .run(&memory(0, 0, 0, 0x0F, true), 0);
+    assert_eq!(
+        m[FLAGS as usize], 0xF0,
+        "flags 0-2 of INC (all 0), the rest stored"
+    );
+}
+
 #[test]
 fn out_of_range_and_bad_widths_are_refused() {
     let layout = layout();

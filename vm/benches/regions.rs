@@ -1,7 +1,7 @@
 //! What a compiled region's entry and exit cost (issue 31: "no region slower than the
 //! interpreter"), measured rather than guessed. Programs of 100 networks, each a region
 //! of `r` instructions (LD, r - 2 A, =) ended by an instruction the tier leaves to the
-//! interpreter (DISI), run interpreted and compiled at load; per scan the compiled tier
+//! interpreter (a conditional END without power flow: M0 stays 0), run interpreted and compiled at load; per scan the compiled tier
 //! saves `r * gain - entry` per region. A straight line through (r, saved ns per region)
 //! gives `entry` (where it crosses r = 0) and `gain` (its slope), and `entry / gain` is
 //! the smallest region worth its entry: `vm/src/tier.rs` `worth` uses it (the sizes
@@ -27,7 +27,8 @@ use gutta_vm::{TierState, Vm, VmConfig};
 const NETWORKS: usize = 100;
 const TARGET: &str = "EC30-EKSTM32-XC";
 
-/// MAIN of `NETWORKS` regions of `r` instructions (r >= 2), each ended by DISI.
+/// MAIN of `NETWORKS` regions of `r` instructions (r >= 2), each ended by an END that
+/// never has power flow (the tier leaves END to the interpreter).
 fn program(r: usize) -> String {
     let mut code = String::from("ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\n");
     for n in 0..NETWORKS {
@@ -35,7 +36,7 @@ fn program(r: usize) -> String {
         for k in 0..r - 2 {
             code.push_str(&format!("AN M1.{}\n", k % 8));
         }
-        code.push_str(&format!("= M2.{}\nDISI\n", n % 8));
+        code.push_str(&format!("= M2.{}\nEND\n", n % 8));
     }
     code.push_str("END_ORGANIZATION_BLOCK\n");
     code
@@ -78,7 +79,7 @@ fn main() {
     // shorter ones to the interpreter, so they cannot be timed compiled here).
     let sizes = [6usize, 8, 12, 16, 24, 32];
     println!(
-        "\nRegion entry cost: {NETWORKS} regions of r instructions per scan, each ended by DISI"
+        "\nRegion entry cost: {NETWORKS} regions of r instructions per scan, each ended by an unpowered END"
     );
     println!(
         "{:>3} {:>14} {:>14} {:>22}",

@@ -599,6 +599,15 @@ fn quick(
     let m = ins.mnemonic.as_str();
     match m {
         "LBL" | "NOP" if ins.flow == Flow::Always && ops.len() <= 1 => Quick::Nothing,
+        "ENI" | "DISI" if ins.flow == Flow::Always && ops.is_empty() => {
+            match u32::try_from(memory.enable_at()) {
+                Ok(at) => Quick::Store {
+                    at,
+                    value: u8::from(m == "ENI"),
+                },
+                Err(_) => fallback,
+            }
+        }
         "JMP" if boxed => {
             let Some(Ok(Operand::Label(n))) = ops.first().map(|o| o.decode()) else {
                 return fallback;

@@ -108,6 +108,10 @@ pub(crate) fn run_fast(
                         }
                         pc += 1;
                     }
+                    Quick::Store { at, value } => {
+                        mem[at as usize] = value;
+                        pc += 1;
+                    }
                     Quick::Box | Quick::Handler => break,
                 }
                 if tables.regions.get(pc).is_some_and(|&k| k != 0) {

@@ -162,8 +162,6 @@ struct Plan {
 /// Interrupt state.
 #[derive(Debug, Default, Clone, PartialEq, Eq)]
 pub(crate) struct Interrupts {
-    /// ENI/DISI; off when the PLC enters RUN.
-    pub enabled: bool,
     /// Event number -> the page of its interrupt routine (`attach`, `detach`).
     attached: BTreeMap<u32, u8>,
     /// Events that occurred while interrupts were disabled (one kept per event).
@@ -336,7 +334,6 @@ impl Interrupts {
         let bytes = &memory.bytes;
         let byte = |at: usize| bytes.get(at).copied().unwrap_or(0);
         let Interrupts {
-            enabled,
             attached,
             pending,
             sources: Some(sources),
@@ -400,7 +397,8 @@ impl Interrupts {
             return;
         }
         occurred.sort_unstable();
-        if !*enabled {
+        // ENI/DISI: the enable byte in the flat memory (off when the PLC enters RUN).
+        if !memory.interrupts_enabled() {
             pending.extend(occurred.drain(..));
             return;
         }

@@ -296,7 +296,8 @@ impl Vm {
 
     /// The records of the loaded program whose semantic the interpreter runs from
     /// `ops/` (not pre-decoded into a fast operation, nor run by the fast path itself
-    /// as LBL, NOP, a forward JMP, INC/DEC, /I and /D are), counted per mnemonic.
+    /// as LBL, NOP, a forward JMP, INC/DEC, /I, /D, ENI and DISI are), counted per
+    /// mnemonic.
     /// With `VmConfig::fast` off every instruction is one. For tests and benchmarks:
     /// what the interpreter still looks up at run time.
     pub fn generic_records(&self) -> Vec<(String, usize)> {
@@ -309,7 +310,8 @@ impl Vm {
                         quick: Quick::Nothing
                             | Quick::Jump { .. }
                             | Quick::Step { .. }
-                            | Quick::Divide { .. },
+                            | Quick::Divide { .. }
+                            | Quick::Store { .. },
                         ..
                     })
                 );

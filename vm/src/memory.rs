@@ -18,8 +18,13 @@ pub struct Memory {
     /// Hidden state (docs/vm.md, "Hidden state"), after the areas in `bytes`, so the
     /// fast path and the compiled tier reach it by a constant index like any variable:
     /// per T and C area (slot, start of its cells): `CELL_STATE` bytes per byte of the
-    /// area, then (appended by `add_hidden` at load) one byte per EU/ED record.
+    /// area, then the interrupt enable byte (`enable`), then (appended by `add_hidden`
+    /// at load) one byte per EU/ED record.
     cells: Vec<(u8, usize)>,
+    /// The flat index of the interrupt enable byte: 1 after ENI, 0 after DISI and at
+    /// every reset (interrupts are off when the PLC enters RUN). In the flat memory, so
+    /// the fast path and compiled code run ENI and DISI as a store of a constant.
+    enable: usize,
 }
 
 /// Bytes of hidden state per byte of a T or C area: two little-endian u32 words (a
@@ -97,11 +102,26 @@ impl Memory {
                 total += a.size as usize * CELL_STATE;
             }
         }
+        let enable = total;
+        total += 1;
         Memory {
             bytes: vec![0; total],
             spans,
             cells,
+            enable,
         }
+    }
+
+    /// The flat index of the interrupt enable byte (ENI: 1, DISI: 0).
+    #[inline]
+    pub(crate) fn enable_at(&self) -> usize {
+        self.enable
+    }
+
+    /// Whether interrupts are enabled (ENI ran since DISI or the last reset).
+    #[inline]
+    pub(crate) fn interrupts_enabled(&self) -> bool {
+        self.bytes[self.enable] != 0
     }
 
     /// The flat index of the hidden state of the T or C cell at byte `offset` of `slot`
@@ -112,8 +132,8 @@ impl Memory {
         ((offset as usize) < len).then(|| start + offset as usize * CELL_STATE)
     }
 
-    /// The hidden state: every byte after the areas (timers', counters' and EU/ED
-    /// records' state, docs/vm.md "Hidden state"). Read-only, for tests and tools.
+    /// The hidden state: every byte after the areas (timers', counters', the interrupt
+    /// enable's and EU/ED records' state, docs/vm.md "Hidden state"). Read-only, for tests and tools.
     pub fn hidden(&self) -> &[u8] {
         let end = self.spans.iter().map(|&(s, l)| s + l).max().unwrap_or(0);
         &self.bytes[end..]

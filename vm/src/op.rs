@@ -117,6 +117,9 @@ pub(crate) enum Quick {
     Step { at: u32, width: u8, up: bool },
     /// /I (width 2) and /D (4) on plain variables: `Unit::divides[index]`.
     Divide { index: u32 },
+    /// ENI (`value` 1) and DISI (0): the byte at flat index `at` (the interrupt enable,
+    /// `Memory::enable_at`) := `value`, whatever the power flow.
+    Store { at: u32, value: u8 },
 }
 
 /// /I or /D on plain variables (`Quick::Divide`): OUT (`dst`) := OUT / IN1 (`src`),

@@ -16,7 +16,7 @@
 //! interpreter).
 //!
 //! A box the tier cannot compile but whose unpowered run is "nothing, count 1" (EXCH,
-//! ATCH, DTCH, ENI, DISI, ...: the records decode.rs runs as `Quick::Box`) does not end
+//! ATCH, DTCH, CEVNT, ...: the records decode.rs runs as `Quick::Box`) does not end
 //! its region: it becomes a `Step::Escape`, and with power flow the region returns
 //! there, the interpreter runs the box and continues at the next record, where a
 //! resume region starts (`resume`).

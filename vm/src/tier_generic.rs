@@ -32,7 +32,7 @@ pub(crate) fn generic_step(unit: &Unit, pc: usize, memory: &Memory) -> Option<St
 fn runs_boxed(step: &Step) -> bool {
     !matches!(
         step,
-        Step::CompareReal { .. } | Step::Lds { .. } | Step::Nop
+        Step::CompareReal { .. } | Step::Lds { .. } | Step::Nop | Step::Store { .. }
     )
 }
 
@@ -196,6 +196,11 @@ fn decode(mnemonic: &str, operands: &[PackedOperand], memory: &Memory) -> Option
             _ => return None,
         },
         "NOP" => Step::Nop,
+        // The interrupt enable is a byte of the flat memory (`Memory::enable_at`).
+        "ENI" | "DISI" if operands.is_empty() => Step::Store {
+            at: u32::try_from(memory.enable_at()).ok()?,
+            value: u8::from(mnemonic == "ENI"),
+        },
         _ => {
             let (combine, rel) = real_compare(mnemonic)?;
             Step::CompareReal {

@@ -96,6 +96,7 @@ const TABLE: &[(&str, Tier)] = &[
                 "Logic",
                 "MulWide",
                 "Nop",
+                "Store",
                 "RealMath",
                 "Shift",
                 "Sqrt",

@@ -1,8 +1,8 @@
 //! The tier's translation on a program of every family it takes, against the
 //! interpreter scan by scan (docs/vm-jit.md, "Regions"): timers of each kind, counters,
 //! edges, S/R, JMP taken and not, a JMP over a CALL, a JMP whose LBL lies past a record
-//! the tier leaves to the interpreter (DISI: the JMP stays interpreted and a region
-//! starts where it lands). Memory is compared whole, hidden state included.
+//! the tier leaves to the interpreter (a conditional END, never powered here: the JMP
+//! stays interpreted and a region starts where it lands). Memory is compared whole, hidden state included.
 #![cfg(feature = "jit")]
 
 mod common;
@@ -62,7 +62,8 @@ JMP 2
 NETWORK 13
 LD SM0.0
 +I 3, MW12
-DISI
+NOT
+END
 NETWORK 14
 LD SM0.0
 +I 5, MW14
@@ -112,7 +113,7 @@ fn every_family_the_tier_takes_agrees_with_the_interpreter_scan_by_scan() {
         TierState::Compiled { regions, .. } => *regions,
         other => panic!("not compiled: {other:?}"),
     };
-    // MAIN up to the JMP 2 (which stays interpreted: its LBL lies past the DISI),
+    // MAIN up to the JMP 2 (which stays interpreted: its LBL lies past the END),
     // MAIN from where JMP 2 lands (the runs between, of 2 and 3 instructions, are
     // not worth their entry), and SBR0 whole.
     assert_eq!(regions, 3);
@@ -245,4 +246,49 @@ fn a_for_loops_body_runs_natively_on_every_iteration() {
     }
     // The body's 8 instructions, natively, on every iteration.
     assert_eq!(vms[2].executed_natively(), iterations * 8);
+}
+
+/// ENI and DISI compile (a store of the interrupt enable byte in the flat memory): the
+/// MAIN of an S7-200 program that attaches a timed interrupt on the first scan and
+/// enables interrupts every scan is one region, and DISI while I0.0 keeps the events
+/// pending until the next ENI, on the three engines.
+#[test]
+fn eni_and_disi_run_inside_a_region() {
+    let text = "ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\nNETWORK 1\nLD SM0.1\nMOVB 10, SMB10\n\
+                ATCH TICK, 10\nNETWORK 2\nLD I0.0\nJMP 1\nNETWORK 3\nENI\nNETWORK 4\nLBL 1\n\
+                NETWORK 5\nLD I0.0\nNOT\nJMP 2\nNETWORK 6\nDISI\nNETWORK 7\nLBL 2\nNETWORK 8\n\
+                LD I0.1\nA I0.2\n= Q0.0\n+I 1, MW10\nEND_ORGANIZATION_BLOCK\n\
+                INTERRUPT_BLOCK TICK:INT1\nBEGIN\nNETWORK 1\nLD SM0.0\nINCW MW20\nEND_INTERRUPT_BLOCK\n";
+    let mut vms = common::three_engines(VmConfig {
+        scan_ms: 3,
+        ..VmConfig::default()
+    })
+    .map(|c| common::load(text, c));
+    let mw20 = vms[0].target().memory.parse_address("MW20").expect("MW20");
+    let (mut native, mut ran, mut ticks) = (0, 0, 0);
+    for scan in 0..120u32 {
+        let before = vms[2].executed_natively();
+        let ticks_before = vms[2].read(mw20).expect("MW20");
+        for vm in &mut vms {
+            // Disabled for a while (I0.0), then enabled, several times.
+            common::set(vm, "IB0", u32::from(scan / 10 % 3 == 1) | (scan % 8) << 1);
+            vm.scan().expect("scan");
+        }
+        for vm in &vms[1..] {
+            assert_eq!(
+                vm.executed_last_scan(),
+                vms[0].executed_last_scan(),
+                "scan {scan}"
+            );
+            assert!(vm.memory() == vms[0].memory(), "memory after scan {scan}");
+        }
+        if scan > 0 {
+            native += vms[2].executed_natively() - before;
+            ran += vms[2].executed_last_scan();
+            ticks += u64::from(vms[2].read(mw20).expect("MW20") - ticks_before);
+        }
+    }
+    assert!(ticks > 20, "the interrupt ran {ticks} times");
+    // Every instruction natively but the interrupt routine's 2 (too few for a region).
+    assert_eq!(ran - native, 2 * ticks);
 }

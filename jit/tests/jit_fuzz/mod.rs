@@ -359,7 +359,7 @@ const CONVERTS: [Convert; 12] = [
 
 /// One of the generic families' steps.
 fn generic_step(r: &mut Reader, layout: &Layout, loose: bool) -> Step {
-    let kind = r.below(16);
+    let kind = r.below(17);
     let any = |r: &mut Reader, w: u8| index(r, layout, w, loose);
     match kind {
         0 => {
@@ -464,6 +464,10 @@ fn generic_step(r: &mut Reader, layout: &Layout, loose: bool) -> Step {
             n: u16::from(r.byte() % 40),
         },
         14 => Step::Nop,
+        15 => Step::Store {
+            at: any(r, 1),
+            value: r.byte(),
+        },
         _ => Step::Escape {
             id: u16::from_le_bytes([r.byte(), r.byte()]),
         },

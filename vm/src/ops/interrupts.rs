@@ -7,13 +7,19 @@ use gutta_format::Operand;
 use super::{Control, Exec, Handler};
 use crate::fault::Fault;
 
+/// ENI: interrupts enabled (the enable byte in the flat memory, `Memory::enable_at`).
 fn eni(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    e.interrupts.enabled = true;
+    let memory = &mut e.machine.memory;
+    let at = memory.enable_at();
+    memory.bytes[at] = 1;
     Ok(Control::Next)
 }
 
+/// DISI: interrupts disabled; events that occur are kept pending.
 fn disi(e: &mut Exec<'_>) -> Result<Control, Fault> {
-    e.interrupts.enabled = false;
+    let memory = &mut e.machine.memory;
+    let at = memory.enable_at();
+    memory.bytes[at] = 0;
     Ok(Control::Next)
 }
 
