@@ -256,10 +256,7 @@ impl Engine {
             let unit: &Unit = shared;
             let ops: &[Op] = &unit.ops;
             let tables = Tables {
-                chain: &unit.chain,
-                timers: &unit.timers,
-                counters: &unit.counters,
-                divides: &unit.divides,
+                unit: &unit.tables,
                 #[cfg(feature = "jit")]
                 regions: match &self.native {
                     Some(native) if !SINGLE && !self.native_hold => native.starts(page),
