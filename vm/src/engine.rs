@@ -572,18 +572,15 @@ impl Engine {
 
     /// Continue the current scan (starting one when idle) until it ends or pauses at
     /// a breakpoint.
+    #[inline]
     pub fn continue_scan(&mut self) -> Result<ScanEnd, Fault> {
         if matches!(self.phase, Phase::Idle) {
             self.begin_scan();
         }
         // Only a set breakpoint patches a `Break` into a unit (`native_hold` says one is
         // set): without one, the scan does not look.
-        if self.native_hold && self.at_breakpoint() {
-            // Leaving a breakpoint: its instruction runs once.
-            let flow = self.exec::<true>()?;
-            if flow != Flow::Stepped && self.next_phase(flow)? {
-                return Ok(ScanEnd::Completed);
-            }
+        if self.native_hold && self.leave_breakpoint()? {
+            return Ok(ScanEnd::Completed);
         }
         loop {
             match self.exec::<false>()? {
@@ -598,6 +595,18 @@ impl Engine {
                 }
             }
         }
+    }
+
+    /// A scan paused at the breakpoint continues by running its instruction once (and
+    /// nothing when the top frame is elsewhere). True when that ended the scan.
+    #[cold]
+    #[inline(never)]
+    fn leave_breakpoint(&mut self) -> Result<bool, Fault> {
+        if !self.at_breakpoint() {
+            return Ok(false);
+        }
+        let flow = self.exec::<true>()?;
+        Ok(flow != Flow::Stepped && self.next_phase(flow)?)
     }
 
     /// Whether the record the top frame is at is the patched breakpoint (a scan paused
