@@ -491,7 +491,7 @@ impl Engine {
     fn compile_tier(&mut self) {}
 
     /// Start a scan: inputs, forces, system bits, then MAIN.
-    #[inline]
+    #[inline(always)]
     pub fn begin_scan(&mut self) {
         let memory = &mut self.machine.memory;
         self.terminals.refresh_inputs(memory);
