@@ -37,16 +37,17 @@ impl std::fmt::Display for Position {
     }
 }
 
-/// Where a scan is.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+/// Where a scan is. A plain value: setting it at every scan's start and end drops
+/// nothing (the events still to serve are `Engine::events`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub(crate) enum Phase {
     /// Between scans.
     #[default]
     Idle,
     /// MAIN (and what it calls) runs.
     Main,
-    /// Interrupt routines run: the events still to serve, in order.
-    Events(VecDeque<u32>),
+    /// Interrupt routines run: the events still to serve are `Engine::events`.
+    Events,
 }
 
 /// Why `exec` returned.
@@ -88,6 +89,9 @@ pub(crate) struct Engine {
     pub clock: Clock,
     /// Where the current scan is.
     pub phase: Phase,
+    /// In `Phase::Events`, the events whose routines are still to run, in order (empty
+    /// otherwise; the buffer is kept between scans, so no scan allocates).
+    pub events: VecDeque<u32>,
     /// Execution is suspended before the next instruction (breakpoint, single step).
     pub paused: bool,
     /// STOP was executed: scans do nothing until set running.
@@ -152,6 +156,7 @@ impl Engine {
     pub fn abandon_scan(&mut self) {
         self.machine.unwind_all();
         self.phase = Phase::Idle;
+        self.events.clear();
         self.paused = false;
     }
 
@@ -524,35 +529,24 @@ impl Engine {
     /// `next_phase` after MAIN when an event may occur, or after a routine.
     #[inline(never)]
     fn next_routine(&mut self, flow: Flow) -> Result<bool, Fault> {
-        let mut queue = match std::mem::take(&mut self.phase) {
-            Phase::Main => {
-                let mut queue = self.interrupts.take_queue();
-                self.interrupts.occurred_events(
-                    &self.program.target,
-                    &self.machine.memory,
-                    self.program.config.scan_ms,
-                    &mut queue,
-                );
-                queue
-            }
-            Phase::Events(q) if flow != Flow::EndScan => q,
-            Phase::Events(mut q) => {
-                // END or STOP in a routine: the rest of the queue is dropped.
-                q.clear();
-                q
-            }
-            Phase::Idle => VecDeque::new(),
-        };
-        while let Some(event) = queue.pop_front() {
+        match std::mem::take(&mut self.phase) {
+            Phase::Main => self.interrupts.occurred_events(
+                &self.program.target,
+                &self.machine.memory,
+                self.program.config.scan_ms,
+                &mut self.events,
+            ),
+            Phase::Events if flow != Flow::EndScan => {}
+            // END or STOP in a routine: the rest of the queue is dropped.
+            Phase::Events | Phase::Idle => self.events.clear(),
+        }
+        while let Some(event) = self.events.pop_front() {
             let Some(page) = self.interrupts.routine(event) else {
                 continue;
             };
             self.machine.push_frame(page, None);
-            self.phase = Phase::Events(queue);
+            self.phase = Phase::Events;
             return Ok(false);
-        }
-        if queue.capacity() != 0 {
-            self.interrupts.keep_queue(queue);
         }
         self.end_scan();
         Ok(true)
