@@ -2,9 +2,9 @@
 //! their instructions (an empty MAIN; a CALL of a subroutine of one network; the same
 //! with parameters; a timed interrupt routine run every scan), interpreted and compiled
 //! at load, ns per scan, medians of batches. `cargo bench -p gutta-vm --bench
-//! scan_entry` (`-- NAME`: only the cases whose name contains NAME, e.g. under
-//! callgrind: `-- call --scans 100000 --interpreted` runs that many scans of each, untimed,
-//! of one tier: `--interpreted` or `--compiled`).
+//! scan_entry` (`-- NAME`: only the case named NAME, or else the cases whose name
+//! contains NAME; e.g. under callgrind: `-- call --scans 100000 --interpreted` runs that
+//! many scans of the CALL case, untimed, of one tier: `--interpreted` or `--compiled`).
 
 #![allow(
     clippy::disallowed_methods,
@@ -134,7 +134,17 @@ fn main() {
         "program", "instr", "interpreted", "compiled"
     );
     for (name, text) in cases {
-        if !filter.is_empty() && !filter.iter().any(|f| name.contains(f.as_str())) {
+        // A filter that is a case's whole name selects that case alone ("call" is not
+        // "call with parameters"); otherwise every case whose name contains it.
+        let exact = filter.iter().any(|f| cases.iter().any(|(n, _)| n == f));
+        let selected = |f: &&String| {
+            if exact {
+                name == f.as_str()
+            } else {
+                name.contains(f.as_str())
+            }
+        };
+        if !filter.is_empty() && !filter.iter().any(selected) {
             continue;
         }
         let mut row = format!("{name:<24}");

@@ -13,11 +13,12 @@ use std::sync::Arc;
 use gutta_catalog::{Address, Flow, InstrId, Instruction, Target, TimerCounterKind, Width};
 use gutta_format::{LocalEntry, LocalSection, Operand, PackedOperand, UnitRecord, VerifiedUnit};
 
+use crate::fast::UnitTables;
 use crate::fuse::build;
 use crate::memory::Memory;
 use crate::op::{
-    Arith, Bit, ChainStep, Combine, CounterKind, CounterOp, DivideOp, Op, Preset, Quick, Rel,
-    TimerKind, TimerOp,
+    Arith, Bit, Combine, CounterKind, CounterOp, DivideOp, Op, Preset, Quick, Rel, TimerKind,
+    TimerOp,
 };
 
 /// One argument of a planned CALL: the caller's variable and the callee's parameter in
@@ -177,8 +178,9 @@ pub(crate) struct Unit {
     /// (record index, plain operation) where `ops` holds another: the heads of fused
     /// chains and the breakpoint, sorted. `plain_op` reads through it.
     displaced: Vec<(u32, Op)>,
-    /// Steps of the fused chains in `ops`.
-    pub chain: Vec<ChainStep>,
+    /// What the fast path indexes: the steps of the fused chains in `ops`, the operands
+    /// of timers, counters and divisions.
+    pub tables: UnitTables,
     /// The network records, in order.
     networks: Vec<NetworkStart>,
     generic: GenericRecords,
@@ -196,11 +198,6 @@ pub(crate) struct Unit {
     /// (record index, flat index of its edge byte) of each EU/ED record, sorted: the
     /// hidden state after the areas (`Memory::add_hidden`), allocated at load.
     pub edges: Vec<(u32, u32)>,
-    /// The operands of `Op::Timer` and `Op::Counter` records, by their `index`.
-    pub timers: Vec<TimerOp>,
-    pub counters: Vec<CounterOp>,
-    /// The operands of `Quick::Divide` records, by their `index`.
-    pub divides: Vec<DivideOp>,
     /// The instruction set, for mnemonics.
     pub target: Arc<Target>,
 }
@@ -269,9 +266,9 @@ impl Unit {
     /// patched in; the plain operations they displace are kept.
     pub fn set_ops(&mut self, plain: Vec<Op>, fast: bool, breakpoint: Option<usize>) {
         let mut ops = if fast {
-            build(&plain, breakpoint, &mut self.chain)
+            build(&plain, breakpoint, &mut self.tables.chain)
         } else {
-            self.chain.clear();
+            self.tables.chain.clear();
             let mut ops = plain.clone();
             if let Some(op) = breakpoint.and_then(|pc| ops.get_mut(pc)) {
                 *op = Op::Break;
@@ -284,7 +281,7 @@ impl Unit {
             .map(|k| (k as u32, plain[k]))
             .collect();
         ops.shrink_to_fit();
-        self.chain.shrink_to_fit();
+        self.tables.chain.shrink_to_fit();
         self.ops = ops;
     }
 
@@ -753,7 +750,12 @@ pub(crate) fn decode(
         page: unit.page,
         ops: Vec::new(),
         displaced: Vec::new(),
-        chain: Vec::new(),
+        tables: UnitTables {
+            chain: Vec::new(),
+            timers: stateful.timers,
+            counters: stateful.counters,
+            divides,
+        },
         networks,
         generic,
         records,
@@ -763,9 +765,6 @@ pub(crate) fn decode(
         params: unit.parameters().copied().collect(),
         calls,
         edges,
-        timers: stateful.timers,
-        counters: stateful.counters,
-        divides,
         target: Arc::clone(target),
     };
     unit.set_ops(plain, fast_ops, None);

@@ -37,16 +37,17 @@ impl std::fmt::Display for Position {
     }
 }
 
-/// Where a scan is.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+/// Where a scan is. A plain value: setting it at every scan's start and end drops
+/// nothing (the events still to serve are `Engine::events`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub(crate) enum Phase {
     /// Between scans.
     #[default]
     Idle,
     /// MAIN (and what it calls) runs.
     Main,
-    /// Interrupt routines run: the events still to serve, in order.
-    Events(VecDeque<u32>),
+    /// Interrupt routines run: the events still to serve are `Engine::events`.
+    Events,
 }
 
 /// Why `exec` returned.
@@ -88,6 +89,9 @@ pub(crate) struct Engine {
     pub clock: Clock,
     /// Where the current scan is.
     pub phase: Phase,
+    /// In `Phase::Events`, the events whose routines are still to run, in order (empty
+    /// otherwise; the buffer is kept between scans, so no scan allocates).
+    pub events: VecDeque<u32>,
     /// Execution is suspended before the next instruction (breakpoint, single step).
     pub paused: bool,
     /// STOP was executed: scans do nothing until set running.
@@ -152,6 +156,7 @@ impl Engine {
     pub fn abandon_scan(&mut self) {
         self.machine.unwind_all();
         self.phase = Phase::Idle;
+        self.events.clear();
         self.paused = false;
     }
 
@@ -256,10 +261,7 @@ impl Engine {
             let unit: &Unit = shared;
             let ops: &[Op] = &unit.ops;
             let tables = Tables {
-                chain: &unit.chain,
-                timers: &unit.timers,
-                counters: &unit.counters,
-                divides: &unit.divides,
+                unit: &unit.tables,
                 #[cfg(feature = "jit")]
                 regions: match &self.native {
                     Some(native) if !SINGLE && !self.native_hold => native.starts(page),
@@ -501,7 +503,7 @@ impl Engine {
     fn compile_tier(&mut self) {}
 
     /// Start a scan: inputs, forces, system bits, then MAIN.
-    #[inline]
+    #[inline(always)]
     pub fn begin_scan(&mut self) {
         let memory = &mut self.machine.memory;
         self.terminals.refresh_inputs(memory);
@@ -534,35 +536,24 @@ impl Engine {
     /// `next_phase` after MAIN when an event may occur, or after a routine.
     #[inline(never)]
     fn next_routine(&mut self, flow: Flow) -> Result<bool, Fault> {
-        let mut queue = match std::mem::take(&mut self.phase) {
-            Phase::Main => {
-                let mut queue = self.interrupts.take_queue();
-                self.interrupts.occurred_events(
-                    &self.program.target,
-                    &self.machine.memory,
-                    self.program.config.scan_ms,
-                    &mut queue,
-                );
-                queue
-            }
-            Phase::Events(q) if flow != Flow::EndScan => q,
-            Phase::Events(mut q) => {
-                // END or STOP in a routine: the rest of the queue is dropped.
-                q.clear();
-                q
-            }
-            Phase::Idle => VecDeque::new(),
-        };
-        while let Some(event) = queue.pop_front() {
+        match std::mem::take(&mut self.phase) {
+            Phase::Main => self.interrupts.occurred_events(
+                &self.program.target,
+                &self.machine.memory,
+                self.program.config.scan_ms,
+                &mut self.events,
+            ),
+            Phase::Events if flow != Flow::EndScan => {}
+            // END or STOP in a routine: the rest of the queue is dropped.
+            Phase::Events | Phase::Idle => self.events.clear(),
+        }
+        while let Some(event) = self.events.pop_front() {
             let Some(page) = self.interrupts.routine(event) else {
                 continue;
             };
             self.machine.push_frame(page, None);
-            self.phase = Phase::Events(queue);
+            self.phase = Phase::Events;
             return Ok(false);
-        }
-        if queue.capacity() != 0 {
-            self.interrupts.keep_queue(queue);
         }
         self.end_scan();
         Ok(true)
@@ -582,18 +573,15 @@ impl Engine {
 
     /// Continue the current scan (starting one when idle) until it ends or pauses at
     /// a breakpoint.
+    #[inline]
     pub fn continue_scan(&mut self) -> Result<ScanEnd, Fault> {
         if matches!(self.phase, Phase::Idle) {
             self.begin_scan();
         }
         // Only a set breakpoint patches a `Break` into a unit (`native_hold` says one is
         // set): without one, the scan does not look.
-        if self.native_hold && self.at_breakpoint() {
-            // Leaving a breakpoint: its instruction runs once.
-            let flow = self.exec::<true>()?;
-            if flow != Flow::Stepped && self.next_phase(flow)? {
-                return Ok(ScanEnd::Completed);
-            }
+        if self.native_hold && self.leave_breakpoint()? {
+            return Ok(ScanEnd::Completed);
         }
         loop {
             match self.exec::<false>()? {
@@ -608,6 +596,18 @@ impl Engine {
                 }
             }
         }
+    }
+
+    /// A scan paused at the breakpoint continues by running its instruction once (and
+    /// nothing when the top frame is elsewhere). True when that ended the scan.
+    #[cold]
+    #[inline(never)]
+    fn leave_breakpoint(&mut self) -> Result<bool, Fault> {
+        if !self.at_breakpoint() {
+            return Ok(false);
+        }
+        let flow = self.exec::<true>()?;
+        Ok(flow != Flow::Stepped && self.next_phase(flow)?)
     }
 
     /// Whether the record the top frame is at is the patched breakpoint (a scan paused

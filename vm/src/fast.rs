@@ -8,14 +8,24 @@ use crate::op::{
     TimerKind, TimerOp, STEP_STORE, STEP_TABLE,
 };
 
-/// The side tables a unit's fast operations index: fused chains' steps, timers and
-/// counters (`decode::Unit`).
+/// The side tables a unit's fast operations index: fused chains' steps, timers,
+/// counters and divisions. A unit owns one (`decode::Unit::tables`), so entering a unit
+/// hands the fast path one reference instead of a slice per table.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct UnitTables {
+    pub chain: Vec<ChainStep>,
+    /// The operands of `Op::Timer` and `Op::Counter` records, by their `index`.
+    pub timers: Vec<TimerOp>,
+    pub counters: Vec<CounterOp>,
+    /// The operands of `Quick::Divide` records, by their `index`.
+    pub divides: Vec<DivideOp>,
+}
+
+/// What the fast path reads besides memory and the operations: the running unit's
+/// side tables and where compiled regions start.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Tables<'a> {
-    pub chain: &'a [ChainStep],
-    pub timers: &'a [TimerOp],
-    pub counters: &'a [CounterOp],
-    pub divides: &'a [DivideOp],
+    pub unit: &'a UnitTables,
     /// Per record of the unit, non-zero where a compiled region starts (the tier's
     /// table; empty without one): the fast path stops there after a generic record it
     /// ran itself, so the engine enters the region instead of interpreting it.
@@ -67,7 +77,7 @@ pub(crate) fn run_fast(
                 // After a network start the rest of the stack is empty; t is the top.
                 let mut t = s & 1;
                 let rest = if n > 0 { 0 } else { s & !1 };
-                for step in &tables.chain[first..first + steps] {
+                for step in &tables.unit.chain[first..first + steps] {
                     let at = step.at as usize;
                     let byte = mem[at];
                     if step.kind == STEP_STORE {
@@ -104,7 +114,7 @@ pub(crate) fn run_fast(
                     }
                     Quick::Divide { index } => {
                         if s & 1 == 1 {
-                            divide(mem, &tables.divides[index as usize], flags_at);
+                            divide(mem, &tables.unit.divides[index as usize], flags_at);
                         }
                         pc += 1;
                     }
@@ -243,8 +253,8 @@ pub(crate) fn fast_op(
         Op::CompareB { combine, rel, a, b } => compare::<1>(mem, s, mask, combine, rel, a, b),
         Op::CompareW { combine, rel, a, b } => compare::<2>(mem, s, mask, combine, rel, a, b),
         Op::CompareD { combine, rel, a, b } => compare::<4>(mem, s, mask, combine, rel, a, b),
-        Op::Timer { index } => timer(mem, s, &tables.timers[index as usize]),
-        Op::Counter { index } => counter(mem, s, mask, &tables.counters[index as usize]),
+        Op::Timer { index } => timer(mem, s, &tables.unit.timers[index as usize]),
+        Op::Counter { index } => counter(mem, s, mask, &tables.unit.counters[index as usize]),
         Op::Edge { rising, state } => {
             let now = s & 1;
             let cell = &mut mem[state as usize];

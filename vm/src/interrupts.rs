@@ -180,8 +180,6 @@ pub(crate) struct Interrupts {
     last_input: Vec<Option<bool>>,
     /// The events of this scan (a buffer kept between scans).
     occurred: Vec<u32>,
-    /// The engine's queue of routines to run, kept between scans (`take_queue`).
-    spare: VecDeque<u32>,
 }
 
 impl Interrupts {
@@ -205,20 +203,6 @@ impl Interrupts {
     #[inline]
     pub fn routine(&self, event: u32) -> Option<u8> {
         self.attached.get(&event).copied()
-    }
-
-    /// An empty queue for `occurred_events` (its buffer kept from an earlier scan); give it
-    /// back with `keep_queue` when the scan has served it.
-    #[inline]
-    pub fn take_queue(&mut self) -> VecDeque<u32> {
-        std::mem::take(&mut self.spare)
-    }
-
-    /// Keep a served queue's buffer for the next scan.
-    #[inline]
-    pub fn keep_queue(&mut self, mut queue: VecDeque<u32>) {
-        queue.clear();
-        self.spare = queue;
     }
 
     /// After MAIN, when no event can occur in this scan (nothing attached that can

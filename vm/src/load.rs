@@ -83,6 +83,7 @@ pub(crate) fn load(
         exch: Exch::default(),
         clock: Clock::default(),
         phase: Phase::Idle,
+        events: Default::default(),
         paused: false,
         stopped: false,
         reset_requested: false,

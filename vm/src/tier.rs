@@ -310,7 +310,7 @@ impl Builder<'_> {
             ));
         }
         if let Op::Timer { index } = op {
-            let t = unit.timers.get(index as usize)?;
+            let t = unit.tables.timers.get(index as usize)?;
             let step = Step::Timer {
                 kind: match t.kind {
                     TimerKind::On => gutta_jit::TimerKind::On,
@@ -326,7 +326,7 @@ impl Builder<'_> {
             return Some((step, 1, 0));
         }
         if let Op::Counter { index } = op {
-            let c = unit.counters.get(index as usize)?;
+            let c = unit.tables.counters.get(index as usize)?;
             let step = Step::Counter {
                 kind: match c.kind {
                     CounterKind::Up => gutta_jit::CounterKind::Up,

@@ -1,7 +1,8 @@
 //! What the start of every scan writes, against what it must be, on every engine: the
 //! system bits of SMB0 from the virtual time (kept in steps, `clock.rs`) and the input
 //! image from the terminals (copied to where each area starts, `terminals.rs`), on
-//! targets of different input sizes. Not the instructions: the scan around them.
+//! targets of different input sizes; and the routines still to run in a scan, dropped
+//! with it. Not the instructions: the scan around them.
 
 mod common;
 
@@ -10,7 +11,7 @@ use std::sync::Arc;
 use gutta_catalog::{stdlib, AreaKind};
 use gutta_compiler::source::SourceFile;
 use gutta_compiler::{compile, ExplicitTarget};
-use gutta_vm::{Vm, VmConfig};
+use gutta_vm::{ScanEnd, Vm, VmConfig};
 
 use common::{read, set, three_engines};
 
@@ -122,5 +123,74 @@ fn inputs_reach_the_program_whole_on_every_target() {
                 vm.reset();
             }
         }
+    }
+}
+
+/// Two timed events of the scan's period (10 ms): both routines run after every MAIN,
+/// each counting its runs; either one stops the PLC when I0.0 is on.
+const TWO_ROUTINES: &str = "
+ORGANIZATION_BLOCK MAIN:OB1
+BEGIN
+NETWORK 1
+LD     SM0.1
+MOVB   10, SMB10
+MOVB   10, SMB11
+ATCH   A, 10
+ATCH   B, 11
+ENI
+END_ORGANIZATION_BLOCK
+INTERRUPT_BLOCK A:INT1
+BEGIN
+NETWORK 1
+LD     SM0.0
+INCW   MW40
+NETWORK 2
+LD     I0.0
+STOP
+END_INTERRUPT_BLOCK
+INTERRUPT_BLOCK B:INT2
+BEGIN
+NETWORK 1
+LD     SM0.0
+INCW   MW42
+NETWORK 2
+LD     I0.0
+STOP
+END_INTERRUPT_BLOCK
+";
+
+/// The routines still to run in a scan (`Engine::events`, kept between scans) are
+/// dropped when a routine ends the scan (STOP in A: B does not run after it) and when a
+/// paused scan is abandoned (going to STOP while paused in A: the next scan runs each
+/// routine once, not the abandoned scan's B as well).
+#[test]
+fn the_routines_left_in_a_scan_are_dropped_with_it() {
+    for config in three_engines(VmConfig::default()) {
+        let mut vm = common::load(TWO_ROUTINES, config);
+        let runs = |vm: &Vm| (read(vm, "MW40"), read(vm, "MW42"));
+        for _ in 0..3 {
+            vm.scan().expect("scan");
+        }
+        assert_eq!(runs(&vm), (3, 3), "{config:?}");
+        // Paused in A (event 10 is served before event 11) with B still to run; STOP
+        // abandons the scan.
+        let in_a = gutta_vm::Position {
+            function: 1,
+            network: 1,
+            step: 1,
+        };
+        vm.set_breakpoint(Some(in_a)).expect("breakpoint");
+        assert_eq!(vm.run_scan(), Ok(ScanEnd::Paused(in_a)), "{config:?}");
+        assert_eq!(runs(&vm), (3, 3), "{config:?}");
+        vm.set_breakpoint(None).expect("clear");
+        vm.set_running(false);
+        vm.set_running(true);
+        vm.scan().expect("scan");
+        assert_eq!(runs(&vm), (4, 4), "{config:?}");
+        // STOP in A: B does not run after it.
+        set(&mut vm, "I0.0", 1);
+        vm.scan().expect("scan");
+        assert_eq!(runs(&vm), (5, 4), "{config:?}");
+        assert!(!vm.is_running(), "{config:?}");
     }
 }
