@@ -683,6 +683,18 @@ impl Emitter<'_, '_> {
         self.b.def_var(self.s, new);
     }
 
+    /// Branch on the top of the stack `s`: to the first block returned when it is 1,
+    /// to the second when 0; both sealed (this branch is their only way in), the
+    /// builder left where it was.
+    fn branch_on_power(&mut self, s: Value) -> (Block, Block) {
+        let top = self.b.ins().band_imm_u(s, 1);
+        let (taken, next) = (self.b.create_block(), self.b.create_block());
+        self.b.ins().brif(top, taken, &[], next, &[]);
+        self.b.seal_block(taken);
+        self.b.seal_block(next);
+        (taken, next)
+    }
+
     /// Emit `body` in a block entered only when the top of the stack `s` is 1.
     fn with_power(&mut self, s: Value, body: impl FnOnce(&mut Self)) {
         let then = self.b.create_block();
@@ -735,11 +747,7 @@ impl Emitter<'_, '_> {
             .entry(label)
             .or_insert_with(|| self.b.create_block());
         let s = self.b.use_var(self.s);
-        let top = self.b.ins().band_imm_u(s, 1);
-        let (taken, next) = (self.b.create_block(), self.b.create_block());
-        self.b.ins().brif(top, taken, &[], next, &[]);
-        self.b.seal_block(taken);
-        self.b.seal_block(next);
+        let (taken, next) = self.branch_on_power(s);
         self.b.switch_to_block(taken);
         let count = self.b.use_var(self.count);
         let count = self.b.ins().iadd_imm_s(count, -skipped);
@@ -755,11 +763,7 @@ impl Emitter<'_, '_> {
     fn escape(&mut self, id: u16, rest: &[Step]) {
         let not_run = rest.iter().filter(|s| **s != Step::Network).count() as i64;
         let s = self.b.use_var(self.s);
-        let top = self.b.ins().band_imm_u(s, 1);
-        let (taken, next) = (self.b.create_block(), self.b.create_block());
-        self.b.ins().brif(top, taken, &[], next, &[]);
-        self.b.seal_block(taken);
-        self.b.seal_block(next);
+        let (taken, next) = self.branch_on_power(s);
         self.b.set_cold_block(taken);
         self.b.switch_to_block(taken);
         self.b
