@@ -170,14 +170,7 @@ fn a_long_unit_is_cut_where_no_jump_is_open() {
             vm.scan().expect("scan");
         }
         executed += vms[2].executed_last_scan();
-        for vm in &vms[1..] {
-            assert_eq!(
-                vm.executed_last_scan(),
-                vms[0].executed_last_scan(),
-                "scan {scan}"
-            );
-            assert!(vm.memory() == vms[0].memory(), "memory after scan {scan}");
-        }
+        common::same_as_reference(&vms, scan);
     }
     assert_eq!(
         vms[2].executed_natively(),
@@ -203,14 +196,7 @@ fn a_region_after_a_record_the_fast_path_runs_is_entered() {
             common::set(vm, "IB0", (scan % 4) | if scan % 3 == 0 { 0x80 } else { 0 });
             vm.scan().expect("scan");
         }
-        for vm in &vms[1..] {
-            assert_eq!(
-                vm.executed_last_scan(),
-                vms[0].executed_last_scan(),
-                "scan {scan}"
-            );
-            assert!(vm.memory() == vms[0].memory(), "memory after scan {scan}");
-        }
+        common::same_as_reference(&vms, scan);
     }
     // 9 instructions a scan; natively all 9 on the 13 scans without power flow, and on
     // the 7 with it all but the EXCH (LD I0.7, then the 7 of network 2).
@@ -235,14 +221,7 @@ fn a_for_loops_body_runs_natively_on_every_iteration() {
             vm.scan().expect("scan");
         }
         iterations += u64::from(scan % 7);
-        for vm in &vms[1..] {
-            assert_eq!(
-                vm.executed_last_scan(),
-                vms[0].executed_last_scan(),
-                "scan {scan}"
-            );
-            assert!(vm.memory() == vms[0].memory(), "memory after scan {scan}");
-        }
+        common::same_as_reference(&vms, scan);
     }
     // The body's 8 instructions, natively, on every iteration.
     assert_eq!(vms[2].executed_natively(), iterations * 8);
@@ -274,14 +253,7 @@ fn eni_and_disi_run_inside_a_region() {
             common::set(vm, "IB0", u32::from(scan / 10 % 3 == 1) | (scan % 8) << 1);
             vm.scan().expect("scan");
         }
-        for vm in &vms[1..] {
-            assert_eq!(
-                vm.executed_last_scan(),
-                vms[0].executed_last_scan(),
-                "scan {scan}"
-            );
-            assert!(vm.memory() == vms[0].memory(), "memory after scan {scan}");
-        }
+        common::same_as_reference(&vms, scan);
         if scan > 0 {
             native += vms[2].executed_natively() - before;
             ran += vms[2].executed_last_scan();

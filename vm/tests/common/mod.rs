@@ -67,3 +67,17 @@ pub fn three_engines(base: VmConfig) -> [VmConfig; 3] {
         },
     ]
 }
+
+/// After scan `scan` of the three engines (`three_engines`' order): the interpreter's
+/// and the compiled tier's instruction count and whole memory (hidden state included)
+/// equal the reference engine's.
+pub fn same_as_reference(vms: &[Vm; 3], scan: u32) {
+    for vm in &vms[1..] {
+        assert_eq!(
+            vm.executed_last_scan(),
+            vms[0].executed_last_scan(),
+            "scan {scan}"
+        );
+        assert!(vm.memory() == vms[0].memory(), "memory after scan {scan}");
+    }
+}
