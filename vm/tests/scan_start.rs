@@ -6,29 +6,10 @@
 
 mod common;
 
-use std::sync::Arc;
-
 use gutta_catalog::{stdlib, AreaKind};
-use gutta_compiler::source::SourceFile;
-use gutta_compiler::{compile, ExplicitTarget};
 use gutta_vm::{ScanEnd, Vm, VmConfig};
 
-use common::{read, set, three_engines};
-
-/// Compile, verify and load `text` on the PLC type `target`.
-fn load_on(target: &str, text: &str, config: VmConfig) -> Vm {
-    let target = stdlib::shared(target).expect("target");
-    let explicit = ExplicitTarget {
-        target: Arc::clone(&target),
-        origin: "test".into(),
-    };
-    let c = compile(SourceFile::new("t.lad", text), Some(&explicit));
-    let image = c
-        .image
-        .unwrap_or_else(|| panic!("does not compile: {:?}", c.checked.diagnostics()));
-    let verified = gutta_format::verify(&image, &target).expect("verifies");
-    Vm::new(verified, target, config).expect("loads")
-}
+use common::{load_on, read, set, three_engines};
 
 fn main_block(body: &str) -> String {
     format!("ORGANIZATION_BLOCK MAIN:OB1\nBEGIN\n{body}\nEND_ORGANIZATION_BLOCK\n")

@@ -23,7 +23,12 @@ pub fn areas(vm: &Vm) -> Vec<Vec<u8>> {
 }
 
 pub fn load(text: &str, config: VmConfig) -> Vm {
-    let target = stdlib::shared(stdlib::DEFAULT).expect("target");
+    load_on(stdlib::DEFAULT, text, config)
+}
+
+/// Compile, verify and load `text` on the PLC type `target`.
+pub fn load_on(target: &str, text: &str, config: VmConfig) -> Vm {
+    let target = stdlib::shared(target).expect("target");
     let explicit = ExplicitTarget {
         target: target.clone(),
         origin: "test".into(),
