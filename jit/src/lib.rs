@@ -261,8 +261,8 @@ pub enum Step {
         number: u16,
     },
     // ---- Generic families (vm/src/tier_generic.rs) -------------------------
-    // Every one below but CompareReal, Lds, Nop and Store runs only while the top of the logic
-    // stack is 1 and leaves the stack unchanged (ManagerFun.xml Flow="Box"); "flags"
+    // Every one below but CompareReal, Lds, Nop and Store runs only while the top of the
+    // logic stack is 1 and leaves the stack unchanged (ManagerFun.xml Flow="Box"); "flags"
     // are bits of the byte at `Layout::flags_at` (SMB1: 0 zero, 1 overflow, 2 negative,
     // 3 divide by zero, 6 BCD error), each written after the result's store, the bits a
     // step does not name kept. Values are little-endian; INT and DINT signed.
@@ -385,7 +385,7 @@ pub enum Step {
         at: u32,
         value: u8,
     },
-    /// A box the VM runs interpreted (EXCH, ATCH, ENI, ...; `vm/src/tier.rs`). Without
+    /// A box the VM runs interpreted (EXCH, ATCH, DTCH, ...; `vm/src/tier.rs`). Without
     /// power flow (top 0): nothing, counts 1. With power flow: the function returns at
     /// once, the logic stack as it is, its count the instructions executed before this
     /// step (the escape itself not counted), and `Module::enter` reports `id`. Only in a
