@@ -349,7 +349,8 @@ fn width_of(bytes: u8) -> Width {
     }
 }
 
-fn decode_compare(m: &str) -> Option<(Combine, char, Rel)> {
+/// A compare mnemonic's parts: LD/A/O, the type letter (B, W, D, R) and the relation.
+pub(crate) fn decode_compare(m: &str) -> Option<(Combine, char, Rel)> {
     let (combine, rest) = if let Some(r) = m.strip_prefix("LD") {
         (Combine::Load, r)
     } else if let Some(r) = m.strip_prefix('A') {

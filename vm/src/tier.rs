@@ -30,7 +30,7 @@ use gutta_format::Operand;
 
 use crate::decode::Unit;
 use crate::memory::Memory;
-use crate::op::{Arith, Combine, CounterKind, Op, Preset, Quick, Rel, TimerKind};
+use crate::op::{Arith, CounterKind, Op, Preset, Quick, TimerKind};
 use crate::program::Program;
 
 /// What entering a region costs and what each instruction it runs natively saves, in
@@ -172,19 +172,8 @@ fn simple_step(op: Op) -> Option<Step> {
             b,
             width,
         } => Step::Compare {
-            combine: match combine {
-                Combine::Load => gutta_jit::Combine::Load,
-                Combine::And => gutta_jit::Combine::And,
-                Combine::Or => gutta_jit::Combine::Or,
-            },
-            rel: match rel {
-                Rel::Eq => gutta_jit::Rel::Eq,
-                Rel::Ne => gutta_jit::Rel::Ne,
-                Rel::Lt => gutta_jit::Rel::Lt,
-                Rel::Le => gutta_jit::Rel::Le,
-                Rel::Gt => gutta_jit::Rel::Gt,
-                Rel::Ge => gutta_jit::Rel::Ge,
-            },
+            combine: crate::tier_generic::jit_combine(combine),
+            rel: crate::tier_generic::jit_rel(rel),
             a,
             b,
             width,

@@ -13,7 +13,7 @@ use gutta_jit::{Combine, Convert, Logic, RealOp, Rel, Shift, Step};
 
 use crate::decode::Unit;
 use crate::memory::Memory;
-use crate::op::Op;
+use crate::op::{self, Op};
 
 /// The step of generic record `pc` of `unit`, if the tier compiles it (it then counts
 /// 1 instruction and makes no CALL). The target is `unit.target`.
@@ -202,10 +202,13 @@ fn decode(mnemonic: &str, operands: &[PackedOperand], memory: &Memory) -> Option
             value: u8::from(mnemonic == "ENI"),
         },
         _ => {
-            let (combine, rel) = real_compare(mnemonic)?;
+            // LDR/AR/OR with a relation (`ops/compare.rs`): the REAL compares.
+            let (combine, 'R', rel) = crate::decode::decode_compare(mnemonic)? else {
+                return None;
+            };
             Step::CompareReal {
-                combine,
-                rel,
+                combine: jit_combine(combine),
+                rel: jit_rel(rel),
                 a: var(0, Width::Dword)?,
                 b: var(1, Width::Dword)?,
             }
@@ -222,23 +225,23 @@ fn sized_width(bytes: u8) -> Option<Width> {
     }
 }
 
-/// LDR/AR/OR with a relation (`ops/compare.rs`): the REAL compares.
-fn real_compare(m: &str) -> Option<(Combine, Rel)> {
-    let (combine, rest) = if let Some(r) = m.strip_prefix("LD") {
-        (Combine::Load, r)
-    } else if let Some(r) = m.strip_prefix('A') {
-        (Combine::And, r)
-    } else {
-        (Combine::Or, m.strip_prefix('O')?)
-    };
-    let rel = match rest.strip_prefix('R')? {
-        "=" => Rel::Eq,
-        "<>" => Rel::Ne,
-        "<" => Rel::Lt,
-        "<=" => Rel::Le,
-        ">" => Rel::Gt,
-        ">=" => Rel::Ge,
-        _ => return None,
-    };
-    Some((combine, rel))
+/// The interpreter's combine as gutta-jit's.
+pub(crate) fn jit_combine(c: op::Combine) -> Combine {
+    match c {
+        op::Combine::Load => Combine::Load,
+        op::Combine::And => Combine::And,
+        op::Combine::Or => Combine::Or,
+    }
+}
+
+/// The interpreter's relation as gutta-jit's.
+pub(crate) fn jit_rel(r: op::Rel) -> Rel {
+    match r {
+        op::Rel::Eq => Rel::Eq,
+        op::Rel::Ne => Rel::Ne,
+        op::Rel::Lt => Rel::Lt,
+        op::Rel::Le => Rel::Le,
+        op::Rel::Gt => Rel::Gt,
+        op::Rel::Ge => Rel::Ge,
+    }
 }
