@@ -395,6 +395,59 @@ pub enum Step {
     },
 }
 
+impl Step {
+    /// Whether the step runs only while the top of the logic stack is 1 and leaves the
+    /// stack as it was (ManagerFun.xml Flow="Box"; a Call restores the caller's): Move,
+    /// Math, Call, SetBits and the generic families but CompareReal, Lds, Nop and Store.
+    /// The lowering tests the top once for a run of them; the VM checks a generic
+    /// record's flow against it. Every step is named, so a new one must say.
+    pub fn is_box(&self) -> bool {
+        match self {
+            Step::Move { .. }
+            | Step::Math { .. }
+            | Step::Call { .. }
+            | Step::SetBits { .. }
+            | Step::Logic { .. }
+            | Step::Invert { .. }
+            | Step::IncDec { .. }
+            | Step::Divide { .. }
+            | Step::MulWide { .. }
+            | Step::DivWide { .. }
+            | Step::Shift { .. }
+            | Step::Convert { .. }
+            | Step::RealMath { .. }
+            | Step::Sqrt { .. }
+            | Step::Const { .. }
+            | Step::Swap { .. } => true,
+            Step::Network
+            | Step::Ld { .. }
+            | Step::Ldn { .. }
+            | Step::A { .. }
+            | Step::An { .. }
+            | Step::O { .. }
+            | Step::On { .. }
+            | Step::Assign { .. }
+            | Step::Not
+            | Step::Ald
+            | Step::Old
+            | Step::Lps
+            | Step::Lrd
+            | Step::Lpp
+            | Step::Compare { .. }
+            | Step::Timer { .. }
+            | Step::Counter { .. }
+            | Step::Edge { .. }
+            | Step::Jump { .. }
+            | Step::Label { .. }
+            | Step::CompareReal { .. }
+            | Step::Lds { .. }
+            | Step::Nop
+            | Step::Store { .. }
+            | Step::Escape { .. } => false,
+        }
+    }
+}
+
 /// A function: its steps, run from the first.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Function {

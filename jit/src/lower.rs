@@ -329,34 +329,6 @@ fn build(
     b.finalize(frontend);
 }
 
-/// Move, Math, Call and SetBits run only with power flow and leave the logic stack as it
-/// was (a Call restores the caller's): a run of them shares one test of the top.
-fn boxed(step: &Step) -> bool {
-    matches!(
-        step,
-        Step::Move { .. } | Step::Math { .. } | Step::Call { .. } | Step::SetBits { .. }
-    ) || generic_boxed(step)
-}
-
-/// The generic steps that run only with power flow and leave the stack.
-fn generic_boxed(step: &Step) -> bool {
-    matches!(
-        step,
-        Step::Logic { .. }
-            | Step::Invert { .. }
-            | Step::IncDec { .. }
-            | Step::Divide { .. }
-            | Step::MulWide { .. }
-            | Step::DivWide { .. }
-            | Step::Shift { .. }
-            | Step::Convert { .. }
-            | Step::RealMath { .. }
-            | Step::Sqrt { .. }
-            | Step::Const { .. }
-            | Step::Swap { .. }
-    )
-}
-
 /// Whether a Math followed by `after` (the rest of its power run, which runs with it)
 /// leaves flags bits 0..2 that nothing can see: a later Math of the run sets them again
 /// and nothing up to and including that Math reads or writes the flags byte (a Call
@@ -498,12 +470,12 @@ impl Emitter<'_, '_> {
                 i += 1;
                 continue;
             }
-            if !boxed(&steps[i]) {
+            if !steps[i].is_box() {
                 self.step(&steps[i]);
                 i += 1;
                 continue;
             }
-            let run = steps[i..].iter().take_while(|s| boxed(s)).count();
+            let run = steps[i..].iter().take_while(|s| s.is_box()).count();
             let s = self.b.use_var(self.s);
             let boxes = &steps[i..i + run];
             self.with_power(s, |e| {
@@ -532,7 +504,7 @@ impl Emitter<'_, '_> {
             } => self.math(op, src, dst, width, flags_live),
             Step::Call { callee, ref args } => self.call(callee as usize, args),
             Step::SetBits { at, bit, n, value } => self.set_bits(at, bit, n, value),
-            _ if generic_boxed(step) => self.generic(step),
+            _ if step.is_box() => self.generic(step),
             _ => self.step(step),
         }
     }

@@ -25,15 +25,7 @@ pub(crate) fn generic_step(unit: &Unit, pc: usize, memory: &Memory) -> Option<St
     let step = decode(unit.mnemonic(id), operands, memory)?;
     // The step runs with the power flow its record has (ManagerFun.xml Flow): a box
     // only with power flow, the others whatever it is.
-    (boxed == runs_boxed(&step)).then_some(step)
-}
-
-/// Whether `step` runs only while the top of the stack is 1 (gutta-jit's statement).
-fn runs_boxed(step: &Step) -> bool {
-    !matches!(
-        step,
-        Step::CompareReal { .. } | Step::Lds { .. } | Step::Nop | Step::Store { .. }
-    )
+    (boxed == step.is_box()).then_some(step)
 }
 
 /// What a mnemonic with these operands becomes, if anything.
