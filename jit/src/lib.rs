@@ -120,6 +120,22 @@ pub enum Convert {
 }
 
 impl Convert {
+    /// Every conversion, in declaration order (for tests and fuzzing).
+    pub const ALL: [Convert; 12] = [
+        Convert::Bti,
+        Convert::Itb,
+        Convert::Itd,
+        Convert::Dti,
+        Convert::Dtr,
+        Convert::Round,
+        Convert::Trunc,
+        Convert::Bcdi,
+        Convert::Ibcd,
+        Convert::Seg,
+        Convert::Deco,
+        Convert::Enco,
+    ];
+
     /// (source, destination) widths in bytes.
     pub fn widths(self) -> (u8, u8) {
         match self {

@@ -195,20 +195,7 @@ fn boxed_steps() -> Vec<Step> {
     }
     steps.push(Step::MulWide { src: B, dst: A });
     steps.push(Step::DivWide { src: B, dst: A });
-    for op in [
-        Convert::Bti,
-        Convert::Itb,
-        Convert::Itd,
-        Convert::Dti,
-        Convert::Dtr,
-        Convert::Round,
-        Convert::Trunc,
-        Convert::Bcdi,
-        Convert::Ibcd,
-        Convert::Seg,
-        Convert::Deco,
-        Convert::Enco,
-    ] {
+    for op in Convert::ALL {
         steps.push(Step::Convert { op, src: B, dst: A });
     }
     for op in [RealOp::Add, RealOp::Sub, RealOp::Mul, RealOp::Div] {

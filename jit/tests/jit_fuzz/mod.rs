@@ -342,21 +342,6 @@ fn step(r: &mut Reader, layout: &Layout, f: u32, functions: u32, loose: bool) ->
 
 // ---- Generic families ----------------------------------------------------
 
-const CONVERTS: [Convert; 12] = [
-    Convert::Bti,
-    Convert::Itb,
-    Convert::Itd,
-    Convert::Dti,
-    Convert::Dtr,
-    Convert::Round,
-    Convert::Trunc,
-    Convert::Bcdi,
-    Convert::Ibcd,
-    Convert::Seg,
-    Convert::Deco,
-    Convert::Enco,
-];
-
 /// One of the generic families' steps.
 fn generic_step(r: &mut Reader, layout: &Layout, loose: bool) -> Step {
     let kind = r.below(17);
@@ -421,7 +406,7 @@ fn generic_step(r: &mut Reader, layout: &Layout, loose: bool) -> Step {
             }
         }
         7 => {
-            let op = CONVERTS[r.below(CONVERTS.len() as u32) as usize];
+            let op = Convert::ALL[r.below(Convert::ALL.len() as u32) as usize];
             let (from, to) = op.widths();
             Step::Convert {
                 op,
