@@ -39,6 +39,10 @@ def text_of(page):
         "async () => (await window.guttaStudio.api('/api/file?file=src/main.lad')).text()")
 
 
+def contacts_on(page, operand):
+    return page.locator(f'.contact[data-operand="{operand}"]').count()
+
+
 def settle(page):
     """Wait until no command runs and no editor is open."""
     wait_until(lambda: page.locator(ASKED).count() == 0, what="the editor to close")
@@ -162,10 +166,11 @@ def test_undo_and_redo_restore_the_exact_text(page, project):
     after = text_of(page)
     page.keyboard.press("Control+z")
     wait_until(lambda: text_of(page) == before, what="the undo")
-    assert page.locator('.contact[data-operand="I0.5"]').count() == 0
+    # The server's buffer changes before the page has the answer and redraws.
+    wait_until(lambda: contacts_on(page, "I0.5") == 0, what="the undo drawn")
     page.keyboard.press("Control+y")
     wait_until(lambda: text_of(page) == after, what="the redo")
-    assert page.locator('.contact[data-operand="I0.5"]').count() == 1
+    wait_until(lambda: contacts_on(page, "I0.5") == 1, what="the redo drawn")
     page.locator('button[data-command="undo"]').click()
     wait_until(lambda: text_of(page) == before, what="the undo by mouse")
     page.locator('button[data-command="redo"]').click()
