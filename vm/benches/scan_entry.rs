@@ -1,6 +1,8 @@
 //! What entering a unit costs: scans of tiny programs whose cost is nearly all around
 //! their instructions (an empty MAIN; a CALL of a subroutine of one network; the same
-//! with parameters; a timed interrupt routine run every scan), interpreted and compiled
+//! with parameters; a timed interrupt routine run every scan; ten events attached, as
+//! the corpus's events_all program does, whose routine runs 0.83 times a scan),
+//! interpreted and compiled
 //! at load, ns per scan, medians of batches. `cargo bench -p gutta-vm --bench
 //! scan_entry` (`-- NAME`: only the case named NAME, or else the cases whose name
 //! contains NAME; e.g. under callgrind: `-- call --scans 100000 --interpreted` runs that
@@ -79,6 +81,35 @@ INCW   MW0
 END_INTERRUPT_BLOCK
 ";
 
+/// The corpus's `events_all_utf8_crlf.awl`: eight edge events and two timed ones (20
+/// and 30 ms at 10 ms scans) attached to one routine, which runs 0.83 times a scan.
+const TEN_EVENTS: &str = "\
+ORGANIZATION_BLOCK MAIN:OB1
+BEGIN
+NETWORK 1
+LD     SM0.1
+MOVB   20, SMB10
+MOVB   30, SMB11
+ATCH   TICK, 0
+ATCH   TICK, 1
+ATCH   TICK, 2
+ATCH   TICK, 3
+ATCH   TICK, 4
+ATCH   TICK, 5
+ATCH   TICK, 6
+ATCH   TICK, 7
+ATCH   TICK, 10
+ATCH   TICK, 11
+ENI
+END_ORGANIZATION_BLOCK
+INTERRUPT_BLOCK TICK:INT1
+BEGIN
+NETWORK 1
+LD     SM0.0
+INCW   MW0
+END_INTERRUPT_BLOCK
+";
+
 fn load(text: &str, native_after: Option<u64>) -> Vm {
     let target = stdlib::shared(stdlib::DEFAULT).expect("target");
     let c = compile(SourceFile::new("entry.lad", text), None);
@@ -128,6 +159,7 @@ fn main() {
         ("call", CALL),
         ("call with parameters", CALL_PARAMETERS),
         ("interrupt every scan", INTERRUPT),
+        ("ten events", TEN_EVENTS),
     ];
     println!(
         "{:<24} {:>8} {:>14} {:>12}",
