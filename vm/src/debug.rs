@@ -253,7 +253,7 @@ fn single(engine: &mut Engine) -> Result<bool, Fault> {
     } else {
         flow
     };
-    engine.next_phase(flow)?;
+    engine.next_phase(flow, false)?;
     Ok(true)
 }
 
@@ -273,7 +273,7 @@ fn pause_at_next(engine: &mut Engine) -> Result<ScanEnd, Fault> {
             begun = true;
         }
         let Some(f) = engine.machine.frames.last() else {
-            engine.next_phase(Flow::Empty)?;
+            engine.next_phase(Flow::Empty, false)?;
             continue;
         };
         let (page, pc) = (f.page, f.pc);

@@ -242,17 +242,13 @@ impl Engine {
     /// changed (no reference count per frame change); what needs the whole engine (a
     /// generic instruction, leaving a unit) ends the borrow and continues at `'frames`.
     pub fn exec<const SINGLE: bool>(&mut self) -> Result<Flow, Fault> {
-        let mask = self.machine.stack_mask;
-        let flags_at = self.program.flags_at;
-        let watchdog = self.program.config.watchdog;
-        #[cfg(feature = "jit")]
-        let call_depth = self.program.target.instructions.call_depth;
+        let limits = self.limits();
+        let watchdog = limits.watchdog;
         'frames: loop {
             let Some(frame) = self.machine.frames.last() else {
                 return Ok(Flow::Empty);
             };
             let mut pc = frame.pc;
-            #[cfg(feature = "jit")]
             let page = frame.page;
             let Some(shared) = self.program.unit(frame.page) else {
                 self.leave()?;
@@ -272,60 +268,20 @@ impl Engine {
             };
             let mut st = self.machine.stack;
             loop {
-                #[cfg(feature = "jit")]
-                if !SINGLE && !self.native_hold {
-                    if let Some(native) = &self.native {
-                        // Regions follow one another where a long run was cut.
-                        while let Some(r) = native.region(page, pc) {
-                            // Native only where it cannot differ: the watchdog cannot
-                            // trip inside, no CALL inside can pass CallDepth.
-                            let remaining = watchdog.saturating_sub(self.clock.executed);
-                            let depth = self.machine.frames.len() + r.depth as usize;
-                            if r.max_count > remaining || depth > usize::from(call_depth) + 1 {
-                                break;
-                            }
-                            let exit = native.module.enter(
-                                r.function as usize,
-                                &mut self.machine.memory.bytes,
-                                &mut st,
-                            );
-                            self.clock.executed += exit.executed;
-                            self.native_executed += exit.executed;
-                            if let Some(id) = exit.escape {
-                                // A box with power flow (tier.rs, escapes): the
-                                // interpreter runs it below, then the resume region
-                                // at the next record.
-                                pc = r.pc as usize + usize::from(id);
-                                break;
-                            }
-                            pc += r.records as usize;
-                        }
-                    }
-                }
                 if !SINGLE {
-                    // Straight-line fast operations, bounded so the watchdog stays exact.
-                    let remaining = watchdog.saturating_sub(self.clock.executed);
-                    let end = ops
-                        .len()
-                        .min(pc.saturating_add(usize::try_from(remaining).unwrap_or(usize::MAX)));
-                    let (at, ran) = run_fast(
-                        &mut self.machine.memory.bytes,
-                        &ops[..end],
-                        tables,
-                        pc,
-                        &mut st,
-                        mask,
-                        flags_at,
-                    );
-                    let moved = at != pc;
-                    pc = at;
-                    self.clock.executed += ran;
-                    if moved && tables.regions.get(pc).is_some_and(|&k| k != 0) {
-                        // The fast path stopped where a region starts (it moved, so
-                        // this cannot repeat at one record when the region is not
-                        // entered).
-                        continue;
+                    #[cfg(feature = "jit")]
+                    let depth = self.machine.frames.len();
+                    pc = Straight {
+                        #[cfg(feature = "jit")]
+                        native: self.native.as_deref().filter(|_| !self.native_hold),
+                        bytes: &mut self.machine.memory.bytes,
+                        clock: &mut self.clock,
+                        #[cfg(feature = "jit")]
+                        native_executed: &mut self.native_executed,
+                        #[cfg(feature = "jit")]
+                        depth,
                     }
+                    .run(limits, page, ops, tables, pc, &mut st);
                 }
                 let Some(&fast) = ops.get(pc) else {
                     // The unit's end: return from it.
@@ -442,8 +398,8 @@ impl Engine {
                             op,
                             tables,
                             &mut st,
-                            mask,
-                            flags_at,
+                            limits.mask,
+                            limits.flags_at,
                         );
                     }
                 }
@@ -517,46 +473,104 @@ impl Engine {
     }
 
     /// The frames of a phase are done (`flow`: they ran out or ended with END/STOP):
-    /// start the next routine, or end the scan. True when the scan has ended. MAIN
-    /// done with no event that can occur (most scans): the end of scan at once, inline.
+    /// start the next routine, or end the scan. True when the scan has ended. After
+    /// MAIN, the interrupts check is inline and, when no event occurred (most scans),
+    /// so is the end of the scan.
     #[inline(always)]
-    pub fn next_phase(&mut self, flow: Flow) -> Result<bool, Fault> {
-        if matches!(self.phase, Phase::Main)
-            && self
-                .interrupts
-                .quiet_scan(&self.machine.memory, self.program.config.scan_ms)
-        {
-            self.phase = Phase::Idle;
-            self.end_scan();
-            return Ok(true);
-        }
-        self.next_routine(flow)
-    }
-
-    /// `next_phase` after MAIN when an event may occur, or after a routine.
-    #[inline(never)]
-    fn next_routine(&mut self, flow: Flow) -> Result<bool, Fault> {
+    pub fn next_phase(&mut self, flow: Flow, direct: bool) -> Result<bool, Fault> {
         match std::mem::take(&mut self.phase) {
-            Phase::Main => self.interrupts.occurred_events(
-                &self.program.target,
-                &self.machine.memory,
-                self.program.config.scan_ms,
-                &mut self.events,
-            ),
+            Phase::Main => {
+                if !self.interrupts.after_main(
+                    &self.program.target,
+                    &self.machine.memory,
+                    self.program.config.scan_ms,
+                    &mut self.events,
+                ) {
+                    self.end_scan();
+                    return Ok(true);
+                }
+            }
             Phase::Events if flow != Flow::EndScan => {}
             // END or STOP in a routine: the rest of the queue is dropped.
             Phase::Events | Phase::Idle => self.events.clear(),
         }
+        Ok(self.next_routine(direct))
+    }
+
+    /// Start the routine of the next event still attached (true: none, the scan has
+    /// ended).
+    #[inline]
+    fn next_routine(&mut self, direct: bool) -> bool {
         while let Some(event) = self.events.pop_front() {
             let Some(page) = self.interrupts.routine(event) else {
                 continue;
             };
-            self.machine.push_frame(page, None);
             self.phase = Phase::Events;
-            return Ok(false);
+            if !direct {
+                self.machine.push_frame(page, None);
+            } else if self.run_direct(page) {
+                continue;
+            }
+            return false;
         }
+        self.phase = Phase::Idle;
         self.end_scan();
-        Ok(true)
+        true
+    }
+
+    /// An interrupt routine started without a frame (`next_routine`, when no
+    /// breakpoint is set): its compiled regions and fast operations run from its first
+    /// record as `exec` would run them; only where they stop before the unit's end (a
+    /// record that needs the engine, or the watchdog's bound) is its frame pushed, at
+    /// that record with that logic stack, for `exec`. True when the routine ran to its
+    /// end. A short routine then costs what its instructions do, not a frame, a return
+    /// from `exec` and a new call of it.
+    #[inline]
+    fn run_direct(&mut self, page: u8) -> bool {
+        let Some(shared) = self.program.unit(page) else {
+            self.machine.push_frame(page, None);
+            return false;
+        };
+        let unit: &Unit = shared;
+        let tables = Tables {
+            unit: &unit.tables,
+            #[cfg(feature = "jit")]
+            regions: self.native.as_ref().map_or(&[], |n| n.starts(page)),
+            #[cfg(not(feature = "jit"))]
+            regions: &[],
+        };
+        let mut st = 0;
+        let limits = self.limits();
+        let pc = Straight {
+            #[cfg(feature = "jit")]
+            native: self.native.as_deref(),
+            bytes: &mut self.machine.memory.bytes,
+            clock: &mut self.clock,
+            #[cfg(feature = "jit")]
+            native_executed: &mut self.native_executed,
+            #[cfg(feature = "jit")]
+            depth: 1,
+        }
+        .run(limits, page, &unit.ops, tables, 0, &mut st);
+        if pc >= unit.ops.len() {
+            return true;
+        }
+        self.machine.push_frame(page, None);
+        self.machine.stack = st;
+        self.machine.set_pc(pc);
+        false
+    }
+
+    /// What a straight run keeps to, read once per `exec` or routine start.
+    #[inline(always)]
+    fn limits(&self) -> Limits {
+        Limits {
+            mask: self.machine.stack_mask,
+            flags_at: self.program.flags_at,
+            watchdog: self.program.config.watchdog,
+            #[cfg(feature = "jit")]
+            call_depth: usize::from(self.program.target.instructions.call_depth),
+        }
     }
 
     /// The end of a scan (the phase is `Idle`): forces, EXCH, the clock.
@@ -590,7 +604,7 @@ impl Engine {
                     return Ok(self.position().map_or(ScanEnd::PausedIdle, ScanEnd::Paused));
                 }
                 flow => {
-                    if self.next_phase(flow)? {
+                    if self.next_phase(flow, !self.native_hold)? {
                         return Ok(ScanEnd::Completed);
                     }
                 }
@@ -607,7 +621,7 @@ impl Engine {
             return Ok(false);
         }
         let flow = self.exec::<true>()?;
-        Ok(flow != Flow::Stepped && self.next_phase(flow)?)
+        Ok(flow != Flow::Stepped && self.next_phase(flow, false)?)
     }
 
     /// Whether the record the top frame is at is the patched breakpoint (a scan paused
@@ -678,4 +692,97 @@ fn generic(parts: Parts<'_>, unit: &Unit, pc: usize, boxed: bool) -> Result<Cont
         },
     };
     handler(&mut exec)
+}
+
+/// What a straight run keeps to (`Engine::limits`).
+#[derive(Clone, Copy)]
+struct Limits {
+    mask: u32,
+    flags_at: usize,
+    watchdog: u64,
+    #[cfg(feature = "jit")]
+    call_depth: usize,
+}
+
+/// The parts of the engine a straight run changes, borrowed beside the unit it runs
+/// (the program's): `exec` and a routine started without a frame (`run_direct`) run
+/// a unit's regions and fast operations through it.
+struct Straight<'a> {
+    /// The compiled tier (None: interpreted only: none, or a breakpoint is set).
+    #[cfg(feature = "jit")]
+    native: Option<&'a crate::tier::Native>,
+    bytes: &'a mut Vec<u8>,
+    clock: &'a mut Clock,
+    #[cfg(feature = "jit")]
+    native_executed: &'a mut u64,
+    /// The frames below the unit's own, and its own (a region's CALLs go deeper).
+    #[cfg(feature = "jit")]
+    depth: usize,
+}
+
+impl Straight<'_> {
+    /// Run unit `page` (`ops`, `tables`) from `pc` as far as compiled regions and fast
+    /// operations go: to the unit's end, or a record that needs the engine (a generic
+    /// record, a CALL, a breakpoint), or the watchdog's bound. Returns where it
+    /// stopped; `st` is the logic stack there.
+    #[inline(always)]
+    #[cfg_attr(not(feature = "jit"), allow(unused_variables))]
+    fn run(
+        &mut self,
+        limits: Limits,
+        page: u8,
+        ops: &[Op],
+        tables: Tables<'_>,
+        mut pc: usize,
+        st: &mut u32,
+    ) -> usize {
+        loop {
+            #[cfg(feature = "jit")]
+            if let Some(native) = self.native {
+                // Regions follow one another where a long run was cut.
+                while let Some(r) = native.region(page, pc) {
+                    // Native only where it cannot differ: the watchdog cannot trip
+                    // inside, no CALL inside can pass CallDepth.
+                    let remaining = limits.watchdog.saturating_sub(self.clock.executed);
+                    let depth = self.depth + r.depth as usize;
+                    if r.max_count > remaining || depth > limits.call_depth + 1 {
+                        break;
+                    }
+                    let exit = native.module.enter(r.function as usize, self.bytes, st);
+                    self.clock.executed += exit.executed;
+                    *self.native_executed += exit.executed;
+                    if let Some(id) = exit.escape {
+                        // A box with power flow (tier.rs, escapes): the interpreter
+                        // runs it, then the resume region at the next record.
+                        pc = r.pc as usize + usize::from(id);
+                        break;
+                    }
+                    pc += r.records as usize;
+                }
+            }
+            // Straight-line fast operations, bounded so the watchdog stays exact.
+            let remaining = limits.watchdog.saturating_sub(self.clock.executed);
+            let end = ops
+                .len()
+                .min(pc.saturating_add(usize::try_from(remaining).unwrap_or(usize::MAX)));
+            let (at, ran) = run_fast(
+                self.bytes,
+                &ops[..end],
+                tables,
+                pc,
+                st,
+                limits.mask,
+                limits.flags_at,
+            );
+            let moved = at != pc;
+            pc = at;
+            self.clock.executed += ran;
+            // Where the fast path stopped at a region's start, the region runs (it
+            // moved, so this cannot repeat at one record when the region is not
+            // entered).
+            if !(moved && tables.regions.get(pc).is_some_and(|&k| k != 0)) {
+                return pc;
+            }
+        }
+    }
 }

@@ -154,22 +154,46 @@ struct Plan {
     timed: Vec<(u32, usize, Flat)>,
     /// The attached edge events on bits, in the target's order.
     edges: Vec<Edge>,
-    /// Nothing to do but record the watched bytes: nothing above, and no edge event
-    /// read through `Memory::read` (whose input is recorded whether attached or not).
+    /// The watched bytes that hold an attached edge event's input, each once: a scan
+    /// compares each with its previous value under the masks of its rising and
+    /// falling events, and looks at `edges` only when one of them may have occurred.
+    edge_bytes: Vec<EdgeByte>,
+    /// Nothing above: a scan only records the watched bytes.
     quiet: bool,
 }
+
+/// A watched byte with attached edge events on it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct EdgeByte {
+    /// Index into `Sources::watched` (and `Interrupts::last_bytes`), and its flat index.
+    byte: usize,
+    at: usize,
+    /// The bits of its attached rising and falling edge events.
+    rising: u8,
+    falling: u8,
+}
+
+/// The events below this number have their routine in a table (`Interrupts::pages`),
+/// looked up at every routine start; ATCH's event is a byte on every target.
+const PAGED_EVENTS: usize = 256;
 
 /// Interrupt state.
 #[derive(Debug, Default, Clone, PartialEq, Eq)]
 pub(crate) struct Interrupts {
     /// Event number -> the page of its interrupt routine (`attach`, `detach`).
     attached: BTreeMap<u32, u8>,
+    /// The same for the events below `PAGED_EVENTS`, indexed by event (as long as the
+    /// highest attached one): what a routine start looks up.
+    pages: Vec<Option<u8>>,
     /// Events that occurred while interrupts were disabled (one kept per event).
     pub pending: BTreeSet<u32>,
     /// The target's events, parsed at the first scan after a reset.
     sources: Option<Arc<Sources>>,
     /// `plan` no longer follows `attached` (or the sources are new).
     stale: bool,
+    /// The sources are known, the plan is current, the watched bytes are recorded and
+    /// no edge event is read through `Memory::read`: `after_main`'s own way is open.
+    ready: bool,
     plan: Plan,
     /// Timed events: milliseconds accumulated towards the next occurrence, per
     /// accumulator (`Timed::acc`); 0 for an event not attached.
@@ -186,83 +210,119 @@ impl Interrupts {
     /// ATCH: event `event` now runs the routine on page `page` (the plan holds events,
     /// not routines: only a newly attached event changes it).
     pub fn attach(&mut self, event: u32, page: u8) {
+        if let Some(k) = usize::try_from(event).ok().filter(|&k| k < PAGED_EVENTS) {
+            if self.pages.len() <= k {
+                self.pages.resize(k + 1, None);
+            }
+            self.pages[k] = Some(page);
+        }
         if self.attached.insert(event, page).is_none() {
             self.stale = true;
+            self.ready = false;
         }
     }
 
     /// DTCH: event `event` runs nothing any more (its pending occurrence is the
     /// caller's to drop).
     pub fn detach(&mut self, event: u32) {
+        if let Some(slot) = self.pages.get_mut(event as usize) {
+            *slot = None;
+        }
         if self.attached.remove(&event).is_some() {
             self.stale = true;
+            self.ready = false;
         }
     }
 
     /// The page of the routine `event` runs, if attached.
     #[inline]
     pub fn routine(&self, event: u32) -> Option<u8> {
-        self.attached.get(&event).copied()
+        match self.pages.get(event as usize) {
+            Some(&page) => page,
+            None => self.attached.get(&event).copied(),
+        }
     }
 
-    /// After MAIN, when no event can occur in this scan (nothing attached that can
-    /// occur, or only timed events none of which is due; nothing pending (a safeguard:
-    /// only attached events are pending, and those are in the plan), no edge event, the
-    /// sources known and the plan current): advance the attached timed events by the
-    /// scan's time and record the watched input bytes, as `occurred_events` does then,
-    /// and return true. Otherwise nothing is done and `occurred_events` is the way
-    /// (false). Most scans of most programs, a timed interrupt's scans between its
-    /// runs too: a few loads and stores, inline.
-    #[inline]
-    pub fn quiet_scan(&mut self, memory: &Memory, scan_ms: u32) -> bool {
-        let Some(watched) = self.sources.as_ref().map(|s| s.watched.len()) else {
-            return false;
-        };
-        if self.stale || !self.pending.is_empty() || self.last_bytes.len() != watched {
-            return false;
-        }
-        if !self.plan.quiet && !self.advance_timed_not_due(memory, scan_ms) {
-            return false;
-        }
-        let Some(sources) = &self.sources else {
-            return false;
-        };
-        for (last, &at) in self.last_bytes.iter_mut().zip(&sources.watched) {
-            *last = memory.bytes.get(at).copied().unwrap_or(0);
-        }
-        true
-    }
-
-    /// `quiet_scan` when something is attached: if only timed events are (no edge
-    /// event) and none is due in this scan, advance them by `scan_ms` and return true;
-    /// otherwise change nothing (false). Timed events are due when their accumulator
-    /// reaches their period; entries of one event number share an accumulator, so at
-    /// most every entry's time reaches one: none due below that bound, else the whole
-    /// check decides. Out of line: `quiet_scan` stays small for the scans with nothing
-    /// attached.
-    #[inline(never)]
-    fn advance_timed_not_due(&mut self, memory: &Memory, scan_ms: u32) -> bool {
-        let other_edges = self.sources.as_ref().map_or(0, |s| s.other_edges.len());
-        if !self.plan.edges.is_empty() || other_edges != 0 {
-            return false;
-        }
-        let bytes = &memory.bytes;
-        let most = u64::from(scan_ms) * self.plan.timed.len() as u64;
-        for &(_, acc, period) in &self.plan.timed {
-            let period_ms = period.read(bytes);
-            let elapsed = self.elapsed.get(acc).copied().unwrap_or(0);
-            if period_ms != 0 && u64::from(elapsed) + most >= u64::from(period_ms) {
-                return false;
-            }
-        }
-        for &(_, acc, period) in &self.plan.timed {
-            if period.read(bytes) != 0 {
-                if let Some(elapsed) = self.elapsed.get_mut(acc) {
-                    *elapsed += scan_ms;
+    /// After MAIN: advance the attached timed events by the scan's virtual time, compare
+    /// the edge events' inputs with the previous scan's, and put the events whose
+    /// routines run now into `queue` (empty), in order (pending ones first); while
+    /// interrupts are disabled, one occurrence per event is kept pending and none run.
+    /// True when `queue` has events.
+    ///
+    /// Most scans: with `ready`, nothing attached that can occur and nothing pending,
+    /// inline, the watched bytes recorded and nothing else; with events attached, out
+    /// of line (`attached_scan`) each timed one adds the scan's time and compares it
+    /// with its period, each watched byte with an attached edge event is compared with
+    /// its previous value under two masks, and only an occurrence or a pending event
+    /// goes further (`release`). The first scan after a reset or an attachment change,
+    /// and targets with edge events read through `Memory::read`, take
+    /// `occurred_events`.
+    #[inline(always)]
+    pub fn after_main(
+        &mut self,
+        target: &Target,
+        memory: &Memory,
+        scan_ms: u32,
+        queue: &mut VecDeque<u32>,
+    ) -> bool {
+        if self.ready && self.plan.quiet && self.pending.is_empty() {
+            if let Some(sources) = &self.sources {
+                for (last, &at) in self.last_bytes.iter_mut().zip(&sources.watched) {
+                    *last = memory.bytes.get(at).copied().unwrap_or(0);
                 }
             }
+            return false;
         }
-        true
+        self.attached_scan(target, memory, scan_ms, queue)
+    }
+
+    /// `after_main` with events attached or pending, or not `ready`.
+    #[inline(never)]
+    fn attached_scan(
+        &mut self,
+        target: &Target,
+        memory: &Memory,
+        scan_ms: u32,
+        queue: &mut VecDeque<u32>,
+    ) -> bool {
+        let Interrupts {
+            pending,
+            sources: Some(sources),
+            ready: true,
+            plan,
+            elapsed,
+            last_bytes,
+            occurred,
+            ..
+        } = self
+        else {
+            return self.occurred_events(target, memory, scan_ms, queue);
+        };
+        let bytes = &memory.bytes;
+        let byte = |at: usize| bytes.get(at).copied().unwrap_or(0);
+        for &(event, acc, period) in &plan.timed {
+            advance(
+                event,
+                elapsed.get_mut(acc),
+                period.read(bytes),
+                scan_ms,
+                occurred,
+            );
+        }
+        for eb in &plan.edge_bytes {
+            let now = byte(eb.at);
+            let before = last_bytes.get(eb.byte).copied().unwrap_or(0);
+            if (now ^ before) & ((now & eb.rising) | (!now & eb.falling)) != 0 {
+                edges_of(&plan.edges, eb.byte, before, now, occurred);
+            }
+        }
+        for (last, &at) in last_bytes.iter_mut().zip(&sources.watched) {
+            *last = byte(at);
+        }
+        if occurred.is_empty() && pending.is_empty() {
+            return false;
+        }
+        self.release(memory, queue)
     }
 
     /// Gather the plan from the sources and the attachments; the timed events no longer
@@ -284,26 +344,46 @@ impl Interrupts {
             .filter(|e| attached.contains_key(&e.event))
             .copied()
             .collect();
+        let mut edge_bytes: Vec<EdgeByte> = Vec::new();
+        for e in &edges {
+            let k = match edge_bytes.iter().position(|b| b.byte == e.byte) {
+                Some(k) => k,
+                None => {
+                    edge_bytes.push(EdgeByte {
+                        byte: e.byte,
+                        at: e.at,
+                        rising: 0,
+                        falling: 0,
+                    });
+                    edge_bytes.len() - 1
+                }
+            };
+            if e.rising {
+                edge_bytes[k].rising |= e.mask;
+            } else {
+                edge_bytes[k].falling |= e.mask;
+            }
+        }
         self.plan = Plan {
-            quiet: timed.is_empty() && edges.is_empty() && sources.other_edges.is_empty(),
+            quiet: timed.is_empty() && edge_bytes.is_empty(),
             timed,
             edges,
+            edge_bytes,
         };
         self.stale = false;
     }
 
-    /// After MAIN: advance the attached timed events by the scan's virtual time, compare
-    /// the edge events' inputs with the previous scan's, and put the events whose
-    /// routines run now into `queue` (empty), in order (pending ones first); while
-    /// interrupts are disabled, one occurrence per event is kept pending and none run.
+    /// `after_main` in general: the sources parsed if new, the plan rebuilt if stale,
+    /// the first scan's watched bytes recorded, edge events read through
+    /// `Memory::read`.
     #[inline(never)]
-    pub fn occurred_events(
+    fn occurred_events(
         &mut self,
         target: &Target,
         memory: &Memory,
         scan_ms: u32,
         queue: &mut VecDeque<u32>,
-    ) {
+    ) -> bool {
         if self.sources.is_none() {
             self.sources = Some(Arc::new(Sources::of(target, memory)));
             self.stale = true;
@@ -322,6 +402,7 @@ impl Interrupts {
             pending,
             sources: Some(sources),
             plan,
+            ready,
             elapsed,
             last_bytes,
             last_input,
@@ -329,22 +410,18 @@ impl Interrupts {
             ..
         } = self
         else {
-            return;
+            return false;
         };
-        // Borrowed, not counted: no atomic reference count at every scan.
         let sources: &Sources = sources;
         occurred.clear();
         for &(event, acc, period) in &plan.timed {
-            let period_ms = period.read(bytes);
-            if period_ms == 0 {
-                continue;
-            }
-            let acc = &mut elapsed[acc];
-            *acc += scan_ms;
-            while *acc >= period_ms {
-                *acc -= period_ms;
-                occurred.push(event);
-            }
+            advance(
+                event,
+                elapsed.get_mut(acc),
+                period.read(bytes),
+                scan_ms,
+                occurred,
+            );
         }
         // Edge events: the input bit now against the previous scan (the first scan only
         // records it, so entering RUN raises no edge). Recorded whether attached or not,
@@ -377,14 +454,30 @@ impl Interrupts {
                 }
             }
         }
+        // From the next scan on, `attached_scan` does this (the plan current, the
+        // watched bytes recorded) unless edge events are read through `Memory::read`.
+        *ready = sources.other_edges.is_empty();
         if occurred.is_empty() && pending.is_empty() {
-            return;
+            return false;
         }
-        occurred.sort_unstable();
+        self.release(memory, queue)
+    }
+
+    /// Events occurred or pending: into `queue` in order (pending ones first, then this
+    /// scan's by number) when interrupts are enabled, else kept pending (one occurrence
+    /// per event). True when `queue` has events. `occurred` is left empty.
+    #[inline(never)]
+    fn release(&mut self, memory: &Memory, queue: &mut VecDeque<u32>) -> bool {
+        let Interrupts {
+            pending, occurred, ..
+        } = self;
+        if occurred.len() > 1 {
+            occurred.sort_unstable();
+        }
         // ENI/DISI: the enable byte in the flat memory (off when the PLC enters RUN).
         if !memory.interrupts_enabled() {
             pending.extend(occurred.drain(..));
-            return;
+            return false;
         }
         if !pending.is_empty() {
             queue.extend(pending.iter().copied());
@@ -396,5 +489,37 @@ impl Interrupts {
             queue.push_back(event);
         }
         occurred.clear();
+        !queue.is_empty()
+    }
+}
+
+/// A timed event's scan: `acc` (its accumulator) adds `scan_ms` and each whole
+/// `period_ms` in it is an occurrence; a period of 0 stops the event.
+#[inline]
+fn advance(
+    event: u32,
+    acc: Option<&mut u32>,
+    period_ms: u32,
+    scan_ms: u32,
+    occurred: &mut Vec<u32>,
+) {
+    let Some(acc) = acc.filter(|_| period_ms != 0) else {
+        return;
+    };
+    *acc += scan_ms;
+    while *acc >= period_ms {
+        *acc -= period_ms;
+        occurred.push(event);
+    }
+}
+
+/// The attached edge events on watched byte `byte` that occurred between `before` and
+/// `now` (out of line: most scans see no change).
+#[inline(never)]
+fn edges_of(edges: &[Edge], byte: usize, before: u8, now: u8, occurred: &mut Vec<u32>) {
+    for e in edges.iter().filter(|e| e.byte == byte) {
+        if is_edge(e.rising, before & e.mask != 0, now & e.mask != 0) {
+            occurred.push(e.event);
+        }
     }
 }

@@ -190,13 +190,17 @@ impl Terminals {
         }
     }
 
-    /// Forced bits take their force values.
-    #[inline]
+    /// Forced bits take their force values. Twice a scan: without forces, one test
+    /// inline; the walk is out of line.
+    #[inline(always)]
     pub fn apply_forces(&self, memory: &mut Memory) {
-        if self.forces.is_empty() {
-            // Twice a scan: an empty map is not even walked.
-            return;
+        if !self.forces.is_empty() {
+            self.lay_forces(memory);
         }
+    }
+
+    #[inline(never)]
+    fn lay_forces(&self, memory: &mut Memory) {
         for (slot, (mask, image)) in &self.forces {
             if let Some(area) = memory.area_mut(*slot) {
                 for ((b, m), v) in area.iter_mut().zip(mask).zip(image) {
