@@ -181,6 +181,9 @@ pub(crate) struct Unit {
     /// What the fast path indexes: the steps of the fused chains in `ops`, the operands
     /// of timers, counters and divisions.
     pub tables: UnitTables,
+    /// No record of `ops` stops the fast path whatever the scan (`fast::stops`): the
+    /// unit, started without a frame, likely runs to its end (`Engine::run_direct`).
+    pub straight: bool,
     /// The network records, in order.
     networks: Vec<NetworkStart>,
     generic: GenericRecords,
@@ -282,6 +285,7 @@ impl Unit {
             .collect();
         ops.shrink_to_fit();
         self.tables.chain.shrink_to_fit();
+        self.straight = !ops.iter().any(crate::fast::stops);
         self.ops = ops;
     }
 
@@ -757,6 +761,7 @@ pub(crate) fn decode(
             counters: stateful.counters,
             divides,
         },
+        straight: false,
         networks,
         generic,
         records,

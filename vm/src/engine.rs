@@ -458,9 +458,16 @@ impl Engine {
     #[cfg(not(feature = "jit"))]
     fn compile_tier(&mut self) {}
 
-    /// Start a scan: inputs, forces, system bits, then MAIN.
+    /// Start a scan: inputs, forces, system bits, then MAIN's frame.
     #[inline(always)]
     pub fn begin_scan(&mut self) {
+        self.open_scan();
+        self.machine.push_frame(0, None);
+    }
+
+    /// Start a scan up to MAIN: inputs, forces, system bits.
+    #[inline(always)]
+    fn open_scan(&mut self) {
         let memory = &mut self.machine.memory;
         self.terminals.refresh_inputs(memory);
         self.terminals.apply_forces(memory);
@@ -468,7 +475,6 @@ impl Engine {
             .set_system_bits(&mut memory.bytes, self.program.smb0_at);
         self.clock.executed = 0;
         self.machine.frames.clear();
-        self.machine.push_frame(0, None);
         self.phase = Phase::Main;
     }
 
@@ -532,6 +538,18 @@ impl Engine {
             return false;
         };
         let unit: &Unit = shared;
+        #[cfg(feature = "jit")]
+        let straight = self
+            .native
+            .as_ref()
+            .map_or(unit.straight, |n| n.straight(page));
+        #[cfg(not(feature = "jit"))]
+        let straight = unit.straight;
+        if !straight {
+            // It would stop at a CALL or a handler's record: its frame at once.
+            self.machine.push_frame(page, None);
+            return false;
+        }
         let tables = Tables {
             unit: &unit.tables,
             #[cfg(feature = "jit")]
@@ -590,7 +608,14 @@ impl Engine {
     #[inline]
     pub fn continue_scan(&mut self) -> Result<ScanEnd, Fault> {
         if matches!(self.phase, Phase::Idle) {
-            self.begin_scan();
+            self.open_scan();
+            if self.native_hold {
+                self.machine.push_frame(0, None);
+            } else if self.run_direct(0) && self.next_phase(Flow::Empty, true)? {
+                // MAIN ran without a frame, as a routine does (`run_direct`), and so
+                // did the scan's routines: most scans of most programs.
+                return Ok(ScanEnd::Completed);
+            }
         }
         // Only a set breakpoint patches a `Break` into a unit (`native_hold` says one is
         // set): without one, the scan does not look.

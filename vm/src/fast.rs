@@ -32,6 +32,21 @@ pub(crate) struct Tables<'a> {
     pub regions: &'a [u32],
 }
 
+/// Whether `run_fast` stops at `op` whatever the logic stack: a CALL, a breakpoint, a
+/// record only its handler runs. (It also stops at a box with power flow, and where
+/// the watchdog's bound is: those depend on the scan.)
+pub(crate) fn stops(op: &Op) -> bool {
+    matches!(
+        op,
+        Op::Call { .. }
+            | Op::Break
+            | Op::Generic {
+                quick: Quick::Handler,
+                ..
+            }
+    )
+}
+
 /// Run fast operations from `pc` until one is not (or the ops end). Returns where it
 /// stopped and how many instructions ran (network records do not count).
 #[inline(always)]

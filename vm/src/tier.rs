@@ -80,6 +80,9 @@ pub(crate) struct Native {
     /// there, 0 where none does. One load per record the interpreter reaches (a binary
     /// search there cost more than a short region saved).
     starts: Vec<Vec<u32>>,
+    /// Per unit page: no record outside its regions stops the fast path whatever the
+    /// scan (`Unit::straight`, with the regions).
+    straight: Vec<bool>,
 }
 
 impl std::fmt::Debug for Native {
@@ -96,6 +99,13 @@ impl Native {
     #[inline]
     pub fn starts(&self, page: u8) -> &[u32] {
         self.starts.get(page as usize).map_or(&[], Vec::as_slice)
+    }
+
+    /// Whether unit `page`, started without a frame, likely runs to its end
+    /// (`Engine::run_direct`).
+    #[inline]
+    pub fn straight(&self, page: u8) -> bool {
+        self.straight.get(page as usize).copied().unwrap_or(false)
     }
 
     /// The region of unit `page` starting at record `pc`.
@@ -633,11 +643,32 @@ pub(crate) fn compile(
             table
         })
         .collect();
+    let straight = regions
+        .iter()
+        .zip(&program.units)
+        .map(|(rs, unit)| {
+            let Some(unit) = unit else {
+                return false;
+            };
+            let n = unit.ops.len();
+            let mut covered = vec![false; n];
+            for r in rs {
+                let (from, to) = (r.pc as usize, (r.pc + r.records) as usize);
+                covered[from.min(n)..to.min(n)].fill(true);
+            }
+            !unit
+                .ops
+                .iter()
+                .zip(&covered)
+                .any(|(op, &native)| !native && crate::fast::stops(op))
+        })
+        .collect();
     Ok(Some(Native {
         module,
         regions,
         shared,
         starts,
+        straight,
     }))
 }
 
