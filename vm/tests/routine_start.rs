@@ -4,17 +4,20 @@
 //! inputs, the interpreter and the compiled tier must do what the reference engine does
 //! (which starts every routine in a frame): memory and instruction count after every
 //! scan, and the same fault at the same point when the watchdog trips inside a routine.
-//! The routines stop in every way there is: at a box that detaches or attaches the next
-//! event (so the queued routine is skipped or runs), at a FOR loop, at a CALL, at STOP,
-//! and not at all (a routine of two instructions).
+//! The routines stop in every way there is: a straight one at a box that detaches or
+//! attaches the next event (so the queued routine is skipped or runs) and at the
+//! watchdog's bound, not at all (a routine of two instructions), and one with a FOR
+//! loop, a CALL and STOP, which gets its frame at once.
 
 mod common;
 
 use common::{load, same_as_reference, set, three_engines};
 use gutta_vm::VmConfig;
 
-/// Events 10 and 11 (both every 10 ms scan) run A then B; event 0 (I0.0 rising) runs C.
-/// A starts with a run long enough for a region, then stops where the inputs say.
+/// Events 10 and 11 (both every 10 ms scan) run D then B; event 0 (I0.0 rising) runs A
+/// before them. D runs straight (only boxes stop it, when powered): a run long enough
+/// for a region, a DTCH and an ATCH of B's event, then twenty instructions. A stops
+/// whatever the scan (FOR, CALL, STOP): its frame is pushed at once.
 const PROGRAM: &str = "
 ORGANIZATION_BLOCK MAIN:OB1
 BEGIN
@@ -22,9 +25,9 @@ NETWORK 1
 LD     SM0.1
 MOVB   10, SMB10
 MOVB   10, SMB11
-ATCH   A, 10
+ATCH   D, 10
 ATCH   B, 11
-ATCH   C, 0
+ATCH   A, 0
 ENI
 NETWORK 2
 LD     SM0.0
@@ -36,7 +39,7 @@ NETWORK 1
 LD     SM0.0
 INCW   MW70
 END_SUBROUTINE_BLOCK
-INTERRUPT_BLOCK A:INT1
+INTERRUPT_BLOCK D:INT1
 BEGIN
 NETWORK 1
 LD     SM0.0
@@ -54,21 +57,25 @@ NETWORK 3
 LD     I0.3
 ATCH   B, 11
 NETWORK 4
-LD     I0.4
-FOR    MW60, 1, IW2
-NETWORK 5
 LD     SM0.0
-INCW   MW62
-NETWORK 6
-NEXT
-NETWORK 7
-LD     I0.5
-CALL   S
-NETWORK 8
-LD     I0.6
-STOP
-NETWORK 9
-LD     SM0.0
+INCW   MW46
+INCW   MW46
+INCW   MW46
+INCW   MW46
+INCW   MW46
+INCW   MW46
+INCW   MW46
+INCW   MW46
+INCW   MW46
+INCW   MW46
+INCW   MW46
+INCW   MW46
+INCW   MW46
+INCW   MW46
+INCW   MW46
+INCW   MW46
+INCW   MW46
+INCW   MW46
 INCW   MW46
 END_INTERRUPT_BLOCK
 INTERRUPT_BLOCK B:INT2
@@ -77,16 +84,25 @@ NETWORK 1
 LD     SM0.0
 INCW   MW42
 END_INTERRUPT_BLOCK
-INTERRUPT_BLOCK C:INT3
+INTERRUPT_BLOCK A:INT3
 BEGIN
 NETWORK 1
+LD     I0.4
+FOR    MW60, 1, IW2
+NETWORK 2
+LD     SM0.0
+INCW   MW62
+NETWORK 3
+NEXT
+NETWORK 4
+LD     I0.5
+CALL   S
+NETWORK 5
+LD     I0.6
+STOP
+NETWORK 6
 LD     SM0.0
 INCW   MW48
-MOVW   MW48, MW50
-+I     MW48, MW50
--I     1, MW50
-INCW   MW52
-DECW   MW54
 END_INTERRUPT_BLOCK
 ";
 
@@ -142,8 +158,9 @@ fn routines_started_without_a_frame_run_as_the_reference_does() {
 
 #[test]
 fn the_watchdog_trips_inside_a_routine_at_the_same_instruction() {
-    // MAIN and A's first network are 12 instructions, each FOR iteration 3: with a
-    // limit of 120 the watchdog trips inside A's loop in some scans, not in others.
+    // MAIN is 9 instructions, A's FOR loop 3 an iteration, D 31: with a limit of 120
+    // the watchdog trips inside A's loop or D's straight run in some scans, not in
+    // others.
     let config = VmConfig {
         watchdog: 120,
         ..VmConfig::default()
