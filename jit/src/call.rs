@@ -52,6 +52,7 @@ impl Code {
     /// Call function `f` on `memory` (its length checked here again: the soundness of
     /// the call depends on it). Returns the instructions executed and the exit word (0:
     /// ran to its end; 1 + id: returned at the Escape `id`).
+    #[inline]
     pub(crate) fn run(&self, f: usize, memory: &mut [u8], stack: &mut u32) -> (u64, u32) {
         assert_eq!(
             memory.len(),

@@ -656,6 +656,7 @@ impl Module {
     /// As `run`, and whether the function returned early at an Escape with power flow
     /// (`Exit::escape`: its id; `executed` then counts the steps before it, and `stack`
     /// is the logic stack the Escape found).
+    #[inline]
     pub fn enter(&self, f: usize, memory: &mut [u8], stack: &mut u32) -> Exit {
         assert!(
             memory.len() == self.memory_len as usize,
