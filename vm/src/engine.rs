@@ -512,7 +512,7 @@ impl Engine {
                 continue;
             };
             self.phase = Phase::Events;
-            if !direct {
+            if !direct || !self.straight(page) {
                 self.machine.push_frame(page, None);
             } else if self.run_direct(page) {
                 continue;
@@ -524,13 +524,13 @@ impl Engine {
         true
     }
 
-    /// An interrupt routine started without a frame (`next_routine`, when no
-    /// breakpoint is set): its compiled regions and fast operations run from its first
-    /// record as `exec` would run them; only where they stop before the unit's end (a
-    /// record that needs the engine, or the watchdog's bound) is its frame pushed, at
-    /// that record with that logic stack, for `exec`. True when the routine ran to its
-    /// end. A short routine then costs what its instructions do, not a frame, a return
-    /// from `exec` and a new call of it.
+    /// A unit started without a frame (MAIN, by `continue_scan`, and an interrupt
+    /// routine, by `next_routine`, when no breakpoint is set and it is `straight`): its
+    /// compiled regions and fast operations run from its first record as `exec` would
+    /// run them; only where they stop before the unit's end (a box with power flow, or
+    /// the watchdog's bound) is its frame pushed, at that record with that logic stack,
+    /// for `exec`. True when the unit ran to its end. A short routine then costs what
+    /// its instructions do, not a frame, a return from `exec` and a new call of it.
     #[inline]
     fn run_direct(&mut self, page: u8) -> bool {
         let Some(shared) = self.program.unit(page) else {
@@ -538,18 +538,6 @@ impl Engine {
             return false;
         };
         let unit: &Unit = shared;
-        #[cfg(feature = "jit")]
-        let straight = self
-            .native
-            .as_ref()
-            .map_or(unit.straight, |n| n.straight(page));
-        #[cfg(not(feature = "jit"))]
-        let straight = unit.straight;
-        if !straight {
-            // It would stop at a CALL or a handler's record: its frame at once.
-            self.machine.push_frame(page, None);
-            return false;
-        }
         let tables = Tables {
             unit: &unit.tables,
             #[cfg(feature = "jit")]
@@ -577,6 +565,19 @@ impl Engine {
         self.machine.stack = st;
         self.machine.set_pc(pc);
         false
+    }
+
+    /// Whether unit `page` would run straight to its end (`Unit::straight`, and with
+    /// the compiled tier `Native::straight`): else it would stop at a CALL or a
+    /// handler's record whatever the scan, and gets its frame at once. Inline, so that
+    /// such a unit costs a test, not a call of `run_direct`.
+    #[inline(always)]
+    fn straight(&self, page: u8) -> bool {
+        #[cfg(feature = "jit")]
+        if let Some(native) = &self.native {
+            return native.straight(page);
+        }
+        self.program.unit(page).is_some_and(|u| u.straight)
     }
 
     /// What a straight run keeps to, read once per `exec` or routine start.
@@ -609,7 +610,7 @@ impl Engine {
     pub fn continue_scan(&mut self) -> Result<ScanEnd, Fault> {
         if matches!(self.phase, Phase::Idle) {
             self.open_scan();
-            if self.native_hold {
+            if self.native_hold || !self.straight(0) {
                 self.machine.push_frame(0, None);
             } else if self.run_direct(0) && self.next_phase(Flow::Empty, true)? {
                 // MAIN ran without a frame, as a routine does (`run_direct`), and so
