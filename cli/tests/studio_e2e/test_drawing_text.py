@@ -182,7 +182,8 @@ def test_the_studio_turns_the_symbol_information_on_and_off(page):
     assert "Start" in symbols, symbols
     page.reload()
     page.wait_for_selector(".status")
-    assert page.locator(".symbol-info").count() > 0
+    wait_until(lambda: page.locator(".symbol-info").count() > 0,
+               what="the symbol tables after the reload")
     assert page.locator("body").get_attribute("data-symbol-info") == "on"
     page.keyboard.press("Alt+i")
     wait_until(lambda: page.locator(".symbol-info").count() == 0, what="the tables gone")

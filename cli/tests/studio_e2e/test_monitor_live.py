@@ -163,15 +163,17 @@ def test_monitor_live_view(images, plc, live):
                timeout=1.0, what="STOP without power flow within 1 s")
     assert time.monotonic() - stopped < 1.0
     assert enable.get_attribute("data-value") == "1"
-    assert page.locator(".stl-line[data-rlo]").count() == 0
+    wait_until(lambda: page.locator(".stl-line[data-rlo]").count() == 0,
+               what="no RLO shown in STOP")
     shoot_monitor(page, "monitor-stop")
 
     # Another program: the mismatch, and nothing on.
     cc("download", str(other), "--tcp", plc)
     wait_until(lambda: "another program" in page.locator("#status").inner_text(),
                timeout=10.0, what="the mismatch message")
-    assert page.locator(".on").count() == 0
-    assert page.locator("g.network.stale").count() > 0
+    wait_until(lambda: page.locator(".on").count() == 0
+               and page.locator("g.network.stale").count() > 0,
+               what="nothing on and the networks stale")
     # The download leaves the PLC running the other program: the bar still says so.
     wait_until(lambda: page.locator(".status .state").inner_text() == "RUN",
                what="RUN while the program differs")

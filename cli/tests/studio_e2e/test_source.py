@@ -89,7 +89,8 @@ def test_a_network_edited_as_stl_shows_its_diagnostics_and_is_drawn_back_in_lad(
     assert any(label.startswith("Blinks") for label in labels), labels
     shoot(page, "stl-edit")
     network.press("Escape")
-    assert page.locator(".stl-completion").count() == 0
+    wait_until(lambda: page.locator(".stl-completion").count() == 0,
+               what="the completion closed")
     network.fill(network.input_value().replace("LD     I0.5\n=      Q0.5\n", ""))
     network.press("Control+Enter")
     wait_until(lambda: page.locator("g.network[data-reason]").count() == 0,
