@@ -493,19 +493,23 @@ fn stats_in_stop_count_only_the_scans_that_ran() {
 
 #[test]
 fn tier_compiled_says_when_nothing_compiles() {
-    // A timer alone: the tier takes it, but two instructions do not pay for entering
-    // native code (docs/vm-jit.md, "Regions").
+    // A timer in a FOR loop: the tier takes the timer, but FOR and NEXT stay
+    // interpreted, so MAIN does not compile whole, and the loop's body of two
+    // instructions does not pay for entering native code (docs/vm-jit.md, "Regions").
     let dir = image_dir(
-        &main_block("NETWORK 1\nLD SM0.0\nTON T4, 100"),
+        &main_block(
+            "NETWORK 1\nLD SM0.0\nFOR MW2, 1, 1\nNETWORK 2\nLD SM0.0\nTON T4, 100\nNETWORK 3\nNEXT",
+        ),
         "stats-tier",
     );
     let o = gutta_vm(&dir, &["--scans", "5", "--tier", "compiled", "--stats"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let s = parse_stats(&stderr(&o));
-    assert_eq!((s.tier.as_str(), s.instructions), ("compiled", 10));
+    // LD, FOR, LD, TON, NEXT a scan.
+    assert_eq!((s.tier.as_str(), s.instructions), ("compiled", 25));
     assert!(
         stderr(&o).contains(
-            "gutta-vm: note: --tier compiled: nothing in the program is worth compiling (no run of 6 instructions); every scan ran interpreted"
+            "gutta-vm: note: --tier compiled: nothing in the program is worth compiling (no unit compiles whole, no run of 6 instructions); every scan ran interpreted"
         ),
         "{}",
         stderr(&o)

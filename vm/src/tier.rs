@@ -388,7 +388,9 @@ impl Builder<'_> {
     }
 
     /// The regions of unit `page`: the whole unit as one when it compiles whole and is
-    /// not long, else its runs of compilable records, cut every `MAX_REGION` records.
+    /// not long (however short: a unit started without a frame, `Engine::run_direct`,
+    /// then runs as one call), else its runs of compilable records that are `worth` it,
+    /// cut every `MAX_REGION` records.
     fn regions(&mut self, page: u8) -> Vec<Region> {
         let Some(unit) = self.program.unit(page).cloned() else {
             return Vec::new();
@@ -396,9 +398,8 @@ impl Builder<'_> {
         let n = unit.ops.len();
         if n <= MAX_REGION {
             if let Some(whole) = self.whole_unit(page) {
-                if !worth(whole.max_count, whole.depth) {
-                    return Vec::new();
-                }
+                // Whatever its length (not `worth`): the region replaces the unit's
+                // whole run on the fast path, whose start and end it would pay too.
                 return vec![Region {
                     pc: 0,
                     records: n as u32,

@@ -649,8 +649,8 @@ fn the_default_compiles_after_its_scans() {
     assert_eq!(off.tier(), &TierState::Interpreted, "no tier without fast");
 }
 
-/// CALLs nested as deep as CallDepth (8) allows run natively (MAIN and S0..S6 are
-/// regions, S7 of two instructions is only a callee; the chain runs as native calls)
+/// CALLs nested as deep as CallDepth (8) allows run natively (MAIN and S0..S7 are
+/// regions, each unit compiling whole, however short; the chain runs as native calls)
 /// and agree. Deeper nesting never
 /// loads (the compiler and the verifier refuse it), so the tier's CallDepth guard at a
 /// region's entry only matters for routines started on a frame stack that is not empty.
@@ -673,7 +673,7 @@ fn the_deepest_nesting_runs_natively_and_agrees() {
     }
     let mut vms = load3(&text, 10_000_000);
     assert!(
-        matches!(vms[2].tier(), TierState::Compiled { regions: 8, .. }),
+        matches!(vms[2].tier(), TierState::Compiled { regions: 9, .. }),
         "{:?}",
         vms[2].tier()
     );

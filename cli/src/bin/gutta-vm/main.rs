@@ -419,11 +419,12 @@ fn print_stats(tier: TierChoice, vm: &Vm, outcome: &Outcome) {
     if tier != TierChoice::Interpreted {
         let why = match vm.tier() {
             TierState::Refused(why) => Some(format!("the code generator refused ({why})")),
-            TierState::NothingToCompile => Some("nothing in the program compiles".to_string()),
-            // Compiled, but every run of compilable records is too short to pay for
-            // entering it (docs/vm-jit.md, "Regions").
-            TierState::Compiled { regions: 0, .. } => Some(
-                "nothing in the program is worth compiling (no run of 6 instructions)".to_string(),
+            // No unit compiles whole and every run of compilable records is too short
+            // to pay for entering it (docs/vm-jit.md, "Regions"); with regions 0, only
+            // subroutines such runs call were compiled.
+            TierState::NothingToCompile | TierState::Compiled { regions: 0, .. } => Some(
+                "nothing in the program is worth compiling (no unit compiles whole, no run of 6 instructions)"
+                    .to_string(),
             ),
             _ => None,
         };
