@@ -388,8 +388,8 @@ impl Builder<'_> {
     }
 
     /// The regions of unit `page`: the whole unit as one when it compiles whole and is
-    /// not long (however short: a unit started without a frame, `Engine::run_direct`,
-    /// then runs as one call), else its runs of compilable records that are `worth` it,
+    /// not long (however short, from one instruction: a unit started without a frame,
+    /// `Engine::run_direct`, then runs as one call), else its runs of compilable records that are `worth` it,
     /// cut every `MAX_REGION` records.
     fn regions(&mut self, page: u8) -> Vec<Region> {
         let Some(unit) = self.program.unit(page).cloned() else {
@@ -400,6 +400,10 @@ impl Builder<'_> {
             if let Some(whole) = self.whole_unit(page) {
                 // Whatever its length (not `worth`): the region replaces the unit's
                 // whole run on the fast path, whose start and end it would pay too.
+                // Not without an instruction: an empty unit's run costs less.
+                if whole.max_count == 0 {
+                    return Vec::new();
+                }
                 return vec![Region {
                     pc: 0,
                     records: n as u32,
