@@ -533,6 +533,46 @@ impl Engine {
     /// its instructions do, not a frame, a return from `exec` and a new call of it.
     #[inline]
     fn run_direct(&mut self, page: u8) -> bool {
+        #[cfg(feature = "jit")]
+        if let Some(done) = self.run_whole(page) {
+            return done;
+        }
+        self.run_unit(page)
+    }
+
+    /// A unit that is one compiled region (`Native::whole`), entered at once without
+    /// the fast path's setup: Some(true) when it ran to its end, Some(false) when it
+    /// returned at an escape (its frame pushed there), None when it is no such unit or
+    /// the region cannot be entered (the watchdog's bound). Out of line, so the
+    /// interpreter's `run_unit` stays as it is.
+    #[cfg(feature = "jit")]
+    #[inline(never)]
+    fn run_whole(&mut self, page: u8) -> Option<bool> {
+        let native = self.native.as_deref()?;
+        let r = native.whole(page)?;
+        let mut st = 0;
+        let limits = self.limits();
+        let escape = Straight {
+            native: Some(native),
+            bytes: &mut self.machine.memory.bytes,
+            clock: &mut self.clock,
+            native_executed: &mut self.native_executed,
+            depth: 1,
+        }
+        .enter(native, limits, r, &mut st)?;
+        let Some(id) = escape else {
+            return Some(true);
+        };
+        self.machine.push_frame(page, None);
+        self.machine.stack = st;
+        self.machine.set_pc(usize::from(id));
+        Some(false)
+    }
+
+    /// `run_direct`'s general way: regions and fast operations from record 0 through
+    /// `Straight::run`.
+    #[inline(never)]
+    fn run_unit(&mut self, page: u8) -> bool {
         let Some(shared) = self.program.unit(page) else {
             self.machine.push_frame(page, None);
             return false;
@@ -747,6 +787,29 @@ struct Straight<'a> {
 }
 
 impl Straight<'_> {
+    /// Enter region `r` where it cannot differ from the interpreter (the watchdog
+    /// cannot trip inside, no CALL inside can pass CallDepth): None when it cannot,
+    /// else the id of the escape it returned at (power flow into a box it leaves to the
+    /// interpreter), if any.
+    #[cfg(feature = "jit")]
+    #[inline(always)]
+    fn enter(
+        &mut self,
+        native: &crate::tier::Native,
+        limits: Limits,
+        r: &crate::tier::Region,
+        st: &mut u32,
+    ) -> Option<Option<u16>> {
+        let remaining = limits.watchdog.saturating_sub(self.clock.executed);
+        if r.max_count > remaining || self.depth + r.depth as usize > limits.call_depth + 1 {
+            return None;
+        }
+        let exit = native.module.enter(r.function as usize, self.bytes, st);
+        self.clock.executed += exit.executed;
+        *self.native_executed += exit.executed;
+        Some(exit.escape)
+    }
+
     /// Run unit `page` (`ops`, `tables`) from `pc` as far as compiled regions and fast
     /// operations go: to the unit's end, or a record that needs the engine (a generic
     /// record, a CALL, a breakpoint), or the watchdog's bound. Returns where it

@@ -83,6 +83,9 @@ pub(crate) struct Native {
     /// Per unit page: no record outside its regions stops the fast path whatever the
     /// scan (`Unit::straight`, with the regions).
     straight: Vec<bool>,
+    /// Per unit page: 1 + the index in `regions` of the region that is the whole unit
+    /// (from its first record to its end), 0 when none is.
+    whole: Vec<u32>,
 }
 
 impl std::fmt::Debug for Native {
@@ -106,6 +109,16 @@ impl Native {
     #[inline]
     pub fn straight(&self, page: u8) -> bool {
         self.straight.get(page as usize).copied().unwrap_or(false)
+    }
+
+    /// The region that is the whole of unit `page`, if one is (`Engine::run_direct`
+    /// enters it at once).
+    #[inline]
+    pub fn whole(&self, page: u8) -> Option<&Region> {
+        let k = *self.whole.get(page as usize)?;
+        self.regions
+            .get(page as usize)?
+            .get(k.checked_sub(1)? as usize)
     }
 
     /// The region of unit `page` starting at record `pc`.
@@ -668,12 +681,21 @@ pub(crate) fn compile(
                 .any(|(op, &native)| !native && crate::fast::stops(op))
         })
         .collect();
+    let whole = regions
+        .iter()
+        .zip(&program.units)
+        .map(|(rs, unit)| match (rs.as_slice(), unit) {
+            ([r], Some(unit)) if r.pc == 0 && r.records as usize == unit.ops.len() => 1,
+            _ => 0,
+        })
+        .collect();
     Ok(Some(Native {
         module,
         regions,
         shared,
         starts,
         straight,
+        whole,
     }))
 }
 
