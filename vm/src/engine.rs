@@ -533,9 +533,12 @@ impl Engine {
     /// its instructions do, not a frame, a return from `exec` and a new call of it.
     #[inline]
     fn run_direct(&mut self, page: u8) -> bool {
+        // Interpreted (no compiled tier, or nothing compiled): a test, not a call.
         #[cfg(feature = "jit")]
-        if let Some(done) = self.run_whole(page) {
-            return done;
+        if self.native.is_some() {
+            if let Some(done) = self.run_whole(page) {
+                return done;
+            }
         }
         self.run_unit(page)
     }
