@@ -833,17 +833,10 @@ impl Straight<'_> {
             if let Some(native) = self.native {
                 // Regions follow one another where a long run was cut.
                 while let Some(r) = native.region(page, pc) {
-                    // Native only where it cannot differ: the watchdog cannot trip
-                    // inside, no CALL inside can pass CallDepth.
-                    let remaining = limits.watchdog.saturating_sub(self.clock.executed);
-                    let depth = self.depth + r.depth as usize;
-                    if r.max_count > remaining || depth > limits.call_depth + 1 {
+                    let Some(escape) = self.enter(native, limits, r, st) else {
                         break;
-                    }
-                    let exit = native.module.enter(r.function as usize, self.bytes, st);
-                    self.clock.executed += exit.executed;
-                    *self.native_executed += exit.executed;
-                    if let Some(id) = exit.escape {
+                    };
+                    if let Some(id) = escape {
                         // A box with power flow (tier.rs, escapes): the interpreter
                         // runs it, then the resume region at the next record.
                         pc = r.pc as usize + usize::from(id);

@@ -133,7 +133,8 @@ impl Memory {
     }
 
     /// The hidden state: every byte after the areas (timers', counters', the interrupt
-    /// enable's and EU/ED records' state, docs/vm.md "Hidden state"). Read-only, for tests and tools.
+    /// enable's and EU/ED records' state, docs/vm.md "Hidden state"). Read-only, for
+    /// tests and tools.
     pub fn hidden(&self) -> &[u8] {
         let end = self.spans.iter().map(|&(s, l)| s + l).max().unwrap_or(0);
         &self.bytes[end..]

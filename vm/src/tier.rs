@@ -402,8 +402,8 @@ impl Builder<'_> {
 
     /// The regions of unit `page`: the whole unit as one when it compiles whole and is
     /// not long (however short, from one instruction: a unit started without a frame,
-    /// `Engine::run_direct`, then runs as one call), else its runs of compilable records that are `worth` it,
-    /// cut every `MAX_REGION` records.
+    /// `Engine::run_direct`, then runs as one call), else its runs of compilable
+    /// records that are `worth` it, cut every `MAX_REGION` records.
     fn regions(&mut self, page: u8) -> Vec<Region> {
         let Some(unit) = self.program.unit(page).cloned() else {
             return Vec::new();
